@@ -1,0 +1,1 @@
+// Keeps every area library non-empty while its sources are being written.

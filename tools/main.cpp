@@ -1,0 +1,53 @@
+// shprt: precomputed radiance transfer in spherical harmonics. Thin shell over the library: it
+// parses arguments, calls the library, reports. One-line errors, non-zero exit codes.
+#include "common/command.hpp"
+
+#include "shprt/config.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/core/log.hpp"
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+    CLI::App app{"shprt — precomputed radiance transfer in a spherical-harmonics basis"};
+    app.set_version_flag("--version", std::string("shprt ") + SHPRT_VERSION_STRING +
+                                          (SHPRT_HAS_CUDA ? " (CUDA)" : " (no CUDA)"));
+    app.require_subcommand(1);
+    std::string log_level = "info";
+    app.add_option("--log-level", log_level, "debug, info, warn or error")
+        ->check(CLI::IsMember({"debug", "info", "warn", "error"}));
+
+    for (const auto& command : shprt::tools::commands()) {
+        CLI::App* sub = app.add_subcommand(command.name, command.description);
+        command.setup(*sub);
+    }
+
+    auto logger = spdlog::stderr_color_mt("shprt");
+    logger->set_pattern("%^%l%$: %v");
+    app.parse_complete_callback([&] { logger->set_level(spdlog::level::from_str(log_level)); });
+    shprt::set_log_sink([logger](shprt::LogLevel level, std::string_view message) {
+        switch (level) {
+            case shprt::LogLevel::debug: logger->debug("{}", message); break;
+            case shprt::LogLevel::info: logger->info("{}", message); break;
+            case shprt::LogLevel::warn: logger->warn("{}", message); break;
+            case shprt::LogLevel::error: logger->error("{}", message); break;
+        }
+    });
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const shprt::Error& e) {
+        std::fprintf(stderr, "shprt: error: %s\n", e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "shprt: error: %s\n", e.what());
+        return 2;
+    }
+    return 0;
+}
