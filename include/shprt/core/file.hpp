@@ -1,0 +1,37 @@
+// Output files are never left half-written: AtomicFile writes to a temporary file beside the
+// target and renames it into place on commit(); if commit() is never reached (an exception, a
+// cancel), the destructor removes the temporary file and the target is untouched.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+namespace shprt {
+
+class AtomicFile {
+public:
+    // Opens "<path>.tmp.<pid>.<n>" for binary writing; throws Error(io) naming `path` on failure.
+    explicit AtomicFile(std::string path);
+    ~AtomicFile();
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    // Appends bytes; throws Error(io) naming the target path on a short write.
+    void write(const void* data, std::size_t size);
+    void write(std::string_view text) { write(text.data(), text.size()); }
+    std::FILE* handle() { return m_file; }  // for libraries that write through a FILE*
+    const std::string& temp_path() const { return m_temp; }
+    // Flushes, closes and renames over the target; throws Error(io) on failure.
+    void commit();
+
+private:
+    std::string m_path, m_temp;
+    std::FILE* m_file = nullptr;
+    bool m_committed = false;
+};
+
+// Reads a whole file; throws Error(io) naming `path` if it cannot be opened or read.
+std::string read_file(const std::string& path);
+
+}  // namespace shprt

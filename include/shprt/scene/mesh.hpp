@@ -1,0 +1,29 @@
+// The scene as every other area sees it: one static triangle mesh with per-vertex data.
+#pragma once
+
+#include "shprt/core/vec.hpp"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace shprt {
+
+struct Mesh {
+    std::vector<Vec3f> positions;  // world space, right-handed, +Y up
+    std::vector<Vec3f> normals;    // unit length, one per vertex
+    std::vector<Vec3f> albedo;     // linear RGB diffuse reflectance in [0, 1], one per vertex
+    std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise = front face
+
+    // Where vertex i came from in the loader's order: for PLY input this is the identity (the
+    // file's vertex i is vertex i); for other formats, the index Assimp produced across the
+    // scene's meshes in order. Empty for generated scenes (identity).
+    std::vector<std::uint32_t> source_vertex;
+    std::string source;  // file path or "builtin:NAME"
+
+    std::size_t vertex_count() const { return positions.size(); }
+    std::size_t triangle_count() const { return triangles.size(); }
+};
+
+}  // namespace shprt

@@ -1,0 +1,59 @@
+#include "shprt/core/file.hpp"
+
+#include "shprt/core/error.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace shprt {
+namespace {
+std::atomic<unsigned> g_counter{0};
+}
+
+AtomicFile::AtomicFile(std::string path) : m_path(std::move(path)) {
+    SHPRT_CHECK(!m_path.empty(), invalid_argument, "output path is empty");
+    m_temp = fmt::format("{}.tmp.{}.{}", m_path, ::getpid(), g_counter++);
+    m_file = std::fopen(m_temp.c_str(), "wb");
+    SHPRT_CHECK(m_file != nullptr, io, "cannot write {}: {}", m_path, std::strerror(errno));
+}
+
+AtomicFile::~AtomicFile() {
+    if (m_file) std::fclose(m_file);
+    if (!m_committed) std::remove(m_temp.c_str());
+}
+
+void AtomicFile::write(const void* data, std::size_t size) {
+    SHPRT_CHECK(m_file != nullptr, io, "write to {} after commit", m_path);
+    if (size == 0) return;
+    SHPRT_CHECK(std::fwrite(data, 1, size, m_file) == size, io, "cannot write {}: {}", m_path,
+                std::strerror(errno));
+}
+
+void AtomicFile::commit() {
+    SHPRT_CHECK(m_file != nullptr, io, "{} committed twice", m_path);
+    const bool flushed = std::fflush(m_file) == 0;
+    const int err = errno;
+    const bool closed = std::fclose(m_file) == 0;
+    m_file = nullptr;
+    SHPRT_CHECK(flushed && closed, io, "cannot write {}: {}", m_path, std::strerror(err));
+    SHPRT_CHECK(std::rename(m_temp.c_str(), m_path.c_str()) == 0, io, "cannot rename {} to {}: {}",
+                m_temp, m_path, std::strerror(errno));
+    m_committed = true;
+}
+
+std::string read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    SHPRT_CHECK(in.good(), io, "cannot open {}: {}", path, std::strerror(errno));
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    SHPRT_CHECK(!in.bad(), io, "cannot read {}", path);
+    return ss.str();
+}
+
+}  // namespace shprt
