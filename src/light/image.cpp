@@ -1,0 +1,416 @@
+// Image files: OpenEXR (tinyexr), Radiance RGBE (stb_image, after our own structural check of
+// the scanlines, because stb_image 2.27 loops forever on some truncated RLE streams) and PNG
+// (stb_image). References: Greg Ward, "Real Pixels" (Graphics Gems II, 1991) and the Radiance
+// file-format notes for RGBE and its run-length scanlines; IEC 61966-2-1 for sRGB.
+#include "shprt/light/image.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/light/tonemap.hpp"
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+#include <tinyexr.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <string_view>
+
+namespace shprt {
+namespace {
+
+// Largest side we accept from a file: far beyond any environment map, small enough that
+// width·height·3 floats cannot overflow.
+constexpr int kMaxImageSide = 1 << 15;
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+std::string read_image_bytes(const std::string& path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    SHPRT_CHECK(std::filesystem::exists(status), io, "cannot open image {}: no such file", path);
+    SHPRT_CHECK(std::filesystem::is_regular_file(status), io,
+                "cannot open image {}: not a regular file", path);
+    std::string bytes = read_file(path);
+    SHPRT_CHECK(!bytes.empty(), format, "image {} is empty (0 bytes)", path);
+    return bytes;
+}
+
+void check_dimensions(const std::string& path, int width, int height) {
+    SHPRT_CHECK(width > 0 && height > 0 && width <= kMaxImageSide && height <= kMaxImageSide,
+                format, "image {} has invalid size {}x{} (each side must be 1..{})", path, width,
+                height, kMaxImageSide);
+}
+
+void check_finite(const std::string& path, const Image& image) {
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+        if (!std::isfinite(image.rgb[i])) {
+            const std::size_t p = i / 3;
+            fail(ErrorCode::format, "image {} has a {} value at pixel ({}, {}) channel {}", path,
+                 std::isnan(image.rgb[i]) ? "NaN" : "infinite", p % image.width, p / image.width,
+                 "RGB"[i % 3]);
+        }
+    }
+}
+
+// ---- Radiance .hdr ---------------------------------------------------------------------------
+
+// Reads one header line (without '\n') starting at `pos`; false at end of data.
+bool next_line(const std::string& bytes, std::size_t& pos, std::string& line) {
+    if (pos >= bytes.size()) return false;
+    const std::size_t end = bytes.find('\n', pos);
+    if (end == std::string::npos) return false;  // a header line must be terminated
+    line.assign(bytes, pos, end - pos);
+    pos = end + 1;
+    return true;
+}
+
+// Checks that the RGBE stream is complete and well formed in the layout stb_image decodes
+// (-Y H +X W; flat or "new" RLE scanlines), so that stb_image never reads past the end.
+void validate_rgbe(const std::string& path, const std::string& bytes) {
+    std::size_t pos = 0;
+    std::string line;
+    SHPRT_CHECK(next_line(bytes, pos, line) && (line == "#?RADIANCE" || line == "#?RGBE"), format,
+                "image {} is not a Radiance .hdr file (no #?RADIANCE signature)", path);
+    bool rgbe = false;
+    for (;;) {
+        SHPRT_CHECK(next_line(bytes, pos, line), format,
+                    "image {} is truncated: the header never ends", path);
+        if (line.empty()) break;
+        if (line == "FORMAT=32-bit_rle_rgbe") rgbe = true;
+    }
+    SHPRT_CHECK(rgbe, format, "image {}: only FORMAT=32-bit_rle_rgbe .hdr files are supported",
+                path);
+    SHPRT_CHECK(next_line(bytes, pos, line), format, "image {} is truncated: no resolution line",
+                path);
+    int width = 0, height = 0;
+    char extra = 0;
+    SHPRT_CHECK(std::sscanf(line.c_str(), "-Y %d +X %d%c", &height, &width, &extra) == 2, format,
+                "image {}: unsupported resolution line '{}' (expected '-Y H +X W')", path, line);
+    check_dimensions(path, width, height);
+
+    const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+    const std::size_t n = bytes.size();
+    const std::size_t flat_bytes = std::size_t(4) * std::size_t(width) * std::size_t(height);
+    const bool rle_possible = width >= 8 && width < 32768;
+    if (!rle_possible || n - pos < 4 || b[pos] != 2 || b[pos + 1] != 2 || (b[pos + 2] & 0x80)) {
+        SHPRT_CHECK(n - pos >= flat_bytes, format,
+                    "image {} is truncated: {} bytes of pixel data, {}x{} needs {}", path, n - pos,
+                    width, height, flat_bytes);
+        return;
+    }
+    for (int y = 0; y < height; ++y) {
+        SHPRT_CHECK(n - pos >= 4, format, "image {} is truncated at scanline {} of {}", path, y,
+                    height);
+        SHPRT_CHECK(b[pos] == 2 && b[pos + 1] == 2 && !(b[pos + 2] & 0x80), format,
+                    "image {}: scanline {} is not run-length encoded like the first", path, y);
+        const int len = (b[pos + 2] << 8) | b[pos + 3];
+        SHPRT_CHECK(len == width, format, "image {}: scanline {} has length {}, expected {}", path,
+                    y, len, width);
+        pos += 4;
+        for (int k = 0; k < 4; ++k) {
+            for (int x = 0; x < width;) {
+                SHPRT_CHECK(pos < n, format, "image {} is truncated at scanline {} of {}", path, y,
+                            height);
+                const int count = b[pos++];
+                if (count > 128) {
+                    SHPRT_CHECK(pos < n, format, "image {} is truncated at scanline {} of {}", path,
+                                y, height);
+                    ++pos;
+                    x += count - 128;
+                } else {
+                    SHPRT_CHECK(count > 0, format, "image {}: zero-length run in scanline {}", path,
+                                y);
+                    SHPRT_CHECK(n - pos >= std::size_t(count), format,
+                                "image {} is truncated at scanline {} of {}", path, y, height);
+                    pos += std::size_t(count);
+                    x += count;
+                }
+                SHPRT_CHECK(x <= width, format, "image {}: run overflows scanline {}", path, y);
+            }
+        }
+    }
+}
+
+struct StbFree {
+    void operator()(void* p) const { stbi_image_free(p); }
+};
+
+Image load_hdr(const std::string& path, const std::string& bytes) {
+    validate_rgbe(path, bytes);
+    int w = 0, h = 0, comp = 0;
+    std::unique_ptr<float, StbFree> data(
+        stbi_loadf_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                               static_cast<int>(bytes.size()), &w, &h, &comp, 3));
+    SHPRT_CHECK(data != nullptr, format, "cannot decode image {}: {}", path,
+                stbi_failure_reason() ? stbi_failure_reason() : "unknown stb_image error");
+    check_dimensions(path, w, h);
+    Image image = Image::make(w, h);
+    std::memcpy(image.rgb.data(), data.get(), image.rgb.size() * sizeof(float));
+    return image;
+}
+
+// ---- PNG -------------------------------------------------------------------------------------
+
+Image load_png(const std::string& path, const std::string& bytes) {
+    SHPRT_CHECK(bytes.size() <= std::size_t(std::numeric_limits<int>::max()), format,
+                "image {} is too large", path);
+    // stb_image stops reading after the last IDAT chunk; a file cut inside its final IEND chunk
+    // would pass unnoticed, so the trailer is checked here.
+    static constexpr char kIend[] = {0,   0,   0,      0,      'I',    'E',
+                                     'N', 'D', '\xAE', '\x42', '\x60', '\x82'};
+    SHPRT_CHECK(bytes.find(std::string_view(kIend, sizeof(kIend))) != std::string::npos, format,
+                "image {} is truncated: no PNG end chunk (IEND)", path);
+    const auto* mem = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int len = static_cast<int>(bytes.size());
+    int w = 0, h = 0, comp = 0;
+    SHPRT_CHECK(stbi_info_from_memory(mem, len, &w, &h, &comp), format,
+                "cannot decode image {}: {}", path,
+                stbi_failure_reason() ? stbi_failure_reason() : "not a PNG file");
+    check_dimensions(path, w, h);
+    // 16-bit PNGs are reduced to 8 bits by stb_image; environment maps worth more precision
+    // come as .exr or .hdr.
+    std::unique_ptr<stbi_uc, StbFree> data(stbi_load_from_memory(mem, len, &w, &h, &comp, 3));
+    SHPRT_CHECK(data != nullptr, format, "cannot decode image {}: {}", path,
+                stbi_failure_reason() ? stbi_failure_reason() : "corrupt PNG");
+    check_dimensions(path, w, h);
+    std::array<float, 256> lut;
+    for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(float(i) / 255.0f);
+    Image image = Image::make(w, h);
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] = lut[data.get()[i]];
+    return image;
+}
+
+// ---- OpenEXR ---------------------------------------------------------------------------------
+
+// tinyexr's one-call LoadEXRFromMemory leaks its header and image on every error path, so the
+// steps are done here with the lower-level calls and freed on every path. (Ownership rules of
+// tinyexr 1.0.1: ParseEXRHeaderFromMemory allocates even when it fails, so the header is always
+// freed; LoadEXRImageFromMemory frees its own allocations when it fails, so the image is freed
+// only after success.)
+struct ExrHeaderGuard {
+    EXRHeader header;
+    ExrHeaderGuard() { InitEXRHeader(&header); }
+    ~ExrHeaderGuard() { FreeEXRHeader(&header); }
+};
+struct ExrImageGuard {
+    EXRImage image;
+    bool loaded = false;
+    ExrImageGuard() { InitEXRImage(&image); }
+    ~ExrImageGuard() {
+        if (loaded) FreeEXRImage(&image);
+    }
+};
+
+[[noreturn]] void fail_exr(const std::string& path, const char* err, int code) {
+    std::string message = err ? err : "unknown tinyexr error";
+    while (!message.empty() && (message.back() == '\n' || message.back() == '.'))
+        message.pop_back();
+    if (err) FreeEXRErrorMessage(err);
+    fail(ErrorCode::format,
+         "cannot decode image {}: {} (tinyexr code {}; truncated or corrupt file)", path, message,
+         code);
+}
+
+Image load_exr(const std::string& path, const std::string& bytes) {
+    const auto* mem = reinterpret_cast<const unsigned char*>(bytes.data());
+    EXRVersion version;
+    int ret = ParseEXRVersionFromMemory(&version, mem, bytes.size());
+    SHPRT_CHECK(ret == TINYEXR_SUCCESS, format, "image {} is not an OpenEXR file (tinyexr code {})",
+                path, ret);
+    SHPRT_CHECK(!version.multipart && !version.non_image, unsupported,
+                "image {}: multi-part and deep OpenEXR files are not supported", path);
+    ExrHeaderGuard h;
+    const char* err = nullptr;
+    ret = ParseEXRHeaderFromMemory(&h.header, &version, mem, bytes.size(), &err);
+    if (ret != TINYEXR_SUCCESS) fail_exr(path, err, ret);
+    for (int c = 0; c < h.header.num_channels; ++c)
+        if (h.header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
+            h.header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+
+    ExrImageGuard im;
+    // tinyexr frees the image itself when decoding fails, but only the channel planes counted
+    // in num_channels, which it sets on success: preset it so the planes are freed too.
+    im.image.num_channels = h.header.num_channels;
+    ret = LoadEXRImageFromMemory(&im.image, &h.header, mem, bytes.size(), &err);
+    if (ret != TINYEXR_SUCCESS) fail_exr(path, err, ret);
+    im.loaded = true;
+    check_dimensions(path, im.image.width, im.image.height);
+
+    // Channels: R, G, B by name, or one channel of any name read as grey.
+    int index[3] = {-1, -1, -1};
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < h.header.num_channels; ++c)
+        for (int k = 0; k < 3; ++k)
+            if (std::strcmp(h.header.channels[c].name, names[k]) == 0) index[k] = c;
+    if (h.header.num_channels == 1) index[0] = index[1] = index[2] = 0;
+    SHPRT_CHECK(index[0] >= 0 && index[1] >= 0 && index[2] >= 0, format,
+                "image {}: needs R, G and B channels (or a single channel)", path);
+    for (int k = 0; k < 3; ++k)
+        SHPRT_CHECK(h.header.requested_pixel_types[index[k]] != TINYEXR_PIXELTYPE_UINT, unsupported,
+                    "image {}: integer channels are not supported", path);
+
+    const int W = im.image.width, H = im.image.height;
+    Image image = Image::make(W, H);
+    const auto put = [&](unsigned char** planes, int src, int x, int y) {
+        float* dst = image.pixel(x, y);
+        for (int k = 0; k < 3; ++k) dst[k] = reinterpret_cast<float**>(planes)[index[k]][src];
+    };
+    if (h.header.tiled) {
+        const int tx = h.header.tile_size_x, ty = h.header.tile_size_y;
+        for (int t = 0; t < im.image.num_tiles; ++t) {
+            const EXRTile& tile = im.image.tiles[t];
+            for (int j = 0; j < tile.height; ++j)
+                for (int i = 0; i < tile.width; ++i) {
+                    const int x = tile.offset_x * tx + i, y = tile.offset_y * ty + j;
+                    if (x < W && y < H) put(tile.images, j * tx + i, x, y);
+                }
+        }
+    } else {
+        SHPRT_CHECK(im.image.images != nullptr, format, "image {}: no pixel data", path);
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) put(im.image.images, y * W + x, x, y);
+    }
+    return image;
+}
+
+// ---- Writing ---------------------------------------------------------------------------------
+
+void append_bytes(void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
+}
+
+std::string encode_exr(const std::string& path, const Image& image) {
+    // EXR stores channels in alphabetical order; tinyexr writes them in the order given.
+    const std::size_t n = image.pixel_count();
+    std::vector<float> planes[3];  // B, G, R
+    for (int c = 0; c < 3; ++c) {
+        planes[c].resize(n);
+        for (std::size_t p = 0; p < n; ++p) planes[c][p] = image.rgb[3 * p + (2 - c)];
+    }
+    float* plane_ptrs[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
+
+    EXRImage exr_image;
+    InitEXRImage(&exr_image);
+    exr_image.num_channels = 3;
+    exr_image.images = reinterpret_cast<unsigned char**>(plane_ptrs);
+    exr_image.width = image.width;
+    exr_image.height = image.height;
+
+    EXRHeader header;
+    InitEXRHeader(&header);
+    EXRChannelInfo channels[3];
+    std::memset(channels, 0, sizeof(channels));
+    const char* names[3] = {"B", "G", "R"};
+    int pixel_types[3], requested[3];
+    for (int c = 0; c < 3; ++c) {
+        std::strncpy(channels[c].name, names[c], sizeof(channels[c].name) - 1);
+        pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;  // type of the data we hand over
+        requested[c] = TINYEXR_PIXELTYPE_FLOAT;    // type stored in the file: full float
+    }
+    header.num_channels = 3;
+    header.channels = channels;
+    header.pixel_types = pixel_types;
+    header.requested_pixel_types = requested;
+    header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+
+    unsigned char* memory = nullptr;
+    const char* err = nullptr;
+    const std::size_t size = SaveEXRImageToMemory(&exr_image, &header, &memory, &err);
+    std::unique_ptr<unsigned char, decltype(&std::free)> owned(memory, &std::free);
+    if (size == 0 || memory == nullptr) {
+        const std::string message = err ? err : "unknown tinyexr error";
+        if (err) FreeEXRErrorMessage(err);
+        fail(ErrorCode::io, "cannot encode image {}: {}", path, message);
+    }
+    return std::string(reinterpret_cast<const char*>(memory), size);
+}
+
+std::string encode_hdr(const std::string& path, const Image& image) {
+    // RGBE has no sign: negative values are stored as 0.
+    std::vector<float> clamped(image.rgb.size());
+    for (std::size_t i = 0; i < clamped.size(); ++i) clamped[i] = std::max(image.rgb[i], 0.0f);
+    std::string out;
+    SHPRT_CHECK(stbi_write_hdr_to_func(append_bytes, &out, image.width, image.height, 3,
+                                       clamped.data()) != 0,
+                io, "cannot encode image {} as .hdr", path);
+    return out;
+}
+
+std::string encode_png(const std::string& path, const Image& image, float exposure) {
+    std::vector<unsigned char> pixels(image.rgb.size());
+    for (std::size_t i = 0; i < pixels.size(); ++i)
+        pixels[i] = display_encode8(image.rgb[i], exposure);
+    std::string out;
+    SHPRT_CHECK(stbi_write_png_to_func(append_bytes, &out, image.width, image.height, 3,
+                                       pixels.data(), image.width * 3) != 0,
+                io, "cannot encode image {} as .png", path);
+    return out;
+}
+
+}  // namespace
+
+Image Image::make(int width, int height) {
+    SHPRT_CHECK(width > 0 && height > 0 && width <= kMaxImageSide && height <= kMaxImageSide,
+                invalid_argument, "image size {}x{} is invalid (each side must be 1..{})", width,
+                height, kMaxImageSide);
+    Image image;
+    image.width = width;
+    image.height = height;
+    image.rgb.assign(std::size_t(3) * std::size_t(width) * std::size_t(height), 0.0f);
+    return image;
+}
+
+Image load_image(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    SHPRT_CHECK(ext == ".exr" || ext == ".hdr" || ext == ".png", unsupported,
+                "cannot read image {}: unknown extension '{}' (expected .exr, .hdr or .png)", path,
+                ext);
+    const std::string bytes = read_image_bytes(path);
+    Image image = ext == ".exr"   ? load_exr(path, bytes)
+                  : ext == ".hdr" ? load_hdr(path, bytes)
+                                  : load_png(path, bytes);
+    check_finite(path, image);
+    return image;
+}
+
+void save_image(const std::string& path, const Image& image, float exposure) {
+    const std::string ext = lower_extension(path);
+    SHPRT_CHECK(ext == ".exr" || ext == ".hdr" || ext == ".png", unsupported,
+                "cannot write image {}: unknown extension '{}' (expected .exr, .hdr or .png)", path,
+                ext);
+    SHPRT_CHECK(!image.empty() && image.width <= kMaxImageSide && image.height <= kMaxImageSide,
+                invalid_argument, "cannot write image {}: invalid size {}x{}", path, image.width,
+                image.height);
+    SHPRT_CHECK(image.rgb.size() == 3 * image.pixel_count(), invalid_argument,
+                "cannot write image {}: {} floats for {}x{} RGB pixels (expected {})", path,
+                image.rgb.size(), image.width, image.height, 3 * image.pixel_count());
+    SHPRT_CHECK(std::isfinite(exposure) && exposure > 0.0f, invalid_argument,
+                "cannot write image {}: exposure {} must be positive", path, exposure);
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+        const std::size_t p = i / 3;
+        SHPRT_CHECK(std::isfinite(image.rgb[i]), invalid_argument,
+                    "cannot write image {}: pixel ({}, {}) is not finite", path,
+                    p % std::size_t(image.width), p / std::size_t(image.width));
+    }
+    const std::string bytes = ext == ".exr"   ? encode_exr(path, image)
+                              : ext == ".hdr" ? encode_hdr(path, image)
+                                              : encode_png(path, image, exposure);
+    AtomicFile file(path);
+    file.write(bytes.data(), bytes.size());
+    file.commit();
+}
+
+}  // namespace shprt

@@ -1,0 +1,351 @@
+// Image files: round trips (.exr bit-exact, .hdr within RGBE precision, .png through the display
+// chain), orientation, and bad files (missing, empty, truncated at every cut, garbage, NaN/Inf
+// pixels, wrong extension) → shprt::Error naming the file, never a crash or a hang.
+#include "shprt/light/image.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/light/tonemap.hpp"
+
+#include <gtest/gtest.h>
+#include <tinyexr.h>
+
+#include <unistd.h>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+
+namespace shprt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// RGBE keeps an 8-bit mantissa shared by the three channels; stb truncates, so each channel is
+// off by less than one mantissa step of the largest channel, ≤ max/128.
+constexpr float kRgbeRelTol = 1.0f / 128.0f;
+
+class ImageFiles : public ::testing::Test {
+protected:
+    void SetUp() override {
+        m_dir = fs::temp_directory_path() /
+                ("shprt_test_image_" + std::to_string(::getpid()) + "_" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(m_dir);
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+    std::string path(const std::string& name) const { return (m_dir / name).string(); }
+
+    fs::path m_dir;
+};
+
+Image random_image(int w, int h, unsigned seed, float lo, float hi) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(lo, hi);
+    Image image = Image::make(w, h);
+    for (float& v : image.rgb) v = u(rng);
+    return image;
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+// Expects load_image(path) to throw shprt::Error whose message names `path`.
+void expect_error_naming(const std::string& path, ErrorCode code) {
+    try {
+        load_image(path);
+        ADD_FAILURE() << "no error for " << path;
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), code) << e.what();
+        EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(ImageFiles, ExrRoundTripIsBitExact) {
+    Image image = random_image(37, 19, 1, -2.0f, 50.0f);
+    image.rgb[0] = 1e-30f;  // denormal-adjacent and large values survive as float32
+    image.rgb[1] = 6.0e4f;
+    image.rgb[5] = 1.0e20f;
+    save_image(path("a.exr"), image);
+    const Image back = load_image(path("a.exr"));
+    ASSERT_EQ(back.width, image.width);
+    ASSERT_EQ(back.height, image.height);
+    ASSERT_EQ(back.rgb.size(), image.rgb.size());
+    EXPECT_EQ(std::memcmp(back.rgb.data(), image.rgb.data(), image.rgb.size() * sizeof(float)), 0);
+}
+
+TEST_F(ImageFiles, HdrRoundTripWithinRgbePrecision) {
+    for (int w : {5, 40}) {  // widths below 8 are written flat, 8..32767 run-length encoded
+        Image image = random_image(w, 13, 2, 0.0f, 100.0f);
+        for (std::size_t i = 0; i < image.rgb.size(); i += 7) image.rgb[i] *= 1e-3f;
+        const std::string p = path("a" + std::to_string(w) + ".hdr");
+        save_image(p, image);
+        const Image back = load_image(p);
+        ASSERT_EQ(back.width, image.width);
+        ASSERT_EQ(back.height, image.height);
+        double worst = 0.0;
+        for (std::size_t px = 0; px < image.pixel_count(); ++px) {
+            const float* a = &image.rgb[3 * px];
+            const float* b = &back.rgb[3 * px];
+            const float maxc = std::max({a[0], a[1], a[2]});
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_LE(std::abs(a[c] - b[c]), kRgbeRelTol * maxc) << "pixel " << px;
+                worst = std::max(worst, double(std::abs(a[c] - b[c]) / maxc));
+            }
+        }
+        EXPECT_GT(worst, 0.0);  // RGBE is lossy: the check above is not vacuous
+    }
+}
+
+TEST_F(ImageFiles, HdrNegativeValuesAreStoredAsZero) {
+    Image image = Image::make(8, 2);
+    image.rgb.assign(image.rgb.size(), 0.5f);
+    image.rgb[4] = -3.0f;
+    save_image(path("neg.hdr"), image);
+    const Image back = load_image(path("neg.hdr"));
+    EXPECT_EQ(back.rgb[4], 0.0f);
+    EXPECT_NEAR(back.rgb[3], 0.5f, kRgbeRelTol);
+}
+
+TEST_F(ImageFiles, PngRoundTripThroughDisplayChain) {
+    Image image = random_image(23, 11, 3, 0.0f, 8.0f);
+    image.rgb[0] = 0.0f;
+    image.rgb[1] = 1000.0f;  // saturates to white
+    const float exposure = 0.7f;
+    save_image(path("a.png"), image, exposure);
+    const Image back = load_image(path("a.png"));
+    ASSERT_EQ(back.width, image.width);
+    ASSERT_EQ(back.height, image.height);
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+        // Exactly the 8-bit code the writer chose, decoded with the sRGB curve...
+        const float expected = srgb_to_linear(display_encode8(image.rgb[i], exposure) / 255.0f);
+        ASSERT_EQ(back.rgb[i], expected) << "value " << i;
+        // ...which is the ACES-mapped value within half an 8-bit sRGB step.
+        const float s_true = linear_to_srgb(tonemap_aces(image.rgb[i] * exposure));
+        ASSERT_LE(std::abs(linear_to_srgb(back.rgb[i]) - s_true), 0.5f / 255.0f + 1e-6f);
+    }
+    EXPECT_EQ(back.rgb[0], 0.0f);
+    EXPECT_EQ(back.rgb[1], 1.0f);
+}
+
+TEST(ToneMap, AcesFitProperties) {
+    EXPECT_EQ(tonemap_aces(0.0f), 0.0f);
+    EXPECT_EQ(tonemap_aces(-1.0f), 0.0f);
+    EXPECT_EQ(tonemap_aces(std::numeric_limits<float>::quiet_NaN()), 0.0f);
+    EXPECT_NEAR(tonemap_aces(1.0f), 2.54f / 3.16f, 1e-6f);  // the fit's value at 1
+    float prev = 0.0f;
+    for (float x = 0.01f; x < 100.0f; x *= 1.1f) {
+        const float y = tonemap_aces(x);
+        EXPECT_GE(y, prev);
+        EXPECT_LE(y, 1.0f);
+        prev = y;
+    }
+    for (int i = 0; i <= 255; ++i) {  // the sRGB curves invert each other
+        const float s = float(i) / 255.0f;
+        EXPECT_NEAR(linear_to_srgb(srgb_to_linear(s)), s, 2e-6f);
+    }
+    EXPECT_NEAR(srgb_to_linear(0.5f), 0.21404114f, 1e-6f);
+}
+
+TEST_F(ImageFiles, RowZeroIsTheTop) {
+    // A PNG written with one bright pixel at (x, y) = (3, 1) reads back there.
+    Image image = Image::make(5, 4);
+    image.pixel(3, 1)[1] = 100.0f;
+    save_image(path("dot.png"), image);
+    const Image back = load_image(path("dot.png"));
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 5; ++x)
+            EXPECT_EQ(back.pixel(x, y)[1] > 0.5f, x == 3 && y == 1) << x << "," << y;
+}
+
+TEST_F(ImageFiles, MissingEmptyAndGarbageFilesThrow) {
+    expect_error_naming(path("missing.exr"), ErrorCode::io);
+    expect_error_naming(path("missing.hdr"), ErrorCode::io);
+    fs::create_directories(path("dir.hdr"));
+    expect_error_naming(path("dir.hdr"), ErrorCode::io);
+    for (const char* name : {"empty.exr", "empty.hdr", "empty.png"}) {
+        write_bytes(path(name), "");
+        expect_error_naming(path(name), ErrorCode::format);
+    }
+    for (const char* name : {"junk.exr", "junk.hdr", "junk.png"}) {
+        write_bytes(path(name), std::string(300, 'x'));
+        expect_error_naming(path(name), ErrorCode::format);
+    }
+    write_bytes(path("a.jpg"), "whatever");
+    expect_error_naming(path("a.jpg"), ErrorCode::unsupported);
+}
+
+TEST_F(ImageFiles, TruncatedFilesThrowAtEveryCut) {
+    const Image image = random_image(16, 4, 4, 0.0f, 10.0f);
+    for (const char* name : {"t.exr", "t.hdr", "t.png"}) {
+        save_image(path(name), image);
+        const std::string bytes = read_file(path(name));
+        ASSERT_GT(bytes.size(), 64u);
+        // Every cut of the pixel data, and a sample of cuts in the header.
+        int checked = 0;
+        for (std::size_t cut = 1; cut < bytes.size(); cut += (cut < 64 ? 7 : 1)) {
+            // A fresh name per cut: overwriting one file thousands of times is slow on some
+            // file systems.
+            const std::string p = path("cut" + std::to_string(cut) + "_" + name);
+            write_bytes(p, bytes.substr(0, cut));
+            try {
+                load_image(p);
+                ADD_FAILURE() << name << " cut at " << cut << " of " << bytes.size() << " loaded";
+            } catch (const Error& e) {
+                ASSERT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
+            }
+            fs::remove(p);
+            ++checked;
+        }
+        EXPECT_GT(checked, 50);
+    }
+}
+
+TEST_F(ImageFiles, HdrWithWrongLayoutOrZeroRunThrows) {
+    const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+    write_bytes(path("flip.hdr"), header + "+Y 2 +X 2\n" + std::string(16, '\x40'));
+    expect_error_naming(path("flip.hdr"), ErrorCode::format);
+    write_bytes(path("nofmt.hdr"), "#?RADIANCE\n\n-Y 1 +X 1\n" + std::string(4, '\x40'));
+    expect_error_naming(path("nofmt.hdr"), ErrorCode::format);
+    // An RLE scanline whose dump count is 0 would make a naive decoder spin forever.
+    std::string rle = header + "-Y 1 +X 8\n";
+    rle += std::string("\x02\x02\x00\x08", 4);
+    rle += std::string(1, '\0');
+    write_bytes(path("zero.hdr"), rle + std::string(40, '\x01'));
+    expect_error_naming(path("zero.hdr"), ErrorCode::format);
+    write_bytes(path("zero_size.hdr"), header + "-Y 0 +X 4\n");
+    expect_error_naming(path("zero_size.hdr"), ErrorCode::format);
+}
+
+TEST_F(ImageFiles, NonFinitePixelsInExrThrow) {
+    // save_image refuses non-finite pixels, so the file is written with tinyexr directly.
+    for (float bad :
+         {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+        std::vector<float> rgb(4 * 3 * 3, 1.0f);
+        rgb[3 * 7 + 2] = bad;  // pixel (3, 1) of a 4×3 image, channel B
+        const std::string p = path(std::isnan(bad) ? "nan.exr" : "inf.exr");
+        const char* err = nullptr;
+        ASSERT_EQ(SaveEXR(rgb.data(), 4, 3, 3, 0, p.c_str(), &err), TINYEXR_SUCCESS);
+        try {
+            load_image(p);
+            ADD_FAILURE() << "non-finite pixel accepted";
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            EXPECT_EQ(e.code(), ErrorCode::format);
+            EXPECT_NE(what.find(p), std::string::npos) << what;
+            EXPECT_NE(what.find("(3, 1)"), std::string::npos) << what;
+        }
+    }
+}
+
+// EXR variants that save_image does not write, made with tinyexr directly: half floats, a single
+// grey channel, and a tiled file whose edge tiles are partial.
+TEST_F(ImageFiles, ExrVariantsLoad) {
+    const int W = 20, H = 12;
+    const Image image = random_image(W, H, 6, 0.0f, 4.0f);
+    const char* err = nullptr;
+
+    const std::string half = path("half.exr");
+    ASSERT_EQ(SaveEXR(image.rgb.data(), W, H, 3, 1, half.c_str(), &err), TINYEXR_SUCCESS);
+    const Image h = load_image(half);
+    for (std::size_t i = 0; i < image.rgb.size(); ++i)  // half: 11-bit mantissa
+        ASSERT_NEAR(h.rgb[i], image.rgb[i], image.rgb[i] * (1.0f / 1024.0f) + 1e-7f);
+
+    std::vector<float> grey(std::size_t(W) * H);
+    for (std::size_t p = 0; p < grey.size(); ++p) grey[p] = image.rgb[3 * p];
+    const std::string single = path("grey.exr");
+    ASSERT_EQ(SaveEXR(grey.data(), W, H, 1, 0, single.c_str(), &err), TINYEXR_SUCCESS);
+    const Image g = load_image(single);
+    for (std::size_t p = 0; p < grey.size(); ++p)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(g.rgb[3 * p + c], grey[p]);
+
+    // Tiled, 8×8 tiles: 3×2 tiles, the last column 4 wide and the last row 4 high.
+    const int T = 8, tiles_x = 3, tiles_y = 2;
+    std::vector<std::vector<float>> planes(tiles_x * tiles_y * 3, std::vector<float>(T * T, 0.0f));
+    std::vector<std::array<unsigned char*, 3>> tile_ptrs(tiles_x * tiles_y);
+    std::vector<EXRTile> tiles(tiles_x * tiles_y);
+    for (int ty = 0; ty < tiles_y; ++ty)
+        for (int tx = 0; tx < tiles_x; ++tx) {
+            const int t = ty * tiles_x + tx;
+            EXRTile& tile = tiles[t];
+            tile.offset_x = tx;
+            tile.offset_y = ty;
+            tile.level_x = tile.level_y = 0;
+            tile.width = std::min(T, W - tx * T);
+            tile.height = std::min(T, H - ty * T);
+            for (int c = 0; c < 3; ++c) {  // file channel order B, G, R
+                std::vector<float>& plane = planes[3 * t + c];
+                for (int j = 0; j < tile.height; ++j)
+                    for (int i = 0; i < tile.width; ++i)
+                        plane[j * T + i] = image.pixel(tx * T + i, ty * T + j)[2 - c];
+                tile_ptrs[t][c] = reinterpret_cast<unsigned char*>(plane.data());
+            }
+            tile.images = tile_ptrs[t].data();
+        }
+    EXRImage exr;
+    InitEXRImage(&exr);
+    exr.num_channels = 3;
+    exr.width = W;
+    exr.height = H;
+    exr.tiles = tiles.data();
+    exr.num_tiles = tiles_x * tiles_y;
+    EXRHeader header;
+    InitEXRHeader(&header);
+    EXRChannelInfo channels[3] = {};
+    int types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
+    int requested[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
+    channels[0].name[0] = 'B';
+    channels[1].name[0] = 'G';
+    channels[2].name[0] = 'R';
+    header.num_channels = 3;
+    header.channels = channels;
+    header.pixel_types = types;
+    header.requested_pixel_types = requested;
+    header.tiled = 1;
+    header.tile_size_x = header.tile_size_y = T;
+    header.tile_level_mode = TINYEXR_TILE_ONE_LEVEL;
+    header.tile_rounding_mode = TINYEXR_TILE_ROUND_DOWN;
+    header.data_window.min_x = header.data_window.min_y = 0;  // tiled saving needs the windows
+    header.data_window.max_x = W - 1;
+    header.data_window.max_y = H - 1;
+    header.display_window = header.data_window;
+    const std::string tiled = path("tiled.exr");
+    ASSERT_EQ(SaveEXRImageToFile(&exr, &header, tiled.c_str(), &err), TINYEXR_SUCCESS)
+        << (err ? err : "");
+    const Image t = load_image(tiled);
+    ASSERT_EQ(t.width, W);
+    ASSERT_EQ(t.height, H);
+    EXPECT_EQ(t.rgb, image.rgb);
+}
+
+TEST_F(ImageFiles, SaveRejectsBadInput) {
+    Image image = Image::make(2, 2);
+    EXPECT_THROW(save_image(path("a.bmp"), image), Error);
+    EXPECT_THROW(save_image(path("a.png"), Image{}), Error);
+    EXPECT_THROW(save_image(path("a.png"), image, 0.0f), Error);
+    Image short_buffer = image;
+    short_buffer.rgb.pop_back();
+    EXPECT_THROW(save_image(path("a.exr"), short_buffer), Error);
+    image.rgb[2] = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(save_image(path("a.exr"), image), Error);
+    EXPECT_FALSE(fs::exists(path("a.exr")));
+    image.rgb[2] = 0.0f;
+    EXPECT_THROW(save_image(path("no/such/dir/a.exr"), image), Error);
+    EXPECT_THROW(Image::make(0, 3), Error);
+    // A failed save leaves an existing file untouched.
+    save_image(path("keep.exr"), image);
+    const std::string before = read_file(path("keep.exr"));
+    image.rgb[0] = std::numeric_limits<float>::infinity();
+    EXPECT_THROW(save_image(path("keep.exr"), image), Error);
+    EXPECT_EQ(read_file(path("keep.exr")), before);
+}
+
+}  // namespace
+}  // namespace shprt
