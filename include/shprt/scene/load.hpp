@@ -1,0 +1,45 @@
+// Loading scenes: mesh files through Assimp, or built-in scenes by name.
+#pragma once
+
+#include "shprt/scene/mesh.hpp"
+
+#include <string>
+
+namespace shprt {
+
+// Loads a scene. `spec` is either "builtin:NAME" (see builtin.hpp) or a file path in any format
+// Assimp reads (tested: OBJ, PLY, STL, glTF, Collada; also GLB, FBX, 3DS and the rest).
+//
+// What the file gives becomes one Mesh, in world space:
+//   * every mesh instance of the node graph, with its node's accumulated transform applied to
+//     positions and (inverse-transpose) to normals; a mirroring transform also flips the winding
+//     so counter-clockwise stays the front face. Meshes come in Assimp's mesh order; instances of
+//     one mesh follow in node-graph order;
+//   * vertices are never welded or split. PLY keeps its vertex order exactly: output vertex i is
+//     the file's vertex i, unused vertices included; Mesh::source_vertex is then the identity.
+//     For other formats source_vertex[i] is the index in Assimp's order across its meshes
+//     (mesh m's vertices follow those of meshes 0..m-1);
+//   * polygons are triangulated by triangulate_polygon (a convex polygon becomes the fan from its
+//     first corner); points and lines are skipped (counted in a log_warn);
+//   * normals from the file where every vertex has a finite non-zero one; otherwise all are
+//     recomputed, area- and angle-weighted (compute_vertex_normals for PLY, whose indexing is the
+//     author's; compute_vertex_normals_by_position for other formats, whose importers duplicate
+//     vertices per corner);
+//   * albedo from the first vertex-colour set (8-bit PLY colours are decoded from sRGB; float
+//     colours are taken as linear), else the material's base or diffuse colour, else
+//     kDefaultAlbedo grey (also for Assimp's placeholder material);
+//   * the result passes validate_mesh (degenerate triangles dropped with a warning).
+// PLY headers are checked strictly before Assimp sees them (Assimp 5.2.5 hangs or allocates
+// without bound on some corrupt ones); the other formats are parsed by Assimp alone, and a
+// crafted corrupt file can still crash its importers (fuzzing found a Collada one; see assimp
+// issues #6507, #6443).
+// Mesh::source is `spec`. Throws shprt::Error whose message starts with the path and names the
+// problem: Error(io) for a missing or unreadable file, Error(unsupported) for a format Assimp
+// does not know, Error(format) for a file it cannot parse, an empty mesh, NaN/Inf coordinates or
+// out-of-range indices; Error(invalid_argument) for an unknown built-in name.
+Mesh load_scene(const std::string& spec);
+
+// True when `spec` names a built-in scene ("builtin:" prefix).
+bool is_builtin_spec(const std::string& spec);
+
+}  // namespace shprt

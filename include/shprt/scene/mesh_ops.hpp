@@ -1,0 +1,49 @@
+// Whole-mesh operations every scene source goes through: normals, validation, bounds.
+#pragma once
+
+#include "shprt/core/vec.hpp"
+#include "shprt/scene/mesh.hpp"
+
+#include <string>
+
+namespace shprt {
+
+// Albedo of surfaces whose file gives no colour, and of the small built-in scenes (linear RGB).
+constexpr float kDefaultAlbedo = 0.8f;
+
+// Replaces mesh.normals with smooth per-vertex normals: each triangle adds its face normal to its
+// three vertices, weighted by the triangle's area times the triangle's angle at that vertex
+// (Max 1999 / Thürmer–Wüthrich 1998 angle weighting, scaled by area so slivers count little).
+// Vertices are grouped by index: duplicated vertices at a hard edge keep their own normals.
+// Sums are accumulated in double, in triangle order (deterministic). A vertex that no triangle
+// uses, or whose weighted sum is zero, gets +Y. Precondition: indices in range (validate_mesh).
+void compute_vertex_normals(Mesh& mesh);
+
+// As compute_vertex_normals, but vertices at bit-identical positions share one normal, so a mesh
+// that an importer "unindexed" (OBJ, STL: one vertex per triangle corner) is shaded smoothly as
+// if it had been welded. Vertex order and count are unchanged.
+void compute_vertex_normals_by_position(Mesh& mesh);
+
+// Checks a mesh before anything traces or bakes it, and repairs what is harmless:
+//   throws Error(format) naming `name` when the mesh has no vertices or no triangles, a position,
+//   normal or albedo that is NaN or infinite, or a triangle index >= vertex_count();
+//   throws Error(invalid_argument) when normals/albedo/source_vertex are neither empty nor one per
+//   vertex, or when there are more than 2^32 - 1 vertices;
+//   drops degenerate triangles (a repeated index, or zero area computed in double) and reports
+//   their count with log_warn; throws Error(format) if none are left;
+//   clamps albedo to [0, 1].
+// `name` is the file path or "builtin:NAME" used in messages.
+void validate_mesh(Mesh& mesh, const std::string& name);
+
+// Axis-aligned bounds of all vertex positions (used or not), in the mesh's units (metres for the
+// generated scenes). An empty mesh gives lo = hi = (0, 0, 0).
+struct Bounds {
+    Vec3f lo, hi;
+};
+Bounds mesh_bounds(const Mesh& mesh);
+
+// Total triangle area (square metres for the generated scenes), summed in double. Precondition:
+// indices in range (validate_mesh).
+double mesh_surface_area(const Mesh& mesh);
+
+}  // namespace shprt

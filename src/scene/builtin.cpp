@@ -1,0 +1,99 @@
+// Small built-in scenes for tests, and the exact occlusion of the inner corner: the solid angle
+// of a triangle by A. van Oosterom and J. Strackee, "The solid angle of a plane triangle" (IEEE
+// Trans. Biomed. Eng. 1983); the cosine-weighted integral over a polygon by Lambert's formula
+// (the vector-irradiance contour integral, e.g. Arvo, "Applications of irradiance tensors", 1995).
+#include "shprt/scene/builtin.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/scene/builder.hpp"
+#include "shprt/scene/mesh_ops.hpp"
+#include "shprt/scene/room.hpp"
+
+#include <array>
+#include <cmath>
+#include <numbers>
+
+namespace shprt {
+namespace {
+
+constexpr Vec3f kGrey{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
+constexpr double kCornerSize = 2.0;
+constexpr double kCornerCell = 0.1;
+
+Mesh make_plane() {
+    MeshBuilder b;
+    b.add_rect(Axis::y, 0.0, +1, {-1, 1, -1, 1}, 0.125, kGrey);
+    return b.take_mesh("builtin:plane");
+}
+
+Mesh make_box_on_plane() {
+    MeshBuilder b;
+    b.add_rect(Axis::y, 0.0, +1, {-2, 2, -2, 2}, 0.125, kGrey);
+    b.add_box({-0.5, 0.0, -0.5}, {0.5, 1.0, 0.5}, 0.25, kGrey, kBoxNoBottom);
+    return b.take_mesh("builtin:box_on_plane");
+}
+
+Mesh make_sphere() {
+    MeshBuilder b;
+    b.add_icosphere({0, 0, 0}, 1.0, 3, kGrey);
+    return b.take_mesh("builtin:sphere");
+}
+
+Mesh make_corner() {
+    MeshBuilder b;
+    const double s = kCornerSize;
+    b.add_rect(Axis::y, 0.0, +1, {-s, s, 0, s}, kCornerCell, kGrey);  // (a, b) = (z, x)
+    b.add_rect(Axis::x, 0.0, +1, {0, s, -s, s}, kCornerCell, kGrey);  // (a, b) = (y, z)
+    return b.take_mesh("builtin:corner");
+}
+
+// Solid angle of the triangle (a, b, c) seen from the origin.
+double triangle_solid_angle(Vec3d a, Vec3d b, Vec3d c) {
+    const double la = length(a), lb = length(b), lc = length(c);
+    const double num = std::abs(dot(a, cross(b, c)));
+    const double den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+    return 2.0 * std::atan2(num, den);
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_scene_names() {
+    return {"plane", "box_on_plane", "sphere", "corner", "room"};
+}
+
+Mesh make_builtin(const std::string& name) {
+    if (name == "plane") return make_plane();
+    if (name == "box_on_plane") return make_box_on_plane();
+    if (name == "sphere") return make_sphere();
+    if (name == "corner") return make_corner();
+    if (name == "room") return generate_room(RoomOptions{});
+    std::string names;
+    for (const auto& n : builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
+    fail(ErrorCode::invalid_argument, "unknown built-in scene '{}' (choose from: {})", name, names);
+}
+
+CornerOcclusion corner_occlusion(double x, double z) {
+    SHPRT_CHECK(x > 0.0 && std::isfinite(x) && std::isfinite(z), invalid_argument,
+                "corner_occlusion: the point must lie in front of the wall (x = {} > 0)", x);
+    const double s = kCornerSize;
+    const Vec3d p{x, 0.0, z};
+    const std::array<Vec3d, 4> q = {Vec3d{0, 0, -s} - p, Vec3d{0, s, -s} - p, Vec3d{0, s, s} - p,
+                                    Vec3d{0, 0, s} - p};
+    const double omega =
+        triangle_solid_angle(q[0], q[1], q[2]) + triangle_solid_angle(q[0], q[2], q[3]);
+    // Lambert: integral of n.w over the polygon = 1/2 sum_i angle(q_i, q_i+1) n.unit(q_i x q_i+1),
+    // up to the sign set by the winding.
+    double lambert = 0.0;
+    const Vec3d n{0, 1, 0};
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        const Vec3d a = q[i], b = q[(i + 1) % q.size()];
+        const Vec3d c = cross(a, b);
+        const double cl = length(c);
+        if (cl == 0.0) continue;
+        lambert += std::atan2(cl, dot(a, b)) * dot(n, c) / cl;
+    }
+    lambert = 0.5 * std::abs(lambert);
+    return {omega / (2.0 * std::numbers::pi), lambert / std::numbers::pi};
+}
+
+}  // namespace shprt

@@ -1,0 +1,280 @@
+// Scene loading through Assimp (https://github.com/assimp/assimp), without vertex welding so a
+// PLY file's vertex order survives (checked on Assimp 5.2.5; see DESIGN.md).
+#include "shprt/scene/load.hpp"
+
+#include "ply_header.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/core/log.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/scene/colour.hpp"
+#include "shprt/scene/mesh_ops.hpp"
+#include "shprt/scene/polygon.hpp"
+
+#include <assimp/config.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <assimp/Importer.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+using detail::check_ply_header;
+using detail::kMaxPlyHeader;
+using detail::looks_like_ply;
+using detail::PlyHeader;
+
+constexpr std::string_view kBuiltinPrefix = "builtin:";
+constexpr float kUnitSlack = 1e-6f;
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+// Reads the first bytes of a file (at most kMaxPlyHeader).
+std::string file_prefix(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string buffer(kMaxPlyHeader, '\0');
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    buffer.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+    return buffer;
+}
+
+struct Instance {
+    unsigned mesh;
+    aiMatrix4x4 transform;
+};
+
+// Mesh instances of the node graph with their accumulated transforms, iteratively (no recursion
+// depth limit on deep graphs), then ordered by mesh index (stable: node order within a mesh).
+std::vector<Instance> collect_instances(const aiScene& scene) {
+    std::vector<Instance> out;
+    if (!scene.mRootNode) {
+        for (unsigned m = 0; m < scene.mNumMeshes; ++m) out.push_back({m, aiMatrix4x4()});
+        return out;
+    }
+    std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{
+        {scene.mRootNode, scene.mRootNode->mTransformation}};
+    std::size_t visited = 0;
+    while (!stack.empty()) {
+        auto [node, transform] = stack.back();
+        stack.pop_back();
+        if (++visited > 10'000'000) break;  // a cyclic graph from a corrupt file
+        for (unsigned i = 0; i < node->mNumMeshes; ++i)
+            if (node->mMeshes && node->mMeshes[i] < scene.mNumMeshes)
+                out.push_back({node->mMeshes[i], transform});
+        // Push children in reverse so they are visited in order.
+        for (unsigned c = node->mNumChildren; c-- > 0;)
+            if (node->mChildren && node->mChildren[c])
+                stack.push_back(
+                    {node->mChildren[c], transform * node->mChildren[c]->mTransformation});
+    }
+    std::stable_sort(out.begin(), out.end(),
+                     [](const Instance& a, const Instance& b) { return a.mesh < b.mesh; });
+    return out;
+}
+
+Vec3f material_albedo(const aiScene& scene, const aiMesh& mesh) {
+    const Vec3f grey{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
+    if (!scene.mMaterials || mesh.mMaterialIndex >= scene.mNumMaterials) return grey;
+    const aiMaterial* material = scene.mMaterials[mesh.mMaterialIndex];
+    if (!material) return grey;
+    aiString name;
+    if (material->Get(AI_MATKEY_NAME, name) == AI_SUCCESS &&
+        std::strcmp(name.C_Str(), AI_DEFAULT_MATERIAL_NAME) == 0)
+        return grey;  // Assimp's placeholder for files without materials
+    aiColor4D c;
+    if (aiGetMaterialColor(material, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS ||
+        aiGetMaterialColor(material, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS)
+        return {c.r, c.g, c.b};
+    return grey;
+}
+
+bool usable_normal(const aiVector3D& n) {
+    return std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z) &&
+           (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f);
+}
+
+Mesh convert(const aiScene& scene, const std::string& path, const PlyHeader* ply_header) {
+    const bool is_ply = ply_header != nullptr;
+    Mesh out;
+    out.source = path;
+    std::vector<std::size_t> base(scene.mNumMeshes + 1, 0);
+    for (unsigned m = 0; m < scene.mNumMeshes; ++m)
+        base[m + 1] = base[m] + (scene.mMeshes[m] ? scene.mMeshes[m]->mNumVertices : 0);
+
+    const PlyHeader ply = is_ply ? *ply_header : PlyHeader{};
+    const bool srgb_colours = ply.colours_8bit;
+    const bool use_material = !is_ply || ply.has_material;
+    bool all_normals = true;
+    std::size_t skipped_faces = 0;
+    std::vector<std::uint32_t> polygon;
+    for (const Instance& inst : collect_instances(scene)) {
+        const aiMesh* mesh = scene.mMeshes[inst.mesh];
+        if (!mesh || !mesh->mVertices || mesh->mNumVertices == 0) continue;
+        const std::size_t first = out.positions.size();
+        SHPRT_CHECK(first + mesh->mNumVertices <= std::numeric_limits<std::uint32_t>::max(), format,
+                    "{}: more than 2^32 - 1 vertices", path);
+        const auto offset = static_cast<std::uint32_t>(first);
+        const aiMatrix4x4& m = inst.transform;
+        aiMatrix3x3 normal_matrix(m);
+        const float det = normal_matrix.Determinant();
+        const bool singular = !(std::abs(det) > 0.0f) || !std::isfinite(det);
+        if (!singular) normal_matrix.Inverse().Transpose();
+        const bool mirrored = det < 0.0f;
+        const bool identity = m == aiMatrix4x4();  // exact: identity keeps every bit
+
+        const Vec3f flat = use_material ? material_albedo(scene, *mesh)
+                                        : Vec3f{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
+        const aiColor4D* colours = mesh->mColors[0];
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+            const aiVector3D p = identity ? mesh->mVertices[v] : m * mesh->mVertices[v];
+            out.positions.push_back({p.x, p.y, p.z});
+            aiVector3D n = mesh->mNormals ? mesh->mNormals[v] : aiVector3D();
+            if (!identity) n = singular ? aiVector3D() : normal_matrix * n;
+            if (usable_normal(n)) {
+                // Renormalise only what is visibly off unit length, so unit normals written by
+                // write_ply come back bit for bit.
+                if (std::abs(n.Length() - 1.0f) > kUnitSlack) n.Normalize();
+                out.normals.push_back({n.x, n.y, n.z});
+            } else {
+                all_normals = false;
+                out.normals.push_back({0, 1, 0});
+            }
+            if (colours) {
+                const aiColor4D& c = colours[v];
+                out.albedo.push_back(srgb_colours ? Vec3f{srgb_to_linear(c.r), srgb_to_linear(c.g),
+                                                          srgb_to_linear(c.b)}
+                                                  : Vec3f{c.r, c.g, c.b});
+            } else {
+                out.albedo.push_back(flat);
+            }
+            out.source_vertex.push_back(static_cast<std::uint32_t>(base[inst.mesh] + v));
+        }
+        for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+            const aiFace& face = mesh->mFaces[f];
+            if (face.mNumIndices < 3 || !face.mIndices) {
+                ++skipped_faces;
+                continue;
+            }
+            polygon.clear();
+            for (unsigned c = 0; c < face.mNumIndices; ++c) {
+                const unsigned i = face.mIndices[c];
+                SHPRT_CHECK(i < mesh->mNumVertices, format,
+                            "{}: face {} of mesh {} has vertex index {} out of range (the mesh has "
+                            "{} vertices)",
+                            path, f, inst.mesh, i, mesh->mNumVertices);
+                polygon.push_back(offset + i);
+            }
+            const std::size_t first_triangle = out.triangles.size();
+            triangulate_polygon(out.positions, polygon, out.triangles);
+            if (mirrored)
+                for (std::size_t t = first_triangle; t < out.triangles.size(); ++t)
+                    std::swap(out.triangles[t][1], out.triangles[t][2]);
+        }
+    }
+    if (skipped_faces > 0)
+        log_warn("{}: skipped {} point or line primitive{}", path, skipped_faces,
+                 skipped_faces == 1 ? "" : "s");
+    SHPRT_CHECK(!out.positions.empty() && !out.triangles.empty(), format,
+                "{}: empty mesh (no triangles in the file)", path);
+
+    // PLY promises output vertex i = file vertex i; make sure the importer kept every vertex.
+    SHPRT_CHECK(!is_ply || out.vertex_count() == ply.vertices, format,
+                "{}: the importer returned {} vertices for the file's {}", path, out.vertex_count(),
+                ply.vertices);
+    validate_mesh(out, path);  // before normals: they need indices in range
+    if (!all_normals) {
+        if (is_ply)
+            compute_vertex_normals(out);
+        else
+            compute_vertex_normals_by_position(out);
+    }
+    return out;
+}
+
+Mesh load_file(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    SHPRT_CHECK(fs::exists(status), io, "{}: no such file", path);
+    SHPRT_CHECK(!fs::is_directory(status), io, "{}: is a directory, not a scene file", path);
+    {
+        std::ifstream probe(path, std::ios::binary);
+        SHPRT_CHECK(probe.good(), io, "{}: cannot open: {}", path, std::strerror(errno));
+    }
+    const auto size = fs::file_size(path, ec);
+    SHPRT_CHECK(!ec && size > 0, format, "{}: empty file", path);
+
+    const std::string ext = lower_extension(path);
+    // Assimp 5.2.5 hangs or allocates without bound on some corrupt PLY headers, so check them
+    // here (for .ply files and for anything Assimp would recognise as PLY by its first line).
+    std::optional<PlyHeader> ply;
+    if (const std::string prefix = file_prefix(path); ext == ".ply" || looks_like_ply(prefix))
+        ply = check_ply_header(path, prefix, size);
+    Assimp::Importer importer;
+    // Some importers invent a mesh to show a skeleton when a file has none; we want real geometry.
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
+    // No aiProcess_JoinIdenticalVertices (it would reorder PLY vertices), no normal generation
+    // (ours are angle-weighted), no pre-transform (it merges meshes); validation catches
+    // out-of-range indices before we read them.
+    // Polygons are triangulated by triangulate_polygon: Assimp 5.2.5's aiProcess_Triangulate
+    // aborts on an assertion for some truncated PLY files.
+    const unsigned flags = aiProcess_ValidateDataStructure;
+    const aiScene* scene = nullptr;
+    try {
+        scene = importer.ReadFile(path, flags);
+    } catch (const std::exception& e) {
+        fail(ErrorCode::format, "{}: cannot read the scene: {}", path, e.what());
+    } catch (...) {
+        fail(ErrorCode::format, "{}: cannot read the scene (the importer failed)", path);
+    }
+    if (!scene) {
+        std::string why = importer.GetErrorString();
+        if (!why.empty() && why.back() == '\n') why.pop_back();
+        SHPRT_CHECK(ext.empty() || importer.IsExtensionSupported(ext) ||
+                        why.find("No suitable reader") == std::string::npos,
+                    unsupported, "{}: unsupported format '{}'", path, ext);
+        // Assimp's validator reports files without geometry in its own words.
+        const bool empty = why.find("no faces") != std::string::npos ||
+                           why.find("no vertices") != std::string::npos ||
+                           why.find("least one mesh") != std::string::npos;
+        SHPRT_CHECK(!empty, format, "{}: empty mesh ({})", path, why);
+        fail(ErrorCode::format, "{}: cannot read the scene: {}", path,
+             why.empty() ? "unknown importer error" : why);
+    }
+    SHPRT_CHECK(scene->mNumMeshes > 0 && scene->mMeshes, format, "{}: empty mesh (no geometry)",
+                path);
+    return convert(*scene, path, ply ? &*ply : nullptr);
+}
+
+}  // namespace
+
+bool is_builtin_spec(const std::string& spec) { return spec.rfind(kBuiltinPrefix, 0) == 0; }
+
+Mesh load_scene(const std::string& spec) {
+    if (is_builtin_spec(spec)) {
+        Mesh mesh = make_builtin(spec.substr(kBuiltinPrefix.size()));
+        mesh.source = spec;
+        validate_mesh(mesh, spec);
+        return mesh;
+    }
+    SHPRT_CHECK(!spec.empty(), invalid_argument, "scene path is empty");
+    return load_file(spec);
+}
+
+}  // namespace shprt

@@ -1,0 +1,34 @@
+// Private to the scene library: a strict check of a PLY header before Assimp parses the file.
+// Assimp 5.2.5 hangs on a header without a clean end_header line and allocates whatever element
+// counts a corrupt header declares, so load_scene vets PLY headers itself first.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace shprt::detail {
+
+// Bytes of a file read to find its header; PLY headers are far shorter.
+constexpr std::size_t kMaxPlyHeader = 1 << 16;
+
+struct PlyHeader {
+    std::uint64_t vertices = 0;  // count of the "vertex" element
+    bool colours_8bit = false;   // vertex red declared as an 8-bit integer: sRGB bytes (Assimp
+                                 // divides them by 255); float colours are taken as linear
+    bool has_material = false;   // an "element material"; otherwise Assimp's material is a white
+                                 // placeholder of its own
+};
+
+// True when `prefix` (the first bytes of a file) starts with the PLY magic line.
+bool looks_like_ply(const std::string& prefix);
+
+// Parses and checks the header in `prefix` (the first min(kMaxPlyHeader, file_size) bytes of a
+// file of `file_size` bytes): the magic line, a known format, known property types, identifier
+// element names with decimal counts, a vertex element with x, y and z, an exact end_header line,
+// and element counts that the bytes after the header can hold. Throws Error(format) naming
+// `path` and the problem.
+PlyHeader check_ply_header(const std::string& path, const std::string& prefix,
+                           std::uintmax_t file_size);
+
+}  // namespace shprt::detail

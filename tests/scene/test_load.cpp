@@ -1,0 +1,318 @@
+// Scene loading: PLY vertex order, OBJ/STL/glTF, normals and colours, node transforms, and bad
+// files that must give shprt::Error naming the file.
+#include "shprt/core/error.hpp"
+#include "shprt/core/log.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/scene/colour.hpp"
+#include "shprt/scene/load.hpp"
+#include "shprt/scene/mesh_ops.hpp"
+#include "shprt/scene/ply.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+// Assimp 5.2.5's PLY importer leaks its vertex array when a file ends early (truncated.ply);
+// that is the library's leak, not ours, so LeakSanitizer (SHPRT_SANITIZE builds) ignores it.
+extern "C" const char* __lsan_default_suppressions() { return "leak:libassimp.so\n"; }
+
+namespace shprt {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kData = std::string(SHPRT_TEST_DATA_DIR) + "/scene/";
+constexpr float kNormalTol = 1e-6f;
+// One step of 8-bit sRGB is at most 1/255 * 12.92^-1 ... in linear terms near white about 0.009.
+constexpr float kSrgbByteTol = 0.01f;
+
+class TempDir {
+public:
+    TempDir() {
+        m_path = fs::temp_directory_path() / ("shprt_scene_test_" + std::to_string(::getpid()) +
+                                              "_" + std::to_string(s_counter++));
+        fs::create_directories(m_path);
+    }
+    ~TempDir() { fs::remove_all(m_path); }
+    std::string file(const std::string& name) const { return (m_path / name).string(); }
+
+private:
+    static inline int s_counter = 0;
+    fs::path m_path;
+};
+
+Vec3f face_normal(const Mesh& m, std::size_t t) {
+    const auto& tri = m.triangles[t];
+    const Vec3f a = m.positions[tri[0]], b = m.positions[tri[1]], c = m.positions[tri[2]];
+    return normalize(cross(b - a, c - a));
+}
+
+// Expects loading `path` to throw shprt::Error whose message names the file and contains `what`.
+void expect_load_error(const std::string& path, const std::string& what, ErrorCode code) {
+    try {
+        load_scene(path);
+        ADD_FAILURE() << "loading " << path << " did not throw";
+    } catch (const Error& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find(path), std::string::npos) << msg;
+        EXPECT_NE(msg.find(what), std::string::npos) << msg;
+        EXPECT_EQ(e.code(), code) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << "not one line: " << msg;
+    }
+}
+
+TEST(SceneLoad, PlyRoundTripKeepsVertexOrderIndexByIndex) {
+    // Deliberately duplicated (0 and 3, 1 and 4) and unused (5, 6) vertices.
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, -1}, {0, 0, 0}, {1, 0, 0}, {7, 7, 7}, {-3, 2, 1}};
+    m.normals = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {1, 0, 0}, {1, 0, 0}, {0, 0, 1}, {0, -1, 0}};
+    m.albedo = {{0.1f, 0.2f, 0.3f}, {0.5f, 0.5f, 0.5f}, {1, 0, 0}, {0, 1, 0},
+                {0, 0, 1},          {0.9f, 0.8f, 0.7f}, {0, 0, 0}};
+    m.triangles = {{0, 1, 2}, {3, 2, 4}, {4, 2, 3}};
+    m.source = "hand-made";
+    TempDir dir;
+    const std::string path = dir.file("order.ply");
+    write_ply(m, path);
+    const Mesh r = load_scene(path);
+    ASSERT_EQ(r.vertex_count(), m.vertex_count());
+    ASSERT_EQ(r.triangle_count(), m.triangle_count());
+    for (std::size_t i = 0; i < m.vertex_count(); ++i) {
+        EXPECT_EQ(r.positions[i], m.positions[i]) << "vertex " << i;  // bit for bit
+        EXPECT_EQ(r.normals[i], m.normals[i]) << "vertex " << i;
+        EXPECT_EQ(r.source_vertex[i], i);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.albedo[i][c], m.albedo[i][c], kSrgbByteTol);
+    }
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) EXPECT_EQ(r.triangles[t], m.triangles[t]);
+    EXPECT_EQ(r.source, path);
+}
+
+TEST(SceneLoad, HandWrittenAsciiPlyKeepsOrderAndDecodesSrgbColours) {
+    const std::string path = kData + "order.ply";
+    const Mesh m = load_scene(path);
+    ASSERT_EQ(m.vertex_count(), 7u);  // vertex 1 is unused and still there
+    EXPECT_EQ(m.positions[1], (Vec3f{9, 9, 9}));
+    EXPECT_EQ(m.positions[5], (Vec3f{1, 0, 0}));
+    EXPECT_EQ(m.positions[2], (Vec3f{1, 0, 0}));  // same position, separate vertex
+    ASSERT_EQ(m.triangle_count(), 4u);            // the quad became two triangles
+    EXPECT_EQ(m.triangles[0], (std::array<std::uint32_t, 3>{0, 2, 3}));
+    EXPECT_EQ(m.triangles[1], (std::array<std::uint32_t, 3>{2, 6, 0}));
+    EXPECT_EQ(m.triangles[2], (std::array<std::uint32_t, 3>{0, 5, 4}));
+    EXPECT_EQ(m.triangles[3], (std::array<std::uint32_t, 3>{0, 4, 6}));
+    for (std::size_t i = 0; i < m.vertex_count(); ++i) EXPECT_EQ(m.source_vertex[i], i);
+    // 8-bit colours are sRGB: 128 decodes to 0.2158, not 0.502.
+    EXPECT_NEAR(m.albedo[3].x, srgb_to_linear(128.0f / 255.0f), 1e-6f);
+    EXPECT_NEAR(m.albedo[3].x, 0.2158f, 1e-3f);
+    EXPECT_EQ(m.albedo[0], (Vec3f{1, 0, 0}));
+    // Normals were absent: computed per index, so vertex 5 (quad only) faces +Z while vertex 2
+    // at the same position also belongs to a triangle facing +Y.
+    for (const Vec3f& n : m.normals) EXPECT_NEAR(length(n), 1.0f, kNormalTol);
+    EXPECT_NEAR(m.normals[5].z, 1.0f, kNormalTol);
+    EXPECT_GT(m.normals[2].y, 0.1f);
+    EXPECT_GT(m.normals[2].z, 0.1f);
+    EXPECT_EQ(m.normals[1], (Vec3f{0, 1, 0}));  // unused vertex: +Y by convention
+}
+
+TEST(SceneLoad, ObjWithoutNormalsGetsFaceNormalsAndDefaultAlbedo) {
+    const Mesh m = load_scene(kData + "square_no_normals.obj");
+    ASSERT_EQ(m.triangle_count(), 2u);
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+        const Vec3f fn = face_normal(m, t);
+        EXPECT_NEAR(fn.z, 1.0f, kNormalTol);
+        for (std::uint32_t v : m.triangles[t]) {
+            EXPECT_NEAR(m.normals[v].x, 0.0f, kNormalTol);
+            EXPECT_NEAR(m.normals[v].y, 0.0f, kNormalTol);
+            EXPECT_NEAR(m.normals[v].z, 1.0f, kNormalTol);
+        }
+    }
+    for (const Vec3f& a : m.albedo)
+        EXPECT_EQ(a, (Vec3f{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo}));
+    for (const Vec3f& p : m.positions) EXPECT_EQ(p.z, 0.5f);
+}
+
+TEST(SceneLoad, ObjMaterialColourAndFileNormals) {
+    const Mesh m = load_scene(kData + "red_triangle.obj");
+    ASSERT_EQ(m.triangle_count(), 1u);
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        EXPECT_EQ(m.albedo[v], (Vec3f{0.7f, 0.1f, 0.05f}));
+        EXPECT_EQ(m.normals[v], (Vec3f{0, 1, 0}));
+    }
+    EXPECT_NEAR(face_normal(m, 0).y, 1.0f, kNormalTol);
+}
+
+TEST(SceneLoad, StlTetrahedronHasOutwardNormals) {
+    const Mesh m = load_scene(kData + "tetra.stl");
+    ASSERT_EQ(m.triangle_count(), 4u);
+    const Vec3f centroid{0.25f, 0.25f, 0.25f};
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+        const Vec3f fn = face_normal(m, t);
+        const Vec3f p = m.positions[m.triangles[t][0]];
+        EXPECT_GT(dot(fn, p - centroid), 0.0f) << "triangle " << t << " faces inward";
+        for (std::uint32_t v : m.triangles[t]) {
+            EXPECT_NEAR(length(m.normals[v]), 1.0f, kNormalTol);
+            EXPECT_GT(dot(m.normals[v], fn), 0.99f);
+        }
+    }
+}
+
+TEST(SceneLoad, GltfNodeTransformsInstancesAndBaseColour) {
+    const Mesh m = load_scene(kData + "instanced.gltf");
+    // One mesh, two instances: scaled by 2 under a node lifted by 2, and mirrored in z at x = 5.
+    ASSERT_EQ(m.vertex_count(), 6u);
+    ASSERT_EQ(m.triangle_count(), 2u);
+    const Vec3f expected[6] = {{0, 2, 0}, {2, 2, 0}, {0, 2, -2}, {5, 0, 0}, {6, 0, 0}, {5, 0, 1}};
+    for (int v = 0; v < 6; ++v) {
+        EXPECT_EQ(m.positions[v], expected[v]) << "vertex " << v;
+        EXPECT_EQ(m.source_vertex[v], static_cast<std::uint32_t>(v % 3));
+        EXPECT_NEAR(m.normals[v].y, 1.0f, kNormalTol);
+        EXPECT_EQ(m.albedo[v], (Vec3f{0.2f, 0.4f, 0.6f}));
+    }
+    // The mirrored instance keeps counter-clockwise = front: winding agrees with the normals.
+    for (std::size_t t = 0; t < 2; ++t) EXPECT_NEAR(face_normal(m, t).y, 1.0f, kNormalTol);
+}
+
+TEST(SceneLoad, ColladaZUpBecomesYUp) {
+    // The document's up axis (+Z) maps to +Y through the root node's transform: (x, y, z) in the
+    // file lands at (x, z, -y).
+    const Mesh m = load_scene(kData + "zup_triangle.dae");
+    ASSERT_EQ(m.vertex_count(), 3u);
+    EXPECT_EQ(m.positions[0], (Vec3f{0, 1, 0}));
+    EXPECT_EQ(m.positions[1], (Vec3f{1, 1, 0}));
+    EXPECT_EQ(m.positions[2], (Vec3f{0, 1, -1}));
+    for (const Vec3f& n : m.normals) {
+        EXPECT_NEAR(n.y, 1.0f, kNormalTol);
+    }
+    EXPECT_NEAR(face_normal(m, 0).y, 1.0f, kNormalTol);
+}
+
+TEST(SceneLoad, BuiltinSpecs) {
+    const Mesh m = load_scene("builtin:plane");
+    EXPECT_EQ(m.source, "builtin:plane");
+    EXPECT_EQ(m.triangle_count(), 512u);
+    EXPECT_TRUE(is_builtin_spec("builtin:room"));
+    EXPECT_FALSE(is_builtin_spec("room.ply"));
+    try {
+        load_scene("builtin:teapot");
+        ADD_FAILURE() << "no error for an unknown built-in";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+        EXPECT_NE(std::string(e.what()).find("teapot"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("box_on_plane"), std::string::npos);
+    }
+}
+
+TEST(SceneLoad, BadScenesNameTheFileAndTheProblem) {
+    expect_load_error(kData + "does_not_exist.obj", "no such file", ErrorCode::io);
+    expect_load_error(kData, "directory", ErrorCode::io);
+    expect_load_error(kData + "unsupported.foo", "unsupported format", ErrorCode::unsupported);
+    expect_load_error(kData + "out_of_range.ply", "out of range", ErrorCode::format);
+    expect_load_error(kData + "no_faces.ply", "empty mesh", ErrorCode::format);
+    expect_load_error(kData + "no_faces.obj", "empty mesh", ErrorCode::format);
+    expect_load_error(kData + "nan.ply", "non-finite", ErrorCode::format);
+    expect_load_error(kData + "inf.obj", "non-finite", ErrorCode::format);
+}
+
+TEST(SceneLoad, CorruptFilesThrowAndNeverCrash) {
+    // cut_header.ply ends inside its header: Assimp alone would never return on it; nor on a
+    // header line with more after end_header. Huge element counts must not be allocated.
+    expect_load_error(kData + "cut_header.ply", "no end_header", ErrorCode::format);
+    expect_load_error(kData + "truncated.ply", "declares more data than", ErrorCode::format);
+    expect_load_error(kData + "garbage.ply", "not a PLY file", ErrorCode::format);
+    TempDir dir;
+    const std::string header =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+        "property float y\nproperty float z\n";
+    const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const std::string faces = "element face 1\nproperty list uchar int vertex_indices\n";
+    const std::pair<std::string, std::string> bad_headers[] = {
+        {header + faces + "end_header\x9d" + body, "line 9: unexpected 'end_header?0 0 0'"},
+        {header + "element face 4294967295\nproperty list uchar int vertex_indices\nend_header\n" +
+             body,
+         "declares more data than"},
+        {header + "element 999 1\n" + faces + "end_header\n" + body, "bad element line"},
+        {header + "property flaot w\n" + faces + "end_header\n" + body, "bad property"},
+        {"ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+         "end_header\n3 0 1 2\n",
+         "no vertex element"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n" + faces +
+             "end_header\n" + body,
+         "lacks x, y or z"},
+        {header + faces + "banana\nend_header\n" + body, "unexpected 'banana'"},
+    };
+    int k = 0;
+    for (const auto& [text, what] : bad_headers) {
+        const std::string path = dir.file("bad_header_" + std::to_string(k++) + ".ply");
+        std::ofstream(path, std::ios::binary) << text;
+        expect_load_error(path, what, ErrorCode::format);
+    }
+    // The same file with a clean header loads.
+    const std::string good = dir.file("good_header.ply");
+    std::ofstream(good, std::ios::binary) << header + faces + "end_header\n" + body;
+    EXPECT_EQ(load_scene(good).triangle_count(), 1u);
+    for (const char* name : {"garbage.glb", "garbage.ply", "truncated.ply"}) {
+        const std::string path = kData + name;
+        try {
+            load_scene(path);
+            ADD_FAILURE() << path << " loaded";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+        }
+    }
+    const std::string empty = dir.file("empty.obj");
+    std::ofstream(empty).close();
+    expect_load_error(empty, "empty file", ErrorCode::format);
+}
+
+TEST(SceneLoad, FloatPlyColoursAreLinear) {
+    TempDir dir;
+    const std::string path = dir.file("float_colours.ply");
+    std::ofstream(path) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                           "property float y\nproperty float z\nproperty float red\n"
+                           "property float green\nproperty float blue\nelement face 1\n"
+                           "property list uchar int vertex_indices\nend_header\n"
+                           "0 0 0 0.5 0.25 0.125\n1 0 0 0 0 0\n0 1 0 1 1 1\n3 0 1 2\n";
+    const Mesh m = load_scene(path);
+    EXPECT_EQ(m.albedo[0], (Vec3f{0.5f, 0.25f, 0.125f}));
+    EXPECT_EQ(m.albedo[2], (Vec3f{1, 1, 1}));
+}
+
+TEST(SceneLoad, NanInBinaryPlyIsRejected) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, std::numeric_limits<float>::quiet_NaN(), 0}};
+    m.triangles = {{0, 1, 2}};
+    TempDir dir;
+    const std::string path = dir.file("nan_binary.ply");
+    write_ply(m, path);
+    expect_load_error(path, "vertex 2 has a non-finite coordinate", ErrorCode::format);
+}
+
+TEST(SceneLoad, DegenerateTrianglesAreDroppedWithAWarning) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, -1}, {2, 0, 0}};
+    m.triangles = {{0, 1, 2}, {0, 1, 3}, {2, 2, 1}};  // collinear, repeated index
+    TempDir dir;
+    const std::string path = dir.file("degenerate.ply");
+    write_ply(m, path);
+    std::vector<std::string> warnings;
+    set_log_sink([&](LogLevel level, std::string_view msg) {
+        if (level == LogLevel::warn) warnings.emplace_back(msg);
+    });
+    const Mesh r = load_scene(path);
+    set_log_sink(nullptr);
+    EXPECT_EQ(r.triangle_count(), 1u);
+    EXPECT_EQ(r.vertex_count(), 4u);
+    // No colours in the file: the default grey, not Assimp's white placeholder material.
+    for (const Vec3f& a : r.albedo)
+        EXPECT_EQ(a, (Vec3f{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo}));
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("dropped 2 degenerate triangles"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find(path), std::string::npos);
+}
+
+}  // namespace
+}  // namespace shprt

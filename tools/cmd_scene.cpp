@@ -1,0 +1,114 @@
+// `shprt scene`: generate a built-in scene as PLY (`shprt scene room -o room.ply --triangles N
+// --ceiling`), list the built-ins (`shprt scene list`), or load any scene and describe it
+// (`shprt scene info SPEC`).
+#include "common/command.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/scene/load.hpp"
+#include "shprt/scene/mesh_ops.hpp"
+#include "shprt/scene/ply.hpp"
+#include "shprt/scene/room.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace shprt::tools {
+namespace {
+
+struct GenerateArgs {
+    std::string name;
+    std::string output;
+    std::size_t triangles = RoomOptions{}.triangles;
+    bool ceiling = false;
+};
+
+std::string describe(const Mesh& mesh) {
+    const Bounds b = mesh_bounds(mesh);
+    return fmt::format(
+        "{} vertices, {} triangles\nbounds: [{:.4g}, {:.4g}, {:.4g}] .. [{:.4g}, {:.4g}, {:.4g}]\n"
+        "surface area: {:.4g}\n",
+        mesh.vertex_count(), mesh.triangle_count(), b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z,
+        mesh_surface_area(mesh));
+}
+
+void print(const std::string& text) { std::fwrite(text.data(), 1, text.size(), stdout); }
+
+void generate(const GenerateArgs& args) {
+    std::string ext = std::filesystem::path(args.output).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    SHPRT_CHECK(ext == ".ply", invalid_argument, "{}: scenes are written as PLY (use a .ply name)",
+                args.output);
+    Mesh mesh;
+    std::string detail;
+    if (args.name == "room") {
+        const RoomOptions options{args.triangles, args.ceiling};
+        mesh = generate_room(options);
+        detail = fmt::format(" ({} triangles requested, grid cells up to {:.3g} m{})",
+                             args.triangles, room_cell_size(options),
+                             args.ceiling ? ", ceiling with skylights" : ", open top");
+    } else {
+        mesh = make_builtin(args.name);
+    }
+    write_ply(mesh, args.output);
+    print(
+        fmt::format("wrote {}: builtin:{}{}\n{}", args.output, args.name, detail, describe(mesh)));
+}
+
+const char* summary(const std::string& name) {
+    if (name == "plane") return "A tessellated 2 m square at y = 0 facing +Y";
+    if (name == "box_on_plane") return "A unit box resting on a 4 m square";
+    if (name == "sphere") return "The unit sphere (icosphere, 1280 triangles)";
+    if (name == "corner") return "An inner 90-degree corner: floor y = 0 and wall x = 0";
+    if (name == "room") return "The paper's furnished room (open top; --ceiling closes it)";
+    return "A built-in scene";
+}
+
+const bool registered = register_command(
+    {"scene", "Generate a built-in scene as PLY, list the built-ins, or describe a scene", 20,
+     [](CLI::App& app) {
+         app.require_subcommand(1);
+
+         app.add_subcommand("list", "List the built-in scenes (usable as builtin:NAME)")
+             ->callback([] {
+                 for (const std::string& name : builtin_scene_names())
+                     print(fmt::format("{:<13} {}\n", name, summary(name)));
+             });
+
+         auto spec = std::make_shared<std::string>();
+         CLI::App* info = app.add_subcommand(
+             "info", "Load a scene (a mesh file or builtin:NAME) and print its size and bounds");
+         info->add_option("scene", *spec, "Scene file (OBJ, PLY, glTF, FBX, ...) or builtin:NAME")
+             ->required();
+         info->callback([spec] {
+             const Mesh mesh = load_scene(*spec);
+             print(fmt::format("{}\n{}", *spec, describe(mesh)));
+         });
+
+         for (const std::string& name : builtin_scene_names()) {
+             auto args = std::make_shared<GenerateArgs>();
+             args->name = name;
+             CLI::App* sub = app.add_subcommand(name, summary(name));
+             sub->add_option("-o,--output", args->output, "Output PLY file (written atomically)")
+                 ->required();
+             if (name == "room") {
+                 sub->add_option("--triangles", args->triangles,
+                                 fmt::format("Approximate triangle count, {} to {}",
+                                             kRoomMinTriangles, kRoomMaxTriangles))
+                     ->capture_default_str();
+                 sub->add_flag("--ceiling", args->ceiling,
+                               "Close the top with a ceiling that has two skylights");
+             }
+             sub->callback([args] { generate(*args); });
+         }
+     }});
+
+}  // namespace
+}  // namespace shprt::tools
