@@ -1,0 +1,83 @@
+// The tracing interface the bake uses: visibility for batches of rays that share an origin, and
+// closest hit with triangle id and barycentrics. Two CPU implementations:
+//  * make_embree_tracer — Intel Embree 3 (the production CPU path);
+//  * make_flat_bvh_tracer — our flat BVH (flat_bvh.hpp) traversed on the CPU: the same SHPRT_HD
+//    code the CUDA kernels run, so it is the reference that ties the GPU to Embree.
+//
+// Self-intersection. Rays start on the surface they leave, so a naive origin re-hits its own
+// triangle (or a neighbour) at t ≈ 0 because of rounding. The convention, for every tracer and
+// every caller: pass origin = offset_ray_origin(position, normal) (ray.hpp; Wächter & Binder
+// 2019) and tnear = 0, with `normal` the unit normal on the side the rays leave into. The offset
+// scales with the float magnitude of the position, so it holds at any scene scale without an
+// epsilon to tune. Guarantee (tested for both tracers, every vertex of tessellated planes, axis
+// aligned and tilted, thousands of upper-hemisphere directions down to grazing angles): a flat
+// plane under an open sky is unoccluded at every vertex, with no exception.
+//
+// Creases. A vertex that lies on another surface as well (a floor vertex at the foot of a wall, a
+// hard-edged box's corner vertex in the planes of its neighbouring faces, a box standing on a
+// floor) starts its rays exactly on that other surface: their hit with it is at t = 0, outside
+// the interval. Rays leaving away from that surface are therefore never stopped by it (tested),
+// and rays into it pass it — into the solid behind a closed surface, which stops them, or behind
+// a one-sided one. The plane-distance t of intersect_triangle makes that t exactly 0 for
+// axis-aligned surfaces, so both tracers agree on these rays; for tilted ones it is rounding.
+//
+// Intervals: a ray hits when tnear < t < tfar. (Embree's own test is closed at both ends; the two
+// can differ only for a hit exactly at an endpoint.) Directions need not be unit length; t is in
+// units of |dir|. Directions must be non-zero and finite.
+//
+// Embree threading. Debian's Embree uses TBB as its tasking system, and its device option
+// "threads=N" installs a process-wide tbb::global_control(max_allowed_parallelism, N): it would
+// throttle (or oversubscribe) the caller's own TBB loops. Tracing itself (rtcOccluded1M,
+// rtcIntersect1) uses no Embree threads at all; only scene builds do. So the device is created
+// with no thread count ("threads" left at its default, affinity off, no pre-started threads):
+// builds run as TBB tasks in the caller's pool, and tracing runs exactly on the caller's threads.
+// Each tracing call sets FTZ/DAZ on the calling thread (and restores the caller's MXCSR after),
+// as Embree requires for full speed.
+#pragma once
+
+#include "shprt/core/vec.hpp"
+#include "shprt/scene/mesh.hpp"
+#include "shprt/trace/ray.hpp"
+
+#include <cstdint>
+#include <memory>
+
+namespace shprt {
+
+class Tracer {
+public:
+    virtual ~Tracer() = default;
+
+    // occluded[i] = 1 if the ray origin + t·dirs[i], tnear < t < tfar, hits any triangle, else 0,
+    // for i in [0, count). Rays that share an origin (one vertex's directions) go in one call.
+    // Thread-safe: called concurrently from many threads on one Tracer.
+    virtual void occluded(Vec3f origin, const Vec3f* dirs, int count, float tnear, float tfar,
+                          std::uint8_t* occluded) const = 0;
+
+    // The closest hit of origin + t·dir with tnear < t < tfar (see Hit in ray.hpp: mesh triangle
+    // index and barycentrics in the mesh's vertex order). Thread-safe.
+    virtual Hit intersect(Vec3f origin, Vec3f dir, float tnear, float tfar) const = 0;
+
+    // "embree" or "flat-bvh".
+    virtual const char* name() const = 0;
+};
+
+struct EmbreeTracerOptions {
+    // Scene build quality: true = RTC_BUILD_QUALITY_HIGH, false = MEDIUM. Measured on the 20k-
+    // triangle room: the same tracing rate (within 1 %), while HIGH builds 5-7× slower (about 25
+    // vs 4 ms), so MEDIUM is the default; see bench/RESULTS.md ("Tracing").
+    bool high_quality = false;
+};
+
+// Builds an Embree scene over mesh.triangles (copied; the mesh may be freed afterwards).
+// Throws shprt::Error(invalid_argument) naming mesh.source for a mesh with no triangles, an
+// index out of range, a non-finite position, or only zero-area triangles; Embree's own errors
+// come back as shprt::Error with Embree's message.
+std::unique_ptr<Tracer> make_embree_tracer(const Mesh& mesh, const EmbreeTracerOptions& options);
+std::unique_ptr<Tracer> make_embree_tracer(const Mesh& mesh);
+
+// Builds the flat BVH (build_flat_bvh, default options) and traverses it on the CPU with
+// bvh_occluded / bvh_intersect. Same errors as build_flat_bvh.
+std::unique_ptr<Tracer> make_flat_bvh_tracer(const Mesh& mesh);
+
+}  // namespace shprt
