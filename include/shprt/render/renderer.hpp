@@ -1,0 +1,169 @@
+// The OpenGL renderer of baked scenes: one class shared by `shprt render` (headless, through
+// EGL) and the interactive viewer (a GLFW window), so both produce the same image.
+//
+// It owns its GL objects and draws into whatever context and framebuffer are current; it never
+// creates a context. Per-vertex transfer lives in a shader storage buffer (channels × K floats per
+// vertex, the TransferSet layout), the light (3 × K floats) in another; a compute pass evaluates
+// the paper's shading once per vertex (render/shade.hpp: E, L_D, and the glossy term with the
+// Phong lobe rotated to the reflection direction by the SH recurrence of sh/basis.hpp ported to
+// GLSL) into a colour buffer, and the draw interpolates it. The pass is skipped when nothing the
+// colours depend on changed since the last draw (diffuse shading does not depend on the camera;
+// glossy shading depends on the eye position only). Depth test on, back-face culling off (rooms are
+// seen from inside). The output is linear radiance in a float target; tone mapping happens after
+// the multisample resolve (save_image for files, `present` for a window).
+//
+// Typical use:
+//     HeadlessGlContext context;              // or a GLFW window's context
+//     Renderer renderer;
+//     renderer.set_scene(mesh, transfer);
+//     renderer.set_light(light);
+//     RenderTarget target(width, height);
+//     target.bind();  renderer.draw(settings, width, height);  target.resolve();
+//     Image image = target.read_pixels();     // or renderer.present(target, exposure, w, h)
+//
+// Every member function needs the context the object was created in to be current.
+#pragma once
+
+#include "shprt/bake/transfer.hpp"
+#include "shprt/light/image.hpp"
+#include "shprt/light/light.hpp"
+#include "shprt/render/camera.hpp"
+#include "shprt/render/shade.hpp"
+#include "shprt/scene/mesh.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace shprt {
+
+// What the vertex shader outputs per vertex.
+enum class ShadeView {
+    radiance,    // L = k·L_D + (1−k)·L_S (the picture)
+    irradiance,  // E
+    transfer,    // transfer only, AO-like: E under a uniform white sky of radiance 1, divided by
+                 // π (1 = unoccluded, 0 = fully blocked), grey; ignores light, albedo, k
+};
+
+struct DrawSettings {
+    Camera camera;
+    double k = 1.0;                // diffuse share, as ShadeOptions::k
+    double gloss = kDefaultGloss;  // Phong exponent, as ShadeOptions::gloss
+    int K_used = 0;  // first K' coefficients; 0 = all (clamped to the scene's and light's K)
+    ShadeView view = ShadeView::radiance;
+    bool wireframe = false;      // triangle edges only (glPolygonMode GL_LINE), same colours
+    bool background = false;     // draw the light (its SH projection, first K' coefficients)
+                                 // behind the scene; otherwise clear to clear_color
+    Vec3f clear_color{0, 0, 0};  // linear RGB
+    bool reshade = false;        // run the per-vertex shading pass even if its inputs are
+                                 // unchanged (benchmarks that measure the per-vertex cost)
+};
+
+// An offscreen float target: a multisampled RGBA32F colour + 24-bit depth framebuffer and a
+// single-sample RGBA32F texture it resolves into.
+class RenderTarget {
+public:
+    // `samples` is clamped to what the implementation supports for RGBA32F (1 = no MSAA).
+    // Throws Error(invalid_argument) for sizes outside [1, GL_MAX_RENDERBUFFER_SIZE] and
+    // Error(unsupported) if the framebuffer is incomplete.
+    RenderTarget(int width, int height, int samples = 4);
+    ~RenderTarget();
+    RenderTarget(const RenderTarget&) = delete;
+    RenderTarget& operator=(const RenderTarget&) = delete;
+
+    // Binds the multisampled framebuffer for drawing and sets the viewport to the whole target.
+    void bind();
+    // Averages the samples into the resolved texture (a blit).
+    void resolve();
+    // The resolved texture as linear RGB floats, row 0 at the top (call resolve() first).
+    Image read_pixels() const;
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    int samples() const { return m_samples; }
+    unsigned resolved_texture() const { return m_resolved_texture; }  // GL texture name
+    unsigned framebuffer() const { return m_fbo; }                    // GL framebuffer name
+
+private:
+    void release();
+
+    int m_width, m_height, m_samples;
+    unsigned m_fbo = 0, m_color_rb = 0, m_depth_rb = 0;
+    unsigned m_resolve_fbo = 0, m_resolved_texture = 0;
+};
+
+class Renderer {
+public:
+    // Compiles the shaders. Throws Error(unsupported) if the current context is not OpenGL ≥ 4.3
+    // core (naming the version found) and Error(unsupported) with the driver's log if a shader
+    // fails to compile.
+    Renderer();
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Uploads positions, normals, albedo, triangles and the transfer. Checks (Error) as
+    // shade_vertices does, and that the transfer fits GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
+    void set_scene(const Mesh& mesh, const TransferSet& transfer);
+    // Replaces the transfer of vertices [first, first + count) (channels × K floats each, the
+    // TransferSet layout) without touching the rest: for a bake shown while it refines.
+    void update_transfer(std::size_t first_vertex, std::size_t vertex_count, const float* coeffs);
+    // The shader storage buffer holding the transfer (GL buffer name, channels × K float32 per
+    // vertex, vertex-major), for CUDA–OpenGL interop. Valid after set_scene.
+    unsigned transfer_buffer() const { return m_transfer_ssbo; }
+    // Uploads the light (3 × K floats, channel-major). Cheap: call it whenever the light rotates.
+    void set_light(const ShLight& light);
+
+    int scene_K() const { return m_K; }
+    int scene_channels() const { return m_channels; }
+    std::size_t vertex_count() const { return m_vertex_count; }
+    // The K' a draw with `K_used` uses: min(scene K, light K, K_used if > 0).
+    int effective_K(int K_used) const;
+    // How many times draw() has run the per-vertex shading pass (for tests and statistics).
+    std::uint64_t shading_passes() const { return m_shading_passes; }
+
+    // Draws the scene into the currently bound draw framebuffer with viewport (0, 0, width,
+    // height), writing linear RGB (alpha 1) into colour attachment 0. Clears colour and depth.
+    // Needs set_scene and set_light first (Error(invalid_argument) otherwise).
+    void draw(const DrawSettings& settings, int width, int height);
+
+    // Draws `target`'s resolved texture into the currently bound framebuffer (viewport 0, 0,
+    // width, height), scaled by `exposure`, through the same filmic tone map and sRGB encoding
+    // as save_image's PNG output: a window then shows what `shprt render` writes to a PNG.
+    void present(const RenderTarget& target, float exposure, int width, int height);
+
+private:
+    // Everything the per-vertex colours depend on.
+    struct ShadingKey {
+        int K = 0, view = 0;
+        bool glossy = false;
+        double k = 0, gloss = 0;
+        Vec3f eye{0, 0, 0};
+        std::uint64_t light_generation = 0, transfer_generation = 0;
+        bool operator==(const ShadingKey&) const = default;
+    };
+    void upload_background(int K);
+    void run_shading(const ShadingKey& key);
+
+    unsigned m_shade_program = 0, m_scene_program = 0, m_background_program = 0,
+             m_present_program = 0;
+    unsigned m_vao = 0, m_empty_vao = 0;
+    unsigned m_position_vbo = 0, m_normal_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
+    unsigned m_color_buffer = 0;  // V × vec4: the shading pass's output
+    unsigned m_transfer_ssbo = 0, m_light_ssbo = 0, m_recurrence_ssbo = 0, m_background_texture = 0;
+    std::size_t m_vertex_count = 0, m_index_count = 0;
+    int m_K = 0, m_channels = 0;
+    ShLight m_light{};
+    bool m_has_light = false;
+    int m_background_K = -1;  // K' the background texture was made with (−1: stale)
+    std::uint64_t m_light_generation = 0, m_transfer_generation = 0, m_shading_passes = 0;
+    ShadingKey m_shading_key;
+    bool m_shading_valid = false;
+};
+
+// One frame, headless: creates a HeadlessGlContext, a Renderer and a RenderTarget with `samples`
+// samples, draws, resolves and reads back linear RGB (row 0 top). What `shprt render` does.
+Image render_image(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                   const DrawSettings& settings, int width, int height, int samples = 4);
+
+}  // namespace shprt

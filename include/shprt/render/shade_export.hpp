@@ -1,0 +1,38 @@
+// Writers for per-vertex shading results (`shprt shade -o OUT.csv|OUT.ply|OUT.npy`). Every row or
+// vertex is in the mesh's vertex order (input order). All files are written atomically
+// (AtomicFile): on any error no output file is left.
+#pragma once
+
+#include "shprt/render/shade.hpp"
+#include "shprt/scene/mesh.hpp"
+
+#include <string>
+
+namespace shprt {
+
+enum class ShadeFormat { csv, ply, npy };
+
+// From the extension of `path` (.csv, .ply, .npy, case-insensitive); throws
+// Error(invalid_argument) naming the path otherwise.
+ShadeFormat shade_format_for_path(const std::string& path);
+
+// CSV: a header row "x,y,z,E_r,E_g,E_b,L_r,L_g,L_b", then one row per vertex; numbers with 9
+// significant digits (float32 round-trips).
+void write_shade_csv(const std::string& path, const Mesh& mesh, const ShadeResult& result);
+
+// NPY (numpy format 1.0): a little-endian float32 array of shape (V, 9), C order, with the same
+// columns as the CSV.
+void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResult& result);
+
+// Binary little-endian PLY: vertices with float x, y, z, nx, ny, nz and uchar red, green, blue
+// (the radiance L times `exposure`, filmic tone mapped and sRGB encoded exactly as PNG images
+// are, light/image.hpp), then the triangles as "list uchar int vertex_indices". Opens in MeshLab
+// and Blender.
+void write_shade_ply(const std::string& path, const Mesh& mesh, const ShadeResult& result,
+                     float exposure = 1.0f);
+
+// Dispatches on the extension (above).
+void write_shade(const std::string& path, const Mesh& mesh, const ShadeResult& result,
+                 float exposure = 1.0f);
+
+}  // namespace shprt

@@ -1,0 +1,120 @@
+// Offscreen float render target: multisampled RGBA32F + depth, resolved by a blit into a
+// single-sample RGBA32F texture, read back as linear RGB with row 0 at the top.
+#include "gl_util.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/render/renderer.hpp"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+// Largest supported sample count ≤ requested for RGBA32F renderbuffers (1 if none).
+int supported_samples(int requested) {
+    if (requested <= 1) return 1;
+    GLint count = 0;
+    glGetInternalformativ(GL_RENDERBUFFER, GL_RGBA32F, GL_NUM_SAMPLE_COUNTS, 1, &count);
+    if (count <= 0) return 1;
+    std::vector<GLint> counts(static_cast<std::size_t>(count));
+    glGetInternalformativ(GL_RENDERBUFFER, GL_RGBA32F, GL_SAMPLES, count, counts.data());
+    int best = 1;
+    for (GLint c : counts)
+        if (c <= requested) best = std::max(best, static_cast<int>(c));
+    return best;
+}
+
+}  // namespace
+
+RenderTarget::RenderTarget(int width, int height, int samples)
+    : m_width(width), m_height(height), m_samples(1) {
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+    SHPRT_CHECK(width >= 1 && height >= 1 && width <= max_size && height <= max_size,
+                invalid_argument, "render target {}x{} is outside 1..{} (GL_MAX_RENDERBUFFER_SIZE)",
+                width, height, max_size);
+    m_samples = supported_samples(samples);
+
+    glGenFramebuffers(1, &m_fbo);
+    glGenRenderbuffers(1, &m_color_rb);
+    glGenRenderbuffers(1, &m_depth_rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, m_color_rb);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, m_samples > 1 ? m_samples : 0, GL_RGBA32F,
+                                     width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, m_depth_rb);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, m_samples > 1 ? m_samples : 0,
+                                     GL_DEPTH_COMPONENT24, width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_color_rb);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m_depth_rb);
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+
+    glGenTextures(1, &m_resolved_texture);
+    glBindTexture(GL_TEXTURE_2D, m_resolved_texture);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glGenFramebuffers(1, &m_resolve_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_resolve_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_resolved_texture,
+                           0);
+    const GLenum resolve_status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (status != GL_FRAMEBUFFER_COMPLETE || resolve_status != GL_FRAMEBUFFER_COMPLETE) {
+        release();
+        fail(ErrorCode::unsupported,
+             "float render target {}x{} ({} samples) is incomplete (0x{:x}, 0x{:x})", width, height,
+             m_samples, status, resolve_status);
+    }
+    gl::check("RenderTarget");
+}
+
+RenderTarget::~RenderTarget() { release(); }
+
+void RenderTarget::release() {
+    if (m_fbo) glDeleteFramebuffers(1, &m_fbo);
+    if (m_resolve_fbo) glDeleteFramebuffers(1, &m_resolve_fbo);
+    if (m_color_rb) glDeleteRenderbuffers(1, &m_color_rb);
+    if (m_depth_rb) glDeleteRenderbuffers(1, &m_depth_rb);
+    if (m_resolved_texture) glDeleteTextures(1, &m_resolved_texture);
+    m_fbo = m_resolve_fbo = m_color_rb = m_depth_rb = m_resolved_texture = 0;
+}
+
+void RenderTarget::bind() {
+    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+    glViewport(0, 0, m_width, m_height);
+}
+
+void RenderTarget::resolve() {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_resolve_fbo);
+    glBlitFramebuffer(0, 0, m_width, m_height, 0, 0, m_width, m_height, GL_COLOR_BUFFER_BIT,
+                      GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::check("RenderTarget::resolve");
+}
+
+Image RenderTarget::read_pixels() const {
+    Image image = Image::make(m_width, m_height);
+    std::vector<float> rgba(image.pixel_count() * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_resolve_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, m_width, m_height, GL_RGBA, GL_FLOAT, rgba.data());
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    gl::check("RenderTarget::read_pixels");
+    // GL's row 0 is the bottom; Image's row 0 is the top.
+    for (int y = 0; y < m_height; ++y) {
+        const float* src = rgba.data() + static_cast<std::size_t>(m_height - 1 - y) * m_width * 4;
+        float* dst = image.pixel(0, y);
+        for (int x = 0; x < m_width; ++x)
+            for (int c = 0; c < 3; ++c) dst[3 * x + c] = src[4 * x + c];
+    }
+    return image;
+}
+
+}  // namespace shprt

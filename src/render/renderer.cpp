@@ -1,0 +1,404 @@
+// The OpenGL renderer of baked PRT scenes (render/renderer.hpp): buffers, the per-vertex shading
+// program (gl_shaders.cpp), the light's background and the tone-mapped presentation.
+//
+// Implements the display side of Sloan, Kautz & Snyder 2002 (per-vertex dot products of transfer
+// and light on the GPU) with the paper's glossy term (PAPER.md "Shading").
+#include "shprt/render/renderer.hpp"
+
+#include "gl_util.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/light/equirect.hpp"
+#include "shprt/render/gl_context.hpp"
+#include "shprt/sh/basis.hpp"
+
+#include <epoxy/gl.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+// Size of the equirect texture the background is drawn from: the light is band-limited (at most
+// 32 bands, features ≳ 5°), so 256 × 128 texels (1.4° each) resolve it.
+constexpr int kBackgroundWidth = 256, kBackgroundHeight = 128;
+
+GLuint make_buffer(GLenum target, std::size_t bytes, const void* data, GLenum usage) {
+    GLuint buffer = 0;
+    glGenBuffers(1, &buffer);
+    glBindBuffer(target, buffer);
+    glBufferData(target, static_cast<GLsizeiptr>(bytes), data, usage);
+    return buffer;
+}
+
+void delete_buffer(unsigned& buffer) {
+    if (buffer) glDeleteBuffers(1, &buffer);
+    buffer = 0;
+}
+
+// Inverse of a 4×4 matrix by cofactors (double inside; the camera matrices are well conditioned).
+Mat4f inverse(const Mat4f& a) {
+    double m[16], inv[16];
+    for (int i = 0; i < 16; ++i) m[i] = a.m[i];
+    inv[0] = m[5] * m[10] * m[15] - m[5] * m[11] * m[14] - m[9] * m[6] * m[15] +
+             m[9] * m[7] * m[14] + m[13] * m[6] * m[11] - m[13] * m[7] * m[10];
+    inv[4] = -m[4] * m[10] * m[15] + m[4] * m[11] * m[14] + m[8] * m[6] * m[15] -
+             m[8] * m[7] * m[14] - m[12] * m[6] * m[11] + m[12] * m[7] * m[10];
+    inv[8] = m[4] * m[9] * m[15] - m[4] * m[11] * m[13] - m[8] * m[5] * m[15] +
+             m[8] * m[7] * m[13] + m[12] * m[5] * m[11] - m[12] * m[7] * m[9];
+    inv[12] = -m[4] * m[9] * m[14] + m[4] * m[10] * m[13] + m[8] * m[5] * m[14] -
+              m[8] * m[6] * m[13] - m[12] * m[5] * m[10] + m[12] * m[6] * m[9];
+    inv[1] = -m[1] * m[10] * m[15] + m[1] * m[11] * m[14] + m[9] * m[2] * m[15] -
+             m[9] * m[3] * m[14] - m[13] * m[2] * m[11] + m[13] * m[3] * m[10];
+    inv[5] = m[0] * m[10] * m[15] - m[0] * m[11] * m[14] - m[8] * m[2] * m[15] +
+             m[8] * m[3] * m[14] + m[12] * m[2] * m[11] - m[12] * m[3] * m[10];
+    inv[9] = -m[0] * m[9] * m[15] + m[0] * m[11] * m[13] + m[8] * m[1] * m[15] -
+             m[8] * m[3] * m[13] - m[12] * m[1] * m[11] + m[12] * m[3] * m[9];
+    inv[13] = m[0] * m[9] * m[14] - m[0] * m[10] * m[13] - m[8] * m[1] * m[14] +
+              m[8] * m[2] * m[13] + m[12] * m[1] * m[10] - m[12] * m[2] * m[9];
+    inv[2] = m[1] * m[6] * m[15] - m[1] * m[7] * m[14] - m[5] * m[2] * m[15] + m[5] * m[3] * m[14] +
+             m[13] * m[2] * m[7] - m[13] * m[3] * m[6];
+    inv[6] = -m[0] * m[6] * m[15] + m[0] * m[7] * m[14] + m[4] * m[2] * m[15] -
+             m[4] * m[3] * m[14] - m[12] * m[2] * m[7] + m[12] * m[3] * m[6];
+    inv[10] = m[0] * m[5] * m[15] - m[0] * m[7] * m[13] - m[4] * m[1] * m[15] +
+              m[4] * m[3] * m[13] + m[12] * m[1] * m[7] - m[12] * m[3] * m[5];
+    inv[14] = -m[0] * m[5] * m[14] + m[0] * m[6] * m[13] + m[4] * m[1] * m[14] -
+              m[4] * m[2] * m[13] - m[12] * m[1] * m[6] + m[12] * m[2] * m[5];
+    inv[3] = -m[1] * m[6] * m[11] + m[1] * m[7] * m[10] + m[5] * m[2] * m[11] -
+             m[5] * m[3] * m[10] - m[9] * m[2] * m[7] + m[9] * m[3] * m[6];
+    inv[7] = m[0] * m[6] * m[11] - m[0] * m[7] * m[10] - m[4] * m[2] * m[11] + m[4] * m[3] * m[10] +
+             m[8] * m[2] * m[7] - m[8] * m[3] * m[6];
+    inv[11] = -m[0] * m[5] * m[11] + m[0] * m[7] * m[9] + m[4] * m[1] * m[11] - m[4] * m[3] * m[9] -
+              m[8] * m[1] * m[7] + m[8] * m[3] * m[5];
+    inv[15] = m[0] * m[5] * m[10] - m[0] * m[6] * m[9] - m[4] * m[1] * m[10] + m[4] * m[2] * m[9] +
+              m[8] * m[1] * m[6] - m[8] * m[2] * m[5];
+    const double det = m[0] * inv[0] + m[1] * inv[4] + m[2] * inv[8] + m[3] * inv[12];
+    Mat4f r{};
+    for (int i = 0; i < 16; ++i) r.m[i] = static_cast<float>(inv[i] / det);
+    return r;
+}
+
+// The constants of sh_eval_k's recurrence (sh/basis.hpp) for every (l, m ≥ 0), l < bands, at
+// flat index l(l+1)+m, two floats each, in the layout the shading shader reads (see there).
+std::vector<float> recurrence_table(int bands) {
+    std::vector<float> t(std::size_t(2) * sh_count(bands), 0.0f);
+    for (int m = 0; m < bands; ++m)
+        for (int l = m; l < bands; ++l) {
+            const std::size_t i = 2 * std::size_t(sh_index(l, m));
+            if (l == m) {
+                t[i] = m > 0 ? static_cast<float>(-std::sqrt((2.0 * m + 1) / (2.0 * m))) : 1.0f;
+            } else {
+                const double ll = l, mm = m;
+                t[i] = static_cast<float>(std::sqrt((4 * ll * ll - 1) / (ll * ll - mm * mm)));
+                t[i + 1] = static_cast<float>(
+                    std::sqrt(((ll - 1) * (ll - 1) - mm * mm) / (4 * (ll - 1) * (ll - 1) - 1)));
+            }
+        }
+    return t;
+}
+
+}  // namespace
+
+Renderer::Renderer() {
+    require_gl43();
+    m_shade_program = gl::compile_compute_program(gl::kShadeComputeShader, "shading");
+    m_scene_program =
+        gl::compile_program(gl::kSceneVertexShader, gl::kSceneFragmentShader, "scene");
+    m_background_program = gl::compile_program(gl::kFullscreenVertexShader,
+                                               gl::kBackgroundFragmentShader, "background");
+    m_present_program =
+        gl::compile_program(gl::kFullscreenVertexShader, gl::kPresentFragmentShader, "present");
+    glGenVertexArrays(1, &m_vao);
+    glGenVertexArrays(1, &m_empty_vao);
+    // Enough bands for any K' (K' ≤ light K ≤ kMaxLightK).
+    const std::vector<float> table = recurrence_table(sh_bands_for(kMaxLightK));
+    m_recurrence_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, table.size() * sizeof(float),
+                                    table.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    gl::check("Renderer");
+}
+
+Renderer::~Renderer() {
+    delete_buffer(m_position_vbo);
+    delete_buffer(m_normal_vbo);
+    delete_buffer(m_albedo_vbo);
+    delete_buffer(m_index_buffer);
+    delete_buffer(m_color_buffer);
+    delete_buffer(m_transfer_ssbo);
+    delete_buffer(m_light_ssbo);
+    delete_buffer(m_recurrence_ssbo);
+    if (m_background_texture) glDeleteTextures(1, &m_background_texture);
+    if (m_vao) glDeleteVertexArrays(1, &m_vao);
+    if (m_empty_vao) glDeleteVertexArrays(1, &m_empty_vao);
+    for (unsigned p : {m_shade_program, m_scene_program, m_background_program, m_present_program})
+        if (p) glDeleteProgram(p);
+}
+
+void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
+    const std::size_t V = mesh.vertex_count();
+    SHPRT_CHECK(V > 0 && mesh.triangle_count() > 0, invalid_argument,
+                "mesh {} has no triangles to draw", mesh.source);
+    SHPRT_CHECK(transfer.K > 0 && (transfer.channels == 1 || transfer.channels == 3),
+                invalid_argument,
+                "transfer has K = {} and {} channels (need K > 0, 1 or 3 channels)", transfer.K,
+                transfer.channels);
+    SHPRT_CHECK(transfer.coeffs.size() == V * transfer.channels * std::size_t(transfer.K),
+                invalid_argument,
+                "transfer holds {} floats, expected {} vertices × {} channels × {}",
+                transfer.coeffs.size(), V, transfer.channels, transfer.K);
+    SHPRT_CHECK(mesh.normals.size() == V && mesh.albedo.size() == V, invalid_argument,
+                "mesh {} has {} vertices but {} normals and {} albedo values", mesh.source, V,
+                mesh.normals.size(), mesh.albedo.size());
+    for (const auto& t : mesh.triangles)
+        SHPRT_CHECK(t[0] < V && t[1] < V && t[2] < V, invalid_argument,
+                    "mesh {}: triangle index out of range ({} vertices)", mesh.source, V);
+    GLint64 max_block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    const std::size_t transfer_bytes = transfer.coeffs.size() * sizeof(float);
+    SHPRT_CHECK(transfer_bytes <= static_cast<std::size_t>(max_block), unsupported,
+                "transfer of {} MiB exceeds this OpenGL's shader storage block limit of {} MiB "
+                "(use fewer coefficients)",
+                transfer_bytes >> 20, max_block >> 20);
+
+    for (unsigned* b : {&m_position_vbo, &m_normal_vbo, &m_albedo_vbo, &m_index_buffer,
+                        &m_color_buffer, &m_transfer_ssbo})
+        delete_buffer(*b);
+    glBindVertexArray(m_vao);
+    const std::size_t vec_bytes = V * sizeof(Vec3f);
+    m_position_vbo = make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.positions.data(), GL_STATIC_DRAW);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
+    glEnableVertexAttribArray(0);
+    // Normals and albedo are read by the shading pass only (as storage buffers).
+    m_normal_vbo = make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.normals.data(), GL_STATIC_DRAW);
+    m_albedo_vbo = make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.albedo.data(), GL_STATIC_DRAW);
+    // The shading pass writes one vec4 per vertex; the draw reads it as attribute 3.
+    m_color_buffer = make_buffer(GL_ARRAY_BUFFER, V * 4 * sizeof(float), nullptr, GL_DYNAMIC_COPY);
+    glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(3);
+    m_index_buffer =
+        make_buffer(GL_ELEMENT_ARRAY_BUFFER, mesh.triangles.size() * 3 * sizeof(std::uint32_t),
+                    mesh.triangles.data(), GL_STATIC_DRAW);
+    glBindVertexArray(0);
+    // Dynamic: a progressive bake rewrites it chunk by chunk (update_transfer).
+    m_transfer_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, transfer_bytes, transfer.coeffs.data(),
+                                  GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    m_vertex_count = V;
+    m_index_count = mesh.triangles.size() * 3;
+    m_K = transfer.K;
+    m_channels = transfer.channels;
+    ++m_transfer_generation;
+    m_shading_valid = false;
+    gl::check("Renderer::set_scene");
+}
+
+void Renderer::update_transfer(std::size_t first_vertex, std::size_t vertex_count,
+                               const float* coeffs) {
+    SHPRT_CHECK(m_transfer_ssbo != 0, invalid_argument, "update_transfer before set_scene");
+    SHPRT_CHECK(first_vertex <= m_vertex_count && vertex_count <= m_vertex_count - first_vertex,
+                invalid_argument, "transfer update of vertices [{}, {}) outside the scene's {}",
+                first_vertex, first_vertex + vertex_count, m_vertex_count);
+    const std::size_t per_vertex = std::size_t(m_channels) * m_K * sizeof(float);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, m_transfer_ssbo);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(first_vertex * per_vertex),
+                    static_cast<GLsizeiptr>(vertex_count * per_vertex), coeffs);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    ++m_transfer_generation;
+    gl::check("Renderer::update_transfer");
+}
+
+void Renderer::set_light(const ShLight& light) {
+    SHPRT_CHECK(light.K > 0 && light.coeffs.size() == 3 * std::size_t(light.K), invalid_argument,
+                "light has K = {} and {} coefficients (expected 3 × K)", light.K,
+                light.coeffs.size());
+    if (!m_light_ssbo || light.K != m_light.K) {
+        delete_buffer(m_light_ssbo);
+        m_light_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, light.coeffs.size() * sizeof(float),
+                                   light.coeffs.data(), GL_DYNAMIC_DRAW);
+    } else {
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, m_light_ssbo);
+        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
+                        static_cast<GLsizeiptr>(light.coeffs.size() * sizeof(float)),
+                        light.coeffs.data());
+    }
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    m_light = light;
+    m_has_light = true;
+    m_background_K = -1;
+    ++m_light_generation;
+    gl::check("Renderer::set_light");
+}
+
+int Renderer::effective_K(int K_used) const {
+    SHPRT_CHECK(K_used >= 0, invalid_argument, "basis size K' = {} is negative", K_used);
+    int K = std::min(m_K, m_light.K);
+    if (K_used > 0) K = std::min(K, K_used);
+    return K;
+}
+
+void Renderer::upload_background(int K) {
+    if (m_background_K == K && m_background_texture) return;
+    // The light's SH reconstruction over the equirect grid, rows from the zenith down.
+    std::vector<float> texels(std::size_t(kBackgroundWidth) * kBackgroundHeight * 3);
+    tbb::parallel_for(tbb::blocked_range<int>(0, kBackgroundHeight), [&](const auto& rows) {
+        std::vector<float> y(K);
+        for (int row = rows.begin(); row != rows.end(); ++row)
+            for (int x = 0; x < kBackgroundWidth; ++x) {
+                const Vec3f d =
+                    equirect_pixel_direction<float>(x, row, kBackgroundWidth, kBackgroundHeight);
+                sh_eval_k(K, d.x, d.y, d.z, y.data());
+                float* out = texels.data() + (std::size_t(row) * kBackgroundWidth + x) * 3;
+                for (int c = 0; c < 3; ++c) {
+                    const float* l = m_light.channel(c);
+                    double s = 0;
+                    for (int i = 0; i < K; ++i) s += double(l[i]) * y[i];
+                    out[c] = static_cast<float>(s);
+                }
+            }
+    });
+    if (!m_background_texture) {
+        glGenTextures(1, &m_background_texture);
+        glBindTexture(GL_TEXTURE_2D, m_background_texture);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGB32F, kBackgroundWidth, kBackgroundHeight);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);  // u wraps around
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    glBindTexture(GL_TEXTURE_2D, m_background_texture);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, kBackgroundWidth, kBackgroundHeight, GL_RGB, GL_FLOAT,
+                    texels.data());
+    glBindTexture(GL_TEXTURE_2D, 0);
+    m_background_K = K;
+    gl::check("Renderer::upload_background");
+}
+
+void Renderer::run_shading(const ShadingKey& key) {
+    glUseProgram(m_shade_program);
+    glUniform3f(gl::loc::kEye, key.eye.x, key.eye.y, key.eye.z);
+    glUniform1i(gl::loc::kK, key.K);
+    glUniform1i(gl::loc::kStrideK, m_K);
+    glUniform1i(gl::loc::kChannels, m_channels);
+    glUniform1i(gl::loc::kLightK, m_light.K);
+    glUniform1f(gl::loc::kDiffuseShare, static_cast<float>(key.k));
+    glUniform1i(gl::loc::kView, key.view);
+    glUniform1f(gl::loc::kMinCosEta, static_cast<float>(kMinCosEta));
+    glUniform1i(gl::loc::kGlossy, key.glossy ? 1 : 0);
+    glUniform1ui(gl::loc::kVertexCount, static_cast<GLuint>(m_vertex_count));
+    if (key.glossy) {
+        const int bands = sh_bands_for(key.K);
+        const std::vector<float> g = lobe_band_factors(bands, key.gloss);
+        glUniform1fv(gl::loc::kLobe, bands, g.data());
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kLightBinding, m_light_ssbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kPositionBinding, m_position_vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kNormalBinding, m_normal_vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kAlbedoBinding, m_albedo_vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, m_color_buffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kRecurrenceBinding, m_recurrence_ssbo);
+    // One invocation per vertex, in dispatches of at most 65535 groups (the guaranteed minimum
+    // of GL_MAX_COMPUTE_WORK_GROUP_COUNT).
+    const std::size_t per_dispatch = std::size_t(65535) * gl::kShadeGroupSize;
+    for (std::size_t first = 0; first < m_vertex_count; first += per_dispatch) {
+        const std::size_t count = std::min(per_dispatch, m_vertex_count - first);
+        glUniform1ui(gl::loc::kFirstVertex, static_cast<GLuint>(first));
+        glDispatchCompute(
+            static_cast<GLuint>((count + gl::kShadeGroupSize - 1) / gl::kShadeGroupSize), 1, 1);
+    }
+    // The draw reads the colours as a vertex attribute.
+    glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    for (unsigned b = 0; b <= gl::kRecurrenceBinding; ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+    glUseProgram(0);
+    m_shading_key = key;
+    m_shading_valid = true;
+    ++m_shading_passes;
+    gl::check("Renderer::run_shading");
+}
+
+void Renderer::draw(const DrawSettings& s, int width, int height) {
+    SHPRT_CHECK(m_transfer_ssbo && m_has_light, invalid_argument,
+                "Renderer::draw before set_scene and set_light");
+    SHPRT_CHECK(width >= 1 && height >= 1, invalid_argument, "viewport {}x{} is empty", width,
+                height);
+    SHPRT_CHECK(s.k >= 0 && s.k <= 1, invalid_argument, "diffuse share k = {} is outside [0, 1]",
+                s.k);
+    const int K = effective_K(s.K_used);
+    const Mat4f view_proj = view_projection_matrix(s.camera, float(width) / float(height));
+
+    glViewport(0, 0, width, height);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);  // rooms are seen from inside: both sides of every triangle
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glClearColor(s.clear_color.x, s.clear_color.y, s.clear_color.z, 1.0f);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+    if (s.background) {
+        upload_background(K);
+        glDisable(GL_DEPTH_TEST);
+        glDepthMask(GL_FALSE);
+        glUseProgram(m_background_program);
+        const Mat4f inv = inverse(view_proj);
+        glUniformMatrix4fv(gl::loc::kInvViewProj, 1, GL_FALSE, inv.m);
+        glUniform3f(gl::loc::kBgEye, s.camera.eye.x, s.camera.eye.y, s.camera.eye.z);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, m_background_texture);
+        glBindVertexArray(m_empty_vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glDepthMask(GL_TRUE);
+    }
+
+    const bool glossy = s.k < 1 && s.view == ShadeView::radiance;
+    ShadingKey key;
+    key.K = K;
+    key.view = static_cast<int>(s.view);
+    key.glossy = glossy;
+    key.k = s.view == ShadeView::radiance ? s.k : 1.0;
+    key.gloss = glossy ? s.gloss : 0.0;
+    key.eye = glossy ? s.camera.eye : Vec3f{0, 0, 0};
+    key.light_generation = m_light_generation;
+    key.transfer_generation = m_transfer_generation;
+    if (s.reshade || !m_shading_valid || !(key == m_shading_key)) run_shading(key);
+
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glUseProgram(m_scene_program);
+    glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
+    glBindVertexArray(m_vao);
+    glPolygonMode(GL_FRONT_AND_BACK, s.wireframe ? GL_LINE : GL_FILL);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    gl::check("Renderer::draw");
+}
+
+void Renderer::present(const RenderTarget& target, float exposure, int width, int height) {
+    SHPRT_CHECK(exposure > 0 && std::isfinite(exposure), invalid_argument,
+                "exposure {} must be positive", exposure);
+    glViewport(0, 0, width, height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_FRAMEBUFFER_SRGB);  // the shader encodes sRGB itself, as the PNG writer does
+    glUseProgram(m_present_program);
+    glUniform1f(gl::loc::kExposure, exposure);
+    glUniform2f(gl::loc::kSize, float(width), float(height));
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, target.resolved_texture());
+    glBindVertexArray(m_empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    gl::check("Renderer::present");
+}
+
+}  // namespace shprt

@@ -1,0 +1,169 @@
+// Writers of per-vertex shading results: CSV, numpy .npy (format 1.0) and binary PLY with
+// display-encoded vertex colours. All through AtomicFile.
+#include "shprt/render/shade_export.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/light/tonemap.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+void check_sizes(const Mesh& mesh, const ShadeResult& result) {
+    const std::size_t V = mesh.vertex_count();
+    SHPRT_CHECK(result.irradiance.size() == V && result.radiance.size() == V, invalid_argument,
+                "shading result has {} / {} values for {} vertices", result.irradiance.size(),
+                result.radiance.size(), V);
+}
+
+// The 9 columns of one vertex: x, y, z, E_rgb, L_rgb.
+void row(const Mesh& mesh, const ShadeResult& result, std::size_t v, float out[9]) {
+    const Vec3f p = mesh.positions[v], e = result.irradiance[v], l = result.radiance[v];
+    const float values[9] = {p.x, p.y, p.z, e.x, e.y, e.z, l.x, l.y, l.z};
+    std::memcpy(out, values, sizeof(values));
+}
+
+// Host must be little-endian for the binary formats (checked once; every supported target is).
+void require_little_endian() {
+    const std::uint32_t one = 1;
+    unsigned char b;
+    std::memcpy(&b, &one, 1);
+    SHPRT_CHECK(b == 1, unsupported, "binary exports need a little-endian host");
+}
+
+}  // namespace
+
+ShadeFormat shade_format_for_path(const std::string& path) {
+    const std::size_t dot = path.find_last_of('.');
+    std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == "csv") return ShadeFormat::csv;
+    if (ext == "ply") return ShadeFormat::ply;
+    if (ext == "npy") return ShadeFormat::npy;
+    fail(ErrorCode::invalid_argument, "output {}: unknown format (expected .csv, .ply or .npy)",
+         path);
+}
+
+void write_shade_csv(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
+    check_sizes(mesh, result);
+    AtomicFile file(path);
+    file.write("x,y,z,E_r,E_g,E_b,L_r,L_g,L_b\n");
+    fmt::memory_buffer buffer;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        float r[9];
+        row(mesh, result, v, r);
+        fmt::format_to(std::back_inserter(buffer),
+                       "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r[0],
+                       r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8]);
+        if (buffer.size() > (1u << 20)) {
+            file.write(buffer.data(), buffer.size());
+            buffer.clear();
+        }
+    }
+    file.write(buffer.data(), buffer.size());
+    file.commit();
+}
+
+void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
+    check_sizes(mesh, result);
+    require_little_endian();
+    const std::size_t V = mesh.vertex_count();
+    // Format 1.0: magic, version, uint16 header length, then a Python dict literal padded with
+    // spaces and ended by '\n' so that the data starts at a multiple of 64 bytes.
+    std::string header =
+        fmt::format("{{'descr': '<f4', 'fortran_order': False, 'shape': ({}, 9), }}", V);
+    const std::size_t preamble = 10;
+    const std::size_t total = (preamble + header.size() + 1 + 63) / 64 * 64;
+    header.append(total - preamble - header.size() - 1, ' ');
+    header.push_back('\n');
+    SHPRT_CHECK(header.size() <= 65535, invalid_argument, "npy header too long");
+    const auto len = static_cast<std::uint16_t>(header.size());
+    const unsigned char magic[10] = {0x93,
+                                     'N',
+                                     'U',
+                                     'M',
+                                     'P',
+                                     'Y',
+                                     1,
+                                     0,
+                                     static_cast<unsigned char>(len & 0xff),
+                                     static_cast<unsigned char>(len >> 8)};
+    AtomicFile file(path);
+    file.write(magic, sizeof(magic));
+    file.write(header);
+    std::vector<float> data(V * 9);
+    for (std::size_t v = 0; v < V; ++v) row(mesh, result, v, data.data() + 9 * v);
+    file.write(data.data(), data.size() * sizeof(float));
+    file.commit();
+}
+
+void write_shade_ply(const std::string& path, const Mesh& mesh, const ShadeResult& result,
+                     float exposure) {
+    check_sizes(mesh, result);
+    require_little_endian();
+    SHPRT_CHECK(exposure > 0 && std::isfinite(exposure), invalid_argument,
+                "exposure {} must be positive", exposure);
+    const std::size_t V = mesh.vertex_count();
+    SHPRT_CHECK(mesh.normals.size() == V, invalid_argument,
+                "mesh {} has {} normals for {} vertices", mesh.source, mesh.normals.size(), V);
+    const std::string header = fmt::format(
+        "ply\nformat binary_little_endian 1.0\ncomment shprt shade: radiance L, filmic tone map, "
+        "sRGB, exposure {}\nelement vertex {}\nproperty float x\nproperty float y\nproperty float "
+        "z\n"
+        "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\n"
+        "property uchar green\nproperty uchar blue\nelement face {}\n"
+        "property list uchar int vertex_indices\nend_header\n",
+        exposure, V, mesh.triangle_count());
+    AtomicFile file(path);
+    file.write(header);
+    constexpr std::size_t kVertexBytes = 6 * sizeof(float) + 3;
+    std::vector<unsigned char> buffer(V * kVertexBytes);
+    for (std::size_t v = 0; v < V; ++v) {
+        unsigned char* out = buffer.data() + v * kVertexBytes;
+        const Vec3f p = mesh.positions[v], n = mesh.normals[v], l = result.radiance[v];
+        const float f[6] = {p.x, p.y, p.z, n.x, n.y, n.z};
+        std::memcpy(out, f, sizeof(f));
+        out[24] = display_encode8(l.x, exposure);
+        out[25] = display_encode8(l.y, exposure);
+        out[26] = display_encode8(l.z, exposure);
+    }
+    file.write(buffer.data(), buffer.size());
+    constexpr std::size_t kFaceBytes = 1 + 3 * sizeof(std::int32_t);
+    std::vector<unsigned char> faces(mesh.triangle_count() * kFaceBytes);
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        unsigned char* out = faces.data() + t * kFaceBytes;
+        out[0] = 3;
+        std::int32_t idx[3];
+        for (int k = 0; k < 3; ++k) idx[k] = static_cast<std::int32_t>(mesh.triangles[t][k]);
+        std::memcpy(out + 1, idx, sizeof(idx));
+    }
+    file.write(faces.data(), faces.size());
+    file.commit();
+}
+
+void write_shade(const std::string& path, const Mesh& mesh, const ShadeResult& result,
+                 float exposure) {
+    switch (shade_format_for_path(path)) {
+        case ShadeFormat::csv:
+            write_shade_csv(path, mesh, result);
+            break;
+        case ShadeFormat::npy:
+            write_shade_npy(path, mesh, result);
+            break;
+        case ShadeFormat::ply:
+            write_shade_ply(path, mesh, result, exposure);
+            break;
+    }
+}
+
+}  // namespace shprt

@@ -1,0 +1,117 @@
+// Helpers of the shading and rendering tests: analytic transfer of unoccluded surfaces, lights
+// with known coefficients, a brute-force ray caster that interpolates per-vertex values (the
+// reference a rasteriser must agree with), and a temporary directory.
+#pragma once
+
+#include "shprt/bake/transfer.hpp"
+#include "shprt/light/light.hpp"
+#include "shprt/scene/mesh.hpp"
+#include "shprt/sh/basis.hpp"
+#include "shprt/sh/zonal.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace shprt::test {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Unshadowed transfer of every vertex computed analytically: the clamped cosine about the
+// vertex normal, c_i = rotate_zonal(clamped_cosine_zonal) (exact up to float rounding). With 3
+// channels, channel c is scaled by channel_scale[c].
+inline TransferSet analytic_transfer(const Mesh& mesh, int K, int channels = 1,
+                                     const double channel_scale[3] = nullptr) {
+    TransferSet t;
+    t.kind = TransferKind::unshadowed;
+    t.K = K;
+    t.channels = channels;
+    t.coeffs.resize(mesh.vertex_count() * channels * std::size_t(K));
+    const std::vector<double> z = clamped_cosine_zonal(sh_bands_for(K));
+    std::vector<double> c(K);
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        rotate_zonal(z.data(), K, normalize(cast<double>(mesh.normals[v])), c.data());
+        for (int ch = 0; ch < channels; ++ch) {
+            const double s = channel_scale ? channel_scale[ch] : 1.0;
+            float* out = t.coeffs.data() + (v * channels + ch) * std::size_t(K);
+            for (int i = 0; i < K; ++i) out[i] = static_cast<float>(s * c[i]);
+        }
+    }
+    return t;
+}
+
+// A smooth, positive light of basis size K whose first `nonzero` coefficients per channel are
+// set (deterministic pseudo-random, c_0 dominant) and the rest zero: band-limited by
+// construction, so its radiance is exactly light_radiance(light, d).
+inline ShLight smooth_light(int K, int nonzero, unsigned seed = 1) {
+    ShLight light = ShLight::zero(K);
+    unsigned state = seed * 2654435761u + 12345u;
+    auto next = [&] {
+        state = state * 1664525u + 1013904223u;
+        return double(state >> 8) / double(1u << 24) - 0.5;  // [−0.5, 0.5)
+    };
+    for (int c = 0; c < 3; ++c) {
+        float* ch = light.channel(c);
+        ch[0] = static_cast<float>(std::sqrt(4 * kPi) * (1.0 + 0.2 * c));
+        for (int i = 1; i < std::min(K, nonzero); ++i) ch[i] = static_cast<float>(0.6 * next());
+    }
+    return light;
+}
+
+// Closest hit of a ray with the mesh (every triangle, two-sided, double precision) and the
+// perspective-correct interpolation of a per-vertex value there (= barycentric in 3D, what a
+// rasteriser interpolates). Returns false if nothing is hit.
+inline bool trace_interpolate(const Mesh& mesh, const std::vector<Vec3f>& values, Vec3f origin,
+                              Vec3f direction, Vec3d& value, double& t_hit) {
+    const Vec3d o = cast<double>(origin), d = cast<double>(direction);
+    t_hit = 1e300;
+    bool hit = false;
+    for (const auto& tri : mesh.triangles) {
+        const Vec3d a = cast<double>(mesh.positions[tri[0]]);
+        const Vec3d e1 = cast<double>(mesh.positions[tri[1]]) - a;
+        const Vec3d e2 = cast<double>(mesh.positions[tri[2]]) - a;
+        const Vec3d p = cross(d, e2);
+        const double det = dot(e1, p);
+        if (det == 0.0) continue;
+        const double inv = 1.0 / det;
+        const Vec3d s = o - a;
+        const double u = dot(s, p) * inv;
+        if (u < 0.0 || u > 1.0) continue;
+        const Vec3d q = cross(s, e1);
+        const double v = dot(d, q) * inv;
+        if (v < 0.0 || u + v > 1.0) continue;
+        const double t = dot(e2, q) * inv;
+        if (t <= 0 || t >= t_hit) continue;
+        t_hit = t;
+        hit = true;
+        value = cast<double>(values[tri[0]]) * (1 - u - v) + cast<double>(values[tri[1]]) * u +
+                cast<double>(values[tri[2]]) * v;
+    }
+    return hit;
+}
+
+// A fresh directory under the system temp dir, named after the running test; removed by the
+// destructor.
+class TempDir {
+public:
+    TempDir() {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        m_path = std::filesystem::temp_directory_path() /
+                 ("shprt_render_" + std::to_string(::getpid()) + "_" + info->test_suite_name() +
+                  "_" + info->name());
+        std::filesystem::remove_all(m_path);
+        std::filesystem::create_directories(m_path);
+    }
+    ~TempDir() { std::filesystem::remove_all(m_path); }
+    std::string file(const std::string& name) const { return (m_path / name).string(); }
+    const std::filesystem::path& path() const { return m_path; }
+
+private:
+    std::filesystem::path m_path;
+};
+
+}  // namespace shprt::test

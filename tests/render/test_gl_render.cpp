@@ -1,0 +1,395 @@
+// The OpenGL renderer against the CPU reference: every pixel of a headless render equals the
+// CPU per-vertex shading interpolated at the point the pixel's ray hits (a brute-force ray
+// caster), for diffuse and glossy shading, grey and RGB transfer, truncated K'. Also: the
+// background, the transfer-only view, tone-mapped presentation (what the viewer shows) against
+// the PNG encoder, partial transfer updates, and a picture of the room that looks lit.
+// Without EGL / OpenGL 4.3 every test here SKIPs with the reason.
+#include "render_test_util.hpp"
+#include "shprt/bake/bake.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/light/tonemap.hpp"
+#include "shprt/render/gl_context.hpp"
+#include "shprt/render/renderer.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/scene/room.hpp"
+
+#include <epoxy/gl.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace shprt {
+namespace {
+
+// GL evaluates in float (the glossy recurrence included) and interpolates in float; the CPU in
+// double. Relative agreement of a pixel with the reference, plus an absolute floor for values
+// near zero.
+constexpr double kGlRelTolerance = 1e-3;
+constexpr double kGlAbsTolerance = 1e-4;
+// Pixels whose centre the rasteriser and the ray caster see on different sides of a silhouette.
+constexpr double kMaxSilhouetteMismatch = 0.01;
+
+#define REQUIRE_GL(context)                                                        \
+    std::unique_ptr<HeadlessGlContext> context;                                    \
+    try {                                                                          \
+        context = std::make_unique<HeadlessGlContext>();                           \
+    } catch (const Error& e) {                                                     \
+        GTEST_SKIP() << "no headless OpenGL 4.3 core context (EGL): " << e.what(); \
+    }
+
+struct Comparison {
+    std::size_t compared = 0, mismatched_hits = 0, bad = 0;
+    double worst = 0;  // largest |gl − ref| / (rel·|ref| + abs)
+};
+
+// Compares each pixel of `image` with the reference: the CPU radiance interpolated where the
+// pixel centre's ray hits the mesh, or `background` where it hits nothing.
+Comparison compare_with_reference(const Image& image, const Mesh& mesh,
+                                  const std::vector<Vec3f>& values, const Camera& camera,
+                                  Vec3f background) {
+    Comparison c;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            Vec3f o, d;
+            pixel_ray(camera, image.width, image.height, float(x) + 0.5f, float(y) + 0.5f, o, d);
+            Vec3d ref;
+            double t;
+            const bool hit = test::trace_interpolate(mesh, values, o, d, ref, t);
+            const float* px = image.pixel(x, y);
+            const bool gl_background =
+                px[0] == background.x && px[1] == background.y && px[2] == background.z;
+            if (hit == gl_background) {
+                ++c.mismatched_hits;
+                continue;
+            }
+            if (!hit) continue;
+            ++c.compared;
+            double worst_here = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double err = std::abs(px[k] - ref[k]) /
+                                   (kGlRelTolerance * std::abs(ref[k]) + kGlAbsTolerance);
+                worst_here = std::max(worst_here, err);
+            }
+            c.worst = std::max(c.worst, worst_here);
+            if (worst_here > 1) ++c.bad;
+        }
+    return c;
+}
+
+TEST(GlRender, PixelsMatchTheCpuReferenceDiffuseAndGlossy) {
+    REQUIRE_GL(context);
+    const Vec3f background{-1, -1, -1};  // impossible for the scenes below: marks "no hit"
+    struct Case {
+        const char* scene;
+        int K, channels, K_used;
+        double k, gloss;
+        Camera camera;
+    };
+    Camera plane_cam;
+    plane_cam.eye = {1.6f, 1.3f, 2.2f};
+    plane_cam.target = {-0.1f, 0, 0.1f};
+    plane_cam.fov_y_deg = 45;
+    plane_cam.near_plane = 0.1f;
+    plane_cam.far_plane = 10;
+    Camera sphere_cam = plane_cam;
+    sphere_cam.eye = {2.5f, 1.5f, 2.0f};
+    sphere_cam.target = {0, 0, 0};
+    const Case cases[] = {
+        {"plane", 48, 3, 40, 1.0, 16, plane_cam},    // diffuse, RGB transfer, K' not a square
+        {"plane", 64, 1, 0, 0.3, 12, plane_cam},     // glossy on a plane: view-dependent
+        {"sphere", 64, 1, 0, 0.5, 8, sphere_cam},    // glossy on a curved surface
+        {"sphere", 36, 3, 25, 0.0, 30, sphere_cam},  // pure glossy, RGB, truncated
+    };
+    for (const Case& cs : cases) {
+        SCOPED_TRACE(::testing::Message() << cs.scene << " K=" << cs.K << " channels="
+                                          << cs.channels << " K'=" << cs.K_used << " k=" << cs.k);
+        const Mesh mesh = make_builtin(cs.scene);
+        const double scale[3] = {0.7, 1.0, 1.3};
+        const TransferSet transfer = test::analytic_transfer(mesh, cs.K, cs.channels, scale);
+        const ShLight light = test::smooth_light(cs.K, cs.K, 11);
+        ShadeOptions shade;
+        shade.k = cs.k;
+        shade.gloss = cs.gloss;
+        shade.eye = cs.camera.eye;
+        shade.K_used = cs.K_used;
+        const ShadeResult cpu = shade_vertices(mesh, transfer, light, shade);
+
+        DrawSettings settings;
+        settings.camera = cs.camera;
+        settings.k = cs.k;
+        settings.gloss = cs.gloss;
+        settings.K_used = cs.K_used;
+        settings.clear_color = background;
+        const int w = 96, h = 72;
+        Renderer renderer;
+        renderer.set_scene(mesh, transfer);
+        renderer.set_light(light);
+        RenderTarget target(w, h, 1);  // one sample: the pixel centre, as the ray caster
+        target.bind();
+        renderer.draw(settings, w, h);
+        target.resolve();
+        const Image image = target.read_pixels();
+
+        const Comparison c =
+            compare_with_reference(image, mesh, cpu.radiance, cs.camera, background);
+        EXPECT_GT(c.compared, std::size_t(w * h / 10));
+        EXPECT_LE(double(c.mismatched_hits), kMaxSilhouetteMismatch * w * h);
+        EXPECT_EQ(c.bad, 0u) << "worst error " << c.worst << " tolerances";
+    }
+}
+
+TEST(GlRender, IrradianceAndTransferViews) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("plane");
+    const TransferSet transfer = test::analytic_transfer(mesh, 16);
+    const ShLight light = test::smooth_light(16, 16, 2);
+    const ShadeResult cpu = shade_vertices(mesh, transfer, light, {});
+    DrawSettings settings;
+    settings.camera.eye = {0, 2, 1.5f};
+    settings.camera.target = {0, 0, 0};
+    settings.camera.near_plane = 0.1f;
+    settings.camera.far_plane = 10;
+    settings.clear_color = {-1, -1, -1};
+    settings.view = ShadeView::irradiance;
+    const Image e = render_image(mesh, transfer, light, settings, 64, 48, 1);
+    const Comparison c =
+        compare_with_reference(e, mesh, cpu.irradiance, settings.camera, settings.clear_color);
+    EXPECT_GT(c.compared, 500u);
+    EXPECT_EQ(c.bad, 0u) << c.worst;
+    // Unoccluded: the AO-like value T_0·2/sqrt(π) is 1 everywhere, grey, whatever the light.
+    settings.view = ShadeView::transfer;
+    const Image ao = render_image(mesh, transfer, light, settings, 64, 48, 1);
+    std::size_t seen = 0;
+    for (std::size_t i = 0; i < ao.pixel_count(); ++i) {
+        if (ao.rgb[3 * i] == -1.0f) continue;
+        ++seen;
+        for (int k = 0; k < 3; ++k) ASSERT_NEAR(ao.rgb[3 * i + k], 1.0f, 1e-5f);
+    }
+    EXPECT_GT(seen, 500u);
+}
+
+TEST(GlRender, BackgroundIsTheLightsReconstructionAlongEachViewRay) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("plane");
+    const TransferSet transfer = test::analytic_transfer(mesh, 9);
+    const ShLight light = test::smooth_light(9, 9, 6);
+    DrawSettings settings;
+    settings.camera.eye = {0, 0.5f, 0};
+    settings.camera.target = {0.3f, 1.5f, -1};  // looking up: the plane below is out of view
+    settings.camera.fov_y_deg = 70;
+    settings.camera.near_plane = 0.05f;
+    settings.camera.far_plane = 10;
+    settings.background = true;
+    const int w = 80, h = 60;
+    const Image image = render_image(mesh, transfer, light, settings, w, h, 1);
+    double worst = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            Vec3f o, d;
+            pixel_ray(settings.camera, w, h, float(x) + 0.5f, float(y) + 0.5f, o, d);
+            const Vec3d want = light_radiance(light, cast<double>(d));
+            for (int k = 0; k < 3; ++k)
+                worst =
+                    std::max(worst, std::abs(image.pixel(x, y)[k] - want[k]) / std::abs(want[k]));
+        }
+    // Bilinear lookup in a 256 × 128 texture of a 3-band light: well under 1 %.
+    EXPECT_LT(worst, 0.01);
+}
+
+TEST(GlRender, PresentShowsWhatThePngEncoderWrites) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("sphere");
+    const TransferSet transfer = test::analytic_transfer(mesh, 16);
+    const ShLight light = make_light({"builtin"}, 16);
+    DrawSettings settings;
+    settings.camera = default_camera(mesh, 1.5f);
+    settings.k = 0.6;
+    settings.background = true;
+    const int w = 90, h = 60;
+    Renderer renderer;
+    renderer.set_scene(mesh, transfer);
+    renderer.set_light(light);
+    RenderTarget target(w, h, 4);
+    target.bind();
+    renderer.draw(settings, w, h);
+    target.resolve();
+    const Image linear = target.read_pixels();
+    // An 8-bit window stand-in.
+    GLuint fbo = 0, rb = 0;
+    glGenFramebuffers(1, &fbo);
+    glGenRenderbuffers(1, &rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb);
+    const float exposure = 1.7f;
+    renderer.present(target, exposure, w, h);
+    std::vector<unsigned char> rgba(std::size_t(w) * h * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteRenderbuffers(1, &rb);
+    int worst = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < 3; ++k) {
+                const int gl_code = rgba[(std::size_t(h - 1 - y) * w + x) * 4 + k];
+                const int png_code = display_encode8(linear.pixel(x, y)[k], exposure);
+                worst = std::max(worst, std::abs(gl_code - png_code));
+            }
+    EXPECT_LE(worst, 1) << "codes differ by more than the 8-bit rounding";
+}
+
+TEST(GlRender, PartialTransferUpdateEqualsAFreshUpload) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("sphere");
+    const TransferSet full = test::analytic_transfer(mesh, 16);
+    TransferSet dark = full;
+    for (float& c : dark.coeffs) c *= 0.25f;
+    const ShLight light = test::smooth_light(16, 16, 8);
+    DrawSettings settings;
+    settings.camera = default_camera(mesh, 1.0f);
+    auto frame = [&](Renderer& r) {
+        RenderTarget target(48, 48, 1);
+        target.bind();
+        r.draw(settings, 48, 48);
+        target.resolve();
+        return target.read_pixels();
+    };
+    Renderer fresh;
+    fresh.set_scene(mesh, full);
+    fresh.set_light(light);
+    const Image want = frame(fresh);
+    Renderer updated;
+    updated.set_scene(mesh, dark);
+    updated.set_light(light);
+    const Image before = frame(updated);
+    const std::size_t half = mesh.vertex_count() / 2;
+    updated.update_transfer(0, half, full.coeffs.data());
+    updated.update_transfer(half, mesh.vertex_count() - half, full.vertex(half));
+    const Image after = frame(updated);
+    EXPECT_NE(before.rgb, want.rgb);
+    EXPECT_EQ(after.rgb, want.rgb);
+    EXPECT_THROW(updated.update_transfer(half, mesh.vertex_count(), full.coeffs.data()), Error);
+}
+
+TEST(GlRender, ShadingPassRunsOnlyWhenTheColoursCanChange) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("sphere");
+    const TransferSet transfer = test::analytic_transfer(mesh, 16);
+    Renderer renderer;
+    renderer.set_scene(mesh, transfer);
+    renderer.set_light(test::smooth_light(16, 16, 3));
+    RenderTarget target(32, 32, 1);
+    target.bind();
+    DrawSettings settings;
+    settings.camera = default_camera(mesh, 1.0f);
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.shading_passes(), 1u);
+    // Diffuse shading does not depend on the camera.
+    settings.camera.eye = settings.camera.eye * 1.3f;
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.shading_passes(), 1u);
+    // Glossy shading depends on the eye; the light, K', k and updates invalidate.
+    settings.k = 0.5;
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.shading_passes(), 2u);
+    settings.camera.eye = settings.camera.eye * 0.9f;
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.shading_passes(), 3u);
+    settings.camera.target = {0.1f, 0, 0};  // the target alone does not change the colours
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.shading_passes(), 3u);
+    settings.K_used = 9;
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.shading_passes(), 4u);
+    renderer.set_light(test::smooth_light(16, 16, 4));
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.shading_passes(), 5u);
+    renderer.update_transfer(0, 1, transfer.coeffs.data());
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.shading_passes(), 6u);
+    settings.reshade = true;
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.shading_passes(), 7u);
+    // A cached frame equals a fresh renderer's frame.
+    settings.reshade = false;
+    settings.k = 1;
+    renderer.draw(settings, 32, 32);
+    settings.camera.eye = {0.5f, 3, 2};
+    renderer.draw(settings, 32, 32);
+    target.resolve();
+    const Image cached = target.read_pixels();
+    Renderer fresh;
+    fresh.set_scene(mesh, transfer);
+    fresh.set_light(test::smooth_light(16, 16, 4));
+    target.bind();
+    fresh.draw(settings, 32, 32);
+    target.resolve();
+    EXPECT_EQ(cached.rgb, target.read_pixels().rgb);
+}
+
+TEST(GlRender, BadUseThrows) {
+    REQUIRE_GL(context);
+    Renderer renderer;
+    DrawSettings settings;
+    EXPECT_THROW(renderer.draw(settings, 16, 16), Error);  // no scene, no light
+    const Mesh mesh = make_builtin("plane");
+    TransferSet transfer = test::analytic_transfer(mesh, 9);
+    renderer.set_scene(mesh, transfer);
+    renderer.set_light(make_light({"constant"}, 9));
+    settings.k = 2;
+    EXPECT_THROW(renderer.draw(settings, 16, 16), Error);
+    transfer.coeffs.pop_back();
+    EXPECT_THROW(renderer.set_scene(mesh, transfer), Error);
+    EXPECT_THROW(RenderTarget(0, 10), Error);
+    EXPECT_FALSE(context->description().empty());
+    EXPECT_NE(context->description().find("OpenGL"), std::string::npos);
+}
+
+double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+
+TEST(GlRender, TheRoomLooksLit) {
+    REQUIRE_GL(context);
+    const Mesh room = generate_room({});
+    BakeOptions options;
+    options.K = 16;
+    options.samples = 128;
+    const TransferSet transfer = bake(room, options);
+    const ShLight light = make_light({"builtin"}, 16);
+    DrawSettings settings;
+    const int w = 320, h = 180;
+    settings.camera = default_camera(room, float(w) / float(h));
+    const Image image = render_image(room, transfer, light, settings, w, h);
+    std::vector<double> lum;
+    std::size_t background = 0;
+    for (std::size_t i = 0; i < image.pixel_count(); ++i) {
+        const float* p = image.rgb.data() + 3 * i;
+        if (p[0] == 0 && p[1] == 0 && p[2] == 0) {
+            ++background;
+            continue;
+        }
+        lum.push_back(luminance(p));
+        ASSERT_TRUE(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]));
+    }
+    // Mostly room (the open top shows some sky-less black at the top of the frame).
+    EXPECT_LT(double(background) / double(image.pixel_count()), 0.3);
+    std::sort(lum.begin(), lum.end());
+    double mean = 0;
+    for (double l : lum) mean += l;
+    mean /= double(lum.size());
+    // Albedo ≤ 1 under a sky of irradiance ~3 to 6: radiance of order 0.1 to 2.
+    EXPECT_GT(mean, 0.05);
+    EXPECT_LT(mean, 3.0);
+    // Shadows and lit areas: the darker pixels of the room are much darker than the bright ones.
+    const double p20 = lum[lum.size() / 5];
+    const double p90 = lum[lum.size() * 9 / 10];
+    EXPECT_LT(p20, 0.5 * p90) << "p20 " << p20 << " p90 " << p90;
+    EXPECT_GT(p90, 0.2);
+}
+
+}  // namespace
+}  // namespace shprt

@@ -1,0 +1,357 @@
+// CPU shading (render/shade.hpp): white furnace through bake → file → light → shade, irradiance
+// of a linear sky with its truncation error, the glossy term against brute-force integrals over
+// directions, K' truncation, RGB transfer channels, input checks.
+#include "render_test_util.hpp"
+#include "shprt/bake/bake.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/render/shade.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/sh/sampler.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace shprt {
+namespace {
+
+using test::kPi;
+
+// float32 coefficients and a double dot product: E is exact to a few float ulps of π.
+constexpr double kFloatTolerance = 2e-6;
+// Glossy term vs brute force: float32 coefficients (~3e-6 observed) plus the lobe's truncation.
+constexpr double kGlossyTolerance = 2e-5;
+
+// Monte Carlo with the paper's uniform set: per vertex, E = (4π/S)·Σ_j max(0, n·ω_j); its
+// standard deviation is σ = π·sqrt(5/3)/sqrt(S) (E[X²] = 16π²·(1/4π)·(2π/3), Var = 5π²/3).
+double furnace_sigma(std::uint32_t samples) {
+    return kPi * std::sqrt(5.0 / 3.0) / std::sqrt(double(samples));
+}
+
+TEST(ShadeFurnace, AnalyticUnoccludedTransferGivesPiForEveryBasisSize) {
+    // With a constant sky only c_0 of the light is non-zero, so E = T_0·sqrt(4π) and the SH
+    // truncation of the clamped cosine contributes nothing: the bound is 0 for every K ≥ 1
+    // (T_0 = sqrt(π)/2 exactly); only float rounding remains.
+    const Mesh sphere = make_builtin("sphere");
+    for (int K : {1, 4, 9, 16, 48, 64}) {
+        const TransferSet t = test::analytic_transfer(sphere, K);
+        const ShLight light = make_light({"constant"}, K);
+        const ShadeResult r = shade_vertices(sphere, t, light, {});
+        for (std::size_t v = 0; v < sphere.vertex_count(); ++v) {
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_NEAR(r.irradiance[v][c], kPi, kFloatTolerance * kPi)
+                    << "K " << K << " v " << v;
+                // L = albedo/π · E = albedo.
+                ASSERT_NEAR(r.radiance[v][c], sphere.albedo[v][c], 1e-6) << "K " << K;
+            }
+        }
+    }
+}
+
+TEST(ShadeFurnace, BakedSphereThroughFileGivesPiWithinMonteCarloError) {
+    test::TempDir dir;
+    const Mesh sphere = make_builtin("sphere");
+    BakeOptions options;
+    options.transfer = TransferKind::unshadowed;
+    options.K = 16;
+    options.samples = 4096;
+    options.sampler = SamplerKind::uniform;
+    options.seed = 7;
+    write_shprt(dir.file("sphere.shprt"), sphere, bake(sphere, options));
+    const ShprtFile file = read_shprt(dir.file("sphere.shprt"));
+    const ShLight light = make_light({"constant"}, file.transfer.K);
+    const ShadeResult r = shade_vertices(file.mesh, file.transfer, light, {});
+
+    const double bound = 5 * furnace_sigma(options.samples);  // 5σ = 0.32 for S = 4096
+    double mean = 0;
+    for (std::size_t v = 0; v < file.mesh.vertex_count(); ++v) {
+        ASSERT_NEAR(r.irradiance[v].x, kPi, bound) << "vertex " << v;
+        ASSERT_EQ(r.irradiance[v].x, r.irradiance[v].y);  // white light, grey transfer
+        mean += r.irradiance[v].x;
+    }
+    mean /= double(file.mesh.vertex_count());
+    // All vertices share one direction set and their normals cover the sphere evenly, so the
+    // average over vertices is π up to the normals' discretisation, far below σ.
+    EXPECT_NEAR(mean, kPi, 0.01 * kPi);
+}
+
+TEST(ShadeFurnace, QuadratureBakeGivesPiAtEveryVertexShadowedOrNot) {
+    // An exact product quadrature in place of Monte Carlo: the only error left is the
+    // quadrature of the kink of max(0, n·ω), well below 1e-3 with 64 × 128 nodes. The sphere is
+    // convex, so the shadowed bake sees no occluder either.
+    const Mesh sphere = make_builtin("sphere");
+    const DirectionSet quad = gauss_legendre_set(64, 128);
+    for (TransferKind kind : {TransferKind::unshadowed, TransferKind::shadowed}) {
+        for (int K : {16, 48}) {
+            BakeOptions options;
+            options.transfer = kind;
+            options.K = K;
+            const TransferSet t = bake(sphere, options, quad);
+            const ShadeResult r = shade_vertices(sphere, t, make_light({"constant"}, K), {});
+            for (std::size_t v = 0; v < sphere.vertex_count(); ++v)
+                ASSERT_NEAR(r.irradiance[v].x, kPi, 1e-3 * kPi) << to_string(kind) << " K " << K;
+        }
+    }
+}
+
+TEST(ShadeIrradiance, LinearSkyIsExactFromFourCoefficientsAndOffByTheTruncationBelow) {
+    // Sky L(ω) = 1 + a·ω. Irradiance at normal n: π + (2π/3)·a·n, exact once band 1 is present
+    // (K ≥ 4: the sky has no higher bands, so truncating the transfer costs nothing). With K = 1
+    // the clamped cosine loses its band-1 part and the error is exactly (2π/3)·|a·n|.
+    const Mesh sphere = make_builtin("sphere");
+    const Vec3d a{0.3, -0.5, 0.2};
+    ShLight light = ShLight::zero(16);
+    double y[4];
+    const Vec3d axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    double b[4][3];  // y_i(ω) = b_i·ω for i = 1..3 (linear in ω)
+    for (int k = 0; k < 3; ++k) {
+        sh_eval_k(4, axes[k].x, axes[k].y, axes[k].z, y);
+        for (int i = 1; i < 4; ++i) b[i][k] = y[i];
+    }
+    for (int c = 0; c < 3; ++c) {
+        light.channel(c)[0] = static_cast<float>(std::sqrt(4 * kPi));
+        // ∫ (a·ω)(b·ω) dω = (4π/3) a·b.
+        for (int i = 1; i < 4; ++i)
+            light.channel(c)[i] =
+                static_cast<float>(4 * kPi / 3 * (a.x * b[i][0] + a.y * b[i][1] + a.z * b[i][2]));
+    }
+    const TransferSet t16 = test::analytic_transfer(sphere, 16);
+    const ShadeResult full = shade_vertices(sphere, t16, light, {});
+    ShadeOptions truncated;
+    truncated.K_used = 1;
+    const ShadeResult k1 = shade_vertices(sphere, t16, light, truncated);
+    for (std::size_t v = 0; v < sphere.vertex_count(); ++v) {
+        const double an = dot(a, cast<double>(sphere.normals[v]));
+        ASSERT_NEAR(full.irradiance[v].x, kPi + 2 * kPi / 3 * an, 1e-5) << v;
+        ASSERT_NEAR(k1.irradiance[v].x, kPi, 1e-5) << v;
+        ASSERT_NEAR(std::abs(k1.irradiance[v].x - full.irradiance[v].x), 2 * kPi / 3 * std::abs(an),
+                    1e-5);
+    }
+}
+
+// The glossy term by brute force for one vertex with unit normal n and view direction w:
+//   A = ∫ P(r·ω) L(ω) dω,  B = ∫ max(0, n·ω) P(r·ω) dω,  L_S = A·B / max(n·w, kMinCosEta)
+// with P the normalised Phong lobe ((s+1)/2π) max(0, cos)^s, r the reflection of w. Midpoint
+// rule in z = cos θ about r (A) or n (B) on the upper hemisphere × uniform φ: the integrands are
+// smooth there (the lobe's cut-off is of order s), so the rule converges far below 1e-6.
+Vec3d glossy_brute_force(const ShLight& light, int light_nonzero, Vec3d n, Vec3d w, double s) {
+    const Vec3d r = n * (2 * dot(n, w)) - w;
+    auto frame = [](Vec3d z, Vec3d& x, Vec3d& y) {
+        const Vec3d h = std::abs(z.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
+        x = normalize(cross(h, z));
+        y = cross(z, x);
+    };
+    const int nz = 1500, nphi = 96;
+    const double lobe_norm = (s + 1) / (2 * kPi);
+    Vec3d x, y;
+    // A, about r (the lobe vanishes on the lower hemisphere of r).
+    frame(r, x, y);
+    Vec3d A{0, 0, 0};
+    std::vector<double> basis(light_nonzero);
+    for (int i = 0; i < nz; ++i) {
+        const double z = (i + 0.5) / nz, st = std::sqrt(1 - z * z);
+        const double lobe = lobe_norm * std::pow(z, s);
+        for (int k = 0; k < nphi; ++k) {
+            const double phi = 2 * kPi * (k + 0.5) / nphi;
+            const Vec3d d = x * (st * std::cos(phi)) + y * (st * std::sin(phi)) + r * z;
+            sh_eval_k(light_nonzero, d.x, d.y, d.z, basis.data());
+            for (int c = 0; c < 3; ++c) {
+                double L = 0;
+                for (int j = 0; j < light_nonzero; ++j) L += light.channel(c)[j] * basis[j];
+                A[c] += lobe * L;
+            }
+        }
+    }
+    A = A * (2 * kPi / nphi / nz);
+    // B, about n (the clamped cosine vanishes below n's horizon).
+    frame(n, x, y);
+    double B = 0;
+    for (int i = 0; i < nz; ++i) {
+        const double z = (i + 0.5) / nz, st = std::sqrt(1 - z * z);
+        for (int k = 0; k < nphi * 4; ++k) {
+            const double phi = 2 * kPi * (k + 0.5) / (nphi * 4);
+            const Vec3d d = x * (st * std::cos(phi)) + y * (st * std::sin(phi)) + n * z;
+            const double rd = dot(r, d);
+            if (rd > 0) B += z * lobe_norm * std::pow(rd, s);
+        }
+    }
+    B *= 2 * kPi / (nphi * 4) / nz;
+    const double cos_eta = std::max(dot(n, w), kMinCosEta);
+    return A * (B / cos_eta);
+}
+
+TEST(ShadeGlossy, MatchesBruteForceIntegralsOverDirections) {
+    // One vertex on a tilted plane; unshadowed analytic transfer with 16 bands; a band-limited
+    // light (4 bands, zero-padded to K = 256 so the lobe keeps 16 bands). Then Σ c_s c_L equals
+    // A up to the lobe's truncation beyond band 15 (for s = 8 its z_l fall like exp(−l²/2s):
+    // negligible), and Σ c_T c_s equals B up to the same truncation.
+    Mesh mesh;
+    const Vec3f n = normalize(Vec3f{0.2f, 1.0f, -0.3f});
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}};
+    mesh.normals = {n, n, n};
+    mesh.albedo = {{0.5f, 0.6f, 0.7f}, {0.5f, 0.6f, 0.7f}, {0.5f, 0.6f, 0.7f}};
+    mesh.triangles = {{0, 1, 2}};
+    const int K = 256, light_nonzero = 16;
+    const TransferSet t = test::analytic_transfer(mesh, K);
+    const ShLight light = test::smooth_light(K, light_nonzero, 3);
+    const double s = 8;
+    // Views: near the normal, oblique, and grazing (n·w < kMinCosEta: the clamp is active).
+    for (const Vec3f eye :
+         {Vec3f{0.3f, 3.0f, 0.1f}, Vec3f{2.0f, 1.5f, -1.0f}, Vec3f{-3.0f, 0.1f, 2.0f}}) {
+        ShadeOptions options;
+        options.k = 0;  // pure glossy: L = L_S
+        options.gloss = s;
+        options.eye = eye;
+        const ShadeResult r = shade_vertices(mesh, t, light, options);
+        const Vec3d w = normalize(cast<double>(eye - mesh.positions[0]));
+        const Vec3d expected = glossy_brute_force(light, light_nonzero, cast<double>(n), w, s);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(r.radiance[0][c], expected[c],
+                        kGlossyTolerance * std::abs(expected[c]) + 1e-7)
+                << "eye " << eye.x << "," << eye.y << "," << eye.z << " channel " << c;
+        // The mix: L = k·L_D + (1−k)·L_S.
+        options.k = 0.3;
+        const ShadeResult mixed = shade_vertices(mesh, t, light, options);
+        for (int c = 0; c < 3; ++c) {
+            const double L_D = mesh.albedo[0][c] / kPi * r.irradiance[0][c];
+            EXPECT_NEAR(mixed.radiance[0][c], 0.3 * L_D + 0.7 * r.radiance[0][c], 1e-5);
+        }
+    }
+}
+
+TEST(ShadeGlossy, NarrowLobeOnAnUnoccludedSurfaceSeesTheLightInTheMirrorDirection) {
+    // For a narrow lobe, A → L(r) and B → cos η, so L_S → L(r): the paper's visibility estimate
+    // is 1 where nothing occludes. With s = 50 and 24 bands the lobe is resolved (z_24/z_0 ≈
+    // exp(−24²/2s) ≈ 0.3 %); the light has bands 0 and 1 only.
+    Mesh mesh;
+    const Vec3f n{0, 1, 0};
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}};
+    mesh.normals = {n, n, n};
+    mesh.albedo = {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}};
+    mesh.triangles = {{0, 1, 2}};
+    const int K = 24 * 24;
+    const ShLight light = test::smooth_light(K, 4, 5);
+    ShadeOptions options;
+    options.k = 0;
+    options.gloss = 50;
+    options.eye = {1.0f, 1.2f, 0.5f};
+    const ShadeResult r = shade_vertices(mesh, test::analytic_transfer(mesh, K), light, options);
+    const Vec3d w = normalize(cast<double>(options.eye));
+    const Vec3d mirror = cast<double>(n) * (2 * dot(cast<double>(n), w)) - w;
+    const Vec3d L = light_radiance(light, mirror);
+    // The lobe blurs band 1 by g_1 ≈ exp(−2/2s) (−2 %), and B/cos η ≈ E[cos α] = (s+1)/(s+2)
+    // (−2 %): L_S is within 4 % of L(r).
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.radiance[0][c], L[c], 0.04 * L[c]);
+}
+
+TEST(Shade, BasisSizeTruncationEqualsTruncatedInputs) {
+    const Mesh sphere = make_builtin("sphere");
+    const int K = 36, Kp = 11;
+    const TransferSet t = test::analytic_transfer(sphere, K);
+    const ShLight light = test::smooth_light(K, K, 9);
+    ShadeOptions options;
+    options.k = 0.4;
+    options.gloss = 5;
+    options.eye = {2, 3, 4};
+    options.K_used = Kp;
+    const ShadeResult truncated = shade_vertices(sphere, t, light, options);
+    // The same with inputs cut to K'.
+    const TransferSet tp = test::analytic_transfer(sphere, Kp);
+    ShLight lp = ShLight::zero(Kp);
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < Kp; ++i) lp.channel(c)[i] = light.channel(c)[i];
+    options.K_used = 0;
+    const ShadeResult direct = shade_vertices(sphere, tp, lp, options);
+    for (std::size_t v = 0; v < sphere.vertex_count(); ++v)
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_FLOAT_EQ(truncated.irradiance[v][c], direct.irradiance[v][c]);
+            ASSERT_FLOAT_EQ(truncated.radiance[v][c], direct.radiance[v][c]);
+        }
+    EXPECT_EQ(effective_basis_size(t, light, 0), K);
+    EXPECT_EQ(effective_basis_size(t, light, Kp), Kp);
+    EXPECT_EQ(effective_basis_size(t, lp, 0), Kp);
+    EXPECT_EQ(effective_basis_size(t, light, 1000), K);
+}
+
+TEST(Shade, RgbTransferUsesChannelCForColourC) {
+    const Mesh sphere = make_builtin("sphere");
+    const double scale[3] = {0.5, 1.0, 2.0};
+    const TransferSet grey = test::analytic_transfer(sphere, 16);
+    const TransferSet rgb = test::analytic_transfer(sphere, 16, 3, scale);
+    const ShLight light = test::smooth_light(16, 16, 2);
+    ShadeOptions options;
+    options.k = 0.5;
+    options.eye = {0, 0, 5};
+    const ShadeResult g = shade_vertices(sphere, grey, light, options);
+    const ShadeResult c = shade_vertices(sphere, rgb, light, options);
+    for (std::size_t v = 0; v < sphere.vertex_count(); ++v)
+        for (int ch = 0; ch < 3; ++ch) {
+            ASSERT_NEAR(c.irradiance[v][ch], scale[ch] * g.irradiance[v][ch], 1e-5);
+            // L_D and L_S are both linear in the transfer.
+            ASSERT_NEAR(c.radiance[v][ch], scale[ch] * g.radiance[v][ch], 1e-5);
+        }
+}
+
+TEST(Shade, ResultDoesNotDependOnTheThreadCount) {
+    // Per-vertex work only: a second run gives the same bits (TBB may split differently).
+    const Mesh sphere = make_builtin("sphere");
+    const TransferSet t = test::analytic_transfer(sphere, 25);
+    const ShLight light = test::smooth_light(25, 25, 4);
+    ShadeOptions options;
+    options.k = 0.2;
+    options.eye = {1, 2, 3};
+    const ShadeResult a = shade_vertices(sphere, t, light, options);
+    const ShadeResult b = shade_vertices(sphere, t, light, options);
+    for (std::size_t v = 0; v < sphere.vertex_count(); ++v) ASSERT_EQ(a.radiance[v], b.radiance[v]);
+}
+
+TEST(Shade, BadInputThrows) {
+    const Mesh sphere = make_builtin("sphere");
+    const TransferSet t = test::analytic_transfer(sphere, 9);
+    const ShLight light = make_light({"constant"}, 9);
+    ShadeOptions bad_k;
+    bad_k.k = 1.5;
+    EXPECT_THROW(shade_vertices(sphere, t, light, bad_k), Error);
+    ShadeOptions bad_gloss;
+    bad_gloss.gloss = -1;
+    bad_gloss.k = 0.5;
+    EXPECT_THROW(shade_vertices(sphere, t, light, bad_gloss), Error);
+    ShadeOptions bad_K;
+    bad_K.K_used = -2;
+    EXPECT_THROW(shade_vertices(sphere, t, light, bad_K), Error);
+    TransferSet short_t = t;
+    short_t.coeffs.pop_back();
+    EXPECT_THROW(shade_vertices(sphere, short_t, light, {}), Error);
+    TransferSet two_channels = t;
+    two_channels.channels = 2;
+    EXPECT_THROW(shade_vertices(sphere, two_channels, light, {}), Error);
+    Mesh no_albedo = sphere;
+    no_albedo.albedo.clear();
+    EXPECT_THROW(shade_vertices(no_albedo, t, light, {}), Error);
+    ShLight broken = light;
+    broken.coeffs.resize(5);
+    EXPECT_THROW(shade_vertices(sphere, t, broken, {}), Error);
+    try {
+        shade_vertices(sphere, t, light, bad_k);
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+        EXPECT_NE(std::string(e.what()).find("1.5"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Shade, LobeBandFactorsAreTheZonalIdentityScale) {
+    // g_l = sqrt(4π/(2l+1)) z_l; g_0 = 1 for a lobe that integrates to 1.
+    const std::vector<float> g = lobe_band_factors(8, 10);
+    const std::vector<double> z = phong_lobe_zonal(8, 10);
+    ASSERT_EQ(g.size(), 8u);
+    EXPECT_NEAR(g[0], 1.0, 1e-6);
+    for (int l = 0; l < 8; ++l) EXPECT_NEAR(g[l], std::sqrt(4 * kPi / (2 * l + 1)) * z[l], 1e-6);
+    for (int l = 1; l < 8; ++l) EXPECT_LT(g[l], g[l - 1]);  // a smooth lobe decays with l
+    EXPECT_THROW(lobe_band_factors(0, 10), Error);
+    EXPECT_THROW(lobe_band_factors(4, -1), Error);
+}
+
+}  // namespace
+}  // namespace shprt

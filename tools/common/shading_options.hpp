@@ -1,0 +1,57 @@
+// Options shared by the tools that draw a baked scene (`shprt render`, `shprt view`): the light
+// (--light, --rotate, --window, --window-strength), the camera (--camera, --fov), --view, and the
+// checks of --k, --gloss, --exposure. One definition, so that the same options give the same
+// picture in every tool (the viewer's --screenshot is compared with `shprt render` in the tests).
+#pragma once
+
+#include "shprt/render/camera.hpp"
+#include "shprt/render/light_setup.hpp"
+#include "shprt/render/renderer.hpp"
+#include "shprt/scene/mesh.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace shprt::tools {
+
+struct LightArgs {
+    std::vector<std::string> lights;
+    std::string rotate, window = "none";
+    double window_strength = 0;
+};
+
+// Adds --light (repeatable), --rotate, --window and --window-strength writing into `args`
+// (which must outlive the parse).
+void add_light_options(CLI::App& app, LightArgs& args);
+// The LightSetup of the parsed options; throws Error(invalid_argument) naming a bad window or
+// rotation. Light files are only read later, by prepare_light.
+LightSetup light_setup_from(const LightArgs& args);
+
+struct CameraArgs {
+    std::string camera;         // "EX,EY,EZ,TX,TY,TZ" or empty (default camera)
+    std::optional<double> fov;  // degrees
+};
+
+// Adds --camera and --fov.
+void add_camera_options(CLI::App& app, CameraArgs& args);
+// Checks --camera and --fov without a scene (one-line Error(invalid_argument)), so that a bad
+// option fails before a file is read.
+void check_camera_args(const CameraArgs& args);
+// The camera `shprt render` uses for these options: default_camera(mesh, aspect) without
+// --camera; otherwise eye and target as given (up +Y, or −Z when looking straight up or down)
+// with clip planes fitted to the mesh's bounds; --fov overrides the field of view.
+Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect);
+
+// "radiance", "irradiance" or "transfer"; throws Error(invalid_argument) naming `name`.
+ShadeView parse_view(const std::string& name);
+
+// Checks --k ∈ [0, 1], --gloss ≥ 0 and --exposure > 0 (finite), naming the option.
+void check_shading_args(double k, double gloss, double exposure);
+
+// Throws Error(invalid_argument) unless `path` ends in .png, .exr or .hdr (any case).
+void check_image_extension(const std::string& path);
+
+}  // namespace shprt::tools
