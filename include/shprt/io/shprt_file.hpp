@@ -1,0 +1,73 @@
+// The .shprt file: one baked scene — mesh, per-vertex transfer coefficients and the metadata
+// needed to use them correctly (SH convention, K, sampler, scene hash, bake statistics).
+// docs/file_format.md describes it byte by byte; in short:
+//
+//   48-byte header  magic "\x89SHPRT\r\n\x1a\n\0\0", format version, endianness marker,
+//                   metadata offset/length/CRC-32, header CRC-32
+//   metadata        UTF-8 JSON object (conventions, K, bands, sampler, ..., section table)
+//   sections        64-byte aligned little-endian arrays, each with its byte length and CRC-32:
+//                   positions, normals, albedo (float32 V×3), triangles (uint32 T×3),
+//                   source_vertex (uint32 V, only when the mesh has one),
+//                   transfer (float32 or float16, V×channels×K)
+//
+// Every byte of the file is covered by a check (a CRC or "padding is zero"), and the reader
+// validates every length and offset against the file size before it reads or allocates.
+#pragma once
+
+#include "shprt/bake/transfer.hpp"
+#include "shprt/scene/mesh.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace shprt {
+
+// The format version this build writes and the newest it reads.
+inline constexpr std::uint32_t kShprtFormatVersion = 1;
+
+// Largest K the format accepts (64 bands; the bake itself allows up to 1024).
+inline constexpr int kShprtMaxK = 64 * 64;
+
+struct WriteOptions {
+    bool half = false;  // transfer coefficients as IEEE float16 instead of float32
+    // A JSON object merged into the metadata (e.g. timings, peak memory, the bake command line);
+    // empty = none. Objects merge recursively ({"stats": {"seconds_load": 0.1}} adds to the
+    // stats); a key that would replace a value the writer sets is an Error(invalid_argument).
+    std::string extra_metadata_json;
+    // Leave out everything that differs between two runs of the same bake (the stats: timings,
+    // rays, peak memory, device; and extra_metadata_json), so that the same inputs give the same
+    // bytes.
+    bool reproducible = false;
+};
+
+// Writes `mesh` and `transfer` to `path` through AtomicFile (a temporary file beside `path`,
+// renamed over it at the end): on any failure the target is untouched and no temporary is left.
+// Preconditions, checked (Error(invalid_argument) naming the problem): normals and albedo have
+// one entry per position; source_vertex is empty or has one; triangle indices are < V;
+// 1 <= K <= kShprtMaxK; channels is 1 or 3; coeffs.size() == V·channels·K; coefficients are
+// finite and, with options.half, within float16's range (|c| < 65520). Filesystem failures throw
+// Error(io) naming the path.
+void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
+                 const WriteOptions& options = {});
+
+struct ShprtFile {
+    Mesh mesh;                  // mesh.source is the scene's source as recorded at bake time
+    TransferSet transfer;       // transfer.coeffs always float32 in memory (float16 files widened)
+    std::string metadata_json;  // the metadata block exactly as stored
+};
+
+// Reads and validates a .shprt file: magic, version, endianness, header and metadata CRCs, the
+// JSON, every section's offset and length against the file size (before reading anything), the
+// section sizes against V, T, K and channels, every section's CRC-32, zero padding, triangle
+// indices, finite values and the recorded scene hash. Any problem throws shprt::Error with
+// ErrorCode::format (content) or ErrorCode::io (cannot open/read), whose one-line message names
+// the file and the problem, e.g. "room.shprt: truncated: section 'transfer' needs 1234 bytes at
+// offset 5678 but the file has 4000". Memory allocated is bounded by the file's size.
+ShprtFile read_shprt(const std::string& path);
+
+// Human-readable multi-line description for `shprt info`: scene, vertices, triangles, transfer
+// kind, K with its bands (and whether the last band is full), sampler, samples, seed, precision,
+// bake time split, rays/s, peak memory, file size, scene hash, tool version. Ends with '\n'.
+std::string shprt_summary(const ShprtFile& file);
+
+}  // namespace shprt

@@ -1,0 +1,468 @@
+// Reader of the .shprt file (layout: docs/file_format.md). Nothing read from the file is trusted
+// before it is checked: the header and metadata against their CRCs, every section's offset and
+// length against the file size, the sizes against V, T, K and channels; only then are arrays
+// allocated (so a corrupt length cannot ask for more memory than the file holds) and read, each
+// against its CRC-32.
+#include "shprt/core/error.hpp"
+#include "shprt/io/half.hpp"
+#include "shprt/io/hash.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/io/shprt_format.hpp"
+#include "shprt/sh/basis.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr int kMaxJsonDepth = 16;
+constexpr std::size_t kMaxSections = 16;
+constexpr std::size_t kReadChunk = std::size_t(1) << 20;
+
+// All of the reader's complaints: Error(format) "<path>: <problem>".
+template <class... Args>
+[[noreturn]] void corrupt(const std::string& path, fmt::format_string<Args...> format,
+                          Args&&... args) {
+    throw Error(ErrorCode::format, path + ": " + fmt::format(format, std::forward<Args>(args)...));
+}
+
+class InputFile {
+public:
+    explicit InputFile(const std::string& path) : m_path(path) {
+        // O_NONBLOCK: opening a FIFO must not hang; it is refused below as not a regular file.
+        m_fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+        SHPRT_CHECK(m_fd >= 0, io, "cannot open {}: {}", path, std::strerror(errno));
+        struct stat st {};
+        SHPRT_CHECK(::fstat(m_fd, &st) == 0, io, "cannot stat {}: {}", path, std::strerror(errno));
+        SHPRT_CHECK(S_ISREG(st.st_mode), io, "{}: not a regular file", path);
+        m_size = static_cast<std::uint64_t>(st.st_size);
+    }
+    ~InputFile() { ::close(m_fd); }
+    InputFile(const InputFile&) = delete;
+    InputFile& operator=(const InputFile&) = delete;
+
+    std::uint64_t size() const { return m_size; }
+
+    // Reads exactly `size` bytes at `offset` (the caller has checked them against size()).
+    void read(std::uint64_t offset, void* data, std::size_t size, const char* what) {
+        auto* p = static_cast<unsigned char*>(data);
+        while (size > 0) {
+            const ssize_t n = ::pread(m_fd, p, size, static_cast<off_t>(offset));
+            if (n < 0 && errno == EINTR) continue;
+            SHPRT_CHECK(n >= 0, io, "cannot read {}: {}", m_path, std::strerror(errno));
+            if (n == 0) corrupt(m_path, "truncated while reading {} (the file shrank)", what);
+            p += n;
+            offset += static_cast<std::uint64_t>(n);
+            size -= static_cast<std::size_t>(n);
+        }
+    }
+
+private:
+    std::string m_path;
+    int m_fd = -1;
+    std::uint64_t m_size = 0;
+};
+
+// ---- metadata fields -------------------------------------------------------------------------
+
+struct Fields {
+    const std::string& path;
+    const Json& obj;
+    std::string where;  // "metadata" or "metadata.scene" etc., for messages
+
+    const Json& get(const char* key) const {
+        auto it = obj.find(key);
+        if (it == obj.end()) corrupt(path, "{}: missing field '{}'", where, key);
+        return *it;
+    }
+    std::uint64_t u64(const char* key, std::uint64_t lo = 0,
+                      std::uint64_t hi = std::numeric_limits<std::uint64_t>::max()) const {
+        const Json& v = get(key);
+        std::uint64_t x = 0;
+        if (v.is_number_unsigned())
+            x = v.get<std::uint64_t>();
+        else if (v.is_number_integer() && v.get<std::int64_t>() >= 0)
+            x = static_cast<std::uint64_t>(v.get<std::int64_t>());
+        else
+            corrupt(path, "{}: field '{}' must be a non-negative integer, not {}", where, key,
+                    v.dump());
+        if (x < lo || x > hi)
+            corrupt(path, "{}: field '{}' = {} is outside [{}, {}]", where, key, x, lo, hi);
+        return x;
+    }
+    int integer(const char* key, int lo, int hi) const {
+        return static_cast<int>(
+            u64(key, static_cast<std::uint64_t>(lo), static_cast<std::uint64_t>(hi)));
+    }
+    std::string string(const char* key) const {
+        const Json& v = get(key);
+        if (!v.is_string()) corrupt(path, "{}: field '{}' must be a string", where, key);
+        return v.get<std::string>();
+    }
+    bool boolean(const char* key) const {
+        const Json& v = get(key);
+        if (!v.is_boolean()) corrupt(path, "{}: field '{}' must be true or false", where, key);
+        return v.get<bool>();
+    }
+    Fields object(const char* key) const {
+        const Json& v = get(key);
+        if (!v.is_object()) corrupt(path, "{}: field '{}' must be an object", where, key);
+        return {path, v, where + "." + key};
+    }
+    // Optional number (statistics): absent or null reads as 0.
+    double number_or_zero(const char* key) const {
+        auto it = obj.find(key);
+        if (it == obj.end() || it->is_null()) return 0.0;
+        if (!it->is_number()) corrupt(path, "{}: field '{}' must be a number", where, key);
+        return it->get<double>();
+    }
+};
+
+Json parse_metadata(const std::string& path, const std::string& text) {
+    // The depth limit keeps a hostile file from exhausting the stack in the JSON library.
+    const Json::parser_callback_t limit_depth = [&](int depth, Json::parse_event_t, Json&) {
+        if (depth > kMaxJsonDepth)
+            corrupt(path, "metadata: JSON nested deeper than {} levels", kMaxJsonDepth);
+        return true;
+    };
+    try {
+        Json j = Json::parse(text, limit_depth);
+        if (!j.is_object()) corrupt(path, "metadata: not a JSON object");
+        return j;
+    } catch (const Json::exception& e) {
+        corrupt(path, "metadata: invalid JSON: {}", e.what());
+    }
+}
+
+// ---- sections --------------------------------------------------------------------------------
+
+struct SectionSpec {
+    const char* name;
+    std::string dtype;
+    std::uint64_t rows, cols;
+    std::uint64_t element_size;
+    // Filled from the table:
+    std::uint64_t offset = 0, length = 0;
+    std::uint32_t crc = 0;
+};
+
+std::uint64_t checked_mul(const std::string& path, std::uint64_t a, std::uint64_t b,
+                          const char* what) {
+    std::uint64_t r = 0;
+    if (__builtin_mul_overflow(a, b, &r)) corrupt(path, "{} overflows 64 bits", what);
+    return r;
+}
+
+void check_section_entry(const std::string& path, const Json& entry, SectionSpec& spec,
+                         std::uint64_t file_size) {
+    if (!entry.is_object()) corrupt(path, "metadata: section entries must be objects");
+    const Fields f{path, entry, fmt::format("metadata.sections['{}']", spec.name)};
+    const std::string name = f.string("name");
+    if (name != spec.name)
+        corrupt(path, "metadata: section '{}' where '{}' was expected", name, spec.name);
+    spec.offset = f.u64("offset");
+    spec.length = f.u64("length");
+    spec.crc = static_cast<std::uint32_t>(f.u64("crc32", 0, 0xffffffffu));
+    // Against the file size first: nothing else is believed until the bytes exist.
+    if (spec.offset > file_size || spec.length > file_size - spec.offset)
+        corrupt(path, "truncated: section '{}' needs {} bytes at offset {} but the file has {}",
+                spec.name, spec.length, spec.offset, file_size);
+    const std::string dtype = f.string("dtype");
+    if (dtype != spec.dtype)
+        corrupt(path, "section '{}' has dtype '{}', expected '{}'", spec.name, dtype, spec.dtype);
+    const Json& shape = f.get("shape");
+    if (!shape.is_array() || shape.size() != 2 || !shape[0].is_number_unsigned() ||
+        !shape[1].is_number_unsigned() || shape[0].get<std::uint64_t>() != spec.rows ||
+        shape[1].get<std::uint64_t>() != spec.cols)
+        corrupt(path, "section '{}' has shape {}, expected [{}, {}]", spec.name, shape.dump(),
+                spec.rows, spec.cols);
+    const std::uint64_t count = checked_mul(path, spec.rows, spec.cols, "section element count");
+    if (f.u64("count") != count)
+        corrupt(path, "section '{}' has count {}, expected {}", spec.name, f.u64("count"), count);
+    const std::uint64_t bytes = checked_mul(path, count, spec.element_size, "section byte length");
+    if (spec.length != bytes)
+        corrupt(path, "section '{}' has length {} but {} {} elements take {} bytes", spec.name,
+                spec.length, count, spec.dtype, bytes);
+}
+
+class Reader {
+public:
+    explicit Reader(const std::string& path) : m_path(path), m_file(path) {}
+
+    ShprtFile read();
+
+private:
+    void check_zero_gap(std::uint64_t from, std::uint64_t to, const char* before);
+    // Reads a section's bytes into `dst` (spec.length bytes), checking its CRC.
+    void read_section(const SectionSpec& spec, void* dst);
+    // Reads a section's bytes through `sink(const unsigned char*, size_t)` in chunks, checking
+    // its CRC at the end.
+    template <class Sink>
+    void read_section_chunks(const SectionSpec& spec, Sink&& sink);
+    void check_crc(const SectionSpec& spec, std::uint32_t crc) const;
+
+    std::string m_path;
+    InputFile m_file;
+};
+
+void Reader::check_zero_gap(std::uint64_t from, std::uint64_t to, const char* before) {
+    unsigned char gap[kShprtAlignment];
+    const std::size_t n = static_cast<std::size_t>(to - from);
+    m_file.read(from, gap, n, "padding");
+    for (std::size_t i = 0; i < n; ++i)
+        if (gap[i] != 0)
+            corrupt(m_path, "corrupt: non-zero padding byte at offset {} (before {})", from + i,
+                    before);
+}
+
+void Reader::check_crc(const SectionSpec& spec, std::uint32_t crc) const {
+    if (crc != spec.crc)
+        corrupt(m_path, "corrupt: section '{}' fails its checksum (CRC-32 {:08x}, recorded {:08x})",
+                spec.name, crc, spec.crc);
+}
+
+void Reader::read_section(const SectionSpec& spec, void* dst) {
+    auto* p = static_cast<unsigned char*>(dst);
+    std::uint32_t crc = 0;
+    for (std::uint64_t done = 0; done < spec.length;) {  // chunks keep the CRC in cache
+        const auto n =
+            static_cast<std::size_t>(std::min<std::uint64_t>(kReadChunk, spec.length - done));
+        m_file.read(spec.offset + done, p + done, n, spec.name);
+        crc = crc32(p + done, n, crc);
+        done += n;
+    }
+    check_crc(spec, crc);
+}
+
+template <class Sink>
+void Reader::read_section_chunks(const SectionSpec& spec, Sink&& sink) {
+    std::vector<unsigned char> buffer(
+        static_cast<std::size_t>(std::min<std::uint64_t>(spec.length, kReadChunk)));
+    std::uint32_t crc = 0;
+    for (std::uint64_t done = 0; done < spec.length;) {
+        const std::size_t n =
+            static_cast<std::size_t>(std::min<std::uint64_t>(kReadChunk, spec.length - done));
+        m_file.read(spec.offset + done, buffer.data(), n, spec.name);
+        crc = crc32(buffer.data(), n, crc);
+        sink(buffer.data(), n);
+        done += n;
+    }
+    check_crc(spec, crc);
+}
+
+ShprtFile Reader::read() {
+    const std::uint64_t size = m_file.size();
+
+    // ---- header ----
+    unsigned char head[kShprtHeaderSize] = {};
+    const std::size_t got =
+        static_cast<std::size_t>(std::min<std::uint64_t>(size, kShprtHeaderSize));
+    m_file.read(0, head, got, "the header");
+    const std::size_t magic_bytes = std::min(got, sizeof kShprtMagic);
+    if (std::memcmp(head, kShprtMagic, magic_bytes) != 0) {
+        if (std::memcmp(head + 1, kShprtMagic + 1, 5) == 0)
+            corrupt(m_path,
+                    "damaged magic: its line-ending or high-bit bytes were changed (copied "
+                    "in text mode?)");
+        corrupt(m_path, "not a .shprt file (wrong magic bytes)");
+    }
+    if (got < kShprtHeaderSize)
+        corrupt(m_path, "truncated: the header needs {} bytes but the file has {}",
+                kShprtHeaderSize, size);
+    const ShprtHeader h = decode_shprt_header(head);
+    if (h.version == 0) corrupt(m_path, "invalid format version 0");
+    if (h.version > kShprtFormatVersion)
+        corrupt(m_path, "format version {} is newer than this shprt reads ({}); use a newer shprt",
+                h.version, kShprtFormatVersion);
+    if (h.endian_marker == 0x04030201u) corrupt(m_path, "big-endian file: not supported");
+    if (h.endian_marker != kShprtEndianMarker)
+        corrupt(m_path, "bad endianness marker {:#010x}", h.endian_marker);
+    if (h.header_size != kShprtHeaderSize)
+        corrupt(m_path, "header size {} (expected {})", h.header_size, kShprtHeaderSize);
+    const std::uint32_t header_crc = crc32(head, 44);
+    if (header_crc != h.header_crc32)
+        corrupt(m_path, "corrupt: the header fails its checksum (CRC-32 {:08x}, recorded {:08x})",
+                header_crc, h.header_crc32);
+    if (h.metadata_offset != kShprtHeaderSize)
+        corrupt(m_path, "metadata offset {} (expected {})", h.metadata_offset, kShprtHeaderSize);
+    if (h.metadata_length > size - kShprtHeaderSize)
+        corrupt(m_path, "truncated: the metadata needs {} bytes at offset {} but the file has {}",
+                h.metadata_length, h.metadata_offset, size);
+    if (h.metadata_length > kShprtMaxMetadataBytes)
+        corrupt(m_path, "metadata length {} exceeds the limit of {} bytes", h.metadata_length,
+                kShprtMaxMetadataBytes);
+
+    // ---- metadata ----
+    std::string text(static_cast<std::size_t>(h.metadata_length), '\0');
+    m_file.read(h.metadata_offset, text.data(), text.size(), "the metadata");
+    const std::uint32_t meta_crc = crc32(text.data(), text.size());
+    if (meta_crc != h.metadata_crc32)
+        corrupt(m_path, "corrupt: the metadata fails its checksum (CRC-32 {:08x}, recorded {:08x})",
+                meta_crc, h.metadata_crc32);
+    const Json meta = parse_metadata(m_path, text);
+    const Fields m{m_path, meta, "metadata"};
+
+    if (m.string("format") != "shprt") corrupt(m_path, "metadata: format is not 'shprt'");
+    if (m.u64("format_version") != h.version)
+        corrupt(m_path, "metadata: format_version {} differs from the header's {}",
+                m.u64("format_version"), h.version);
+    const std::string basis = m.object("convention").string("basis");
+    if (basis != kShprtConventionBasis)
+        corrupt(m_path, "metadata: unsupported SH convention '{}'", basis);
+
+    ShprtFile out;
+    TransferSet& t = out.transfer;
+    const std::string kind = m.string("transfer_kind");
+    const std::string sampler = m.string("sampler");
+    try {
+        t.kind = parse_transfer_kind(kind);
+        t.sampler = parse_sampler_kind(sampler);
+    } catch (const Error& e) {
+        corrupt(m_path, "metadata: {}", e.what());
+    }
+    t.K = m.integer("K", 1, kShprtMaxK);
+    t.channels = m.integer("channels", 1, 3);
+    if (t.channels == 2) corrupt(m_path, "metadata: channels must be 1 or 3, not 2");
+    const int bands = sh_bands_for(t.K);
+    if (m.u64("bands") != std::uint64_t(bands))
+        corrupt(m_path, "metadata: bands = {} but K = {} needs {}", m.u64("bands"), t.K, bands);
+    if (m.boolean("last_band_full") != (sh_count(bands) == t.K))
+        corrupt(m_path, "metadata: last_band_full contradicts K = {}", t.K);
+    const std::string precision = m.string("precision");
+    if (precision != "float32" && precision != "float16")
+        corrupt(m_path, "metadata: precision '{}' (expected float32 or float16)", precision);
+    t.samples = m.integer("samples", 0, INT_MAX);
+    t.seed = m.u64("seed");
+
+    const Fields scene = m.object("scene");
+    out.mesh.source = scene.string("source");
+    const std::string recorded_hash = scene.string("hash");
+    const std::uint64_t V = scene.u64("vertices");
+    const std::uint64_t T = scene.u64("triangles");
+
+    if (meta.contains("stats")) {
+        const Fields s = m.object("stats");
+        BakeStats& st = t.stats;
+        st.seconds_bvh = s.number_or_zero("seconds_bvh");
+        st.seconds_trace = s.number_or_zero("seconds_trace");
+        st.seconds_project = s.number_or_zero("seconds_project");
+        st.seconds_total = s.number_or_zero("seconds_total");
+        if (s.obj.contains("rays_cast")) st.rays_cast = s.u64("rays_cast");
+        if (s.obj.contains("peak_bytes_host")) st.peak_bytes_host = s.u64("peak_bytes_host");
+        if (s.obj.contains("peak_bytes_device")) st.peak_bytes_device = s.u64("peak_bytes_device");
+        if (s.obj.contains("device")) st.device_name = s.string("device");
+    }
+
+    // ---- section table ----
+    const Json& table = m.get("sections");
+    if (!table.is_array() || table.size() > kMaxSections)
+        corrupt(m_path, "metadata: 'sections' must be an array of at most {} entries",
+                kMaxSections);
+    const bool has_source_vertex = table.size() == 6;
+    if (table.size() != 5 && !has_source_vertex)
+        corrupt(m_path, "metadata: {} sections listed (expected 5 or 6)", table.size());
+    const std::uint64_t transfer_cols = std::uint64_t(t.channels) * std::uint64_t(t.K);
+    std::vector<SectionSpec> specs = {
+        {"positions", "float32", V, 3, 4},
+        {"normals", "float32", V, 3, 4},
+        {"albedo", "float32", V, 3, 4},
+        {"triangles", "uint32", T, 3, 4},
+    };
+    if (has_source_vertex) specs.push_back({"source_vertex", "uint32", V, 1, 4});
+    specs.push_back({"transfer", precision, V, transfer_cols, precision == "float16" ? 2u : 4u});
+    for (std::size_t i = 0; i < specs.size(); ++i)
+        check_section_entry(m_path, table[i], specs[i], size);
+
+    // Canonical layout: each section at the first aligned offset after the previous one, the
+    // file ending with the last, so every byte is under a CRC or known to be zero padding.
+    std::uint64_t end = kShprtHeaderSize + h.metadata_length;
+    for (const SectionSpec& s : specs) {
+        if (s.offset != shprt_align(end))
+            corrupt(m_path, "section '{}' at offset {}, expected {}", s.name, s.offset,
+                    shprt_align(end));
+        end = s.offset + s.length;
+    }
+    if (size != end) corrupt(m_path, "{} unexpected bytes after the last section", size - end);
+
+    // ---- arrays (all lengths now proven to lie inside the file) ----
+    Mesh& mesh = out.mesh;
+    end = kShprtHeaderSize + h.metadata_length;
+    for (const SectionSpec& s : specs) {
+        check_zero_gap(end, s.offset, s.name);
+        end = s.offset + s.length;
+        const std::string name = s.name;
+        if (name == "positions") {
+            mesh.positions.resize(V);
+            read_section(s, mesh.positions.data());
+        } else if (name == "normals") {
+            mesh.normals.resize(V);
+            read_section(s, mesh.normals.data());
+        } else if (name == "albedo") {
+            mesh.albedo.resize(V);
+            read_section(s, mesh.albedo.data());
+        } else if (name == "triangles") {
+            mesh.triangles.resize(T);
+            read_section(s, mesh.triangles.data());
+        } else if (name == "source_vertex") {
+            mesh.source_vertex.resize(V);
+            read_section(s, mesh.source_vertex.data());
+        } else if (s.element_size == 4) {
+            t.coeffs.resize(V * transfer_cols);
+            read_section(s, t.coeffs.data());
+        } else {
+            t.coeffs.resize(V * transfer_cols);
+            float* dst = t.coeffs.data();
+            read_section_chunks(s, [&dst](const unsigned char* src, std::size_t n) {
+                for (std::size_t i = 0; i + 1 < n; i += 2)  // chunks hold whole elements
+                    *dst++ = half_to_float(static_cast<std::uint16_t>(src[i] | (src[i + 1] << 8)));
+            });
+        }
+    }
+
+    // ---- content ----
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+        for (std::uint32_t index : mesh.triangles[i])
+            if (index >= V)
+                corrupt(m_path, "triangle {} uses vertex {} but the file has {} vertices", i, index,
+                        V);
+    const auto check_finite = [&](const float* p, std::size_t n, const char* what) {
+        // A branch-free max over the exponent bits first (it vectorises), the search on failure.
+        std::uint32_t worst = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            worst = std::max(worst, detail::float_bits(p[i]) & 0x7f800000u);
+        if (worst != 0x7f800000u) return;
+        for (std::size_t i = 0; i < n; ++i)
+            if (!std::isfinite(p[i])) corrupt(m_path, "{}: value {} is not finite", what, i);
+    };
+    static_assert(sizeof(Vec3f) == 3 * sizeof(float));
+    check_finite(reinterpret_cast<const float*>(mesh.positions.data()), 3 * V, "positions");
+    check_finite(reinterpret_cast<const float*>(mesh.normals.data()), 3 * V, "normals");
+    check_finite(reinterpret_cast<const float*>(mesh.albedo.data()), 3 * V, "albedo");
+    check_finite(t.coeffs.data(), t.coeffs.size(), "transfer");
+    const std::string hash = format_mesh_hash(mesh_hash(mesh));
+    if (hash != recorded_hash)
+        corrupt(m_path, "scene hash {} differs from the recorded {}", hash, recorded_hash);
+
+    out.metadata_json = std::move(text);
+    return out;
+}
+
+}  // namespace
+
+ShprtFile read_shprt(const std::string& path) { return Reader(path).read(); }
+
+}  // namespace shprt

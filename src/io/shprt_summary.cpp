@@ -1,0 +1,118 @@
+// Human-readable description of a .shprt file, for `shprt info`.
+#include "shprt/io/hash.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/sh/basis.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace shprt {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+std::string bytes_text(double bytes) {
+    const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+    int u = 0;
+    while (bytes >= 1024.0 && u < 4) {
+        bytes /= 1024.0;
+        ++u;
+    }
+    return u == 0 ? fmt::format("{:.0f} B", bytes) : fmt::format("{:.1f} {}", bytes, units[u]);
+}
+
+std::string rate_text(double per_second) {
+    if (per_second >= 1e9) return fmt::format("{:.2f} G", per_second / 1e9);
+    if (per_second >= 1e6) return fmt::format("{:.2f} M", per_second / 1e6);
+    if (per_second >= 1e3) return fmt::format("{:.2f} k", per_second / 1e3);
+    return fmt::format("{:.0f} ", per_second);
+}
+
+}  // namespace
+
+std::string shprt_summary(const ShprtFile& file) {
+    // The metadata comes from read_shprt (already validated) or a writer; tolerate anything.
+    Json meta = Json::parse(file.metadata_json, nullptr, /*allow_exceptions=*/false);
+    if (!meta.is_object()) meta = Json::object();
+    const auto str = [](const Json& j, const char* key, const char* fallback) {
+        auto it = j.find(key);
+        return it != j.end() && it->is_string() ? it->get<std::string>() : std::string(fallback);
+    };
+
+    const Mesh& mesh = file.mesh;
+    const TransferSet& t = file.transfer;
+    const int bands = sh_bands_for(t.K);
+    const int full = sh_count(bands) == t.K ? bands : bands - 1;
+    std::string out;
+    const auto line = [&out](const char* label, const std::string& value) {
+        out += fmt::format("{:<13}{}\n", label, value);
+    };
+
+    line("scene", mesh.source.empty() ? "(unnamed)" : mesh.source);
+    line("vertices", fmt::format("{}", mesh.vertex_count()));
+    line("triangles", fmt::format("{}", mesh.triangle_count()));
+    line("transfer", fmt::format("{}, {} channel{}", to_string(t.kind), t.channels,
+                                 t.channels == 1 ? "" : "s"));
+    if (full == bands)
+        line("basis",
+             fmt::format("K = {}: {} bands, last band full (rotation invariant)", t.K, bands));
+    else
+        line("basis", fmt::format("K = {}: {} bands, last band partial ({} of {} coefficients of "
+                                  "band l = {}; only the first {} bands rotate exactly)",
+                                  t.K, bands, t.K - sh_count(full), 2 * full + 1, full, full));
+    line("sampling",
+         fmt::format("{}, {} samples, seed {}", to_string(t.sampler), t.samples, t.seed));
+    line("precision", str(meta, "precision", "float32"));
+
+    auto stats_it = meta.find("stats");
+    if (stats_it != meta.end() && stats_it->is_object()) {
+        const BakeStats& s = t.stats;
+        // Every "seconds_*" entry except the total, in the order stored (the bake may add load
+        // and write times through extra metadata).
+        std::string split;
+        for (auto it = stats_it->begin(); it != stats_it->end(); ++it) {
+            const std::string& key = it.key();
+            if (key.rfind("seconds_", 0) != 0 || key == "seconds_total" || !it->is_number())
+                continue;
+            split += fmt::format("{}{} {:.3f}", split.empty() ? "" : ", ", key.substr(8),
+                                 it->get<double>());
+        }
+        line("time", fmt::format("{:.3f} s total{}{}{}", s.seconds_total, split.empty() ? "" : " (",
+                                 split, split.empty() ? "" : ")"));
+        std::string rays = fmt::format("{} cast", s.rays_cast);
+        if (s.seconds_trace > 0)
+            rays +=
+                fmt::format(", {}rays/s tracing", rate_text(double(s.rays_cast) / s.seconds_trace));
+        if (s.seconds_total > 0)
+            rays +=
+                fmt::format(", {}rays/s overall", rate_text(double(s.rays_cast) / s.seconds_total));
+        line("rays", rays);
+        line("peak memory", fmt::format("{} host, {} device", bytes_text(double(s.peak_bytes_host)),
+                                        bytes_text(double(s.peak_bytes_device))));
+        if (!s.device_name.empty()) line("device", s.device_name);
+    } else {
+        line("time", "not recorded (reproducible file)");
+    }
+
+    // The file ends with its last section (read_shprt checks this), so the table gives its size.
+    std::uint64_t size = 0;
+    auto sections = meta.find("sections");
+    if (sections != meta.end() && sections->is_array())
+        for (const Json& s : *sections)
+            if (s.is_object() && s.value("offset", Json()).is_number_unsigned() &&
+                s.value("length", Json()).is_number_unsigned())
+                size = std::max(
+                    size, s["offset"].get<std::uint64_t>() + s["length"].get<std::uint64_t>());
+    line("file size", fmt::format("{} ({} bytes)", bytes_text(double(size)), size));
+    auto scene = meta.find("scene");
+    line("scene hash", scene != meta.end() && scene->is_object()
+                           ? str(*scene, "hash", "?")
+                           : format_mesh_hash(mesh_hash(mesh)));
+    auto version = meta.find("format_version");
+    line("written by", fmt::format("{} {}, format version {}", str(meta, "tool", "shprt"),
+                                   str(meta, "tool_version", "?"),
+                                   version != meta.end() ? version->dump() : "?"));
+    return out;
+}
+
+}  // namespace shprt

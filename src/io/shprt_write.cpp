@@ -1,0 +1,262 @@
+// Writer of the .shprt file (layout: docs/file_format.md, include/shprt/io/shprt_format.hpp).
+// Two passes over the arrays: the first computes each section's CRC-32 (the CRCs live in the
+// metadata, which precedes the data), the second writes; float16 sections are converted in
+// small chunks both times, so writing never holds a second copy of the coefficients.
+#include "shprt/config.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/io/half.hpp"
+#include "shprt/io/hash.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/io/shprt_format.hpp"
+#include "shprt/sh/basis.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr std::size_t kChunkElements = 1 << 16;
+
+struct SectionOut {
+    const char* name;
+    const char* dtype;
+    std::uint64_t rows, cols;  // shape [rows, cols]; count = rows · cols elements
+    std::uint64_t element_size;
+    const void* data;
+    bool to_half = false;  // data is float32, stored as float16
+    std::uint64_t offset = 0;
+    std::uint32_t crc = 0;
+
+    std::uint64_t count() const { return rows * cols; }
+    std::uint64_t length() const { return count() * element_size; }
+};
+
+// Calls fn(bytes, size) over the section's stored bytes in order.
+template <class Fn>
+void for_each_chunk(const SectionOut& s, Fn&& fn) {
+    if (!s.to_half) {
+        const auto* p = static_cast<const unsigned char*>(s.data);
+        const std::uint64_t chunk = kChunkElements * s.element_size;
+        for (std::uint64_t done = 0; done < s.length(); done += chunk)
+            fn(p + done, static_cast<std::size_t>(std::min(chunk, s.length() - done)));
+        return;
+    }
+    const auto* f = static_cast<const float*>(s.data);
+    std::vector<std::uint16_t> buffer(kChunkElements);
+    for (std::uint64_t done = 0; done < s.count(); done += kChunkElements) {
+        const std::size_t n =
+            static_cast<std::size_t>(std::min<std::uint64_t>(kChunkElements, s.count() - done));
+        for (std::size_t i = 0; i < n; ++i) buffer[i] = float_to_half(f[done + i]);
+        fn(buffer.data(), n * sizeof(std::uint16_t));
+    }
+}
+
+// Index of the first value whose magnitude bits (sign cleared) are >= `limit_bits`, or `n`.
+// A branch-free max over the bits first (it vectorises), the search only on failure.
+std::size_t first_magnitude_at_or_above(const float* p, std::size_t n, std::uint32_t limit_bits) {
+    std::uint32_t worst = 0;
+    for (std::size_t i = 0; i < n; ++i)
+        worst = std::max(worst, detail::float_bits(p[i]) & 0x7fffffffu);
+    if (worst < limit_bits) return n;
+    for (std::size_t i = 0; i < n; ++i)
+        if ((detail::float_bits(p[i]) & 0x7fffffffu) >= limit_bits) return i;
+    return n;
+}
+
+void check_inputs(const std::string& path, const Mesh& mesh, const TransferSet& t, bool half) {
+    const std::size_t V = mesh.positions.size();
+    SHPRT_CHECK(mesh.normals.size() == V, invalid_argument,
+                "{}: mesh has {} positions but {} normals", path, V, mesh.normals.size());
+    SHPRT_CHECK(mesh.albedo.size() == V, invalid_argument,
+                "{}: mesh has {} positions but {} albedo values", path, V, mesh.albedo.size());
+    SHPRT_CHECK(mesh.source_vertex.empty() || mesh.source_vertex.size() == V, invalid_argument,
+                "{}: mesh has {} positions but {} source_vertex entries", path, V,
+                mesh.source_vertex.size());
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+        for (std::uint32_t index : mesh.triangles[i])
+            SHPRT_CHECK(index < V, invalid_argument,
+                        "{}: triangle {} uses vertex {} but the mesh has {} vertices", path, i,
+                        index, V);
+    SHPRT_CHECK(t.K >= 1 && t.K <= kShprtMaxK, invalid_argument, "{}: K = {} is outside [1, {}]",
+                path, t.K, kShprtMaxK);
+    SHPRT_CHECK(t.channels == 1 || t.channels == 3, invalid_argument,
+                "{}: transfer has {} channels (expected 1 or 3)", path, t.channels);
+    SHPRT_CHECK(t.samples >= 0, invalid_argument, "{}: negative sample count {}", path, t.samples);
+    const std::uint64_t expected =
+        std::uint64_t(V) * std::uint64_t(t.channels) * std::uint64_t(t.K);
+    SHPRT_CHECK(t.coeffs.size() == expected, invalid_argument,
+                "{}: transfer has {} coefficients but V·channels·K = {}·{}·{} = {}", path,
+                t.coeffs.size(), V, t.channels, t.K, expected);
+    // Finite, and with half below the float16 overflow threshold 65520 (bits 0x477ff000).
+    const std::uint32_t limit = half ? 0x477ff000u : 0x7f800000u;
+    const std::size_t bad = first_magnitude_at_or_above(t.coeffs.data(), t.coeffs.size(), limit);
+    if (bad < t.coeffs.size()) {
+        const float c = t.coeffs[bad];
+        fail(ErrorCode::invalid_argument, "{}: transfer coefficient {} of vertex {} ({}) {}", path,
+             bad % std::size_t(t.K), bad / (std::size_t(t.K) * t.channels), c,
+             std::isfinite(c) ? "overflows float16" : "is not finite");
+    }
+}
+
+// Adds `extra` into `target`: objects merge recursively, any other collision is an error (the
+// writer's own fields must stay what the reader expects).
+void merge_extra(Json& target, const Json& extra, const std::string& where) {
+    for (auto it = extra.begin(); it != extra.end(); ++it) {
+        const std::string key = where.empty() ? it.key() : where + "." + it.key();
+        if (!target.contains(it.key())) {
+            target[it.key()] = it.value();
+        } else if (target[it.key()].is_object() && it.value().is_object()) {
+            merge_extra(target[it.key()], it.value(), key);
+        } else {
+            fail(ErrorCode::invalid_argument,
+                 "extra metadata key '{}' would replace a value the writer sets", key);
+        }
+    }
+}
+
+Json stats_json(const BakeStats& s) {
+    Json j;
+    j["device"] = s.device_name;
+    j["seconds_bvh"] = s.seconds_bvh;
+    j["seconds_trace"] = s.seconds_trace;
+    j["seconds_project"] = s.seconds_project;
+    j["seconds_total"] = s.seconds_total;
+    j["rays_cast"] = s.rays_cast;
+    j["peak_bytes_host"] = s.peak_bytes_host;
+    j["peak_bytes_device"] = s.peak_bytes_device;
+    return j;
+}
+
+Json build_metadata(const Mesh& mesh, const TransferSet& t, const WriteOptions& options,
+                    const Json& extra, const std::vector<SectionOut>& sections) {
+    const int bands = sh_bands_for(t.K);
+    Json m;
+    m["format"] = "shprt";
+    m["format_version"] = kShprtFormatVersion;
+    m["tool"] = "shprt";
+    m["tool_version"] = SHPRT_VERSION_STRING;
+    m["convention"] = {
+        {"basis", kShprtConventionBasis},
+        {"index", "i = l*(l+1) + m, coefficients 0..K-1"},
+        {"world", "right-handed, +Y up"},
+        {"transfer",
+         "T(w) = V(w) max(0, n.w); irradiance E = sum_i c_T[i] c_L[i]; "
+         "outgoing radiance = albedo / pi * E"},
+        {"layout", "transfer[(v*channels + c)*K + i]"},
+    };
+    m["transfer_kind"] = to_string(t.kind);
+    m["K"] = t.K;
+    m["bands"] = bands;
+    m["last_band_full"] = sh_count(bands) == t.K;
+    m["channels"] = t.channels;
+    m["precision"] = options.half ? "float16" : "float32";
+    m["sampler"] = to_string(t.sampler);
+    m["samples"] = t.samples;
+    m["seed"] = t.seed;
+    m["scene"] = {
+        {"source", mesh.source},
+        {"hash", format_mesh_hash(mesh_hash(mesh))},
+        {"vertices", mesh.positions.size()},
+        {"triangles", mesh.triangles.size()},
+    };
+    if (!options.reproducible) {
+        m["stats"] = stats_json(t.stats);
+        merge_extra(m, extra, "");
+    }
+    Json table = Json::array();
+    for (const SectionOut& s : sections)
+        table.push_back({{"name", s.name},
+                         {"dtype", s.dtype},
+                         {"shape", {s.rows, s.cols}},
+                         {"count", s.count()},
+                         {"offset", s.offset},
+                         {"length", s.length()},
+                         {"crc32", s.crc}});
+    m["sections"] = std::move(table);
+    return m;
+}
+
+}  // namespace
+
+void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
+                 const WriteOptions& options) {
+    check_inputs(path, mesh, transfer, options.half);
+    Json extra = Json::object();
+    if (!options.extra_metadata_json.empty()) {
+        try {
+            extra = Json::parse(options.extra_metadata_json);
+        } catch (const Json::exception& e) {
+            fail(ErrorCode::invalid_argument, "extra metadata is not valid JSON: {}", e.what());
+        }
+        SHPRT_CHECK(extra.is_object(), invalid_argument, "extra metadata must be a JSON object");
+    }
+
+    const std::uint64_t V = mesh.positions.size(), T = mesh.triangles.size();
+    std::vector<SectionOut> sections = {
+        {"positions", "float32", V, 3, 4, mesh.positions.data()},
+        {"normals", "float32", V, 3, 4, mesh.normals.data()},
+        {"albedo", "float32", V, 3, 4, mesh.albedo.data()},
+        {"triangles", "uint32", T, 3, 4, mesh.triangles.data()},
+    };
+    if (!mesh.source_vertex.empty())
+        sections.push_back({"source_vertex", "uint32", V, 1, 4, mesh.source_vertex.data()});
+    sections.push_back({"transfer", options.half ? "float16" : "float32", V,
+                        std::uint64_t(transfer.channels) * std::uint64_t(transfer.K),
+                        options.half ? 2u : 4u, transfer.coeffs.data(), options.half});
+    for (SectionOut& s : sections)
+        for_each_chunk(s, [&](const void* p, std::size_t n) { s.crc = crc32(p, n, s.crc); });
+
+    // The offsets are written inside the metadata that precedes them: lay out, render the JSON,
+    // and repeat until the data start no longer moves (the JSON only grows as offsets grow).
+    std::string text;
+    std::uint64_t data_start = shprt_align(kShprtHeaderSize);
+    for (int iteration = 0;; ++iteration) {
+        SHPRT_CHECK(iteration < 16, invalid_argument, "{}: metadata layout did not settle", path);
+        std::uint64_t offset = data_start;
+        for (SectionOut& s : sections) {
+            s.offset = offset;
+            offset = shprt_align(offset + s.length());
+        }
+        text = build_metadata(mesh, transfer, options, extra, sections)
+                   .dump(2, ' ', false, Json::error_handler_t::replace);
+        text += '\n';
+        const std::uint64_t needed = shprt_align(kShprtHeaderSize + text.size());
+        if (needed < data_start)  // cannot happen as offsets only grow; pad to stay canonical
+            text.append(data_start - kShprtAlignment + 1 - kShprtHeaderSize - text.size(), ' ');
+        if (needed <= data_start) break;
+        data_start = needed;
+    }
+    SHPRT_CHECK(text.size() <= kShprtMaxMetadataBytes, invalid_argument,
+                "{}: metadata is {} bytes (limit {})", path, text.size(), kShprtMaxMetadataBytes);
+
+    ShprtHeader header;
+    header.version = kShprtFormatVersion;
+    header.endian_marker = kShprtEndianMarker;
+    header.header_size = kShprtHeaderSize;
+    header.metadata_offset = kShprtHeaderSize;
+    header.metadata_length = text.size();
+    header.metadata_crc32 = crc32(text.data(), text.size());
+    unsigned char header_bytes[kShprtHeaderSize];
+    encode_shprt_header(header, header_bytes);
+
+    AtomicFile file(path);
+    file.write(header_bytes, sizeof header_bytes);
+    file.write(text);
+    std::uint64_t position = kShprtHeaderSize + text.size();
+    static constexpr unsigned char kZeros[kShprtAlignment] = {};
+    for (const SectionOut& s : sections) {
+        file.write(kZeros, static_cast<std::size_t>(s.offset - position));
+        for_each_chunk(s, [&](const void* p, std::size_t n) { file.write(p, n); });
+        position = s.offset + s.length();
+    }
+    file.commit();
+}
+
+}  // namespace shprt

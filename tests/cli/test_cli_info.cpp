@@ -1,0 +1,115 @@
+// `shprt info` run as a program (SHPRT_CLI_PATH) on files written by the library: the summary
+// names K and the vertex count, --json prints the metadata, and a corrupt or missing file gives
+// exit status != 0 with exactly one line on stderr.
+#include "shprt/core/file.hpp"
+#include "shprt/io/shprt_file.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+namespace shprt {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int status;
+    std::string out, err;
+};
+
+CliRun run_cli(const std::string& args, const fs::path& dir) {
+    const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
+    const std::string command =
+        fmt::format("'{}' {} > '{}' 2> '{}'", SHPRT_CLI_PATH, args, out, err);
+    const int raw = std::system(command.c_str());
+    CliRun r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128;
+    r.out = read_file(out);
+    r.err = read_file(err);
+    return r;
+}
+
+class CliInfo : public ::testing::Test {
+protected:
+    void SetUp() override {
+        m_dir = fs::temp_directory_path() / fmt::format("shprt_cli_info_{}", ::getpid());
+        fs::create_directories(m_dir);
+        m_file = (m_dir / "grid.shprt").string();
+        Mesh mesh;
+        for (int i = 0; i < 37; ++i) {  // a fan of 37 vertices, 35 triangles
+            mesh.positions.push_back({float(i % 7), 0.0f, float(i / 7)});
+            mesh.normals.push_back({0.0f, 1.0f, 0.0f});
+            mesh.albedo.push_back({0.5f, 0.5f, 0.5f});
+        }
+        for (std::uint32_t i = 1; i + 1 < 37; ++i) mesh.triangles.push_back({0, i, i + 1});
+        mesh.source = "builtin:cli-test";
+        TransferSet t;
+        t.K = 48;
+        t.coeffs.assign(37 * 48, 0.25f);
+        t.samples = 1024;
+        t.stats.seconds_total = 0.5;
+        t.stats.seconds_trace = 0.25;
+        t.stats.rays_cast = 1000000;
+        write_shprt(m_file, mesh, t);
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+
+    fs::path m_dir;
+    std::string m_file;
+};
+
+TEST_F(CliInfo, SummaryNamesKAndVertexCount) {
+    const CliRun r = run_cli(fmt::format("info '{}'", m_file), m_dir);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("K = 48"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("7 bands, last band partial"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("vertices     37"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("triangles    35"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("rays/s"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(std::to_string(fs::file_size(m_file)) + " bytes"), std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.err, "");
+}
+
+TEST_F(CliInfo, JsonPrintsTheMetadata) {
+    const CliRun r = run_cli(fmt::format("info --json '{}'", m_file), m_dir);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto meta = nlohmann::json::parse(r.out);
+    EXPECT_EQ(meta["K"], 48);
+    EXPECT_EQ(meta["scene"]["vertices"], 37);
+    EXPECT_EQ(meta["sampler"], "uniform");
+}
+
+TEST_F(CliInfo, CorruptOrMissingFileGivesOneLineError) {
+    std::string bytes = read_file(m_file);
+    bytes[bytes.size() - 3] ^= 0x40;  // inside the transfer section
+    const std::string corrupt = (m_dir / "corrupt.shprt").string();
+    std::ofstream(corrupt, std::ios::binary) << bytes;
+    const std::string truncated = (m_dir / "truncated.shprt").string();
+    std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+
+    for (const auto& [file, expected] :
+         {std::pair{corrupt, std::string("section 'transfer' fails its checksum")},
+          std::pair{truncated, std::string("truncated")},
+          std::pair{(m_dir / "missing.shprt").string(), std::string("cannot open")}}) {
+        const CliRun r = run_cli(fmt::format("info '{}'", file), m_dir);
+        EXPECT_NE(r.status, 0) << file;
+        EXPECT_EQ(r.out, "") << file;
+        ASSERT_FALSE(r.err.empty()) << file;
+        EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "not one line: " << r.err;
+        EXPECT_EQ(r.err.rfind("shprt: error: ", 0), 0u) << r.err;
+        EXPECT_NE(r.err.find(file), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+    }
+    EXPECT_NE(run_cli("info", m_dir).status, 0);  // no file given
+}
+
+}  // namespace
+}  // namespace shprt

@@ -1,0 +1,407 @@
+// Damaged .shprt files: every truncation of the header and metadata, a sample of truncations in
+// the arrays, every single-byte flip, wrong magic, future versions, lengths and offsets past the
+// end of the file or absurd (2^63), inconsistent counts, bad JSON. Each must give shprt::Error
+// naming the file and the problem; none may crash or allocate from a corrupt length (run this
+// under -DSHPRT_SANITIZE=ON to check the "no crash" half).
+//
+// Files with a forged but self-consistent header/metadata are made by re-encoding the header
+// (shprt_format.hpp) and recomputing CRCs, so the check under test is reached.
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/io/shprt_format.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace shprt {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+// A small scene (16 vertices, 18 triangles, K = 9) with a source_vertex section.
+void write_small_file(const std::string& path) {
+    Mesh mesh;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            mesh.positions.push_back({float(i), 0.0f, float(j)});
+            mesh.normals.push_back({0.0f, 1.0f, 0.0f});
+            mesh.albedo.push_back({0.5f, 0.25f, float(i + j) / 8.0f});
+            mesh.source_vertex.push_back(std::uint32_t(j * 4 + i));
+        }
+    for (std::uint32_t j = 0; j < 3; ++j)
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            const std::uint32_t v = j * 4 + i;
+            mesh.triangles.push_back({v, v + 4, v + 1});
+            mesh.triangles.push_back({v + 1, v + 4, v + 5});
+        }
+    mesh.source = "builtin:corrupt-test";
+    TransferSet t;
+    t.K = 9;
+    t.coeffs.resize(16 * 9);
+    for (std::size_t i = 0; i < t.coeffs.size(); ++i) t.coeffs[i] = std::sin(float(i));
+    t.samples = 64;
+    t.seed = 3;
+    write_shprt(path, mesh, t);
+}
+
+class IoShprtCorrupt : public ::testing::Test {
+protected:
+    void SetUp() override {
+        m_dir = fs::temp_directory_path() / fmt::format("shprt_io_corrupt_{}", ::getpid());
+        fs::create_directories(m_dir);
+        m_path = (m_dir / "c.shprt").string();
+        write_small_file(m_path);
+        m_good = read_file(m_path);
+        m_meta = Json::parse(m_good.substr(kShprtHeaderSize, header().metadata_length));
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+
+    ShprtHeader header() const {
+        return decode_shprt_header(reinterpret_cast<const unsigned char*>(m_good.data()));
+    }
+    const Json& section(const std::string& name) const {
+        for (const Json& s : m_meta["sections"])
+            if (s["name"].get<std::string>() == name) return s;
+        throw std::runtime_error("no section " + name);
+    }
+
+    // Writes `bytes` as the file and returns the reader's Error (failing the test if it reads).
+    Error read_error(const std::string& bytes, const std::string& what) {
+        {
+            fs::remove(m_path);  // a fresh file: truncating one makes ext4 flush it on close
+            std::ofstream out(m_path, std::ios::binary);
+            out.write(bytes.data(), std::streamsize(bytes.size()));
+        }
+        try {
+            read_shprt(m_path);
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::format) << what << ": " << e.what();
+            const std::string message = e.what();
+            EXPECT_EQ(message.rfind(m_path + ": ", 0), 0u) << what << ": " << message;
+            EXPECT_EQ(message.find('\n'), std::string::npos) << what << ": " << message;
+            return e;
+        }
+        ADD_FAILURE() << "read succeeded: " << what;
+        return Error(ErrorCode::format, "");
+    }
+    void expect_error(const std::string& bytes, const std::string& substring,
+                      const std::string& what) {
+        const std::string message = read_error(bytes, what).what();
+        EXPECT_NE(message.find(substring), std::string::npos)
+            << what << ": expected '" << substring << "' in: " << message;
+    }
+
+    // The file with the metadata replaced by `meta` (compact, padded with spaces to the old
+    // length so no offset moves) and the header's CRCs recomputed.
+    std::string with_metadata(const Json& meta) const {
+        ShprtHeader h = header();
+        std::string text = meta.dump();
+        EXPECT_LE(text.size(), h.metadata_length);
+        text.resize(h.metadata_length, ' ');
+        return with_metadata_text(text);
+    }
+    std::string with_metadata_text(const std::string& text) const {
+        ShprtHeader h = header();
+        EXPECT_EQ(text.size(), h.metadata_length);
+        h.metadata_crc32 = crc32(text.data(), text.size());
+        std::string out = m_good;
+        out.replace(kShprtHeaderSize, text.size(), text);
+        return with_header(out, h);
+    }
+    static std::string with_header(std::string bytes, const ShprtHeader& h) {
+        unsigned char head[kShprtHeaderSize];
+        encode_shprt_header(h, head);
+        std::memcpy(bytes.data(), head, sizeof head);
+        return bytes;
+    }
+    // The file with `patch` applied to one section's bytes and its CRC fixed in the metadata.
+    template <class Patch>
+    std::string with_section_patch(const std::string& name, Patch&& patch) const {
+        Json meta = m_meta;
+        std::string bytes = m_good;
+        for (Json& s : meta["sections"]) {
+            if (s["name"].get<std::string>() != name) continue;
+            const auto offset = s["offset"].get<std::size_t>(),
+                       length = s["length"].get<std::size_t>();
+            patch(bytes.data() + offset);
+            s["crc32"] = crc32(bytes.data() + offset, length);
+        }
+        ShprtHeader h = header();
+        std::string text = meta.dump();
+        text.resize(h.metadata_length, ' ');
+        h.metadata_crc32 = crc32(text.data(), text.size());
+        bytes.replace(kShprtHeaderSize, text.size(), text);
+        return with_header(bytes, h);
+    }
+
+    fs::path m_dir;
+    std::string m_path, m_good;
+    Json m_meta;
+};
+
+TEST_F(IoShprtCorrupt, TheUndamagedFileReads) { EXPECT_NO_THROW(read_shprt(m_path)); }
+
+TEST_F(IoShprtCorrupt, TruncatedAtEveryOffsetOfHeaderAndMetadata) {
+    const std::size_t data_start = section("positions")["offset"].get<std::size_t>();
+    for (std::size_t n = 0; n <= data_start; ++n)
+        expect_error(m_good.substr(0, n), "truncated", fmt::format("truncated to {} bytes", n));
+}
+
+TEST_F(IoShprtCorrupt, TruncatedInsideTheArrays) {
+    const std::size_t data_start = section("positions")["offset"].get<std::size_t>();
+    for (std::size_t n = data_start; n < m_good.size(); n += 13)
+        expect_error(m_good.substr(0, n), "truncated", fmt::format("truncated to {} bytes", n));
+    for (const Json& s : m_meta["sections"]) {  // at and around every section boundary
+        const auto offset = s["offset"].get<std::size_t>(),
+                   end = offset + s["length"].get<std::size_t>();
+        for (std::size_t n : {offset - 1, offset, offset + 1, end - 1})
+            if (n < m_good.size())
+                expect_error(m_good.substr(0, n), "truncated",
+                             fmt::format("truncated to {} bytes", n));
+    }
+    // The message names the section, what it needs and what the file has.
+    const Json& t = section("transfer");
+    const std::size_t n = t["offset"].get<std::size_t>() + 10;
+    expect_error(m_good.substr(0, n),
+                 fmt::format("truncated: section 'transfer' needs {} bytes at offset {} but the "
+                             "file has {}",
+                             t["length"].get<std::size_t>(), t["offset"].get<std::size_t>(), n),
+                 "truncated in transfer");
+}
+
+TEST_F(IoShprtCorrupt, FlippedByteInEachSectionNamesTheSection) {
+    for (const Json& s : m_meta["sections"]) {
+        std::string bytes = m_good;
+        bytes[s["offset"].get<std::size_t>() + s["length"].get<std::size_t>() / 2] ^= 0x10;
+        const std::string name = s["name"];
+        expect_error(bytes, "section '" + name + "' fails its checksum", name);
+    }
+    std::string bytes = m_good;
+    bytes[30] ^= 0x01;  // metadata_length
+    expect_error(bytes, "header fails its checksum", "header");
+    bytes = m_good;
+    bytes[kShprtHeaderSize + 20] ^= 0x01;
+    expect_error(bytes, "metadata fails its checksum", "metadata");
+}
+
+// Every byte is covered by a check: a flip anywhere is an error.
+TEST_F(IoShprtCorrupt, EverySingleByteFlipIsDetected) {
+    for (std::size_t i = 0; i < m_good.size(); ++i)
+        for (const int mask : {0x01, 0x80}) {
+            std::string bytes = m_good;
+            bytes[i] = char(bytes[i] ^ mask);
+            read_error(bytes, fmt::format("byte {} ^ {:#x}", i, mask));
+        }
+}
+
+TEST_F(IoShprtCorrupt, WrongMagic) {
+    expect_error("PK\x03\x04 this is a zip file, not a shprt file at all..........................",
+                 "not a .shprt file", "zip");
+    expect_error(std::string(100, '\0'), "not a .shprt file", "zeros");
+    // What a text-mode copy does: CRLF -> LF shortens the magic.
+    std::string text_mode = m_good;
+    text_mode.erase(6, 1);
+    expect_error(text_mode, "text mode", "CRLF -> LF");
+    std::string seven_bit = m_good;
+    seven_bit[0] = char(0x09);
+    expect_error(seven_bit, "text mode", "high bit stripped");
+}
+
+TEST_F(IoShprtCorrupt, FutureAndInvalidVersions) {
+    ShprtHeader h = header();
+    h.version = 2;
+    expect_error(with_header(m_good, h), "format version 2 is newer", "version 2");
+    h.version = 0;
+    expect_error(with_header(m_good, h), "invalid format version 0", "version 0");
+    h = header();
+    h.endian_marker = 0x04030201u;
+    expect_error(with_header(m_good, h), "big-endian", "byte-swapped marker");
+    h.endian_marker = 0xdeadbeefu;
+    expect_error(with_header(m_good, h), "endianness marker", "bad marker");
+    h = header();
+    h.header_size = 64;
+    expect_error(with_header(m_good, h), "header size", "header size");
+    h = header();
+    h.metadata_offset = 64;
+    expect_error(with_header(m_good, h), "metadata offset", "metadata offset");
+    Json meta = m_meta;
+    meta["format_version"] = 7;
+    expect_error(with_metadata(meta), "format_version 7 differs", "json version");
+}
+
+TEST_F(IoShprtCorrupt, MetadataLengthPastTheEndOrAbsurd) {
+    for (const std::uint64_t length :
+         {std::uint64_t(m_good.size()), std::uint64_t(1) << 40, std::uint64_t(1) << 63,
+          ~std::uint64_t(0), ~std::uint64_t(0) - 40}) {
+        ShprtHeader h = header();
+        h.metadata_length = length;
+        expect_error(with_header(m_good, h), "truncated: the metadata needs",
+                     fmt::format("length {}", length));
+    }
+    // Inside the file but over the sanity cap: needs a big file.
+    std::string big = m_good + std::string(kShprtMaxMetadataBytes + 10, ' ');
+    ShprtHeader h = header();
+    h.metadata_length = kShprtMaxMetadataBytes + 1;
+    expect_error(with_header(big, h), "exceeds the limit", "metadata cap");
+}
+
+TEST_F(IoShprtCorrupt, SectionOffsetsAndLengthsPastTheEndOrAbsurd) {
+    const std::uint64_t huge[] = {std::uint64_t(m_good.size()),
+                                  std::uint64_t(m_good.size()) + 64,
+                                  std::uint64_t(1) << 50,
+                                  std::uint64_t(1) << 63,
+                                  ~std::uint64_t(0),
+                                  ~std::uint64_t(0) - 15};
+    for (const char* name :
+         {"positions", "normals", "albedo", "triangles", "source_vertex", "transfer"})
+        for (const char* field : {"offset", "length"})
+            for (const std::uint64_t value : huge) {
+                Json meta = m_meta;
+                for (Json& s : meta["sections"])
+                    if (s["name"].get<std::string>() == name) s[field] = value;
+                expect_error(with_metadata(meta),
+                             fmt::format("truncated: section '{}' needs", name),
+                             fmt::format("{} {} = {}", name, field, value));
+            }
+    // Offset + length overflowing 64 bits must not wrap around into the file.
+    Json meta = m_meta;
+    meta["sections"][1]["offset"] = ~std::uint64_t(0) - 7;
+    meta["sections"][1]["length"] = 64;
+    expect_error(with_metadata(meta), "truncated: section 'normals'", "wrapping offset");
+}
+
+TEST_F(IoShprtCorrupt, CountsInconsistentWithVKAndChannels) {
+    struct Edit {
+        const char* what;
+        void (*apply)(Json&);
+        const char* message;
+    };
+    const Edit edits[] = {
+        {"K",
+         [](Json& m) {
+             m["K"] = 16;
+             m["bands"] = 4;
+             m["last_band_full"] = true;
+         },
+         "section 'transfer' has shape"},
+        {"channels", [](Json& m) { m["channels"] = 3; }, "section 'transfer' has shape"},
+        {"vertices", [](Json& m) { m["scene"]["vertices"] = 15; }, "section 'positions' has shape"},
+        {"triangles", [](Json& m) { m["scene"]["triangles"] = 19; },
+         "section 'triangles' has shape"},
+        {"count", [](Json& m) { m["sections"][0]["count"] = 47; }, "has count 47"},
+        {"dtype", [](Json& m) { m["sections"][5]["dtype"] = "float16"; }, "dtype"},
+        {"precision", [](Json& m) { m["precision"] = "float16"; }, "dtype"},
+        {"precision value", [](Json& m) { m["precision"] = "float64"; }, "precision"},
+        {"bands", [](Json& m) { m["bands"] = 4; }, "bands"},
+        {"last band", [](Json& m) { m["last_band_full"] = false; }, "last_band_full"},
+        {"K = 0", [](Json& m) { m["K"] = 0; }, "field 'K'"},
+        {"K huge", [](Json& m) { m["K"] = std::uint64_t(1) << 62; }, "field 'K'"},
+        {"K negative", [](Json& m) { m["K"] = -9; }, "field 'K'"},
+        {"K float", [](Json& m) { m["K"] = 9.5; }, "field 'K'"},
+        {"K string", [](Json& m) { m["K"] = "9"; }, "field 'K'"},
+        {"channels 2", [](Json& m) { m["channels"] = 2; }, "channels"},
+        {"vertices huge", [](Json& m) { m["scene"]["vertices"] = std::uint64_t(1) << 62; },
+         "shape"},
+        {"sampler", [](Json& m) { m["sampler"] = "magic"; }, "sampler"},
+        {"kind", [](Json& m) { m["transfer_kind"] = "glossy"; }, "transfer kind"},
+        {"samples", [](Json& m) { m["samples"] = -1; }, "samples"},
+        {"missing K", [](Json& m) { m.erase("K"); }, "missing field 'K'"},
+        {"missing sections", [](Json& m) { m.erase("sections"); }, "missing field 'sections'"},
+        {"no sections", [](Json& m) { m["sections"] = Json::array(); }, "sections"},
+        {"sections not array", [](Json& m) { m["sections"] = 5; }, "sections"},
+        {"section renamed", [](Json& m) { m["sections"][2]["name"] = "colours"; }, "'colours'"},
+        {"section swapped", [](Json& m) { std::swap(m["sections"][0], m["sections"][1]); },
+         "expected"},
+        {"section not object", [](Json& m) { m["sections"][3] = 1; }, "objects"},
+        {"shape", [](Json& m) { m["sections"][0]["shape"] = Json::array({16}); }, "shape"},
+        {"crc type", [](Json& m) { m["sections"][0]["crc32"] = "ok"; }, "crc32"},
+        {"crc too big", [](Json& m) { m["sections"][0]["crc32"] = std::uint64_t(1) << 40; },
+         "crc32"},
+        {"offset moved",
+         [](Json& m) { m["sections"][3]["offset"] = m["sections"][3]["offset"].get<int>() + 64; },
+         "section 'triangles' at offset"},
+        {"convention", [](Json& m) { m["convention"]["basis"] = "Sloan 2008"; }, "convention"},
+        {"format", [](Json& m) { m["format"] = "other"; }, "format"},
+        {"stats type",
+         [](Json& m) {
+             m["stats"] = Json::object({{"seconds_total", "fast"}});
+         },
+         "seconds_total"},
+        {"scene not object", [](Json& m) { m["scene"] = "room"; }, "scene"},
+        {"not an object",
+         [](Json& m) {
+             m = Json::array({1, 2, 3});
+         },
+         "not a JSON object"},
+    };
+    for (const Edit& e : edits) {
+        Json meta = m_meta;
+        e.apply(meta);
+        expect_error(with_metadata(meta), e.message, e.what);
+    }
+}
+
+TEST_F(IoShprtCorrupt, BadJson) {
+    const std::size_t length = header().metadata_length;
+    const auto padded = [length](std::string s) {
+        s.resize(length, ' ');
+        return s;
+    };
+    expect_error(with_metadata_text(padded("{\"K\": 9,")), "invalid JSON", "unterminated");
+    expect_error(with_metadata_text(padded("")), "invalid JSON", "empty");
+    expect_error(with_metadata_text(padded("{\"a\": \"\xff\xfe\"}")), "invalid JSON", "bad UTF-8");
+    std::string nul(length, ' ');
+    nul[0] = '{';
+    nul[1] = '\0';
+    expect_error(with_metadata_text(nul), "invalid JSON", "NUL");
+    // Deep nesting must not exhaust the stack.
+    const std::size_t depth = (length - 1) / 2;
+    expect_error(with_metadata_text(padded(std::string(depth, '[') + std::string(depth, ']'))),
+                 "nested deeper", "deep nesting");
+}
+
+TEST_F(IoShprtCorrupt, ContentChecksBehindValidChecksums) {
+    const auto put_u32 = [](char* p, std::uint32_t v) { std::memcpy(p, &v, 4); };
+    const auto put_f32 = [](char* p, float v) { std::memcpy(p, &v, 4); };
+    expect_error(with_section_patch("triangles", [&](char* p) { put_u32(p + 4, 16); }),
+                 "triangle 0 uses vertex 16 but the file has 16 vertices", "index out of range");
+    expect_error(with_section_patch("positions", [&](char* p) { put_f32(p + 8, 0.5f); }),
+                 "scene hash", "hash mismatch");
+    expect_error(with_section_patch("transfer", [&](char* p) { put_f32(p + 40, std::nanf("")); }),
+                 "transfer: value 10 is not finite", "NaN coefficient");
+    expect_error(with_section_patch("normals", [&](char* p) { put_f32(p, INFINITY); }),
+                 "normals: value 0 is not finite", "inf normal");
+    // Non-zero padding (triangles take 18·12 = 216 bytes, so 40 bytes of padding follow) and
+    // trailing bytes.
+    std::string bytes = m_good;
+    const std::size_t gap = section("triangles")["offset"].get<std::size_t>() + 216;
+    ASSERT_LT(gap, section("source_vertex")["offset"].get<std::size_t>());
+    bytes[gap + 3] = 'x';
+    expect_error(bytes, "non-zero padding byte", "padding");
+    expect_error(m_good + std::string(5, '\0'), "5 unexpected bytes after the last section",
+                 "trailing");
+}
+
+// Random damage: many bytes overwritten at once, anywhere. Each must be an Error, not a crash.
+TEST_F(IoShprtCorrupt, RandomMultiByteDamage) {
+    std::mt19937 rng(2024);
+    for (int trial = 0; trial < 2000; ++trial) {
+        std::string bytes = m_good;
+        const int hits = 1 + int(rng() % 8);
+        for (int i = 0; i < hits; ++i) bytes[rng() % bytes.size()] = char(rng());
+        if (bytes == m_good) continue;
+        read_error(bytes, fmt::format("trial {}", trial));
+    }
+}
+
+}  // namespace
+}  // namespace shprt
