@@ -14,7 +14,10 @@ if(NOT SHPRT_CUDA STREQUAL "OFF")
             set(CMAKE_CUDA_ARCHITECTURES 75 80 86 89 90)
         endif()
         enable_language(CUDA)
-        set(CMAKE_CUDA_STANDARD 20)
+        # C++17 for .cu files: CMake 3.25 has no -std=c++20 flag for nvcc (it stops at "CUDA20
+        # not supported"). The kernels and the SHPRT_HD headers they include are C++17; the
+        # backend's host .cpp files are C++20 like the rest.
+        set(CMAKE_CUDA_STANDARD 17)
         set(CMAKE_CUDA_STANDARD_REQUIRED ON)
         find_package(CUDAToolkit REQUIRED)
         set(SHPRT_HAS_CUDA 1)
@@ -24,13 +27,22 @@ if(NOT SHPRT_CUDA STREQUAL "OFF")
 endif()
 
 if(SHPRT_HAS_CUDA)
-    file(GLOB shprt_cuda_sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/cuda/*.cu)
+    # Kernels and launchers are .cu (nvcc); the host side of the CUDA backend (device buffers,
+    # streams, cuBLAS) is .cpp compiled by the host compiler: nvcc cannot parse fmt's headers.
+    file(GLOB shprt_cuda_sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/cuda/*.cu
+                                                   ${CMAKE_SOURCE_DIR}/src/cuda/*.cpp)
     if(shprt_cuda_sources)
         add_library(shprt_cuda STATIC ${shprt_cuda_sources})
         target_include_directories(shprt_cuda PUBLIC ${CMAKE_SOURCE_DIR}/include ${CMAKE_BINARY_DIR}/generated
                                               PRIVATE ${CMAKE_SOURCE_DIR}/src)
-        target_link_libraries(shprt_cuda PUBLIC CUDA::cudart_static CUDA::cublas fmt::fmt)
-        target_compile_options(shprt_cuda PRIVATE $<$<COMPILE_LANGUAGE:CUDA>:--expt-relaxed-constexpr -lineinfo>)
+        # cuBLAS is not linked but opened on first use (src/cuda/cublas_loader.hpp): linking it
+        # costs every program ~0.3 s of start-up. Its headers come with the toolkit's includes.
+        target_link_libraries(shprt_cuda PUBLIC CUDA::cudart_static fmt::fmt ${CMAKE_DL_LIBS}
+                                         PRIVATE shprt_warnings)
+        target_compile_definitions(shprt_cuda PRIVATE SHPRT_CUBLAS_DIR="${CUDAToolkit_LIBRARY_DIR}")
+        # --fmad=false: no contraction of a*b+c into FMA in device code, so the SHPRT_HD traversal
+        # and transfer math round exactly as on the host (the CPU emulation tests rely on it).
+        target_compile_options(shprt_cuda PRIVATE $<$<COMPILE_LANGUAGE:CUDA>:--expt-relaxed-constexpr -lineinfo --fmad=false>)
         set_target_properties(shprt_cuda PROPERTIES POSITION_INDEPENDENT_CODE ON CUDA_SEPARABLE_COMPILATION OFF)
         set(SHPRT_CUDA_LIB shprt_cuda)
     endif()

@@ -11,14 +11,18 @@ const char* to_string(TransferKind kind) {
 TransferKind parse_transfer_kind(const std::string& name) {
     if (name == "unshadowed") return TransferKind::unshadowed;
     if (name == "shadowed") return TransferKind::shadowed;
-    fail(ErrorCode::invalid_argument, "unknown transfer kind '{}' (expected unshadowed or shadowed)", name);
+    fail(ErrorCode::invalid_argument,
+         "unknown transfer kind '{}' (expected unshadowed or shadowed)", name);
 }
 
 const char* to_string(Device device) {
     switch (device) {
-        case Device::cpu: return "cpu";
-        case Device::cuda: return "cuda";
-        case Device::automatic: return "auto";
+        case Device::cpu:
+            return "cpu";
+        case Device::cuda:
+            return "cuda";
+        case Device::automatic:
+            return "auto";
     }
     return "auto";
 }

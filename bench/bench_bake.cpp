@@ -1,0 +1,550 @@
+// End-to-end CPU bake of builtin:room: time split (load, BVH, tracing, projection, write) for
+// K = 32, 48, 64, 128, 256 and S = 1024, 4096, and two ratios measured in the same run:
+//   * tracing rate ÷ a plain Embree loop casting exactly the same rays (same origins, the same
+//     above-horizon directions, one rtcOccluded1M stream call per vertex, same threads, same
+//     chunks) and nothing else;
+//   * projection rate ÷ bare cblas_sgemm calls of the same shapes (the same chunk×S · S×K
+//     products on the same threads, single-threaded OpenBLAS as in the bake), and, for context,
+//     one multi-threaded SGEMM of the whole V×S · S×K product.
+// Then the bake time against V (room at 20k, 200k, 2M triangles) to show linear cost.
+//
+// A plain main() rather than Google Benchmark: the ratios need both sides timed in one run, and
+// each configuration is a multi-second job. Every figure is the minimum over --reps runs (the
+// machine is shared; the minimum is the least disturbed). The benchmark validates what it times:
+// the plain loop's per-vertex c_0 must equal the bake's to float rounding.
+//
+// Usage: bench_bake [--threads N] [--reps N] [--quick] [--no-scaling] [--only-scaling]
+//                   [--chunk N] [--K K]...
+// (--chunk overrides the automatic chunk size, --K (repeatable) the list of K.)
+#include "shprt/bake/bake.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/scene/load.hpp"
+#include "shprt/scene/room.hpp"
+#include "shprt/sh/projection.hpp"
+#include "shprt/sh/sampler.hpp"
+#include "shprt/trace/ray.hpp"
+#include "trace/embree_common.hpp"
+
+#include <cblas.h>
+#include <embree3/rtcore.h>
+#include <fmt/format.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/info.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+#include <unistd.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace shprt;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+struct Args {
+    int threads = 0;
+    int reps = 3;
+    bool quick = false;
+    bool scaling = true;
+    bool only_scaling = false;
+    std::size_t chunk = 0;  // 0 = the bake's automatic chunk size
+    std::vector<int> Ks;    // empty = the default list
+};
+
+// ---------------------------------------------------------------------------------------------
+// The plain Embree program: the bake's rays and nothing else.
+
+class PlainEmbree {
+public:
+    explicit PlainEmbree(const Mesh& mesh) {
+        // The tracer's device configuration and build quality, for a like-for-like BVH.
+        m_device = rtcNewDevice(trace_detail::embree_device_config());
+        RTCGeometry g = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, mesh.positions.size()));
+        auto* i = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, mesh.triangles.size()));
+        std::memcpy(v, mesh.positions.data(), mesh.positions.size() * 12);
+        std::memcpy(i, mesh.triangles.data(), mesh.triangles.size() * 12);
+        rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
+        rtcCommitGeometry(g);
+        m_scene = rtcNewScene(m_device);
+        rtcSetSceneBuildQuality(m_scene, RTC_BUILD_QUALITY_HIGH);
+        rtcAttachGeometry(m_scene, g);
+        rtcReleaseGeometry(g);
+        rtcCommitScene(m_scene);
+    }
+    ~PlainEmbree() {
+        rtcReleaseScene(m_scene);
+        rtcReleaseDevice(m_device);
+    }
+    PlainEmbree(const PlainEmbree&) = delete;
+    PlainEmbree& operator=(const PlainEmbree&) = delete;
+
+    // Casts every vertex's above-horizon rays, one stream call per vertex, in the bake's chunks
+    // on `threads` threads. Two ways to pick the above-horizon rays: a branch per direction, or
+    // branch-free (always write the ray, advance only when above); the benchmark times both and
+    // takes the faster as the reference. `rays` gets the ray count and c0[v] the visible
+    // Σ cos·weight·y_0 (the bake's c_0, for validation).
+    template <bool kBranchFree>
+    void run(const Mesh& mesh, const DirectionSet& set, std::size_t chunk, int threads,
+             std::uint64_t& rays, std::vector<float>& c0) const {
+        const std::size_t V = mesh.vertex_count(), S = set.size();
+        c0.assign(V, 0.0f);
+        struct Local {
+            std::vector<RTCRay> rays;
+            std::vector<float> cos_weight;
+            std::uint64_t count = 0;
+        };
+        tbb::enumerable_thread_specific<Local> locals;
+        const float y0 = 0.28209479177387814f;  // 1/√(4π)
+        tbb::task_arena(threads).execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, (V + chunk - 1) / chunk, 1),
+                [&](const tbb::blocked_range<std::size_t>& r) {
+                    Local& l = locals.local();
+                    if (l.rays.empty()) {
+                        l.rays.resize(S);
+                        l.cos_weight.resize(S);
+                    }
+                    const unsigned saved = _mm_getcsr();
+                    _mm_setcsr(saved | 0x8040u);  // FTZ | DAZ, as Embree wants
+                    RTCIntersectContext context;
+                    rtcInitIntersectContext(&context);
+                    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+                    for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                        const std::size_t end = std::min(V, (c + 1) * chunk);
+                        for (std::size_t v = c * chunk; v < end; ++v) {
+                            const Vec3f n = mesh.normals[v];
+                            const Vec3f o = offset_ray_origin(mesh.positions[v], n);
+                            unsigned m = 0;
+                            for (std::size_t s = 0; s < S; ++s) {
+                                const float dx = set.dirs[3 * s], dy = set.dirs[3 * s + 1],
+                                            dz = set.dirs[3 * s + 2];
+                                const float cosine = n.x * dx + n.y * dy + n.z * dz;
+                                if (!kBranchFree && !(cosine > 0.0f)) continue;
+                                RTCRay& ray = l.rays[m];
+                                ray.org_x = o.x;
+                                ray.org_y = o.y;
+                                ray.org_z = o.z;
+                                ray.tnear = 0.0f;
+                                ray.dir_x = dx;
+                                ray.dir_y = dy;
+                                ray.dir_z = dz;
+                                ray.time = 0.0f;
+                                ray.tfar = std::numeric_limits<float>::infinity();
+                                ray.mask = 0xFFFFFFFFu;
+                                ray.id = m;
+                                ray.flags = 0;
+                                l.cos_weight[m] = cosine * set.weights[s];
+                                m += kBranchFree ? (cosine > 0.0f ? 1u : 0u) : 1u;
+                            }
+                            rtcOccluded1M(m_scene, &context, l.rays.data(), m, sizeof(RTCRay));
+                            float sum = 0;
+                            for (unsigned j = 0; j < m; ++j)
+                                if (l.rays[j].tfar >= 0.0f) sum += l.cos_weight[j];
+                            c0[v] = sum * y0;
+                            l.count += m;
+                        }
+                    }
+                    _mm_setcsr(saved);
+                },
+                tbb::simple_partitioner());
+        });
+        rays = 0;
+        for (const Local& l : locals) rays += l.count;
+    }
+
+private:
+    RTCDevice m_device;
+    RTCScene m_scene;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Bare SGEMM of the bake's shapes.
+
+// Data shaped like W: about half zeros, the rest in (0, 0.01] (a hash, not an RNG: cheap).
+void fill_like_w(std::vector<float>& w) {
+    for (std::size_t i = 0; i < w.size(); ++i) {
+        const std::uint32_t h = static_cast<std::uint32_t>(i) * 2654435761u;
+        w[i] = (h >> 31) ? float((h >> 8) & 0xFFFFu) * 1.5e-7f + 1e-6f : 0.0f;
+    }
+}
+
+double thread_cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// The bake's products alone: every chunk's W[chunk×S]·Y[S×K] on the arena's threads with
+// single-threaded OpenBLAS, each thread with its own W buffer (prepared beforehand). With
+// `cold`, each thread sweeps a 4 MiB buffer before each product (untimed), as tracing a chunk
+// does to the caches in the bake: a diagnostic of what the bake's interleaving costs the SGEMM.
+// Returns the CPU seconds spent inside cblas_sgemm, summed over threads.
+class BareChunkSgemm {
+public:
+    BareChunkSgemm(std::size_t S, std::size_t chunk, int threads)
+        : m_S(S), m_chunk(chunk), m_arena(threads) {
+        // Buffers touched before timing (first-touch page faults are not SGEMM).
+        m_arena.execute([&] {
+            tbb::parallel_for(std::size_t(0), std::size_t(threads) * 8,
+                              [&](std::size_t) { prepare(); });
+        });
+    }
+    double run(std::size_t V, int K, const std::vector<float>& Y, std::vector<float>& C,
+               bool cold) {
+        openblas_set_num_threads(1);
+        tbb::enumerable_thread_specific<double> inside(0.0);
+        m_arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, (V + m_chunk - 1) / m_chunk, 1),
+                [&](const tbb::blocked_range<std::size_t>& r) {
+                    Buffers& b = prepare();
+                    for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                        if (cold) {
+                            float sum = 0;
+                            for (std::size_t i = 0; i < b.sweep.size(); i += 16) sum += b.sweep[i];
+                            b.sink += sum;
+                        }
+                        const std::size_t first = c * m_chunk;
+                        const std::size_t count = std::min(m_chunk, V - first);
+                        const double t = thread_cpu_seconds();
+                        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, int(count), K,
+                                    int(m_S), 1.0f, b.w.data(), int(m_S), Y.data(), K, 0.0f,
+                                    C.data() + first * K, K);
+                        inside.local() += thread_cpu_seconds() - t;
+                    }
+                },
+                tbb::simple_partitioner());
+        });
+        double total = 0;
+        for (double x : inside) total += x;
+        return total;
+    }
+
+private:
+    struct Buffers {
+        std::vector<float> w, sweep;
+        float sink = 0;
+    };
+    Buffers& prepare() {
+        Buffers& b = m_buffers.local();
+        if (b.w.empty()) {
+            b.w.resize(m_chunk * m_S);
+            fill_like_w(b.w);
+            b.sweep.assign(std::size_t(1) << 20, 1.0f);  // 4 MiB
+        }
+        return b;
+    }
+    std::size_t m_S, m_chunk;
+    tbb::task_arena m_arena;
+    tbb::enumerable_thread_specific<Buffers> m_buffers;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Timing: wall clock, and the process's CPU time (all threads). On a machine shared with other
+// work the wall clock stretches; CPU time ÷ threads is what the work costs when it has the
+// cores to itself (busy threads, no waiting), and is the fair basis for rates then.
+
+double cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+struct Cost {
+    double wall = 1e30, cpu = 1e30;
+    void keep_min(const Cost& c) {
+        wall = std::min(wall, c.wall);
+        cpu = std::min(cpu, c.cpu);
+    }
+};
+
+template <class F>
+Cost measure(F&& f) {
+    const auto w = Clock::now();
+    const double c = cpu_seconds();
+    f();
+    return {seconds_since(w), cpu_seconds() - c};
+}
+
+// ---------------------------------------------------------------------------------------------
+
+// One configuration's figures; the *_s are seconds on one basis (wall, or CPU ÷ threads).
+struct Figures {
+    double load_s, bvh_s, trace_s, project_s, write_s, bake_s;
+    double mrays, plain_mrays, gflops, bare_gflops, whole_gflops;
+    double cold_gflops;  // bare SGEMM after a cache sweep (CPU basis only)
+};
+
+struct Row {
+    int K;
+    std::uint32_t S;
+    Figures wall, cpu;
+    double peak_mib;
+};
+
+std::string temp_path(const char* name) {
+    return (std::filesystem::temp_directory_path() /
+            (std::string("bench_bake_") + std::to_string(::getpid()) + "_" + name))
+        .string();
+}
+
+void print_table(const std::vector<Row>& rows, bool cpu_basis) {
+    std::printf(
+        "\n%s\n\n"
+        "|   K |    S | load s | BVH s | trace s | project s | write s | bake s | end-to-end s |"
+        " Mrays/s | plain Embree Mrays/s | trace ratio | GFLOP/s | bare SGEMM GFLOP/s |"
+        " proj. ratio | bare SGEMM, cold cache GFLOP/s | one big SGEMM GFLOP/s | peak MiB |\n"
+        "|----:|-----:|-------:|------:|--------:|----------:|--------:|-------:|-------------:|"
+        "--------:|---------------------:|------------:|--------:|-------------------:|"
+        "------------:|-------------------------------:|----------------------:|---------:|\n",
+        cpu_basis ? "CPU time ÷ threads (the cost with the cores to oneself):" : "Wall clock:");
+    for (const Row& r : rows) {
+        const Figures& f = cpu_basis ? r.cpu : r.wall;
+        std::printf(
+            "| %3d | %4u | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.1f | %.1f | %.3f | "
+            "%.1f | %.1f | %.3f | %s | %.1f | %.1f |\n",
+            r.K, r.S, f.load_s, f.bvh_s, f.trace_s, f.project_s, f.write_s, f.bake_s,
+            f.load_s + f.bake_s + f.write_s, f.mrays, f.plain_mrays, f.mrays / f.plain_mrays,
+            f.gflops, f.bare_gflops, f.gflops / f.bare_gflops,
+            cpu_basis ? fmt::format("{:.1f}", f.cold_gflops).c_str() : "–", f.whole_gflops,
+            r.peak_mib);
+    }
+}
+
+Args parse_args(int argc, char** argv) {
+    Args a;
+    for (int i = 1; i < argc; ++i) {
+        const std::string s = argv[i];
+        if (s == "--threads" && i + 1 < argc)
+            a.threads = std::atoi(argv[++i]);
+        else if (s == "--reps" && i + 1 < argc)
+            a.reps = std::max(1, std::atoi(argv[++i]));
+        else if (s == "--quick")
+            a.quick = true;
+        else if (s == "--no-scaling")
+            a.scaling = false;
+        else if (s == "--only-scaling")
+            a.only_scaling = true;
+        else if (s == "--chunk" && i + 1 < argc)
+            a.chunk = std::size_t(std::atol(argv[++i]));
+        else if (s == "--K" && i + 1 < argc)
+            a.Ks.push_back(std::atoi(argv[++i]));
+        else {
+            std::fprintf(stderr,
+                         "usage: bench_bake [--threads N] [--reps N] [--quick] [--no-scaling] "
+                         "[--chunk N] [--K K]...\n");
+            std::exit(2);
+        }
+    }
+    if (a.threads <= 0) a.threads = tbb::info::default_concurrency();
+    return a;
+}
+
+// Checks that the plain loop cast the bake's rays with the bake's answers; returns failures.
+int validate(const TransferSet& t, std::uint64_t plain_rays, const std::vector<float>& plain_c0) {
+    int failures = 0;
+    if (plain_rays != t.stats.rays_cast) {
+        std::printf("MISMATCH: plain Embree cast %llu rays, the bake %llu\n",
+                    (unsigned long long)plain_rays, (unsigned long long)t.stats.rays_cast);
+        ++failures;
+    }
+    std::size_t bad = 0;
+    for (std::size_t v = 0; v < t.vertex_count(); ++v)
+        bad += std::fabs(plain_c0[v] - t.vertex(v)[0]) > 1e-4f;
+    if (bad > 0) {
+        std::printf("MISMATCH: c_0 of %zu of %zu vertices differs from the plain loop\n", bad,
+                    t.vertex_count());
+        ++failures;
+    }
+    return failures;
+}
+
+void run_scaling(const Args& args) {
+    std::printf(
+        "\nTime against V (room --triangles N; K = 64, S = 256, %d threads; min of %d runs, "
+        "1 at 2M):\n\n"
+        "| triangles | vertices | generate s | bake wall s | bake CPU÷threads s | BVH s | "
+        "trace s | project s | ns per vertex (CPU÷threads) | Mrays/s (CPU basis) | peak MiB |\n"
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        args.threads, args.reps);
+    for (std::size_t tris : {std::size_t(20000), std::size_t(200000), std::size_t(2000000)}) {
+        Mesh m;
+        const Cost gen = measure([&] { m = generate_room(RoomOptions{tris, false}); });
+        BakeOptions options;
+        options.K = 64;
+        options.samples = 256;
+        options.threads = args.threads;
+        Cost best;
+        TransferSet t, best_t;
+        const int reps = tris >= 2000000 ? 1 : args.reps;
+        for (int r = 0; r < reps; ++r) {
+            const Cost c = measure([&] { t = bake(m, options); });
+            if (c.cpu < best.cpu) best_t = std::move(t);
+            best.keep_min(c);
+        }
+        const double busy = best.cpu / args.threads;
+        const double f = busy / best.wall;  // wall → CPU-basis scale of this run's phases
+        const BakeStats& s = best_t.stats;
+        std::printf(
+            "| %zu | %zu | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.0f | %.1f | %.1f |\n",
+            m.triangle_count(), m.vertex_count(), gen.cpu, best.wall, busy, s.seconds_bvh * f,
+            s.seconds_trace * f, s.seconds_project * f, busy / double(m.vertex_count()) * 1e9,
+            double(s.rays_cast) / (s.seconds_trace * f) * 1e-6,
+            double(s.peak_bytes_host) / (1 << 20));
+        std::fflush(stdout);
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const Args args = parse_args(argc, argv);
+    std::printf("bench_bake: builtin:room, %d threads, min of %d runs, OPENBLAS_CORETYPE=%s\n",
+                args.threads, args.reps,
+                std::getenv("OPENBLAS_CORETYPE") ? std::getenv("OPENBLAS_CORETYPE") : "(unset)");
+    std::printf("load average at start: ");
+    std::fflush(stdout);
+    std::system("cut -d' ' -f1-3 /proc/loadavg");
+
+    if (args.only_scaling) {
+        run_scaling(args);
+        return 0;
+    }
+    Cost load;
+    Mesh mesh;
+    for (int r = 0; r < args.reps; ++r)
+        load.keep_min(measure([&] { mesh = load_scene("builtin:room"); }));
+    const std::size_t V = mesh.vertex_count();
+    std::printf("room: %zu vertices, %zu triangles, load %.4f s wall, %.4f s CPU\n", V,
+                mesh.triangle_count(), load.wall, load.cpu);
+    const PlainEmbree plain(mesh);
+    const std::string out_path = temp_path("room.shprt");
+    const double T = args.threads;
+
+    const std::vector<int> Ks = !args.Ks.empty() ? args.Ks
+                                : args.quick     ? std::vector<int>{32, 256}
+                                                 : std::vector<int>{32, 48, 64, 128, 256};
+    const std::vector<std::uint32_t> Ss =
+        args.quick ? std::vector<std::uint32_t>{1024} : std::vector<std::uint32_t>{1024, 4096};
+    std::vector<Row> rows;
+    int failures = 0;
+    for (std::uint32_t S : Ss) {
+        const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, S);
+        const std::size_t chunk = args.chunk > 0 ? args.chunk : auto_chunk_vertices(V, S);
+        BareChunkSgemm bare(S, chunk, args.threads);
+        for (int K : Ks) {
+            BakeOptions options;
+            options.K = K;
+            options.samples = S;
+            options.threads = args.threads;
+            options.chunk_vertices = chunk;
+            const std::vector<float> Y = basis_table(K, set);
+            std::vector<float> plain_c0, C(V * K);
+            std::uint64_t plain_rays = 0;
+            TransferSet t;
+            BakeStats wall_stats, cpu_stats;  // of the runs with the least wall / CPU time
+            Cost bake_cost, plain_cost, bare_cost, whole_cost, write_cost;
+            double bare_inside = 1e30, cold_inside = 1e30;  // CPU s inside SGEMM, all threads
+            for (int r = 0; r < args.reps; ++r) {
+                // Interleaved, so that a disturbance hits both sides of a ratio alike.
+                const Cost b = measure([&] { t = bake(mesh, options); });
+                if (b.wall < bake_cost.wall) wall_stats = t.stats;
+                if (b.cpu < bake_cost.cpu) {
+                    cpu_stats = t.stats;
+                    // The CPU-basis phases: this run's wall split, scaled to its CPU ÷ threads.
+                    const double f = b.cpu / T / b.wall;
+                    cpu_stats.seconds_bvh *= f;
+                    cpu_stats.seconds_trace *= f;
+                    cpu_stats.seconds_project *= f;
+                }
+                bake_cost.keep_min(b);
+                plain_cost.keep_min(measure([&] {
+                    plain.run<false>(mesh, set, chunk, args.threads, plain_rays, plain_c0);
+                }));
+                plain_cost.keep_min(measure([&] {
+                    plain.run<true>(mesh, set, chunk, args.threads, plain_rays, plain_c0);
+                }));
+                double inside = 0;
+                bare_cost.keep_min(measure([&] { inside = bare.run(V, K, Y, C, false); }));
+                bare_inside = std::min(bare_inside, inside);
+                cold_inside = std::min(cold_inside, bare.run(V, K, Y, C, true));
+                write_cost.keep_min(measure([&] { write_shprt(out_path, mesh, t); }));
+            }
+            {
+                // One SGEMM of the whole product, OpenBLAS's own threads (context only; the
+                // V×S matrix exists only here).
+                std::vector<float> W(V * S);
+                fill_like_w(W);
+                openblas_set_num_threads(args.threads);
+                for (int r = 0; r < args.reps; ++r)
+                    whole_cost.keep_min(measure([&] {
+                        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, int(V), K, int(S),
+                                    1.0f, W.data(), int(S), Y.data(), K, 0.0f, C.data(), K);
+                    }));
+                openblas_set_num_threads(1);
+            }
+            failures += validate(t, plain_rays, plain_c0);
+
+            const double flop = 2.0 * double(V) * S * K;
+            const double rays = double(t.stats.rays_cast);
+            auto figures = [&](const BakeStats& s, double load_s, double bake_s, double write_s,
+                               double plain_s, double bare_s, double whole_s) {
+                return Figures{load_s,
+                               s.seconds_bvh,
+                               s.seconds_trace,
+                               s.seconds_project,
+                               write_s,
+                               bake_s,
+                               rays / s.seconds_trace * 1e-6,
+                               rays / plain_s * 1e-6,
+                               flop / s.seconds_project * 1e-9,
+                               flop / bare_s * 1e-9,
+                               flop / whole_s * 1e-9,
+                               flop / (cold_inside / T) * 1e-9};
+            };
+            Row row;
+            row.K = K;
+            row.S = S;
+            row.wall = figures(wall_stats, load.wall, bake_cost.wall, write_cost.wall,
+                               plain_cost.wall, bare_cost.wall, whole_cost.wall);
+            // CPU basis of the bare SGEMM: the time inside the calls (no TBB scheduling).
+            row.cpu = figures(cpu_stats, load.cpu, bake_cost.cpu / T, write_cost.cpu,
+                              plain_cost.cpu / T, bare_inside / T, whole_cost.cpu / T);
+            row.peak_mib = double(t.stats.peak_bytes_host) / (1 << 20);
+            rows.push_back(row);
+            std::printf(
+                "K=%d S=%u: bake %.4f s wall, %.4f s CPU÷threads; trace ratio %.3f "
+                "(wall) %.3f (CPU); projection ratio %.3f (wall) %.3f (CPU)\n",
+                K, S, row.wall.bake_s, row.cpu.bake_s, row.wall.mrays / row.wall.plain_mrays,
+                row.cpu.mrays / row.cpu.plain_mrays, row.wall.gflops / row.wall.bare_gflops,
+                row.cpu.gflops / row.cpu.bare_gflops);
+            std::fflush(stdout);
+        }
+    }
+    std::filesystem::remove(out_path);
+    print_table(rows, false);
+    print_table(rows, true);
+    if (args.scaling) run_scaling(args);
+    std::printf("load average at end: ");
+    std::fflush(stdout);
+    std::system("cut -d' ' -f1-3 /proc/loadavg");
+    if (failures) std::printf("\n%d validation failures\n", failures);
+    return failures ? 1 : 0;
+}

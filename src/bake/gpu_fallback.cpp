@@ -1,0 +1,65 @@
+// The GPU API (gpu.hpp, gpu_gl_interop.hpp) in a build without CUDA: query_gpu() says why there is
+// no device, everything else throws Error(unsupported) with the same one-line reason.
+#include "shprt/config.hpp"
+
+#if !SHPRT_HAS_CUDA
+
+#include "bake/bake_internal.hpp"
+#include "shprt/bake/gpu.hpp"
+#include "shprt/bake/gpu_gl_interop.hpp"
+#include "shprt/core/error.hpp"
+
+#include <algorithm>
+
+namespace shprt {
+namespace {
+
+constexpr const char* kNoCuda =
+    "this build has no CUDA (configure with nvcc and SHPRT_CUDA=AUTO or ON)";
+
+[[noreturn]] void no_cuda() { fail(ErrorCode::unsupported, "device 'cuda': {}", kNoCuda); }
+
+void validate(const Mesh& mesh, TransferKind kind, const DirectionSet& directions) {
+    BakeOptions checked;
+    checked.transfer = kind;
+    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
+    detail::validate_direction_set(directions);
+    detail::validate_bake_inputs(mesh, checked);
+}
+
+}  // namespace
+
+GpuInfo query_gpu() {
+    GpuInfo info;
+    info.reason = kNoCuda;
+    return info;
+}
+
+TransferSet bake_gpu(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions,
+                     float*) {
+    BakeOptions checked = options;
+    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
+    detail::validate_direction_set(directions);
+    detail::validate_bake_inputs(mesh, checked);
+    no_cuda();
+}
+
+std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
+                                        const DirectionSet& directions, std::size_t, std::size_t) {
+    validate(mesh, kind, directions);
+    no_cuda();
+}
+
+GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions, int) {
+    validate(mesh, TransferKind::shadowed, directions);
+    no_cuda();
+}
+
+GlBufferInterop::GlBufferInterop(unsigned int) { no_cuda(); }
+GlBufferInterop::~GlBufferInterop() = default;
+float* GlBufferInterop::map(std::size_t&) { no_cuda(); }
+void GlBufferInterop::unmap() {}
+
+}  // namespace shprt
+
+#endif  // !SHPRT_HAS_CUDA

@@ -1,0 +1,101 @@
+// Helpers shared by the bake tests: a brute-force tracer (the host ray test over all triangles),
+// small hand-made meshes, and the float-rounding bound of a length-S dot product.
+#pragma once
+
+#include "shprt/scene/mesh.hpp"
+#include "shprt/sh/projection.hpp"
+#include "shprt/sh/sampler.hpp"
+#include "shprt/trace/tracer.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace shprt::test {
+
+// Every ray against every triangle, Möller–Trumbore in double precision, two-sided, hits counted
+// for tnear < t < tfar. Slow and obvious: the reference the Embree bake is compared with.
+class BruteForceTracer final : public Tracer {
+public:
+    explicit BruteForceTracer(const Mesh& mesh) {
+        for (const auto& tri : mesh.triangles) {
+            const Vec3d a = cast<double>(mesh.positions[tri[0]]);
+            m_tris.push_back({a, cast<double>(mesh.positions[tri[1]]) - a,
+                              cast<double>(mesh.positions[tri[2]]) - a});
+        }
+    }
+
+    void occluded(Vec3f origin, const Vec3f* dirs, int count, float tnear, float tfar,
+                  std::uint8_t* occluded) const override {
+        for (int i = 0; i < count; ++i)
+            occluded[i] = closest(origin, dirs[i], tnear, tfar, true).hit ? 1 : 0;
+    }
+    Hit intersect(Vec3f origin, Vec3f dir, float tnear, float tfar) const override {
+        return closest(origin, dir, tnear, tfar, false);
+    }
+    const char* name() const override { return "brute-force"; }
+
+private:
+    Hit closest(Vec3f of, Vec3f df, float tnear, float tfar, bool any) const {
+        const Vec3d o = cast<double>(of), d = cast<double>(df);
+        Hit best{false, 0xFFFFFFFFu, 0, 0, 0};
+        double best_t = tfar;
+        for (std::size_t k = 0; k < m_tris.size(); ++k) {
+            const Vec3d a = m_tris[k].a, e1 = m_tris[k].e1, e2 = m_tris[k].e2;
+            const Vec3d p = cross(d, e2);
+            const double det = dot(e1, p);
+            if (det == 0.0) continue;
+            const double inv = 1.0 / det;
+            const Vec3d s = o - a;
+            const double u = dot(s, p) * inv;
+            if (u < 0.0 || u > 1.0) continue;
+            const Vec3d q = cross(s, e1);
+            const double v = dot(d, q) * inv;
+            if (v < 0.0 || u + v > 1.0) continue;
+            const double t = dot(e2, q) * inv;
+            if (!(t > double(tnear) && t < best_t)) continue;
+            best = Hit{true, std::uint32_t(k), float(t), float(u), float(v)};
+            best_t = t;
+            if (any) break;
+        }
+        return best;
+    }
+    struct Triangle {
+        Vec3d a, e1, e2;  // vertex a and the edges to b and c
+    };
+    std::vector<Triangle> m_tris;
+};
+
+// Unit round-off of float.
+inline constexpr double kFloatEps = 5.9604644775390625e-8;  // 2^-24
+
+// Bound on the float rounding of coefficient i of a bake with direction set `set`:
+// |Σ_s W_s Y_si computed in float − exact| ≤ (S + 8)·u·Σ_s weight_s·|Y_si| (the classic dot
+// product bound γ_S, plus a few roundings for the cosine, the weight and the table entry; W_s ≤
+// weight_s). A single visibility difference that is not grazing exceeds it by orders of
+// magnitude.
+inline std::vector<double> float_dot_bounds(int K, const DirectionSet& set) {
+    const std::vector<float> Y = basis_table(K, set);
+    std::vector<double> bound(K, 0.0);
+    for (std::size_t s = 0; s < set.size(); ++s)
+        for (int i = 0; i < K; ++i)
+            bound[i] += double(set.weights[s]) * std::fabs(double(Y[s * K + i]));
+    for (double& b : bound) b *= double(set.size() + 8) * kFloatEps;
+    return bound;
+}
+
+// Appends a quad (a, b, c, d counter-clockwise seen from the side `normal` points to) with its
+// own four vertices.
+inline void add_quad(Mesh& m, Vec3f a, Vec3f b, Vec3f c, Vec3f d, Vec3f normal) {
+    const auto base = static_cast<std::uint32_t>(m.positions.size());
+    for (Vec3f p : {a, b, c, d}) {
+        m.positions.push_back(p);
+        m.normals.push_back(normal);
+        m.albedo.push_back({0.5f, 0.5f, 0.5f});
+    }
+    m.triangles.push_back({base, base + 1, base + 2});
+    m.triangles.push_back({base, base + 2, base + 3});
+}
+
+}  // namespace shprt::test

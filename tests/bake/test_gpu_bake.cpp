@@ -1,0 +1,441 @@
+// The GPU bake (bake/gpu.hpp). Labelled `gpu`. Without a CUDA device every test that needs one
+// skips with the reason query_gpu() gives; the no-device behaviour (one-line Error(unsupported),
+// automatic falls back to the CPU) is tested here on every machine.
+//
+// Tolerances (gpu.hpp states them):
+//  * the kernel's W equals transfer_sample() run on the host bit for bit; device code is built
+//    with --fmad=false, so a difference can only be a visibility flip, and the test allows at
+//    most kMaxKernelFlipRate of them (expected: none);
+//  * against the CPU bake, per vertex and coefficient,
+//        |C_gpu − C_cpu| ≤ 2·float_dot_bounds_i + Σ_{s: visibility differs} W_s·|Y_si|
+//    (both products round in float; each ray on which the flat BVH and Embree disagree moves the
+//    coefficient by exactly W_s·|Y_si|), with at most kMaxDisagreementRate disagreeing rays.
+//    The maximum relative difference max_i |ΔC_i| / max_i |C_i| is printed.
+#include "bake_test_util.hpp"
+
+#include "shprt/bake/bake.hpp"
+#include "shprt/bake/gpu.hpp"
+#include "shprt/bake/transfer_sample.hpp"
+#include "shprt/config.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/sh/projection.hpp"
+#include "shprt/trace/bvh_build.hpp"
+#include "shprt/trace/tracer.hpp"
+
+#if SHPRT_HAS_CUDA
+#include <cuda_runtime_api.h>
+#endif
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+constexpr double kMaxKernelFlipRate = 1e-5;    // GPU vs host emulation (expected 0)
+constexpr double kMaxDisagreementRate = 1e-3;  // flat BVH vs Embree, per ray (issue 5)
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+#define SKIP_WITHOUT_GPU()                                \
+    do {                                                  \
+        const GpuInfo gpu_ = query_gpu();                 \
+        if (!gpu_.available) GTEST_SKIP() << gpu_.reason; \
+    } while (0)
+
+Vec3f direction(const DirectionSet& set, std::size_t s) {
+    return {set.dirs[3 * s], set.dirs[3 * s + 1], set.dirs[3 * s + 2]};
+}
+
+template <class F>
+ErrorCode error_code_of(F&& f, std::string* message = nullptr) {
+    try {
+        f();
+    } catch (const Error& e) {
+        if (message) *message = e.what();
+        return e.code();
+    }
+    ADD_FAILURE() << "expected a shprt::Error";
+    return ErrorCode::io;
+}
+
+// Coefficients a and b of the same bake agree to twice the float rounding bound (two float
+// products), per vertex and coefficient. Returns the maximum relative difference.
+double expect_close(const TransferSet& a, const TransferSet& b, const DirectionSet& set,
+                    const char* what) {
+    EXPECT_EQ(a.K, b.K);
+    EXPECT_EQ(a.coeffs.size(), b.coeffs.size());
+    const int K = a.K;
+    const std::vector<double> bound = test::float_dot_bounds(K, set);
+    double max_rel = 0;
+    for (std::size_t v = 0; v < a.vertex_count(); ++v) {
+        double diff = 0, scale = 0;
+        for (int i = 0; i < K; ++i) {
+            const double d = std::fabs(double(a.coeffs[v * K + i]) - double(b.coeffs[v * K + i]));
+            EXPECT_LE(d, 2 * bound[i]) << what << ": vertex " << v << " coefficient " << i;
+            if (d > 2 * bound[i]) return max_rel;
+            diff = std::max(diff, d);
+            scale = std::max(scale, std::fabs(double(b.coeffs[v * K + i])));
+        }
+        max_rel = std::max(max_rel, scale > 0 ? diff / scale : diff);
+    }
+    return max_rel;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Every machine
+
+TEST(GpuBake, WithoutADeviceCudaIsAOneLineError) {
+    const GpuInfo gpu = query_gpu();
+    if (gpu.available) GTEST_SKIP() << "a CUDA device is present: " << gpu.name;
+    ASSERT_FALSE(gpu.reason.empty());
+    EXPECT_EQ(gpu.reason.find('\n'), std::string::npos);
+#if SHPRT_HAS_CUDA
+    EXPECT_EQ(gpu.reason.rfind("no CUDA device (cudaGetDeviceCount: ", 0), 0u) << gpu.reason;
+#else
+    EXPECT_EQ(gpu.reason.rfind("this build has no CUDA", 0), 0u) << gpu.reason;
+#endif
+    std::printf("[ no GPU ] query_gpu(): %s\n", gpu.reason.c_str());
+
+    const Mesh mesh = make_builtin("plane");
+    BakeOptions o;
+    o.samples = 16;
+    o.device = Device::cuda;
+    std::string message;
+    EXPECT_EQ(error_code_of([&] { bake(mesh, o); }, &message), ErrorCode::unsupported);
+    EXPECT_EQ(message, "device 'cuda': " + gpu.reason);
+    const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 16);
+    EXPECT_EQ(error_code_of([&] { bake_gpu(mesh, o, set); }), ErrorCode::unsupported);
+    EXPECT_EQ(error_code_of([&] { gpu_transfer_samples(mesh, TransferKind::shadowed, set, 0, 1); }),
+              ErrorCode::unsupported);
+    EXPECT_EQ(error_code_of([&] { measure_gpu_traversal(mesh, set, 1); }), ErrorCode::unsupported);
+    // Bad input is reported as such before the missing device.
+    o.K = 0;
+    EXPECT_EQ(error_code_of([&] { bake_gpu(mesh, o, set); }), ErrorCode::invalid_argument);
+
+    o.K = 16;
+    o.device = Device::automatic;
+    const TransferSet t = bake(mesh, o);
+    EXPECT_EQ(t.stats.device_name.rfind("cpu", 0), 0u) << t.stats.device_name;
+    EXPECT_EQ(t.stats.peak_bytes_device, 0u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// With a device
+
+TEST(GpuBake, AutomaticTakesTheGpu) {
+    SKIP_WITHOUT_GPU();
+    BakeOptions o;
+    o.samples = 64;
+    o.device = Device::automatic;
+    const TransferSet t = bake(make_builtin("plane"), o);
+    EXPECT_EQ(t.stats.device_name, query_gpu().name);
+    std::printf("[ GPU ] %s, %.1f GiB, compute capability %d, %d SMs\n", query_gpu().name.c_str(),
+                double(query_gpu().memory_bytes) / double(1u << 30), query_gpu().compute_capability,
+                query_gpu().multiprocessors);
+}
+
+// The kernel's W against transfer_sample() on the host over vertices [first, first + count).
+void expect_kernel_matches_host(const Mesh& mesh, const DirectionSet& set, std::size_t first,
+                                std::size_t count) {
+    const std::size_t S = set.size();
+    const std::vector<float> gpu =
+        gpu_transfer_samples(mesh, TransferKind::shadowed, set, first, count);
+    ASSERT_EQ(gpu.size(), count * S);
+    const FlatBvh bvh = build_flat_bvh(mesh);
+    std::uint64_t rays = 0, flips = 0, other = 0;
+    for (std::size_t j = 0; j < count; ++j) {
+        const std::size_t v = first + j;
+        for (std::size_t s = 0; s < S; ++s) {
+            bool ray_cast = false, unused = false;
+            const Vec3f p = mesh.positions[v], n = mesh.normals[v], w = direction(set, s);
+            const float host = transfer_sample(bvh.view(), p, n, w, set.weights[s], true, ray_cast);
+            rays += ray_cast;
+            const float g = gpu[j * S + s];
+            if (g == host) continue;
+            const float unoccluded =
+                transfer_sample(bvh.view(), p, n, w, set.weights[s], false, unused);
+            const bool flip = ray_cast && (g == 0.0f || g == unoccluded);
+            flips += flip;
+            other += !flip;
+        }
+    }
+    std::printf(
+        "[ kernel vs host emulation ] %s, vertices [%zu, %zu), S=%zu: %llu rays, %llu "
+        "visibility flips, %llu other differences\n",
+        mesh.source.c_str(), first, first + count, S, (unsigned long long)rays,
+        (unsigned long long)flips, (unsigned long long)other);
+    EXPECT_EQ(other, 0u) << "cosine × weight must be bit-identical on host and device";
+    EXPECT_LE(double(flips), kMaxKernelFlipRate * double(rays));
+}
+
+TEST(GpuBake, KernelMatchesTheHostEmulation) {
+    SKIP_WITHOUT_GPU();
+    expect_kernel_matches_host(make_builtin("box_on_plane"),
+                               make_direction_set(SamplerKind::uniform, 7, 512), 0, 1214);
+    const Mesh room = make_builtin("room");
+    expect_kernel_matches_host(room, make_direction_set(SamplerKind::uniform, 1, 256), 5000, 3000);
+}
+
+TEST(GpuBake, AgreesWithTheCpuBakeInTheRoom) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("room");
+    const std::size_t V = mesh.vertex_count();
+    const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 1024);
+    const std::size_t S = set.size();
+    BakeOptions o;
+    o.K = 16;
+    const TransferSet cpu = bake(mesh, o, set);
+    const TransferSet gpu = bake_gpu(mesh, o, set);
+    ASSERT_EQ(gpu.coeffs.size(), cpu.coeffs.size());
+    EXPECT_EQ(gpu.stats.rays_cast, cpu.stats.rays_cast) << "the same rays are cast";
+
+    // Where do the GPU's visibility and Embree's differ? The GPU's W, against Embree per ray.
+    const std::vector<float> w = gpu_transfer_samples(mesh, TransferKind::shadowed, set, 0, V);
+    const std::unique_ptr<Tracer> embree = make_embree_tracer(mesh);
+    const FlatBvhView none{nullptr, nullptr, nullptr, 0, 0};
+    std::vector<float> flip(V * S, 0.0f);  // |W_gpu − W_embree|
+    std::vector<std::uint32_t> flips_per_vertex(V, 0);
+    std::uint64_t rays = 0, flips = 0;
+    for (std::size_t v = 0; v < V; ++v) {
+        const Vec3f origin = offset_ray_origin(mesh.positions[v], mesh.normals[v]);
+        for (std::size_t s = 0; s < S; ++s) {
+            bool unused = false;
+            const Vec3f d = direction(set, s);
+            const float unoccluded = transfer_sample(none, mesh.positions[v], mesh.normals[v], d,
+                                                     set.weights[s], false, unused);
+            if (unoccluded == 0.0f) continue;
+            ++rays;
+            std::uint8_t occluded = 0;
+            embree->occluded(origin, &d, 1, 0.0f, kInf, &occluded);
+            const float expected = occluded ? 0.0f : unoccluded;
+            if (expected != w[v * S + s]) {
+                flip[v * S + s] = std::fabs(expected - w[v * S + s]);
+                ++flips;
+                ++flips_per_vertex[v];
+            }
+        }
+    }
+    EXPECT_EQ(rays, cpu.stats.rays_cast);
+
+    const int K = o.K;
+    const std::vector<float> Y = basis_table(K, set);
+    const std::vector<double> bound = test::float_dot_bounds(K, set);
+    double max_rel = 0, max_rel_agreeing = 0;
+    for (std::size_t v = 0; v < V; ++v) {
+        double diff = 0, scale = 0;
+        for (int i = 0; i < K; ++i) {
+            double moved = 0;
+            if (flips_per_vertex[v] > 0)
+                for (std::size_t s = 0; s < S; ++s)
+                    moved += double(flip[v * S + s]) * std::fabs(double(Y[s * K + i]));
+            const double d =
+                std::fabs(double(gpu.coeffs[v * K + i]) - double(cpu.coeffs[v * K + i]));
+            ASSERT_LE(d, 2 * bound[i] + moved * (1 + 1e-6))
+                << "vertex " << v << " coefficient " << i << " (" << flips_per_vertex[v]
+                << " visibility differences)";
+            diff = std::max(diff, d);
+            scale = std::max(scale, std::fabs(double(cpu.coeffs[v * K + i])));
+        }
+        const double rel = scale > 0 ? diff / scale : diff;
+        max_rel = std::max(max_rel, rel);
+        if (flips_per_vertex[v] == 0) max_rel_agreeing = std::max(max_rel_agreeing, rel);
+    }
+    std::printf(
+        "[ GPU vs CPU bake ] room V=%zu S=%zu K=%d: %llu rays, %llu visibility differences "
+        "(%.2e); max relative coefficient difference %.3e (%.3e where visibility "
+        "agrees)\n",
+        V, S, K, (unsigned long long)rays, (unsigned long long)flips,
+        rays ? double(flips) / double(rays) : 0.0, max_rel, max_rel_agreeing);
+    EXPECT_LE(double(flips), kMaxDisagreementRate * double(rays));
+    EXPECT_LE(max_rel_agreeing, 1e-4);
+}
+
+TEST(GpuBake, UnshadowedAgreesWithTheCpuBake) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("sphere");
+    const DirectionSet set = make_direction_set(SamplerKind::sobol, 3, 1024);
+    BakeOptions o;
+    o.K = 25;
+    o.transfer = TransferKind::unshadowed;
+    const TransferSet gpu = bake_gpu(mesh, o, set);
+    EXPECT_EQ(gpu.stats.rays_cast, 0u);
+    const double rel = expect_close(gpu, bake(mesh, o, set), set, "unshadowed");
+    std::printf("[ GPU vs CPU bake ] unshadowed sphere: max relative difference %.3e\n", rel);
+}
+
+TEST(GpuBake, IsDeterministic) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("room");
+    const DirectionSet set = make_direction_set(SamplerKind::uniform, 9, 1024);
+    BakeOptions o;
+    o.K = 64;
+    const TransferSet a = bake_gpu(mesh, o, set);
+    const TransferSet b = bake_gpu(mesh, o, set);
+    ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
+    EXPECT_TRUE(a.coeffs == b.coeffs) << "two GPU bakes of the same input differ";
+    EXPECT_EQ(a.stats.rays_cast, b.stats.rays_cast);
+}
+
+TEST(GpuBake, ManyChunksGiveTheSameCoefficients) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("room");
+    const std::size_t V = mesh.vertex_count();
+    const DirectionSet set = make_direction_set(SamplerKind::uniform, 4, 4096);
+    BakeOptions o;
+    o.K = 256;
+    // Automatic chunks: the room at S = 4096, K = 256 needs several (64 MiB slots).
+    std::vector<std::pair<std::size_t, std::size_t>> ranges;
+    std::vector<std::uint64_t> progress_done;
+    o.on_chunk = [&](std::size_t first, std::size_t count, const float* coeffs) {
+        EXPECT_NE(coeffs, nullptr);
+        ranges.emplace_back(first, count);
+    };
+    o.progress = [&](const ProgressInfo& p) {
+        progress_done.push_back(p.done);
+        EXPECT_LE(p.done, p.total);
+        return true;
+    };
+    const TransferSet automatic = bake_gpu(mesh, o, set);
+    ASSERT_GT(ranges.size(), 1u) << "expected a scene larger than one chunk";
+    std::size_t next = 0;
+    for (const auto& [first, count] : ranges) {
+        EXPECT_EQ(first, next) << "chunks arrive in vertex order without gaps";
+        next = first + count;
+    }
+    EXPECT_EQ(next, V);
+    ASSERT_FALSE(progress_done.empty());
+    EXPECT_TRUE(std::is_sorted(progress_done.begin(), progress_done.end()));
+    EXPECT_EQ(progress_done.back(), automatic.stats.rays_cast);
+
+    // One chunk of the whole room, and many small ones: the same visibility, so only the SGEMMs'
+    // rounding may differ.
+    o.on_chunk = nullptr;
+    o.progress = nullptr;
+    o.chunk_vertices = V;
+    const TransferSet one = bake_gpu(mesh, o, set);
+    o.chunk_vertices = 777;
+    const TransferSet small = bake_gpu(mesh, o, set);
+    EXPECT_EQ(one.stats.rays_cast, automatic.stats.rays_cast);
+    EXPECT_EQ(small.stats.rays_cast, automatic.stats.rays_cast);
+    const double rel1 = expect_close(automatic, one, set, "automatic vs one chunk");
+    const double rel2 = expect_close(small, one, set, "777-vertex chunks vs one chunk");
+    std::printf(
+        "[ chunking ] %zu automatic chunks; max relative difference to one chunk %.3e, "
+        "777-vertex chunks %.3e\n",
+        ranges.size(), rel1, rel2);
+}
+
+TEST(GpuBake, ProgressCanCancel) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("room");
+    const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 1024);
+    BakeOptions o;
+    o.chunk_vertices = 256;
+    int calls = 0;
+    o.progress = [&](const ProgressInfo&) {
+        ++calls;
+        return false;
+    };
+    std::string message;
+    EXPECT_EQ(error_code_of([&] { bake_gpu(mesh, o, set); }, &message), ErrorCode::cancelled);
+    EXPECT_EQ(calls, 1) << "the first refusal stops the bake";
+    std::printf("[ cancel ] %s\n", message.c_str());
+    // The GPU is usable afterwards.
+    o.progress = nullptr;
+    EXPECT_EQ(bake_gpu(mesh, o, set).vertex_count(), mesh.vertex_count());
+}
+
+TEST(GpuBake, StatsAreFilledIn) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("room");
+    const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 4096);
+    BakeOptions o;
+    o.K = 256;
+    const TransferSet t = bake_gpu(mesh, o, set);
+    const BakeStats& s = t.stats;
+    EXPECT_EQ(s.device_name, query_gpu().name);
+    const std::uint64_t fixed =
+        gpu_bake_fixed_bytes(mesh.vertex_count(), set.size(), o.K, build_flat_bvh(mesh).bytes());
+    EXPECT_GT(s.peak_bytes_device, fixed);
+    EXPECT_LT(s.peak_bytes_device, query_gpu().memory_bytes);
+    EXPECT_GT(s.seconds_bvh, 0.0);
+    EXPECT_GT(s.seconds_trace, 0.0);
+    EXPECT_GT(s.seconds_project, 0.0);
+    EXPECT_GE(s.seconds_total, s.seconds_bvh);
+    EXPECT_GT(s.rays_cast, 0u);
+    std::printf(
+        "[ stats ] room K=256 S=4096: bvh %.2f ms, trace %.2f ms, project %.2f ms, total "
+        "%.2f ms, %.3g rays/s, peak device %.1f MiB\n",
+        1e3 * s.seconds_bvh, 1e3 * s.seconds_trace, 1e3 * s.seconds_project, 1e3 * s.seconds_total,
+        double(s.rays_cast) / s.seconds_trace, double(s.peak_bytes_device) / double(1u << 20));
+}
+
+TEST(GpuBake, TraversalKernelTracesTheBakesRays) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("room");
+    const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 256);
+    const GpuTraversalResult r = measure_gpu_traversal(mesh, set, 2);
+    BakeOptions o;
+    const TransferSet cpu = bake(mesh, o, set);
+    EXPECT_EQ(r.rays, cpu.stats.rays_cast);
+    // Embree's count of occluded rays.
+    const std::unique_ptr<Tracer> embree = make_embree_tracer(mesh);
+    std::uint64_t occluded = 0;
+    std::vector<Vec3f> dirs;
+    std::vector<std::uint8_t> hit(set.size());
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        dirs.clear();
+        for (std::size_t s = 0; s < set.size(); ++s) {
+            bool unused = false;
+            const FlatBvhView none{nullptr, nullptr, nullptr, 0, 0};
+            if (transfer_sample(none, mesh.positions[v], mesh.normals[v], direction(set, s), 1.0f,
+                                false, unused) > 0.0f)
+                dirs.push_back(direction(set, s));
+        }
+        embree->occluded(offset_ray_origin(mesh.positions[v], mesh.normals[v]), dirs.data(),
+                         static_cast<int>(dirs.size()), 0.0f, kInf, hit.data());
+        for (std::size_t i = 0; i < dirs.size(); ++i) occluded += hit[i];
+    }
+    const double diff = std::fabs(double(r.occluded) - double(occluded));
+    EXPECT_LE(diff, kMaxDisagreementRate * double(r.rays));
+    EXPECT_GT(r.seconds, 0.0);
+    std::printf("[ traversal ] room S=256: %llu rays, %llu occluded (Embree %llu), %.3g rays/s\n",
+                (unsigned long long)r.rays, (unsigned long long)r.occluded,
+                (unsigned long long)occluded, double(r.rays) / r.seconds);
+}
+
+#if SHPRT_HAS_CUDA
+TEST(GpuBake, WritesIntoADeviceBuffer) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("room");
+    const DirectionSet set = make_direction_set(SamplerKind::uniform, 2, 512);
+    BakeOptions o;
+    o.K = 48;
+    o.chunk_vertices = 2048;  // the same chunks both ways, so the same SGEMMs and bits
+    const TransferSet host = bake_gpu(mesh, o, set);
+    float* device = nullptr;
+    const std::size_t count = mesh.vertex_count() * std::size_t(o.K);
+    ASSERT_EQ(cudaMalloc(reinterpret_cast<void**>(&device), count * sizeof(float)), cudaSuccess);
+    int null_chunks = 0;
+    o.on_chunk = [&](std::size_t, std::size_t, const float* coeffs) { null_chunks += !coeffs; };
+    const TransferSet in_place = bake_gpu(mesh, o, set, device);
+    std::vector<float> copied(count);
+    ASSERT_EQ(cudaMemcpy(copied.data(), device, count * sizeof(float), cudaMemcpyDeviceToHost),
+              cudaSuccess);
+    cudaFree(device);
+    EXPECT_TRUE(in_place.coeffs.empty());
+    EXPECT_EQ(in_place.K, o.K);
+    EXPECT_GT(null_chunks, 0);
+    EXPECT_TRUE(copied == host.coeffs) << "device output differs from the copied-back result";
+}
+#endif
+
+}  // namespace
+}  // namespace shprt

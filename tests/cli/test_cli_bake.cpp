@@ -1,0 +1,173 @@
+// `shprt bake` run as a program: a bake of a built-in scene writes a readable file; bad options
+// give a one-line error, a non-zero exit code and leave nothing behind.
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/scene/builtin.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct RunResult {
+    int exit_code;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+class CliBake : public ::testing::Test {
+protected:
+    void SetUp() override {
+        m_dir = fs::temp_directory_path() /
+                ("shprt_cli_bake_" + std::to_string(::getpid()) + "_" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir / "out");
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+
+    // Runs `shprt ARGS` with stdout and stderr captured (neither is a terminal).
+    RunResult shprt(const std::string& args) {
+        const std::string cmd = std::string("'") + SHPRT_CLI_PATH + "' " + args + " >'" +
+                                (m_dir / "stdout").string() + "' 2>'" +
+                                (m_dir / "stderr").string() + "' </dev/null";
+        const int status = std::system(cmd.c_str());
+        RunResult r{WIFEXITED(status) ? WEXITSTATUS(status) : 128, slurp(m_dir / "stdout"),
+                    slurp(m_dir / "stderr")};
+        return r;
+    }
+
+    std::string out(const std::string& name) const { return (m_dir / "out" / name).string(); }
+    bool out_dir_empty() const { return fs::is_empty(m_dir / "out"); }
+
+    fs::path m_dir;
+};
+
+TEST_F(CliBake, BakesABuiltinSceneIntoAReadableFile) {
+    const std::string file = out("box.shprt");
+    const RunResult r =
+        shprt("bake builtin:box_on_plane -o '" + file + "' --coeffs 9 --samples 64 --seed 5");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    ASSERT_TRUE(fs::exists(file));
+    // One summary line on stdout.
+    EXPECT_NE(r.out.find("baked "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("K=9, S=64"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("Mrays/s"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    // Not a terminal: plain progress lines, ending at 100 %.
+    EXPECT_NE(r.err.find("bake: 100%"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\r'), std::string::npos) << "no in-place redraw off a terminal";
+
+    const shprt::ShprtFile f = shprt::read_shprt(file);
+    EXPECT_EQ(f.transfer.K, 9);
+    EXPECT_EQ(f.transfer.samples, 64);
+    EXPECT_EQ(f.transfer.seed, 5u);
+    EXPECT_EQ(f.transfer.kind, shprt::TransferKind::shadowed);
+    EXPECT_EQ(f.mesh.vertex_count(), shprt::make_builtin("box_on_plane").vertex_count());
+    EXPECT_NE(f.metadata_json.find("seconds_load"), std::string::npos);
+    EXPECT_NE(f.metadata_json.find("command_line"), std::string::npos);
+    // Only the output file: no temporary left beside it.
+    EXPECT_EQ(std::distance(fs::directory_iterator(m_dir / "out"), fs::directory_iterator()), 1);
+
+    // `shprt info` reads it, where this build has the command.
+    if (shprt("info --help").exit_code == 0) {
+        const RunResult info = shprt("info '" + file + "'");
+        EXPECT_EQ(info.exit_code, 0) << info.err;
+    }
+}
+
+TEST_F(CliBake, ThreadCountDoesNotChangeTheCoefficients) {
+    const std::string one = out("one.shprt"), two = out("two.shprt");
+    ASSERT_EQ(shprt("bake builtin:box_on_plane -o '" + one +
+                    "' --bands 3 --samples 128 "
+                    "--threads 1 --transfer shadowed --sampler stratified")
+                  .exit_code,
+              0);
+    ASSERT_EQ(shprt("bake builtin:box_on_plane -o '" + two +
+                    "' --bands 3 --samples 128 "
+                    "--threads 2 --transfer shadowed --sampler stratified")
+                  .exit_code,
+              0);
+    const shprt::ShprtFile a = shprt::read_shprt(one), b = shprt::read_shprt(two);
+    EXPECT_EQ(a.transfer.K, 9);
+    EXPECT_EQ(a.transfer.sampler, shprt::SamplerKind::stratified);
+    EXPECT_EQ(a.transfer.coeffs, b.transfer.coeffs);
+}
+
+TEST_F(CliBake, HalfPrecisionFileIsSmaller) {
+    const std::string full = out("full.shprt"), half = out("half.shprt");
+    ASSERT_EQ(
+        shprt("bake builtin:box_on_plane -o '" + full + "' --coeffs 16 --samples 32").exit_code, 0);
+    ASSERT_EQ(shprt("bake builtin:box_on_plane -o '" + half +
+                    "' --coeffs 16 --samples 32 --half --transfer unshadowed")
+                  .exit_code,
+              0);
+    EXPECT_LT(fs::file_size(half), fs::file_size(full));
+    EXPECT_EQ(shprt::read_shprt(half).transfer.kind, shprt::TransferKind::unshadowed);
+}
+
+TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
+    const std::string file = out("bad.shprt");
+    const std::string base = "bake builtin:box_on_plane -o '" + file + "' ";
+    const char* const bad[] = {
+        "--coeffs 0",      "--coeffs 1025",        "--bands 0",
+        "--bands 33",      "--samples 0 ",         "--samples -3",
+        "--sampler bogus", "--transfer glossy",    "--device quantum",
+        "--threads -1",    "--bands 2 --coeffs 4",
+    };
+    for (const char* option : bad) {
+        SCOPED_TRACE(option);
+        const RunResult r = shprt(base + option);
+        EXPECT_NE(r.exit_code, 0);
+        EXPECT_EQ(r.err.rfind("shprt: error: ", 0), 0u) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_TRUE(out_dir_empty());
+    }
+}
+
+TEST_F(CliBake, MissingSceneAndUnwritableOutputFailCleanly) {
+    const std::string file = out("x.shprt");
+    RunResult r = shprt("bake '" + (m_dir / "no_such_scene.ply").string() + "' -o '" + file + "'");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("no_such_scene.ply"), std::string::npos) << r.err;
+    EXPECT_TRUE(out_dir_empty());
+
+    const std::string unwritable = (m_dir / "no_such_dir" / "x.shprt").string();
+    r = shprt("bake builtin:box_on_plane -o '" + unwritable + "' --samples 16");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("no_such_dir"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(m_dir / "no_such_dir"));
+
+    // An existing directory as the output.
+    r = shprt("bake builtin:box_on_plane -o '" + (m_dir / "out").string() + "' --samples 16");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_TRUE(out_dir_empty());
+    EXPECT_EQ(std::distance(fs::directory_iterator(m_dir), fs::directory_iterator()), 3)
+        << "only out/, stdout and stderr";
+
+    // CUDA: where this build or machine cannot bake on it, an error naming it and no file.
+    r = shprt("bake builtin:box_on_plane -o '" + file + "' --samples 16 --device cuda");
+    if (r.exit_code != 0) {
+        EXPECT_NE(r.err.find("cuda"), std::string::npos) << r.err;
+        EXPECT_TRUE(out_dir_empty());
+    } else {
+        EXPECT_TRUE(fs::exists(file));
+    }
+}
+
+}  // namespace

@@ -1,0 +1,49 @@
+// Bake options shared by `shprt bake` and `shprt view --bake` (bake_options.hpp).
+#include "common/bake_options.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/sh/basis.hpp"
+
+namespace shprt::tools {
+
+void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
+    app.add_option("--transfer", args.transfer, "unshadowed or shadowed (default)");
+    app.add_option("--bands", args.bands, "SH bands n (K = n², 1 to 32); default 4");
+    app.add_option("--coeffs", args.coeffs,
+                   "Basis size K, 1 to 1024 (need not be a square); default 16");
+    app.add_option("--samples", args.samples, "Directions per vertex S (default 1024)");
+    app.add_option("--sampler", args.sampler,
+                   "uniform (the paper's, default), stratified, fibonacci or sobol");
+    app.add_option("--seed", args.seed, "Seed of the direction set (default 1)");
+    app.add_option("--threads", args.threads, "Worker threads (default 0 = all)");
+    app.add_option("--device", args.device, "cpu (default), cuda or auto");
+}
+
+BakeOptions bake_options_from(const BakeOptionArgs& a) {
+    BakeOptions o;
+    o.transfer = parse_transfer_kind(a.transfer);
+    o.sampler = parse_sampler_kind(a.sampler);
+    o.device = parse_device(a.device);
+    SHPRT_CHECK(!(a.bands && a.coeffs), invalid_argument,
+                "--bands and --coeffs both given; use one (K = bands²)");
+    if (a.bands) {
+        SHPRT_CHECK(*a.bands >= 1 && *a.bands <= 32, invalid_argument,
+                    "--bands {}: must be 1 to 32 (K = bands², at most {})", *a.bands,
+                    kMaxBakeCoeffs);
+        o.K = sh_count(static_cast<int>(*a.bands));
+    } else if (a.coeffs) {
+        SHPRT_CHECK(*a.coeffs >= 1 && *a.coeffs <= kMaxBakeCoeffs, invalid_argument,
+                    "--coeffs {}: must be 1 to {}", *a.coeffs, kMaxBakeCoeffs);
+        o.K = static_cast<int>(*a.coeffs);
+    }
+    SHPRT_CHECK(a.samples >= 1 && a.samples <= (1ll << 24), invalid_argument,
+                "--samples {}: must be 1 to {}", a.samples, 1ll << 24);
+    o.samples = static_cast<std::uint32_t>(a.samples);
+    o.seed = a.seed;
+    SHPRT_CHECK(a.threads >= 0 && a.threads <= 4096, invalid_argument,
+                "--threads {}: must be 0 (all) to 4096", a.threads);
+    o.threads = static_cast<int>(a.threads);
+    return o;
+}
+
+}  // namespace shprt::tools

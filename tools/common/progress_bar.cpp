@@ -1,0 +1,152 @@
+#include "common/progress_bar.hpp"
+
+#include <fmt/format.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <csignal>
+
+#include <signal.h>
+
+namespace shprt::tools {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+volatile std::sig_atomic_t g_interrupted = 0;
+std::atomic<bool> g_handler_installed{false};
+
+extern "C" void on_sigint(int) {
+    g_interrupted = 1;
+    // The next Ctrl-C is not intercepted: the user can always end a stuck process.
+    std::signal(SIGINT, SIG_DFL);
+}
+
+int terminal_width(std::FILE* out) {
+    winsize ws{};
+    if (::ioctl(::fileno(out), TIOCGWINSZ, &ws) == 0 && ws.ws_col >= 20) return ws.ws_col;
+    return 80;
+}
+
+}  // namespace
+
+std::string format_si(double value) {
+    static const char* const kPrefix[] = {"", " k", " M", " G", " T", " P"};
+    int p = 0;
+    double v = std::fabs(value);
+    while (v >= 999.5 && p < 5) {
+        v /= 1000;
+        ++p;
+    }
+    const double signed_v = value < 0 ? -v : v;
+    if (v >= 99.95) return fmt::format("{:.0f}{}", signed_v, kPrefix[p]);
+    if (v >= 9.995) return fmt::format("{:.1f}{}", signed_v, kPrefix[p]);
+    return fmt::format("{:.2f}{}", signed_v, kPrefix[p]);
+}
+
+std::string format_duration(double seconds) {
+    if (!std::isfinite(seconds) || seconds < 0) return "?";
+    if (seconds < 1) return fmt::format("{:.2f} s", seconds);
+    if (seconds < 60) return fmt::format("{:.1f} s", seconds);
+    const auto total = static_cast<long long>(std::ceil(seconds));
+    const long long h = total / 3600, m = total / 60 % 60, s = total % 60;
+    if (h > 0) return fmt::format("{}:{:02}:{:02}", h, m, s);
+    return fmt::format("{}:{:02}", m, s);
+}
+
+void install_interrupt_handler() {
+    if (g_handler_installed.exchange(true)) return;
+    // A process started with SIGINT ignored (a background job of a script, nohup) keeps it so.
+    struct sigaction current {};
+    if (::sigaction(SIGINT, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) return;
+    std::signal(SIGINT, on_sigint);
+}
+
+bool interrupted() { return g_interrupted != 0; }
+
+ProgressBar::ProgressBar(std::string label, std::FILE* out)
+    : m_label(std::move(label)),
+      m_out(out),
+      m_terminal(out != nullptr && ::isatty(::fileno(out)) != 0),
+      m_start(Clock::now()) {}
+
+ProgressBar::~ProgressBar() { finish(); }
+
+ProgressFn ProgressBar::callback() {
+    return [this](const ProgressInfo& info) { return update(info); };
+}
+
+bool ProgressBar::update(const ProgressInfo& info) {
+    if (m_out != nullptr) {
+        const auto now = Clock::now();
+        const double elapsed = std::chrono::duration<double>(now - m_start).count();
+        const bool complete = info.total > 0 && info.done >= info.total;
+        if (m_terminal) {
+            // Redraw at most 10 times a second, and always the final state.
+            if (complete || now - m_last_draw >= std::chrono::milliseconds(100)) {
+                m_last_draw = now;
+                draw_terminal(info, elapsed);
+            }
+        } else if (info.total > 0) {
+            const int percent = static_cast<int>(100.0 * double(info.done) / double(info.total));
+            if (percent >= m_next_plain_percent) {
+                print_plain(info, elapsed, percent);
+                while (m_next_plain_percent <= percent) m_next_plain_percent += 25;
+            }
+        }
+    }
+    return !interrupted();
+}
+
+void ProgressBar::draw_terminal(const ProgressInfo& info, double elapsed) {
+    const std::string label = m_label.empty() ? std::string(info.stage) : m_label;
+    const double fraction =
+        info.total > 0 ? std::clamp(double(info.done) / double(info.total), 0.0, 1.0) : 0.0;
+    const double rate = elapsed > 0 ? double(info.done) / elapsed : 0.0;
+    std::string tail = fmt::format(" {:3d}%", static_cast<int>(fraction * 100));
+    if (rate > 0) tail += fmt::format("  {}{}/s", format_si(rate), info.unit);
+    if (info.total > 0 && rate > 0 && info.done < info.total)
+        tail += "  ETA " + format_duration(double(info.total - info.done) / rate);
+    else if (info.done >= info.total && info.total > 0)
+        tail += "  " + format_duration(elapsed);
+    const int width = terminal_width(m_out);
+    // "label [" + bar + "]" + tail, fitted to the terminal (one column spare: no auto-wrap).
+    const int bar = std::clamp(width - 1 - int(label.size()) - 3 - int(tail.size()), 0, 50);
+    const int filled = static_cast<int>(fraction * bar + 0.5);
+    std::string line = label;
+    if (bar >= 5) {
+        line += " [";
+        line.append(std::size_t(filled), '#');
+        line.append(std::size_t(bar - filled), '.');
+        line += "]";
+    }
+    line += tail;
+    // \r returns to the line start, \x1b[K clears what a longer previous line left behind.
+    std::fprintf(m_out, "\r%s\x1b[K", line.c_str());
+    std::fflush(m_out);
+    m_line_open = true;
+}
+
+void ProgressBar::print_plain(const ProgressInfo& info, double elapsed, int percent) {
+    const std::string label = m_label.empty() ? std::string(info.stage) : m_label;
+    const double rate = elapsed > 0 ? double(info.done) / elapsed : 0.0;
+    const std::string unit(info.unit);
+    std::fprintf(m_out, "%s: %d%% (%s of %s %s, %s%s/s, %s)\n", label.c_str(),
+                 std::min(percent, 100), format_si(double(info.done)).c_str(),
+                 format_si(double(info.total)).c_str(), unit.c_str(), format_si(rate).c_str(),
+                 unit.c_str(), format_duration(elapsed).c_str());
+    std::fflush(m_out);
+}
+
+void ProgressBar::finish() {
+    if (m_line_open && m_out != nullptr) {
+        std::fputc('\n', m_out);
+        std::fflush(m_out);
+    }
+    m_line_open = false;
+}
+
+}  // namespace shprt::tools

@@ -1,0 +1,69 @@
+// Progress display for the `shprt` tools. The library reports progress through a ProgressFn
+// (core/progress.hpp); a tool passes ProgressBar::callback() and the bar draws it.
+//
+//   * On a terminal (isatty on the output stream): one line redrawn in place, at most 10 times a
+//     second, e.g.
+//       bake [##############..............]  48%  51.2 Mrays/s  ETA 3.1 s
+//   * Otherwise (a log file, a pipe, CI): one plain line each time 25, 50, 75 and 100 % are
+//     passed, e.g. "bake: 50% (2.41 M of 4.82 M rays, 51.2 Mrays/s, 0.05 s)".
+//
+// Ctrl-C: after install_interrupt_handler(), the first SIGINT makes the next update() return
+// false, so the library cancels cleanly (no half-written output); a second SIGINT ends the
+// process as usual.
+#pragma once
+
+#include "shprt/core/progress.hpp"
+
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+namespace shprt::tools {
+
+class ProgressBar {
+public:
+    // `label` names the work ("bake"); when empty, each report's stage is shown. Writes to `out`
+    // (stderr by default, so stdout stays clean for results).
+    explicit ProgressBar(std::string label = {}, std::FILE* out = stderr);
+    // Finishes the line if one was drawn.
+    ~ProgressBar();
+    ProgressBar(const ProgressBar&) = delete;
+    ProgressBar& operator=(const ProgressBar&) = delete;
+
+    // Takes one report. Returns false when the user interrupted (see above), true otherwise:
+    // the signature of ProgressFn.
+    bool update(const ProgressInfo& info);
+    // A ProgressFn that forwards to update(); the bar must outlive the operation.
+    ProgressFn callback();
+    // Ends the in-place line with a newline (terminal) so that later output starts afresh.
+    // Idempotent; also called by the destructor.
+    void finish();
+
+    bool is_terminal() const { return m_terminal; }
+
+private:
+    void draw_terminal(const ProgressInfo& info, double elapsed);
+    void print_plain(const ProgressInfo& info, double elapsed, int percent);
+
+    std::string m_label;
+    std::FILE* m_out;
+    bool m_terminal;
+    bool m_line_open = false;  // an in-place line is on screen and not yet ended
+    int m_next_plain_percent = 25;
+    std::chrono::steady_clock::time_point m_start;
+    std::chrono::steady_clock::time_point m_last_draw{};
+};
+
+// Formatting helpers, also for other tools. format_si: "51.2 M", "980 k", "3.00" (SI prefix, three
+// significant digits). format_duration: "0.35 s", "4.2 s", "1:05", "2:03:04" (m:ss from a minute
+// on, h:mm:ss from an hour on).
+std::string format_si(double value);
+std::string format_duration(double seconds);
+
+// Makes the first SIGINT a cancel request (see top). Safe to call more than once.
+void install_interrupt_handler();
+// True once SIGINT arrived after install_interrupt_handler().
+bool interrupted();
+
+}  // namespace shprt::tools
