@@ -1,0 +1,163 @@
+// The GPU bake (CUDA): device discovery, the chunk planner, the bake itself and a raw traversal
+// measurement. This header is CUDA-free: it compiles, links and answers in every build; in a build
+// without CUDA (SHPRT_HAS_CUDA == 0, config.hpp) query_gpu() says so and the rest throws
+// Error(unsupported).
+//
+// What the GPU bake computes is exactly bake.hpp's diffuse transfer, with the same direction set
+// (the host's set and weights are uploaded, never recomputed in float on the device) and the same
+// basis table Y[S×K] (computed on the host by basis_table). Per chunk of vertices:
+//   1. a kernel with one thread per (vertex, sample) computes W[v][s] with transfer_sample()
+//      (transfer_sample.hpp: visibility from the flat BVH of bvh_build.hpp, traversed by the
+//      SHPRT_HD code of flat_bvh.hpp), warps spanning 32 consecutive vertices for one direction so
+//      that their rays are nearly parallel and their horizons agree;
+//   2. cuBLAS SGEMM C[chunk×K] = W[chunk×S]·Y[S×K] (FP32, no TF32);
+//   3. C is copied back (or written in place into a caller's device buffer).
+// Chunks alternate between two CUDA streams with their own buffers, so the trace of one chunk
+// overlaps the projection and copy of the previous one.
+//
+// Agreement with the CPU bake. Where the flat BVH and Embree agree on a ray's visibility, the
+// GPU's W is bit-identical to the CPU's (transfer_sample.hpp); the coefficients then differ only
+// by the summation order of the two SGEMMs: |ΔC_i| ≤ (S + 8)·2^-24·Σ_s weight_s·|Y_si| (in
+// practice ~1e-6 relative). Visibility may differ on rays that graze an edge (the two tracers'
+// triangle tests round differently, and Embree's interval is closed): each such ray moves
+// coefficient i by weight_s·|Y_si| ≤ (4π/S)·max|y_i|, i.e. ~1e-3 of the unoccluded L00 per ray
+// at S = 4096. The flat BVH agrees with Embree on ≥ 99.9 % of the rays (tests/trace), so the
+// expected maximum relative difference of a vertex's coefficients (max_i |ΔC_i| / max_i |C_i|) is
+// ~1e-6 for most vertices and a few 1e-3 for the worst vertex of a scene such as the room.
+#pragma once
+
+#include "shprt/bake/bake.hpp"
+#include "shprt/bake/transfer.hpp"
+#include "shprt/scene/mesh.hpp"
+#include "shprt/sh/sampler.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace shprt {
+
+// ---------------------------------------------------------------------------------------------
+// Devices
+
+struct GpuInfo {
+    bool available = false;        // a CUDA device can run the bake
+    std::string name;              // e.g. "NVIDIA H100 80GB HBM3" (empty when unavailable)
+    std::string reason;            // why not, one line, when !available
+    std::size_t memory_bytes = 0;  // total device memory
+    int compute_capability = 0;    // major·10 + minor, e.g. 90 for Hopper
+    int multiprocessors = 0;
+};
+
+// The first CUDA device (CUDA_VISIBLE_DEVICES chooses which that is). Never throws: without a
+// CUDA build, reason is "this build has no CUDA (configure with nvcc and SHPRT_CUDA=AUTO or ON)";
+// when the CUDA runtime reports an error (e.g. "CUDA driver version is insufficient for CUDA
+// runtime version" on a machine without a GPU) or no device, reason is
+// "no CUDA device (cudaGetDeviceCount: <CUDA's message>)". The answer is computed once per
+// process and cached. Thread-safe.
+GpuInfo query_gpu();
+
+// ---------------------------------------------------------------------------------------------
+// Chunk planning (pure host code; tested without a GPU)
+
+// What the GPU bake keeps on the device for the whole bake, in bytes: the flat BVH
+// (bvh_bytes = FlatBvh::bytes(), 0 for unshadowed transfer), positions and normals (24 bytes per
+// vertex), directions and weights (16 bytes per sample), the basis table (4·S·K bytes).
+std::uint64_t gpu_bake_fixed_bytes(std::size_t vertices, std::size_t samples, int K,
+                                   std::uint64_t bvh_bytes);
+
+// Bytes each chunk buffer ("slot") holds per vertex: W (4·S) plus C (4·K, unless the bake writes
+// into a caller's device buffer) plus nothing else; a slot also holds one 8-byte ray counter.
+std::uint64_t gpu_bake_bytes_per_vertex(std::size_t samples, int K, bool device_output);
+
+struct ChunkPlanRequest {
+    std::size_t vertices = 0;              // V ≥ 1
+    std::size_t samples = 0;               // S ≥ 1
+    int K = 0;                             // 1..kMaxBakeCoeffs
+    std::uint64_t free_device_bytes = 0;   // cudaMemGetInfo's free memory before the bake
+    std::uint64_t fixed_device_bytes = 0;  // gpu_bake_fixed_bytes(...)
+    bool device_output = false;            // C written into the caller's buffer: no C per slot
+    std::size_t requested_chunk = 0;       // BakeOptions::chunk_vertices; 0 = automatic
+    int slots = 2;                         // buffers in flight (2 = double buffering), ≥ 1
+    // Automatic chunks stop growing at this many bytes per slot: larger ones fill the GPU no
+    // better and leave nothing to overlap or to report progress on.
+    std::uint64_t max_slot_bytes = std::uint64_t(64) << 20;
+    // Only this fraction of the free memory is planned for (the CUDA context, cuBLAS and
+    // fragmentation need the rest).
+    double usable_fraction = 0.9;
+};
+
+struct ChunkPlan {
+    std::size_t chunk_vertices = 0;  // vertices per chunk (the last chunk may be smaller)
+    std::size_t chunk_count = 0;     // ⌈V / chunk_vertices⌉
+    int slots = 0;                   // slots allocated: min(request.slots, chunk_count)
+    std::uint64_t slot_bytes = 0;    // device bytes of one slot
+    std::uint64_t peak_bytes = 0;    // fixed_device_bytes + slots·slot_bytes
+};
+
+// Chooses the chunk size of a GPU bake so that everything fits in the usable free memory:
+//   budget = ⌊usable_fraction·free⌋ − fixed; per vertex b = gpu_bake_bytes_per_vertex(...);
+//   fit    = ⌊(budget − slots·8) / (slots·b)⌋   (the most vertices that fit per slot);
+//   chunk  = min(V, fit, ⌊(2^31 − 1)/S⌋ (the kernel's 32-bit thread index), and either
+//            requested_chunk or, when automatic, max(1, ⌊max_slot_bytes / b⌋));
+// an automatic chunk below V is rounded down to a multiple of 128 when at least 128 (whole GEMM
+// tiles). When memory is ample the plan depends on (V, S, K, the request) only, never on the free
+// memory, so repeated bakes cut the same chunks and give the same bits.
+// Throws Error(out_of_memory) when not even one vertex per slot fits (naming the bytes needed and
+// free), Error(invalid_argument) for V, S or slots = 0, K out of range or a fraction outside
+// (0, 1].
+ChunkPlan plan_chunks(const ChunkPlanRequest& request);
+
+// ---------------------------------------------------------------------------------------------
+// The bake
+
+// Bakes diffuse transfer on the GPU: the same result as bake(mesh, options, directions) on the
+// CPU, to the tolerance stated at the top of this file. options.device is ignored (this is the
+// CUDA backend; bake() calls it for Device::cuda and, when query_gpu() finds a device, for
+// Device::automatic). options.threads limits the host's BVH build (0 = all cores);
+// options.chunk_vertices is honoured when it fits in device memory (else smaller chunks are
+// used). Progress: options.progress is called from the calling thread between chunks, at most
+// ~20 times a second, and once at the end, as by the CPU bake ({"bake", rays done, rays
+// estimated, "rays"}; "samples" for unshadowed transfer); returning false stops the bake after the
+// chunks in flight and throws Error(cancelled). options.on_chunk is called from the calling
+// thread, in vertex order, once per chunk.
+//
+// device_output: when non-null, a device pointer (cudaMalloc'ed, or a mapped OpenGL buffer, see
+// gpu_gl_interop.hpp) to V·K floats on the current device; the coefficients are written there
+// (vertex-major, as TransferSet::coeffs) and not copied back: the returned TransferSet then has
+// empty coeffs (K, kind and the stats are set) and on_chunk receives coeffs = nullptr. The writes
+// are complete when bake_gpu returns.
+//
+// Stats: seconds_bvh (flat BVH build on the host), seconds_trace and seconds_project (GPU time of
+// the transfer kernels and of the SGEMMs, from CUDA events), seconds_total (wall time, including
+// uploads), rays_cast, peak_bytes_host (the coefficients, the basis table, the host BVH and the
+// pinned staging buffers), peak_bytes_device (every device allocation of the bake plus the cuBLAS
+// workspaces), device_name = the GPU's name. One GPU bake runs at a time per process (a second
+// caller waits). Throws what bake() throws for bad input; Error(unsupported) when query_gpu() finds
+// no device or the build has no CUDA; Error(out_of_memory) when even one-vertex chunks do not fit;
+// Error(cuda) with the CUDA/cuBLAS message, file and line when a CUDA call fails.
+TransferSet bake_gpu(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions,
+                     float* device_output = nullptr);
+
+// The transfer samples the GPU kernel computes for vertices [first, first + count): row j holds
+// W[first + j][s] for s < S (count × S floats, vertex-major), exactly as the bake's kernel
+// produces them, copied back. For tests: compare with transfer_sample() run on the host.
+// Throws as bake_gpu, and Error(invalid_argument) for a range outside the mesh.
+std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
+                                        const DirectionSet& directions, std::size_t first,
+                                        std::size_t count);
+
+// Raw any-hit traversal rate: a kernel that only traces, one thread per (vertex, direction) with
+// n·w > 0, from offset_ray_origin(p, n), over the flat BVH of `mesh`; no W, no projection.
+// Runs the kernel `repeats` (≥ 1) times after one warm-up launch and reports the fastest.
+struct GpuTraversalResult {
+    std::uint64_t rays = 0;      // rays per launch (the bake's rays_cast for this set)
+    std::uint64_t occluded = 0;  // of those, how many hit something (for validation)
+    double seconds = 0;          // GPU time of the fastest launch (CUDA events)
+    std::string device_name;
+};
+GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions,
+                                         int repeats);
+
+}  // namespace shprt

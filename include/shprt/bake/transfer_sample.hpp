@@ -1,0 +1,51 @@
+// One entry of the bake's transfer matrix, W[v][s] = V(p, w_s)·max(0, n·w_s)·weight_s, as SHPRT_HD
+// code: the body of the GPU bake's kernel (src/cuda/transfer_kernels.cu), and what the CPU tests
+// run on the host to check that kernel's math without a GPU. Header-only; no std::vector,
+// exceptions or virtual calls.
+//
+// It reproduces the CPU bake (bake_cpu.cpp) operation for operation: the cosine is
+// ((n.x·w.x + n.y·w.y) + n.z·w.z) in float with no fused multiply-add, the product with the weight
+// is one float multiply, and a ray is cast only when that product is non-zero, from
+// offset_ray_origin(p, n) with tnear = 0 and tfar = ∞. So where the flat BVH and Embree agree on
+// visibility, the GPU's W equals the CPU's W bit for bit. (Device code is compiled with
+// --fmad=false, see cmake/Cuda.cmake, and uses the round-to-nearest intrinsics here as well.)
+#pragma once
+
+#include "shprt/core/hd.hpp"
+#include "shprt/core/vec.hpp"
+#include "shprt/trace/flat_bvh.hpp"
+#include "shprt/trace/ray.hpp"
+
+namespace shprt {
+
+// max(0, n·w) as the CPU bake computes it: no FMA contraction, left-to-right sum.
+SHPRT_HD_INLINE float transfer_cosine(Vec3f n, Vec3f w) {
+#if defined(__CUDA_ARCH__)
+    return __fadd_rn(__fadd_rn(__fmul_rn(n.x, w.x), __fmul_rn(n.y, w.y)), __fmul_rn(n.z, w.z));
+#else
+    const float xy = n.x * w.x + n.y * w.y;
+    return xy + n.z * w.z;
+#endif
+}
+
+// W = V·max(0, n·w)·weight for the vertex at `p` with unit normal `n` and the unit direction `w`
+// of integration weight `weight`. V (visibility: 1 when the ray from offset_ray_origin(p, n) along
+// w hits nothing in (0, ∞) of `bvh`) is evaluated only when `shadowed` and the unoccluded value is
+// non-zero; `ray_cast` tells whether a ray was traced (the bake's ray count). Below the horizon
+// (n·w ≤ 0) the result is 0 and no ray is cast. `bvh` may be empty when !shadowed.
+SHPRT_HD_INLINE float transfer_sample(const FlatBvhView& bvh, Vec3f p, Vec3f n, Vec3f w,
+                                      float weight, bool shadowed, bool& ray_cast) {
+    const float cosine = transfer_cosine(n, w);
+#if defined(__CUDA_ARCH__)
+    const float unoccluded = cosine > 0.0f ? __fmul_rn(cosine, weight) : 0.0f;
+#else
+    const float unoccluded = cosine > 0.0f ? cosine * weight : 0.0f;
+#endif
+    ray_cast = false;
+    if (!shadowed || unoccluded == 0.0f) return unoccluded;
+    ray_cast = true;
+    constexpr float kInf = __builtin_huge_valf();
+    return bvh_occluded(bvh, offset_ray_origin(p, n), w, 0.0f, kInf) ? 0.0f : unoccluded;
+}
+
+}  // namespace shprt

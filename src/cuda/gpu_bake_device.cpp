@@ -1,0 +1,290 @@
+// The device side of the GPU bake: uploads, the double-buffered chunk pipeline (transfer kernel,
+// then cuBLAS SGEMM, then the copy back, on alternating streams), the test hook that returns the
+// kernel's W, and the trace-only rate measurement.
+//
+// Sloan, Kautz & Snyder 2002 with Green 2003's Monte Carlo projection: per chunk of vertices the
+// projection is the matrix product C[chunk×K] = W[chunk×S]·Y[S×K] (DESIGN.md "The compute path").
+//
+// Row-major products on a column-major BLAS (note 1). The kernel writes W transposed, as
+// Wt[S×count] row-major (= W column-major, leading dimension count), so that a warp's 32 lanes
+// (32 vertices, one direction) store to consecutive addresses. Y[S×K] row-major is Yᵀ column-major
+// (K×S, ld K), and the row-major result C[count×K] is Cᵀ column-major (K×count, ld K). So
+//   Cᵀ = Yᵀ · Wᵀ  is  cublasSgemm(N, T, m = K, n = count, k = S, Y, ld K, Wt, ld count, C, ld K).
+#include "cuda/gpu_bake_device.hpp"
+
+#include "cuda/cublas_loader.hpp"
+#include "cuda/device_buffer.hpp"
+#include "cuda/gpu_context.hpp"
+#include "cuda/transfer_kernels.hpp"
+#include "shprt/core/error.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <memory>
+
+namespace shprt::cuda {
+namespace {
+
+constexpr std::uint64_t kMaxThreads = 0x7FFFFFFFull;  // the kernels' 32-bit thread index
+
+// The scene's arrays on the device, uploaded on construction.
+struct SceneBuffers {
+    DeviceBuffer<FlatBvhNode> nodes;
+    DeviceBuffer<float> tri_verts;
+    DeviceBuffer<std::uint32_t> tri_ids;
+    DeviceBuffer<Vec3f> positions, normals;
+    DeviceBuffer<float> dirs, weights;
+    std::uint32_t node_count = 0, tri_count = 0, samples = 0;
+    bool shadowed = true;
+
+    SceneBuffers(const DeviceScene& s, MemoryTally* tally)
+        : nodes(s.bvh.node_count, tally),
+          tri_verts(std::size_t(s.bvh.tri_count) * kFlatBvhTriStride, tally),
+          tri_ids(s.bvh.tri_count, tally),
+          positions(s.vertex_count, tally),
+          normals(s.vertex_count, tally),
+          dirs(3 * s.samples, tally),
+          weights(s.samples, tally),
+          node_count(s.bvh.node_count),
+          tri_count(s.bvh.tri_count),
+          samples(static_cast<std::uint32_t>(s.samples)),
+          shadowed(s.shadowed) {
+        nodes.upload(s.bvh.nodes, nodes.size());
+        tri_verts.upload(s.bvh.tri_verts, tri_verts.size());
+        tri_ids.upload(s.bvh.tri_ids, tri_ids.size());
+        positions.upload(s.positions, positions.size());
+        normals.upload(s.normals, normals.size());
+        dirs.upload(s.dirs, dirs.size());
+        weights.upload(s.weights, weights.size());
+    }
+
+    TransferLaunch launch(std::size_t first, std::size_t count) const {
+        TransferLaunch l;
+        l.bvh = FlatBvhView{nodes.data(), tri_verts.data(), tri_ids.data(), node_count, tri_count};
+        l.positions = positions.data();
+        l.normals = normals.data();
+        l.dirs = dirs.data();
+        l.weights = weights.data();
+        l.first = static_cast<std::uint32_t>(first);
+        l.count = static_cast<std::uint32_t>(count);
+        l.samples = samples;
+        l.shadowed = shadowed;
+        return l;
+    }
+};
+
+// Waits for the context's streams when the scope ends (normally or by an exception), so that no
+// buffer is freed while work that uses it may still run. Errors are ignored: it runs in unwinding.
+class StreamDrain {
+public:
+    explicit StreamDrain(const GpuContext& context) : m_context(context) {}
+    ~StreamDrain() {
+        for (cudaStream_t s : m_context.streams) cudaStreamSynchronize(s);
+    }
+    StreamDrain(const StreamDrain&) = delete;
+    StreamDrain& operator=(const StreamDrain&) = delete;
+
+private:
+    const GpuContext& m_context;
+};
+
+// One chunk buffer of the pipeline with the events that time and fence its work.
+struct Slot {
+    DeviceBuffer<float> w;                  // Wt[S×chunk]
+    DeviceBuffer<float> c;                  // C[chunk×K] (empty with device output)
+    DeviceBuffer<unsigned long long> rays;  // rays cast by the chunk
+    PinnedBuffer<float> host_c;             // staging for the copy back
+    PinnedBuffer<unsigned long long> host_rays;
+    Event start, traced, projected, done;
+    std::size_t first = 0, count = 0;
+    bool busy = false;  // work enqueued and not yet finished on the host
+};
+
+}  // namespace
+
+DeviceState prepare_device() {
+    const std::lock_guard<std::mutex> lock(gpu_mutex());
+    GpuContext& context = gpu_context();
+    SHPRT_CUDA_CHECK(cudaSetDevice(context.device));
+    std::size_t free_bytes = 0, total_bytes = 0;
+    SHPRT_CUDA_CHECK(cudaMemGetInfo(&free_bytes, &total_bytes));
+    return DeviceState{context.name, free_bytes, total_bytes, context.workspace_bytes * kStreams};
+}
+
+DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
+    const std::lock_guard<std::mutex> lock(gpu_mutex());
+    GpuContext& context = gpu_context();
+    SHPRT_CUDA_CHECK(cudaSetDevice(context.device));
+    const ChunkPlan& plan = in.plan;
+    const std::size_t V = in.scene.vertex_count, S = in.scene.samples;
+    const std::size_t K = static_cast<std::size_t>(in.K);
+    SHPRT_CHECK(plan.slots >= 1 && plan.slots <= kStreams && plan.chunk_vertices >= 1 &&
+                    std::uint64_t(plan.chunk_vertices) * S <= kMaxThreads,
+                invalid_argument, "GPU bake: invalid chunk plan ({} vertices, {} slots)",
+                plan.chunk_vertices, plan.slots);
+    SHPRT_CHECK((in.host_output != nullptr) != (in.device_output != nullptr), invalid_argument,
+                "GPU bake: exactly one of host and device output must be given");
+    const bool device_output = in.device_output != nullptr;
+
+    MemoryTally tally;
+    const SceneBuffers scene(in.scene, &tally);
+    DeviceBuffer<float> basis(S * K, &tally);
+    basis.upload(in.basis, basis.size());
+    std::vector<std::unique_ptr<Slot>> slots;
+    DeviceBakeResult result;
+    for (int b = 0; b < plan.slots; ++b) {
+        auto slot = std::make_unique<Slot>();
+        slot->w = DeviceBuffer<float>(plan.chunk_vertices * S, &tally);
+        slot->rays = DeviceBuffer<unsigned long long>(1, &tally);
+        slot->host_rays = PinnedBuffer<unsigned long long>(1);
+        if (!device_output) {
+            slot->c = DeviceBuffer<float>(plan.chunk_vertices * K, &tally);
+            slot->host_c = PinnedBuffer<float>(plan.chunk_vertices * K);
+        }
+        result.pinned_bytes += slot->host_c.bytes() + slot->host_rays.bytes();
+        slots.push_back(std::move(slot));
+    }
+    const StreamDrain drain(context);  // destroyed before the buffers above
+
+    const float one = 1.0f, zero = 0.0f;
+    auto enqueue = [&](std::size_t chunk) {
+        const int index = static_cast<int>(chunk % std::size_t(plan.slots));
+        Slot& slot = *slots[std::size_t(index)];
+        const cudaStream_t stream = context.streams[index];
+        slot.first = chunk * plan.chunk_vertices;
+        slot.count = std::min(plan.chunk_vertices, V - slot.first);
+        SHPRT_CUDA_CHECK(cudaMemsetAsync(slot.rays.data(), 0, sizeof(unsigned long long), stream));
+        slot.start.record(stream);
+        TransferLaunch launch = scene.launch(slot.first, slot.count);
+        launch.w_t = slot.w.data();
+        launch.rays = slot.rays.data();
+        SHPRT_CUDA_CHECK(launch_transfer(launch, stream));
+        slot.traced.record(stream);
+        float* C = device_output ? in.device_output + slot.first * K : slot.c.data();
+        const int m = in.K, n = static_cast<int>(slot.count), k = static_cast<int>(S);
+        SHPRT_CUDA_CHECK(cublas().sgemm(context.blas[index], CUBLAS_OP_N, CUBLAS_OP_T, m, n, k,
+                                        &one, basis.data(), m, slot.w.data(), n, &zero, C, m));
+        slot.projected.record(stream);
+        if (!device_output)
+            SHPRT_CUDA_CHECK(cudaMemcpyAsync(slot.host_c.data(), C, slot.count * K * sizeof(float),
+                                             cudaMemcpyDeviceToHost, stream));
+        SHPRT_CUDA_CHECK(cudaMemcpyAsync(slot.host_rays.data(), slot.rays.data(),
+                                         sizeof(unsigned long long), cudaMemcpyDeviceToHost,
+                                         stream));
+        slot.done.record(stream);
+        slot.busy = true;
+    };
+    // Waits for a slot's chunk, books its times and rays, hands its rows to the host output and
+    // the callback. Returns the callback's answer (false = cancel).
+    auto finish = [&](Slot& slot) {
+        SHPRT_CUDA_CHECK(cudaEventSynchronize(slot.done.get()));
+        slot.busy = false;
+        result.seconds_trace += elapsed_seconds(slot.start, slot.traced);
+        result.seconds_project += elapsed_seconds(slot.traced, slot.projected);
+        const std::uint64_t rays = slot.host_rays.data()[0];
+        result.rays += rays;
+        const float* rows = nullptr;
+        if (!device_output) {
+            float* target = in.host_output + slot.first * K;
+            std::memcpy(target, slot.host_c.data(), slot.count * K * sizeof(float));
+            rows = target;
+        }
+        return in.on_chunk_done ? in.on_chunk_done(slot.first, slot.count, rows, rays) : true;
+    };
+
+    // Chunk c runs in slot c mod slots; before reusing a slot, the chunk that last used it is
+    // finished on the host while the GPU works on the chunk in the other slot.
+    std::size_t enqueued = 0;
+    bool go = true;
+    for (; enqueued < plan.chunk_count && go; ++enqueued) {
+        Slot& slot = *slots[enqueued % std::size_t(plan.slots)];
+        if (slot.busy && !finish(slot)) {
+            go = false;
+            break;
+        }
+        enqueue(enqueued);
+    }
+    const std::size_t first_open = enqueued > std::size_t(plan.slots) ? enqueued - plan.slots : 0;
+    for (std::size_t c = first_open; c < enqueued && go; ++c) {
+        Slot& slot = *slots[c % std::size_t(plan.slots)];
+        if (slot.busy && !finish(slot)) go = false;
+    }
+    result.cancelled = !go;
+    result.peak_device_bytes = tally.peak + context.workspace_bytes * kStreams;
+    return result;
+}
+
+std::vector<float> device_transfer_samples(const DeviceScene& s, std::size_t first,
+                                           std::size_t count) {
+    const std::size_t S = s.samples;
+    SHPRT_CHECK(first <= s.vertex_count && count <= s.vertex_count - first, invalid_argument,
+                "vertex range [{}, {}) is outside the mesh's {} vertices", first, first + count,
+                s.vertex_count);
+    SHPRT_CHECK(std::uint64_t(count) * S <= kMaxThreads, invalid_argument,
+                "{} vertices × {} samples is too many for one launch", count, S);
+    const std::lock_guard<std::mutex> lock(gpu_mutex());
+    GpuContext& context = gpu_context();
+    SHPRT_CUDA_CHECK(cudaSetDevice(context.device));
+    const SceneBuffers scene(s, nullptr);
+    DeviceBuffer<float> w(count * S);
+    DeviceBuffer<unsigned long long> rays(1);
+    const cudaStream_t stream = context.streams[0];
+    SHPRT_CUDA_CHECK(cudaMemsetAsync(rays.data(), 0, sizeof(unsigned long long), stream));
+    TransferLaunch launch = scene.launch(first, count);
+    launch.w_t = w.data();
+    launch.rays = rays.data();
+    SHPRT_CUDA_CHECK(launch_transfer(launch, stream));
+    SHPRT_CUDA_CHECK(cudaStreamSynchronize(stream));
+    std::vector<float> sample_major(count * S), out(count * S);
+    w.download(sample_major.data(), sample_major.size());
+    for (std::size_t j = 0; j < count; ++j)
+        for (std::size_t k = 0; k < S; ++k) out[j * S + k] = sample_major[k * count + j];
+    return out;
+}
+
+GpuTraversalResult device_traversal_rate(const DeviceScene& s, int repeats) {
+    SHPRT_CHECK(repeats >= 1, invalid_argument, "repeats = {} must be ≥ 1", repeats);
+    SHPRT_CHECK(s.shadowed && s.bvh.node_count > 0, invalid_argument,
+                "the traversal measurement needs a BVH");
+    const std::lock_guard<std::mutex> lock(gpu_mutex());
+    GpuContext& context = gpu_context();
+    SHPRT_CUDA_CHECK(cudaSetDevice(context.device));
+    const SceneBuffers scene(s, nullptr);
+    DeviceBuffer<unsigned long long> counters(2);
+    const cudaStream_t stream = context.streams[0];
+    const std::size_t chunk =
+        std::max<std::size_t>(1, static_cast<std::size_t>(kMaxThreads / s.samples));
+    Event start, stop;
+    GpuTraversalResult best;
+    best.device_name = context.name;
+    best.seconds = std::numeric_limits<double>::infinity();
+    for (int run = 0; run <= repeats; ++run) {  // run 0 warms up
+        SHPRT_CUDA_CHECK(cudaMemsetAsync(counters.data(), 0, counters.bytes(), stream));
+        start.record(stream);
+        for (std::size_t first = 0; first < s.vertex_count; first += chunk) {
+            TransferLaunch launch = scene.launch(first, std::min(chunk, s.vertex_count - first));
+            launch.rays = counters.data();
+            launch.occluded = counters.data() + 1;
+            SHPRT_CUDA_CHECK(launch_trace_only(launch, stream));
+        }
+        stop.record(stream);
+        SHPRT_CUDA_CHECK(cudaStreamSynchronize(stream));
+        unsigned long long counts[2] = {0, 0};
+        counters.download(counts, 2);
+        const double seconds = elapsed_seconds(start, stop);
+        if (run == 0) {
+            best.rays = counts[0];
+            best.occluded = counts[1];
+            continue;
+        }
+        SHPRT_CHECK(counts[0] == best.rays && counts[1] == best.occluded, cuda,
+                    "the trace-only kernel counted {} rays / {} hits, then {} / {}: not "
+                    "deterministic",
+                    best.rays, best.occluded, counts[0], counts[1]);
+        best.seconds = std::min(best.seconds, seconds);
+    }
+    return best;
+}
+
+}  // namespace shprt::cuda

@@ -1,0 +1,75 @@
+// The device side of the GPU bake, as seen from the host orchestration in src/bake/bake_gpu.cpp.
+// CUDA-free (it is included by shprt_bake's .cpp files); implemented in src/cuda/ and built only
+// when SHPRT_HAS_CUDA. All pointers here are host pointers unless named device_*.
+#pragma once
+
+#include "shprt/bake/gpu.hpp"
+#include "shprt/core/vec.hpp"
+#include "shprt/trace/flat_bvh.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace shprt::cuda {
+
+struct DeviceState {
+    std::string name;              // the GPU's name
+    std::uint64_t free_bytes = 0;  // cudaMemGetInfo after the context exists
+    std::uint64_t total_bytes = 0;
+    std::uint64_t workspace_bytes = 0;  // cuBLAS workspaces of the context (all handles)
+};
+
+// Creates the process's GPU context if needed and reports the device's memory. Takes the GPU
+// lock for the duration of the call. Throws Error(unsupported) without a device, Error(cuda).
+DeviceState prepare_device();
+
+// The scene and sampling of one bake, in host memory.
+struct DeviceScene {
+    FlatBvhView bvh{};  // node_count 0 when !shadowed
+    const Vec3f* positions = nullptr;
+    const Vec3f* normals = nullptr;
+    std::size_t vertex_count = 0;
+    const float* dirs = nullptr;     // 3·S
+    const float* weights = nullptr;  // S
+    std::size_t samples = 0;
+    bool shadowed = true;
+};
+
+struct DeviceBakeInput {
+    DeviceScene scene;
+    const float* basis = nullptr;  // Y[S×K], row-major
+    int K = 0;
+    ChunkPlan plan;
+    float* host_output = nullptr;    // V·K floats, or null when device_output is set
+    float* device_output = nullptr;  // device pointer to V·K floats, or null
+    // Called on the calling thread after each chunk, in vertex order, with the chunk's rows (host
+    // memory, or null with device_output; valid during the call) and the rays it cast. Returning
+    // false cancels: no further chunk is started.
+    std::function<bool(std::size_t first, std::size_t count, const float* coeffs,
+                       std::uint64_t rays)>
+        on_chunk_done;
+};
+
+struct DeviceBakeResult {
+    double seconds_trace = 0;    // Σ GPU time of the transfer kernels
+    double seconds_project = 0;  // Σ GPU time of the SGEMMs
+    std::uint64_t rays = 0;
+    std::uint64_t peak_device_bytes = 0;  // the bake's allocations + the cuBLAS workspaces
+    std::uint64_t pinned_bytes = 0;       // page-locked host staging
+    bool cancelled = false;
+};
+
+// Runs the chunk pipeline of gpu.hpp's bake_gpu. Holds the GPU lock throughout.
+DeviceBakeResult run_device_bake(const DeviceBakeInput& input);
+
+// W rows of vertices [first, first + count): count × S floats, vertex-major (gpu.hpp).
+std::vector<float> device_transfer_samples(const DeviceScene& scene, std::size_t first,
+                                           std::size_t count);
+
+// The trace-only kernel over every (vertex, direction) of the scene (gpu.hpp).
+GpuTraversalResult device_traversal_rate(const DeviceScene& scene, int repeats);
+
+}  // namespace shprt::cuda
