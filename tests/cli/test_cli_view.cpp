@@ -1,0 +1,315 @@
+// `shprt view` run as a program: --screenshot gives `shprt render`'s picture, --benchmark prints
+// one line per basis size, --bake bakes in the same process, bad input gives one line and exit 1,
+// and (when xvfb-run exists) the real window opens under Xvfb, draws its panel and shows the
+// same picture as --screenshot beside it.
+#include <gtest/gtest.h>
+#include <stb/stb_image.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// PNG codes: the GPU's float tone map against save_image's CPU one may differ by one level.
+constexpr int kMaxLevelDifference = 1;
+constexpr double kMaxMeanLevelDifference = 0.05;
+// The window against --screenshot outside the panel: the orbit controller rebuilds eye and
+// target from yaw/pitch/distance (float rounding), which may move a few edge pixels.
+constexpr double kMaxMeanWindowDifference = 1.0;
+// Inside the panel's rectangle the picture must differ clearly (the panel is drawn).
+constexpr double kMinMeanPanelDifference = 10.0;
+
+struct RunResult {
+    int exit_code;
+    std::string out, err;
+};
+
+struct Png {
+    int width = 0, height = 0;
+    std::vector<unsigned char> rgb;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+Png read_png(const std::string& path) {
+    Png png;
+    int channels = 0;
+    unsigned char* data = stbi_load(path.c_str(), &png.width, &png.height, &channels, 3);
+    if (!data) return png;
+    png.rgb.assign(data, data + std::size_t(png.width) * png.height * 3);
+    stbi_image_free(data);
+    return png;
+}
+
+// Mean and max absolute difference of two PNGs over the rectangle [x0, x1) × [y0, y1).
+struct Diff {
+    double mean = 0;
+    int max = 0;
+};
+Diff compare(const Png& a, const Png& b, int x0, int y0, int x1, int y1) {
+    Diff d;
+    double sum = 0;
+    std::size_t n = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t i = (std::size_t(y) * a.width + x) * 3 + c;
+                const int diff = std::abs(int(a.rgb[i]) - int(b.rgb[i]));
+                d.max = std::max(d.max, diff);
+                sum += diff;
+                ++n;
+            }
+    d.mean = n ? sum / double(n) : 0;
+    return d;
+}
+
+bool has_program(const char* name) {
+    const std::string cmd = std::string("command -v ") + name + " >/dev/null 2>&1";
+    return std::system(cmd.c_str()) == 0;
+}
+
+class CliView : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        s_dir = fs::temp_directory_path() / ("shprt_cli_view_" + std::to_string(::getpid()));
+        fs::remove_all(s_dir);
+        fs::create_directories(s_dir);
+        s_file = (s_dir / "box64.shprt").string();
+        const RunResult r =
+            run("bake builtin:box_on_plane -o '" + s_file + "' --coeffs 64 --samples 128 --seed 2");
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    static void TearDownTestSuite() { fs::remove_all(s_dir); }
+
+    // Runs `[PREFIX] shprt ARGS` with stdout and stderr captured.
+    static RunResult run(const std::string& args, const std::string& prefix = "") {
+        const fs::path out = s_dir / "stdout", err = s_dir / "stderr";
+        const std::string cmd = prefix + " '" + SHPRT_CLI_PATH + "' " + args + " >'" +
+                                out.string() + "' 2>'" + err.string() + "' </dev/null";
+        const int status = std::system(cmd.c_str());
+        return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, slurp(out), slurp(err)};
+    }
+    static std::string path(const std::string& name) { return (s_dir / name).string(); }
+
+    // A failure: exit code 1, exactly one line on stderr starting with "shprt: error: ".
+    static void expect_one_line_error(const RunResult& r, const std::string& needle) {
+        EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+        EXPECT_EQ(r.err.rfind("shprt: error: ", 0), 0u) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_NE(r.err.find(needle), std::string::npos)
+            << "expected '" << needle << "' in " << r.err;
+    }
+
+    static fs::path s_dir;
+    static std::string s_file;
+};
+
+fs::path CliView::s_dir;
+std::string CliView::s_file;
+
+TEST_F(CliView, ScreenshotEqualsRender) {
+    const std::string common[] = {
+        " --size 120x80",
+        " --size 96x64 --light builtin --rotate 40,10,0 --k 0.4 --exposure 1.6 --camera "
+        "3,2.5,3.5,0,0.3,0 --fov 45",
+        " --size 64x64 --light sun:1,2,1,6 --light constant:0.2 --coeffs 20 --view irradiance "
+        "--window hann"};
+    for (const std::string& options : common) {
+        const RunResult v =
+            run("view '" + s_file + "' --screenshot '" + path("view.png") + "'" + options);
+        ASSERT_EQ(v.exit_code, 0) << v.err;
+        EXPECT_NE(v.out.find("screenshot "), std::string::npos) << v.out;
+        const RunResult r =
+            run("render '" + s_file + "' -o '" + path("render.png") + "'" + options);
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        const Png a = read_png(path("view.png")), b = read_png(path("render.png"));
+        ASSERT_FALSE(a.rgb.empty());
+        ASSERT_EQ(a.width, b.width);
+        ASSERT_EQ(a.height, b.height);
+        const Diff d = compare(a, b, 0, 0, a.width, a.height);
+        EXPECT_LE(d.max, kMaxLevelDifference) << options;
+        EXPECT_LE(d.mean, kMaxMeanLevelDifference) << options;
+        // Not a trivially equal pair of blank pictures.
+        int distinct_levels = 0;
+        std::vector<bool> seen(256, false);
+        for (unsigned char c : a.rgb)
+            if (!seen[c]) seen[c] = true, ++distinct_levels;
+        EXPECT_GT(distinct_levels, 10) << options;
+    }
+}
+
+TEST_F(CliView, BenchmarkPrintsALinePerBasisSize) {
+    const RunResult r = run("view '" + s_file + "' --benchmark 3 --size 64x48 --msaa 1");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("benchmark: 1214 vertices"), std::string::npos) << r.out;
+    for (int K : {32, 48, 64}) {
+        const std::regex line("K'=" + std::to_string(K) +
+                              " +frames=3  fps=([0-9.]+)  mean_ms=([0-9.]+)  min_ms=[0-9.]+  "
+                              "max_ms=[0-9.]+  cpu_ms=[0-9.]+\n");
+        std::smatch m;
+        ASSERT_TRUE(std::regex_search(r.out, m, line)) << "K'=" << K << " in\n" << r.out;
+        EXPECT_GT(std::stod(m[1].str()), 0.0);
+        EXPECT_GT(std::stod(m[2].str()), 0.0);
+    }
+    EXPECT_NE(r.out.find("K'=128  skipped: larger than the file's K=64"), std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("K'=256  skipped"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("frame time K'=256 / K'=32: n/a"), std::string::npos) << r.out;
+}
+
+TEST_F(CliView, BakesInTheSameProcessBeforeAHeadlessMode) {
+    const RunResult r =
+        run("view builtin:box_on_plane --bake --coeffs 32 --samples 32 --seed 4 "
+            "--benchmark 2 --size 32x32 --msaa 1");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("baked 1214 vertices, K=32, S=32"), std::string::npos) << r.out;
+    EXPECT_TRUE(std::regex_search(r.out, std::regex("K'=32 +frames=2  fps=[0-9.]+"))) << r.out;
+    EXPECT_NE(r.out.find("K'=48   skipped"), std::string::npos) << r.out;
+}
+
+TEST_F(CliView, DeviceCudaBakesOnTheGpuOrSaysWhyNot) {
+    const RunResult r =
+        run("view builtin:box_on_plane --bake --device cuda --coeffs 16 "
+            "--samples 32 --benchmark 1 --size 32x32 --msaa 1");
+    if (r.exit_code == 0) {
+        // A CUDA build on a machine with a GPU.
+        EXPECT_NE(r.out.find("baked 1214 vertices, K=16"), std::string::npos) << r.out;
+        return;
+    }
+    expect_one_line_error(r, "--device cuda: ");
+    EXPECT_TRUE(r.err.find("no CUDA") != std::string::npos ||
+                r.err.find("CUDA device") != std::string::npos)
+        << r.err;
+}
+
+TEST_F(CliView, BadInputGivesOneLineAndExitOne) {
+    // Corrupt and truncated files.
+    std::ofstream(path("garbage.shprt")) << "this is not a shprt file";
+    expect_one_line_error(
+        run("view '" + path("garbage.shprt") + "' --screenshot '" + path("x.png") + "'"),
+        "garbage.shprt");
+    const std::string bytes = slurp(s_file);
+    std::ofstream(path("truncated.shprt"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    expect_one_line_error(run("view '" + path("truncated.shprt") + "' --benchmark 1"),
+                          "truncated.shprt");
+    expect_one_line_error(
+        run("view '" + path("missing.shprt") + "' --screenshot '" + path("x.png") + "'"),
+        "missing.shprt");
+    // A light file that does not exist.
+    expect_one_line_error(run("view '" + s_file + "' --light /nonexistent/sky.hdr --screenshot '" +
+                              path("x.png") + "'"),
+                          "sky.hdr");
+    EXPECT_FALSE(fs::exists(path("x.png"))) << "nothing written on failure";
+    // Options.
+    expect_one_line_error(run("view '" + s_file + "' --samples 64"), "--samples is a bake option");
+    expect_one_line_error(run("view '" + s_file + "' --screenshot '" + path("x.exr") + "'"), "PNG");
+    expect_one_line_error(run("view '" + s_file + "' --benchmark 0"), "--benchmark 0");
+    expect_one_line_error(
+        run("view '" + s_file + "' --benchmark 2 --screenshot '" + path("x.png") + "'"), "use one");
+    expect_one_line_error(run("view '" + s_file + "' --k 2 --screenshot '" + path("x.png") + "'"),
+                          "--k 2");
+    expect_one_line_error(
+        run("view '" + s_file + "' --size 0x5 --screenshot '" + path("x.png") + "'"), "size");
+    expect_one_line_error(run("view builtin:nonesuch --bake --benchmark 1"), "nonesuch");
+    // The window without a display.
+    expect_one_line_error(run("view '" + s_file + "'", "env -u DISPLAY -u WAYLAND_DISPLAY"),
+                          "cannot open a window");
+    EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+TEST_F(CliView, NoOpenGl43GivesOneLine) {
+    // Mesa caps the version it offers when asked to; other drivers ignore the variable.
+    const RunResult r =
+        run("view '" + s_file + "' --screenshot '" + path("old.png") + "' --offscreen egl",
+            "MESA_GL_VERSION_OVERRIDE=3.3");
+    if (r.exit_code == 0) GTEST_SKIP() << "this driver ignores MESA_GL_VERSION_OVERRIDE";
+    expect_one_line_error(r, "OpenGL 4.3 core profile needed");
+}
+
+class CliViewWindow : public CliView {
+protected:
+    void SetUp() override {
+        if (!has_program("xvfb-run"))
+            GTEST_SKIP() << "xvfb-run is missing (apt-get install xvfb xauth): window not tested";
+    }
+    static std::string xvfb() { return "xvfb-run -a -s '-screen 0 1280x1024x24'"; }
+};
+
+TEST_F(CliViewWindow, OpensUnderXvfbDrawsThePanelAndTheSamePicture) {
+    const std::string size = " --size 800x500";
+    const RunResult w = run(
+        "view '" + s_file + "' --frames 3 --window-screenshot '" + path("window.png") + "'" + size,
+        xvfb());
+    ASSERT_EQ(w.exit_code, 0) << w.err;
+    EXPECT_NE(w.out.find("view: 3 frames"), std::string::npos) << w.out;
+    const RunResult s = run("view '" + s_file + "' --screenshot '" + path("shot.png") + "'" + size);
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    const Png win = read_png(path("window.png")), shot = read_png(path("shot.png"));
+    ASSERT_EQ(win.width, 800);
+    ASSERT_EQ(win.height, 500);
+    ASSERT_EQ(shot.width, 800);
+    // Right of the panel (at x = 8, 340 wide): the same picture as --screenshot.
+    const Diff right = compare(win, shot, 400, 0, 800, 500);
+    EXPECT_LE(right.mean, kMaxMeanWindowDifference);
+    // The panel: clearly different from the picture, and not blank.
+    const Diff panel = compare(win, shot, 10, 10, 340, 200);
+    EXPECT_GE(panel.mean, kMinMeanPanelDifference);
+    std::vector<bool> seen(256 * 256, false);
+    int colours = 0;
+    for (std::size_t i = 0; i < win.rgb.size(); i += 3) {
+        const int key =
+            (win.rgb[i] >> 2) * 1024 + (win.rgb[i + 1] >> 2) * 16 + (win.rgb[i + 2] >> 4);
+        if (key < int(seen.size()) && !seen[key]) seen[key] = true, ++colours;
+    }
+    EXPECT_GT(colours, 50) << "the window is not blank";
+}
+
+TEST_F(CliViewWindow, ShowsABakeWhileItRefinesAndFinishesIt) {
+    const RunResult r =
+        run("view builtin:box_on_plane --bake --coeffs 16 --samples 64 --frames 2 "
+            "--size 640x360 --window-screenshot '" +
+                path("bake.png") + "'",
+            xvfb());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("baked 1214 vertices, K=16"), std::string::npos) << r.out;
+    const Png png = read_png(path("bake.png"));
+    ASSERT_EQ(png.width, 640);
+    // The baked scene is lit: some bright pixels outside the panel's column.
+    int bright = 0;
+    for (int y = 0; y < png.height; ++y)
+        for (int x = 400; x < png.width; ++x)
+            bright += png.rgb[(std::size_t(y) * png.width + x) * 3 + 1] > 100;
+    EXPECT_GT(bright, 0);
+}
+
+TEST_F(CliViewWindow, TheWindowFallbackGivesTheSameScreenshotAsEgl) {
+    const RunResult e = run("view '" + s_file + "' --screenshot '" + path("egl.png") +
+                            "' --size 100x70 --offscreen egl");
+    ASSERT_EQ(e.exit_code, 0) << e.err;
+    const RunResult g = run("view '" + s_file + "' --screenshot '" + path("glx.png") +
+                                "' --size 100x70 --offscreen window",
+                            xvfb());
+    ASSERT_EQ(g.exit_code, 0) << g.err;
+    const Png a = read_png(path("egl.png")), b = read_png(path("glx.png"));
+    ASSERT_EQ(a.width, b.width);
+    const Diff d = compare(a, b, 0, 0, a.width, a.height);
+    EXPECT_LE(d.max, kMaxLevelDifference);
+    EXPECT_LE(d.mean, kMaxMeanLevelDifference);
+}
+
+}  // namespace

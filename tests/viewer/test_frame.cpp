@@ -1,0 +1,154 @@
+// The viewer's frame without a window: --screenshot shows what `shprt render` computes (the same
+// Renderer, then the GPU tone map against save_image's CPU encoding), and the benchmark measures
+// one row per K' it can and skips the others.
+#include "benchmark.hpp"
+#include "light_rig.hpp"
+#include "screenshot.hpp"
+
+#include "shprt/bake/bake.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/light/tonemap.hpp"
+#include "shprt/render/gl_context.hpp"
+#include "shprt/render/light_setup.hpp"
+#include "shprt/scene/load.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+
+namespace shprt::viewer {
+namespace {
+
+// The GPU's float pow/rounding against the CPU's: codes may differ by one level, rarely.
+constexpr int kMaxLevelDifference = 1;
+constexpr double kMaxMeanLevelDifference = 0.05;
+
+#define SKIP_WITHOUT_GL()                                                              \
+    do {                                                                               \
+        try {                                                                          \
+            HeadlessGlContext probe;                                                   \
+        } catch (const Error& e) {                                                     \
+            GTEST_SKIP() << "no headless OpenGL 4.3 core context (EGL): " << e.what(); \
+        }                                                                              \
+    } while (0)
+
+struct Scene {
+    Mesh mesh;
+    TransferSet transfer;
+};
+
+const Scene& box_scene(int K) {
+    static std::unique_ptr<Scene> cache[2];
+    auto& slot = cache[K == 64 ? 1 : 0];
+    if (!slot) {
+        slot = std::make_unique<Scene>();
+        slot->mesh = load_scene("builtin:box_on_plane");
+        BakeOptions o;
+        o.K = K;
+        o.samples = 256;
+        o.seed = 3;
+        slot->transfer = bake(slot->mesh, o);
+    }
+    return *slot;
+}
+
+TEST(Screenshot, EqualsRenderImageThroughTheCpuToneMap) {
+    SKIP_WITHOUT_GL();
+    const Scene& s = box_scene(20);  // not a full band
+    struct Case {
+        double k;
+        int K_used;
+        float exposure;
+        ShadeView view;
+    };
+    const Case cases[] = {{1.0, 0, 1.0f, ShadeView::radiance},
+                          {0.4, 0, 1.7f, ShadeView::radiance},
+                          {1.0, 9, 0.8f, ShadeView::irradiance},
+                          {1.0, 0, 1.0f, ShadeView::transfer}};
+    LightSetup setup;
+    setup.specs = {"builtin"};
+    setup.yaw_pitch_roll_deg = {30, 0, 0};
+    LightRig rig(s.transfer.K);
+    rig.set_source(setup);
+    const ShLight light = rig.light();
+    for (const Case& c : cases) {
+        FrameConfig config;
+        config.width = 96;
+        config.height = 64;
+        config.exposure = c.exposure;
+        config.draw.camera = default_camera(s.mesh, 96.0f / 64.0f);
+        config.draw.k = c.k;
+        config.draw.K_used = c.K_used;
+        config.draw.view = c.view;
+        std::string context;
+        const Rgb8Image shot =
+            render_screenshot(s.mesh, s.transfer, light, config, OffscreenBackend::egl, &context);
+        EXPECT_NE(context.find("OpenGL"), std::string::npos) << context;
+        ASSERT_EQ(shot.width, 96);
+        ASSERT_EQ(shot.height, 64);
+        const Image linear = render_image(s.mesh, s.transfer, prepare_light(setup, s.transfer.K),
+                                          config.draw, 96, 64);
+        double sum = 0;
+        int worst = 0, lit = 0;
+        for (std::size_t i = 0; i < linear.rgb.size(); ++i) {
+            const int want = display_encode8(linear.rgb[i], c.exposure);
+            const int d = std::abs(int(shot.rgb[i]) - want);
+            worst = std::max(worst, d);
+            sum += d;
+            lit += want > 10;
+        }
+        const double mean = sum / double(linear.rgb.size());
+        EXPECT_LE(worst, kMaxLevelDifference) << "k=" << c.k << " K'=" << c.K_used;
+        EXPECT_LE(mean, kMaxMeanLevelDifference) << "k=" << c.k << " K'=" << c.K_used;
+        EXPECT_GT(lit, int(linear.rgb.size() / 10))
+            << "the scene covers a good part of the picture";
+    }
+}
+
+TEST(Benchmark, MeasuresEachBasisSizeTheFileHasAndSkipsTheRest) {
+    SKIP_WITHOUT_GL();
+    const Scene& s = box_scene(64);
+    LightRig rig(s.transfer.K);
+    rig.set_source(LightSetup{});
+    FrameConfig config;
+    config.width = 64;
+    config.height = 48;
+    config.msaa = 1;
+    config.draw.camera = default_camera(s.mesh, 64.0f / 48.0f);
+    BenchmarkOptions options;
+    options.frames = 4;
+    options.warmup_frames = 1;
+    options.backend = OffscreenBackend::egl;
+    for (bool rotate : {false, true}) {
+        options.rotate_light = rotate;
+        const BenchmarkReport r = run_benchmark(s.mesh, s.transfer, rig, config, options);
+        EXPECT_EQ(r.K, 64);
+        EXPECT_EQ(r.vertices, s.mesh.vertex_count());
+        ASSERT_EQ(r.rows.size(), 5u);
+        const int want_K[] = {32, 48, 64, 128, 256};
+        for (int i = 0; i < 5; ++i) {
+            const BenchmarkRow& row = r.rows[static_cast<std::size_t>(i)];
+            EXPECT_EQ(row.K_used, want_K[i]);
+            EXPECT_EQ(row.skipped, want_K[i] > 64);
+            if (row.skipped) continue;
+            EXPECT_EQ(row.frames, 4);
+            EXPECT_GT(row.fps, 0.0);
+            EXPECT_GT(row.mean_ms, 0.0);
+            EXPECT_LE(row.min_ms, row.mean_ms * (1 + 1e-9));
+            EXPECT_GE(row.max_ms, row.mean_ms * (1 - 1e-9));
+            EXPECT_NEAR(row.fps * row.mean_ms, 1000.0, 1e-6);
+        }
+        EXPECT_EQ(r.ratio_256_32, 0.0) << "no K'=256 in a K=64 file";
+        const std::string text = format_benchmark(r);
+        EXPECT_NE(text.find("K'=48   frames=4  fps="), std::string::npos) << text;
+        EXPECT_NE(text.find("K'=256  skipped"), std::string::npos) << text;
+        EXPECT_NE(text.find("n/a"), std::string::npos) << text;
+    }
+    options.frames = 0;
+    EXPECT_THROW(run_benchmark(s.mesh, s.transfer, rig, config, options), Error);
+}
+
+}  // namespace
+}  // namespace shprt::viewer

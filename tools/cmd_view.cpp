@@ -1,0 +1,275 @@
+// `shprt view FILE.shprt [options]`: the interactive viewer (GLFW window, OpenGL 4.3 core, ImGui
+// panel), and its headless modes:
+//   --screenshot OUT.png   one frame without a window (EGL; a hidden GLFW window as fallback)
+//   --benchmark FRAMES     frames/s against basis size K' = 32, 48, 64, 128, 256, offscreen
+//   --bake                 FILE is a scene: bake it in this process and show it while it refines
+// Thin: checks every option before any work, reads or bakes, calls viewer/ (shprt_viewer),
+// reports on stdout.
+#include "shprt/config.hpp"
+
+#if SHPRT_HAS_GL  // the viewer is built (SHPRT_BUILD_VIEWER)
+
+#include "common/bake_options.hpp"
+#include "common/command.hpp"
+#include "common/progress_bar.hpp"
+#include "common/shading_options.hpp"
+
+#include "bake_stream.hpp"
+#include "benchmark.hpp"
+#include "light_rig.hpp"
+#include "screenshot.hpp"
+#include "viewer_app.hpp"
+
+#include "shprt/bake/gpu.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/render/shade.hpp"
+#include "shprt/scene/load.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace shprt::tools {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct ViewArgs {
+    std::string input;
+    LightArgs light;
+    CameraArgs camera;
+    BakeOptionArgs bake;
+    bool do_bake = false;
+    std::string size = "1280x720", view = "radiance";
+    double k = 1.0, gloss = kDefaultGloss, exposure = 1.0;
+    int msaa = 4;
+    bool background = false, wireframe = false, no_vsync = false;
+    std::optional<int> benchmark;
+    bool benchmark_light = false;
+    std::string screenshot;
+    // Hidden (tests): close the window after N frames; save its last frame; choose the context.
+    std::optional<int> frames;
+    std::string window_screenshot, offscreen = "auto";
+    // Which bake options were given (only allowed with --bake).
+    std::vector<std::string> bake_only_given;
+};
+
+bool has_png_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext == ".png";
+}
+
+double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// The scene to show: a .shprt file, or (with --bake) a scene baked here.
+struct Loaded {
+    Mesh mesh;
+    TransferSet transfer;
+};
+
+// Bakes before a headless mode (no window to show the progress in): the usual progress bar.
+TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
+    install_interrupt_handler();
+    ProgressBar bar("bake");
+    options.progress = bar.callback();
+    const auto start = Clock::now();
+    TransferSet t = bake(mesh, options);
+    bar.finish();
+    std::printf("baked %zu vertices, K=%d, S=%d in %.2f s (%s)\n", mesh.vertex_count(), t.K,
+                t.samples, seconds_since(start), t.stats.device_name.c_str());
+    return t;
+}
+
+void run(const ViewArgs& a) {
+    const auto start = Clock::now();
+    // ---- Every option is checked before any work.
+    check_shading_args(a.k, a.gloss, a.exposure);
+    SHPRT_CHECK(a.msaa >= 1 && a.msaa <= 64, invalid_argument,
+                "--msaa {}: MSAA samples must be 1 to 64", a.msaa);
+    int width = 0, height = 0;
+    parse_size(a.size, width, height);
+    check_camera_args(a.camera);
+    const LightSetup setup = light_setup_from(a.light);
+    const ShadeView view = parse_view(a.view);
+    const viewer::OffscreenBackend backend = viewer::parse_offscreen_backend(a.offscreen);
+    SHPRT_CHECK(!(a.benchmark && !a.screenshot.empty()), invalid_argument,
+                "--benchmark and --screenshot both given; use one");
+    SHPRT_CHECK(!a.benchmark || *a.benchmark >= 1, invalid_argument,
+                "--benchmark {}: need at least one frame", a.benchmark.value_or(0));
+    SHPRT_CHECK(!a.benchmark_light || a.benchmark, invalid_argument,
+                "--benchmark-light needs --benchmark FRAMES");
+    SHPRT_CHECK(a.screenshot.empty() || has_png_extension(a.screenshot), invalid_argument,
+                "--screenshot {}: the viewer writes what it displays, as PNG (use `shprt render` "
+                "for .exr/.hdr)",
+                a.screenshot);
+    SHPRT_CHECK(!a.frames || *a.frames >= 1, invalid_argument, "--frames {}: must be ≥ 1",
+                a.frames.value_or(0));
+    SHPRT_CHECK(a.window_screenshot.empty() || (a.frames && has_png_extension(a.window_screenshot)),
+                invalid_argument, "--window-screenshot {}: needs --frames N and a .png name",
+                a.window_screenshot);
+    if (!a.do_bake && !a.bake_only_given.empty())
+        fail(ErrorCode::invalid_argument, "{} is a bake option: add --bake (FILE is then a scene)",
+             a.bake_only_given.front());
+    std::optional<BakeOptions> bake_options;
+    int K_used = 0;
+    if (a.do_bake) {
+        bake_options = bake_options_from(a.bake);
+        if (bake_options->device == Device::cuda) {
+            const GpuInfo gpu = query_gpu();
+            SHPRT_CHECK(gpu.available, unsupported, "--device cuda: {}", gpu.reason);
+        }
+    } else if (a.bake.coeffs) {
+        // Without --bake, --coeffs is the K' shown first (as `shprt render --coeffs`).
+        SHPRT_CHECK(*a.bake.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)",
+                    *a.bake.coeffs);
+        K_used = static_cast<int>(std::min<long long>(*a.bake.coeffs, 1 << 20));
+    }
+    const bool windowed = a.screenshot.empty() && !a.benchmark;
+
+    // ---- The scene.
+    Loaded scene;
+    if (a.do_bake) {
+        scene.mesh = load_scene(a.input);
+        if (windowed)
+            scene.transfer = viewer::empty_transfer(scene.mesh.vertex_count(), bake_options->K,
+                                                    bake_options->transfer);
+        else
+            scene.transfer = bake_now(scene.mesh, *bake_options);
+    } else {
+        ShprtFile file = read_shprt(a.input);
+        scene.mesh = std::move(file.mesh);
+        scene.transfer = std::move(file.transfer);
+    }
+    viewer::LightRig rig(std::min(scene.transfer.K, kMaxLightK));
+    rig.set_source(setup);  // a missing light file fails here, before any window
+
+    viewer::FrameConfig config;
+    config.width = width;
+    config.height = height;
+    config.msaa = a.msaa;
+    config.exposure = static_cast<float>(a.exposure);
+    config.draw.camera = camera_from(a.camera, scene.mesh, float(width) / float(height));
+    config.draw.k = a.k;
+    config.draw.gloss = a.gloss;
+    config.draw.K_used = K_used;
+    config.draw.view = view;
+    config.draw.background = a.background;
+    config.draw.wireframe = a.wireframe;
+    const std::string name = std::filesystem::path(a.input).filename().string();
+
+    if (!a.screenshot.empty()) {
+        const ShLight light = rig.light();
+        std::string context;
+        const viewer::Rgb8Image image =
+            viewer::render_screenshot(scene.mesh, scene.transfer, light, config, backend, &context);
+        viewer::save_png(a.screenshot, image);
+        std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", width, height,
+                    effective_basis_size(scene.transfer, light, K_used), a.k, seconds_since(start),
+                    a.screenshot.c_str());
+        return;
+    }
+    if (a.benchmark) {
+        viewer::BenchmarkOptions options;
+        options.frames = *a.benchmark;
+        options.rotate_light = a.benchmark_light;
+        options.backend = backend;
+        const viewer::BenchmarkReport report =
+            viewer::run_benchmark(scene.mesh, scene.transfer, rig, config, options);
+        std::printf("%s: ", name.c_str());
+        std::fputs(viewer::format_benchmark(report).c_str(), stdout);
+        return;
+    }
+
+    viewer::WindowOptions options;
+    options.frame = config;
+    options.light = setup;
+    options.title = "shprt view — " + name;
+    options.scene_label = name;
+    options.max_frames = a.frames.value_or(0);
+    options.window_screenshot = a.window_screenshot;
+    options.vsync = !a.no_vsync;
+    viewer::WindowReport report;
+    try {
+        report = viewer::run_window(scene.mesh, scene.transfer, options, bake_options);
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        if (what.rfind("cannot open a window", 0) == 0)
+            fail(e.code(), "{} (without a display, use --screenshot OUT.png or --benchmark N)",
+                 what);
+        throw;
+    }
+    std::printf("view: %d frames in %.2f s (%.1f frames/s); %s\n", report.frames, report.seconds,
+                report.seconds > 0 ? report.frames / report.seconds : 0.0, report.context.c_str());
+    if (a.do_bake && report.bake_finished)
+        std::printf("baked %zu vertices, K=%d in %.2f s\n", scene.mesh.vertex_count(),
+                    bake_options->K, report.bake_seconds);
+    SHPRT_CHECK(report.bake_error.empty(), unsupported, "bake failed: {}", report.bake_error);
+}
+
+const bool registered = register_command(
+    {"view", "Interactive viewer (OpenGL window, ImGui panel); --screenshot, --benchmark, --bake",
+     70, [](CLI::App& app) {
+         auto args = std::make_shared<ViewArgs>();
+         app.add_option("file", args->input, "Baked .shprt file (with --bake: a scene to bake)")
+             ->required();
+         add_light_options(app, args->light);
+         add_camera_options(app, args->camera);
+         app.add_option("--size", args->size, "Window or image size WxH (default 1280x720)");
+         app.add_option("--exposure", args->exposure, "Exposure multiplier (default 1)");
+         app.add_option("--k", args->k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
+         app.add_option("--gloss", args->gloss, "Phong exponent of the glossy lobe (default 16)");
+         app.add_option("--view", args->view,
+                        "radiance (default), irradiance, or transfer (AO-like, light ignored)");
+         app.add_flag("--background", args->background, "Draw the light behind the scene");
+         app.add_flag("--wireframe", args->wireframe, "Draw triangle edges only");
+         app.add_option("--msaa", args->msaa,
+                        "MSAA samples per pixel (default 4, as `shprt render --samples`)");
+         app.add_flag("--no-vsync", args->no_vsync, "Do not wait for the display's refresh");
+         app.add_flag("--bake", args->do_bake,
+                      "FILE is a scene: bake it here and show it while it refines");
+         add_bake_options(app, args->bake);
+         // Without --bake, --coeffs is the initial K' (the first K' coefficients are used).
+         app.get_option("--coeffs")
+             ->description(
+                 "With --bake: basis size K to bake (1 to 1024, default 16); otherwise: use the "
+                 "first K' coefficients (default: all)");
+         app.add_option("--benchmark", args->benchmark,
+                        "Render FRAMES frames offscreen per K' = 32, 48, 64, 128, 256 and print "
+                        "frames/s");
+         app.add_flag("--benchmark-light", args->benchmark_light,
+                      "With --benchmark: also turn the light every frame");
+         app.add_option("--screenshot", args->screenshot,
+                        "Render one frame without a window into OUT.png and exit");
+         app.add_option("--frames", args->frames,
+                        "Close the window after N frames (with --bake: N frames after the bake)")
+             ->group("");
+         app.add_option("--window-screenshot", args->window_screenshot,
+                        "With --frames: save the window's last frame (panel included) as PNG")
+             ->group("");
+         app.add_option("--offscreen", args->offscreen,
+                        "Context for --screenshot/--benchmark: auto, egl or window")
+             ->group("");
+         CLI::App* sub = &app;
+         app.callback([args, sub] {
+             for (const char* name : {"--transfer", "--bands", "--samples", "--sampler", "--seed",
+                                      "--threads", "--device"})
+                 if (sub->get_option(name)->count() > 0) args->bake_only_given.push_back(name);
+             run(*args);
+         });
+     }});
+
+}  // namespace
+}  // namespace shprt::tools
+
+#endif  // SHPRT_HAS_GL

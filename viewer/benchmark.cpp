@@ -1,0 +1,133 @@
+// Display speed against basis size, offscreen (benchmark.hpp).
+#include "benchmark.hpp"
+
+#include "camera_controller.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/scene/mesh_ops.hpp"
+
+#include <epoxy/gl.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <limits>
+
+namespace shprt::viewer {
+namespace {
+
+// CPU time of the whole process (every thread), seconds.
+double process_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+}  // namespace
+
+BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, const LightRig& rig,
+                              const FrameConfig& config, const BenchmarkOptions& options) {
+    SHPRT_CHECK(options.frames >= 1, invalid_argument, "--benchmark {}: need at least one frame",
+                options.frames);
+    SHPRT_CHECK(!options.K_values.empty(), invalid_argument,
+                "benchmark: no basis sizes to measure");
+    OffscreenContext context(options.backend);
+    BenchmarkReport report;
+    report.context = context.description();
+    report.vertices = mesh.vertex_count();
+    report.triangles = mesh.triangle_count();
+    report.K = std::min(transfer.K, rig.K());
+    report.width = config.width;
+    report.height = config.height;
+    report.k = config.draw.k;
+    report.rotate_light = options.rotate_light;
+
+    LightRig light = rig;  // turned when options.rotate_light
+    Renderer renderer;
+    renderer.set_scene(mesh, transfer);
+    renderer.set_light(light.light());
+    RenderTarget target(config.width, config.height, config.msaa);
+    report.msaa = target.samples();
+    DisplayTarget display(config.width, config.height);
+    const Bounds bounds = mesh_bounds(mesh);
+
+    using Clock = std::chrono::steady_clock;
+    for (int K_used : options.K_values) {
+        BenchmarkRow row;
+        row.K_used = K_used;
+        if (K_used > report.K) {
+            row.skipped = true;
+            report.rows.push_back(row);
+            continue;
+        }
+        CameraController camera(config.draw.camera, bounds);
+        DrawSettings settings = config.draw;
+        settings.K_used = K_used;
+        const float step = 2.0f * 3.14159265f / float(options.frames);
+        auto frame = [&] {
+            if (options.rotate_light) {
+                light.drag(2.0, 0.0, {1, 0, 0});
+                renderer.set_light(light.light());
+            }
+            camera.orbit_by(step);
+            settings.camera = camera.camera();
+            draw_frame(renderer, target, settings, config.exposure, display.framebuffer());
+            glFinish();
+        };
+        for (int i = 0; i < options.warmup_frames; ++i) frame();
+        double min_s = std::numeric_limits<double>::max(), max_s = 0;
+        const double cpu_start = process_cpu_seconds();
+        const auto start = Clock::now();
+        auto last = start;
+        for (int i = 0; i < options.frames; ++i) {
+            frame();
+            const auto now = Clock::now();
+            const double s = std::chrono::duration<double>(now - last).count();
+            min_s = std::min(min_s, s);
+            max_s = std::max(max_s, s);
+            last = now;
+        }
+        row.cpu_ms = 1e3 * (process_cpu_seconds() - cpu_start) / options.frames;
+        row.frames = options.frames;
+        row.seconds = std::chrono::duration<double>(last - start).count();
+        row.fps = row.seconds > 0 ? row.frames / row.seconds : 0;
+        row.mean_ms = 1e3 * row.seconds / row.frames;
+        row.min_ms = 1e3 * min_s;
+        row.max_ms = 1e3 * max_s;
+        report.rows.push_back(row);
+    }
+    const BenchmarkRow* at32 = nullptr;
+    const BenchmarkRow* at256 = nullptr;
+    for (const auto& row : report.rows) {
+        if (row.skipped) continue;
+        if (row.K_used == 32) at32 = &row;
+        if (row.K_used == 256) at256 = &row;
+    }
+    if (at32 && at256 && at32->mean_ms > 0) report.ratio_256_32 = at256->mean_ms / at32->mean_ms;
+    return report;
+}
+
+std::string format_benchmark(const BenchmarkReport& r) {
+    std::string out =
+        fmt::format("benchmark: {} vertices, {} triangles, K={}, {}x{}, {}x MSAA, k={}{}; {}\n",
+                    r.vertices, r.triangles, r.K, r.width, r.height, r.msaa, r.k,
+                    r.rotate_light ? ", light turned every frame" : "", r.context);
+    for (const auto& row : r.rows) {
+        if (row.skipped) {
+            out += fmt::format("K'={:<4} skipped: larger than the file's K={}\n", row.K_used, r.K);
+            continue;
+        }
+        out += fmt::format(
+            "K'={:<4} frames={}  fps={:.1f}  mean_ms={:.2f}  min_ms={:.2f}  max_ms={:.2f}  "
+            "cpu_ms={:.2f}\n",
+            row.K_used, row.frames, row.fps, row.mean_ms, row.min_ms, row.max_ms, row.cpu_ms);
+    }
+    if (r.ratio_256_32 > 0)
+        out += fmt::format("frame time K'=256 / K'=32: {:.3f}\n", r.ratio_256_32);
+    else
+        out += "frame time K'=256 / K'=32: n/a (needs both)\n";
+    return out;
+}
+
+}  // namespace shprt::viewer

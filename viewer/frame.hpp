@@ -1,0 +1,68 @@
+// One displayed frame, the same in the window, in --screenshot and in --benchmark: the scene is
+// drawn by the shared Renderer into a multisampled float target, resolved, then presented
+// (exposure, ACES filmic tone map, sRGB: Renderer::present, the GPU twin of save_image's PNG
+// encoding) into an 8-bit framebuffer — the window's, or a DisplayTarget when headless.
+// Every function needs a current OpenGL 4.3 core context.
+#pragma once
+
+#include "shprt/render/renderer.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace shprt::viewer {
+
+// What the command line and the panel decide about a frame, besides the light.
+struct FrameConfig {
+    DrawSettings draw;   // camera, k, gloss, K', view, wireframe, background
+    float exposure = 1;  // > 0
+    int width = 1280, height = 720;
+    int msaa = 4;  // samples of the float target (as `shprt render --samples`)
+};
+
+// Draws the scene into `target` (bind, Renderer::draw, resolve), then presents it into
+// `framebuffer` (0 = the window's default framebuffer) with viewport (0, 0, width, height) of
+// the target's size.
+void draw_frame(Renderer& renderer, RenderTarget& target, const DrawSettings& settings,
+                float exposure, unsigned framebuffer);
+
+// An 8-bit sRGB picture, rows top first, three bytes per pixel.
+struct Rgb8Image {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgb;
+};
+
+// An offscreen RGBA8 framebuffer standing in for a window's: the present pass writes display
+// values into it.
+class DisplayTarget {
+public:
+    // Throws Error(unsupported) if the framebuffer is incomplete.
+    DisplayTarget(int width, int height);
+    ~DisplayTarget();
+    DisplayTarget(const DisplayTarget&) = delete;
+    DisplayTarget& operator=(const DisplayTarget&) = delete;
+
+    unsigned framebuffer() const { return m_fbo; }
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+private:
+    int m_width, m_height;
+    unsigned m_fbo = 0, m_color_rb = 0;
+};
+
+// Reads the colour buffer of `framebuffer` (0 = the default framebuffer's back buffer), rows top
+// first. Waits for rendering to finish.
+Rgb8Image read_framebuffer(unsigned framebuffer, int width, int height);
+
+// The first `count` floats of the OpenGL buffer object `buffer` (e.g. Renderer::transfer_buffer()),
+// read back to the host: for tests and diagnostics. Throws Error(invalid_argument) if the buffer
+// is smaller.
+std::vector<float> read_gl_buffer(unsigned buffer, std::size_t count);
+
+// Writes an 8-bit RGB PNG through AtomicFile (Error(io) naming the path on failure).
+void save_png(const std::string& path, const Rgb8Image& image);
+
+}  // namespace shprt::viewer

@@ -1,0 +1,80 @@
+// The viewer's light: full-band source + rotation by drag (light_rig.hpp). Rotation of SH
+// coefficients: Ivanic & Ruedenberg 1996 (through light/light.hpp's rotate_light).
+#include "light_rig.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/core/rotation3.hpp"
+#include "shprt/sh/basis.hpp"
+
+#include <cmath>
+
+namespace shprt::viewer {
+namespace {
+
+bool is_identity(const Mat3d& R) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (R.m[i][j] != (i == j ? 1.0 : 0.0)) return false;
+    return true;
+}
+
+// Gram–Schmidt on the rows: thousands of small drags must not drift away from a rotation.
+Mat3d orthonormalize(const Mat3d& R) {
+    Vec3d a{R.m[0][0], R.m[0][1], R.m[0][2]}, b{R.m[1][0], R.m[1][1], R.m[1][2]};
+    a = normalize(a);
+    b = normalize(b - a * dot(a, b));
+    const Vec3d c = cross(a, b);
+    return {{{a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z}}};
+}
+
+}  // namespace
+
+Mat3d light_drag_rotation(double dx_px, double dy_px, Vec3d right) {
+    const Mat3d yaw = rotation_y(dx_px * kLightRadiansPerPixel);
+    const double n = length(right);
+    if (!(n > 0) || dy_px == 0) return yaw;
+    const Mat3d pitch =
+        matrix_from_quat(quat_from_axis_angle(right / n, dy_px * kLightRadiansPerPixel));
+    return pitch * yaw;
+}
+
+LightRig::LightRig(int K) : m_K(K) {
+    SHPRT_CHECK(K >= 1 && K <= kMaxLightK, invalid_argument,
+                "light basis size K = {} is outside 1..{}", K, kMaxLightK);
+}
+
+void LightRig::set_source(const LightSetup& setup) {
+    LightSetup unrotated = setup;
+    unrotated.yaw_pitch_roll_deg = {0, 0, 0};
+    // prepare_light at a full-band K: projection and window, no rotation, no truncation.
+    ShLight source = prepare_light(unrotated, sh_count(sh_bands_for(m_K)));
+    const Vec3d a = setup.yaw_pitch_roll_deg;
+    m_base = (a.x != 0 || a.y != 0 || a.z != 0) ? matrix_from_yaw_pitch_roll_deg(a.x, a.y, a.z)
+                                                : Mat3d::identity();
+    m_source = std::move(source);
+    m_setup = setup;
+    m_has_source = true;
+}
+
+void LightRig::drag(double dx_px, double dy_px, Vec3d right) {
+    if (dx_px == 0 && dy_px == 0) return;
+    m_drag = orthonormalize(light_drag_rotation(dx_px, dy_px, right) * m_drag);
+}
+
+void LightRig::reset_drag() { m_drag = Mat3d::identity(); }
+
+Mat3d LightRig::rotation() const { return m_drag * m_base; }
+
+ShLight LightRig::light() const {
+    SHPRT_CHECK(m_has_source, invalid_argument, "LightRig::light before set_source");
+    ShLight full = m_source;
+    const Mat3d R = rotation();
+    if (!is_identity(R)) rotate_light(full, R);
+    if (full.K == m_K) return full;
+    ShLight out = ShLight::zero(m_K);
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < m_K; ++i) out.channel(c)[i] = full.channel(c)[i];
+    return out;
+}
+
+}  // namespace shprt::viewer

@@ -1,0 +1,137 @@
+// The viewer's ImGui panel (panel.hpp).
+#include "panel.hpp"
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+namespace shprt::viewer {
+namespace {
+
+const char* const kViewNames[] = {"radiance", "irradiance", "transfer (AO-like)"};
+const char* const kWindowNames[] = {"none", "hann", "lanczos", "sloan"};
+
+bool choice_label(void* data, int index, const char** out) {
+    const auto* choices = static_cast<const std::vector<LightChoice>*>(data);
+    *out = (*choices)[static_cast<std::size_t>(index)].label.c_str();
+    return true;
+}
+
+void help_marker(const char* text) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("(?)");
+    if (ImGui::IsItemHovered()) {
+        ImGui::BeginTooltip();
+        ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30.0f);
+        ImGui::TextUnformatted(text);
+        ImGui::PopTextWrapPos();
+        ImGui::EndTooltip();
+    }
+}
+
+void light_section(PanelState& s) {
+    int choice = std::max(s.choice, 0);
+    if (ImGui::Combo("light", &choice, choice_label, &s.choices,
+                     static_cast<int>(s.choices.size()))) {
+        s.choice = choice;
+        s.light_source_changed = true;
+    }
+    ImGui::InputTextWithHint("##spec", "spec, e.g. sun:1,2,1 or sky.hdr", &s.typed_spec);
+    ImGui::SameLine();
+    if (ImGui::Button("apply") && !s.typed_spec.empty()) {
+        s.choice = -1;
+        s.light_source_changed = true;
+    }
+    if (s.choice < 0) ImGui::TextDisabled("typed: %s", s.typed_spec.c_str());
+    if (ImGui::Combo("window", &s.window, kWindowNames, IM_ARRAYSIZE(kWindowNames)))
+        s.light_source_changed = true;
+    if (s.window != 0 && ImGui::SliderFloat("strength", &s.window_strength, 0.0f, 64.0f, "%.1f"))
+        s.light_source_changed = true;
+    if (s.window != 0)
+        help_marker("0 = the window's default (width for hann/lanczos, lambda for sloan)");
+    if (ImGui::Button("reset rotation")) s.reset_light_rotation = true;
+    help_marker(
+        "Shift+drag or Ctrl+drag in the picture turns the light (an SH rotation of the "
+        "coefficients): left/right about the vertical axis, up/down about the screen's "
+        "horizontal axis.");
+    if (!s.light_error.empty())
+        ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s", s.light_error.c_str());
+}
+
+void shading_section(PanelState& s) {
+    ImGui::Combo("view", &s.view, kViewNames, IM_ARRAYSIZE(kViewNames));
+    ImGui::SliderFloat("exposure", &s.exposure, 0.01f, 100.0f, "%.3f",
+                       ImGuiSliderFlags_Logarithmic);
+    ImGui::SliderFloat("k (diffuse)", &s.k, 0.0f, 1.0f, "%.2f");
+    help_marker("L = k·L_D + (1-k)·L_S: 1 = pure diffuse, 0 = pure glossy");
+    ImGui::SliderFloat("gloss", &s.gloss, 1.0f, 256.0f, "%.1f", ImGuiSliderFlags_Logarithmic);
+    s.K_used = std::clamp(s.K_used, 1, std::max(s.K_max, 1));
+    ImGui::SliderInt("K'", &s.K_used, 1, std::max(s.K_max, 1), "%d", ImGuiSliderFlags_AlwaysClamp);
+    help_marker(
+        "Basis size used: the first K' coefficients of transfer and light (truncation; "
+        "only full bands n² are rotation invariant).");
+    ImGui::Checkbox("wireframe", &s.wireframe);
+    ImGui::SameLine();
+    ImGui::Checkbox("background", &s.background);
+}
+
+void camera_section(PanelState& s) {
+    const int before = s.camera_mode;
+    ImGui::RadioButton("orbit", &s.camera_mode, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("fly", &s.camera_mode, 1);
+    if (s.camera_mode != before) s.camera_mode_changed = true;
+    ImGui::SameLine();
+    if (ImGui::Button("reset")) s.reset_camera = true;
+    help_marker(
+        "Drag: turn (orbit around the target / look around). Right or middle drag: pan. "
+        "Wheel: zoom (orbit) or move forward (fly). W/A/S/D, Q/E: move. Tab: orbit/fly.");
+    ImGui::SliderFloat("speed", &s.fly_speed, 0.01f, 100.0f, "%.2f /s",
+                       ImGuiSliderFlags_Logarithmic);
+}
+
+}  // namespace
+
+std::vector<LightChoice> light_choices(const std::vector<std::string>& command_line_specs) {
+    std::vector<LightChoice> out = {
+        {"builtin (sky + sun)", {"builtin"}},
+        {"constant (white sky)", {"constant"}},
+        {"gradient (sky)", {"gradient"}},
+        {"sun (overhead)", {"sun:0.3,1,0.2"}},
+    };
+    for (const auto& spec : command_line_specs) out.push_back({spec, {spec}});
+    if (command_line_specs.size() > 1) out.push_back({"command line (sum)", command_line_specs});
+    return out;
+}
+
+void draw_panel(PanelState& s) {
+    s.light_source_changed = s.reset_light_rotation = s.reset_camera = s.camera_mode_changed =
+        false;
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    if (!ImGui::Begin("shprt view")) {
+        ImGui::End();
+        return;
+    }
+    ImGui::TextWrapped("%s", s.scene_label.c_str());
+    ImGui::Text("%.1f frames/s, %.2f ms/frame", s.fps, s.frame_ms);
+    ImGui::SameLine();
+    ImGui::Checkbox("vsync", &s.vsync);
+    if (s.baking || !s.bake_status.empty()) {
+        char overlay[32];
+        std::snprintf(overlay, sizeof overlay, "%.0f %%", 100.0 * s.bake_fraction);
+        if (s.baking) ImGui::ProgressBar(s.bake_fraction, ImVec2(-1, 0), overlay);
+        if (!s.bake_status.empty()) ImGui::TextWrapped("%s", s.bake_status.c_str());
+    }
+    if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_section(s);
+    if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) shading_section(s);
+    if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) camera_section(s);
+    if (ImGui::CollapsingHeader("OpenGL")) ImGui::TextWrapped("%s", s.gl_label.c_str());
+    ImGui::End();
+}
+
+}  // namespace shprt::viewer
