@@ -8,9 +8,9 @@
 // and then projected by one cblas_sgemm on the same thread, whose W is still in its cache.
 // OpenBLAS is told to use one thread: it would otherwise run its own pthreads inside every call
 // and fight the TBB workers for the same cores (oversubscription: T workers × T BLAS threads on T
-// cores, each waking and spinning), and a chunk's product would depend on how OpenBLAS split it. With one BLAS thread
-// per chunk, each chunk's coefficients depend only on that chunk's data: bit-identical results
-// for any thread count.
+// cores, each waking and spinning), and a chunk's product would depend on how OpenBLAS split it.
+// With one BLAS thread per chunk, each chunk's coefficients depend only on that chunk's data:
+// bit-identical results for any thread count.
 #include "bake/bake_internal.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/sh/projection.hpp"

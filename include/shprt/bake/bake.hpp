@@ -47,8 +47,10 @@ struct BakeOptions {
     std::uint32_t samples = 1024;  // S ≥ 1 directions (ignored when a DirectionSet is passed)
     SamplerKind sampler = SamplerKind::uniform;  // (ignored when a DirectionSet is passed)
     std::uint64_t seed = 1;
-    int threads = 0;              // worker threads; 0 = all hardware threads
-    Device device = Device::cpu;  // automatic = cpu in this build; cuda throws Error(unsupported)
+    int threads = 0;  // worker threads; 0 = all hardware threads
+    // cpu; cuda (the GPU bake; Error(unsupported) with the reason where it cannot run); or
+    // automatic (the GPU where one is usable, else the CPU). See choose_backend in bake.cpp.
+    Device device = Device::cpu;
     // Vertices per chunk (one W[chunk×S] buffer and one SGEMM each); 0 = automatic, from V and S
     // only. The partition never depends on the thread count.
     std::size_t chunk_vertices = 0;
@@ -70,8 +72,9 @@ struct BakeOptions {
 // thread count is a process-wide setting, set to 1 for the bake and restored afterwards (so do
 // not run OpenBLAS work of your own concurrently with a bake and expect its thread count).
 // Throws Error(invalid_argument) for K outside 1..1024, samples = 0, an empty mesh or a normal
-// count that differs from the vertex count; Error(unsupported) for Device::cuda in a build
-// without a CUDA bake; Error(cancelled) when the progress callback returns false.
+// count that differs from the vertex count; Error(unsupported) for Device::cuda where no GPU
+// bake can run (no CUDA in the build, or no usable device); Error(cancelled) when the progress
+// callback returns false.
 TransferSet bake(const Mesh& mesh, const BakeOptions& options);
 
 // As above with an explicit direction set (e.g. an exact quadrature set in tests); options.samples

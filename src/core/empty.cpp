@@ -1,1 +1,0 @@
-// Keeps every area library non-empty while its sources are being written.
