@@ -7,7 +7,7 @@
 // reports on stdout.
 #include "shprt/config.hpp"
 
-#if SHPRT_HAS_GL  // the viewer is built (SHPRT_BUILD_VIEWER)
+#if SHPRT_HAS_VIEWER
 
 #include "common/bake_options.hpp"
 #include "common/command.hpp"
@@ -272,4 +272,4 @@ const bool registered = register_command(
 }  // namespace
 }  // namespace shprt::tools
 
-#endif  // SHPRT_HAS_GL
+#endif  // SHPRT_HAS_VIEWER
