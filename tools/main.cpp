@@ -31,10 +31,18 @@ int main(int argc, char** argv) {
     app.parse_complete_callback([&] { logger->set_level(spdlog::level::from_str(log_level)); });
     shprt::set_log_sink([logger](shprt::LogLevel level, std::string_view message) {
         switch (level) {
-            case shprt::LogLevel::debug: logger->debug("{}", message); break;
-            case shprt::LogLevel::info: logger->info("{}", message); break;
-            case shprt::LogLevel::warn: logger->warn("{}", message); break;
-            case shprt::LogLevel::error: logger->error("{}", message); break;
+            case shprt::LogLevel::debug:
+                logger->debug("{}", message);
+                break;
+            case shprt::LogLevel::info:
+                logger->info("{}", message);
+                break;
+            case shprt::LogLevel::warn:
+                logger->warn("{}", message);
+                break;
+            case shprt::LogLevel::error:
+                logger->error("{}", message);
+                break;
         }
     });
 

@@ -26,8 +26,8 @@ std::vector<Dir> random_dirs(int n, unsigned seed) {
     std::vector<Dir> dirs;
     for (int i = 0; i < n; ++i) {
         const double theta = std::acos(1.0 - 2.0 * u(rng)), phi = 2.0 * kPi * u(rng);
-        dirs.push_back({theta, phi, std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                        std::cos(theta)});
+        dirs.push_back({theta, phi, std::sin(theta) * std::cos(phi),
+                        std::sin(theta) * std::sin(phi), std::cos(theta)});
     }
     // The poles and the equator are where recurrences usually break.
     dirs.push_back({0.0, 0.0, 0.0, 0.0, 1.0});
@@ -162,7 +162,8 @@ TEST(ShBasis, OrthonormalByExactQuadrature30Bands) {
     }
     double worst = 0;
     for (int i = 0; i < K; ++i)
-        for (int j = i; j < K; ++j) worst = std::max(worst, std::abs(gram[size_t(i) * K + j] - (i == j)));
+        for (int j = i; j < K; ++j)
+            worst = std::max(worst, std::abs(gram[size_t(i) * K + j] - (i == j)));
     EXPECT_LT(worst, 1e-10);
 }
 

@@ -13,7 +13,8 @@ std::vector<Command>& registry() {
 bool register_command(Command command) {
     auto& r = registry();
     r.push_back(std::move(command));
-    std::stable_sort(r.begin(), r.end(), [](const Command& a, const Command& b) { return a.order < b.order; });
+    std::stable_sort(r.begin(), r.end(),
+                     [](const Command& a, const Command& b) { return a.order < b.order; });
     return true;
 }
 

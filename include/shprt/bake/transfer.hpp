@@ -28,7 +28,7 @@ struct BakeStats {
     std::uint64_t rays_cast = 0;        // rays actually traced (below-horizon rays are not cast)
     std::uint64_t peak_bytes_host = 0;  // bake's own peak working memory, host
     std::uint64_t peak_bytes_device = 0;
-    std::string device_name;            // "cpu: 2 threads" or the GPU's name
+    std::string device_name;  // "cpu: 2 threads" or the GPU's name
 };
 
 // Transfer coefficients, vertex-major: coeffs[(v * channels + c) * K + i] is coefficient i (flat

@@ -41,8 +41,8 @@ template <class... Args>
 
 // Checks an input condition in every build type; on failure throws shprt::Error with `code`
 // (an ErrorCode enumerator name) and a fmt-formatted message.
-#define SHPRT_CHECK(cond, code, ...)                                   \
-    do {                                                               \
+#define SHPRT_CHECK(cond, code, ...)                                       \
+    do {                                                                   \
         if (!(cond)) ::shprt::fail(::shprt::ErrorCode::code, __VA_ARGS__); \
     } while (0)
 

@@ -17,8 +17,17 @@ using LogSink = std::function<void(LogLevel, std::string_view)>;
 void set_log_sink(LogSink sink);
 void log_message(LogLevel level, std::string_view message);
 
-template <class... Args> void log_debug(fmt::format_string<Args...> f, Args&&... a) { log_message(LogLevel::debug, fmt::format(f, std::forward<Args>(a)...)); }
-template <class... Args> void log_info(fmt::format_string<Args...> f, Args&&... a) { log_message(LogLevel::info, fmt::format(f, std::forward<Args>(a)...)); }
-template <class... Args> void log_warn(fmt::format_string<Args...> f, Args&&... a) { log_message(LogLevel::warn, fmt::format(f, std::forward<Args>(a)...)); }
+template <class... Args>
+void log_debug(fmt::format_string<Args...> f, Args&&... a) {
+    log_message(LogLevel::debug, fmt::format(f, std::forward<Args>(a)...));
+}
+template <class... Args>
+void log_info(fmt::format_string<Args...> f, Args&&... a) {
+    log_message(LogLevel::info, fmt::format(f, std::forward<Args>(a)...));
+}
+template <class... Args>
+void log_warn(fmt::format_string<Args...> f, Args&&... a) {
+    log_message(LogLevel::warn, fmt::format(f, std::forward<Args>(a)...));
+}
 
 }  // namespace shprt
