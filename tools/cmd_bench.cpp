@@ -1,0 +1,108 @@
+// `shprt bench paper`: the paper's results table reproduced with measurements (bench_paper.hpp;
+// definitions in docs/paper_table.md). Thin: checks the options, runs, prints the table.
+//
+//   shprt bench paper [--device cpu|cuda|both|auto] [--samples S] [--sampler NAME] [--extended]
+//                     [--quick] [--gt-samples N] [--triangles N] [--frames N] [--threads N]
+//                     [--seed N] [--no-study] [--no-images] [-o DIR]
+#include "bench_paper.hpp"
+#include "common/command.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/scene/room.hpp"
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+namespace shprt::tools {
+namespace {
+
+struct PaperArgs {
+    paper::Options options;
+    std::string sampler = "uniform";
+    long long samples = 4096, gt_samples = 16384, triangles = 20000, frames = 30, threads = 0;
+    bool no_study = false, no_images = false;
+};
+
+void run_paper(PaperArgs a, const std::string& command_line) {
+    paper::Options& o = a.options;
+    SHPRT_CHECK(o.device == "cpu" || o.device == "cuda" || o.device == "both" || o.device == "auto",
+                invalid_argument, "--device '{}': expected cpu, cuda, both or auto", o.device);
+    o.sampler = parse_sampler_kind(a.sampler);
+    if (o.quick) {
+        // A tiny run (tests, smoke checks): a small room and few samples, unless given.
+        if (a.samples == 4096) a.samples = 256;
+        if (a.gt_samples == 16384) a.gt_samples = 256;
+        if (a.triangles == 20000) a.triangles = 2000;
+        if (a.frames == 30) a.frames = 3;
+    }
+    SHPRT_CHECK(a.samples >= 1 && a.samples <= (1 << 24), invalid_argument,
+                "--samples {}: must be in [1, 2^24]", a.samples);
+    SHPRT_CHECK(a.gt_samples >= 4 && a.gt_samples <= (1 << 20), invalid_argument,
+                "--gt-samples {}: must be in [4, 2^20]", a.gt_samples);
+    SHPRT_CHECK(a.triangles >= static_cast<long long>(kRoomMinTriangles) &&
+                    a.triangles <= static_cast<long long>(kRoomMaxTriangles),
+                invalid_argument, "--triangles {}: must be in [{}, {}]", a.triangles,
+                kRoomMinTriangles, kRoomMaxTriangles);
+    SHPRT_CHECK(a.frames >= 1 && a.frames <= 100000, invalid_argument,
+                "--frames {}: must be in [1, 100000]", a.frames);
+    SHPRT_CHECK(a.threads >= 0 && a.threads <= 4096, invalid_argument,
+                "--threads {}: must be ≥ 0 (0 = all)", a.threads);
+    SHPRT_CHECK(!o.out_dir.empty(), invalid_argument, "-o: empty output directory");
+    o.samples = static_cast<std::uint32_t>(a.samples);
+    o.gt_samples = static_cast<std::uint32_t>(a.gt_samples);
+    o.triangles = static_cast<std::size_t>(a.triangles);
+    o.frames = static_cast<int>(a.frames);
+    o.threads = static_cast<int>(a.threads);
+    o.study = !a.no_study;
+    o.images = !a.no_images;
+    const paper::Results r = paper::run(o, command_line);
+    std::printf("%s\n", paper::markdown_table(r).c_str());
+    for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
+    std::printf("wrote %zu files to %s (paper_table.md, paper_table.csv, ...) in %.1f s\n",
+                r.files.size(), o.out_dir.c_str(), r.seconds_total);
+}
+
+const bool registered = register_command(
+    {"bench", "Benchmarks: `bench paper` reproduces the paper's table with measurements", 80,
+     [](CLI::App& app) {
+         app.require_subcommand(1);
+         CLI::App* p = app.add_subcommand(
+             "paper",
+             "The paper's table on the built-in room: precompute time, display rate and "
+             "quality against a ground truth, per basis size (docs/paper_table.md)");
+         auto args = std::make_shared<PaperArgs>();
+         p->add_option("-o,--output", args->options.out_dir,
+                       "Output directory (default out/paper)");
+         p->add_option("--device", args->options.device,
+                       "cpu, cuda, both, or auto (default: CPU, plus the GPU when present)");
+         p->add_option("--samples", args->samples, "Directions S per bake (default 4096)");
+         p->add_option("--sampler", args->sampler,
+                       "Sampler of the table's bakes (default uniform: the paper's)");
+         p->add_flag("--extended", args->options.extended,
+                     "Add full bands 16, 25, 36, ... 1024 to the paper's sizes");
+         p->add_flag("--quick", args->options.quick,
+                     "Tiny run (2000-triangle room, S = 256, ground truth 256): for tests");
+         p->add_option("--gt-samples", args->gt_samples,
+                       "Ground truth: sky directions per vertex (sun: a quarter; default 16384)");
+         p->add_option("--triangles", args->triangles, "Room size in triangles (default 20000)");
+         p->add_option("--frames", args->frames, "Display benchmark: frames per K' (default 30)");
+         p->add_option("--threads", args->threads, "Worker threads (default 0: all)");
+         p->add_option("--seed", args->options.seed, "Seed of the bakes (default 1)");
+         p->add_flag("--no-study", args->no_study, "Skip the sampling study");
+         p->add_flag("--no-images", args->no_images,
+                     "Skip renders, the edge measurement and the display rate (no OpenGL)");
+         p->callback([args, p] {
+             // CLI11 does not keep the raw command line; rebuild it from the options given.
+             std::string line = "shprt bench paper";
+             for (const CLI::Option* opt : p->get_options()) {
+                 if (opt->count() == 0 || opt->get_name() == "--help") continue;
+                 line += " " + opt->get_name();
+                 if (opt->get_expected_min() > 0) line += " " + opt->as<std::string>();
+             }
+             run_paper(*args, line);
+         });
+     }});
+
+}  // namespace
+}  // namespace shprt::tools
