@@ -141,17 +141,7 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(V > 0 && mesh.triangle_count() > 0, invalid_argument,
                 "mesh {} has no triangles to draw", mesh.source);
-    SHPRT_CHECK(transfer.K > 0 && (transfer.channels == 1 || transfer.channels == 3),
-                invalid_argument,
-                "transfer has K = {} and {} channels (need K > 0, 1 or 3 channels)", transfer.K,
-                transfer.channels);
-    SHPRT_CHECK(transfer.coeffs.size() == V * transfer.channels * std::size_t(transfer.K),
-                invalid_argument,
-                "transfer holds {} floats, expected {} vertices × {} channels × {}",
-                transfer.coeffs.size(), V, transfer.channels, transfer.K);
-    SHPRT_CHECK(mesh.normals.size() == V && mesh.albedo.size() == V, invalid_argument,
-                "mesh {} has {} vertices but {} normals and {} albedo values", mesh.source, V,
-                mesh.normals.size(), mesh.albedo.size());
+    check_scene_transfer(mesh, transfer);
     for (const auto& t : mesh.triangles)
         SHPRT_CHECK(t[0] < V && t[1] < V && t[2] < V, invalid_argument,
                     "mesh {}: triangle index out of range ({} vertices)", mesh.source, V);

@@ -23,6 +23,15 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 void check_inputs(const Mesh& mesh, const TransferSet& transfer, const ShLight& light) {
+    check_scene_transfer(mesh, transfer);
+    SHPRT_CHECK(light.K > 0 && light.coeffs.size() == 3 * std::size_t(light.K), invalid_argument,
+                "light has K = {} and {} coefficients (expected 3 × K)", light.K,
+                light.coeffs.size());
+}
+
+}  // namespace
+
+void check_scene_transfer(const Mesh& mesh, const TransferSet& transfer) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(transfer.K > 0 && (transfer.channels == 1 || transfer.channels == 3),
                 invalid_argument,
@@ -35,12 +44,7 @@ void check_inputs(const Mesh& mesh, const TransferSet& transfer, const ShLight& 
     SHPRT_CHECK(mesh.normals.size() == V && mesh.albedo.size() == V, invalid_argument,
                 "mesh {} has {} vertices but {} normals and {} albedo values", mesh.source, V,
                 mesh.normals.size(), mesh.albedo.size());
-    SHPRT_CHECK(light.K > 0 && light.coeffs.size() == 3 * std::size_t(light.K), invalid_argument,
-                "light has K = {} and {} coefficients (expected 3 × K)", light.K,
-                light.coeffs.size());
 }
-
-}  // namespace
 
 int effective_basis_size(const TransferSet& transfer, const ShLight& light, int K_used) {
     SHPRT_CHECK(K_used >= 0, invalid_argument, "basis size K' = {} is negative", K_used);

@@ -61,6 +61,11 @@ struct ShadeResult {
     std::vector<Vec3f> radiance;    // L = k·L_D + (1−k)·L_S, per vertex, input order
 };
 
+// Checks that `transfer` fits `mesh`: K > 0, 1 or 3 channels, V·channels·K coefficients, and
+// normals and albedo for every vertex; throws Error(invalid_argument) naming what is wrong.
+// Shared by shade_vertices and the OpenGL renderer.
+void check_scene_transfer(const Mesh& mesh, const TransferSet& transfer);
+
 // Shades every vertex (formulas above) on the CPU in double precision, in parallel (TBB); the
 // result does not depend on the thread count. Preconditions, checked (Error(invalid_argument)):
 // transfer.vertex_count() == mesh.vertex_count(), channels 1 or 3, mesh normals and albedo
