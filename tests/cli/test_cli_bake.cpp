@@ -3,6 +3,8 @@
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/builtin.hpp"
 
+#include "cli/cli_test.hpp"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,45 +20,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct RunResult {
-    int exit_code;
-    std::string out, err;
-};
+using shprt::test_support::RunResult;
+using shprt::test_support::slurp;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-class CliBake : public ::testing::Test {
-protected:
-    void SetUp() override {
-        m_dir = fs::temp_directory_path() /
-                ("shprt_cli_bake_" + std::to_string(::getpid()) + "_" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir / "out");
-    }
-    void TearDown() override { fs::remove_all(m_dir); }
-
-    // Runs `shprt ARGS` with stdout and stderr captured (neither is a terminal).
-    RunResult shprt(const std::string& args) {
-        const std::string cmd = std::string("'") + SHPRT_CLI_PATH + "' " + args + " >'" +
-                                (m_dir / "stdout").string() + "' 2>'" +
-                                (m_dir / "stderr").string() + "' </dev/null";
-        const int status = std::system(cmd.c_str());
-        RunResult r{WIFEXITED(status) ? WEXITSTATUS(status) : 128, slurp(m_dir / "stdout"),
-                    slurp(m_dir / "stderr")};
-        return r;
-    }
-
-    std::string out(const std::string& name) const { return (m_dir / "out" / name).string(); }
-    bool out_dir_empty() const { return fs::is_empty(m_dir / "out"); }
-
-    fs::path m_dir;
-};
+class CliBake : public shprt::test_support::CliTest {};
 
 TEST_F(CliBake, BakesABuiltinSceneIntoAReadableFile) {
     const std::string file = out("box.shprt");
