@@ -443,7 +443,7 @@ ShprtFile Reader::read() {
         // A branch-free max over the exponent bits first (it vectorises), the search on failure.
         std::uint32_t worst = 0;
         for (std::size_t i = 0; i < n; ++i)
-            worst = std::max(worst, detail::float_bits(p[i]) & 0x7f800000u);
+            worst = std::max(worst, float_as_u32(p[i]) & 0x7f800000u);
         if (worst != 0x7f800000u) return;
         for (std::size_t i = 0; i < n; ++i)
             if (!std::isfinite(p[i])) corrupt(m_path, "{}: value {} is not finite", what, i);

@@ -62,11 +62,10 @@ void for_each_chunk(const SectionOut& s, Fn&& fn) {
 // A branch-free max over the bits first (it vectorises), the search only on failure.
 std::size_t first_magnitude_at_or_above(const float* p, std::size_t n, std::uint32_t limit_bits) {
     std::uint32_t worst = 0;
-    for (std::size_t i = 0; i < n; ++i)
-        worst = std::max(worst, detail::float_bits(p[i]) & 0x7fffffffu);
+    for (std::size_t i = 0; i < n; ++i) worst = std::max(worst, float_as_u32(p[i]) & 0x7fffffffu);
     if (worst < limit_bits) return n;
     for (std::size_t i = 0; i < n; ++i)
-        if ((detail::float_bits(p[i]) & 0x7fffffffu) >= limit_bits) return i;
+        if ((float_as_u32(p[i]) & 0x7fffffffu) >= limit_bits) return i;
     return n;
 }
 

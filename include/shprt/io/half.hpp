@@ -7,37 +7,12 @@
 // normal values.
 #pragma once
 
+#include "shprt/core/bits.hpp"
 #include "shprt/core/hd.hpp"
 
 #include <cstdint>
-#if !defined(__CUDA_ARCH__)
-#include <cstring>
-#endif
 
 namespace shprt {
-namespace detail {
-
-SHPRT_HD_INLINE std::uint32_t float_bits(float f) {
-#if defined(__CUDA_ARCH__)
-    return __float_as_uint(f);
-#else
-    std::uint32_t u;
-    std::memcpy(&u, &f, sizeof u);
-    return u;
-#endif
-}
-
-SHPRT_HD_INLINE float bits_float(std::uint32_t u) {
-#if defined(__CUDA_ARCH__)
-    return __uint_as_float(u);
-#else
-    float f;
-    std::memcpy(&f, &u, sizeof f);
-    return f;
-#endif
-}
-
-}  // namespace detail
 
 // Nearest binary16 to `f`, ties to even (the IEEE default, and what F16C's VCVTPS2PH with
 // rounding mode 0 and CUDA's __float2half_rn give). Works on the bits, so the result does not
@@ -46,7 +21,7 @@ SHPRT_HD_INLINE float bits_float(std::uint32_t u) {
 //   inf -> inf, NaN -> a quiet NaN of the same sign (top payload bits kept)
 //   |f| < 2^-14 -> a binary16 subnormal (or ±0), float subnormal inputs included
 SHPRT_HD_INLINE std::uint16_t float_to_half(float f) {
-    const std::uint32_t x = detail::float_bits(f);
+    const std::uint32_t x = float_as_u32(f);
     const std::uint32_t sign = (x >> 16) & 0x8000u;
     const std::uint32_t ax = x & 0x7fffffffu;
     if (ax >= 0x7f800000u) {  // inf or NaN
@@ -80,9 +55,9 @@ SHPRT_HD_INLINE float half_to_float(std::uint16_t h) {
     const std::uint32_t sign = (std::uint32_t(h) & 0x8000u) << 16;
     const std::uint32_t e = (std::uint32_t(h) >> 10) & 0x1fu;
     const std::uint32_t m = std::uint32_t(h) & 0x3ffu;
-    if (e == 31u) return detail::bits_float(sign | 0x7f800000u | (m << 13));
-    if (e != 0u) return detail::bits_float(sign | ((e + 112u) << 23) | (m << 13));
-    if (m == 0u) return detail::bits_float(sign);
+    if (e == 31u) return u32_as_float(sign | 0x7f800000u | (m << 13));
+    if (e != 0u) return u32_as_float(sign | ((e + 112u) << 23) | (m << 13));
+    if (m == 0u) return u32_as_float(sign);
     // Subnormal m · 2^-24: shift the leading 1 of m up to the implicit-bit position (bit 10).
     std::uint32_t exp = 113u;  // biased float exponent of 2^-14
     std::uint32_t mant = m;
@@ -90,7 +65,7 @@ SHPRT_HD_INLINE float half_to_float(std::uint16_t h) {
         mant <<= 1;
         --exp;
     }
-    return detail::bits_float(sign | (exp << 23) | ((mant & 0x3ffu) << 13));
+    return u32_as_float(sign | (exp << 23) | ((mant & 0x3ffu) << 13));
 }
 
 }  // namespace shprt

@@ -14,12 +14,12 @@
 // measured in units of |d|). Intervals are open: a hit counts when tmin < t < tmax.
 #pragma once
 
+#include "shprt/core/bits.hpp"
 #include "shprt/core/hd.hpp"
 #include "shprt/core/vec.hpp"
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 
 namespace shprt {
 
@@ -42,26 +42,6 @@ struct Aabb {
 };
 
 namespace detail {
-
-SHPRT_HD_INLINE std::int32_t float_as_int(float f) {
-#if defined(__CUDA_ARCH__)
-    return __float_as_int(f);
-#else
-    std::int32_t i;
-    std::memcpy(&i, &f, sizeof i);
-    return i;
-#endif
-}
-
-SHPRT_HD_INLINE float int_as_float(std::int32_t i) {
-#if defined(__CUDA_ARCH__)
-    return __int_as_float(i);
-#else
-    float f;
-    std::memcpy(&f, &i, sizeof f);
-    return f;
-#endif
-}
 
 // min/max that compile to one instruction on both sides (NaN-free inputs assumed).
 SHPRT_HD_INLINE float fmin2(float a, float b) {
@@ -98,8 +78,7 @@ SHPRT_HD_INLINE Vec3f offset_ray_origin(Vec3f p, Vec3f n) {
         const float pi = p[i], ni = n[i];
         const std::int32_t step = static_cast<std::int32_t>(kIntScale * ni);
         // Adding to the bit pattern of a negative float moves it away from zero, hence the sign.
-        const float stepped =
-            detail::int_as_float(detail::float_as_int(pi) + (pi < 0 ? -step : step));
+        const float stepped = i32_as_float(float_as_i32(pi) + (pi < 0 ? -step : step));
         out[i] = std::fabs(pi) < kOrigin ? pi + kFloatScale * ni : stepped;
     }
     return out;
