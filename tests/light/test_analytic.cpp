@@ -7,6 +7,8 @@
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
 
+#include "light/light_test_util.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,31 +20,11 @@
 namespace shprt {
 namespace {
 
+using test_support::cosine_weights;
+using test_support::irradiance;
+
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
-
-// Clamped-cosine convolution weights Â_l = 2π ∫₀¹ t P_l(t) dt (Ramamoorthi & Hanrahan 2001):
-// π, 2π/3, then 2π a_l with a_2 = 1/8, a_{l+2} = −(l−1)/(l+4) a_l for even l, 0 for odd l ≥ 3.
-std::vector<double> cosine_weights(int bands) {
-    std::vector<double> A(bands, 0.0);
-    A[0] = kPi;
-    if (bands > 1) A[1] = 2.0 * kPi / 3.0;
-    double a = 1.0 / 8.0;
-    for (int l = 2; l < bands; l += 2) {
-        A[l] = 2.0 * kPi * a;
-        a *= -(l - 1.0) / (l + 4.0);
-    }
-    return A;
-}
-
-double irradiance(const ShLight& light, int c, Vec3d n) {
-    const std::vector<double> A = cosine_weights(sh_bands_for(light.K));
-    std::vector<double> y(light.K);
-    sh_eval_k(light.K, n.x, n.y, n.z, y.data());
-    double e = 0.0;
-    for (int i = 0; i < light.K; ++i) e += A[sh_band(i)] * light.channel(c)[i] * y[i];
-    return e;
-}
 
 // Legendre P_0..P_n at x.
 std::vector<double> legendre(int n, double x) {

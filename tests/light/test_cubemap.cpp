@@ -8,6 +8,8 @@
 #include "shprt/light/light.hpp"
 #include "shprt/sh/basis.hpp"
 
+#include "light/light_test_util.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +18,9 @@
 
 namespace shprt {
 namespace {
+
+using test_support::expect_near;
+using test_support::max_abs_diff;
 
 constexpr double kPi = std::numbers::pi;
 
@@ -52,19 +57,6 @@ Image equirect_of(int W, int H, const Sky& f) {
             for (int c = 0; c < 3; ++c) image.pixel(x, y)[c] = float(v[c]);
         }
     return image;
-}
-
-double max_abs_diff(const ShLight& a, const ShLight& b) {
-    double m = 0.0;
-    for (std::size_t i = 0; i < a.coeffs.size(); ++i)
-        m = std::max(m, std::abs(double(a.coeffs[i]) - double(b.coeffs[i])));
-    return m;
-}
-
-void expect_near(Vec3d a, Vec3d b, double tol) {
-    EXPECT_NEAR(a.x, b.x, tol);
-    EXPECT_NEAR(a.y, b.y, tol);
-    EXPECT_NEAR(a.z, b.z, tol);
 }
 
 TEST(CubeMap, TexelSolidAnglesSumTo4Pi) {

@@ -8,6 +8,8 @@
 #include "shprt/light/light.hpp"
 #include "shprt/sh/basis.hpp"
 
+#include "light/light_test_util.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,31 +21,12 @@
 namespace shprt {
 namespace {
 
+using test_support::cosine_weights;
+using test_support::expect_near;
+using test_support::irradiance;
+using test_support::max_abs_diff;
+
 constexpr double kPi = std::numbers::pi;
-
-// Clamped-cosine convolution weights Â_l = 2π ∫₀¹ t P_l(t) dt (Ramamoorthi & Hanrahan 2001):
-// π, 2π/3, then 2π a_l with a_2 = 1/8, a_{l+2} = −(l−1)/(l+4) a_l for even l, 0 for odd l ≥ 3.
-std::vector<double> cosine_weights(int bands) {
-    std::vector<double> A(bands, 0.0);
-    A[0] = kPi;
-    if (bands > 1) A[1] = 2.0 * kPi / 3.0;
-    double a = 1.0 / 8.0;
-    for (int l = 2; l < bands; l += 2) {
-        A[l] = 2.0 * kPi * a;
-        a *= -(l - 1.0) / (l + 4.0);
-    }
-    return A;
-}
-
-// Irradiance of channel c for surface normal n: E = Σ Â_l L_lm y_lm(n).
-double irradiance(const ShLight& light, int c, Vec3d n) {
-    const std::vector<double> A = cosine_weights(sh_bands_for(light.K));
-    std::vector<double> y(light.K);
-    sh_eval_k(light.K, n.x, n.y, n.z, y.data());
-    double e = 0.0;
-    for (int i = 0; i < light.K; ++i) e += A[sh_band(i)] * light.channel(c)[i] * y[i];
-    return e;
-}
 
 Image map_of(int W, int H, const std::function<Vec3d(Vec3d)>& f) {
     Image image = Image::make(W, H);
@@ -55,28 +38,15 @@ Image map_of(int W, int H, const std::function<Vec3d(Vec3d)>& f) {
     return image;
 }
 
-double max_abs_diff(const ShLight& a, const ShLight& b) {
-    double m = 0.0;
-    for (std::size_t i = 0; i < a.coeffs.size(); ++i)
-        m = std::max(m, std::abs(double(a.coeffs[i]) - double(b.coeffs[i])));
-    return m;
-}
-
-void expect_dir(Vec3d a, Vec3d b, double tol) {
-    EXPECT_NEAR(a.x, b.x, tol);
-    EXPECT_NEAR(a.y, b.y, tol);
-    EXPECT_NEAR(a.z, b.z, tol);
-}
-
 TEST(Equirect, OrientationMatchesDesign) {
-    expect_dir(equirect_direction(0.5, 0.5), {0, 0, -1}, 1e-15);   // centre looks toward −Z
-    expect_dir(equirect_direction(0.75, 0.5), {1, 0, 0}, 1e-15);   // right of centre: +X
-    expect_dir(equirect_direction(0.25, 0.5), {-1, 0, 0}, 1e-15);  // left of centre: −X
-    expect_dir(equirect_direction(0.0, 0.5), {0, 0, 1}, 1e-15);    // both edges: +Z
-    expect_dir(equirect_direction(1.0, 0.5), {0, 0, 1}, 1e-15);
-    expect_dir(equirect_direction(0.3, 0.0), {0, 1, 0}, 1e-15);   // row 0: zenith +Y
-    expect_dir(equirect_direction(0.3, 1.0), {0, -1, 0}, 1e-15);  // bottom row: nadir −Y
-    const Vec3f f = equirect_direction(0.75f, 0.5f);              // the float overload
+    expect_near(equirect_direction(0.5, 0.5), {0, 0, -1}, 1e-15);   // centre looks toward −Z
+    expect_near(equirect_direction(0.75, 0.5), {1, 0, 0}, 1e-15);   // right of centre: +X
+    expect_near(equirect_direction(0.25, 0.5), {-1, 0, 0}, 1e-15);  // left of centre: −X
+    expect_near(equirect_direction(0.0, 0.5), {0, 0, 1}, 1e-15);    // both edges: +Z
+    expect_near(equirect_direction(1.0, 0.5), {0, 0, 1}, 1e-15);
+    expect_near(equirect_direction(0.3, 0.0), {0, 1, 0}, 1e-15);   // row 0: zenith +Y
+    expect_near(equirect_direction(0.3, 1.0), {0, -1, 0}, 1e-15);  // bottom row: nadir −Y
+    const Vec3f f = equirect_direction(0.75f, 0.5f);               // the float overload
     EXPECT_NEAR(f.x, 1.0f, 1e-6f);
     // The first pixel row's centre is within half a row of the zenith.
     EXPECT_GT(equirect_pixel_direction<double>(0, 0, 64, 32).y, std::cos(kPi / 32));

@@ -4,6 +4,8 @@
 
 #include "shprt/core/error.hpp"
 
+#include "common/gauss_legendre.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +15,8 @@
 
 namespace shprt {
 namespace {
+
+using test_support::gauss_legendre;
 
 constexpr double kPi = std::numbers::pi;
 
@@ -115,29 +119,6 @@ TEST(ShBasis, PartialBandWritesExactlyK) {
     sh_eval_k(32, 0.48, -0.6, 0.64, part.data());
     for (int i = 0; i < 32; ++i) EXPECT_EQ(part[i], full[i]);
     EXPECT_EQ(part[32], -7.0) << "sh_eval_k wrote past K";
-}
-
-// Gauss-Legendre nodes on [-1, 1] by Newton iteration on P_n.
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
-    x.resize(n);
-    w.resize(n);
-    for (int i = 0; i < n; ++i) {
-        double t = std::cos(kPi * (i + 0.75) / (n + 0.5)), dp = 0;
-        for (int it = 0; it < 100; ++it) {
-            double p0 = 1, p1 = t;
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2 * k - 1) * t * p1 - (k - 1) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n * (t * p1 - p0) / (t * t - 1);
-            const double dt = p1 / dp;
-            t -= dt;
-            if (std::abs(dt) < 1e-16) break;
-        }
-        x[i] = t;
-        w[i] = 2 / ((1 - t * t) * dp * dp);
-    }
 }
 
 TEST(ShBasis, OrthonormalByExactQuadrature30Bands) {

@@ -7,6 +7,8 @@
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
 
+#include "common/gauss_legendre.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +19,8 @@
 
 namespace shprt {
 namespace {
+
+using test_support::gauss_legendre;
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kTightTol = 1e-12;   // identities that hold to rounding in double
@@ -59,29 +63,6 @@ double max_abs_diff(const std::vector<double>& a, const std::vector<double>& b) 
     double e = 0;
     for (std::size_t i = 0; i < a.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]));
     return e;
-}
-
-// Gauss–Legendre on [−1, 1], written independently of the library's copy.
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
-    x.resize(n);
-    w.resize(n);
-    for (int i = 0; i < n; ++i) {
-        double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), dp = 0;
-        for (int it = 0; it < 100; ++it) {
-            double p0 = 1, p1 = z;
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n * (z * p1 - p0) / (z * z - 1);
-            const double dz = p1 / dp;
-            z -= dz;
-            if (std::abs(dz) < 1e-15) break;
-        }
-        x[i] = z;
-        w[i] = 2 / ((1 - z * z) * dp * dp);
-    }
 }
 
 // Slow reference: D^l(R)[m'][m] = ∫ y_{l,m'}(d) y_{l,m}(R⁻¹d) dω by exact quadrature.

@@ -7,6 +7,8 @@
 #include "shprt/sh/rotation.hpp"
 #include "shprt/sh/zonal.hpp"
 
+#include "common/gauss_legendre.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,32 +19,12 @@
 namespace shprt {
 namespace {
 
+using test_support::gauss_legendre;
+
 constexpr double kPi = std::numbers::pi;
 constexpr double kQuadTol = 1e-12;   // closed form vs exact quadrature (double rounding)
 constexpr double kTightTol = 1e-12;  // identities that hold to rounding
 constexpr double kFloatTol = 2e-5;   // float evaluation
-
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
-    x.resize(n);
-    w.resize(n);
-    for (int i = 0; i < n; ++i) {
-        double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), dp = 0;
-        for (int it = 0; it < 100; ++it) {
-            double p0 = 1, p1 = z;
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n * (z * p1 - p0) / (z * z - 1);
-            const double dz = p1 / dp;
-            z -= dz;
-            if (std::abs(dz) < 1e-15) break;
-        }
-        x[i] = z;
-        w[i] = 2 / ((1 - z * z) * dp * dp);
-    }
-}
 
 // z_l = 2π ∫₀¹ h(μ) y_l0(μ) dμ for a zonal h(μ), μ = cos θ, with Gauss–Legendre on [0, 1]
 // (exact when h is a polynomial in μ on [0, 1], as max(0, μ)^s for integer s is).
