@@ -536,6 +536,8 @@ Results run(const Options& o, const std::string& command_line) {
             setup.specs = lights.sun_specs;
             rig.set_source(setup);
             viewer::FrameConfig config;
+            config.msaa = 4;  // on every machine, so that rows compare (the viewer's default
+                              // drops to 1 sample on a software rasteriser)
             if (o.quick) config.width = 320, config.height = 180;
             config.draw.camera = default_camera(mesh, float(config.width) / float(config.height));
             viewer::BenchmarkOptions bo;

@@ -46,9 +46,10 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
     LightRig light = rig;  // turned when options.rotate_light
     Renderer renderer;
     renderer.set_scene(mesh, transfer);
-    renderer.set_light(light.light());
-    RenderTarget target(config.width, config.height, config.msaa);
+    renderer.set_light(light.source(), light.rotation());
+    RenderTarget target(config.width, config.height, choose_samples(config.msaa, true));
     report.msaa = target.samples();
+    report.msaa_auto = config.msaa == kAutoMsaa;
     DisplayTarget display(config.width, config.height);
     const Bounds bounds = mesh_bounds(mesh);
 
@@ -68,7 +69,7 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
         auto frame = [&] {
             if (options.rotate_light) {
                 light.drag(2.0, 0.0, {1, 0, 0});
-                renderer.set_light(light.light());
+                renderer.set_light(light.source(), light.rotation());
             }
             camera.orbit_by(step);
             settings.camera = camera.camera();
@@ -109,10 +110,10 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
 }
 
 std::string format_benchmark(const BenchmarkReport& r) {
-    std::string out =
-        fmt::format("benchmark: {} vertices, {} triangles, K={}, {}x{}, {}x MSAA, k={}{}; {}\n",
-                    r.vertices, r.triangles, r.K, r.width, r.height, r.msaa, r.k,
-                    r.rotate_light ? ", light turned every frame" : "", r.context);
+    std::string out = fmt::format(
+        "benchmark: {} vertices, {} triangles, K={}, {}x{}, {}x MSAA{}, k={}{}; {}\n", r.vertices,
+        r.triangles, r.K, r.width, r.height, r.msaa, r.msaa_auto ? " (automatic)" : "", r.k,
+        r.rotate_light ? ", light turned every frame" : "", r.context);
     for (const auto& row : r.rows) {
         if (row.skipped) {
             out += fmt::format("K'={:<4} skipped: larger than the file's K={}\n", row.K_used, r.K);

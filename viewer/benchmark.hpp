@@ -49,7 +49,8 @@ struct BenchmarkReport {
     std::size_t vertices = 0, triangles = 0;
     int K = 0;  // the file's (and the light's) K
     int width = 0, height = 0, msaa = 0;
-    double k = 1;  // diffuse share drawn
+    bool msaa_auto = false;  // msaa chosen by choose_samples, not by --msaa
+    double k = 1;            // diffuse share drawn
     bool rotate_light = false;
     std::vector<BenchmarkRow> rows;
     // Mean frame time at K' = 256 over that at K' = 32; 0 when either was skipped.

@@ -1,8 +1,10 @@
-// One displayed frame: draw, resolve, present; and reading the displayed bytes back (frame.hpp).
+// One displayed frame: draw, then present (which resolves); and reading the displayed bytes back
+// (frame.hpp).
 #include "frame.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/render/gl_context.hpp"
 
 #include <epoxy/gl.h>
 #include <stb_image_write.h>
@@ -11,13 +13,17 @@
 
 namespace shprt::viewer {
 
+int choose_samples(int requested, bool continuous) {
+    if (requested > 0) return requested;
+    return continuous && is_software_renderer() ? 1 : 4;
+}
+
 void draw_frame(Renderer& renderer, RenderTarget& target, const DrawSettings& settings,
                 float exposure, unsigned framebuffer) {
     target.bind();
     renderer.draw(settings, target.width(), target.height());
-    target.resolve();
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    renderer.present(target, exposure, target.width(), target.height());
+    renderer.present(target, exposure);
 }
 
 DisplayTarget::DisplayTarget(int width, int height) : m_width(width), m_height(height) {

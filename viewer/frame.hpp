@@ -1,6 +1,6 @@
 // One displayed frame, the same in the window, in --screenshot and in --benchmark: the scene is
-// drawn by the shared Renderer into a multisampled float target, resolved, then presented
-// (exposure, ACES filmic tone map, sRGB: Renderer::present, the GPU twin of save_image's PNG
+// drawn by the shared Renderer into a multisampled float target, then presented (the resolve,
+// exposure, ACES filmic tone map, sRGB: Renderer::present, the GPU twin of save_image's PNG
 // encoding) into an 8-bit framebuffer — the window's, or a DisplayTarget when headless.
 // Every function needs a current OpenGL 4.3 core context.
 #pragma once
@@ -14,15 +14,25 @@
 
 namespace shprt::viewer {
 
+// `--msaa` left to the viewer (choose_samples).
+inline constexpr int kAutoMsaa = 0;
+
+// Samples of the float target: `requested` when it is > 0. For kAutoMsaa, 4 (as `shprt render
+// --samples`), except for frames drawn continuously (`continuous`: the window, --benchmark) on a
+// software rasteriser (is_software_renderer()), where it is 1: llvmpipe draws a 1280×720 room
+// frame 2.3× slower with 4× MSAA (27 against 61 frames/s; bench/RESULTS.md "Viewer"). Needs a
+// current context.
+int choose_samples(int requested, bool continuous);
+
 // What the command line and the panel decide about a frame, besides the light.
 struct FrameConfig {
     DrawSettings draw;   // camera, k, gloss, K', view, wireframe, background
     float exposure = 1;  // > 0
     int width = 1280, height = 720;
-    int msaa = 4;  // samples of the float target (as `shprt render --samples`)
+    int msaa = kAutoMsaa;  // samples of the float target; kAutoMsaa: see choose_samples
 };
 
-// Draws the scene into `target` (bind, Renderer::draw, resolve), then presents it into
+// Draws the scene into `target` (bind, Renderer::draw), then presents it (resolving) into
 // `framebuffer` (0 = the window's default framebuffer) with viewport (0, 0, width, height) of
 // the target's size.
 void draw_frame(Renderer& renderer, RenderTarget& target, const DrawSettings& settings,

@@ -11,13 +11,6 @@
 namespace shprt::viewer {
 namespace {
 
-bool is_identity(const Mat3d& R) {
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            if (R.m[i][j] != (i == j ? 1.0 : 0.0)) return false;
-    return true;
-}
-
 // Gram–Schmidt on the rows: thousands of small drags must not drift away from a rotation.
 Mat3d orthonormalize(const Mat3d& R) {
     Vec3d a{R.m[0][0], R.m[0][1], R.m[0][2]}, b{R.m[1][0], R.m[1][1], R.m[1][2]};
@@ -65,11 +58,16 @@ void LightRig::reset_drag() { m_drag = Mat3d::identity(); }
 
 Mat3d LightRig::rotation() const { return m_drag * m_base; }
 
+const ShLight& LightRig::source() const {
+    SHPRT_CHECK(m_has_source, invalid_argument, "LightRig::source before set_source");
+    return m_source;
+}
+
 ShLight LightRig::light() const {
     SHPRT_CHECK(m_has_source, invalid_argument, "LightRig::light before set_source");
     ShLight full = m_source;
     const Mat3d R = rotation();
-    if (!is_identity(R)) rotate_light(full, R);
+    if (!(R == Mat3d::identity())) rotate_light(full, R);
     if (full.K == m_K) return full;
     ShLight out = ShLight::zero(m_K);
     for (int c = 0; c < 3; ++c)

@@ -52,6 +52,10 @@ public:
     // The light: the full-band source rotated by rotation(), truncated to the first K
     // coefficients (3·K floats, channel-major). Needs a source (Error(invalid_argument)).
     ShLight light() const;
+    // The full-band source, windowed, not rotated (sh_count(sh_bands_for(K)) coefficients): with
+    // rotation(), what Renderer::set_light takes so that it turns the background without
+    // rebuilding it. Needs a source.
+    const ShLight& source() const;
     int K() const { return m_K; }
 
 private:

@@ -93,6 +93,26 @@ void camera_section(PanelState& s) {
                        ImGuiSliderFlags_Logarithmic);
 }
 
+void display_section(PanelState& s) {
+    static const int kSamples[] = {1, 2, 4, 8};
+    const char* const names[] = {"off", "2x", "4x", "8x"};
+    int index = 0;
+    for (int i = 0; i < IM_ARRAYSIZE(kSamples); ++i)
+        if (kSamples[i] == s.msaa) index = i;
+    if (ImGui::Combo("MSAA", &index, names, IM_ARRAYSIZE(names))) {
+        s.msaa = kSamples[index];
+        s.msaa_changed = true;
+    }
+    if (s.msaa_samples != s.msaa) {
+        ImGui::SameLine();
+        ImGui::TextDisabled("(%d here)", s.msaa_samples);
+    }
+    help_marker(
+        "Samples per pixel of the float target. On a software rasteriser (llvmpipe) 4x MSAA "
+        "more than halves the frame rate, so the window starts without it there.");
+    ImGui::TextWrapped("%s", s.gl_label.c_str());
+}
+
 }  // namespace
 
 std::vector<LightChoice> light_choices(const std::vector<std::string>& command_line_specs) {
@@ -109,7 +129,7 @@ std::vector<LightChoice> light_choices(const std::vector<std::string>& command_l
 
 void draw_panel(PanelState& s) {
     s.light_source_changed = s.reset_light_rotation = s.reset_camera = s.camera_mode_changed =
-        false;
+        s.msaa_changed = false;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowBgAlpha(0.85f);
@@ -130,7 +150,7 @@ void draw_panel(PanelState& s) {
     if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_section(s);
     if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) shading_section(s);
     if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) camera_section(s);
-    if (ImGui::CollapsingHeader("OpenGL")) ImGui::TextWrapped("%s", s.gl_label.c_str());
+    if (ImGui::CollapsingHeader("Display")) display_section(s);
     ImGui::End();
 }
 

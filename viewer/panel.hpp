@@ -48,6 +48,8 @@ struct PanelState {
 
     // Display.
     bool vsync = true;
+    int msaa = 1;                 // samples asked for: 1, 2, 4 or 8
+    int msaa_samples = 1;         // samples the target has (the implementation may support fewer)
     float frame_ms = 0, fps = 0;  // smoothed, measured by the loop
 
     // Bake shown while it refines.
@@ -60,6 +62,7 @@ struct PanelState {
     bool reset_light_rotation = false;
     bool reset_camera = false;
     bool camera_mode_changed = false;
+    bool msaa_changed = false;
 };
 
 // Draws the panel (inside an ImGui frame) and updates `state`.

@@ -12,7 +12,7 @@ Rgb8Image render_screenshot(const Mesh& mesh, const TransferSet& transfer, const
     Renderer renderer;
     renderer.set_scene(mesh, transfer);
     renderer.set_light(light);
-    RenderTarget target(config.width, config.height, config.msaa);
+    RenderTarget target(config.width, config.height, choose_samples(config.msaa, false));
     DisplayTarget display(config.width, config.height);
     draw_frame(renderer, target, config.draw, config.exposure, display.framebuffer());
     return read_framebuffer(display.framebuffer(), config.width, config.height);

@@ -139,7 +139,7 @@ App::App(const Mesh& mesh, const TransferSet& transfer, const WindowOptions& opt
     glfwSwapInterval(options.vsync ? 1 : 0);
     m_renderer.set_scene(mesh, transfer);
     m_light.set_source(options.light);  // errors (a missing file) end the program: one line
-    m_renderer.set_light(m_light.light());
+    m_renderer.set_light(m_light.source(), m_light.rotation());
     m_report.context = gl_context_summary();
     init_state();
     if (bake) start_bake(*bake);
@@ -181,6 +181,7 @@ void App::init_state() {
     s.window_strength = static_cast<float>(m_options.light.window_strength);
     s.fly_speed = m_camera.speed();
     s.vsync = m_options.vsync;
+    s.msaa = choose_samples(m_options.frame.msaa, true);
 }
 
 void App::set_light_source() {
@@ -193,7 +194,7 @@ void App::set_light_source() {
     setup.window_strength = m_panel.window_strength;
     try {
         m_light.set_source(setup);
-        m_renderer.set_light(m_light.light());
+        m_renderer.set_light(m_light.source(), m_light.rotation());
         m_panel.light_error.clear();
     } catch (const Error& e) {
         // A bad spec or a missing file typed in the panel: say so and keep the old light.
@@ -205,7 +206,7 @@ void App::apply_panel() {
     if (m_panel.light_source_changed) set_light_source();
     if (m_panel.reset_light_rotation) {
         m_light.reset_drag();
-        m_renderer.set_light(m_light.light());
+        m_renderer.set_light(m_light.source(), m_light.rotation());
     }
     if (m_panel.reset_camera) {
         const CameraMode mode = m_camera.mode();
@@ -239,7 +240,7 @@ void App::handle_input(float seconds) {
                               glfwGetKey(w, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
         if (left && modifier && (dx != 0 || dy != 0)) {
             m_light.drag(dx, dy, cast<double>(m_camera.right()));
-            m_renderer.set_light(m_light.light());
+            m_renderer.set_light(m_light.source(), m_light.rotation());
         } else if (left) {
             m_camera.rotate(static_cast<float>(dx), static_cast<float>(dy));
         } else if (right) {
@@ -378,8 +379,12 @@ WindowReport App::run() {
         glfwGetFramebufferSize(w, &width, &height);
         ImGui::Render();
         if (width > 0 && height > 0) {
-            if (!m_target || m_target->width() != width || m_target->height() != height)
-                m_target = std::make_unique<RenderTarget>(width, height, m_options.frame.msaa);
+            if (!m_target || m_target->width() != width || m_target->height() != height ||
+                m_panel.msaa_changed) {
+                m_target.reset();  // its GL memory goes before the new one is taken
+                m_target = std::make_unique<RenderTarget>(width, height, m_panel.msaa);
+                m_panel.msaa_samples = m_target->samples();
+            }
             const bool buffer_mapped = m_interop && m_interop->mapped();
             if (!buffer_mapped) {
                 DrawSettings settings = draw_settings();

@@ -126,6 +126,13 @@ std::string summarise(const Reasons& why) {
 
 }  // namespace
 
+bool is_software_renderer() {
+    const std::string renderer = gl_string(GL_RENDERER);
+    for (const char* name : {"llvmpipe", "softpipe", "Software Rasterizer", "SWR"})
+        if (renderer.find(name) != std::string::npos) return true;
+    return false;
+}
+
 std::string gl_context_summary() {
     GLint mask = 0;
     glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &mask);

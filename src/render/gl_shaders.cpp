@@ -13,26 +13,33 @@ const char* const kShadeComputeShader = R"glsl(
 #version 430 core
 layout(local_size_x = 64) in;
 
-// Transfer: (vertex · channels + channel) · stride_K + i. Light: channel · light_K + i.
+// Transfer: (vertex · channels + channel) · stride_K + i; read four coefficients at a time
+// through the second view of the same buffer when stride_K is a multiple of 4.
 layout(std430, binding = 0) readonly buffer TransferBuffer { float transfer[]; };
-layout(std430, binding = 1) readonly buffer LightBuffer { float light[]; };
+layout(std430, binding = 0) readonly buffer TransferBuffer4 { vec4 transfer4[]; };
 // Mesh data, tightly packed xyz floats per vertex (the vertex buffers themselves).
 layout(std430, binding = 2) readonly buffer PositionBuffer { float positions[]; };
 layout(std430, binding = 3) readonly buffer NormalBuffer { float normals[]; };
 layout(std430, binding = 4) readonly buffer AlbedoBuffer { float albedos[]; };
 // Output: linear RGB (and 1) per vertex, read by the draw as a vertex attribute.
 layout(std430, binding = 5) writeonly buffer ColorBuffer { vec4 colors[]; };
-// sh_eval_k's recurrence constants per (l, m ≥ 0) at flat index l(l+1)+m, computed on the host in
-// double: for l = m, (the factor taking q_{m−1,m−1} to q_mm, 0); for l > m, (a_lm, b_lm) with
-// q_l = a (z q_{l−1} − b q_{l−2}) (b = 0 at l = m+1). Saves a sqrt and a division per term.
-layout(std430, binding = 6) readonly buffer RecurrenceBuffer { vec2 recurrence[]; };
+// Data every invocation reads at the same address lives in uniform blocks: one load per group
+// instead of one per invocation (on llvmpipe a storage-buffer load is a loop over the lanes).
+// Light: channel c's coefficient i at c · u_light_stride + i, u_light_stride = K rounded up to a
+// multiple of 4 (zero padding), so that each channel starts on a vec4. 768 = 3 · kMaxLightK / 4.
+layout(std140, binding = 0) uniform LightBlock { vec4 light4[768]; };
+// sh_eval_k's recurrence constants per (l, m ≥ 0) at flat index l(l+1)+m, two floats each (two
+// entries per vec4), computed on the host in double: for l = m, (the factor taking q_{m−1,m−1} to
+// q_mm, 0); for l > m, (a_lm, b_lm) with q_l = a (z q_{l−1} − b q_{l−2}) (b = 0 at l = m+1).
+// Saves a sqrt and a division per term. 512 = kMaxLightK / 2.
+layout(std140, binding = 1) uniform RecurrenceBlock { vec4 recurrence4[512]; };
 
 layout(location = 0) uniform uint u_first_vertex;  // this dispatch shades u_first_vertex + id
 layout(location = 1) uniform vec3 u_eye;
 layout(location = 2) uniform int u_K;          // K' used (≤ stride_K, ≤ light_K)
 layout(location = 3) uniform int u_stride_K;   // K stored per channel per vertex
 layout(location = 4) uniform int u_channels;   // 1 or 3
-layout(location = 5) uniform int u_light_K;
+layout(location = 5) uniform int u_light_stride;  // K of the light rounded up to 4
 layout(location = 6) uniform float u_k;        // diffuse share
 layout(location = 7) uniform int u_view;       // 0 radiance, 1 irradiance, 2 transfer only
 layout(location = 8) uniform float u_min_cos_eta;
@@ -49,6 +56,16 @@ uint base_of(uint v, int c) {
 }
 
 vec3 shade(uint v);
+
+vec3 light3(int i) {
+    int g = u_light_stride + i, b = 2 * u_light_stride + i;
+    return vec3(light4[i >> 2][i & 3], light4[g >> 2][g & 3], light4[b >> 2][b & 3]);
+}
+
+vec2 recurrence(int i) {
+    vec4 pair = recurrence4[i >> 1];
+    return (i & 1) == 0 ? pair.xy : pair.zw;
+}
 
 // Transfer coefficient i of the three colours (one load when the transfer is grey).
 vec3 transfer3(uint t0, uint t1, uint t2, uint i) {
@@ -67,70 +84,90 @@ vec3 shade(uint v) {
     vec3 a_normal = vec3(normals[3u * v], normals[3u * v + 1u], normals[3u * v + 2u]);
     vec3 a_albedo = vec3(albedos[3u * v], albedos[3u * v + 1u], albedos[3u * v + 2u]);
     uint t0 = base_of(v, 0), t1 = base_of(v, 1), t2 = base_of(v, 2);
-    int l1 = u_light_K, l2 = 2 * u_light_K;
 
     if (u_view == 2) {
         // E under a uniform sky of radiance 1 (c_0 = sqrt(4π)), over π: T_0 · 2/sqrt(π).
         return vec3(transfer[t0] * 1.12837916709551257);
     }
 
+    // E = Σ T_i L_i. The glossy term visits every index once too (in (m, l) order), so it
+    // accumulates E on the way instead of reading the transfer twice.
     vec3 E = vec3(0.0);
-    for (int i = 0; i < u_K; ++i) {
-        E += transfer3(t0, t1, t2, uint(i)) * vec3(light[i], light[l1 + i], light[l2 + i]);
-    }
-    if (u_view == 1) return E;
-    vec3 L = a_albedo / kPi * E;
-    if (u_glossy != 0) {
-        vec3 n = normalize(a_normal);
-        vec3 to_eye = u_eye - a_position;
-        vec3 w = dot(to_eye, to_eye) > 0.0 ? normalize(to_eye) : n;
-        float nw = dot(n, w);
-        vec3 r = 2.0 * nw * n - w;
-        float cos_eta = max(nw, u_min_cos_eta);
-
-        int bands = 0;
-        while (bands * bands < u_K) ++bands;
-        vec3 lobe_light = vec3(0.0), lobe_transfer = vec3(0.0);
-        // sh_eval_k: q_mm = K_m^m P_m^m / sin^m θ; (c_m + i s_m) = (x + iy)^m.
-        float q_mm = 0.282094791773878143;  // sqrt(1/(4π))
-        float c_m = 1.0, s_m = 0.0;
-        for (int m = 0; m < bands; ++m) {
-            if (m > 0) {
-                q_mm *= recurrence[m * (m + 2)].x;  // −sqrt((2m+1)/(2m)), at index (m, m)
-                float c = c_m * r.x - s_m * r.y;
-                s_m = c_m * r.y + s_m * r.x;
-                c_m = c;
-            }
-            float wc = m == 0 ? 1.0 : kSqrt2 * c_m;
-            float ws = kSqrt2 * s_m;
-            float q_prev = 0.0, q = q_mm;
-            for (int l = m; l < bands; ++l) {
-                int ip = l * (l + 1) + m;
-                if (l > m) {
-                    vec2 ab = recurrence[ip];
-                    float next = ab.x * (r.z * q - ab.y * q_prev);
-                    q_prev = q;
-                    q = next;
-                }
-                if (ip < u_K) {
-                    float cs = u_lobe[l] * q * wc;
-                    lobe_light += cs * vec3(light[ip], light[l1 + ip], light[l2 + ip]);
-                    lobe_transfer += cs * transfer3(t0, t1, t2, uint(ip));
-                }
-                if (m > 0) {
-                    int im = l * (l + 1) - m;
-                    if (im < u_K) {
-                        float cs = u_lobe[l] * q * ws;
-                        lobe_light += cs * vec3(light[im], light[l1 + im], light[l2 + im]);
-                        lobe_transfer += cs * transfer3(t0, t1, t2, uint(im));
-                    }
+    if (u_glossy == 0) {
+        int i = 0;
+        if ((u_stride_K & 3) == 0) {
+            uint q0 = t0 >> 2, q1 = t1 >> 2, q2 = t2 >> 2;
+            int s = u_light_stride >> 2;
+            for (; i + 4 <= u_K; i += 4) {
+                int j = i >> 2;
+                vec4 r = light4[j], g = light4[s + j], b = light4[2 * s + j];
+                if (u_channels == 1) {
+                    vec4 t = transfer4[q0 + uint(j)];
+                    E += vec3(dot(t, r), dot(t, g), dot(t, b));
+                } else {
+                    E += vec3(dot(transfer4[q0 + uint(j)], r), dot(transfer4[q1 + uint(j)], g),
+                              dot(transfer4[q2 + uint(j)], b));
                 }
             }
         }
-        vec3 L_S = lobe_light * lobe_transfer / cos_eta;
-        L = u_k * L + (1.0 - u_k) * L_S;
+        for (; i < u_K; ++i) E += transfer3(t0, t1, t2, uint(i)) * light3(i);
+        if (u_view == 1) return E;
+        return a_albedo / kPi * E;
     }
-    return L;
+
+    vec3 n = normalize(a_normal);
+    vec3 to_eye = u_eye - a_position;
+    vec3 w = dot(to_eye, to_eye) > 0.0 ? normalize(to_eye) : n;
+    float nw = dot(n, w);
+    vec3 r = 2.0 * nw * n - w;
+    float cos_eta = max(nw, u_min_cos_eta);
+
+    int bands = 0;
+    while (bands * bands < u_K) ++bands;
+    vec3 lobe_light = vec3(0.0), lobe_transfer = vec3(0.0);
+    // sh_eval_k: q_mm = K_m^m P_m^m / sin^m θ; (c_m + i s_m) = (x + iy)^m.
+    float q_mm = 0.282094791773878143;  // sqrt(1/(4π))
+    float c_m = 1.0, s_m = 0.0;
+    for (int m = 0; m < bands; ++m) {
+        if (m > 0) {
+            q_mm *= recurrence(m * (m + 2)).x;  // −sqrt((2m+1)/(2m)), at index (m, m)
+            float c = c_m * r.x - s_m * r.y;
+            s_m = c_m * r.y + s_m * r.x;
+            c_m = c;
+        }
+        float wc = m == 0 ? 1.0 : kSqrt2 * c_m;
+        float ws = kSqrt2 * s_m;
+        float q_prev = 0.0, q = q_mm;
+        for (int l = m; l < bands; ++l) {
+            int ip = l * (l + 1) + m;
+            if (l > m) {
+                vec2 ab = recurrence(ip);
+                float next = ab.x * (r.z * q - ab.y * q_prev);
+                q_prev = q;
+                q = next;
+            }
+            if (ip < u_K) {
+                float cs = u_lobe[l] * q * wc;
+                vec3 t = transfer3(t0, t1, t2, uint(ip)), lt = light3(ip);
+                E += t * lt;
+                lobe_light += cs * lt;
+                lobe_transfer += cs * t;
+            }
+            if (m > 0) {
+                int im = l * (l + 1) - m;
+                if (im < u_K) {
+                    float cs = u_lobe[l] * q * ws;
+                    vec3 t = transfer3(t0, t1, t2, uint(im)), lt = light3(im);
+                    E += t * lt;
+                    lobe_light += cs * lt;
+                    lobe_transfer += cs * t;
+                }
+            }
+        }
+    }
+    vec3 L_D = a_albedo / kPi * E;
+    vec3 L_S = lobe_light * lobe_transfer / cos_eta;
+    return u_k * L_D + (1.0 - u_k) * L_S;
 }
 )glsl";
 
@@ -169,12 +206,13 @@ const char* const kBackgroundFragmentShader = R"glsl(
 in vec2 v_ndc;
 layout(location = 0) uniform mat4 u_inv_view_proj;
 layout(location = 1) uniform vec3 u_eye;
+layout(location = 2) uniform mat3 u_to_texture;  // R^T of the light's rotation R (or identity)
 layout(binding = 0) uniform sampler2D u_env;  // equirect, row 0 (v = 0) = zenith at t = 0
 layout(location = 0) out vec4 frag_color;
 const float kPi = 3.14159265358979324;
 void main() {
     vec4 p = u_inv_view_proj * vec4(v_ndc, 1.0, 1.0);
-    vec3 d = normalize(p.xyz / p.w - u_eye);
+    vec3 d = u_to_texture * normalize(p.xyz / p.w - u_eye);
     // light/equirect.hpp: u = 0.5 + atan2(d.x, −d.z)/(2π), v = acos(d.y)/π.
     float u = 0.5 + atan(d.x, -d.z) / (2.0 * kPi);
     float v = acos(clamp(d.y, -1.0, 1.0)) / kPi;
@@ -185,8 +223,9 @@ void main() {
 const char* const kPresentFragmentShader = R"glsl(
 #version 430 core
 layout(location = 0) uniform float u_exposure;
-layout(location = 1) uniform vec2 u_size;  // viewport size in pixels
-layout(binding = 0) uniform sampler2D u_image;  // linear radiance
+layout(location = 1) uniform int u_samples;  // 1: read u_image; > 1: average u_image_ms
+layout(binding = 0) uniform sampler2D u_image;  // linear radiance, one sample per pixel
+layout(binding = 1) uniform sampler2DMS u_image_ms;  // linear radiance, u_samples per pixel
 layout(location = 0) out vec4 frag_color;
 // light/tonemap.hpp: Narkowicz's ACES fit, then the exact sRGB curve.
 float tonemap_aces(float x) {
@@ -199,7 +238,17 @@ float linear_to_srgb(float x) {
     return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055;
 }
 void main() {
-    vec3 c = texture(u_image, gl_FragCoord.xy / u_size).rgb * u_exposure;
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    vec3 c;
+    if (u_samples == 1) {
+        c = texelFetch(u_image, p, 0).rgb;
+    } else {
+        // The multisample resolve, fused: the mean of the samples, as glBlitFramebuffer takes.
+        c = vec3(0.0);
+        for (int i = 0; i < u_samples; ++i) c += texelFetch(u_image_ms, p, i).rgb;
+        c /= float(u_samples);
+    }
+    c *= u_exposure;
     frag_color = vec4(linear_to_srgb(tonemap_aces(c.r)), linear_to_srgb(tonemap_aces(c.g)),
                       linear_to_srgb(tonemap_aces(c.b)), 1.0);
 }

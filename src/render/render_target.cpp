@@ -1,5 +1,7 @@
-// Offscreen float render target: multisampled RGBA32F + depth, resolved by a blit into a
-// single-sample RGBA32F texture, read back as linear RGB with row 0 at the top.
+// Offscreen float render target: RGBA32F colour + 24-bit depth. With MSAA the colour is a
+// multisample texture that `present` averages itself (no resolve pass per displayed frame) and
+// `resolve` blits into a single-sample texture for read-back; without MSAA the colour texture is
+// drawn into directly and `resolve` has nothing to do.
 #include "gl_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/render/renderer.hpp"
@@ -13,18 +15,31 @@
 namespace shprt {
 namespace {
 
-// Largest supported sample count ≤ requested for RGBA32F renderbuffers (1 if none).
+// Largest supported sample count ≤ requested for RGBA32F multisample textures (1 if none).
 int supported_samples(int requested) {
     if (requested <= 1) return 1;
     GLint count = 0;
-    glGetInternalformativ(GL_RENDERBUFFER, GL_RGBA32F, GL_NUM_SAMPLE_COUNTS, 1, &count);
+    glGetInternalformativ(GL_TEXTURE_2D_MULTISAMPLE, GL_RGBA32F, GL_NUM_SAMPLE_COUNTS, 1, &count);
     if (count <= 0) return 1;
     std::vector<GLint> counts(static_cast<std::size_t>(count));
-    glGetInternalformativ(GL_RENDERBUFFER, GL_RGBA32F, GL_SAMPLES, count, counts.data());
+    glGetInternalformativ(GL_TEXTURE_2D_MULTISAMPLE, GL_RGBA32F, GL_SAMPLES, count, counts.data());
     int best = 1;
     for (GLint c : counts)
         if (c <= requested) best = std::max(best, static_cast<int>(c));
     return best;
+}
+
+GLuint make_texture_2d(int width, int height) {
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return texture;
 }
 
 }  // namespace
@@ -39,31 +54,33 @@ RenderTarget::RenderTarget(int width, int height, int samples)
     m_samples = supported_samples(samples);
 
     glGenFramebuffers(1, &m_fbo);
-    glGenRenderbuffers(1, &m_color_rb);
     glGenRenderbuffers(1, &m_depth_rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, m_color_rb);
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, m_samples > 1 ? m_samples : 0, GL_RGBA32F,
-                                     width, height);
     glBindRenderbuffer(GL_RENDERBUFFER, m_depth_rb);
     glRenderbufferStorageMultisample(GL_RENDERBUFFER, m_samples > 1 ? m_samples : 0,
                                      GL_DEPTH_COMPONENT24, width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    if (m_samples > 1) {
+        glGenTextures(1, &m_color_texture);
+        glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, m_color_texture);
+        glTexStorage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, m_samples, GL_RGBA32F, width, height,
+                                  GL_TRUE);
+        glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+    } else {
+        m_color_texture = make_texture_2d(width, height);
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_color_rb);
+    glFramebufferTexture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, m_color_texture, 0);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m_depth_rb);
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
 
-    glGenTextures(1, &m_resolved_texture);
-    glBindTexture(GL_TEXTURE_2D, m_resolved_texture);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width, height);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glGenFramebuffers(1, &m_resolve_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, m_resolve_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_resolved_texture,
-                           0);
-    const GLenum resolve_status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    GLenum resolve_status = GL_FRAMEBUFFER_COMPLETE;
+    if (m_samples > 1) {
+        m_resolved_texture = make_texture_2d(width, height);
+        glGenFramebuffers(1, &m_resolve_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, m_resolve_fbo);
+        glFramebufferTexture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, m_resolved_texture, 0);
+        resolve_status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (status != GL_FRAMEBUFFER_COMPLETE || resolve_status != GL_FRAMEBUFFER_COMPLETE) {
         release();
@@ -79,10 +96,10 @@ RenderTarget::~RenderTarget() { release(); }
 void RenderTarget::release() {
     if (m_fbo) glDeleteFramebuffers(1, &m_fbo);
     if (m_resolve_fbo) glDeleteFramebuffers(1, &m_resolve_fbo);
-    if (m_color_rb) glDeleteRenderbuffers(1, &m_color_rb);
     if (m_depth_rb) glDeleteRenderbuffers(1, &m_depth_rb);
+    if (m_color_texture) glDeleteTextures(1, &m_color_texture);
     if (m_resolved_texture) glDeleteTextures(1, &m_resolved_texture);
-    m_fbo = m_resolve_fbo = m_color_rb = m_depth_rb = m_resolved_texture = 0;
+    m_fbo = m_resolve_fbo = m_depth_rb = m_color_texture = m_resolved_texture = 0;
 }
 
 void RenderTarget::bind() {
@@ -91,6 +108,7 @@ void RenderTarget::bind() {
 }
 
 void RenderTarget::resolve() {
+    if (m_samples == 1) return;  // drawn straight into the texture that is read back
     glBindFramebuffer(GL_READ_FRAMEBUFFER, m_fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_resolve_fbo);
     glBlitFramebuffer(0, 0, m_width, m_height, 0, 0, m_width, m_height, GL_COLOR_BUFFER_BIT,
@@ -102,7 +120,8 @@ void RenderTarget::resolve() {
 Image RenderTarget::read_pixels() const {
     Image image = Image::make(m_width, m_height);
     std::vector<float> rgba(image.pixel_count() * 4);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_resolve_fbo);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_samples > 1 ? m_resolve_fbo : m_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glReadPixels(0, 0, m_width, m_height, GL_RGBA, GL_FLOAT, rgba.data());
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);

@@ -8,6 +8,7 @@
 #include "gl_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/light/equirect.hpp"
+#include "shprt/light/light.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/sh/basis.hpp"
 
@@ -25,6 +26,12 @@ namespace {
 // Size of the equirect texture the background is drawn from: the light is band-limited (at most
 // 32 bands, features ≳ 5°), so 256 × 128 texels (1.4° each) resolve it.
 constexpr int kBackgroundWidth = 256, kBackgroundHeight = 128;
+
+// The light's uniform block (gl_util.hpp): per channel, K coefficients padded to a multiple of 4.
+int light_stride(int K) { return (K + 3) / 4 * 4; }
+constexpr int kLightBlockBytes = gl::kLightBlockVec4s * 16;
+static_assert(gl::kLightBlockVec4s * 4 == 3 * kMaxLightK, "light block: 3 padded channels");
+static_assert(gl::kRecurrenceBlockVec4s * 2 == kMaxLightK, "recurrence block: (a, b) per index");
 
 GLuint make_buffer(GLenum target, std::size_t bytes, const void* data, GLenum usage) {
     GLuint buffer = 0;
@@ -113,11 +120,17 @@ Renderer::Renderer() {
         gl::compile_program(gl::kFullscreenVertexShader, gl::kPresentFragmentShader, "present");
     glGenVertexArrays(1, &m_vao);
     glGenVertexArrays(1, &m_empty_vao);
+    GLint max_block = 0;
+    glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
+    SHPRT_CHECK(max_block >= kLightBlockBytes, unsupported,
+                "this OpenGL's uniform blocks hold {} bytes; the light needs {}", max_block,
+                kLightBlockBytes);
     // Enough bands for any K' (K' ≤ light K ≤ kMaxLightK).
     const std::vector<float> table = recurrence_table(sh_bands_for(kMaxLightK));
-    m_recurrence_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, table.size() * sizeof(float),
-                                    table.data(), GL_STATIC_DRAW);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    m_recurrence_ubo =
+        make_buffer(GL_UNIFORM_BUFFER, table.size() * sizeof(float), table.data(), GL_STATIC_DRAW);
+    m_light_ubo = make_buffer(GL_UNIFORM_BUFFER, kLightBlockBytes, nullptr, GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_UNIFORM_BUFFER, 0);
     gl::check("Renderer");
 }
 
@@ -128,8 +141,8 @@ Renderer::~Renderer() {
     delete_buffer(m_index_buffer);
     delete_buffer(m_color_buffer);
     delete_buffer(m_transfer_ssbo);
-    delete_buffer(m_light_ssbo);
-    delete_buffer(m_recurrence_ssbo);
+    delete_buffer(m_light_ubo);
+    delete_buffer(m_recurrence_ubo);
     if (m_background_texture) glDeleteTextures(1, &m_background_texture);
     if (m_vao) glDeleteVertexArrays(1, &m_vao);
     if (m_empty_vao) glDeleteVertexArrays(1, &m_empty_vao);
@@ -200,24 +213,27 @@ void Renderer::update_transfer(std::size_t first_vertex, std::size_t vertex_coun
     gl::check("Renderer::update_transfer");
 }
 
-void Renderer::set_light(const ShLight& light) {
+void Renderer::set_light(const ShLight& light, const Mat3d& rotation) {
     SHPRT_CHECK(light.K > 0 && light.coeffs.size() == 3 * std::size_t(light.K), invalid_argument,
                 "light has K = {} and {} coefficients (expected 3 × K)", light.K,
                 light.coeffs.size());
-    if (!m_light_ssbo || light.K != m_light.K) {
-        delete_buffer(m_light_ssbo);
-        m_light_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, light.coeffs.size() * sizeof(float),
-                                   light.coeffs.data(), GL_DYNAMIC_DRAW);
-    } else {
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, m_light_ssbo);
-        glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
-                        static_cast<GLsizeiptr>(light.coeffs.size() * sizeof(float)),
-                        light.coeffs.data());
+    if (!m_has_light || light.K != m_light_source.K || light.coeffs != m_light_source.coeffs) {
+        m_light_source = light;
+        ++m_source_generation;
     }
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    m_light_rotation = rotation;
     m_light = light;
+    if (!(rotation == Mat3d::identity())) rotate_light(m_light, rotation);
+    // The uniform block's layout: each channel padded to a multiple of 4 coefficients.
+    const int stride = light_stride(m_light.K);
+    std::vector<float> padded(3 * std::size_t(stride), 0.0f);
+    for (int c = 0; c < 3; ++c)
+        std::copy_n(m_light.channel(c), m_light.K, padded.begin() + std::ptrdiff_t(c) * stride);
+    glBindBuffer(GL_UNIFORM_BUFFER, m_light_ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, static_cast<GLsizeiptr>(padded.size() * sizeof(float)),
+                    padded.data());
+    glBindBuffer(GL_UNIFORM_BUFFER, 0);
     m_has_light = true;
-    m_background_K = -1;
     ++m_light_generation;
     gl::check("Renderer::set_light");
 }
@@ -229,8 +245,15 @@ int Renderer::effective_K(int K_used) const {
     return K;
 }
 
-void Renderer::upload_background(int K) {
-    if (m_background_K == K && m_background_texture) return;
+Mat3d Renderer::upload_background(int K) {
+    // A full band is rotation invariant: the unrotated source's texture, looked up along R^T·d,
+    // shows the rotated light exactly, and turning the light costs nothing here. A partial last
+    // band is not: the texture is then made from the rotated (then truncated) light.
+    const bool from_source = sh_count(sh_bands_for(K)) == K;
+    const BackgroundKey key{K, from_source, from_source ? m_source_generation : m_light_generation};
+    const Mat3d lookup = from_source ? m_light_rotation : Mat3d::identity();
+    if (m_background_texture && m_background_key == key) return lookup;
+    const ShLight& light = from_source ? m_light_source : m_light;
     // The light's SH reconstruction over the equirect grid, rows from the zenith down.
     std::vector<float> texels(std::size_t(kBackgroundWidth) * kBackgroundHeight * 3);
     tbb::parallel_for(tbb::blocked_range<int>(0, kBackgroundHeight), [&](const auto& rows) {
@@ -242,7 +265,7 @@ void Renderer::upload_background(int K) {
                 sh_eval_k(K, d.x, d.y, d.z, y.data());
                 float* out = texels.data() + (std::size_t(row) * kBackgroundWidth + x) * 3;
                 for (int c = 0; c < 3; ++c) {
-                    const float* l = m_light.channel(c);
+                    const float* l = light.channel(c);
                     double s = 0;
                     for (int i = 0; i < K; ++i) s += double(l[i]) * y[i];
                     out[c] = static_cast<float>(s);
@@ -263,8 +286,10 @@ void Renderer::upload_background(int K) {
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, kBackgroundWidth, kBackgroundHeight, GL_RGB, GL_FLOAT,
                     texels.data());
     glBindTexture(GL_TEXTURE_2D, 0);
-    m_background_K = K;
+    m_background_key = key;
+    ++m_background_builds;
     gl::check("Renderer::upload_background");
+    return lookup;
 }
 
 void Renderer::run_shading(const ShadingKey& key) {
@@ -273,7 +298,7 @@ void Renderer::run_shading(const ShadingKey& key) {
     glUniform1i(gl::loc::kK, key.K);
     glUniform1i(gl::loc::kStrideK, m_K);
     glUniform1i(gl::loc::kChannels, m_channels);
-    glUniform1i(gl::loc::kLightK, m_light.K);
+    glUniform1i(gl::loc::kLightStride, light_stride(m_light.K));
     glUniform1f(gl::loc::kDiffuseShare, static_cast<float>(key.k));
     glUniform1i(gl::loc::kView, key.view);
     glUniform1f(gl::loc::kMinCosEta, static_cast<float>(kMinCosEta));
@@ -285,12 +310,13 @@ void Renderer::run_shading(const ShadingKey& key) {
         glUniform1fv(gl::loc::kLobe, bands, g.data());
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kLightBinding, m_light_ssbo);
+
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kPositionBinding, m_position_vbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kNormalBinding, m_normal_vbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kAlbedoBinding, m_albedo_vbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, m_color_buffer);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kRecurrenceBinding, m_recurrence_ssbo);
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_light_ubo);
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kRecurrenceBlockBinding, m_recurrence_ubo);
     // One invocation per vertex, in dispatches of at most 65535 groups (the guaranteed minimum
     // of GL_MAX_COMPUTE_WORK_GROUP_COUNT).
     const std::size_t per_dispatch = std::size_t(65535) * gl::kShadeGroupSize;
@@ -302,8 +328,10 @@ void Renderer::run_shading(const ShadingKey& key) {
     }
     // The draw reads the colours as a vertex attribute.
     glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
-    for (unsigned b = 0; b <= gl::kRecurrenceBinding; ++b)
+    for (unsigned b = 0; b <= gl::kColorBinding; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+    for (unsigned b : {gl::kLightBlockBinding, gl::kRecurrenceBlockBinding})
+        glBindBufferBase(GL_UNIFORM_BUFFER, b, 0);
     glUseProgram(0);
     m_shading_key = key;
     m_shading_valid = true;
@@ -331,21 +359,6 @@ void Renderer::draw(const DrawSettings& s, int width, int height) {
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
-    if (s.background) {
-        upload_background(K);
-        glDisable(GL_DEPTH_TEST);
-        glDepthMask(GL_FALSE);
-        glUseProgram(m_background_program);
-        const Mat4f inv = inverse(view_proj);
-        glUniformMatrix4fv(gl::loc::kInvViewProj, 1, GL_FALSE, inv.m);
-        glUniform3f(gl::loc::kBgEye, s.camera.eye.x, s.camera.eye.y, s.camera.eye.z);
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D, m_background_texture);
-        glBindVertexArray(m_empty_vao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glDepthMask(GL_TRUE);
-    }
-
     const bool glossy = s.k < 1 && s.view == ShadeView::radiance;
     ShadingKey key;
     key.K = K;
@@ -367,26 +380,56 @@ void Renderer::draw(const DrawSettings& s, int width, int height) {
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glBindVertexArray(0);
+
+    if (s.background) {
+        const Mat3d rotation = upload_background(K);
+        // After the scene, at depth 1 with LEQUAL: only the pixels the scene left empty run the
+        // (transcendental-heavy) lookup.
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LEQUAL);
+        glDepthMask(GL_FALSE);
+        glUseProgram(m_background_program);
+        const Mat4f inv = inverse(view_proj);
+        glUniformMatrix4fv(gl::loc::kInvViewProj, 1, GL_FALSE, inv.m);
+        glUniform3f(gl::loc::kBgEye, s.camera.eye.x, s.camera.eye.y, s.camera.eye.z);
+        // GLSL reads column-major: R's rows, given as columns, are the matrix R^T.
+        float rows[9];
+        for (int i = 0; i < 9; ++i) rows[i] = static_cast<float>(rotation.m[i / 3][i % 3]);
+        glUniformMatrix3fv(gl::loc::kBgLightToTexture, 1, GL_FALSE, rows);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, m_background_texture);
+        glBindVertexArray(m_empty_vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glBindVertexArray(0);
+        glDepthMask(GL_TRUE);
+        glDepthFunc(GL_LESS);
+    }
     glUseProgram(0);
     gl::check("Renderer::draw");
 }
 
-void Renderer::present(const RenderTarget& target, float exposure, int width, int height) {
+void Renderer::present(const RenderTarget& target, float exposure) {
     SHPRT_CHECK(exposure > 0 && std::isfinite(exposure), invalid_argument,
                 "exposure {} must be positive", exposure);
-    glViewport(0, 0, width, height);
+    glViewport(0, 0, target.width(), target.height());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_FRAMEBUFFER_SRGB);  // the shader encodes sRGB itself, as the PNG writer does
     glUseProgram(m_present_program);
     glUniform1f(gl::loc::kExposure, exposure);
-    glUniform2f(gl::loc::kSize, float(width), float(height));
+    glUniform1i(gl::loc::kSamples, target.samples());
+    // Units 0 and 1 hold the two sampler types; the one the shader does not read stays empty.
+    const bool multisampled = target.samples() > 1;
     glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, target.resolved_texture());
+    glBindTexture(GL_TEXTURE_2D, multisampled ? 0 : target.color_texture());
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, multisampled ? target.color_texture() : 0);
     glBindVertexArray(m_empty_vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
+    glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+    glActiveTexture(GL_TEXTURE0);
     glUseProgram(0);
     gl::check("Renderer::present");
 }

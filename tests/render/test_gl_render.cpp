@@ -7,6 +7,7 @@
 #include "render_test_util.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/rotation3.hpp"
 #include "shprt/light/tonemap.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/render/renderer.hpp"
@@ -101,6 +102,9 @@ TEST(GlRender, PixelsMatchTheCpuReferenceDiffuseAndGlossy) {
         {"plane", 64, 1, 0, 0.3, 12, plane_cam},     // glossy on a plane: view-dependent
         {"sphere", 64, 1, 0, 0.5, 8, sphere_cam},    // glossy on a curved surface
         {"sphere", 36, 3, 25, 0.0, 30, sphere_cam},  // pure glossy, RGB, truncated
+        // K not a multiple of 4: the shader's one-coefficient loads, and a padded light block.
+        {"sphere", 25, 1, 0, 0.7, 16, sphere_cam},
+        {"plane", 30, 3, 27, 1.0, 16, plane_cam},
     };
     for (const Case& cs : cases) {
         SCOPED_TRACE(::testing::Message() << cs.scene << " K=" << cs.K << " channels="
@@ -173,8 +177,6 @@ TEST(GlRender, IrradianceAndTransferViews) {
 TEST(GlRender, BackgroundIsTheLightsReconstructionAlongEachViewRay) {
     REQUIRE_GL(context);
     const Mesh mesh = make_builtin("plane");
-    const TransferSet transfer = test::analytic_transfer(mesh, 9);
-    const ShLight light = test::smooth_light(9, 9, 6);
     DrawSettings settings;
     settings.camera.eye = {0, 0.5f, 0};
     settings.camera.target = {0.3f, 1.5f, -1};  // looking up: the plane below is out of view
@@ -183,19 +185,65 @@ TEST(GlRender, BackgroundIsTheLightsReconstructionAlongEachViewRay) {
     settings.camera.far_plane = 10;
     settings.background = true;
     const int w = 80, h = 60;
-    const Image image = render_image(mesh, transfer, light, settings, w, h, 1);
-    double worst = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            Vec3f o, d;
-            pixel_ray(settings.camera, w, h, float(x) + 0.5f, float(y) + 0.5f, o, d);
-            const Vec3d want = light_radiance(light, cast<double>(d));
-            for (int k = 0; k < 3; ++k)
-                worst =
-                    std::max(worst, std::abs(image.pixel(x, y)[k] - want[k]) / std::abs(want[k]));
+    const Mat3d turn = matrix_from_yaw_pitch_roll_deg(70, -35, 20);
+    // A full band (9) and a partial one (7: not rotation invariant), unturned and turned.
+    for (int K : {9, 7}) {
+        const TransferSet transfer = test::analytic_transfer(mesh, K);
+        const ShLight light = test::smooth_light(K, K, 6);
+        Renderer renderer;
+        renderer.set_scene(mesh, transfer);
+        RenderTarget target(w, h, 1);
+        for (const Mat3d& R : {Mat3d::identity(), turn}) {
+            SCOPED_TRACE(::testing::Message() << "K=" << K << " turned=" << (R == turn));
+            renderer.set_light(light, R);
+            target.bind();
+            renderer.draw(settings, w, h);
+            const Image image = target.read_pixels();
+            ShLight want_light = light;
+            rotate_light(want_light, R);
+            double worst = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    Vec3f o, d;
+                    pixel_ray(settings.camera, w, h, float(x) + 0.5f, float(y) + 0.5f, o, d);
+                    const Vec3d want = light_radiance(want_light, cast<double>(d));
+                    for (int k = 0; k < 3; ++k)
+                        worst = std::max(
+                            worst, std::abs(image.pixel(x, y)[k] - want[k]) / std::abs(want[k]));
+                }
+            // Bilinear lookup in a 256 × 128 texture of a 3-band light: well under 1 %.
+            EXPECT_LT(worst, 0.01);
         }
-    // Bilinear lookup in a 256 × 128 texture of a 3-band light: well under 1 %.
-    EXPECT_LT(worst, 0.01);
+        // Turning a full-band light turns the lookup; a partial band rebuilds the texture.
+        EXPECT_EQ(renderer.background_builds(), K == 9 ? 1u : 2u);
+    }
+}
+
+TEST(GlRender, ATurnedLightShadesAsItsRotatedCoefficients) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("sphere");
+    const TransferSet transfer = test::analytic_transfer(mesh, 16);
+    const ShLight light = make_light({"builtin"}, 16);
+    const Mat3d R = matrix_from_yaw_pitch_roll_deg(-40, 25, 10);
+    ShLight rotated = light;
+    rotate_light(rotated, R);
+    DrawSettings settings;
+    settings.camera = default_camera(mesh, 1.5f);
+    settings.k = 0.5;  // diffuse and glossy
+    Renderer renderer;
+    renderer.set_scene(mesh, transfer);
+    RenderTarget target(64, 48, 1);
+    auto draw = [&](const ShLight& l, const Mat3d& rotation) {
+        renderer.set_light(l, rotation);
+        target.bind();
+        renderer.draw(settings, 64, 48);
+        return target.read_pixels();
+    };
+    const Image turned = draw(light, R);
+    const Image direct = draw(rotated, Mat3d::identity());
+    EXPECT_EQ(turned.rgb, direct.rgb) << "the same coefficients reach the shader";
+    const Image unturned = draw(light, Mat3d::identity());
+    EXPECT_NE(unturned.rgb, direct.rgb) << "the rotation matters in this view";
 }
 
 TEST(GlRender, PresentShowsWhatThePngEncoderWrites) {
@@ -211,36 +259,41 @@ TEST(GlRender, PresentShowsWhatThePngEncoderWrites) {
     Renderer renderer;
     renderer.set_scene(mesh, transfer);
     renderer.set_light(light);
-    RenderTarget target(w, h, 4);
-    target.bind();
-    renderer.draw(settings, w, h);
-    target.resolve();
-    const Image linear = target.read_pixels();
-    // An 8-bit window stand-in.
-    GLuint fbo = 0, rb = 0;
-    glGenFramebuffers(1, &fbo);
-    glGenRenderbuffers(1, &rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb);
-    const float exposure = 1.7f;
-    renderer.present(target, exposure, w, h);
-    std::vector<unsigned char> rgba(std::size_t(w) * h * 4);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glDeleteFramebuffers(1, &fbo);
-    glDeleteRenderbuffers(1, &rb);
-    int worst = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int k = 0; k < 3; ++k) {
-                const int gl_code = rgba[(std::size_t(h - 1 - y) * w + x) * 4 + k];
-                const int png_code = display_encode8(linear.pixel(x, y)[k], exposure);
-                worst = std::max(worst, std::abs(gl_code - png_code));
-            }
-    EXPECT_LE(worst, 1) << "codes differ by more than the 8-bit rounding";
+    // Without MSAA present reads the texture drawn into; with it, present averages the samples
+    // itself and must agree with the blit resolve that read_pixels sees.
+    for (int samples : {1, 4}) {
+        SCOPED_TRACE(samples);
+        RenderTarget target(w, h, samples);
+        target.bind();
+        renderer.draw(settings, w, h);
+        target.resolve();
+        const Image linear = target.read_pixels();
+        // An 8-bit window stand-in.
+        GLuint fbo = 0, rb = 0;
+        glGenFramebuffers(1, &fbo);
+        glGenRenderbuffers(1, &rb);
+        glBindRenderbuffer(GL_RENDERBUFFER, rb);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb);
+        const float exposure = 1.7f;
+        renderer.present(target, exposure);
+        std::vector<unsigned char> rgba(std::size_t(w) * h * 4);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glDeleteFramebuffers(1, &fbo);
+        glDeleteRenderbuffers(1, &rb);
+        int worst = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int k = 0; k < 3; ++k) {
+                    const int gl_code = rgba[(std::size_t(h - 1 - y) * w + x) * 4 + k];
+                    const int png_code = display_encode8(linear.pixel(x, y)[k], exposure);
+                    worst = std::max(worst, std::abs(gl_code - png_code));
+                }
+        EXPECT_LE(worst, 1) << "codes differ by more than the 8-bit rounding";
+    }
 }
 
 TEST(GlRender, PartialTransferUpdateEqualsAFreshUpload) {

@@ -12,6 +12,7 @@
 #include "shprt/render/light_setup.hpp"
 #include "shprt/scene/load.hpp"
 
+#include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -107,6 +108,18 @@ TEST(Screenshot, EqualsRenderImageThroughTheCpuToneMap) {
     }
 }
 
+TEST(Frame, AutomaticMsaaDropsOnlyContinuousFramesOnASoftwareRasteriser) {
+    SKIP_WITHOUT_GL();
+    HeadlessGlContext context;
+    EXPECT_EQ(choose_samples(2, true), 2);
+    EXPECT_EQ(choose_samples(8, false), 8);
+    EXPECT_EQ(choose_samples(kAutoMsaa, false), 4) << "a screenshot samples as `shprt render`";
+    const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const bool llvmpipe = renderer.find("llvmpipe") != std::string::npos;
+    EXPECT_EQ(is_software_renderer(), llvmpipe) << renderer;
+    EXPECT_EQ(choose_samples(kAutoMsaa, true), llvmpipe ? 1 : 4) << renderer;
+}
+
 TEST(Benchmark, MeasuresEachBasisSizeTheFileHasAndSkipsTheRest) {
     SKIP_WITHOUT_GL();
     const Scene& s = box_scene(64);
@@ -145,6 +158,7 @@ TEST(Benchmark, MeasuresEachBasisSizeTheFileHasAndSkipsTheRest) {
         EXPECT_NE(text.find("K'=48   frames=4  fps="), std::string::npos) << text;
         EXPECT_NE(text.find("K'=256  skipped"), std::string::npos) << text;
         EXPECT_NE(text.find("n/a"), std::string::npos) << text;
+        EXPECT_NE(text.find("1x MSAA, k="), std::string::npos) << "asked for, not automatic";
     }
     options.frames = 0;
     EXPECT_THROW(run_benchmark(s.mesh, s.transfer, rig, config, options), Error);

@@ -110,6 +110,13 @@ SHPRT_HD_INLINE Mat3<T> operator*(const Mat3<T>& a, const Mat3<T>& b) {
     return r;
 }
 template <class T>
+SHPRT_HD_INLINE bool operator==(const Mat3<T>& a, const Mat3<T>& b) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (a.m[i][j] != b.m[i][j]) return false;
+    return true;
+}
+template <class T>
 SHPRT_HD_INLINE Mat3<T> transpose(const Mat3<T>& a) {
     Mat3<T> r{};
     for (int i = 0; i < 3; ++i)

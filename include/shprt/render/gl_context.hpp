@@ -40,4 +40,9 @@ private:
 std::string gl_context_summary();
 void require_gl43();
 
+// Whether the current context rasterises on the CPU: Mesa's llvmpipe or softpipe (GL_RENDERER
+// names them), or another renderer that calls itself a software rasteriser. Needs a current
+// context.
+bool is_software_renderer();
+
 }  // namespace shprt

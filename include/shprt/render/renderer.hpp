@@ -3,14 +3,15 @@
 //
 // It owns its GL objects and draws into whatever context and framebuffer are current; it never
 // creates a context. Per-vertex transfer lives in a shader storage buffer (channels × K floats per
-// vertex, the TransferSet layout), the light (3 × K floats) in another; a compute pass evaluates
-// the paper's shading once per vertex (render/shade.hpp: E, L_D, and the glossy term with the
-// Phong lobe rotated to the reflection direction by the SH recurrence of sh/basis.hpp ported to
+// vertex, the TransferSet layout), the light (3 × K floats) in a uniform block; a compute pass
+// evaluates the paper's shading once per vertex (render/shade.hpp: E, L_D, and the glossy term with
+// the Phong lobe rotated to the reflection direction by the SH recurrence of sh/basis.hpp ported to
 // GLSL) into a colour buffer, and the draw interpolates it. The pass is skipped when nothing the
 // colours depend on changed since the last draw (diffuse shading does not depend on the camera;
 // glossy shading depends on the eye position only). Depth test on, back-face culling off (rooms are
 // seen from inside). The output is linear radiance in a float target; tone mapping happens after
-// the multisample resolve (save_image for files, `present` for a window).
+// the multisample resolve (save_image for files; `present`, which resolves as it tone-maps, for a
+// window).
 //
 // Typical use:
 //     HeadlessGlContext context;              // or a GLFW window's context
@@ -19,7 +20,7 @@
 //     renderer.set_light(light);
 //     RenderTarget target(width, height);
 //     target.bind();  renderer.draw(settings, width, height);  target.resolve();
-//     Image image = target.read_pixels();     // or renderer.present(target, exposure, w, h)
+//     Image image = target.read_pixels();     // or renderer.present(target, exposure)
 //
 // Every member function needs the context the object was created in to be current.
 #pragma once
@@ -59,8 +60,10 @@ struct DrawSettings {
                                  // unchanged (benchmarks that measure the per-vertex cost)
 };
 
-// An offscreen float target: a multisampled RGBA32F colour + 24-bit depth framebuffer and a
-// single-sample RGBA32F texture it resolves into.
+// An offscreen float target: RGBA32F colour + 24-bit depth. With MSAA the colour is a
+// multisample texture: `Renderer::present` averages its samples while tone mapping (a window's
+// frame needs no separate resolve pass), and `resolve` blits it into a single-sample texture for
+// `read_pixels`. Without MSAA the colour is a plain texture and `resolve` does nothing.
 class RenderTarget {
 public:
     // `samples` is clamped to what the implementation supports for RGBA32F (1 = no MSAA).
@@ -71,25 +74,27 @@ public:
     RenderTarget(const RenderTarget&) = delete;
     RenderTarget& operator=(const RenderTarget&) = delete;
 
-    // Binds the multisampled framebuffer for drawing and sets the viewport to the whole target.
+    // Binds the framebuffer for drawing and sets the viewport to the whole target.
     void bind();
-    // Averages the samples into the resolved texture (a blit).
+    // Averages the samples into the single-sample texture that read_pixels reads (a blit; a
+    // no-op without MSAA). Not needed before `Renderer::present`.
     void resolve();
-    // The resolved texture as linear RGB floats, row 0 at the top (call resolve() first).
+    // The image as linear RGB floats, row 0 at the top (call resolve() first).
     Image read_pixels() const;
 
     int width() const { return m_width; }
     int height() const { return m_height; }
     int samples() const { return m_samples; }
-    unsigned resolved_texture() const { return m_resolved_texture; }  // GL texture name
-    unsigned framebuffer() const { return m_fbo; }                    // GL framebuffer name
+    // The colour attachment: GL_TEXTURE_2D_MULTISAMPLE when samples() > 1, else GL_TEXTURE_2D.
+    unsigned color_texture() const { return m_color_texture; }
+    unsigned framebuffer() const { return m_fbo; }  // GL framebuffer name
 
 private:
     void release();
 
     int m_width, m_height, m_samples;
-    unsigned m_fbo = 0, m_color_rb = 0, m_depth_rb = 0;
-    unsigned m_resolve_fbo = 0, m_resolved_texture = 0;
+    unsigned m_fbo = 0, m_depth_rb = 0, m_color_texture = 0;
+    unsigned m_resolve_fbo = 0, m_resolved_texture = 0;  // MSAA only
 };
 
 class Renderer {
@@ -111,8 +116,13 @@ public:
     // The shader storage buffer holding the transfer (GL buffer name, channels × K float32 per
     // vertex, vertex-major), for CUDA–OpenGL interop. Valid after set_scene.
     unsigned transfer_buffer() const { return m_transfer_ssbo; }
-    // Uploads the light (3 × K floats, channel-major). Cheap: call it whenever the light rotates.
-    void set_light(const ShLight& light);
+    // Sets the light: `light` (3 × K floats, channel-major) in its own frame, turned by
+    // `rotation` (a feature at direction s appears at R·s, as rotate_light). The renderer rotates
+    // the coefficients itself (rotate_light, O(bands³) per channel). Cheap: call it whenever the
+    // light turns. The background texture is rebuilt (O(texels × K')) only when the coefficients
+    // of `light` change: for a full-band K' a turned light is drawn by turning the lookup
+    // direction; for a partial band (not rotation invariant) it is rebuilt from the rotated light.
+    void set_light(const ShLight& light, const Mat3d& rotation = Mat3d::identity());
 
     int scene_K() const { return m_K; }
     int scene_channels() const { return m_channels; }
@@ -121,16 +131,19 @@ public:
     int effective_K(int K_used) const;
     // How many times draw() has run the per-vertex shading pass (for tests and statistics).
     std::uint64_t shading_passes() const { return m_shading_passes; }
+    // How many times draw() has rebuilt the background texture.
+    std::uint64_t background_builds() const { return m_background_builds; }
 
     // Draws the scene into the currently bound draw framebuffer with viewport (0, 0, width,
     // height), writing linear RGB (alpha 1) into colour attachment 0. Clears colour and depth.
     // Needs set_scene and set_light first (Error(invalid_argument) otherwise).
     void draw(const DrawSettings& settings, int width, int height);
 
-    // Draws `target`'s resolved texture into the currently bound framebuffer (viewport 0, 0,
-    // width, height), scaled by `exposure`, through the same filmic tone map and sRGB encoding
-    // as save_image's PNG output: a window then shows what `shprt render` writes to a PNG.
-    void present(const RenderTarget& target, float exposure, int width, int height);
+    // Draws `target` into the currently bound framebuffer (viewport 0, 0 and the target's size):
+    // the mean of each pixel's samples (the resolve, fused into this pass), scaled by `exposure`,
+    // through the same filmic tone map and sRGB encoding as save_image's PNG output — a window
+    // then shows what `shprt render` writes to a PNG. Needs no resolve() first.
+    void present(const RenderTarget& target, float exposure);
 
 private:
     // Everything the per-vertex colours depend on.
@@ -142,7 +155,8 @@ private:
         std::uint64_t light_generation = 0, transfer_generation = 0;
         bool operator==(const ShadingKey&) const = default;
     };
-    void upload_background(int K);
+    // Makes the background texture for K' (if stale); returns the rotation to look it up with.
+    Mat3d upload_background(int K);
     void run_shading(const ShadingKey& key);
 
     unsigned m_shade_program = 0, m_scene_program = 0, m_background_program = 0,
@@ -150,13 +164,24 @@ private:
     unsigned m_vao = 0, m_empty_vao = 0;
     unsigned m_position_vbo = 0, m_normal_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
     unsigned m_color_buffer = 0;  // V × vec4: the shading pass's output
-    unsigned m_transfer_ssbo = 0, m_light_ssbo = 0, m_recurrence_ssbo = 0, m_background_texture = 0;
+    unsigned m_transfer_ssbo = 0, m_light_ubo = 0, m_recurrence_ubo = 0, m_background_texture = 0;
     std::size_t m_vertex_count = 0, m_index_count = 0;
     int m_K = 0, m_channels = 0;
-    ShLight m_light{};
+    ShLight m_light{};         // rotated: what the shading pass uses
+    ShLight m_light_source{};  // as given to set_light
+    Mat3d m_light_rotation = Mat3d::identity();
     bool m_has_light = false;
-    int m_background_K = -1;  // K' the background texture was made with (−1: stale)
-    std::uint64_t m_light_generation = 0, m_transfer_generation = 0, m_shading_passes = 0;
+    // What the background texture was made from: K', and the generation of the coefficients
+    // (m_source_generation when made from the unrotated source, else m_light_generation).
+    struct BackgroundKey {
+        int K = -1;
+        bool from_source = false;
+        std::uint64_t generation = 0;
+        bool operator==(const BackgroundKey&) const = default;
+    };
+    BackgroundKey m_background_key{};
+    std::uint64_t m_light_generation = 0, m_source_generation = 0, m_transfer_generation = 0,
+                  m_shading_passes = 0, m_background_builds = 0;
     ShadingKey m_shading_key;
     bool m_shading_valid = false;
 };
