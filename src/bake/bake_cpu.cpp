@@ -253,7 +253,8 @@ TransferSet bake_cpu(const Mesh& mesh, const BakeOptions& options, const Directi
     st.rays_cast = rays_done.load();
     const std::size_t workers = std::min<std::size_t>(std::size_t(threads), chunk_count);
     st.peak_bytes_host = out.coeffs.size() * sizeof(float) + Y.size() * sizeof(float) +
-                         7 * S * sizeof(float) + workers * scratch_bytes(chunk, S);
+                         7 * S * sizeof(float) + workers * scratch_bytes(chunk, S) +
+                         (tracer ? tracer->memory_bytes() : 0);
     st.device_name = fmt::format("cpu: {} thread{}", threads, threads == 1 ? "" : "s");
     return out;
 }

@@ -49,6 +49,18 @@ EmbreeDevice::EmbreeDevice() {
              "cannot create an Embree device: Embree error {}", error_name(code));
     }
     rtcSetDeviceErrorFunction(m_device, &EmbreeDevice::on_error, this);
+    rtcSetDeviceMemoryMonitorFunction(m_device, &EmbreeDevice::on_memory, this);
+}
+
+bool EmbreeDevice::on_memory(void* user, ssize_t bytes, bool /*post*/) {
+    // Called from Embree's build threads before each allocation (bytes > 0) and after each free
+    // (bytes < 0). Returning true lets the allocation go ahead.
+    auto* self = static_cast<EmbreeDevice*>(user);
+    const long long now = self->m_bytes.fetch_add(bytes) + bytes;
+    long long peak = self->m_peak_bytes.load();
+    while (now > peak && !self->m_peak_bytes.compare_exchange_weak(peak, now)) {
+    }
+    return true;
 }
 
 EmbreeDevice::~EmbreeDevice() {

@@ -6,6 +6,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -32,6 +34,12 @@ public:
     EmbreeDevice& operator=(const EmbreeDevice&) = delete;
 
     RTCDevice get() const { return m_device; }
+    // Bytes Embree holds through this device now, and the most it held at once (its memory
+    // monitor callback).
+    std::size_t bytes_now() const {
+        return static_cast<std::size_t>(std::max<long long>(m_bytes, 0));
+    }
+    std::size_t bytes_peak() const { return static_cast<std::size_t>(m_peak_bytes.load()); }
     // Throws shprt::Error with "<what>: Embree error (<code>): <message>" if Embree reported an
     // error since the last check (code out_of_memory / invalid_argument for Embree's, else
     // unsupported), and clears it.
@@ -39,11 +47,13 @@ public:
 
 private:
     static void on_error(void* user, RTCError code, const char* message);
+    static bool on_memory(void* user, ssize_t bytes, bool post);
 
     RTCDevice m_device = nullptr;
     std::mutex m_mutex;
     RTCError m_code = RTC_ERROR_NONE;
     std::string m_message;
+    std::atomic<long long> m_bytes{0}, m_peak_bytes{0};
 };
 
 // The device option string; exposed for the benchmark's record.

@@ -103,6 +103,8 @@ public:
         }
     }
 
+    std::size_t memory_bytes() const override { return m_device.bytes_peak(); }
+
     Hit intersect(Vec3f origin, Vec3f dir, float tnear, float tfar) const override {
         FtzDazScope ftz;
         RTCIntersectContext context;

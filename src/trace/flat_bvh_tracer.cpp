@@ -23,6 +23,7 @@ public:
     }
 
     const char* name() const override { return "flat-bvh"; }
+    std::size_t memory_bytes() const override { return m_bvh.bytes(); }
 
 private:
     FlatBvh m_bvh;

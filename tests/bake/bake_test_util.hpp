@@ -35,6 +35,7 @@ public:
         return closest(origin, dir, tnear, tfar, false);
     }
     const char* name() const override { return "brute-force"; }
+    std::size_t memory_bytes() const override { return m_tris.size() * sizeof(m_tris[0]); }
 
 private:
     Hit closest(Vec3f of, Vec3f df, float tnear, float tfar, bool any) const {

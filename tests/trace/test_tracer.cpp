@@ -294,6 +294,24 @@ TEST(Tracer, MissReportsNoTriangle) {
     }
 }
 
+TEST(Tracer, ReportsTheMemoryOfItsAccelerationStructure) {
+    const Mesh soup = test::make_triangle_soup(20000, 0.05f, 7);
+    const std::size_t T = soup.triangle_count(), V = soup.vertex_count();
+    // Embree: its own copy of the vertex and index buffers at least (12 bytes each per vertex and
+    // triangle, plus padding), and a BVH well under 1 KB per triangle.
+    const auto embree = make_embree_tracer(soup);
+    EXPECT_GE(embree->memory_bytes(), 12 * V + 12 * T);
+    EXPECT_LT(embree->memory_bytes(), 1024 * T);
+    // The flat BVH: its nodes (64 bytes per interior node, T − 1 for a binary tree over one
+    // triangle per leaf at most) and its triangle arrays.
+    const auto flat = make_flat_bvh_tracer(soup);
+    EXPECT_GE(flat->memory_bytes(), 36 * T);
+    EXPECT_LT(flat->memory_bytes(), 1024 * T);
+    // A larger scene takes more.
+    const auto small = make_embree_tracer(test::make_triangle_soup(2000, 0.05f, 7));
+    EXPECT_LT(small->memory_bytes(), embree->memory_bytes());
+}
+
 TEST(Tracer, BadMeshesThrow) {
     Mesh empty;
     empty.source = "test:empty";

@@ -16,9 +16,10 @@
 // Lambertian 1/π and the albedo are applied when shading, see DESIGN.md "Radiometry").
 //
 // Memory: O(V·K) for the result, plus the BVH, plus O(chunk·S) per thread; rays are generated on
-// the fly and a V×S buffer never exists. BakeStats::peak_bytes_host states the bake's own peak:
-// coefficients, basis table, direction arrays and the per-thread W and ray buffers (the tracer's
-// BVH is the tracer's and is not counted: the Tracer interface does not report it).
+// the fly and a V×S buffer never exists. BakeStats::peak_bytes_host states the bake's peak:
+// coefficients, basis table, direction arrays, the per-thread W and ray buffers, and the
+// tracer's acceleration structure (Tracer::memory_bytes: Embree's peak allocation through its
+// memory monitor). The mesh, which the caller owns, is not counted.
 //
 // Determinism: the chunk partition depends only on (V, S, chunk_vertices), never on the thread
 // count, and each chunk's product is computed independently by one thread, so the same inputs and

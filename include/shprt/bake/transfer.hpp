@@ -26,7 +26,7 @@ Device parse_device(const std::string& name);  // "cpu", "cuda", "auto"; throws 
 struct BakeStats {
     double seconds_bvh = 0, seconds_trace = 0, seconds_project = 0, seconds_total = 0;
     std::uint64_t rays_cast = 0;        // rays actually traced (below-horizon rays are not cast)
-    std::uint64_t peak_bytes_host = 0;  // bake's own peak working memory, host
+    std::uint64_t peak_bytes_host = 0;  // bake's peak working memory with its BVH, host
     std::uint64_t peak_bytes_device = 0;
     std::string device_name;  // "cpu: 2 threads" or the GPU's name
 };

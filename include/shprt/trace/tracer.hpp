@@ -60,6 +60,12 @@ public:
 
     // "embree" or "flat-bvh".
     virtual const char* name() const = 0;
+
+    // Host memory of the acceleration structure, bytes: the peak its library allocated while
+    // building and holding it (Embree: what the device's memory monitor reported, geometry
+    // buffers and build scratch included; the flat BVH: its arrays). For BakeStats'
+    // peak_bytes_host.
+    virtual std::size_t memory_bytes() const = 0;
 };
 
 struct EmbreeTracerOptions {
