@@ -73,6 +73,16 @@ vec3 transfer3(uint t0, uint t1, uint t2, uint i) {
     return vec3(transfer[t0 + i], transfer[t1 + i], transfer[t2 + i]);
 }
 
+// One index i of the glossy loop: E gets T_i L_i, and the lobe sums get the rotated lobe's
+// coefficient c_i times L_i and T_i.
+void term(uint t0, uint t1, uint t2, int i, float c_i, inout vec3 E, inout vec3 lobe_light,
+          inout vec3 lobe_transfer) {
+    vec3 t = transfer3(t0, t1, t2, uint(i)), lt = light3(i);
+    E += t * lt;
+    lobe_light += c_i * lt;
+    lobe_transfer += c_i * t;
+}
+
 void main() {
     uint v = u_first_vertex + gl_GlobalInvocationID.x;
     if (v >= u_vertex_count) return;
@@ -146,23 +156,10 @@ vec3 shade(uint v) {
                 q_prev = q;
                 q = next;
             }
-            if (ip < u_K) {
-                float cs = u_lobe[l] * q * wc;
-                vec3 t = transfer3(t0, t1, t2, uint(ip)), lt = light3(ip);
-                E += t * lt;
-                lobe_light += cs * lt;
-                lobe_transfer += cs * t;
-            }
-            if (m > 0) {
-                int im = l * (l + 1) - m;
-                if (im < u_K) {
-                    float cs = u_lobe[l] * q * ws;
-                    vec3 t = transfer3(t0, t1, t2, uint(im)), lt = light3(im);
-                    E += t * lt;
-                    lobe_light += cs * lt;
-                    lobe_transfer += cs * t;
-                }
-            }
+            if (ip < u_K) term(t0, t1, t2, ip, u_lobe[l] * q * wc, E, lobe_light, lobe_transfer);
+            int im = l * (l + 1) - m;
+            if (m > 0 && im < u_K)
+                term(t0, t1, t2, im, u_lobe[l] * q * ws, E, lobe_light, lobe_transfer);
         }
     }
     vec3 L_D = a_albedo / kPi * E;
