@@ -1,15 +1,20 @@
-// Shared fixture for tests that run the real `shprt` binary (SHPRT_CLI_PATH): a fresh temporary
-// directory per test with an empty out/ folder, and `shprt(ARGS)` running the program with stdout
-// and stderr captured into files (neither is a terminal) and no standard input.
+// Shared pieces for tests that run the real `shprt` binary (SHPRT_CLI_PATH): `run_shprt` runs the
+// program with stdout and stderr captured into files (neither is a terminal) and stdin from given
+// text or /dev/null; `expect_one_line_error` checks how the program reports a failure; the fixture
+// CliTest gives each test a fresh temporary directory with an empty out/ folder.
 #pragma once
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <source_location>
 #include <sstream>
 #include <string>
 
@@ -18,8 +23,17 @@ namespace shprt::test_support {
 namespace fs = std::filesystem;
 
 struct RunResult {
-    int exit_code;  // 128 when the program did not exit normally (a crash)
+    // The shell reports a program killed by a signal as 128 + the signal; 128 when the shell
+    // itself did not exit normally.
+    int exit_code;
     std::string out, err;
+};
+
+// The default member initializers let callers name only what they set, `{.input = "1 2 3"}`,
+// without -Wmissing-field-initializers warnings.
+struct RunOptions {
+    std::string prefix = "";  // shell text before the program: `VAR=value`, `xvfb-run -a`
+    std::optional<std::string> input = std::nullopt;  // standard input; without it, /dev/null
 };
 
 inline std::string slurp(const fs::path& p) {
@@ -27,6 +41,39 @@ inline std::string slurp(const fs::path& p) {
     std::ostringstream ss;
     ss << in.rdbuf();
     return ss.str();
+}
+
+// Runs `[PREFIX] shprt ARGS` (ARGS is shell text: quote paths). Writes only the files stdout,
+// stderr and, with input, stdin into `work_dir`. A free function so that static suite set-up can
+// use it too.
+inline RunResult run_shprt(const std::string& args, const fs::path& work_dir,
+                           const RunOptions& options = {}) {
+    const fs::path out = work_dir / "stdout", err = work_dir / "stderr";
+    fs::path in = "/dev/null";
+    if (options.input) {
+        in = work_dir / "stdin";
+        std::ofstream(in, std::ios::binary) << *options.input;
+    }
+    const std::string cmd = options.prefix + " '" + SHPRT_CLI_PATH + "' " + args + " >'" +
+                            out.string() + "' 2>'" + err.string() + "' <'" + in.string() + "'";
+    const int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, slurp(out), slurp(err)};
+}
+
+// A failure the program reports itself (main catches a shprt::Error): exit code 1, nothing on
+// stdout, and on stderr exactly one line "shprt: error: ...\n" that contains `needle`. Argument
+// errors found by CLI11 are not of this kind (another exit code, a second line). Failures name
+// the caller's line, which identifies the case.
+inline void expect_one_line_error(const RunResult& r, const std::string& needle,
+                                  std::source_location where = std::source_location::current()) {
+    const ::testing::ScopedTrace trace(where.file_name(), int(where.line()),
+                                       "expecting a one-line error containing '" + needle + "'");
+    EXPECT_EQ(r.exit_code, 1) << "stderr: " << r.err;
+    EXPECT_EQ(r.out, "") << "stdout of a failed run";
+    EXPECT_THAT(r.err, ::testing::StartsWith("shprt: error: "));
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr: " << r.err;
+    EXPECT_THAT(r.err, ::testing::EndsWith("\n"));
+    EXPECT_THAT(r.err, ::testing::HasSubstr(needle));
 }
 
 class CliTest : public ::testing::Test {
@@ -40,14 +87,9 @@ protected:
     }
     void TearDown() override { fs::remove_all(m_dir); }
 
-    // Runs `shprt ARGS` (ARGS is shell text: quote paths).
-    RunResult shprt(const std::string& args) {
-        const std::string cmd = std::string("'") + SHPRT_CLI_PATH + "' " + args + " >'" +
-                                (m_dir / "stdout").string() + "' 2>'" +
-                                (m_dir / "stderr").string() + "' </dev/null";
-        const int status = std::system(cmd.c_str());
-        return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, slurp(m_dir / "stdout"),
-                slurp(m_dir / "stderr")};
+    // Runs the program in this test's directory (see run_shprt).
+    RunResult shprt(const std::string& args, const RunOptions& options = {}) const {
+        return run_shprt(args, m_dir, options);
     }
 
     std::string out(const std::string& name) const { return (m_dir / "out" / name).string(); }

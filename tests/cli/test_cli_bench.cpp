@@ -7,9 +7,9 @@
 #include "shprt/light/image.hpp"
 #include "shprt/render/gl_context.hpp"
 
+#include "cli/cli_test.hpp"
+
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +18,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -25,10 +26,8 @@ namespace fs = std::filesystem;
 namespace shprt {
 namespace {
 
-struct RunResult {
-    int exit_code;
-    std::string out, err;
-};
+using test_support::expect_one_line_error;
+using test_support::RunResult;
 
 // A CSV with a header: column name → values, one per data row.
 struct Csv {
@@ -86,33 +85,11 @@ bool have_gl() {
 
 bool have_gnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
 
-class CliBench : public ::testing::Test {
-protected:
-    void SetUp() override {
-        m_dir = fs::temp_directory_path() /
-                ("shprt_cli_bench_" + std::to_string(::getpid()) + "_" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir);
-    }
-    void TearDown() override { fs::remove_all(m_dir); }
-
-    RunResult shprt(const std::string& args) {
-        std::string cmd = "'";
-        cmd.append(SHPRT_CLI_PATH).append("' ").append(args);
-        cmd.append(" >'").append((m_dir / "stdout").string());
-        cmd.append("' 2>'").append((m_dir / "stderr").string()).append("' </dev/null");
-        const int status = std::system(cmd.c_str());
-        return {WIFEXITED(status) ? WEXITSTATUS(status) : 128,
-                read_file((m_dir / "stdout").string()), read_file((m_dir / "stderr").string())};
-    }
-
-    fs::path m_dir;
-};
+class CliBench : public test_support::CliTest {};
 
 TEST_F(CliBench, QuickPaperRunWritesTheTable) {
-    const fs::path out = m_dir / "paper";
-    const RunResult r = shprt("bench paper --quick --device cpu -o '" + out.string() + "'");
+    const fs::path dir = out("paper");
+    const RunResult r = shprt("bench paper --quick --device cpu -o '" + dir.string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     // Progress went to stderr, the table to stdout.
     EXPECT_NE(r.err.find("ground truth"), std::string::npos) << r.err;
@@ -121,13 +98,13 @@ TEST_F(CliBench, QuickPaperRunWritesTheTable) {
         << r.out;
 
     // The markdown has the paper's rows and ours side by side.
-    const std::string md = read_file((out / "paper_table.md").string());
+    const std::string md = read_file((dir / "paper_table.md").string());
     for (const char* needle : {"18.5", "4 h 20 min", "2 h 18 min", "sharp", "unsaturated",
                                "shprt CPU, total", "RMSE (СКО)", "Sampling study"})
         EXPECT_NE(md.find(needle), std::string::npos) << needle;
 
     // The CSV parses: one row per paper size, every cell numeric, values plausible.
-    const Csv csv = read_csv((out / "paper_table.csv").string());
+    const Csv csv = read_csv((dir / "paper_table.csv").string());
     ASSERT_GE(csv.names.size(), 40u);
     ASSERT_EQ(csv.rows.size(), 5u);
     EXPECT_TRUE(all_numeric(csv, 0));
@@ -151,49 +128,50 @@ TEST_F(CliBench, QuickPaperRunWritesTheTable) {
     EXPECT_EQ(csv.number(4, "paper_gpu_s"), 2 * 3600 + 18 * 60);
 
     // The sampling study: four samplers × two S in quick mode.
-    const Csv study = read_csv((out / "sampling_study.csv").string());
+    const Csv study = read_csv((dir / "sampling_study.csv").string());
     EXPECT_EQ(study.rows.size(), 8u);
     EXPECT_TRUE(all_numeric(study, 1));
-    EXPECT_TRUE(fs::exists(out / "plot_paper.gp"));
+    EXPECT_TRUE(fs::exists(dir / "plot_paper.gp"));
 
     if (have_gl()) {
-        const Image grid = load_image((out / "grid_room.png").string());
+        const Image grid = load_image((dir / "grid_room.png").string());
         EXPECT_GT(grid.width, grid.height);
-        EXPECT_TRUE(fs::exists(out / "grid_edge.png"));
-        EXPECT_TRUE(fs::exists(out / "edge_profiles.csv"));
+        EXPECT_TRUE(fs::exists(dir / "grid_edge.png"));
+        EXPECT_TRUE(fs::exists(dir / "edge_profiles.csv"));
         EXPECT_FALSE(std::isnan(csv.number(0, "fps")));
         EXPECT_GT(csv.number(0, "truth_edge_width_m"), 0);
     }
     if (have_gnuplot()) {
         for (const char* plot :
              {"error_vs_K.png", "time_vs_K.png", "sampling_study.png", "edge_profile.png"})
-            EXPECT_TRUE(fs::exists(out / plot)) << plot;
+            EXPECT_TRUE(fs::exists(dir / plot)) << plot;
     }
     // No temporary files are left behind.
-    for (const auto& entry : fs::directory_iterator(out))
+    for (const auto& entry : fs::directory_iterator(dir))
         EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
 }
 
 TEST_F(CliBench, BadOptionsAreOneLineErrors) {
-    for (const char* args :
-         {"bench paper --device gpu", "bench paper --samples 0", "bench paper --triangles 5",
-          "bench paper --sampler halton", "bench paper --gt-samples 1"}) {
-        const RunResult r =
-            shprt(std::string(args) + " --quick -o '" + (m_dir / "bad").string() + "'");
-        EXPECT_NE(r.exit_code, 0) << args;
-        EXPECT_EQ(r.err.rfind("shprt: error: ", 0), 0u) << args << ": " << r.err;
-        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
-        EXPECT_FALSE(fs::exists(m_dir / "bad" / "paper_table.md")) << args;
+    const std::pair<const char*, const char*> cases[] = {
+        {"--device gpu", "--device 'gpu'"},   {"--samples 0", "--samples 0"},
+        {"--triangles 5", "--triangles 5"},   {"--sampler halton", "'halton'"},
+        {"--gt-samples 1", "--gt-samples 1"},
+    };
+    for (const auto& [option, needle] : cases) {
+        SCOPED_TRACE(option);
+        expect_one_line_error(
+            shprt("bench paper " + std::string(option) + " --quick -o '" + out("bad") + "'"),
+            needle);
+        EXPECT_TRUE(out_dir_empty()) << "a failed run writes nothing";
     }
 }
 
 TEST_F(CliBench, CudaWithoutAGpuIsAnError) {
     // Only meaningful where there is no GPU; where there is one, the run would succeed.
-    const RunResult probe = shprt("bench paper --quick --device cuda --no-study --no-images -o '" +
-                                  (m_dir / "cuda").string() + "'");
+    const RunResult probe =
+        shprt("bench paper --quick --device cuda --no-study --no-images -o '" + out("cuda") + "'");
     if (probe.exit_code == 0) GTEST_SKIP() << "a CUDA device is present";
-    EXPECT_EQ(probe.err.rfind("shprt: error: ", 0), 0u) << probe.err;
-    EXPECT_NE(probe.err.find("--device cuda"), std::string::npos) << probe.err;
+    expect_one_line_error(probe, "--device cuda");
 }
 
 }  // namespace

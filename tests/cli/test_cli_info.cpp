@@ -4,43 +4,29 @@
 #include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
 
+#include "cli/cli_test.hpp"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
 
 namespace shprt {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-    int status;
-    std::string out, err;
-};
+using test_support::expect_one_line_error;
+using test_support::RunResult;
 
-CliRun run_cli(const std::string& args, const fs::path& dir) {
-    const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
-    const std::string command =
-        fmt::format("'{}' {} > '{}' 2> '{}'", SHPRT_CLI_PATH, args, out, err);
-    const int raw = std::system(command.c_str());
-    CliRun r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128;
-    r.out = read_file(out);
-    r.err = read_file(err);
-    return r;
-}
-
-class CliInfo : public ::testing::Test {
+class CliInfo : public test_support::CliTest {
 protected:
     void SetUp() override {
-        m_dir = fs::temp_directory_path() / fmt::format("shprt_cli_info_{}", ::getpid());
-        fs::create_directories(m_dir);
+        CliTest::SetUp();
         m_file = (m_dir / "grid.shprt").string();
         Mesh mesh;
         for (int i = 0; i < 37; ++i) {  // a fan of 37 vertices, 35 triangles
@@ -59,15 +45,12 @@ protected:
         t.stats.rays_cast = 1000000;
         write_shprt(m_file, mesh, t);
     }
-    void TearDown() override { fs::remove_all(m_dir); }
-
-    fs::path m_dir;
     std::string m_file;
 };
 
 TEST_F(CliInfo, SummaryNamesKAndVertexCount) {
-    const CliRun r = run_cli(fmt::format("info '{}'", m_file), m_dir);
-    EXPECT_EQ(r.status, 0) << r.err;
+    const RunResult r = shprt(fmt::format("info '{}'", m_file));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("K = 48"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("7 bands, last band partial"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("vertices     37"), std::string::npos) << r.out;
@@ -79,8 +62,8 @@ TEST_F(CliInfo, SummaryNamesKAndVertexCount) {
 }
 
 TEST_F(CliInfo, JsonPrintsTheMetadata) {
-    const CliRun r = run_cli(fmt::format("info --json '{}'", m_file), m_dir);
-    ASSERT_EQ(r.status, 0) << r.err;
+    const RunResult r = shprt(fmt::format("info --json '{}'", m_file));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto meta = nlohmann::json::parse(r.out);
     EXPECT_EQ(meta["K"], 48);
     EXPECT_EQ(meta["scene"]["vertices"], 37);
@@ -99,16 +82,11 @@ TEST_F(CliInfo, CorruptOrMissingFileGivesOneLineError) {
          {std::pair{corrupt, std::string("section 'transfer' fails its checksum")},
           std::pair{truncated, std::string("truncated")},
           std::pair{(m_dir / "missing.shprt").string(), std::string("cannot open")}}) {
-        const CliRun r = run_cli(fmt::format("info '{}'", file), m_dir);
-        EXPECT_NE(r.status, 0) << file;
-        EXPECT_EQ(r.out, "") << file;
-        ASSERT_FALSE(r.err.empty()) << file;
-        EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "not one line: " << r.err;
-        EXPECT_EQ(r.err.rfind("shprt: error: ", 0), 0u) << r.err;
+        const RunResult r = shprt(fmt::format("info '{}'", file));
+        expect_one_line_error(r, expected);
         EXPECT_NE(r.err.find(file), std::string::npos) << r.err;
-        EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
     }
-    EXPECT_NE(run_cli("info", m_dir).status, 0);  // no file given
+    EXPECT_NE(shprt("info").exit_code, 0);  // no file given
 }
 
 }  // namespace

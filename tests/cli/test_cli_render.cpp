@@ -15,9 +15,9 @@
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 
+#include "cli/cli_test.hpp"
+
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -36,10 +36,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-struct RunResult {
-    int exit_code;
-    std::string out, err;
-};
+using test_support::expect_one_line_error;
+using test_support::RunResult;
 
 // The unit sphere with analytic unshadowed transfer (clamped cosine about each normal, K = 16).
 TransferSet sphere_transfer(const Mesh& mesh, int K) {
@@ -56,32 +54,14 @@ TransferSet sphere_transfer(const Mesh& mesh, int K) {
     return t;
 }
 
-class CliRender : public ::testing::Test {
+class CliRender : public test_support::CliTest {
 protected:
     void SetUp() override {
-        m_dir = fs::temp_directory_path() /
-                ("shprt_cli_render_" + std::to_string(::getpid()) + "_" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir / "out");
+        CliTest::SetUp();
         m_mesh = make_builtin("sphere");
         m_file = (m_dir / "sphere.shprt").string();
         write_shprt(m_file, m_mesh, sphere_transfer(m_mesh, 16));
     }
-    void TearDown() override { fs::remove_all(m_dir); }
-
-    // Runs `ENV shprt ARGS` with stdout and stderr captured.
-    RunResult shprt(const std::string& args, const std::string& env = "") {
-        const std::string cmd = env + " '" + SHPRT_CLI_PATH + "' " + args + " >'" +
-                                (m_dir / "stdout").string() + "' 2>'" +
-                                (m_dir / "stderr").string() + "' </dev/null";
-        const int status = std::system(cmd.c_str());
-        return {WIFEXITED(status) ? WEXITSTATUS(status) : 128,
-                read_file((m_dir / "stdout").string()), read_file((m_dir / "stderr").string())};
-    }
-    std::string out(const std::string& name) const { return (m_dir / "out" / name).string(); }
-    bool out_empty() const { return fs::is_empty(m_dir / "out"); }
-
     static std::vector<std::vector<double>> read_csv(const std::string& path, std::string& header) {
         std::istringstream in(read_file(path));
         std::getline(in, header);
@@ -105,15 +85,6 @@ protected:
         }
     }
 
-    // One-line error on stderr, starting "shprt: error:", mentioning `needle`.
-    static void expect_one_line_error(const RunResult& r, const std::string& needle) {
-        EXPECT_NE(r.exit_code, 0);
-        EXPECT_EQ(r.err.rfind("shprt: error: ", 0), 0u) << r.err;
-        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-        EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
-    }
-
-    fs::path m_dir;
     Mesh m_mesh;
     std::string m_file;
 };
@@ -260,18 +231,18 @@ TEST_F(CliRender, BadInputGivesOneLineErrorsAndNoOutput) {
     expect_one_line_error(shprt("render '" + m_file + "' -o '" + out("img.jpg") + "'"), "img.jpg");
     expect_one_line_error(shprt("shade /no/such/file.shprt -o '" + out("n.csv") + "'"),
                           "/no/such/file.shprt");
-    EXPECT_TRUE(out_empty());
+    EXPECT_TRUE(out_dir_empty());
 }
 
 TEST_F(CliRender, RenderWithoutOpenGl43ReportsTheVersionFound) {
     if (!have_gl()) GTEST_SKIP() << "no headless OpenGL at all on this machine";
     // Mesa honours MESA_GL_VERSION_OVERRIDE: capped at 3.3, no 4.3 core context can be made.
     const RunResult r = shprt("render '" + m_file + "' --size 32x32 -o '" + out("old.png") + "'",
-                              "MESA_GL_VERSION_OVERRIDE=3.3");
+                              {.prefix = "MESA_GL_VERSION_OVERRIDE=3.3"});
     if (r.exit_code == 0) GTEST_SKIP() << "the GL driver ignores MESA_GL_VERSION_OVERRIDE";
     expect_one_line_error(r, "4.3");
     EXPECT_NE(r.err.find("found"), std::string::npos) << r.err;
-    EXPECT_TRUE(out_empty());
+    EXPECT_TRUE(out_dir_empty());
 }
 
 }  // namespace

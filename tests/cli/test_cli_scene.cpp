@@ -1,76 +1,34 @@
 // `shprt scene` run as a program (SHPRT_CLI_PATH): generated PLY files load back to the same
 // mesh, `info` and `list` print what they should, and bad requests exit non-zero with one line on
 // stderr and no output file left behind.
-#include "shprt/core/file.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/scene/room.hpp"
 
+#include "cli/cli_test.hpp"
+
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <cstdlib>
 #include <cstring>
-#include <filesystem>
+#include <string>
+#include <vector>
 
 namespace shprt {
 namespace {
 
-namespace fs = std::filesystem;
+using test_support::RunResult;
 
-struct CliRun {
-    int status;
-    std::string out, err;
-};
-
-class CliScene : public ::testing::Test {
+class CliScene : public test_support::CliTest {
 protected:
-    void SetUp() override {
-        m_dir = fs::temp_directory_path() / fmt::format("shprt_cli_scene_{}", ::getpid());
-        fs::create_directories(m_dir);
+    // A failure reported as a one-line error that leaves no output and no temporary file.
+    void expect_failure(const RunResult& r, const std::string& needle) const {
+        test_support::expect_one_line_error(r, needle);
+        EXPECT_TRUE(out_dir_empty());
     }
-    void TearDown() override { fs::remove_all(m_dir); }
-
-    std::string path(const std::string& name) const { return (m_dir / name).string(); }
-
-    CliRun run(const std::string& args) const {
-        const std::string out = path("stdout.txt"), err = path("stderr.txt");
-        const std::string command =
-            fmt::format("'{}' {} > '{}' 2> '{}'", SHPRT_CLI_PATH, args, out, err);
-        const int raw = std::system(command.c_str());
-        CliRun r;
-        r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128;
-        r.out = read_file(out);
-        r.err = read_file(err);
-        return r;
-    }
-
-    // Only the captured stdout/stderr files: no output, no temporary file.
-    std::size_t files_left() const {
-        std::size_t n = 0;
-        for (const auto& e : fs::directory_iterator(m_dir)) {
-            const std::string name = e.path().filename().string();
-            if (name != "stdout.txt" && name != "stderr.txt") ++n;
-        }
-        return n;
-    }
-
-    void expect_failure(const CliRun& r, const std::string& what) const {
-        EXPECT_NE(r.status, 0);
-        EXPECT_EQ(r.status, 1) << "a shprt::Error exits with 1: " << r.err;
-        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-        EXPECT_EQ(r.err.rfind("shprt: error: ", 0), 0u) << r.err;
-        EXPECT_NE(r.err.find(what), std::string::npos) << r.err;
-        EXPECT_EQ(files_left(), 0u);
-    }
-
-    fs::path m_dir;
 };
 
 template <class T>
@@ -79,13 +37,13 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
 }
 
 TEST_F(CliScene, RoomPlyLoadsBackToTheGeneratedMesh) {
-    const std::string out = path("room.ply");
-    const CliRun r = run(fmt::format("scene room -o '{}' --triangles 5000", out));
-    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string file = out("room.ply");
+    const RunResult r = shprt(fmt::format("scene room -o '{}' --triangles 5000", file));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     const Mesh expected = generate_room({5000, false});
     EXPECT_NE(r.out.find(fmt::format("{} triangles", expected.triangle_count())), std::string::npos)
         << r.out;
-    const Mesh loaded = load_scene(out);
+    const Mesh loaded = load_scene(file);
     EXPECT_TRUE(same_bits(loaded.positions, expected.positions));
     EXPECT_TRUE(same_bits(loaded.normals, expected.normals));
     EXPECT_TRUE(same_bits(loaded.triangles, expected.triangles));
@@ -95,8 +53,8 @@ TEST_F(CliScene, RoomPlyLoadsBackToTheGeneratedMesh) {
         for (int c = 0; c < 3; ++c)
             ASSERT_NEAR(loaded.albedo[v][c], expected.albedo[v][c], kSrgbByteTol);
 
-    const CliRun info = run(fmt::format("scene info '{}'", out));
-    ASSERT_EQ(info.status, 0) << info.err;
+    const RunResult info = shprt(fmt::format("scene info '{}'", file));
+    ASSERT_EQ(info.exit_code, 0) << info.err;
     EXPECT_NE(info.out.find(fmt::format("{} vertices, {} triangles", expected.vertex_count(),
                                         expected.triangle_count())),
               std::string::npos)
@@ -106,43 +64,44 @@ TEST_F(CliScene, RoomPlyLoadsBackToTheGeneratedMesh) {
 }
 
 TEST_F(CliScene, CeilingAndOtherBuiltins) {
-    const std::string room = path("closed.ply");
-    ASSERT_EQ(run(fmt::format("scene room --ceiling --triangles 3000 -o '{}'", room)).status, 0);
+    const std::string room = out("closed.ply");
+    ASSERT_EQ(shprt(fmt::format("scene room --ceiling --triangles 3000 -o '{}'", room)).exit_code,
+              0);
     EXPECT_EQ(mesh_bounds(load_scene(room)).hi.y, kRoomCeilingTop);
     for (const std::string& name : builtin_scene_names()) {
         if (name == "room") continue;
-        const std::string out = path(name + ".ply");
-        const CliRun r = run(fmt::format("scene {} -o '{}'", name, out));
-        ASSERT_EQ(r.status, 0) << name << ": " << r.err;
-        EXPECT_EQ(load_scene(out).triangle_count(), make_builtin(name).triangle_count()) << name;
+        const std::string file = out(name + ".ply");
+        const RunResult r = shprt(fmt::format("scene {} -o '{}'", name, file));
+        ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
+        EXPECT_EQ(load_scene(file).triangle_count(), make_builtin(name).triangle_count()) << name;
     }
 }
 
 TEST_F(CliScene, ListAndInfoOfBuiltins) {
-    const CliRun list = run("scene list");
-    ASSERT_EQ(list.status, 0);
+    const RunResult list = shprt("scene list");
+    ASSERT_EQ(list.exit_code, 0);
     for (const std::string& name : builtin_scene_names())
         EXPECT_NE(list.out.find(name), std::string::npos) << list.out;
-    const CliRun info = run("scene info builtin:sphere");
-    ASSERT_EQ(info.status, 0) << info.err;
+    const RunResult info = shprt("scene info builtin:sphere");
+    ASSERT_EQ(info.exit_code, 0) << info.err;
     EXPECT_NE(info.out.find("642 vertices, 1280 triangles"), std::string::npos) << info.out;
 }
 
 TEST_F(CliScene, BadRequestsFailCleanly) {
-    expect_failure(run(fmt::format("scene info '{}'", path("missing.obj"))),
-                   path("missing.obj") + ": no such file");
-    expect_failure(run("scene info builtin:teapot"), "unknown built-in scene 'teapot'");
-    expect_failure(run(fmt::format("scene room --triangles 10 -o '{}'", path("small.ply"))),
+    expect_failure(shprt(fmt::format("scene info '{}'", out("missing.obj"))),
+                   out("missing.obj") + ": no such file");
+    expect_failure(shprt("scene info builtin:teapot"), "unknown built-in scene 'teapot'");
+    expect_failure(shprt(fmt::format("scene room --triangles 10 -o '{}'", out("small.ply"))),
                    "10 triangles requested");
-    expect_failure(run(fmt::format("scene plane -o '{}'", path("plane.obj"))), "PLY");
-    expect_failure(run(fmt::format("scene room -o '{}'", path("no/such/dir/room.ply"))),
+    expect_failure(shprt(fmt::format("scene plane -o '{}'", out("plane.obj"))), "PLY");
+    expect_failure(shprt(fmt::format("scene room -o '{}'", out("no/such/dir/room.ply"))),
                    "cannot write");
     // Argument errors are CLI11's: non-zero, and nothing written.
-    EXPECT_NE(run("scene").status, 0);
-    EXPECT_NE(run(fmt::format("scene teapot -o '{}'", path("t.ply"))).status, 0);
-    EXPECT_NE(run(fmt::format("scene sphere --triangles 5 -o '{}'", path("s.ply"))).status, 0);
-    EXPECT_NE(run("scene room").status, 0);  // -o is required
-    EXPECT_EQ(files_left(), 0u);
+    EXPECT_NE(shprt("scene").exit_code, 0);
+    EXPECT_NE(shprt(fmt::format("scene teapot -o '{}'", out("t.ply"))).exit_code, 0);
+    EXPECT_NE(shprt(fmt::format("scene sphere --triangles 5 -o '{}'", out("s.ply"))).exit_code, 0);
+    EXPECT_NE(shprt("scene room").exit_code, 0);  // -o is required
+    EXPECT_TRUE(out_dir_empty());
 }
 
 }  // namespace

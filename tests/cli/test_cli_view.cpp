@@ -2,9 +2,10 @@
 // one line per basis size, --bake bakes in the same process, bad input gives one line and exit 1,
 // and (when xvfb-run exists) the real window opens under Xvfb, draws its panel and shows the
 // same picture as --screenshot beside it.
+#include "cli/cli_test.hpp"
+
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,13 +13,17 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
 namespace fs = std::filesystem;
 
 namespace {
+
+using shprt::test_support::expect_one_line_error;
+using shprt::test_support::RunOptions;
+using shprt::test_support::RunResult;
+using shprt::test_support::slurp;
 
 // PNG codes: the GPU's float tone map against save_image's CPU one may differ by one level.
 constexpr int kMaxLevelDifference = 1;
@@ -29,22 +34,10 @@ constexpr double kMaxMeanWindowDifference = 1.0;
 // Inside the panel's rectangle the picture must differ clearly (the panel is drawn).
 constexpr double kMinMeanPanelDifference = 10.0;
 
-struct RunResult {
-    int exit_code;
-    std::string out, err;
-};
-
 struct Png {
     int width = 0, height = 0;
     std::vector<unsigned char> rgb;
 };
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 Png read_png(const std::string& path) {
     Png png;
@@ -83,37 +76,20 @@ bool has_program(const char* name) {
     return std::system(cmd.c_str()) == 0;
 }
 
-class CliView : public ::testing::Test {
+// Each test runs in its own directory (CliTest); the suite bakes one file for all of them.
+class CliView : public shprt::test_support::CliTest {
 protected:
     static void SetUpTestSuite() {
         s_dir = fs::temp_directory_path() / ("shprt_cli_view_" + std::to_string(::getpid()));
         fs::remove_all(s_dir);
         fs::create_directories(s_dir);
         s_file = (s_dir / "box64.shprt").string();
-        const RunResult r =
-            run("bake builtin:box_on_plane -o '" + s_file + "' --coeffs 64 --samples 128 --seed 2");
+        const RunResult r = shprt::test_support::run_shprt(
+            "bake builtin:box_on_plane -o '" + s_file + "' --coeffs 64 --samples 128 --seed 2",
+            s_dir);
         ASSERT_EQ(r.exit_code, 0) << r.err;
     }
     static void TearDownTestSuite() { fs::remove_all(s_dir); }
-
-    // Runs `[PREFIX] shprt ARGS` with stdout and stderr captured.
-    static RunResult run(const std::string& args, const std::string& prefix = "") {
-        const fs::path out = s_dir / "stdout", err = s_dir / "stderr";
-        const std::string cmd = prefix + " '" + SHPRT_CLI_PATH + "' " + args + " >'" +
-                                out.string() + "' 2>'" + err.string() + "' </dev/null";
-        const int status = std::system(cmd.c_str());
-        return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, slurp(out), slurp(err)};
-    }
-    static std::string path(const std::string& name) { return (s_dir / name).string(); }
-
-    // A failure: exit code 1, exactly one line on stderr starting with "shprt: error: ".
-    static void expect_one_line_error(const RunResult& r, const std::string& needle) {
-        EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
-        EXPECT_EQ(r.err.rfind("shprt: error: ", 0), 0u) << r.err;
-        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-        EXPECT_NE(r.err.find(needle), std::string::npos)
-            << "expected '" << needle << "' in " << r.err;
-    }
 
     static fs::path s_dir;
     static std::string s_file;
@@ -131,13 +107,13 @@ TEST_F(CliView, ScreenshotEqualsRender) {
         "--window hann"};
     for (const std::string& options : common) {
         const RunResult v =
-            run("view '" + s_file + "' --screenshot '" + path("view.png") + "'" + options);
+            shprt("view '" + s_file + "' --screenshot '" + out("view.png") + "'" + options);
         ASSERT_EQ(v.exit_code, 0) << v.err;
         EXPECT_NE(v.out.find("screenshot "), std::string::npos) << v.out;
         const RunResult r =
-            run("render '" + s_file + "' -o '" + path("render.png") + "'" + options);
+            shprt("render '" + s_file + "' -o '" + out("render.png") + "'" + options);
         ASSERT_EQ(r.exit_code, 0) << r.err;
-        const Png a = read_png(path("view.png")), b = read_png(path("render.png"));
+        const Png a = read_png(out("view.png")), b = read_png(out("render.png"));
         ASSERT_FALSE(a.rgb.empty());
         ASSERT_EQ(a.width, b.width);
         ASSERT_EQ(a.height, b.height);
@@ -154,7 +130,7 @@ TEST_F(CliView, ScreenshotEqualsRender) {
 }
 
 TEST_F(CliView, BenchmarkPrintsALinePerBasisSize) {
-    const RunResult r = run("view '" + s_file + "' --benchmark 3 --size 64x48 --msaa 1");
+    const RunResult r = shprt("view '" + s_file + "' --benchmark 3 --size 64x48 --msaa 1");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("benchmark: 1214 vertices"), std::string::npos) << r.out;
     for (int K : {32, 48, 64}) {
@@ -173,9 +149,9 @@ TEST_F(CliView, BenchmarkPrintsALinePerBasisSize) {
 }
 
 TEST_F(CliView, BakesInTheSameProcessBeforeAHeadlessMode) {
-    const RunResult r =
-        run("view builtin:box_on_plane --bake --coeffs 32 --samples 32 --seed 4 "
-            "--benchmark 2 --size 32x32 --msaa 1");
+    const RunResult r = shprt(
+        "view builtin:box_on_plane --bake --coeffs 32 --samples 32 --seed 4 "
+        "--benchmark 2 --size 32x32 --msaa 1");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("baked 1214 vertices, K=32, S=32"), std::string::npos) << r.out;
     EXPECT_TRUE(std::regex_search(r.out, std::regex("K'=32 +frames=2  fps=[0-9.]+"))) << r.out;
@@ -183,9 +159,9 @@ TEST_F(CliView, BakesInTheSameProcessBeforeAHeadlessMode) {
 }
 
 TEST_F(CliView, DeviceCudaBakesOnTheGpuOrSaysWhyNot) {
-    const RunResult r =
-        run("view builtin:box_on_plane --bake --device cuda --coeffs 16 "
-            "--samples 32 --benchmark 1 --size 32x32 --msaa 1");
+    const RunResult r = shprt(
+        "view builtin:box_on_plane --bake --device cuda --coeffs 16 "
+        "--samples 32 --benchmark 1 --size 32x32 --msaa 1");
     if (r.exit_code == 0) {
         // A CUDA build on a machine with a GPU.
         EXPECT_NE(r.out.find("baked 1214 vertices, K=16"), std::string::npos) << r.out;
@@ -198,45 +174,49 @@ TEST_F(CliView, DeviceCudaBakesOnTheGpuOrSaysWhyNot) {
 }
 
 TEST_F(CliView, BadInputGivesOneLineAndExitOne) {
-    // Corrupt and truncated files.
-    std::ofstream(path("garbage.shprt")) << "this is not a shprt file";
-    expect_one_line_error(
-        run("view '" + path("garbage.shprt") + "' --screenshot '" + path("x.png") + "'"),
-        "garbage.shprt");
-    const std::string bytes = slurp(s_file);
-    std::ofstream(path("truncated.shprt"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-    expect_one_line_error(run("view '" + path("truncated.shprt") + "' --benchmark 1"),
-                          "truncated.shprt");
-    expect_one_line_error(
-        run("view '" + path("missing.shprt") + "' --screenshot '" + path("x.png") + "'"),
-        "missing.shprt");
+    // Corrupt, truncated and missing files.
+    const std::string garbage = (m_dir / "garbage.shprt").string();
+    std::ofstream(garbage) << "this is not a shprt file";
+    expect_one_line_error(shprt("view '" + garbage + "' --screenshot '" + out("x.png") + "'"),
+                          "garbage.shprt");
+    const std::string bytes = slurp(s_file), truncated = (m_dir / "truncated.shprt").string();
+    std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    expect_one_line_error(shprt("view '" + truncated + "' --benchmark 1"), "truncated.shprt");
+    expect_one_line_error(shprt("view '" + (m_dir / "missing.shprt").string() + "' --screenshot '" +
+                                out("x.png") + "'"),
+                          "missing.shprt");
     // A light file that does not exist.
-    expect_one_line_error(run("view '" + s_file + "' --light /nonexistent/sky.hdr --screenshot '" +
-                              path("x.png") + "'"),
-                          "sky.hdr");
-    EXPECT_FALSE(fs::exists(path("x.png"))) << "nothing written on failure";
-    // Options.
-    expect_one_line_error(run("view '" + s_file + "' --samples 64"), "--samples is a bake option");
-    expect_one_line_error(run("view '" + s_file + "' --screenshot '" + path("x.exr") + "'"), "PNG");
-    expect_one_line_error(run("view '" + s_file + "' --benchmark 0"), "--benchmark 0");
     expect_one_line_error(
-        run("view '" + s_file + "' --benchmark 2 --screenshot '" + path("x.png") + "'"), "use one");
-    expect_one_line_error(run("view '" + s_file + "' --k 2 --screenshot '" + path("x.png") + "'"),
+        shprt("view '" + s_file + "' --light /nonexistent/sky.hdr --screenshot '" + out("x.png") +
+              "'"),
+        "sky.hdr");
+    EXPECT_TRUE(out_dir_empty()) << "nothing written on failure";
+    // Options.
+    expect_one_line_error(shprt("view '" + s_file + "' --samples 64"),
+                          "--samples is a bake option");
+    expect_one_line_error(shprt("view '" + s_file + "' --screenshot '" + out("x.exr") + "'"),
+                          "PNG");
+    expect_one_line_error(shprt("view '" + s_file + "' --benchmark 0"), "--benchmark 0");
+    expect_one_line_error(
+        shprt("view '" + s_file + "' --benchmark 2 --screenshot '" + out("x.png") + "'"),
+        "use one");
+    expect_one_line_error(shprt("view '" + s_file + "' --k 2 --screenshot '" + out("x.png") + "'"),
                           "--k 2");
     expect_one_line_error(
-        run("view '" + s_file + "' --size 0x5 --screenshot '" + path("x.png") + "'"), "size");
-    expect_one_line_error(run("view builtin:nonesuch --bake --benchmark 1"), "nonesuch");
+        shprt("view '" + s_file + "' --size 0x5 --screenshot '" + out("x.png") + "'"), "size");
+    expect_one_line_error(shprt("view builtin:nonesuch --bake --benchmark 1"), "nonesuch");
     // The window without a display.
-    expect_one_line_error(run("view '" + s_file + "'", "env -u DISPLAY -u WAYLAND_DISPLAY"),
-                          "cannot open a window");
-    EXPECT_FALSE(fs::exists(path("x.png")));
+    expect_one_line_error(
+        shprt("view '" + s_file + "'", {.prefix = "env -u DISPLAY -u WAYLAND_DISPLAY"}),
+        "cannot open a window");
+    EXPECT_TRUE(out_dir_empty());
 }
 
 TEST_F(CliView, NoOpenGl43GivesOneLine) {
     // Mesa caps the version it offers when asked to; other drivers ignore the variable.
     const RunResult r =
-        run("view '" + s_file + "' --screenshot '" + path("old.png") + "' --offscreen egl",
-            "MESA_GL_VERSION_OVERRIDE=3.3");
+        shprt("view '" + s_file + "' --screenshot '" + out("old.png") + "' --offscreen egl",
+              {.prefix = "MESA_GL_VERSION_OVERRIDE=3.3"});
     if (r.exit_code == 0) GTEST_SKIP() << "this driver ignores MESA_GL_VERSION_OVERRIDE";
     expect_one_line_error(r, "OpenGL 4.3 core profile needed");
 }
@@ -244,22 +224,24 @@ TEST_F(CliView, NoOpenGl43GivesOneLine) {
 class CliViewWindow : public CliView {
 protected:
     void SetUp() override {
+        CliView::SetUp();  // first: TearDown removes the test's directory even after a skip
         if (!has_program("xvfb-run"))
             GTEST_SKIP() << "xvfb-run is missing (apt-get install xvfb xauth): window not tested";
     }
-    static std::string xvfb() { return "xvfb-run -a -s '-screen 0 1280x1024x24'"; }
+    static RunOptions xvfb() { return {.prefix = "xvfb-run -a -s '-screen 0 1280x1024x24'"}; }
 };
 
 TEST_F(CliViewWindow, OpensUnderXvfbDrawsThePanelAndTheSamePicture) {
     const std::string size = " --size 800x500";
-    const RunResult w = run(
-        "view '" + s_file + "' --frames 3 --window-screenshot '" + path("window.png") + "'" + size,
+    const RunResult w = shprt(
+        "view '" + s_file + "' --frames 3 --window-screenshot '" + out("window.png") + "'" + size,
         xvfb());
     ASSERT_EQ(w.exit_code, 0) << w.err;
     EXPECT_NE(w.out.find("view: 3 frames"), std::string::npos) << w.out;
-    const RunResult s = run("view '" + s_file + "' --screenshot '" + path("shot.png") + "'" + size);
+    const RunResult s =
+        shprt("view '" + s_file + "' --screenshot '" + out("shot.png") + "'" + size);
     ASSERT_EQ(s.exit_code, 0) << s.err;
-    const Png win = read_png(path("window.png")), shot = read_png(path("shot.png"));
+    const Png win = read_png(out("window.png")), shot = read_png(out("shot.png"));
     ASSERT_EQ(win.width, 800);
     ASSERT_EQ(win.height, 500);
     ASSERT_EQ(shot.width, 800);
@@ -280,14 +262,14 @@ TEST_F(CliViewWindow, OpensUnderXvfbDrawsThePanelAndTheSamePicture) {
 }
 
 TEST_F(CliViewWindow, ShowsABakeWhileItRefinesAndFinishesIt) {
-    const RunResult r =
-        run("view builtin:box_on_plane --bake --coeffs 16 --samples 64 --frames 2 "
-            "--size 640x360 --window-screenshot '" +
-                path("bake.png") + "'",
-            xvfb());
+    const RunResult r = shprt(
+        "view builtin:box_on_plane --bake --coeffs 16 --samples 64 --frames 2 "
+        "--size 640x360 --window-screenshot '" +
+            out("bake.png") + "'",
+        xvfb());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("baked 1214 vertices, K=16"), std::string::npos) << r.out;
-    const Png png = read_png(path("bake.png"));
+    const Png png = read_png(out("bake.png"));
     ASSERT_EQ(png.width, 640);
     // The baked scene is lit: some bright pixels outside the panel's column.
     int bright = 0;
@@ -298,14 +280,14 @@ TEST_F(CliViewWindow, ShowsABakeWhileItRefinesAndFinishesIt) {
 }
 
 TEST_F(CliViewWindow, TheWindowFallbackGivesTheSameScreenshotAsEgl) {
-    const RunResult e = run("view '" + s_file + "' --screenshot '" + path("egl.png") +
-                            "' --size 100x70 --offscreen egl");
+    const RunResult e = shprt("view '" + s_file + "' --screenshot '" + out("egl.png") +
+                              "' --size 100x70 --offscreen egl");
     ASSERT_EQ(e.exit_code, 0) << e.err;
-    const RunResult g = run("view '" + s_file + "' --screenshot '" + path("glx.png") +
-                                "' --size 100x70 --offscreen window",
-                            xvfb());
+    const RunResult g = shprt("view '" + s_file + "' --screenshot '" + out("glx.png") +
+                                  "' --size 100x70 --offscreen window",
+                              xvfb());
     ASSERT_EQ(g.exit_code, 0) << g.err;
-    const Png a = read_png(path("egl.png")), b = read_png(path("glx.png"));
+    const Png a = read_png(out("egl.png")), b = read_png(out("glx.png"));
     ASSERT_EQ(a.width, b.width);
     const Diff d = compare(a, b, 0, 0, a.width, a.height);
     EXPECT_LE(d.max, kMaxLevelDifference);
