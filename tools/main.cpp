@@ -49,7 +49,11 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        // --help and --version end here too (exit code 0): CLI11 prints them.
+        if (e.get_exit_code() == 0) return app.exit(e);
+        // A usage error: one line like every other error, and exit code 2 (as getopt tools).
+        std::fprintf(stderr, "shprt: error: %s (see --help)\n", e.what());
+        return 2;
     } catch (const shprt::Error& e) {
         std::fprintf(stderr, "shprt: error: %s\n", e.what());
         return 1;

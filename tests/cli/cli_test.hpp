@@ -60,20 +60,32 @@ inline RunResult run_shprt(const std::string& args, const fs::path& work_dir,
     return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, slurp(out), slurp(err)};
 }
 
-// A failure the program reports itself (main catches a shprt::Error): exit code 1, nothing on
-// stdout, and on stderr exactly one line "shprt: error: ...\n" that contains `needle`. Argument
-// errors found by CLI11 are not of this kind (another exit code, a second line). Failures name
-// the caller's line, which identifies the case.
-inline void expect_one_line_error(const RunResult& r, const std::string& needle,
-                                  std::source_location where = std::source_location::current()) {
+// Exit code `exit_code`, nothing on stdout, and on stderr exactly one line "shprt: error: ...\n"
+// that contains `needle`. Failures name the caller's line, which identifies the case.
+inline void expect_error_line(const RunResult& r, const std::string& needle, int exit_code,
+                              const std::source_location& where) {
     const ::testing::ScopedTrace trace(where.file_name(), int(where.line()),
                                        "expecting a one-line error containing '" + needle + "'");
-    EXPECT_EQ(r.exit_code, 1) << "stderr: " << r.err;
+    EXPECT_EQ(r.exit_code, exit_code) << "stderr: " << r.err;
     EXPECT_EQ(r.out, "") << "stdout of a failed run";
     EXPECT_THAT(r.err, ::testing::StartsWith("shprt: error: "));
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr: " << r.err;
     EXPECT_THAT(r.err, ::testing::EndsWith("\n"));
     EXPECT_THAT(r.err, ::testing::HasSubstr(needle));
+}
+
+// A failure of the work (main catches a shprt::Error): exit code 1.
+inline void expect_one_line_error(const RunResult& r, const std::string& needle,
+                                  std::source_location where = std::source_location::current()) {
+    expect_error_line(r, needle, 1, where);
+}
+
+// A usage error found while parsing the arguments (CLI11): exit code 2, the line ends with
+// "(see --help)".
+inline void expect_usage_error(const RunResult& r, const std::string& needle,
+                               std::source_location where = std::source_location::current()) {
+    expect_error_line(r, needle, 2, where);
+    EXPECT_THAT(r.err, ::testing::EndsWith(" (see --help)\n"));
 }
 
 class CliTest : public ::testing::Test {

@@ -35,7 +35,7 @@ TEST_F(CliDevice, CudaWithoutAGpuIsAOneLineError) {
         EXPECT_NE(r.out.find(gpu.name), std::string::npos) << r.out;
         return;
     }
-    EXPECT_NE(r.exit_code, 0);
+    EXPECT_EQ(r.exit_code, 1);
     EXPECT_EQ(r.err, "shprt: error: device 'cuda': " + gpu.reason + "\n");
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;

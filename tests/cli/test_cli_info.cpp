@@ -86,7 +86,7 @@ TEST_F(CliInfo, CorruptOrMissingFileGivesOneLineError) {
         expect_one_line_error(r, expected);
         EXPECT_NE(r.err.find(file), std::string::npos) << r.err;
     }
-    EXPECT_NE(shprt("info").exit_code, 0);  // no file given
+    expect_usage_error(shprt("info"), "file is required");
 }
 
 }  // namespace

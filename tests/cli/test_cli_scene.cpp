@@ -96,11 +96,13 @@ TEST_F(CliScene, BadRequestsFailCleanly) {
     expect_failure(shprt(fmt::format("scene plane -o '{}'", out("plane.obj"))), "PLY");
     expect_failure(shprt(fmt::format("scene room -o '{}'", out("no/such/dir/room.ply"))),
                    "cannot write");
-    // Argument errors are CLI11's: non-zero, and nothing written.
-    EXPECT_NE(shprt("scene").exit_code, 0);
-    EXPECT_NE(shprt(fmt::format("scene teapot -o '{}'", out("t.ply"))).exit_code, 0);
-    EXPECT_NE(shprt(fmt::format("scene sphere --triangles 5 -o '{}'", out("s.ply"))).exit_code, 0);
-    EXPECT_NE(shprt("scene room").exit_code, 0);  // -o is required
+    // Argument errors are found while parsing: usage errors, and nothing written.
+    expect_usage_error(shprt("scene"), "subcommand is required");
+    expect_usage_error(shprt(fmt::format("scene teapot -o '{}'", out("t.ply"))),
+                       "subcommand is required");
+    expect_usage_error(shprt(fmt::format("scene sphere --triangles 5 -o '{}'", out("s.ply"))),
+                       "--triangles");
+    expect_usage_error(shprt("scene room"), "--output is required");
     EXPECT_TRUE(out_dir_empty());
 }
 
