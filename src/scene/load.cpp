@@ -2,6 +2,7 @@
 // PLY file's vertex order survives (checked on Assimp 5.2.5; see DESIGN.md).
 #include "shprt/scene/load.hpp"
 
+#include "isolated_import.hpp"
 #include "ply_header.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"
@@ -109,10 +110,13 @@ bool usable_normal(const aiVector3D& n) {
            (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f);
 }
 
-Mesh convert(const aiScene& scene, const std::string& path, const PlyHeader* ply_header) {
+// The importer's scene as arrays, in the child process of run_isolated_import: no logging, and
+// only the checks that must happen before an index is read.
+detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
+                             const PlyHeader* ply_header) {
     const bool is_ply = ply_header != nullptr;
-    Mesh out;
-    out.source = path;
+    detail::ImportedMesh result;
+    Mesh& out = result.mesh;
     std::vector<std::size_t> base(scene.mNumMeshes + 1, 0);
     for (unsigned m = 0; m < scene.mNumMeshes; ++m)
         base[m + 1] = base[m] + (scene.mMeshes[m] ? scene.mMeshes[m]->mNumVertices : 0);
@@ -120,8 +124,8 @@ Mesh convert(const aiScene& scene, const std::string& path, const PlyHeader* ply
     const PlyHeader ply = is_ply ? *ply_header : PlyHeader{};
     const bool srgb_colours = ply.colours_8bit;
     const bool use_material = !is_ply || ply.has_material;
-    bool all_normals = true;
-    std::size_t skipped_faces = 0;
+    bool& all_normals = result.all_normals;
+    std::uint64_t& skipped_faces = result.skipped_faces;
     std::vector<std::uint32_t> polygon;
     for (const Instance& inst : collect_instances(scene)) {
         const aiMesh* mesh = scene.mMeshes[inst.mesh];
@@ -187,9 +191,18 @@ Mesh convert(const aiScene& scene, const std::string& path, const PlyHeader* ply
                     std::swap(out.triangles[t][1], out.triangles[t][2]);
         }
     }
-    if (skipped_faces > 0)
-        log_warn("{}: skipped {} point or line primitive{}", path, skipped_faces,
-                 skipped_faces == 1 ? "" : "s");
+    return result;
+}
+
+// The rest of the conversion, in the caller's process: warnings, the checks, normals.
+Mesh finish(detail::ImportedMesh imported, const std::string& path, const PlyHeader* ply_header) {
+    const bool is_ply = ply_header != nullptr;
+    const PlyHeader ply = is_ply ? *ply_header : PlyHeader{};
+    Mesh out = std::move(imported.mesh);
+    out.source = path;
+    if (imported.skipped_faces > 0)
+        log_warn("{}: skipped {} point or line primitive{}", path, imported.skipped_faces,
+                 imported.skipped_faces == 1 ? "" : "s");
     SHPRT_CHECK(!out.positions.empty() && !out.triangles.empty(), format,
                 "{}: empty mesh (no triangles in the file)", path);
 
@@ -198,7 +211,7 @@ Mesh convert(const aiScene& scene, const std::string& path, const PlyHeader* ply
                 "{}: the importer returned {} vertices for the file's {}", path, out.vertex_count(),
                 ply.vertices);
     validate_mesh(out, path);  // before normals: they need indices in range
-    if (!all_normals) {
+    if (!imported.all_normals) {
         if (is_ply)
             compute_vertex_normals(out);
         else
@@ -207,25 +220,9 @@ Mesh convert(const aiScene& scene, const std::string& path, const PlyHeader* ply
     return out;
 }
 
-Mesh load_file(const std::string& path) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    SHPRT_CHECK(fs::exists(status), io, "{}: no such file", path);
-    SHPRT_CHECK(!fs::is_directory(status), io, "{}: is a directory, not a scene file", path);
-    {
-        std::ifstream probe(path, std::ios::binary);
-        SHPRT_CHECK(probe.good(), io, "{}: cannot open: {}", path, std::strerror(errno));
-    }
-    const auto size = fs::file_size(path, ec);
-    SHPRT_CHECK(!ec && size > 0, format, "{}: empty file", path);
-
-    const std::string ext = lower_extension(path);
-    // Assimp 5.2.5 hangs or allocates without bound on some corrupt PLY headers, so check them
-    // here (for .ply files and for anything Assimp would recognise as PLY by its first line).
-    std::optional<PlyHeader> ply;
-    if (const std::string prefix = file_prefix(path); ext == ".ply" || looks_like_ply(prefix))
-        ply = check_ply_header(path, prefix, size);
+// Reads the file with Assimp and extracts its arrays (in the child process: see load_file).
+detail::ImportedMesh import_with_assimp(const std::string& path, const std::string& ext,
+                                        const PlyHeader* ply) {
     Assimp::Importer importer;
     // Some importers invent a mesh to show a skeleton when a file has none; we want real geometry.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
@@ -259,7 +256,34 @@ Mesh load_file(const std::string& path) {
     }
     SHPRT_CHECK(scene->mNumMeshes > 0 && scene->mMeshes, format, "{}: empty mesh (no geometry)",
                 path);
-    return convert(*scene, path, ply ? &*ply : nullptr);
+    return extract(*scene, path, ply);
+}
+
+Mesh load_file(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    SHPRT_CHECK(fs::exists(status), io, "{}: no such file", path);
+    SHPRT_CHECK(!fs::is_directory(status), io, "{}: is a directory, not a scene file", path);
+    {
+        std::ifstream probe(path, std::ios::binary);
+        SHPRT_CHECK(probe.good(), io, "{}: cannot open: {}", path, std::strerror(errno));
+    }
+    const auto size = fs::file_size(path, ec);
+    SHPRT_CHECK(!ec && size > 0, format, "{}: empty file", path);
+
+    const std::string ext = lower_extension(path);
+    // Assimp 5.2.5 hangs or allocates without bound on some corrupt PLY headers, so check them
+    // here (for .ply files and for anything Assimp would recognise as PLY by its first line).
+    std::optional<PlyHeader> ply;
+    if (const std::string prefix = file_prefix(path); ext == ".ply" || looks_like_ply(prefix))
+        ply = check_ply_header(path, prefix, size);
+    // Assimp runs in a child process: a crash in one of its importers (fuzzing found a Collada
+    // one) becomes an error naming the file, not the end of the program.
+    const PlyHeader* ply_header = ply ? &*ply : nullptr;
+    detail::ImportedMesh imported = detail::run_isolated_import(
+        path, [&] { return import_with_assimp(path, ext, ply_header); });
+    return finish(std::move(imported), path, ply_header);
 }
 
 }  // namespace

@@ -30,9 +30,10 @@ namespace shprt {
 //     kDefaultAlbedo grey (also for Assimp's placeholder material);
 //   * the result passes validate_mesh (degenerate triangles dropped with a warning).
 // PLY headers are checked strictly before Assimp sees them (Assimp 5.2.5 hangs or allocates
-// without bound on some corrupt ones); the other formats are parsed by Assimp alone, and a
-// crafted corrupt file can still crash its importers (fuzzing found a Collada one; see assimp
-// issues #6507, #6443).
+// without bound on some corrupt ones). Assimp itself runs in a child process (fork; see
+// src/scene/isolated_import.hpp): a crafted corrupt file can crash its importers (fuzzing found
+// a Collada one; see assimp issues #6507, #6443), and such a crash becomes Error(format) naming
+// the file and the signal instead of ending the program.
 // Mesh::source is `spec`. Throws shprt::Error whose message starts with the path and names the
 // problem: Error(io) for a missing or unreadable file, Error(unsupported) for a format Assimp
 // does not know, Error(format) for a file it cannot parse, an empty mesh, NaN/Inf coordinates or

@@ -1,0 +1,194 @@
+// A mesh importer in a child process (isolated_import.hpp). The child writes its result to a pipe
+// as a tag byte and length-prefixed arrays; the parent reads while the child writes (so a large
+// mesh never fills the pipe and blocks), then reaps the child.
+#include "isolated_import.hpp"
+
+#include "shprt/core/error.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <exception>
+#include <vector>
+
+namespace shprt::detail {
+namespace {
+
+constexpr char kResultTag = 'M', kErrorTag = 'E';
+// A length field above this is a broken stream, not a mesh (2^32 vertices of 12 bytes is 48 GiB).
+constexpr std::uint64_t kMaxArrayBytes = std::uint64_t(1) << 40;
+
+// ---- Child side: plain write(2) loops, nothing that could take a lock.
+
+bool write_all(int fd, const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const char*>(data);
+    while (bytes > 0) {
+        const ssize_t n = ::write(fd, p, bytes);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        p += n;
+        bytes -= static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
+template <class T>
+bool write_value(int fd, const T& value) {
+    return write_all(fd, &value, sizeof value);
+}
+
+template <class T>
+bool write_array(int fd, const std::vector<T>& v) {
+    const std::uint64_t bytes = v.size() * sizeof(T);
+    return write_value(fd, bytes) && write_all(fd, v.data(), v.size() * sizeof(T));
+}
+
+void write_error(int fd, ErrorCode code, const char* message) {
+    const auto c = static_cast<std::uint32_t>(code);
+    const std::uint64_t length = std::strlen(message);
+    (void)(write_value(fd, kErrorTag) && write_value(fd, c) && write_value(fd, length) &&
+           write_all(fd, message, length));
+}
+
+[[noreturn]] void child_main(int fd, const std::function<ImportedMesh()>& work) {
+    try {
+        const ImportedMesh r = work();
+        const Mesh& m = r.mesh;
+        const std::uint8_t all_normals = r.all_normals ? 1 : 0;
+        (void)(write_value(fd, kResultTag) && write_value(fd, all_normals) &&
+               write_value(fd, r.skipped_faces) && write_array(fd, m.positions) &&
+               write_array(fd, m.normals) && write_array(fd, m.albedo) &&
+               write_array(fd, m.triangles) && write_array(fd, m.source_vertex));
+    } catch (const Error& e) {
+        write_error(fd, e.code(), e.what());
+    } catch (const std::exception& e) {
+        write_error(fd, ErrorCode::format, e.what());
+    } catch (...) {
+        write_error(fd, ErrorCode::format, "the importer failed");
+    }
+    ::close(fd);
+    // No exit(): the parent's atexit handlers and stdio buffers are not the child's to run.
+    ::_exit(0);
+}
+
+// ---- Parent side.
+
+class Reader {
+public:
+    explicit Reader(int fd) : m_fd(fd) {}
+    // False at end of stream (the child died or wrote nothing more).
+    bool read(void* data, std::size_t bytes) {
+        auto* p = static_cast<char*>(data);
+        while (bytes > 0) {
+            const ssize_t n = ::read(m_fd, p, bytes);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) return false;
+            p += n;
+            bytes -= static_cast<std::size_t>(n);
+        }
+        return true;
+    }
+    template <class T>
+    bool value(T& out) {
+        return read(&out, sizeof out);
+    }
+    template <class T>
+    bool array(std::vector<T>& out) {
+        std::uint64_t bytes = 0;
+        if (!value(bytes) || bytes % sizeof(T) != 0 || bytes > kMaxArrayBytes) return false;
+        out.resize(bytes / sizeof(T));
+        return read(out.data(), bytes);
+    }
+
+private:
+    int m_fd;
+};
+
+// Owns the child until it is reaped: a parent that leaves early (an exception while reading)
+// kills it rather than leaving it running or a zombie.
+class Child {
+public:
+    explicit Child(pid_t pid) : m_pid(pid) {}
+    ~Child() {
+        if (m_pid > 0) {
+            ::kill(m_pid, SIGKILL);
+            wait();
+        }
+    }
+    Child(const Child&) = delete;
+    Child& operator=(const Child&) = delete;
+    // The child's wait status.
+    int wait() {
+        int status = 0;
+        while (::waitpid(m_pid, &status, 0) < 0 && errno == EINTR) {
+        }
+        m_pid = 0;
+        return status;
+    }
+
+private:
+    pid_t m_pid;
+};
+
+}  // namespace
+
+ImportedMesh run_isolated_import(const std::string& path,
+                                 const std::function<ImportedMesh()>& work) {
+    int fds[2];
+    if (::pipe(fds) != 0) return work();
+    const pid_t pid = ::fork();
+    if (pid < 0) {  // no process to spare: import here, unprotected
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return work();
+    }
+    if (pid == 0) {
+        ::close(fds[0]);
+        child_main(fds[1], work);
+    }
+    ::close(fds[1]);
+    Child child(pid);
+    Reader in(fds[0]);
+    ImportedMesh r;
+    char tag = 0;
+    bool complete = false;
+    ErrorCode error_code = ErrorCode::format;
+    std::string error_message;
+    if (in.value(tag) && tag == kResultTag) {
+        std::uint8_t all_normals = 0;
+        Mesh& m = r.mesh;
+        complete = in.value(all_normals) && in.value(r.skipped_faces) && in.array(m.positions) &&
+                   in.array(m.normals) && in.array(m.albedo) && in.array(m.triangles) &&
+                   in.array(m.source_vertex);
+        r.all_normals = all_normals != 0;
+    } else if (tag == kErrorTag) {
+        std::uint32_t code = 0;
+        std::uint64_t length = 0;
+        if (in.value(code) && in.value(length) && length < (1u << 20)) {
+            error_message.resize(length);
+            if (in.read(error_message.data(), length) &&
+                code <= static_cast<std::uint32_t>(ErrorCode::cancelled)) {
+                error_code = static_cast<ErrorCode>(code);
+                complete = true;
+            }
+        }
+    }
+    ::close(fds[0]);
+    const int status = child.wait();
+    if (!complete) {
+        if (WIFSIGNALED(status))
+            fail(ErrorCode::format,
+                 "{}: the importer crashed reading this file (signal {}, {}); the file is corrupt "
+                 "or uses something Assimp cannot read",
+                 path, WTERMSIG(status), ::strsignal(WTERMSIG(status)));
+        fail(ErrorCode::format, "{}: the importer ended without a result (exit status {})", path,
+             WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    }
+    if (tag == kErrorTag) throw Error(error_code, error_message);
+    return r;
+}
+
+}  // namespace shprt::detail

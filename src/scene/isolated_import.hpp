@@ -1,0 +1,32 @@
+// Private to src/scene: running a mesh importer in a child process, so that a crash inside it
+// (Assimp 5.2.5's Collada reader dereferences a missing attribute, for one) becomes a clean
+// shprt::Error naming the file instead of ending the whole program.
+#pragma once
+
+#include "shprt/scene/mesh.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace shprt::detail {
+
+// What an importer hands over before the checks and normal recomputation that need no importer
+// (those run in the caller's process, where logging is safe).
+struct ImportedMesh {
+    Mesh mesh;  // positions, normals, albedo, triangles, source_vertex (source is not carried)
+    bool all_normals = true;          // every vertex had a usable normal in the file
+    std::uint64_t skipped_faces = 0;  // points and lines left out
+};
+
+// Runs `work` in a child process made with fork() and returns its result, copied back through a
+// pipe. A shprt::Error thrown in the child is thrown here with the same code and message (any
+// other exception becomes Error(format) with its text). If the child ends without a result —
+// killed by a signal (a segmentation fault in the importer, the OOM killer) or exiting early —
+// throws Error(format) "PATH: the importer crashed reading this file (signal N, NAME) ...".
+// `work` runs in a copy of a possibly multi-threaded process, so it must only compute: no locks
+// another thread may hold (no logging, no TBB). Where fork() fails, `work` runs in this process.
+ImportedMesh run_isolated_import(const std::string& path,
+                                 const std::function<ImportedMesh()>& work);
+
+}  // namespace shprt::detail

@@ -1,0 +1,110 @@
+// The child process that runs the mesh importer (src/scene/isolated_import.hpp): what the child
+// computes comes back bit for bit, its errors come back with their code and message, and a child
+// that dies (a signal, an early exit) becomes an error naming the file, not a crash here.
+#include "../src/scene/isolated_import.hpp"
+
+#include "shprt/core/error.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+
+namespace shprt::detail {
+namespace {
+
+ImportedMesh random_mesh(std::size_t vertices, std::size_t triangles, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-10.0f, 10.0f);
+    ImportedMesh r;
+    Mesh& m = r.mesh;
+    for (std::size_t v = 0; v < vertices; ++v) {
+        m.positions.push_back({u(rng), u(rng), u(rng)});
+        m.normals.push_back({u(rng), u(rng), u(rng)});
+        m.albedo.push_back({u(rng), u(rng), u(rng)});
+        m.source_vertex.push_back(static_cast<std::uint32_t>(rng()));
+    }
+    for (std::size_t t = 0; t < triangles; ++t)
+        m.triangles.push_back({static_cast<std::uint32_t>(rng() % vertices),
+                               static_cast<std::uint32_t>(rng() % vertices),
+                               static_cast<std::uint32_t>(rng() % vertices)});
+    r.all_normals = false;
+    r.skipped_faces = 12345678901ull;
+    return r;
+}
+
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+std::string error_of(const std::function<ImportedMesh()>& work, ErrorCode* code = nullptr) {
+    try {
+        run_isolated_import("some/file.dae", work);
+    } catch (const Error& e) {
+        if (code) *code = e.code();
+        return e.what();
+    }
+    return "no error";
+}
+
+TEST(IsolatedImport, TheChildsMeshComesBackBitForBit) {
+    // Larger than a pipe's buffer many times over: the parent must read while the child writes.
+    const ImportedMesh want = random_mesh(200000, 300000, 5);
+    const ImportedMesh got = run_isolated_import("x.obj", [&] {
+        ImportedMesh r = want;
+        r.mesh.source = "not carried";
+        return r;
+    });
+    EXPECT_TRUE(same_bytes(got.mesh.positions, want.mesh.positions));
+    EXPECT_TRUE(same_bytes(got.mesh.normals, want.mesh.normals));
+    EXPECT_TRUE(same_bytes(got.mesh.albedo, want.mesh.albedo));
+    EXPECT_TRUE(same_bytes(got.mesh.triangles, want.mesh.triangles));
+    EXPECT_TRUE(same_bytes(got.mesh.source_vertex, want.mesh.source_vertex));
+    EXPECT_EQ(got.all_normals, false);
+    EXPECT_EQ(got.skipped_faces, 12345678901ull);
+    EXPECT_EQ(got.mesh.source, "") << "the source is not carried (the caller sets it)";
+
+    const ImportedMesh empty = run_isolated_import("x.obj", [] { return ImportedMesh{}; });
+    EXPECT_TRUE(empty.mesh.positions.empty() && empty.mesh.triangles.empty());
+    EXPECT_TRUE(empty.all_normals);
+}
+
+TEST(IsolatedImport, ErrorsKeepTheirCodeAndMessage) {
+    ErrorCode code = ErrorCode::io;
+    EXPECT_EQ(error_of(
+                  []() -> ImportedMesh {
+                      fail(ErrorCode::unsupported, "some/file.dae: unsupported format '.dae'");
+                  },
+                  &code),
+              "some/file.dae: unsupported format '.dae'");
+    EXPECT_EQ(code, ErrorCode::unsupported);
+    EXPECT_EQ(
+        error_of([]() -> ImportedMesh { throw std::runtime_error("std exception text"); }, &code),
+        "std exception text");
+    EXPECT_EQ(code, ErrorCode::format);
+}
+
+TEST(IsolatedImport, ADyingChildIsAnErrorNamingTheFileAndTheSignal) {
+    ErrorCode code = ErrorCode::io;
+    const std::string segv = error_of(
+        []() -> ImportedMesh {
+            std::raise(SIGSEGV);
+            return {};
+        },
+        &code);
+    EXPECT_EQ(code, ErrorCode::format);
+    EXPECT_EQ(segv.rfind("some/file.dae: the importer crashed reading this file (signal 11", 0), 0u)
+        << segv;
+    const std::string abort = error_of([]() -> ImportedMesh { std::abort(); });
+    EXPECT_NE(abort.find("(signal 6"), std::string::npos) << abort;
+    const std::string exited = error_of([]() -> ImportedMesh { ::_exit(3); });
+    EXPECT_EQ(exited, "some/file.dae: the importer ended without a result (exit status 3)");
+}
+
+}  // namespace
+}  // namespace shprt::detail
