@@ -62,6 +62,17 @@ void validate_direction_set(const DirectionSet& directions) {
                 kMaxBakeSamples);
 }
 
+TransferSet empty_transfer(const BakeOptions& options, std::size_t samples) {
+    TransferSet out;
+    out.kind = options.transfer;
+    out.K = options.K;
+    out.channels = 1;
+    out.sampler = options.sampler;
+    out.samples = static_cast<int>(samples);
+    out.seed = options.seed;
+    return out;
+}
+
 }  // namespace detail
 
 namespace {
@@ -167,13 +178,7 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
     const bool shadowed = options.transfer == TransferKind::shadowed;
     constexpr float kInf = std::numeric_limits<float>::infinity();
 
-    TransferSet out;
-    out.kind = options.transfer;
-    out.K = K;
-    out.channels = 1;
-    out.sampler = options.sampler;
-    out.samples = static_cast<int>(S);
-    out.seed = options.seed;
+    TransferSet out = detail::empty_transfer(options, S);
     out.coeffs.assign(mesh.vertex_count() * K, 0.0f);
 
     std::vector<double> y(K), sum(K);

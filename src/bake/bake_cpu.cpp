@@ -110,13 +110,7 @@ TransferSet bake_cpu(const Mesh& mesh, const BakeOptions& options, const Directi
     // The basis table, once for all vertices: Y[s*K + i] = y_i(w_s).
     const std::vector<float> Y = basis_table(K, directions);
 
-    TransferSet out;
-    out.kind = options.transfer;
-    out.K = K;
-    out.channels = 1;
-    out.sampler = options.sampler;
-    out.samples = static_cast<int>(S);
-    out.seed = options.seed;
+    TransferSet out = empty_transfer(options, S);
     out.coeffs.assign(V * std::size_t(K), 0.0f);
 
     // Progress: counters bumped per vertex; only the calling thread invokes the callback.

@@ -92,13 +92,7 @@ TransferSet bake_gpu(const Mesh& mesh, const BakeOptions& options, const Directi
     request.requested_chunk = options.chunk_vertices;
     const ChunkPlan plan = plan_chunks(request);
 
-    TransferSet out;
-    out.kind = options.transfer;
-    out.K = K;
-    out.channels = 1;
-    out.sampler = options.sampler;
-    out.samples = static_cast<int>(S);
-    out.seed = options.seed;
+    TransferSet out = detail::empty_transfer(options, S);
     if (!device_output) out.coeffs.assign(V * std::size_t(K), 0.0f);
 
     // Progress as the CPU bake reports it: rays (estimated total from the rays per vertex so far)

@@ -9,6 +9,10 @@ namespace shprt::detail {
 void validate_bake_inputs(const Mesh& mesh, const BakeOptions& options);
 void validate_direction_set(const DirectionSet& directions);
 
+// A transfer set with the bake's description filled in (kind, K, one channel, sampler, S, seed)
+// and no coefficients yet.
+TransferSet empty_transfer(const BakeOptions& options, std::size_t samples);
+
 // The CPU bake (bake_cpu.cpp). `tracer` may be null for unshadowed transfer, which casts no rays.
 // `seconds_bvh` is recorded in the stats as the tracer's build time.
 TransferSet bake_cpu(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions,

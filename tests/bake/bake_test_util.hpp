@@ -2,6 +2,7 @@
 // small hand-made meshes, and the float-rounding bound of a length-S dot product.
 #pragma once
 
+#include "common/ray_triangle.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -43,21 +44,10 @@ private:
         Hit best{false, 0xFFFFFFFFu, 0, 0, 0};
         double best_t = tfar;
         for (std::size_t k = 0; k < m_tris.size(); ++k) {
-            const Vec3d a = m_tris[k].a, e1 = m_tris[k].e1, e2 = m_tris[k].e2;
-            const Vec3d p = cross(d, e2);
-            const double det = dot(e1, p);
-            if (det == 0.0) continue;
-            const double inv = 1.0 / det;
-            const Vec3d s = o - a;
-            const double u = dot(s, p) * inv;
-            if (u < 0.0 || u > 1.0) continue;
-            const Vec3d q = cross(s, e1);
-            const double v = dot(d, q) * inv;
-            if (v < 0.0 || u + v > 1.0) continue;
-            const double t = dot(e2, q) * inv;
-            if (!(t > double(tnear) && t < best_t)) continue;
-            best = Hit{true, std::uint32_t(k), float(t), float(u), float(v)};
-            best_t = t;
+            const auto h = intersect_triangle(o, d, m_tris[k].a, m_tris[k].e1, m_tris[k].e2);
+            if (!h || !(h->t > double(tnear) && h->t < best_t)) continue;
+            best = Hit{true, std::uint32_t(k), float(h->t), float(h->u), float(h->v)};
+            best_t = h->t;
             if (any) break;
         }
         return best;

@@ -3,6 +3,7 @@
 // reference a rasteriser must agree with), and a temporary directory.
 #pragma once
 
+#include "common/ray_triangle.hpp"
 #include "shprt/bake/transfer.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/mesh.hpp"
@@ -72,21 +73,11 @@ inline bool trace_interpolate(const Mesh& mesh, const std::vector<Vec3f>& values
     bool hit = false;
     for (const auto& tri : mesh.triangles) {
         const Vec3d a = cast<double>(mesh.positions[tri[0]]);
-        const Vec3d e1 = cast<double>(mesh.positions[tri[1]]) - a;
-        const Vec3d e2 = cast<double>(mesh.positions[tri[2]]) - a;
-        const Vec3d p = cross(d, e2);
-        const double det = dot(e1, p);
-        if (det == 0.0) continue;
-        const double inv = 1.0 / det;
-        const Vec3d s = o - a;
-        const double u = dot(s, p) * inv;
-        if (u < 0.0 || u > 1.0) continue;
-        const Vec3d q = cross(s, e1);
-        const double v = dot(d, q) * inv;
-        if (v < 0.0 || u + v > 1.0) continue;
-        const double t = dot(e2, q) * inv;
-        if (t <= 0 || t >= t_hit) continue;
-        t_hit = t;
+        const auto h = intersect_triangle(o, d, a, cast<double>(mesh.positions[tri[1]]) - a,
+                                          cast<double>(mesh.positions[tri[2]]) - a);
+        if (!h || h->t <= 0 || h->t >= t_hit) continue;
+        const double u = h->u, v = h->v;
+        t_hit = h->t;
         hit = true;
         value = cast<double>(values[tri[0]]) * (1 - u - v) + cast<double>(values[tri[1]]) * u +
                 cast<double>(values[tri[2]]) * v;

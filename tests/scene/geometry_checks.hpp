@@ -2,6 +2,7 @@
 // triangles (the slow reference the tracing code is compared with elsewhere).
 #pragma once
 
+#include "common/ray_triangle.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 
@@ -63,20 +64,9 @@ inline std::optional<double> brute_force_hit(const Mesh& m, Vec3d origin, Vec3d 
     std::optional<double> best;
     for (const auto& t : m.triangles) {
         const Vec3d p0 = cast<double>(m.positions[t[0]]);
-        const Vec3d e1 = cast<double>(m.positions[t[1]]) - p0,
-                    e2 = cast<double>(m.positions[t[2]]) - p0;
-        const Vec3d pv = cross(dir, e2);
-        const double det = dot(e1, pv);
-        if (det == 0.0) continue;
-        const double inv = 1.0 / det;
-        const Vec3d tv = origin - p0;
-        const double u = dot(tv, pv) * inv;
-        if (u < 0.0 || u > 1.0) continue;
-        const Vec3d qv = cross(tv, e1);
-        const double v = dot(dir, qv) * inv;
-        if (v < 0.0 || u + v > 1.0) continue;
-        const double dist = dot(e2, qv) * inv;
-        if (dist > t_min && (!best || dist < *best)) best = dist;
+        const auto h = intersect_triangle(origin, dir, p0, cast<double>(m.positions[t[1]]) - p0,
+                                          cast<double>(m.positions[t[2]]) - p0);
+        if (h && h->t > t_min && (!best || h->t < *best)) best = h->t;
     }
     return best;
 }
