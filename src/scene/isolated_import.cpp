@@ -21,18 +21,24 @@ constexpr char kResultTag = 'M', kErrorTag = 'E';
 // A length field above this is a broken stream, not a mesh (2^32 vertices of 12 bytes is 48 GiB).
 constexpr std::uint64_t kMaxArrayBytes = std::uint64_t(1) << 40;
 
-// ---- Child side: plain write(2) loops, nothing that could take a lock.
-
-bool write_all(int fd, const void* data, std::size_t bytes) {
-    const auto* p = static_cast<const char*>(data);
+// Moves `bytes` bytes with read(2) or write(2) (`io`), resuming after partial transfers and
+// signals. False when the other end is gone. No allocation and no lock: safe in the child.
+template <class Byte, class Io>
+bool transfer_all(int fd, Byte* p, std::size_t bytes, Io io) {
     while (bytes > 0) {
-        const ssize_t n = ::write(fd, p, bytes);
+        const ssize_t n = io(fd, p, bytes);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) return false;
         p += n;
         bytes -= static_cast<std::size_t>(n);
     }
     return true;
+}
+
+// ---- Child side.
+
+bool write_all(int fd, const void* data, std::size_t bytes) {
+    return transfer_all(fd, static_cast<const char*>(data), bytes, ::write);
 }
 
 template <class T>
@@ -81,15 +87,7 @@ public:
     explicit Reader(int fd) : m_fd(fd) {}
     // False at end of stream (the child died or wrote nothing more).
     bool read(void* data, std::size_t bytes) {
-        auto* p = static_cast<char*>(data);
-        while (bytes > 0) {
-            const ssize_t n = ::read(m_fd, p, bytes);
-            if (n < 0 && errno == EINTR) continue;
-            if (n <= 0) return false;
-            p += n;
-            bytes -= static_cast<std::size_t>(n);
-        }
-        return true;
+        return transfer_all(m_fd, static_cast<char*>(data), bytes, ::read);
     }
     template <class T>
     bool value(T& out) {
