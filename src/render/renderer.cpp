@@ -214,9 +214,10 @@ void Renderer::update_transfer(std::size_t first_vertex, std::size_t vertex_coun
 }
 
 void Renderer::set_light(const ShLight& light, const Mat3d& rotation) {
-    SHPRT_CHECK(light.K > 0 && light.coeffs.size() == 3 * std::size_t(light.K), invalid_argument,
-                "light has K = {} and {} coefficients (expected 3 × K)", light.K,
-                light.coeffs.size());
+    SHPRT_CHECK(
+        light.K > 0 && light.K <= kMaxLightK && light.coeffs.size() == 3 * std::size_t(light.K),
+        invalid_argument, "light has K = {} and {} coefficients (expected 3 × K, K ≤ {})", light.K,
+        light.coeffs.size(), kMaxLightK);
     if (!m_has_light || light.K != m_light_source.K || light.coeffs != m_light_source.coeffs) {
         m_light_source = light;
         ++m_source_generation;

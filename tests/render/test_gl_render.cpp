@@ -399,6 +399,14 @@ TEST(GlRender, BadUseThrows) {
     transfer.coeffs.pop_back();
     EXPECT_THROW(renderer.set_scene(mesh, transfer), Error);
     EXPECT_THROW(RenderTarget(0, 10), Error);
+    // A light larger than the uniform block, or with the wrong number of coefficients.
+    ShLight huge;
+    huge.K = kMaxLightK + 1;
+    huge.coeffs.assign(3 * std::size_t(huge.K), 0.0f);
+    EXPECT_THROW(renderer.set_light(huge), Error);
+    ShLight short_light = make_light({"constant"}, 9);
+    short_light.coeffs.pop_back();
+    EXPECT_THROW(renderer.set_light(short_light), Error);
     EXPECT_FALSE(context->description().empty());
     EXPECT_NE(context->description().find("OpenGL"), std::string::npos);
 }
