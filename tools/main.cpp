@@ -9,8 +9,33 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <cctype>
 #include <cstdio>
 #include <exception>
+#include <string>
+
+namespace {
+
+// Every error is one line on stderr: a message that spans lines (a driver's shader log, a
+// library's list of problems) has its line breaks turned into "; ".
+void print_error(const char* what, const char* suffix = "") {
+    std::string message = what;
+    while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back())))
+        message.pop_back();
+    std::string line;
+    for (std::size_t start = 0; start <= message.size();) {
+        std::size_t end = message.find('\n', start);
+        if (end == std::string::npos) end = message.size();
+        std::string part = message.substr(start, end - start);
+        while (!part.empty() && std::isspace(static_cast<unsigned char>(part.back())))
+            part.pop_back();
+        if (!part.empty()) line += (line.empty() ? "" : "; ") + part;
+        start = end + 1;
+    }
+    std::fprintf(stderr, "shprt: error: %s%s\n", line.c_str(), suffix);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"shprt — precomputed radiance transfer in a spherical-harmonics basis"};
@@ -52,13 +77,13 @@ int main(int argc, char** argv) {
         // --help and --version end here too (exit code 0): CLI11 prints them.
         if (e.get_exit_code() == 0) return app.exit(e);
         // A usage error: one line like every other error, and exit code 2 (as getopt tools).
-        std::fprintf(stderr, "shprt: error: %s (see --help)\n", e.what());
+        print_error(e.what(), " (see --help)");
         return 2;
     } catch (const shprt::Error& e) {
-        std::fprintf(stderr, "shprt: error: %s\n", e.what());
+        print_error(e.what());
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "shprt: error: %s\n", e.what());
+        print_error(e.what());
         return 2;
     }
     return 0;

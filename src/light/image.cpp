@@ -218,6 +218,10 @@ struct ExrImageGuard {
     std::string message = err ? err : "unknown tinyexr error";
     while (!message.empty() && (message.back() == '\n' || message.back() == '.'))
         message.pop_back();
+    // tinyexr lists each missing header attribute on a line of its own.
+    for (std::size_t at; (at = message.find(".\n")) != std::string::npos;)
+        message.replace(at, 2, "; ");
+    std::replace(message.begin(), message.end(), '\n', ' ');
     if (err) FreeEXRErrorMessage(err);
     fail(ErrorCode::format,
          "cannot decode image {}: {} (tinyexr code {}; truncated or corrupt file)", path, message,

@@ -217,6 +217,21 @@ TEST_F(CliRender, BadInputGivesOneLineErrorsAndNoOutput) {
     expect_one_line_error(
         shprt("render '" + m_file + "' --light /no/such/sky.exr -o '" + out("m.png") + "'"),
         "/no/such/sky.exr");
+    // A light file whose decoder reports several problems on several lines (tinyexr: one line
+    // per missing header attribute): still one line.
+    const std::string exr = (m_dir / "sky.exr").string();
+    save_image(exr, Image::make(16, 8));
+    std::string sky = read_file(exr);
+    for (const std::string name : {"displayWindow", "lineOrder"}) {
+        const std::size_t at = sky.find(name);
+        ASSERT_NE(at, std::string::npos) << name;
+        sky[at + name.size() - 1] = 'X';  // the attribute is now missing
+    }
+    std::ofstream(exr, std::ios::binary) << sky;
+    const RunResult two =
+        shprt("shade '" + m_file + "' --light '" + exr + "' -o '" + out("e.csv") + "'");
+    expect_one_line_error(two, "\"displayWindow\" attribute not found");
+    EXPECT_NE(two.err.find("\"lineOrder\" attribute not found"), std::string::npos) << two.err;
     // Bad options.
     expect_one_line_error(shprt("shade '" + m_file + "' -o '" + out("x.txt") + "'"), "x.txt");
     expect_one_line_error(shprt("shade '" + m_file + "' --k 1.5 -o '" + out("k.csv") + "'"), "--k");
