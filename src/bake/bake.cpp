@@ -62,6 +62,15 @@ void validate_direction_set(const DirectionSet& directions) {
                 kMaxBakeSamples);
 }
 
+BakeOptions checked_options(const Mesh& mesh, const BakeOptions& options,
+                            const DirectionSet& directions) {
+    BakeOptions checked = options;
+    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
+    validate_direction_set(directions);
+    validate_bake_inputs(mesh, checked);
+    return checked;
+}
+
 TransferSet empty_transfer(const BakeOptions& options, std::size_t samples) {
     TransferSet out;
     out.kind = options.transfer;
@@ -148,19 +157,13 @@ TransferSet bake(const Mesh& mesh, const BakeOptions& options) {
 }
 
 TransferSet bake(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions) {
-    BakeOptions checked = options;
-    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
-    detail::validate_direction_set(directions);
-    detail::validate_bake_inputs(mesh, checked);
+    const BakeOptions checked = detail::checked_options(mesh, options, directions);
     return run_bake(mesh, checked, directions);
 }
 
 TransferSet bake_with_tracer(const Mesh& mesh, const BakeOptions& options,
                              const DirectionSet& directions, const Tracer& tracer) {
-    BakeOptions checked = options;
-    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
-    detail::validate_direction_set(directions);
-    detail::validate_bake_inputs(mesh, checked);
+    const BakeOptions checked = detail::checked_options(mesh, options, directions);
     SHPRT_CHECK(options.device != Device::cuda, unsupported,
                 "bake_with_tracer runs on the CPU only (device 'cuda' was asked for)");
     return detail::bake_cpu(mesh, checked, directions, &tracer, 0.0);
@@ -168,17 +171,14 @@ TransferSet bake_with_tracer(const Mesh& mesh, const BakeOptions& options,
 
 TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
                            const DirectionSet& directions, const Tracer& tracer) {
-    BakeOptions checked = options;
-    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
-    detail::validate_direction_set(directions);
-    detail::validate_bake_inputs(mesh, checked);
+    const BakeOptions checked = detail::checked_options(mesh, options, directions);
     const auto start = Clock::now();
     const int K = options.K;
     const std::size_t S = directions.size();
     const bool shadowed = options.transfer == TransferKind::shadowed;
     constexpr float kInf = std::numeric_limits<float>::infinity();
 
-    TransferSet out = detail::empty_transfer(options, S);
+    TransferSet out = detail::empty_transfer(checked, S);
     out.coeffs.assign(mesh.vertex_count() * K, 0.0f);
 
     std::vector<double> y(K), sum(K);

@@ -10,6 +10,7 @@
 // for EVERY band requested — never a hard-coded table that stops at some band — by exact
 // quadrature of its definition, independently of the Ivanic recurrences, so the comparison of
 // the two methods in the tests means something.
+#include "sh/quadrature.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
@@ -25,32 +26,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n from the Chebyshev-like guess):
-// exact for polynomials of degree ≤ 2n − 1.
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
-    x.assign(n, 0.0);
-    w.assign(n, 0.0);
-    for (int i = 0; i < n; ++i) {
-        double z = std::cos(kPi * (i + 0.75) / (n + 0.5));
-        double dp = 1.0;
-        for (int iter = 0; iter < 100; ++iter) {
-            double p0 = 1.0, p1 = z;  // P_0, P_1
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            // p1 = P_n(z), p0 = P_{n−1}(z) (also for n = 1).
-            dp = n * (z * p1 - p0) / (z * z - 1.0);
-            const double dz = p1 / dp;
-            z -= dz;
-            if (std::abs(dz) < 1e-16) break;
-        }
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-}
-
 // D^l(Rx(π/2))[m'][m] = ∫ y_{l,m'}(d) · y_{l,m}(Rx(−π/2) d) dω for l in [first, last). The
 // integrand is a spherical polynomial of degree 2l ≤ 2(last−1): Gauss–Legendre with `last`
 // nodes in cos θ (exact to degree 2·last − 1) times 2·last equally spaced φ (exact for
@@ -63,7 +38,7 @@ void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
 void compute_x90_blocks(int first, int last, std::vector<double>* blocks) {
     const int K = sh_count(last), n_theta = last, n_phi = 2 * last;
     std::vector<double> gx, gw;
-    gauss_legendre(n_theta, gx, gw);
+    detail::gauss_legendre(n_theta, gx, gw);
     const auto mirror_sign = [](int m) { return ((m < 0 ? -m : m) % 2 == 0) == (m >= 0); };
     // classes[l][k]: band offsets (m + l) of the k-th member of class 0 (s = +1) then class 1.
     std::vector<std::vector<int>> members(last);

@@ -10,6 +10,8 @@
 // The per-direction maps are in include/shprt/sh/sampler.hpp (SHPRT_HD); this file builds sets.
 #include "shprt/sh/sampler.hpp"
 
+#include "sh/quadrature.hpp"
+
 #include "shprt/core/error.hpp"
 
 #include <cmath>
@@ -55,8 +57,9 @@ void legendre_pair(int n, double x, double& pn, double& pn1) {
     pn1 = p0;
 }
 
-// Gauss–Legendre nodes (descending, from +1 to −1) and weights on [−1, 1].
-void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weights) {
+}  // namespace
+
+void detail::gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weights) {
     nodes.assign(n, 0.0);
     weights.assign(n, 0.0);
     const int half = (n + 1) / 2;
@@ -84,8 +87,6 @@ void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weig
         weights[n - 1 - i] = w;
     }
 }
-
-}  // namespace
 
 const char* to_string(SamplerKind kind) {
     switch (kind) {
@@ -124,7 +125,7 @@ DirectionSetD gauss_legendre_set_d(int n_theta, int n_phi) {
                 "got n_theta={}, n_phi={}",
                 kMaxDirections, n_theta, n_phi);
     std::vector<double> z, wz;
-    gauss_legendre(n_theta, z, wz);
+    detail::gauss_legendre(n_theta, z, wz);
     std::vector<double> cos_phi(n_phi), sin_phi(n_phi);
     for (int k = 0; k < n_phi; ++k) {
         const double phi = 2.0 * std::numbers::pi * (k + 0.5) / n_phi;
