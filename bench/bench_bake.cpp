@@ -366,11 +366,11 @@ int validate(const TransferSet& t, std::uint64_t plain_rays, const std::vector<f
         ++failures;
     }
     std::size_t bad = 0;
-    for (std::size_t v = 0; v < t.vertex_count(); ++v)
-        bad += std::fabs(plain_c0[v] - t.vertex(v)[0]) > 1e-4f;
+    for (std::size_t v = 0; v < t.receiver_count(); ++v)
+        bad += std::fabs(plain_c0[v] - t.receiver(v)[0]) > 1e-4f;
     if (bad > 0) {
         std::printf("MISMATCH: c_0 of %zu of %zu vertices differs from the plain loop\n", bad,
-                    t.vertex_count());
+                    t.receiver_count());
         ++failures;
     }
     return failures;
@@ -447,14 +447,14 @@ int main(int argc, char** argv) {
     int failures = 0;
     for (std::uint32_t S : Ss) {
         const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, S);
-        const std::size_t chunk = args.chunk > 0 ? args.chunk : auto_chunk_vertices(V, S);
+        const std::size_t chunk = args.chunk > 0 ? args.chunk : auto_chunk_receivers(V, S);
         BareChunkSgemm bare(S, chunk, args.threads);
         for (int K : Ks) {
             BakeOptions options;
             options.K = K;
             options.samples = S;
             options.threads = args.threads;
-            options.chunk_vertices = chunk;
+            options.chunk_receivers = chunk;
             const std::vector<float> Y = basis_table(K, set);
             std::vector<float> plain_c0, C(V * K);
             std::uint64_t plain_rays = 0;

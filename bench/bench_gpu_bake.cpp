@@ -80,7 +80,9 @@ TransferSet best_of(int reps, const Mesh& mesh, const BakeOptions& options, cons
     TransferSet best;
     double best_total = std::numeric_limits<double>::infinity();
     for (int r = 0; r < reps; ++r) {
-        TransferSet t = gpu ? bake_gpu(mesh, options, set) : bake(mesh, options, set);
+        BakeOptions o = options;
+        o.device = gpu ? Device::cuda : Device::cpu;
+        TransferSet t = bake(mesh, o, set);
         if (t.stats.seconds_total < best_total) {
             best_total = t.stats.seconds_total;
             best = std::move(t);
@@ -90,9 +92,9 @@ TransferSet best_of(int reps, const Mesh& mesh, const BakeOptions& options, cons
 }
 
 double max_relative_difference(const TransferSet& a, const TransferSet& b) {
-    const int K = a.K;
+    const int K = a.layout.K;
     double worst = 0;
-    for (std::size_t v = 0; v < a.vertex_count(); ++v) {
+    for (std::size_t v = 0; v < a.receiver_count(); ++v) {
         double diff = 0, scale = 0;
         for (int i = 0; i < K; ++i) {
             diff = std::max(diff,
@@ -130,7 +132,9 @@ int main(int argc, char** argv) {
         const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 64);
         options.K = 16;
         const auto start = Clock::now();
-        bake_gpu(room, options, set);
+        BakeOptions gpu_options = options;
+        gpu_options.device = Device::cuda;
+        bake(room, gpu_options, set);
         std::printf("start-up (first GPU bake, S=64 K=16): %.1f ms\n",
                     ms(std::chrono::duration<double>(Clock::now() - start).count()));
     }
@@ -139,7 +143,9 @@ int main(int argc, char** argv) {
     {
         const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 1024);
         options.K = 32;
-        const TransferSet g = bake_gpu(room, options, set);
+        BakeOptions gpu_options = options;
+        gpu_options.device = Device::cuda;
+        const TransferSet g = bake(room, gpu_options, set);
         const TransferSet c = bake(room, options, set);
         const double rel = max_relative_difference(g, c);
         const GpuTraversalResult trace = measure_gpu_traversal(room, set, 1);

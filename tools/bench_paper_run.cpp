@@ -531,7 +531,7 @@ Results run(const Options& o, const std::string& command_line) {
         stage.say(
             fmt::format("display: {} frames per K' (viewer benchmark, orbiting camera)", o.frames));
         try {
-            viewer::LightRig rig(largest.K);
+            viewer::LightRig rig(largest.layout.K);
             LightSetup setup;
             setup.specs = lights.sun_specs;
             rig.set_source(setup);

@@ -85,8 +85,8 @@ void run(const BakeArgs& args) {
     nlohmann::json extra;
     extra["stats"]["seconds_load"] = seconds_load;
     extra["command_line"] = command_line();
+    if (args.half) transfer.layout.encoding = TransferEncoding::f16;
     WriteOptions write_options;
-    write_options.half = args.half;
     write_options.extra_metadata_json = extra.dump();
     const auto write_start = Clock::now();
     write_shprt(args.output, mesh, transfer, write_options);
@@ -97,7 +97,7 @@ void run(const BakeArgs& args) {
     std::printf(
         "baked %zu vertices, K=%d, S=%d (%s, %s): load %.3f s, bvh %.3f s, trace %.3f s, "
         "project %.3f s, write %.3f s; %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
-        mesh.vertex_count(), transfer.K, transfer.samples, to_string(transfer.kind),
+        mesh.vertex_count(), transfer.layout.K, transfer.samples, to_string(transfer.kind),
         to_string(transfer.sampler), seconds_load, s.seconds_bvh, s.seconds_trace,
         s.seconds_project, seconds_write, rays_per_second * 1e-6,
         double(s.peak_bytes_host) / (1024.0 * 1024.0), s.device_name.c_str(), args.output.c_str());

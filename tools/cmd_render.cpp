@@ -55,7 +55,7 @@ void run(const RenderArgs& a) {
     settings.wireframe = a.wireframe;
 
     const ShprtFile file = read_shprt(a.input);
-    const ShLight light = prepare_light(setup, file.transfer.K);
+    const ShLight light = prepare_light(setup, file.transfer.layout.K);
     const float aspect = float(width) / float(height);
     settings.camera = camera_from(a.camera, file.mesh, aspect);
 

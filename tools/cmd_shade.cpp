@@ -43,7 +43,7 @@ void run(const ShadeArgs& a) {
     if (!a.eye.empty()) eye = parse_vec3(a.eye, "--eye");
 
     const ShprtFile file = read_shprt(a.input);
-    const ShLight light = prepare_light(setup, file.transfer.K);
+    const ShLight light = prepare_light(setup, file.transfer.layout.K);
     ShadeOptions options;
     options.k = a.k;
     options.gloss = a.gloss;

@@ -14,7 +14,6 @@
 #include "common/progress_bar.hpp"
 #include "common/shading_options.hpp"
 
-#include "bake_stream.hpp"
 #include "benchmark.hpp"
 #include "light_rig.hpp"
 #include "screenshot.hpp"
@@ -86,7 +85,7 @@ TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
     const auto start = Clock::now();
     TransferSet t = bake(mesh, options);
     bar.finish();
-    std::printf("baked %zu vertices, K=%d, S=%d in %.2f s (%s)\n", mesh.vertex_count(), t.K,
+    std::printf("baked %zu vertices, K=%d, S=%d in %.2f s (%s)\n", mesh.vertex_count(), t.layout.K,
                 t.samples, seconds_since(start), t.stats.device_name.c_str());
     return t;
 }
@@ -125,10 +124,7 @@ void run(const ViewArgs& a) {
     int K_used = 0;
     if (a.do_bake) {
         bake_options = bake_options_from(a.bake);
-        if (bake_options->device == Device::cuda) {
-            const GpuInfo gpu = query_gpu();
-            SHPRT_CHECK(gpu.available, unsupported, "--device cuda: {}", gpu.reason);
-        }
+        resolve_device(bake_options->device, bake_options->device_index);  // fail before a window
     } else if (a.bake.coeffs) {
         // Without --bake, --coeffs is the K' shown first (as `shprt render --coeffs`).
         SHPRT_CHECK(*a.bake.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)",
@@ -142,8 +138,8 @@ void run(const ViewArgs& a) {
     if (a.do_bake) {
         scene.mesh = load_scene(a.input);
         if (windowed)
-            scene.transfer = viewer::empty_transfer(scene.mesh.vertex_count(), bake_options->K,
-                                                    bake_options->transfer);
+            scene.transfer =
+                TransferSet::zeros(bake_description(*bake_options), scene.mesh.vertex_count());
         else
             scene.transfer = bake_now(scene.mesh, *bake_options);
     } else {
@@ -151,7 +147,7 @@ void run(const ViewArgs& a) {
         scene.mesh = std::move(file.mesh);
         scene.transfer = std::move(file.transfer);
     }
-    viewer::LightRig rig(std::min(scene.transfer.K, kMaxLightK));
+    viewer::LightRig rig(std::min(scene.transfer.layout.K, kMaxLightK));
     rig.set_source(setup);  // a missing light file fails here, before any window
 
     viewer::FrameConfig config;

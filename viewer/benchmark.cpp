@@ -37,7 +37,7 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
     report.context = context.description();
     report.vertices = mesh.vertex_count();
     report.triangles = mesh.triangle_count();
-    report.K = std::min(transfer.K, rig.K());
+    report.K = std::min(transfer.layout.K, rig.K());
     report.width = config.width;
     report.height = config.height;
     report.k = config.draw.k;

@@ -13,8 +13,8 @@
 #include "light_rig.hpp"
 #include "offscreen_context.hpp"
 
-#include "shprt/bake/transfer.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>
 #include <string>

@@ -7,9 +7,9 @@
 #include "frame.hpp"
 #include "offscreen_context.hpp"
 
-#include "shprt/bake/transfer.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <string>
 

@@ -3,12 +3,12 @@
 // light rotated in SH), through the shared Renderer.
 #include "viewer_app.hpp"
 
-#include "bake_stream.hpp"
 #include "camera_controller.hpp"
 #include "glfw_session.hpp"
 #include "light_rig.hpp"
 #include "panel.hpp"
 
+#include "shprt/bake/background.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/bake/gpu_gl_interop.hpp"
 #include "shprt/config.hpp"
@@ -135,7 +135,7 @@ App::App(const Mesh& mesh, const TransferSet& transfer, const WindowOptions& opt
       m_imgui(m_window.get()),
       m_camera(options.frame.draw.camera, mesh_bounds(mesh)),
       m_start_camera(options.frame.draw.camera),
-      m_light(std::min(transfer.K, kMaxLightK)) {
+      m_light(std::min(transfer.layout.K, kMaxLightK)) {
     glfwSwapInterval(options.vsync ? 1 : 0);
     m_renderer.set_scene(mesh, transfer);
     m_light.set_source(options.light);  // errors (a missing file) end the program: one line
@@ -274,20 +274,16 @@ void App::handle_input(float seconds) {
 }
 
 void App::start_bake(const BakeOptions& options) {
-    Device device = options.device;
-    if (device == Device::automatic) device = query_gpu().available ? Device::cuda : Device::cpu;
+    const Device device = resolve_device(options.device, options.device_index);
     float* device_output = nullptr;
+    std::size_t device_bytes = 0;
     std::string interop_note;
     if (SHPRT_HAS_CUDA && device == Device::cuda) {
         // The GPU bake writes straight into the shader storage buffer: no host round trip. The
         // buffer stays mapped (and is not drawn) until the bake ends.
         try {
             m_interop = std::make_unique<GlBufferInterop>(m_renderer.transfer_buffer());
-            std::size_t bytes = 0;
-            device_output = m_interop->map(bytes);
-            const std::size_t need = m_mesh.vertex_count() * std::size_t(options.K) * sizeof(float);
-            SHPRT_CHECK(bytes >= need, invalid_argument,
-                        "mapped transfer buffer has {} bytes, the bake needs {}", bytes, need);
+            device_output = m_interop->map(device_bytes);
         } catch (const Error& e) {
             // E.g. the window's OpenGL runs on another device (llvmpipe under Xvfb): the GPU
             // bake still runs, and its chunks come through the host like a CPU bake's.
@@ -299,7 +295,11 @@ void App::start_bake(const BakeOptions& options) {
     }
     BakeOptions o = options;
     o.device = device;
-    m_bake = std::make_unique<BackgroundBake>(m_mesh, o, device_output);
+    // The device sink checks at the bake's start that the mapped buffer holds every row.
+    std::unique_ptr<TransferSink> device_sink;
+    if (device_output)
+        device_sink = std::make_unique<DeviceSink>(device_output, device_bytes / sizeof(float));
+    m_bake = std::make_unique<BackgroundBake>(m_mesh, o, std::move(device_sink));
     m_panel.baking = true;
     m_panel.bake_status =
         fmt::format("baking K={}, S={} on {}{}{}", o.K, o.samples, to_string(device),
@@ -310,7 +310,7 @@ void App::update_bake() {
     if (!m_bake) return;
     // CPU bakes: every finished chunk goes into the buffer now (the GL thread owns the context).
     for (const TransferChunk& chunk : m_bake->chunks().take_all())
-        m_renderer.update_transfer(chunk.first_vertex, chunk.vertex_count, chunk.coeffs.data());
+        m_renderer.update_transfer(chunk.first, chunk.count, chunk.rows.data());
     m_panel.bake_fraction = static_cast<float>(m_bake->fraction_done());
     if (!m_bake->done() || m_bake_reported) return;
     m_bake->wait();

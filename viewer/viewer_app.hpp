@@ -1,8 +1,8 @@
 // The interactive viewer: a GLFW window with an OpenGL 4.3 core context, the shared Renderer, the
 // ImGui panel (panel.hpp), orbit/fly camera (camera_controller.hpp), light rotation by
 // Shift/Ctrl+drag (light_rig.hpp) and, optionally, a bake shown while it refines
-// (bake_stream.hpp; on a CUDA build with --device cuda the GPU bake writes into the renderer's
-// transfer buffer through CUDA–OpenGL interop).
+// (shprt/bake/background.hpp; on a CUDA build with --device cuda the GPU bake writes into the
+// renderer's transfer buffer through CUDA–OpenGL interop).
 //
 // Controls: left drag turns the camera; Shift or Ctrl + left drag turns the light; right or
 // middle drag pans; the wheel zooms (orbit) or moves forward (fly); W/A/S/D/Q/E move; Tab
@@ -12,9 +12,9 @@
 #include "frame.hpp"
 
 #include "shprt/bake/bake.hpp"
-#include "shprt/bake/transfer.hpp"
 #include "shprt/render/light_setup.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <optional>
 #include <string>
@@ -45,8 +45,8 @@ struct WindowReport {
 };
 
 // Opens the window and runs until it is closed (or max_frames). `transfer` is what is drawn (for
-// a bake: empty_transfer(...) of the bake's K, refined as chunks arrive); with `bake` set, the
-// bake (mesh, *bake) starts on a worker thread once the window is up. Throws Error(unsupported)
+// a bake: TransferSet::zeros(...) of the bake's layout, refined as chunks arrive); with `bake` set,
+// the bake (mesh, *bake) starts on a worker thread once the window is up. Throws Error(unsupported)
 // "cannot open a window: …" when there is no display, "OpenGL 4.3 core profile needed: …" when
 // the context is older, and what the Renderer throws.
 WindowReport run_window(const Mesh& mesh, const TransferSet& transfer, const WindowOptions& options,

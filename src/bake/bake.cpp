@@ -1,9 +1,10 @@
-// Diffuse transfer precompute: input checks, the choice of backend, and the slow reference.
+// Diffuse transfer precompute: the boundary (option and job checks), the one choice of backend,
+// the convenience entry points, and the slow reference.
 //
 // Implements the precompute of P.-P. Sloan, J. Kautz, J. Snyder, "Precomputed Radiance Transfer
 // for Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH 2002, with
 // the Monte Carlo projection of R. Green, "Spherical Harmonic Lighting: The Gritty Details", GDC
-// 2003. The fast CPU path is bake_cpu.cpp.
+// 2003. The fast CPU path is bake_cpu.cpp, the GPU path bake_gpu.cpp.
 #include "shprt/bake/bake.hpp"
 
 #include "bake/bake_internal.hpp"
@@ -27,31 +28,6 @@
 namespace shprt {
 namespace detail {
 
-// Directions a bake accepts: W[chunk×S] must stay a sensible per-thread buffer.
-constexpr std::uint64_t kMaxBakeSamples = std::uint64_t(1) << 24;
-
-void validate_bake_inputs(const Mesh& mesh, const BakeOptions& options) {
-    SHPRT_CHECK(options.K >= 1 && options.K <= kMaxBakeCoeffs, invalid_argument,
-                "basis size K = {} is out of range (1 to {} coefficients, i.e. up to 32 bands)",
-                options.K, kMaxBakeCoeffs);
-    SHPRT_CHECK(options.samples >= 1, invalid_argument,
-                "samples = 0: a bake needs at least one direction");
-    SHPRT_CHECK(options.samples <= kMaxBakeSamples, invalid_argument,
-                "samples = {} is too many (at most {})", options.samples, kMaxBakeSamples);
-    SHPRT_CHECK(options.threads >= 0, invalid_argument, "threads = {} must be ≥ 0 (0 = all)",
-                options.threads);
-    const std::string name = mesh.source.empty() ? std::string("mesh") : mesh.source;
-    SHPRT_CHECK(mesh.vertex_count() > 0, invalid_argument, "{} is empty: it has no vertices", name);
-    SHPRT_CHECK(mesh.triangle_count() > 0, invalid_argument, "{} is empty: it has no triangles",
-                name);
-    SHPRT_CHECK(mesh.normals.size() == mesh.vertex_count(), invalid_argument,
-                "{} has {} normals for {} vertices", name, mesh.normals.size(),
-                mesh.vertex_count());
-    SHPRT_CHECK(mesh.vertex_count() <= std::numeric_limits<std::uint32_t>::max(), invalid_argument,
-                "{} has {} vertices, more than a bake supports (2^32 - 1)", name,
-                mesh.vertex_count());
-}
-
 void validate_direction_set(const DirectionSet& directions) {
     SHPRT_CHECK(directions.size() >= 1, invalid_argument, "the direction set is empty");
     SHPRT_CHECK(directions.dirs.size() == 3 * directions.size(), invalid_argument,
@@ -62,24 +38,28 @@ void validate_direction_set(const DirectionSet& directions) {
                 kMaxBakeSamples);
 }
 
-BakeOptions checked_options(const Mesh& mesh, const BakeOptions& options,
-                            const DirectionSet& directions) {
-    BakeOptions checked = options;
-    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
-    validate_direction_set(directions);
-    validate_bake_inputs(mesh, checked);
-    return checked;
+void validate_job(const BakeJob& job, const BakeOptions&) {
+    SHPRT_CHECK(job.occluders != nullptr, invalid_argument, "a bake needs occluders (a mesh)");
+    const Mesh& mesh = *job.occluders;
+    const std::string name = mesh.source.empty() ? std::string("mesh") : mesh.source;
+    SHPRT_CHECK(mesh.vertex_count() > 0, invalid_argument, "{} is empty: it has no vertices", name);
+    SHPRT_CHECK(mesh.triangle_count() > 0, invalid_argument, "{} is empty: it has no triangles",
+                name);
+    const Receivers& rx = job.receivers;
+    SHPRT_CHECK(rx.positions != nullptr && rx.normals != nullptr, invalid_argument,
+                "the receivers have no positions or normals");
+    SHPRT_CHECK(rx.total <= std::numeric_limits<std::uint32_t>::max(), invalid_argument,
+                "{} has {} receivers, more than a bake supports (2^32 - 1)", name, rx.total);
+    SHPRT_CHECK(rx.count >= 1 && rx.first <= rx.total && rx.count <= rx.total - rx.first,
+                invalid_argument, "receiver range [{}, {}) is empty or outside the {} receivers",
+                rx.first, rx.first + rx.count, rx.total);
 }
 
-TransferSet empty_transfer(const BakeOptions& options, std::size_t samples) {
-    TransferSet out;
-    out.kind = options.transfer;
-    out.K = options.K;
-    out.channels = 1;
-    out.sampler = options.sampler;
-    out.samples = static_cast<int>(samples);
-    out.seed = options.seed;
-    return out;
+TransferInfo bake_info(const BakeOptions& options, Receivers receivers, std::size_t samples) {
+    TransferInfo info = bake_description(options);
+    info.layout.domain = receivers.domain;
+    info.samples = static_cast<int>(samples);
+    return info;
 }
 
 }  // namespace detail
@@ -92,48 +72,105 @@ double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// The one place where a bake picks its backend: Device::cuda runs the GPU bake (gpu.hpp) or fails
-// with query_gpu()'s one-line reason; Device::automatic takes the GPU when there is one.
-enum class Backend { cpu, cuda };
-
-Backend choose_backend(Device device) {
-    switch (device) {
-        case Device::cpu:
-            return Backend::cpu;
-        case Device::automatic:
-            return query_gpu().available ? Backend::cuda : Backend::cpu;
-        case Device::cuda:
-            break;
+// After validate(options) and validate_job: runs the chosen backend with the direction set.
+TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device backend,
+                      const DirectionSet& directions) {
+    if (backend == Device::cuda) {
+        SHPRT_CHECK(job.tracer == nullptr, unsupported,
+                    "a caller-built tracer runs on the CPU only (device 'cuda' was asked for)");
+        return detail::bake_gpu(job, options, directions);
     }
-    const GpuInfo gpu = query_gpu();
-    if (gpu.available) return Backend::cuda;
-    fail(ErrorCode::unsupported, "device 'cuda': {}", gpu.reason);
+    if (job.tracer || options.transfer == TransferKind::unshadowed)  // unshadowed: no rays
+        return detail::bake_cpu(job, options, directions, job.tracer, 0.0);
+    // Embree builds with TBB tasks in the caller's arena: limit it to the bake's threads.
+    std::unique_ptr<Tracer> tracer;
+    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+    const auto start = Clock::now();
+    tbb::task_arena(threads).execute([&] { tracer = make_embree_tracer(*job.occluders); });
+    return detail::bake_cpu(job, options, directions, tracer.get(), seconds_since(start));
 }
 
-TransferSet run_bake(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions) {
-    switch (choose_backend(options.device)) {
-        case Backend::cuda:
-            return bake_gpu(mesh, options, directions);
-        case Backend::cpu:
-            break;
-    }
-    // Unshadowed transfer casts no rays: no BVH.
-    std::unique_ptr<Tracer> tracer;
-    double seconds_bvh = 0;
-    if (options.transfer == TransferKind::shadowed) {
-        // Embree builds with TBB tasks in the caller's arena: limit it to the bake's threads.
-        const int threads =
-            options.threads > 0 ? options.threads : tbb::info::default_concurrency();
-        const auto start = Clock::now();
-        tbb::task_arena(threads).execute([&] { tracer = make_embree_tracer(mesh); });
-        seconds_bvh = seconds_since(start);
-    }
-    return detail::bake_cpu(mesh, options, directions, tracer.get(), seconds_bvh);
+// A whole-mesh bake into host memory: the convenience entry points' body.
+TransferSet bake_to_host(const Mesh& mesh, const BakeOptions& options,
+                         const DirectionSet* directions, const Tracer* tracer) {
+    HostSink sink;
+    BakeJob job;
+    job.occluders = &mesh;
+    job.receivers = vertex_receivers(mesh);
+    job.sink = &sink;
+    job.directions = directions;
+    job.tracer = tracer;
+    TransferSet out;
+    static_cast<TransferInfo&>(out) = bake(job, options);
+    out.coeffs = sink.take_rows();
+    out.stats.peak_bytes_host += out.coeffs.size() * sizeof(float);
+    return out;
 }
 
 }  // namespace
 
-std::size_t auto_chunk_vertices(std::size_t vertex_count, std::size_t samples) {
+const char* to_string(Device device) {
+    switch (device) {
+        case Device::cpu:
+            return "cpu";
+        case Device::cuda:
+            return "cuda";
+        case Device::automatic:
+            return "auto";
+    }
+    return "auto";
+}
+
+Device parse_device(const std::string& name) {
+    if (name == "cpu") return Device::cpu;
+    if (name == "cuda") return Device::cuda;
+    if (name == "auto") return Device::automatic;
+    fail(ErrorCode::invalid_argument, "unknown device '{}' (expected cpu, cuda or auto)", name);
+}
+
+TransferInfo bake_description(const BakeOptions& options) {
+    TransferInfo info;
+    info.kind = options.transfer;
+    info.layout.domain = ReceiverDomain::vertex;
+    info.layout.channels = 1;
+    info.layout.K = options.K;
+    info.layout.shape = TransferShape::vector;
+    info.layout.encoding = TransferEncoding::f32;
+    info.sampler = options.sampler;
+    info.samples = static_cast<int>(options.samples);
+    info.seed = options.seed;
+    return info;
+}
+
+void validate(const BakeOptions& options) {
+    SHPRT_CHECK(options.K >= 1 && options.K <= kMaxBakeCoeffs, invalid_argument,
+                "basis size K = {} is out of range (1 to {} coefficients, i.e. up to 32 bands)",
+                options.K, kMaxBakeCoeffs);
+    SHPRT_CHECK(options.samples >= 1, invalid_argument,
+                "samples = 0: a bake needs at least one direction");
+    SHPRT_CHECK(options.samples <= kMaxBakeSamples, invalid_argument,
+                "samples = {} is too many (at most {})", options.samples, kMaxBakeSamples);
+    SHPRT_CHECK(options.threads >= 0 && options.threads <= kMaxBakeThreads, invalid_argument,
+                "threads = {} must be 0 (all) to {}", options.threads, kMaxBakeThreads);
+    SHPRT_CHECK(options.device_index >= 0, invalid_argument, "device index {} must be ≥ 0",
+                options.device_index);
+}
+
+Device resolve_device(Device requested, int device_index) {
+    switch (requested) {
+        case Device::cpu:
+            return Device::cpu;
+        case Device::automatic:
+            return query_gpu(device_index).available ? Device::cuda : Device::cpu;
+        case Device::cuda:
+            break;
+    }
+    const GpuInfo gpu = query_gpu(device_index);
+    if (gpu.available) return Device::cuda;
+    fail(ErrorCode::unsupported, "device 'cuda': {}", gpu.reason);
+}
+
+std::size_t auto_chunk_receivers(std::size_t receivers, std::size_t samples) {
     constexpr std::size_t kRowBlock = 16;           // OpenBLAS SGEMM kernel row blocking
     constexpr std::size_t kTargetBytes = 1u << 20;  // W buffer per thread ~ 1 MiB (L2-sized)
     constexpr std::size_t kMinChunks = 64;          // load balance on many-core machines
@@ -141,45 +178,62 @@ std::size_t auto_chunk_vertices(std::size_t vertex_count, std::size_t samples) {
     const std::size_t by_memory = std::max<std::size_t>(
         1, kTargetBytes / (sizeof(float) * std::max<std::size_t>(samples, 1)));
     const std::size_t by_count =
-        std::max<std::size_t>(1, (vertex_count + kMinChunks - 1) / kMinChunks);
+        std::max<std::size_t>(1, (receivers + kMinChunks - 1) / kMinChunks);
     std::size_t chunk = std::min(by_memory, by_count);
     // Whole row blocks where they fit; below one block (huge S or a tiny mesh) memory wins.
     if (chunk >= kRowBlock) chunk = (chunk + kRowBlock - 1) / kRowBlock * kRowBlock;
     return std::min(chunk, kMaxChunk);
 }
 
-TransferSet bake(const Mesh& mesh, const BakeOptions& options) {
-    detail::validate_bake_inputs(mesh, options);
-    choose_backend(options.device);  // fail before generating directions
+TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
+    BakeOptions checked = options;
+    if (job.directions) {
+        detail::validate_direction_set(*job.directions);
+        checked.samples = static_cast<std::uint32_t>(job.directions->size());
+    }
+    validate(checked);
+    detail::validate_job(job, checked);
+    SHPRT_CHECK(job.sink != nullptr, invalid_argument, "a bake needs a sink for its rows");
+    const Device backend = resolve_device(checked.device, checked.device_index);
+    if (job.directions) return run_bake(job, checked, backend, *job.directions);
     const DirectionSet directions =
-        make_direction_set(options.sampler, options.seed, options.samples);
-    return run_bake(mesh, options, directions);
+        make_direction_set(checked.sampler, checked.seed, checked.samples);
+    return run_bake(job, checked, backend, directions);
+}
+
+TransferSet bake(const Mesh& mesh, const BakeOptions& options) {
+    return bake_to_host(mesh, options, nullptr, nullptr);
 }
 
 TransferSet bake(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions) {
-    const BakeOptions checked = detail::checked_options(mesh, options, directions);
-    return run_bake(mesh, checked, directions);
+    return bake_to_host(mesh, options, &directions, nullptr);
 }
 
 TransferSet bake_with_tracer(const Mesh& mesh, const BakeOptions& options,
                              const DirectionSet& directions, const Tracer& tracer) {
-    const BakeOptions checked = detail::checked_options(mesh, options, directions);
     SHPRT_CHECK(options.device != Device::cuda, unsupported,
                 "bake_with_tracer runs on the CPU only (device 'cuda' was asked for)");
-    return detail::bake_cpu(mesh, checked, directions, &tracer, 0.0);
+    BakeOptions cpu = options;
+    cpu.device = Device::cpu;
+    return bake_to_host(mesh, cpu, &directions, &tracer);
 }
 
 TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
                            const DirectionSet& directions, const Tracer& tracer) {
-    const BakeOptions checked = detail::checked_options(mesh, options, directions);
+    detail::validate_direction_set(directions);
+    BakeOptions checked = options;
+    checked.samples = static_cast<std::uint32_t>(directions.size());
+    validate(checked);
+    const Receivers receivers = vertex_receivers(mesh);
+    detail::validate_job(BakeJob{&mesh, receivers, nullptr, nullptr, nullptr}, checked);
     const auto start = Clock::now();
     const int K = options.K;
     const std::size_t S = directions.size();
     const bool shadowed = options.transfer == TransferKind::shadowed;
     constexpr float kInf = std::numeric_limits<float>::infinity();
 
-    TransferSet out = detail::empty_transfer(checked, S);
-    out.coeffs.assign(mesh.vertex_count() * K, 0.0f);
+    TransferSet out =
+        TransferSet::zeros(detail::bake_info(checked, receivers, S), mesh.vertex_count());
 
     std::vector<double> y(K), sum(K);
     std::uint64_t rays = 0;
@@ -204,7 +258,8 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
             const double t = cosine * double(directions.weights[s]);
             for (int i = 0; i < K; ++i) sum[i] += t * y[i];
         }
-        for (int i = 0; i < K; ++i) out.coeffs[v * K + i] = static_cast<float>(sum[i]);
+        float* row = out.receiver(v);
+        for (int i = 0; i < K; ++i) row[i] = static_cast<float>(sum[i]);
     }
     out.stats.rays_cast = rays;
     out.stats.seconds_total = out.stats.seconds_trace = seconds_since(start);

@@ -9,6 +9,7 @@
 #if SHPRT_HAS_CUDA
 
 #include "bake/bake_internal.hpp"
+#include "bake/progress.hpp"
 #include "cuda/gpu_bake_device.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
@@ -31,8 +32,8 @@ double seconds_since(Clock::time_point start) {
 }
 
 // Fails with the one-line message bake() gives for a missing device.
-void require_gpu() {
-    const GpuInfo gpu = query_gpu();
+void require_gpu(int device) {
+    const GpuInfo gpu = query_gpu(device);
     SHPRT_CHECK(gpu.available, unsupported, "device 'cuda': {}", gpu.reason);
 }
 
@@ -44,13 +45,14 @@ FlatBvh build_bvh(const Mesh& mesh, int threads) {
     return bvh;
 }
 
-cuda::DeviceScene device_scene(const Mesh& mesh, const FlatBvh* bvh,
+// The device's view of the occluders (`bvh`, null when unshadowed) and the receivers.
+cuda::DeviceScene device_scene(const Receivers& receivers, const FlatBvh* bvh,
                                const DirectionSet& directions) {
     cuda::DeviceScene s;
     if (bvh) s.bvh = bvh->view();
-    s.positions = mesh.positions.data();
-    s.normals = mesh.normals.data();
-    s.vertex_count = mesh.vertex_count();
+    s.positions = receivers.positions;
+    s.normals = receivers.normals;
+    s.vertex_count = receivers.total;
     s.dirs = directions.dirs.data();
     s.weights = directions.weights.data();
     s.samples = directions.size();
@@ -58,124 +60,111 @@ cuda::DeviceScene device_scene(const Mesh& mesh, const FlatBvh* bvh,
     return s;
 }
 
+// The checks of the test hooks below (a whole-mesh job, as bake() would check it).
+void validate_mesh(const Mesh& mesh, TransferKind kind, const DirectionSet& directions) {
+    detail::validate_direction_set(directions);
+    BakeOptions checked;
+    checked.transfer = kind;
+    checked.samples = static_cast<std::uint32_t>(directions.size());
+    validate(checked);
+    detail::validate_job(BakeJob{&mesh, vertex_receivers(mesh), nullptr, nullptr, nullptr},
+                         checked);
+}
+
 }  // namespace
 
-TransferSet bake_gpu(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions,
-                     float* device_output) {
-    const auto start = Clock::now();
-    BakeOptions checked = options;
-    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
-    detail::validate_direction_set(directions);
-    detail::validate_bake_inputs(mesh, checked);
-    require_gpu();
-    const cuda::DeviceState device = cuda::prepare_device();
+namespace detail {
 
+TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
+                      const DirectionSet& directions) {
+    const auto start = Clock::now();
+    require_gpu(options.device_index);
+    const cuda::DeviceState device = cuda::prepare_device(options.device_index);
+
+    const Receivers& rx = job.receivers;
     const bool shadowed = options.transfer == TransferKind::shadowed;
-    const std::size_t V = mesh.vertex_count(), S = directions.size();
+    const std::size_t S = directions.size();
     const int K = options.K;
     FlatBvh bvh;
     double seconds_bvh = 0;
     if (shadowed) {  // unshadowed transfer casts no rays: no BVH
         const auto bvh_start = Clock::now();
-        bvh = build_bvh(mesh, options.threads);
+        bvh = build_bvh(*job.occluders, options.threads);
         seconds_bvh = seconds_since(bvh_start);
     }
     const std::vector<float> Y = basis_table(K, directions);
 
+    TransferInfo info = bake_info(options, rx, S);
+    TransferSink& sink = *job.sink;
+    sink.begin(info.layout, rx.first, rx.count);
+    float* const device_output = sink.device_rows();
+
     ChunkPlanRequest request;
-    request.vertices = V;
+    request.vertices = rx.count;
     request.samples = S;
     request.K = K;
     request.free_device_bytes = device.free_bytes;
-    request.fixed_device_bytes = gpu_bake_fixed_bytes(V, S, K, shadowed ? bvh.bytes() : 0);
+    request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, K, shadowed ? bvh.bytes() : 0);
     request.device_output = device_output != nullptr;
-    request.requested_chunk = options.chunk_vertices;
+    request.requested_chunk = options.chunk_receivers;
     const ChunkPlan plan = plan_chunks(request);
 
-    TransferSet out = detail::empty_transfer(options, S);
-    if (!device_output) out.coeffs.assign(V * std::size_t(K), 0.0f);
-
-    // Progress as the CPU bake reports it: rays (estimated total from the rays per vertex so far)
-    // for shadowed transfer, samples for unshadowed; at most ~20 reports a second and one at the
-    // end.
-    std::uint64_t rays_done = 0, vertices_done = 0;
-    auto last_report = Clock::now();
-    constexpr auto kReportInterval = std::chrono::milliseconds(50);
-    auto report = [&](bool final) {
-        if (!shadowed)
-            return options.progress(
-                ProgressInfo{"bake", vertices_done * S, std::uint64_t(V) * S, "samples"});
-        const double per_vertex =
-            vertices_done > 0 ? double(rays_done) / double(vertices_done) : double(S) / 2;
-        const std::uint64_t total =
-            final ? rays_done
-                  : rays_done + std::uint64_t(per_vertex * double(V - vertices_done) + 0.5);
-        return options.progress(
-            ProgressInfo{"bake", rays_done, std::max(total, rays_done), "rays"});
-    };
-
-    const cuda::DeviceScene scene = device_scene(mesh, shadowed ? &bvh : nullptr, directions);
+    BakeProgress progress(options.progress, shadowed, rx.count, S);
     cuda::DeviceBakeInput input;
-    input.scene = scene;
+    input.device = options.device_index;
+    input.scene = device_scene(rx, shadowed ? &bvh : nullptr, directions);
     input.basis = Y.data();
     input.K = K;
+    input.first = rx.first;
+    input.count = rx.count;
     input.plan = plan;
-    input.host_output = device_output ? nullptr : out.coeffs.data();
     input.device_output = device_output;
-    input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* coeffs,
+    input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* rows,
                               std::uint64_t rays) {
-        rays_done += rays;
-        vertices_done += count;
-        if (options.on_chunk) options.on_chunk(first, count, coeffs);
-        if (!options.progress || vertices_done == V) return true;
-        const auto now = Clock::now();
-        if (now - last_report < kReportInterval) return true;
-        last_report = now;
-        return report(false);
+        sink.write(first, count, rows);
+        progress.add(count, rays);
+        return progress.poll();
     };
     const cuda::DeviceBakeResult result = cuda::run_device_bake(input);
-    bool stopped = result.cancelled;
-    if (!stopped && options.progress && !report(true)) stopped = true;
-    SHPRT_CHECK(!stopped, cancelled, "bake cancelled after {} of {} vertices", vertices_done, V);
+    SHPRT_CHECK(!result.cancelled && progress.finish(), cancelled,
+                "bake cancelled after {} of {} receivers", progress.receivers_done(), rx.count);
+    sink.finish();
 
-    BakeStats& st = out.stats;
+    BakeStats& st = info.stats;
     st.seconds_bvh = seconds_bvh;
     st.seconds_trace = result.seconds_trace;
     st.seconds_project = result.seconds_project;
     st.seconds_total = seconds_since(start);
     st.rays_cast = result.rays;
-    st.peak_bytes_host = out.coeffs.size() * sizeof(float) + Y.size() * sizeof(float) +
-                         (shadowed ? bvh.bytes() : 0) + result.pinned_bytes;
+    st.peak_bytes_host =
+        Y.size() * sizeof(float) + (shadowed ? bvh.bytes() : 0) + result.pinned_bytes;
     st.peak_bytes_device = result.peak_device_bytes;
     st.device_name = device.name;
-    return out;
+    return info;
 }
+
+}  // namespace detail
 
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
                                         const DirectionSet& directions, std::size_t first,
-                                        std::size_t count) {
-    BakeOptions checked;
-    checked.transfer = kind;
-    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
-    detail::validate_direction_set(directions);
-    detail::validate_bake_inputs(mesh, checked);
-    require_gpu();
+                                        std::size_t count, int device) {
+    validate_mesh(mesh, kind, directions);
+    require_gpu(device);
     const bool shadowed = kind == TransferKind::shadowed;
     FlatBvh bvh;
     if (shadowed) bvh = build_bvh(mesh, 0);
-    return cuda::device_transfer_samples(device_scene(mesh, shadowed ? &bvh : nullptr, directions),
-                                         first, count);
+    return cuda::device_transfer_samples(
+        device, device_scene(vertex_receivers(mesh), shadowed ? &bvh : nullptr, directions), first,
+        count);
 }
 
 GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions,
-                                         int repeats) {
-    BakeOptions checked;
-    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
-    detail::validate_direction_set(directions);
-    detail::validate_bake_inputs(mesh, checked);
-    require_gpu();
+                                         int repeats, int device) {
+    validate_mesh(mesh, TransferKind::shadowed, directions);
+    require_gpu(device);
     const FlatBvh bvh = build_bvh(mesh, 0);
-    return cuda::device_traversal_rate(device_scene(mesh, &bvh, directions), repeats);
+    return cuda::device_traversal_rate(
+        device, device_scene(vertex_receivers(mesh), &bvh, directions), repeats);
 }
 
 }  // namespace shprt

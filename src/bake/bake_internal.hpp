@@ -5,21 +5,26 @@
 
 namespace shprt::detail {
 
-// Throws Error(invalid_argument) for options or a mesh a bake cannot take (see bake.hpp).
-void validate_bake_inputs(const Mesh& mesh, const BakeOptions& options);
+// Throws Error(invalid_argument) for a direction set a bake cannot take (empty, coordinates that
+// do not match the weights, more than kMaxBakeSamples directions).
 void validate_direction_set(const DirectionSet& directions);
-// `options` with samples set to the size of `directions`, after both checks above: how every
-// bake entry point that takes its own direction set starts.
-BakeOptions checked_options(const Mesh& mesh, const BakeOptions& options,
-                            const DirectionSet& directions);
 
-// A transfer set with the bake's description filled in (kind, K, one channel, sampler, S, seed)
-// and no coefficients yet.
-TransferSet empty_transfer(const BakeOptions& options, std::size_t samples);
+// The rest of the boundary check, after validate(options): the occluders (triangles), the
+// receivers (normals, a non-empty range inside the domain, fewer than 2^32). (The sink is checked
+// by bake(); the test hooks of gpu.hpp check jobs without one.)
+void validate_job(const BakeJob& job, const BakeOptions& options);
 
-// The CPU bake (bake_cpu.cpp). `tracer` may be null for unshadowed transfer, which casts no rays.
-// `seconds_bvh` is recorded in the stats as the tracer's build time.
-TransferSet bake_cpu(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions,
-                     const Tracer* tracer, double seconds_bvh);
+// What a diffuse bake with `options` over S directions produces: kind, the layout (the receivers'
+// domain, one channel, K, a vector each, float32), sampler, S, seed; no stats yet.
+TransferInfo bake_info(const BakeOptions& options, Receivers receivers, std::size_t samples);
+
+// The backends, called after the boundary checks with the direction set in hand. The CPU bake
+// (bake_cpu.cpp): `tracer` may be null for unshadowed transfer, which casts no rays;
+// `seconds_bvh` is recorded as the tracer's build time. The GPU bake (bake_gpu.cpp, or
+// gpu_fallback.cpp without CUDA) builds its own flat BVH.
+TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
+                      const DirectionSet& directions, const Tracer* tracer, double seconds_bvh);
+TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
+                      const DirectionSet& directions);
 
 }  // namespace shprt::detail

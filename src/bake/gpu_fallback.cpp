@@ -19,39 +19,38 @@ constexpr const char* kNoCuda =
 
 [[noreturn]] void no_cuda() { fail(ErrorCode::unsupported, "device 'cuda': {}", kNoCuda); }
 
-void validate(const Mesh& mesh, TransferKind kind, const DirectionSet& directions) {
+void validate_mesh(const Mesh& mesh, TransferKind kind, const DirectionSet& directions) {
+    detail::validate_direction_set(directions);
     BakeOptions checked;
     checked.transfer = kind;
-    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
-    detail::validate_direction_set(directions);
-    detail::validate_bake_inputs(mesh, checked);
+    checked.samples = static_cast<std::uint32_t>(directions.size());
+    validate(checked);
+    detail::validate_job(BakeJob{&mesh, vertex_receivers(mesh), nullptr, nullptr, nullptr},
+                         checked);
 }
 
 }  // namespace
 
-GpuInfo query_gpu() {
+GpuInfo query_gpu(int) {
     GpuInfo info;
     info.reason = kNoCuda;
     return info;
 }
 
-TransferSet bake_gpu(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions,
-                     float*) {
-    BakeOptions checked = options;
-    checked.samples = static_cast<std::uint32_t>(std::max<std::size_t>(directions.size(), 1));
-    detail::validate_direction_set(directions);
-    detail::validate_bake_inputs(mesh, checked);
+TransferInfo detail::bake_gpu(const BakeJob&, const BakeOptions&, const DirectionSet&) {
     no_cuda();
 }
 
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
-                                        const DirectionSet& directions, std::size_t, std::size_t) {
-    validate(mesh, kind, directions);
+                                        const DirectionSet& directions, std::size_t, std::size_t,
+                                        int) {
+    validate_mesh(mesh, kind, directions);
     no_cuda();
 }
 
-GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions, int) {
-    validate(mesh, TransferKind::shadowed, directions);
+GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions, int,
+                                         int) {
+    validate_mesh(mesh, TransferKind::shadowed, directions);
     no_cuda();
 }
 

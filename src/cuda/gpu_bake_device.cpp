@@ -103,9 +103,9 @@ struct Slot {
 
 }  // namespace
 
-DeviceState prepare_device() {
+DeviceState prepare_device(int device) {
     const std::lock_guard<std::mutex> lock(gpu_mutex());
-    GpuContext& context = gpu_context();
+    GpuContext& context = gpu_context(device);
     SHPRT_CUDA_CHECK(cudaSetDevice(context.device));
     std::size_t free_bytes = 0, total_bytes = 0;
     SHPRT_CUDA_CHECK(cudaMemGetInfo(&free_bytes, &total_bytes));
@@ -114,17 +114,19 @@ DeviceState prepare_device() {
 
 DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
     const std::lock_guard<std::mutex> lock(gpu_mutex());
-    GpuContext& context = gpu_context();
+    GpuContext& context = gpu_context(in.device);
     SHPRT_CUDA_CHECK(cudaSetDevice(context.device));
     const ChunkPlan& plan = in.plan;
-    const std::size_t V = in.scene.vertex_count, S = in.scene.samples;
+    const std::size_t S = in.scene.samples;
     const std::size_t K = static_cast<std::size_t>(in.K);
+    const std::size_t range_end = in.first + in.count;
     SHPRT_CHECK(plan.slots >= 1 && plan.slots <= kStreams && plan.chunk_vertices >= 1 &&
                     std::uint64_t(plan.chunk_vertices) * S <= kMaxThreads,
                 invalid_argument, "GPU bake: invalid chunk plan ({} vertices, {} slots)",
                 plan.chunk_vertices, plan.slots);
-    SHPRT_CHECK((in.host_output != nullptr) != (in.device_output != nullptr), invalid_argument,
-                "GPU bake: exactly one of host and device output must be given");
+    SHPRT_CHECK(in.first <= in.scene.vertex_count && in.count <= in.scene.vertex_count - in.first,
+                invalid_argument, "GPU bake: receivers [{}, {}) outside the scene's {}", in.first,
+                range_end, in.scene.vertex_count);
     const bool device_output = in.device_output != nullptr;
 
     MemoryTally tally;
@@ -152,8 +154,8 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         const int index = static_cast<int>(chunk % std::size_t(plan.slots));
         Slot& slot = *slots[std::size_t(index)];
         const cudaStream_t stream = context.streams[index];
-        slot.first = chunk * plan.chunk_vertices;
-        slot.count = std::min(plan.chunk_vertices, V - slot.first);
+        slot.first = in.first + chunk * plan.chunk_vertices;
+        slot.count = std::min(plan.chunk_vertices, range_end - slot.first);
         SHPRT_CUDA_CHECK(cudaMemsetAsync(slot.rays.data(), 0, sizeof(unsigned long long), stream));
         slot.start.record(stream);
         TransferLaunch launch = scene.launch(slot.first, slot.count);
@@ -161,7 +163,7 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         launch.rays = slot.rays.data();
         SHPRT_CUDA_CHECK(launch_transfer(launch, stream));
         slot.traced.record(stream);
-        float* C = device_output ? in.device_output + slot.first * K : slot.c.data();
+        float* C = device_output ? in.device_output + (slot.first - in.first) * K : slot.c.data();
         const int m = in.K, n = static_cast<int>(slot.count), k = static_cast<int>(S);
         SHPRT_CUDA_CHECK(cublas().sgemm(context.blas[index], CUBLAS_OP_N, CUBLAS_OP_T, m, n, k,
                                         &one, basis.data(), m, slot.w.data(), n, &zero, C, m));
@@ -175,8 +177,8 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         slot.done.record(stream);
         slot.busy = true;
     };
-    // Waits for a slot's chunk, books its times and rays, hands its rows to the host output and
-    // the callback. Returns the callback's answer (false = cancel).
+    // Waits for a slot's chunk, books its times and rays, hands its rows to the callback. Returns
+    // the callback's answer (false = cancel).
     auto finish = [&](Slot& slot) {
         SHPRT_CUDA_CHECK(cudaEventSynchronize(slot.done.get()));
         slot.busy = false;
@@ -184,12 +186,7 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         result.seconds_project += elapsed_seconds(slot.traced, slot.projected);
         const std::uint64_t rays = slot.host_rays.data()[0];
         result.rays += rays;
-        const float* rows = nullptr;
-        if (!device_output) {
-            float* target = in.host_output + slot.first * K;
-            std::memcpy(target, slot.host_c.data(), slot.count * K * sizeof(float));
-            rows = target;
-        }
+        const float* rows = device_output ? nullptr : slot.host_c.data();
         return in.on_chunk_done ? in.on_chunk_done(slot.first, slot.count, rows, rays) : true;
     };
 
@@ -215,7 +212,7 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
     return result;
 }
 
-std::vector<float> device_transfer_samples(const DeviceScene& s, std::size_t first,
+std::vector<float> device_transfer_samples(int device, const DeviceScene& s, std::size_t first,
                                            std::size_t count) {
     const std::size_t S = s.samples;
     SHPRT_CHECK(first <= s.vertex_count && count <= s.vertex_count - first, invalid_argument,
@@ -224,7 +221,7 @@ std::vector<float> device_transfer_samples(const DeviceScene& s, std::size_t fir
     SHPRT_CHECK(std::uint64_t(count) * S <= kMaxThreads, invalid_argument,
                 "{} vertices × {} samples is too many for one launch", count, S);
     const std::lock_guard<std::mutex> lock(gpu_mutex());
-    GpuContext& context = gpu_context();
+    GpuContext& context = gpu_context(device);
     SHPRT_CUDA_CHECK(cudaSetDevice(context.device));
     const SceneBuffers scene(s, nullptr);
     DeviceBuffer<float> w(count * S);
@@ -243,12 +240,12 @@ std::vector<float> device_transfer_samples(const DeviceScene& s, std::size_t fir
     return out;
 }
 
-GpuTraversalResult device_traversal_rate(const DeviceScene& s, int repeats) {
+GpuTraversalResult device_traversal_rate(int device, const DeviceScene& s, int repeats) {
     SHPRT_CHECK(repeats >= 1, invalid_argument, "repeats = {} must be ≥ 1", repeats);
     SHPRT_CHECK(s.shadowed && s.bvh.node_count > 0, invalid_argument,
                 "the traversal measurement needs a BVH");
     const std::lock_guard<std::mutex> lock(gpu_mutex());
-    GpuContext& context = gpu_context();
+    GpuContext& context = gpu_context(device);
     SHPRT_CUDA_CHECK(cudaSetDevice(context.device));
     const SceneBuffers scene(s, nullptr);
     DeviceBuffer<unsigned long long> counters(2);

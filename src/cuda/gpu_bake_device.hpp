@@ -22,9 +22,10 @@ struct DeviceState {
     std::uint64_t workspace_bytes = 0;  // cuBLAS workspaces of the context (all handles)
 };
 
-// Creates the process's GPU context if needed and reports the device's memory. Takes the GPU
-// lock for the duration of the call. Throws Error(unsupported) without a device, Error(cuda).
-DeviceState prepare_device();
+// Creates the process's GPU context for CUDA device `device` if needed and reports the device's
+// memory. Takes the GPU lock for the duration of the call. Throws Error(unsupported) without
+// that device, Error(cuda).
+DeviceState prepare_device(int device);
 
 // The scene and sampling of one bake, in host memory.
 struct DeviceScene {
@@ -39,15 +40,19 @@ struct DeviceScene {
 };
 
 struct DeviceBakeInput {
+    int device = 0;  // the CUDA device
     DeviceScene scene;
     const float* basis = nullptr;  // Y[S×K], row-major
     int K = 0;
+    // The receivers baked: [first, first + count) of the scene's vertices, in the plan's chunks.
+    std::size_t first = 0, count = 0;
     ChunkPlan plan;
-    float* host_output = nullptr;    // V·K floats, or null when device_output is set
-    float* device_output = nullptr;  // device pointer to V·K floats, or null
-    // Called on the calling thread after each chunk, in vertex order, with the chunk's rows (host
-    // memory, or null with device_output; valid during the call) and the rays it cast. Returning
-    // false cancels: no further chunk is started.
+    // Device pointer to the range's rows (count × K floats), or null: the rows are then
+    // copied back to pinned host memory and handed to on_chunk_done.
+    float* device_output = nullptr;
+    // Called on the calling thread after each chunk, in vertex order, with the chunk's first
+    // vertex and count, its rows (pinned host memory valid during the call, or null with
+    // device_output) and the rays it cast. Returning false cancels: no further chunk is started.
     std::function<bool(std::size_t first, std::size_t count, const float* coeffs,
                        std::uint64_t rays)>
         on_chunk_done;
@@ -66,10 +71,10 @@ struct DeviceBakeResult {
 DeviceBakeResult run_device_bake(const DeviceBakeInput& input);
 
 // W rows of vertices [first, first + count): count × S floats, vertex-major (gpu.hpp).
-std::vector<float> device_transfer_samples(const DeviceScene& scene, std::size_t first,
+std::vector<float> device_transfer_samples(int device, const DeviceScene& scene, std::size_t first,
                                            std::size_t count);
 
 // The trace-only kernel over every (vertex, direction) of the scene (gpu.hpp).
-GpuTraversalResult device_traversal_rate(const DeviceScene& scene, int repeats);
+GpuTraversalResult device_traversal_rate(int device, const DeviceScene& scene, int repeats);
 
 }  // namespace shprt::cuda

@@ -8,7 +8,9 @@
 
 #include <fmt/format.h>
 
+#include <map>
 #include <memory>
+#include <mutex>
 
 namespace shprt {
 namespace cuda {
@@ -52,13 +54,14 @@ std::mutex& gpu_mutex() {
     return mutex;
 }
 
-GpuContext& gpu_context() {
-    static GpuContext* context = nullptr;  // deliberately leaked, see gpu_context.hpp
-    if (context) return *context;
-    const GpuInfo info = query_gpu();
+GpuContext& gpu_context(int device) {
+    // One per device, deliberately leaked (see gpu_context.hpp); guarded by gpu_mutex().
+    static std::map<int, GpuContext*> contexts;
+    if (auto it = contexts.find(device); it != contexts.end()) return *it->second;
+    const GpuInfo info = query_gpu(device);
     SHPRT_CHECK(info.available, unsupported, "device 'cuda': {}", info.reason);
     auto c = std::make_unique<GpuContext>();
-    c->device = 0;
+    c->device = device;
     c->name = info.name;
     const CublasApi& blas = cublas();
     SHPRT_CUDA_CHECK(cudaSetDevice(c->device));
@@ -74,7 +77,8 @@ GpuContext& gpu_context() {
                          "device", __FILE__, __LINE__);
         SHPRT_CUDA_CHECK(blas.set_workspace(c->blas[i], c->workspace[i], c->workspace_bytes));
     }
-    context = c.release();
+    GpuContext* context = c.release();
+    contexts[device] = context;
     return *context;
 }
 
@@ -82,7 +86,7 @@ GpuContext& gpu_context() {
 
 namespace {
 
-GpuInfo discover_gpu() {
+GpuInfo discover_gpu(int device) {
     GpuInfo info;
     int count = 0;
     const cudaError_t status = cudaGetDeviceCount(&count);
@@ -96,8 +100,12 @@ GpuInfo discover_gpu() {
         info.reason = "no CUDA device (cudaGetDeviceCount: 0 devices)";
         return info;
     }
+    if (device < 0 || device >= count) {
+        info.reason = fmt::format("no CUDA device {} (the machine has {})", device, count);
+        return info;
+    }
     cudaDeviceProp prop{};
-    const cudaError_t props = cudaGetDeviceProperties(&prop, 0);
+    const cudaError_t props = cudaGetDeviceProperties(&prop, device);
     if (props != cudaSuccess) {
         cudaGetLastError();
         info.reason = fmt::format("no usable CUDA device (cudaGetDeviceProperties: {})",
@@ -114,9 +122,13 @@ GpuInfo discover_gpu() {
 
 }  // namespace
 
-GpuInfo query_gpu() {
-    static const GpuInfo info = discover_gpu();  // thread-safe initialisation
-    return info;
+GpuInfo query_gpu(int device) {
+    static std::mutex mutex;
+    static std::map<int, GpuInfo> known;
+    const std::lock_guard<std::mutex> lock(mutex);
+    auto it = known.find(device);
+    if (it == known.end()) it = known.emplace(device, discover_gpu(device)).first;
+    return it->second;
 }
 
 }  // namespace shprt

@@ -1,8 +1,10 @@
-// Reader of the .shprt file (layout: docs/file_format.md). Nothing read from the file is trusted
-// before it is checked: the header and metadata against their CRCs, every section's offset and
-// length against the file size, the sizes against V, T, K and channels; only then are arrays
+// Reader of the .shprt file (layout: docs/file_format.md; sections: the table of
+// shprt_sections.hpp, shared with the writer; versions 1 and 2). Nothing read from the file is
+// trusted before it is checked: the header and metadata against their CRCs, every section's offset
+// and length against the file size, the sizes against V, T, K and channels; only then are arrays
 // allocated (so a corrupt length cannot ask for more memory than the file holds) and read, each
 // against its CRC-32.
+#include "io/shprt_sections.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/io/half.hpp"
 #include "shprt/io/hash.hpp"
@@ -151,6 +153,7 @@ Json parse_metadata(const std::string& path, const std::string& text) {
 // ---- sections --------------------------------------------------------------------------------
 
 struct SectionSpec {
+    const detail::SectionRule* rule;
     const char* name;
     std::string dtype;
     std::uint64_t rows, cols;
@@ -326,25 +329,31 @@ ShprtFile Reader::read() {
 
     ShprtFile out;
     TransferSet& t = out.transfer;
-    const std::string kind = m.string("transfer_kind");
-    const std::string sampler = m.string("sampler");
+    TransferLayout& layout = t.layout;
     try {
-        t.kind = parse_transfer_kind(kind);
-        t.sampler = parse_sampler_kind(sampler);
+        t.kind = parse_transfer_kind(m.string("transfer_kind"));
+        t.sampler = parse_sampler_kind(m.string("sampler"));
+        // Version 1 knew only per-vertex vectors; version 2 names the domain and the shape.
+        if (h.version >= 2) {
+            layout.domain = parse_receiver_domain(m.string("domain"));
+            layout.shape = parse_transfer_shape(m.string("shape"));
+        }
     } catch (const Error& e) {
         corrupt(m_path, "metadata: {}", e.what());
     }
-    t.K = m.integer("K", 1, kShprtMaxK);
-    t.channels = m.integer("channels", 1, 3);
-    if (t.channels == 2) corrupt(m_path, "metadata: channels must be 1 or 3, not 2");
-    const int bands = sh_bands_for(t.K);
-    if (m.u64("bands") != std::uint64_t(bands))
-        corrupt(m_path, "metadata: bands = {} but K = {} needs {}", m.u64("bands"), t.K, bands);
-    if (m.boolean("last_band_full") != (sh_count(bands) == t.K))
-        corrupt(m_path, "metadata: last_band_full contradicts K = {}", t.K);
     const std::string precision = m.string("precision");
     if (precision != "float32" && precision != "float16")
         corrupt(m_path, "metadata: precision '{}' (expected float32 or float16)", precision);
+    layout.encoding = parse_transfer_encoding(precision);
+    layout.K = m.integer("K", 1, kMaxTransferK);
+    layout.channels = m.integer("channels", 1, 3);
+    if (layout.channels == 2) corrupt(m_path, "metadata: channels must be 1 or 3, not 2");
+    const int bands = sh_bands_for(layout.K);
+    if (m.u64("bands") != std::uint64_t(bands))
+        corrupt(m_path, "metadata: bands = {} but K = {} needs {}", m.u64("bands"), layout.K,
+                bands);
+    if (m.boolean("last_band_full") != (sh_count(bands) == layout.K))
+        corrupt(m_path, "metadata: last_band_full contradicts K = {}", layout.K);
     t.samples = m.integer("samples", 0, INT_MAX);
     t.seed = m.u64("seed");
 
@@ -372,20 +381,30 @@ ShprtFile Reader::read() {
     if (!table.is_array() || table.size() > kMaxSections)
         corrupt(m_path, "metadata: 'sections' must be an array of at most {} entries",
                 kMaxSections);
-    const bool has_source_vertex = table.size() == 6;
-    if (table.size() != 5 && !has_source_vertex)
-        corrupt(m_path, "metadata: {} sections listed (expected 5 or 6)", table.size());
-    const std::uint64_t transfer_cols = std::uint64_t(t.channels) * std::uint64_t(t.K);
-    std::vector<SectionSpec> specs = {
-        {"positions", "float32", V, 3, 4},
-        {"normals", "float32", V, 3, 4},
-        {"albedo", "float32", V, 3, 4},
-        {"triangles", "uint32", T, 3, 4},
-    };
-    if (has_source_vertex) specs.push_back({"source_vertex", "uint32", V, 1, 4});
-    specs.push_back({"transfer", precision, V, transfer_cols, precision == "float16" ? 2u : 4u});
-    for (std::size_t i = 0; i < specs.size(); ++i)
-        check_section_entry(m_path, table[i], specs[i], size);
+    // Match the listed sections to the table's rules in order: every required one present,
+    // optional ones present or absent, nothing else.
+    const detail::SectionCounts counts{V, T, V, layout};
+    std::vector<SectionSpec> specs;
+    std::size_t listed = 0;
+    for (const detail::SectionRule& rule : detail::section_rules()) {
+        const bool present = listed < table.size() && table[listed].is_object() &&
+                             table[listed].contains("name") &&
+                             table[listed]["name"] == std::string(rule.name);
+        if (!present && !rule.required) continue;
+        if (!present && listed >= table.size())
+            corrupt(m_path, "metadata: sections: required section '{}' is missing", rule.name);
+        specs.push_back({&rule, rule.name, rule.dtype(layout), rule.row_count(counts),
+                         rule.col_count(layout), rule.element_size(layout)});
+        check_section_entry(m_path, table[listed], specs.back(), size);
+        ++listed;
+    }
+    if (listed < table.size()) {
+        const Json& extra = table[listed];
+        corrupt(m_path, "metadata: unexpected section {} after '{}'",
+                extra.is_object() && extra.contains("name") ? extra["name"].dump()
+                                                            : std::string("entry"),
+                specs.empty() ? "the metadata" : specs.back().name);
+    }
 
     // Canonical layout: each section at the first aligned offset after the previous one, the
     // file ending with the last, so every byte is under a CRC or known to be zero padding.
@@ -404,31 +423,14 @@ ShprtFile Reader::read() {
     for (const SectionSpec& s : specs) {
         check_zero_gap(end, s.offset, s.name);
         end = s.offset + s.length;
-        const std::string name = s.name;
-        if (name == "positions") {
-            mesh.positions.resize(V);
-            read_section(s, mesh.positions.data());
-        } else if (name == "normals") {
-            mesh.normals.resize(V);
-            read_section(s, mesh.normals.data());
-        } else if (name == "albedo") {
-            mesh.albedo.resize(V);
-            read_section(s, mesh.albedo.data());
-        } else if (name == "triangles") {
-            mesh.triangles.resize(T);
-            read_section(s, mesh.triangles.data());
-        } else if (name == "source_vertex") {
-            mesh.source_vertex.resize(V);
-            read_section(s, mesh.source_vertex.data());
-        } else if (s.element_size == 4) {
-            t.coeffs.resize(V * transfer_cols);
-            read_section(s, t.coeffs.data());
-        } else {
-            t.coeffs.resize(V * transfer_cols);
-            float* dst = t.coeffs.data();
-            read_section_chunks(s, [&dst](const unsigned char* src, std::size_t n) {
+        void* dst = s.rule->resize(mesh, t, s.rows * s.cols);
+        if (s.element_size == 4) {
+            read_section(s, dst);
+        } else {  // float16 transfer, widened to float32
+            auto* f = static_cast<float*>(dst);
+            read_section_chunks(s, [&f](const unsigned char* src, std::size_t n) {
                 for (std::size_t i = 0; i + 1 < n; i += 2)  // chunks hold whole elements
-                    *dst++ = half_to_float(static_cast<std::uint16_t>(src[i] | (src[i + 1] << 8)));
+                    *f++ = half_to_float(static_cast<std::uint16_t>(src[i] | (src[i + 1] << 8)));
             });
         }
     }

@@ -41,8 +41,9 @@ std::string shprt_summary(const ShprtFile& file) {
 
     const Mesh& mesh = file.mesh;
     const TransferSet& t = file.transfer;
-    const int bands = sh_bands_for(t.K);
-    const int full = sh_count(bands) == t.K ? bands : bands - 1;
+    const int K = t.layout.K;
+    const int bands = sh_bands_for(K);
+    const int full = sh_count(bands) == K ? bands : bands - 1;
     std::string out;
     const auto line = [&out](const char* label, const std::string& value) {
         out += fmt::format("{:<13}{}\n", label, value);
@@ -51,18 +52,22 @@ std::string shprt_summary(const ShprtFile& file) {
     line("scene", mesh.source.empty() ? "(unnamed)" : mesh.source);
     line("vertices", fmt::format("{}", mesh.vertex_count()));
     line("triangles", fmt::format("{}", mesh.triangle_count()));
-    line("transfer", fmt::format("{}, {} channel{}", to_string(t.kind), t.channels,
-                                 t.channels == 1 ? "" : "s"));
+    const int channels = t.layout.channels;
+    const std::string shape = t.layout.shape == TransferShape::vector
+                                  ? std::string()
+                                  : fmt::format(", {} K×K per channel", to_string(t.layout.shape));
+    line("transfer", fmt::format("{}, {} channel{} per {}{}", to_string(t.kind), channels,
+                                 channels == 1 ? "" : "s", to_string(t.layout.domain), shape));
     if (full == bands)
         line("basis",
-             fmt::format("K = {}: {} bands, last band full (rotation invariant)", t.K, bands));
+             fmt::format("K = {}: {} bands, last band full (rotation invariant)", K, bands));
     else
         line("basis", fmt::format("K = {}: {} bands, last band partial ({} of {} coefficients of "
                                   "band l = {}; only the first {} bands rotate exactly)",
-                                  t.K, bands, t.K - sh_count(full), 2 * full + 1, full, full));
+                                  K, bands, K - sh_count(full), 2 * full + 1, full, full));
     line("sampling",
          fmt::format("{}, {} samples, seed {}", to_string(t.sampler), t.samples, t.seed));
-    line("precision", str(meta, "precision", "float32"));
+    line("precision", to_string(t.layout.encoding));
 
     auto stats_it = meta.find("stats");
     if (stats_it != meta.end() && stats_it->is_object()) {

@@ -1,7 +1,9 @@
-// Writer of the .shprt file (layout: docs/file_format.md, include/shprt/io/shprt_format.hpp).
-// Two passes over the arrays: the first computes each section's CRC-32 (the CRCs live in the
-// metadata, which precedes the data), the second writes; float16 sections are converted in
-// small chunks both times, so writing never holds a second copy of the coefficients.
+// Writer of the .shprt file (layout: docs/file_format.md, include/shprt/io/shprt_format.hpp;
+// sections: the table of shprt_sections.hpp). Two passes over the arrays: the first computes each
+// section's CRC-32 (the CRCs live in the metadata, which precedes the data), the second writes;
+// float16 sections are converted in small chunks both times, so writing never holds a second copy
+// of the coefficients.
+#include "io/shprt_sections.hpp"
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -26,7 +28,7 @@ constexpr std::size_t kChunkElements = 1 << 16;
 
 struct SectionOut {
     const char* name;
-    const char* dtype;
+    std::string dtype;
     std::uint64_t rows, cols;  // shape [rows, cols]; count = rows · cols elements
     std::uint64_t element_size;
     const void* data;
@@ -69,12 +71,13 @@ std::size_t first_magnitude_at_or_above(const float* p, std::size_t n, std::uint
     return n;
 }
 
-void check_inputs(const std::string& path, const Mesh& mesh, const TransferSet& t, bool half) {
+void check_inputs(const std::string& path, const Mesh& mesh, const TransferSet& t) {
+    try {
+        t.check(mesh);
+    } catch (const Error& e) {
+        fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
+    }
     const std::size_t V = mesh.positions.size();
-    SHPRT_CHECK(mesh.normals.size() == V, invalid_argument,
-                "{}: mesh has {} positions but {} normals", path, V, mesh.normals.size());
-    SHPRT_CHECK(mesh.albedo.size() == V, invalid_argument,
-                "{}: mesh has {} positions but {} albedo values", path, V, mesh.albedo.size());
     SHPRT_CHECK(mesh.source_vertex.empty() || mesh.source_vertex.size() == V, invalid_argument,
                 "{}: mesh has {} positions but {} source_vertex entries", path, V,
                 mesh.source_vertex.size());
@@ -83,23 +86,16 @@ void check_inputs(const std::string& path, const Mesh& mesh, const TransferSet& 
             SHPRT_CHECK(index < V, invalid_argument,
                         "{}: triangle {} uses vertex {} but the mesh has {} vertices", path, i,
                         index, V);
-    SHPRT_CHECK(t.K >= 1 && t.K <= kShprtMaxK, invalid_argument, "{}: K = {} is outside [1, {}]",
-                path, t.K, kShprtMaxK);
-    SHPRT_CHECK(t.channels == 1 || t.channels == 3, invalid_argument,
-                "{}: transfer has {} channels (expected 1 or 3)", path, t.channels);
     SHPRT_CHECK(t.samples >= 0, invalid_argument, "{}: negative sample count {}", path, t.samples);
-    const std::uint64_t expected =
-        std::uint64_t(V) * std::uint64_t(t.channels) * std::uint64_t(t.K);
-    SHPRT_CHECK(t.coeffs.size() == expected, invalid_argument,
-                "{}: transfer has {} coefficients but V·channels·K = {}·{}·{} = {}", path,
-                t.coeffs.size(), V, t.channels, t.K, expected);
-    // Finite, and with half below the float16 overflow threshold 65520 (bits 0x477ff000).
+    // Finite, and in float16 below its overflow threshold 65520 (bits 0x477ff000).
+    const bool half = t.layout.encoding == TransferEncoding::f16;
     const std::uint32_t limit = half ? 0x477ff000u : 0x7f800000u;
     const std::size_t bad = first_magnitude_at_or_above(t.coeffs.data(), t.coeffs.size(), limit);
     if (bad < t.coeffs.size()) {
         const float c = t.coeffs[bad];
+        const std::size_t row = t.layout.floats_per_receiver();
         fail(ErrorCode::invalid_argument, "{}: transfer coefficient {} of vertex {} ({}) {}", path,
-             bad % std::size_t(t.K), bad / (std::size_t(t.K) * t.channels), c,
+             bad % t.layout.floats_per_channel(), bad / row, c,
              std::isfinite(c) ? "overflows float16" : "is not finite");
     }
 }
@@ -135,7 +131,7 @@ Json stats_json(const BakeStats& s) {
 
 Json build_metadata(const Mesh& mesh, const TransferSet& t, const WriteOptions& options,
                     const Json& extra, const std::vector<SectionOut>& sections) {
-    const int bands = sh_bands_for(t.K);
+    const int bands = sh_bands_for(t.layout.K);
     Json m;
     m["format"] = "shprt";
     m["format_version"] = kShprtFormatVersion;
@@ -148,14 +144,19 @@ Json build_metadata(const Mesh& mesh, const TransferSet& t, const WriteOptions& 
         {"transfer",
          "T(w) = V(w) max(0, n.w); irradiance E = sum_i c_T[i] c_L[i]; "
          "outgoing radiance = albedo / pi * E"},
-        {"layout", "transfer[(v*channels + c)*K + i]"},
+        {"layout",
+         "transfer[(r*channels + c)*floats_per_channel + j]; floats_per_channel = K "
+         "(vector), K*K (matrix, row-major) or K*(K+1)/2 (symmetric_matrix, upper "
+         "triangle by rows)"},
     };
     m["transfer_kind"] = to_string(t.kind);
-    m["K"] = t.K;
+    m["domain"] = to_string(t.layout.domain);
+    m["shape"] = to_string(t.layout.shape);
+    m["K"] = t.layout.K;
     m["bands"] = bands;
-    m["last_band_full"] = sh_count(bands) == t.K;
-    m["channels"] = t.channels;
-    m["precision"] = options.half ? "float16" : "float32";
+    m["last_band_full"] = sh_count(bands) == t.layout.K;
+    m["channels"] = t.layout.channels;
+    m["precision"] = to_string(t.layout.encoding);
     m["sampler"] = to_string(t.sampler);
     m["samples"] = t.samples;
     m["seed"] = t.seed;
@@ -186,7 +187,7 @@ Json build_metadata(const Mesh& mesh, const TransferSet& t, const WriteOptions& 
 
 void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
                  const WriteOptions& options) {
-    check_inputs(path, mesh, transfer, options.half);
+    check_inputs(path, mesh, transfer);
     Json extra = Json::object();
     if (!options.extra_metadata_json.empty()) {
         try {
@@ -197,18 +198,17 @@ void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& t
         SHPRT_CHECK(extra.is_object(), invalid_argument, "extra metadata must be a JSON object");
     }
 
-    const std::uint64_t V = mesh.positions.size(), T = mesh.triangles.size();
-    std::vector<SectionOut> sections = {
-        {"positions", "float32", V, 3, 4, mesh.positions.data()},
-        {"normals", "float32", V, 3, 4, mesh.normals.data()},
-        {"albedo", "float32", V, 3, 4, mesh.albedo.data()},
-        {"triangles", "uint32", T, 3, 4, mesh.triangles.data()},
-    };
-    if (!mesh.source_vertex.empty())
-        sections.push_back({"source_vertex", "uint32", V, 1, 4, mesh.source_vertex.data()});
-    sections.push_back({"transfer", options.half ? "float16" : "float32", V,
-                        std::uint64_t(transfer.channels) * std::uint64_t(transfer.K),
-                        options.half ? 2u : 4u, transfer.coeffs.data(), options.half});
+    // The sections the table lists, in its order; an empty optional array is left out.
+    const detail::SectionCounts counts{mesh.positions.size(), mesh.triangles.size(),
+                                       mesh.positions.size(), transfer.layout};
+    std::vector<SectionOut> sections;
+    for (const detail::SectionRule& rule : detail::section_rules()) {
+        if (!rule.required && rule.count(mesh, transfer) == 0) continue;
+        const bool to_half = rule.element_size(transfer.layout) == 2;  // float32 stored as f16
+        sections.push_back({rule.name, rule.dtype(transfer.layout), rule.row_count(counts),
+                            rule.col_count(transfer.layout), rule.element_size(transfer.layout),
+                            rule.data(mesh, transfer), to_half});
+    }
     for (SectionOut& s : sections)
         for_each_chunk(s, [&](const void* p, std::size_t n) { s.crc = crc32(p, n, s.crc); });
 

@@ -208,8 +208,8 @@ EdgeMeasure measure_edge(const Profile& profile, double plateau) {
 TransferSet irradiance_as_transfer(std::span<const Vec3d> irradiance) {
     TransferSet t;
     t.kind = TransferKind::shadowed;
-    t.K = 1;
-    t.channels = 3;
+    t.layout.K = 1;
+    t.layout.channels = 3;
     t.coeffs.resize(irradiance.size() * 3);
     const double inv = 1.0 / std::sqrt(4.0 * 3.14159265358979323846264338327950288);
     for (std::size_t v = 0; v < irradiance.size(); ++v)

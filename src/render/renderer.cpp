@@ -154,7 +154,7 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(V > 0 && mesh.triangle_count() > 0, invalid_argument,
                 "mesh {} has no triangles to draw", mesh.source);
-    check_scene_transfer(mesh, transfer);
+    check_shadable(mesh, transfer);
     for (const auto& t : mesh.triangles)
         SHPRT_CHECK(t[0] < V && t[1] < V && t[2] < V, invalid_argument,
                     "mesh {}: triangle index out of range ({} vertices)", mesh.source, V);
@@ -191,8 +191,9 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     m_vertex_count = V;
     m_index_count = mesh.triangles.size() * 3;
-    m_K = transfer.K;
-    m_channels = transfer.channels;
+    m_layout = transfer.layout;
+    m_K = transfer.layout.K;
+    m_channels = transfer.layout.channels;
     ++m_transfer_generation;
     m_shading_valid = false;
     gl::check("Renderer::set_scene");
@@ -204,7 +205,7 @@ void Renderer::update_transfer(std::size_t first_vertex, std::size_t vertex_coun
     SHPRT_CHECK(first_vertex <= m_vertex_count && vertex_count <= m_vertex_count - first_vertex,
                 invalid_argument, "transfer update of vertices [{}, {}) outside the scene's {}",
                 first_vertex, first_vertex + vertex_count, m_vertex_count);
-    const std::size_t per_vertex = std::size_t(m_channels) * m_K * sizeof(float);
+    const std::size_t per_vertex = m_layout.floats_per_receiver() * sizeof(float);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, m_transfer_ssbo);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(first_vertex * per_vertex),
                     static_cast<GLsizeiptr>(vertex_count * per_vertex), coeffs);

@@ -23,7 +23,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 void check_inputs(const Mesh& mesh, const TransferSet& transfer, const ShLight& light) {
-    check_scene_transfer(mesh, transfer);
+    check_shadable(mesh, transfer);
     SHPRT_CHECK(light.K > 0 && light.coeffs.size() == 3 * std::size_t(light.K), invalid_argument,
                 "light has K = {} and {} coefficients (expected 3 × K)", light.K,
                 light.coeffs.size());
@@ -31,28 +31,21 @@ void check_inputs(const Mesh& mesh, const TransferSet& transfer, const ShLight& 
 
 }  // namespace
 
-void check_scene_transfer(const Mesh& mesh, const TransferSet& transfer) {
-    const std::size_t V = mesh.vertex_count();
-    SHPRT_CHECK(transfer.K > 0 && (transfer.channels == 1 || transfer.channels == 3),
-                invalid_argument,
-                "transfer has K = {} and {} channels (need K > 0, 1 or 3 channels)", transfer.K,
-                transfer.channels);
-    SHPRT_CHECK(transfer.coeffs.size() == V * transfer.channels * std::size_t(transfer.K),
-                invalid_argument,
-                "transfer holds {} floats, expected {} vertices × {} channels × {}",
-                transfer.coeffs.size(), V, transfer.channels, transfer.K);
-    SHPRT_CHECK(mesh.normals.size() == V && mesh.albedo.size() == V, invalid_argument,
-                "mesh {} has {} vertices but {} normals and {} albedo values", mesh.source, V,
-                mesh.normals.size(), mesh.albedo.size());
+void check_shadable(const Mesh& mesh, const TransferSet& transfer) {
+    transfer.check(mesh);
+    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, unsupported,
+                "{} transfer cannot be shaded with L = k·L_D + (1−k)·L_S (it needs a vector per "
+                "receiver)",
+                to_string(transfer.layout.shape));
 }
 
 int effective_basis_size(const TransferSet& transfer, const ShLight& light, int K_used) {
     SHPRT_CHECK(K_used >= 0, invalid_argument, "basis size K' = {} is negative", K_used);
-    int K = std::min(transfer.K, light.K);
+    int K = std::min(transfer.layout.K, light.K);
     if (K_used > 0) K = std::min(K, K_used);
     SHPRT_CHECK(K > 0, invalid_argument,
-                "no SH coefficients to shade with (transfer K = {}, light K = {})", transfer.K,
-                light.K);
+                "no SH coefficients to shade with (transfer K = {}, light K = {})",
+                transfer.layout.K, light.K);
     return K;
 }
 
@@ -91,7 +84,7 @@ ShadeResult shade_vertices(const Mesh& mesh, const TransferSet& transfer, const 
         for (std::size_t v = range.begin(); v != range.end(); ++v) {
             double E[3], L_S[3] = {0, 0, 0};
             for (int c = 0; c < 3; ++c) {
-                const float* t = transfer.vertex(v, transfer.channels == 3 ? c : 0);
+                const float* t = transfer.receiver(v, transfer.layout.channels == 3 ? c : 0);
                 const float* l = light.channel(c);
                 double s = 0;
                 for (int i = 0; i < K; ++i) s += double(t[i]) * double(l[i]);
@@ -108,7 +101,7 @@ ShadeResult shade_vertices(const Mesh& mesh, const TransferSet& transfer, const 
                 rotate_zonal(lobe.data(), K, r, cs.data());
                 const double cos_eta = std::max(nw, kMinCosEta);
                 for (int c = 0; c < 3; ++c) {
-                    const float* t = transfer.vertex(v, transfer.channels == 3 ? c : 0);
+                    const float* t = transfer.receiver(v, transfer.layout.channels == 3 ? c : 0);
                     const float* l = light.channel(c);
                     double lobe_light = 0, lobe_transfer = 0;
                     for (int i = 0; i < K; ++i) {

@@ -3,6 +3,8 @@
 #pragma once
 
 #include "common/ray_triangle.hpp"
+#include "shprt/bake/bake.hpp"
+#include "shprt/bake/sink.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -10,10 +12,66 @@
 
 #include <cmath>
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <vector>
 
 namespace shprt::test {
+
+// A sink that records every write() (the range, and whether rows came with it) and keeps the rows
+// in a HostSink. With offer_host_rows the bake projects into those rows directly; with `device`
+// set it offers that device buffer.
+class RecordingSink final : public TransferSink {
+public:
+    struct Write {
+        std::size_t first, count;
+        bool had_rows;
+    };
+    void begin(const TransferLayout& layout, std::size_t first, std::size_t count) override {
+        host.begin(layout, first, count);
+        ++begins;
+    }
+    float* host_rows(std::size_t first, std::size_t count) override {
+        return offer_host_rows ? host.host_rows(first, count) : nullptr;
+    }
+    float* device_rows() override { return device; }
+    void write(std::size_t first, std::size_t count, const float* rows) override {
+        const std::lock_guard<std::mutex> lock(mutex);
+        writes.push_back({first, count, rows != nullptr});
+        if (rows) host.write(first, count, rows);
+    }
+    void finish() override { ++finishes; }
+
+    HostSink host;
+    std::vector<Write> writes;
+    std::mutex mutex;
+    bool offer_host_rows = false;
+    float* device = nullptr;
+    int begins = 0, finishes = 0;
+};
+
+// bake() of every vertex of `mesh` into `sink`, with `directions` when given.
+inline TransferInfo bake_into(const Mesh& mesh, const BakeOptions& options, TransferSink& sink,
+                              const DirectionSet* directions = nullptr) {
+    BakeJob job;
+    job.occluders = &mesh;
+    job.receivers = vertex_receivers(mesh);
+    job.sink = &sink;
+    job.directions = directions;
+    return bake(job, options);
+}
+
+// The GPU bake through bake()'s seams: every vertex into host memory, or (device non-null) into
+// a DeviceSink over that device buffer of V·K floats (the result's coeffs are then empty).
+inline TransferSet bake_gpu(const Mesh& mesh, BakeOptions options, const DirectionSet& set,
+                            float* device = nullptr) {
+    options.device = Device::cuda;
+    if (!device) return bake(mesh, options, set);
+    DeviceSink sink(device, mesh.vertex_count() * std::size_t(options.K));
+    TransferSet out;
+    static_cast<TransferInfo&>(out) = bake_into(mesh, options, sink, &set);
+    return out;
+}
 
 // Every ray against every triangle, Möller–Trumbore in double precision, two-sided, hits counted
 // for tnear < t < tfar. Slow and obvious: the reference the Embree bake is compared with.

@@ -32,15 +32,15 @@ double clamped_cosine(const Vec3d& n, const Vec3d& w) { return std::max(0.0, dot
 // Checks every vertex of `mesh` against project(max(0, n·w)) on the same quadrature set.
 void expect_clamped_cosine_projection(const Mesh& mesh, const TransferSet& t,
                                       const DirectionSet& set) {
-    ASSERT_EQ(t.vertex_count(), mesh.vertex_count());
+    ASSERT_EQ(t.receiver_count(), mesh.vertex_count());
     int failures = 0;
     for (std::size_t v = 0; v < mesh.vertex_count() && failures < 5; ++v) {
         const Vec3d n = cast<double>(mesh.normals[v]);
         const std::vector<double> expected =
-            project([&](const Vec3d& w) { return clamped_cosine(n, w); }, t.K, set);
-        for (int i = 0; i < t.K; ++i) {
-            if (std::fabs(t.vertex(v)[i] - expected[i]) > kQuadratureTolerance) {
-                ADD_FAILURE() << "vertex " << v << " coefficient " << i << ": " << t.vertex(v)[i]
+            project([&](const Vec3d& w) { return clamped_cosine(n, w); }, t.layout.K, set);
+        for (int i = 0; i < t.layout.K; ++i) {
+            if (std::fabs(t.receiver(v)[i] - expected[i]) > kQuadratureTolerance) {
+                ADD_FAILURE() << "vertex " << v << " coefficient " << i << ": " << t.receiver(v)[i]
                               << " vs " << expected[i];
                 ++failures;
             }
@@ -57,7 +57,7 @@ TEST(BakePlane, QuadratureSetGivesTheProjectedClampedCosine) {
         options.K = 16;
         options.transfer = kind;
         const TransferSet t = bake(plane, options, set);
-        EXPECT_EQ(t.K, 16);
+        EXPECT_EQ(t.layout.K, 16);
         EXPECT_EQ(t.samples, int(set.size()));
         expect_clamped_cosine_projection(plane, t, set);
     }
@@ -92,12 +92,12 @@ TEST(BakePlane, UniformMonteCarloIsWithinStatisticalErrorOfTheAnalyticTransfer) 
         for (int i = 0; i < K; ++i) {
             const double sigma =
                 std::sqrt(std::max(0.0, 4 * kPi * second_moment[i] - exact[i] * exact[i]) / S);
-            ASSERT_NEAR(t.vertex(v)[i], exact[i], kSigmas * sigma)
+            ASSERT_NEAR(t.receiver(v)[i], exact[i], kSigmas * sigma)
                 << "vertex " << v << " coefficient " << i;
         }
     }
     // Irradiance under constant unit light is π for an unoccluded plane: c_0·√(4π).
-    EXPECT_NEAR(t.vertex(0)[0] * std::sqrt(4 * kPi), kPi, kSigmas * 4 * kPi / std::sqrt(6.0 * S));
+    EXPECT_NEAR(t.receiver(0)[0] * std::sqrt(4 * kPi), kPi, kSigmas * 4 * kPi / std::sqrt(6.0 * S));
 }
 
 TEST(BakeSphere, EveryVertexSeesTheClampedCosineAndShadowedEqualsUnshadowed) {
@@ -187,7 +187,7 @@ TEST(BakeCorner, VertexDeepInTheCornerHasTheAnalyticOccludedFraction) {
     const TransferSet t = bake(m, options);
     // Under constant unit light (coefficient √(4π) on y_0, 0 elsewhere) the irradiance is
     // E = c_0·√(4π) = ∫ V·max(0, n·w) dω = π·(1 − occluded fraction).
-    const double E = t.vertex(0)[0] * std::sqrt(4 * kPi);
+    const double E = t.receiver(0)[0] * std::sqrt(4 * kPi);
     const double expected = kPi * (1 - occluded);
     // Var(Ê) = (4π·∫V cos² dω − E²)/S ≤ 4π·(2π/3)/S.
     const double sigma = std::sqrt(4 * kPi * (2 * kPi / 3) / S);
@@ -208,7 +208,7 @@ TEST(BakeCorner, BuiltinCornerProbeMatchesItsAnalyticOcclusion) {
     options.samples = S;
     options.seed = 9;
     const TransferSet t = bake(corner, options);
-    const double E = t.vertex(probe)[0] * std::sqrt(4 * kPi);
+    const double E = t.receiver(probe)[0] * std::sqrt(4 * kPi);
     const double occluded = corner_occlusion(kCornerProbe.x, kCornerProbe.z).cosine;
     const double sigma = std::sqrt(4 * kPi * (2 * kPi / 3) / S);
     EXPECT_NEAR(E, kPi * (1 - occluded), kSigmas * sigma) << "occluded fraction " << occluded;

@@ -69,12 +69,12 @@ ErrorCode error_code_of(F&& f, std::string* message = nullptr) {
 // products), per vertex and coefficient. Returns the maximum relative difference.
 double expect_close(const TransferSet& a, const TransferSet& b, const DirectionSet& set,
                     const char* what) {
-    EXPECT_EQ(a.K, b.K);
+    EXPECT_EQ(a.layout.K, b.layout.K);
     EXPECT_EQ(a.coeffs.size(), b.coeffs.size());
-    const int K = a.K;
+    const int K = a.layout.K;
     const std::vector<double> bound = test::float_dot_bounds(K, set);
     double max_rel = 0;
-    for (std::size_t v = 0; v < a.vertex_count(); ++v) {
+    for (std::size_t v = 0; v < a.receiver_count(); ++v) {
         double diff = 0, scale = 0;
         for (int i = 0; i < K; ++i) {
             const double d = std::fabs(double(a.coeffs[v * K + i]) - double(b.coeffs[v * K + i]));
@@ -111,13 +111,13 @@ TEST(GpuBake, WithoutADeviceCudaIsAOneLineError) {
     EXPECT_EQ(error_code_of([&] { bake(mesh, o); }, &message), ErrorCode::unsupported);
     EXPECT_EQ(message, "device 'cuda': " + gpu.reason);
     const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 16);
-    EXPECT_EQ(error_code_of([&] { bake_gpu(mesh, o, set); }), ErrorCode::unsupported);
+    EXPECT_EQ(error_code_of([&] { test::bake_gpu(mesh, o, set); }), ErrorCode::unsupported);
     EXPECT_EQ(error_code_of([&] { gpu_transfer_samples(mesh, TransferKind::shadowed, set, 0, 1); }),
               ErrorCode::unsupported);
     EXPECT_EQ(error_code_of([&] { measure_gpu_traversal(mesh, set, 1); }), ErrorCode::unsupported);
     // Bad input is reported as such before the missing device.
     o.K = 0;
-    EXPECT_EQ(error_code_of([&] { bake_gpu(mesh, o, set); }), ErrorCode::invalid_argument);
+    EXPECT_EQ(error_code_of([&] { test::bake_gpu(mesh, o, set); }), ErrorCode::invalid_argument);
 
     o.K = 16;
     o.device = Device::automatic;
@@ -192,7 +192,7 @@ TEST(GpuBake, AgreesWithTheCpuBakeInTheRoom) {
     BakeOptions o;
     o.K = 16;
     const TransferSet cpu = bake(mesh, o, set);
-    const TransferSet gpu = bake_gpu(mesh, o, set);
+    const TransferSet gpu = test::bake_gpu(mesh, o, set);
     ASSERT_EQ(gpu.coeffs.size(), cpu.coeffs.size());
     EXPECT_EQ(gpu.stats.rays_cast, cpu.stats.rays_cast) << "the same rays are cast";
 
@@ -264,7 +264,7 @@ TEST(GpuBake, UnshadowedAgreesWithTheCpuBake) {
     BakeOptions o;
     o.K = 25;
     o.transfer = TransferKind::unshadowed;
-    const TransferSet gpu = bake_gpu(mesh, o, set);
+    const TransferSet gpu = test::bake_gpu(mesh, o, set);
     EXPECT_EQ(gpu.stats.rays_cast, 0u);
     const double rel = expect_close(gpu, bake(mesh, o, set), set, "unshadowed");
     std::printf("[ GPU vs CPU bake ] unshadowed sphere: max relative difference %.3e\n", rel);
@@ -276,8 +276,8 @@ TEST(GpuBake, IsDeterministic) {
     const DirectionSet set = make_direction_set(SamplerKind::uniform, 9, 1024);
     BakeOptions o;
     o.K = 64;
-    const TransferSet a = bake_gpu(mesh, o, set);
-    const TransferSet b = bake_gpu(mesh, o, set);
+    const TransferSet a = test::bake_gpu(mesh, o, set);
+    const TransferSet b = test::bake_gpu(mesh, o, set);
     ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
     EXPECT_TRUE(a.coeffs == b.coeffs) << "two GPU bakes of the same input differ";
     EXPECT_EQ(a.stats.rays_cast, b.stats.rays_cast);
@@ -293,16 +293,20 @@ TEST(GpuBake, ManyChunksGiveTheSameCoefficients) {
     // Automatic chunks: the room at S = 4096, K = 256 needs several (64 MiB slots).
     std::vector<std::pair<std::size_t, std::size_t>> ranges;
     std::vector<std::uint64_t> progress_done;
-    o.on_chunk = [&](std::size_t first, std::size_t count, const float* coeffs) {
-        EXPECT_NE(coeffs, nullptr);
-        ranges.emplace_back(first, count);
-    };
     o.progress = [&](const ProgressInfo& p) {
         progress_done.push_back(p.done);
         EXPECT_LE(p.done, p.total);
         return true;
     };
-    const TransferSet automatic = bake_gpu(mesh, o, set);
+    test::RecordingSink sink;
+    o.device = Device::cuda;
+    TransferSet automatic;
+    static_cast<TransferInfo&>(automatic) = test::bake_into(mesh, o, sink, &set);
+    automatic.coeffs = sink.host.rows();
+    for (const auto& w : sink.writes) {
+        EXPECT_TRUE(w.had_rows);
+        ranges.emplace_back(w.first, w.count);
+    }
     ASSERT_GT(ranges.size(), 1u) << "expected a scene larger than one chunk";
     std::size_t next = 0;
     for (const auto& [first, count] : ranges) {
@@ -316,12 +320,11 @@ TEST(GpuBake, ManyChunksGiveTheSameCoefficients) {
 
     // One chunk of the whole room, and many small ones: the same visibility, so only the SGEMMs'
     // rounding may differ.
-    o.on_chunk = nullptr;
     o.progress = nullptr;
-    o.chunk_vertices = V;
-    const TransferSet one = bake_gpu(mesh, o, set);
-    o.chunk_vertices = 777;
-    const TransferSet small = bake_gpu(mesh, o, set);
+    o.chunk_receivers = V;
+    const TransferSet one = test::bake_gpu(mesh, o, set);
+    o.chunk_receivers = 777;
+    const TransferSet small = test::bake_gpu(mesh, o, set);
     EXPECT_EQ(one.stats.rays_cast, automatic.stats.rays_cast);
     EXPECT_EQ(small.stats.rays_cast, automatic.stats.rays_cast);
     const double rel1 = expect_close(automatic, one, set, "automatic vs one chunk");
@@ -337,19 +340,19 @@ TEST(GpuBake, ProgressCanCancel) {
     const Mesh mesh = make_builtin("room");
     const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 1024);
     BakeOptions o;
-    o.chunk_vertices = 256;
+    o.chunk_receivers = 256;
     int calls = 0;
     o.progress = [&](const ProgressInfo&) {
         ++calls;
         return false;
     };
     std::string message;
-    EXPECT_EQ(error_code_of([&] { bake_gpu(mesh, o, set); }, &message), ErrorCode::cancelled);
+    EXPECT_EQ(error_code_of([&] { test::bake_gpu(mesh, o, set); }, &message), ErrorCode::cancelled);
     EXPECT_EQ(calls, 1) << "the first refusal stops the bake";
     std::printf("[ cancel ] %s\n", message.c_str());
     // The GPU is usable afterwards.
     o.progress = nullptr;
-    EXPECT_EQ(bake_gpu(mesh, o, set).vertex_count(), mesh.vertex_count());
+    EXPECT_EQ(test::bake_gpu(mesh, o, set).receiver_count(), mesh.vertex_count());
 }
 
 TEST(GpuBake, StatsAreFilledIn) {
@@ -358,7 +361,7 @@ TEST(GpuBake, StatsAreFilledIn) {
     const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 4096);
     BakeOptions o;
     o.K = 256;
-    const TransferSet t = bake_gpu(mesh, o, set);
+    const TransferSet t = test::bake_gpu(mesh, o, set);
     const BakeStats& s = t.stats;
     EXPECT_EQ(s.device_name, query_gpu().name);
     const std::uint64_t fixed =
@@ -418,22 +421,60 @@ TEST(GpuBake, WritesIntoADeviceBuffer) {
     const DirectionSet set = make_direction_set(SamplerKind::uniform, 2, 512);
     BakeOptions o;
     o.K = 48;
-    o.chunk_vertices = 2048;  // the same chunks both ways, so the same SGEMMs and bits
-    const TransferSet host = bake_gpu(mesh, o, set);
+    o.chunk_receivers = 2048;  // the same chunks both ways, so the same SGEMMs and bits
+    const TransferSet host = test::bake_gpu(mesh, o, set);
     float* device = nullptr;
     const std::size_t count = mesh.vertex_count() * std::size_t(o.K);
     ASSERT_EQ(cudaMalloc(reinterpret_cast<void**>(&device), count * sizeof(float)), cudaSuccess);
+    test::RecordingSink sink;  // offers the device buffer, records the writes
+    sink.device = device;
+    o.device = Device::cuda;
+    TransferSet in_place;
+    static_cast<TransferInfo&>(in_place) = test::bake_into(mesh, o, sink, &set);
     int null_chunks = 0;
-    o.on_chunk = [&](std::size_t, std::size_t, const float* coeffs) { null_chunks += !coeffs; };
-    const TransferSet in_place = bake_gpu(mesh, o, set, device);
+    for (const auto& w : sink.writes) null_chunks += !w.had_rows;
     std::vector<float> copied(count);
     ASSERT_EQ(cudaMemcpy(copied.data(), device, count * sizeof(float), cudaMemcpyDeviceToHost),
               cudaSuccess);
     cudaFree(device);
     EXPECT_TRUE(in_place.coeffs.empty());
-    EXPECT_EQ(in_place.K, o.K);
+    EXPECT_EQ(in_place.layout.K, o.K);
     EXPECT_GT(null_chunks, 0);
     EXPECT_TRUE(copied == host.coeffs) << "device output differs from the copied-back result";
+}
+
+TEST(GpuBake, DeviceSinkOverASubRangeEqualsTheHostRows) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("room");
+    const DirectionSet set = make_direction_set(SamplerKind::sobol, 3, 256);
+    BakeOptions o;
+    o.K = 25;
+    o.device = Device::cuda;
+    o.chunk_receivers = 1000;
+    const std::size_t first = 3000, count = 6000;
+    BakeJob job;
+    job.occluders = &mesh;
+    job.receivers = vertex_receivers(mesh).range(first, count);
+    job.directions = &set;
+    HostSink host;  // the same GPU bake's rows through the host
+    job.sink = &host;
+    bake(job, o);
+    const std::size_t floats = host.rows().size();
+    float* device = nullptr;
+    ASSERT_EQ(cudaMalloc(reinterpret_cast<void**>(&device), floats * sizeof(float)), cudaSuccess);
+    DeviceSink sink(device, floats);
+    job.sink = &sink;
+    bake(job, o);
+    std::vector<float> back(floats);
+    ASSERT_EQ(cudaMemcpy(back.data(), device, floats * sizeof(float), cudaMemcpyDeviceToHost),
+              cudaSuccess);
+    cudaFree(device);
+    EXPECT_EQ(sink.chunks_written(), 6u);
+    EXPECT_TRUE(back == host.rows()) << "device and host sinks of one GPU bake differ";
+    // And the host rows of the sub-range are those of the whole GPU bake.
+    const TransferSet whole = test::bake_gpu(mesh, o, set);
+    EXPECT_TRUE(std::equal(host.rows().begin(), host.rows().end(),
+                           whole.coeffs.begin() + std::ptrdiff_t(first * 25)));
 }
 #endif
 

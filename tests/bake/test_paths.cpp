@@ -24,14 +24,15 @@ namespace {
 // returns the number of vertices where some coefficient differs by more.
 std::size_t vertices_beyond_rounding(const TransferSet& fast, const TransferSet& reference,
                                      const DirectionSet& set) {
-    EXPECT_EQ(fast.K, reference.K);
+    EXPECT_EQ(fast.layout.K, reference.layout.K);
     EXPECT_EQ(fast.coeffs.size(), reference.coeffs.size());
-    const std::vector<double> bound = test::float_dot_bounds(fast.K, set);
+    const std::vector<double> bound = test::float_dot_bounds(fast.layout.K, set);
     std::size_t bad = 0;
-    for (std::size_t v = 0; v < fast.vertex_count(); ++v) {
+    for (std::size_t v = 0; v < fast.receiver_count(); ++v) {
         bool ok = true;
-        for (int i = 0; i < fast.K; ++i)
-            ok = ok && std::fabs(double(fast.vertex(v)[i]) - reference.vertex(v)[i]) <= bound[i];
+        for (int i = 0; i < fast.layout.K; ++i)
+            ok =
+                ok && std::fabs(double(fast.receiver(v)[i]) - reference.receiver(v)[i]) <= bound[i];
         bad += !ok;
     }
     return bad;
@@ -95,7 +96,7 @@ TEST(BakeReference, KThatIsNotASquare) {
         SCOPED_TRACE(K);
         options.K = K;
         const TransferSet fast = bake(mesh, options, set);
-        ASSERT_EQ(fast.K, K);
+        ASSERT_EQ(fast.layout.K, K);
         ASSERT_EQ(fast.coeffs.size(), mesh.vertex_count() * std::size_t(K));
         const TransferSet reference = bake_reference(mesh, options, set, *tracer);
         EXPECT_EQ(vertices_beyond_rounding(fast, reference, set), 0u);
@@ -103,7 +104,7 @@ TEST(BakeReference, KThatIsNotASquare) {
         const std::vector<double> bound = test::float_dot_bounds(16, set);
         for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
             for (int i = 0; i < 16; ++i)
-                ASSERT_NEAR(fast.vertex(v)[i], k16.vertex(v)[i], 2 * bound[i]);
+                ASSERT_NEAR(fast.receiver(v)[i], k16.receiver(v)[i], 2 * bound[i]);
     }
 }
 
@@ -179,31 +180,37 @@ TEST(BakeProgress, ReturningFalseCancels) {
     EXPECT_LT(done_at_cancel, total_at_cancel) << "cancelled before the end, not after";
 }
 
-TEST(BakeChunks, OnChunkCoversEveryVertexOnceWithTheFinalCoefficients) {
+TEST(BakeChunks, TheSinkGetsEveryVertexOnceWithTheFinalCoefficients) {
     const Mesh mesh = make_builtin("box_on_plane");
     BakeOptions options;
     options.K = 9;
     options.samples = 128;
-    options.chunk_vertices = 7;  // odd, so the last chunk is partial
-    std::vector<int> seen(mesh.vertex_count(), 0);
-    std::vector<float> copy(mesh.vertex_count() * 9, -1.0f);
-    options.on_chunk = [&](std::size_t first, std::size_t count, const float* coeffs) {
-        EXPECT_LE(count, 7u);
-        for (std::size_t j = 0; j < count; ++j) ++seen[first + j];
-        std::memcpy(copy.data() + first * 9, coeffs, count * 9 * sizeof(float));
-    };
+    options.chunk_receivers = 7;  // odd, so the last chunk is partial
     const TransferSet t = bake(mesh, options);
-    for (std::size_t v = 0; v < seen.size(); ++v) ASSERT_EQ(seen[v], 1) << "vertex " << v;
-    EXPECT_EQ(std::memcmp(copy.data(), t.coeffs.data(), copy.size() * sizeof(float)), 0);
+    for (bool in_place : {false, true}) {
+        test::RecordingSink sink;
+        sink.offer_host_rows = in_place;  // projected into the sink's rows, or handed over
+        bake_into(mesh, options, sink);
+        EXPECT_EQ(sink.begins, 1);
+        EXPECT_EQ(sink.finishes, 1);
+        std::vector<int> seen(mesh.vertex_count(), 0);
+        for (const auto& w : sink.writes) {
+            EXPECT_LE(w.count, 7u);
+            EXPECT_TRUE(w.had_rows);
+            for (std::size_t j = 0; j < w.count; ++j) ++seen[w.first + j];
+        }
+        for (std::size_t v = 0; v < seen.size(); ++v) ASSERT_EQ(seen[v], 1) << "vertex " << v;
+        EXPECT_EQ(sink.host.rows(), t.coeffs) << (in_place ? "in place" : "handed over");
+    }
 }
 
 TEST(BakeChunks, AutomaticChunkSizeDependsOnVerticesAndSamplesOnly) {
-    EXPECT_EQ(auto_chunk_vertices(100000, 1024) % 16, 0u);
-    EXPECT_LE(auto_chunk_vertices(100000, 1024) * 1024 * sizeof(float), 2u << 20);
-    EXPECT_GE(auto_chunk_vertices(100000, 1 << 24), 1u);
-    EXPECT_EQ(auto_chunk_vertices(100000, 1 << 24), 1u) << "huge S: memory first";
-    EXPECT_GE(auto_chunk_vertices(3, 16), 1u);
-    EXPECT_LE(auto_chunk_vertices(10000000, 1), 1024u);
+    EXPECT_EQ(auto_chunk_receivers(100000, 1024) % 16, 0u);
+    EXPECT_LE(auto_chunk_receivers(100000, 1024) * 1024 * sizeof(float), 2u << 20);
+    EXPECT_GE(auto_chunk_receivers(100000, 1 << 24), 1u);
+    EXPECT_EQ(auto_chunk_receivers(100000, 1 << 24), 1u) << "huge S: memory first";
+    EXPECT_GE(auto_chunk_receivers(3, 16), 1u);
+    EXPECT_LE(auto_chunk_receivers(10000000, 1), 1024u);
 }
 
 TEST(BakeStatsTest, TimeSplitRaysAndMemory) {
@@ -227,7 +234,7 @@ TEST(BakeStatsTest, TimeSplitRaysAndMemory) {
     // O(V·K + BVH + chunk·S per thread): never a V×S buffer.
     EXPECT_LT(s.peak_bytes_host, output_bytes + bvh_bytes + 8u * (1u << 20));
     EXPECT_EQ(t.samples, 512);
-    EXPECT_EQ(t.sampler, SamplerKind::uniform);
+    EXPECT_EQ(t.sampler, SamplerKind::sobol) << "the default sampler";
     EXPECT_EQ(t.seed, 1u);
 }
 
@@ -260,7 +267,7 @@ TEST(BakeErrors, BadOptionsThrowWithAClearMessage) {
     BakeOptions big;
     big.K = 1024;
     big.samples = 16;
-    EXPECT_EQ(bake(mesh, big).K, 1024);
+    EXPECT_EQ(bake(mesh, big).layout.K, 1024);
 
     BakeOptions o;
     o.samples = 16;

@@ -42,7 +42,7 @@ TEST_F(CliBake, BakesABuiltinSceneIntoAReadableFile) {
     EXPECT_EQ(r.err.find('\r'), std::string::npos) << "no in-place redraw off a terminal";
 
     const shprt::ShprtFile f = shprt::read_shprt(file);
-    EXPECT_EQ(f.transfer.K, 9);
+    EXPECT_EQ(f.transfer.layout.K, 9);
     EXPECT_EQ(f.transfer.samples, 64);
     EXPECT_EQ(f.transfer.seed, 5u);
     EXPECT_EQ(f.transfer.kind, shprt::TransferKind::shadowed);
@@ -72,7 +72,7 @@ TEST_F(CliBake, ThreadCountDoesNotChangeTheCoefficients) {
                   .exit_code,
               0);
     const shprt::ShprtFile a = shprt::read_shprt(one), b = shprt::read_shprt(two);
-    EXPECT_EQ(a.transfer.K, 9);
+    EXPECT_EQ(a.transfer.layout.K, 9);
     EXPECT_EQ(a.transfer.sampler, shprt::SamplerKind::stratified);
     EXPECT_EQ(a.transfer.coeffs, b.transfer.coeffs);
 }

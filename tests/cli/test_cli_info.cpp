@@ -37,7 +37,7 @@ protected:
         for (std::uint32_t i = 1; i + 1 < 37; ++i) mesh.triangles.push_back({0, i, i + 1});
         mesh.source = "builtin:cli-test";
         TransferSet t;
-        t.K = 48;
+        t.layout.K = 48;
         t.coeffs.assign(37 * 48, 0.25f);
         t.samples = 1024;
         t.stats.seconds_total = 0.5;

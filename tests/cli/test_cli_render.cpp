@@ -43,7 +43,7 @@ using test_support::RunResult;
 TransferSet sphere_transfer(const Mesh& mesh, int K) {
     TransferSet t;
     t.kind = TransferKind::unshadowed;
-    t.K = K;
+    t.layout.K = K;
     t.coeffs.resize(mesh.vertex_count() * std::size_t(K));
     const std::vector<double> z = clamped_cosine_zonal(sh_bands_for(K));
     std::vector<double> c(K);

@@ -167,7 +167,7 @@ TEST_F(CliView, DeviceCudaBakesOnTheGpuOrSaysWhyNot) {
         EXPECT_NE(r.out.find("baked 1214 vertices, K=16"), std::string::npos) << r.out;
         return;
     }
-    expect_one_line_error(r, "--device cuda: ");
+    expect_one_line_error(r, "device 'cuda': ");
     EXPECT_TRUE(r.err.find("no CUDA") != std::string::npos ||
                 r.err.find("CUDA device") != std::string::npos)
         << r.err;

@@ -45,7 +45,7 @@ void write_small_file(const std::string& path) {
         }
     mesh.source = "builtin:corrupt-test";
     TransferSet t;
-    t.K = 9;
+    t.layout.K = 9;
     t.coeffs.resize(16 * 9);
     for (std::size_t i = 0; i < t.coeffs.size(); ++i) t.coeffs[i] = std::sin(float(i));
     t.samples = 64;
@@ -218,8 +218,9 @@ TEST_F(IoShprtCorrupt, WrongMagic) {
 
 TEST_F(IoShprtCorrupt, FutureAndInvalidVersions) {
     ShprtHeader h = header();
-    h.version = 2;
-    expect_error(with_header(m_good, h), "format version 2 is newer", "version 2");
+    h.version = kShprtFormatVersion + 1;
+    expect_error(with_header(m_good, h),
+                 fmt::format("format version {} is newer", kShprtFormatVersion + 1), "version +1");
     h.version = 0;
     expect_error(with_header(m_good, h), "invalid format version 0", "version 0");
     h = header();

@@ -58,8 +58,8 @@ Scene make_scene(int n, int K, int channels, bool with_source_vertex, std::uint3
 
     TransferSet& t = s.transfer;
     t.kind = TransferKind::unshadowed;
-    t.K = K;
-    t.channels = channels;
+    t.layout.K = K;
+    t.layout.channels = channels;
     t.coeffs.resize(std::size_t(n) * n * channels * K);
     for (float& c : t.coeffs) c = normal(rng);
     if (t.coeffs.size() >= 3) {
@@ -124,9 +124,9 @@ TEST_F(IoShprtFile, RoundTripFloat32IsBitExact) {
             EXPECT_TRUE(std::signbit(r.transfer.coeffs[1]));
             EXPECT_EQ(r.mesh.source, s.mesh.source);
             EXPECT_EQ(r.transfer.kind, s.transfer.kind);
-            EXPECT_EQ(r.transfer.K, 32);
-            EXPECT_EQ(r.transfer.channels, channels);
-            EXPECT_EQ(r.transfer.vertex_count(), 49u);
+            EXPECT_EQ(r.transfer.layout.K, 32);
+            EXPECT_EQ(r.transfer.layout.channels, channels);
+            EXPECT_EQ(r.transfer.receiver_count(), 49u);
             EXPECT_EQ(r.transfer.sampler, SamplerKind::fibonacci);
             EXPECT_EQ(r.transfer.samples, 4096);
             EXPECT_EQ(r.transfer.seed, 0x8000000000000005ull);
@@ -148,9 +148,9 @@ TEST_F(IoShprtFile, RoundTripFloat16WithinHalfPrecision) {
     constexpr float kHalfRelativeError = 1.0f / 2048.0f;   // 2^-11, round to nearest
     constexpr float kHalfSubnormalError = 2.98023224e-8f;  // 2^-25: half the subnormal spacing
     const Scene s = make_scene(9, 16, 3, true);
-    WriteOptions options;
-    options.half = true;
-    write_shprt(path("h.shprt"), s.mesh, s.transfer, options);
+    TransferSet half = s.transfer;
+    half.layout.encoding = TransferEncoding::f16;
+    write_shprt(path("h.shprt"), s.mesh, half);
     write_shprt(path("f.shprt"), s.mesh, s.transfer);
     const ShprtFile r = read_shprt(path("h.shprt"));
     ASSERT_EQ(r.transfer.coeffs.size(), s.transfer.coeffs.size());
@@ -241,7 +241,7 @@ TEST_F(IoShprtFile, HeaderBytesFollowTheSpecification) {
     };
     const auto u64 = [&](std::size_t i) { return u32(i) | std::uint64_t(u32(i + 4)) << 32; };
     EXPECT_EQ(b.substr(0, 12), std::string("\x89SHPRT\r\n\x1a\n\0\0", 12));
-    EXPECT_EQ(u32(12), 1u);                                          // version
+    EXPECT_EQ(u32(12), 2u);                                          // version
     EXPECT_EQ(b.substr(16, 4), std::string("\x04\x03\x02\x01", 4));  // endianness marker
     EXPECT_EQ(u32(20), 48u);                                         // header size
     EXPECT_EQ(u64(24), 48u);                                         // metadata offset
@@ -330,10 +330,10 @@ TEST_F(IoShprtFile, MeshHashFollowsItsDefinition) {
 TEST_F(IoShprtFile, WriterRejectsInconsistentInput) {
     const Scene good = make_scene(3, 4, 1, false);
     const auto expect_rejected = [&](const Scene& s, bool half, const char* what) {
-        WriteOptions options;
-        options.half = half;
+        TransferSet transfer = s.transfer;
+        if (half) transfer.layout.encoding = TransferEncoding::f16;
         try {
-            write_shprt(path("bad.shprt"), s.mesh, s.transfer, options);
+            write_shprt(path("bad.shprt"), s.mesh, transfer);
             ADD_FAILURE() << "accepted: " << what;
         } catch (const Error& e) {
             EXPECT_EQ(e.code(), ErrorCode::invalid_argument) << what << ": " << e.what();
@@ -354,10 +354,10 @@ TEST_F(IoShprtFile, WriterRejectsInconsistentInput) {
     s.mesh.triangles[3][2] = 9;
     expect_rejected(s, false, "triangle index");
     s = good;
-    s.transfer.K = 0;
+    s.transfer.layout.K = 0;
     expect_rejected(s, false, "K = 0");
     s = good;
-    s.transfer.channels = 2;
+    s.transfer.layout.channels = 2;
     expect_rejected(s, false, "2 channels");
     s = good;
     s.transfer.coeffs.pop_back();

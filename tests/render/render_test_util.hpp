@@ -4,11 +4,11 @@
 #pragma once
 
 #include "common/ray_triangle.hpp"
-#include "shprt/bake/transfer.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -29,8 +29,8 @@ inline TransferSet analytic_transfer(const Mesh& mesh, int K, int channels = 1,
                                      const double channel_scale[3] = nullptr) {
     TransferSet t;
     t.kind = TransferKind::unshadowed;
-    t.K = K;
-    t.channels = channels;
+    t.layout.K = K;
+    t.layout.channels = channels;
     t.coeffs.resize(mesh.vertex_count() * channels * std::size_t(K));
     const std::vector<double> z = clamped_cosine_zonal(sh_bands_for(K));
     std::vector<double> c(K);

@@ -322,7 +322,7 @@ TEST(GlRender, PartialTransferUpdateEqualsAFreshUpload) {
     const Image before = frame(updated);
     const std::size_t half = mesh.vertex_count() / 2;
     updated.update_transfer(0, half, full.coeffs.data());
-    updated.update_transfer(half, mesh.vertex_count() - half, full.vertex(half));
+    updated.update_transfer(half, mesh.vertex_count() - half, full.receiver(half));
     const Image after = frame(updated);
     EXPECT_NE(before.rgb, want.rgb);
     EXPECT_EQ(after.rgb, want.rgb);

@@ -188,9 +188,9 @@ TEST(PaperMetrics, IrradianceTransferShowsTheGivenIrradiance) {
     // The K = 1, three-channel transfer under a constant white light of K = 1 shades to E.
     const std::vector<Vec3d> E = {{1, 2, 3}, {0.5, 0, 7}};
     const TransferSet t = irradiance_as_transfer(E);
-    EXPECT_EQ(t.K, 1);
-    EXPECT_EQ(t.channels, 3);
-    EXPECT_EQ(t.vertex_count(), 2u);
+    EXPECT_EQ(t.layout.K, 1);
+    EXPECT_EQ(t.layout.channels, 3);
+    EXPECT_EQ(t.receiver_count(), 2u);
     Mesh m;
     m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}};
     m.normals = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}};

@@ -61,7 +61,7 @@ TEST(ShadeFurnace, BakedSphereThroughFileGivesPiWithinMonteCarloError) {
     options.seed = 7;
     write_shprt(dir.file("sphere.shprt"), sphere, bake(sphere, options));
     const ShprtFile file = read_shprt(dir.file("sphere.shprt"));
-    const ShLight light = make_light({"constant"}, file.transfer.K);
+    const ShLight light = make_light({"constant"}, file.transfer.layout.K);
     const ShadeResult r = shade_vertices(file.mesh, file.transfer, light, {});
 
     const double bound = 5 * furnace_sigma(options.samples);  // 5σ = 0.32 for S = 4096
@@ -325,7 +325,7 @@ TEST(Shade, BadInputThrows) {
     short_t.coeffs.pop_back();
     EXPECT_THROW(shade_vertices(sphere, short_t, light, {}), Error);
     TransferSet two_channels = t;
-    two_channels.channels = 2;
+    two_channels.layout.channels = 2;
     EXPECT_THROW(shade_vertices(sphere, two_channels, light, {}), Error);
     Mesh no_albedo = sphere;
     no_albedo.albedo.clear();

@@ -71,7 +71,7 @@ TEST(Screenshot, EqualsRenderImageThroughTheCpuToneMap) {
     LightSetup setup;
     setup.specs = {"builtin"};
     setup.yaw_pitch_roll_deg = {30, 0, 0};
-    LightRig rig(s.transfer.K);
+    LightRig rig(s.transfer.layout.K);
     rig.set_source(setup);
     const ShLight light = rig.light();
     for (const Case& c : cases) {
@@ -89,8 +89,8 @@ TEST(Screenshot, EqualsRenderImageThroughTheCpuToneMap) {
         EXPECT_NE(context.find("OpenGL"), std::string::npos) << context;
         ASSERT_EQ(shot.width, 96);
         ASSERT_EQ(shot.height, 64);
-        const Image linear = render_image(s.mesh, s.transfer, prepare_light(setup, s.transfer.K),
-                                          config.draw, 96, 64);
+        const Image linear = render_image(
+            s.mesh, s.transfer, prepare_light(setup, s.transfer.layout.K), config.draw, 96, 64);
         double sum = 0;
         int worst = 0, lit = 0;
         for (std::size_t i = 0; i < linear.rgb.size(); ++i) {
@@ -123,7 +123,7 @@ TEST(Frame, AutomaticMsaaDropsOnlyContinuousFramesOnASoftwareRasteriser) {
 TEST(Benchmark, MeasuresEachBasisSizeTheFileHasAndSkipsTheRest) {
     SKIP_WITHOUT_GL();
     const Scene& s = box_scene(64);
-    LightRig rig(s.transfer.K);
+    LightRig rig(s.transfer.layout.K);
     rig.set_source(LightSetup{});
     FrameConfig config;
     config.width = 64;

@@ -5,6 +5,7 @@
 // machine); skips with the reason otherwise (on llvmpipe the registration fails).
 #include "frame.hpp"
 
+#include "bake/bake_test_util.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/bake/gpu_gl_interop.hpp"
 #include "shprt/core/error.hpp"
@@ -36,8 +37,8 @@ TEST(GpuGlInterop, TheBakeWritesIntoTheRenderersBuffer) {
     const DirectionSet set = make_direction_set(SamplerKind::uniform, 3, 512);
     BakeOptions o;
     o.K = 64;
-    o.chunk_vertices = 4096;  // the same chunks both ways: the same SGEMMs, the same bits
-    const TransferSet host = bake_gpu(mesh, o, set);
+    o.chunk_receivers = 4096;  // the same chunks both ways: the same SGEMMs, the same bits
+    const TransferSet host = test::bake_gpu(mesh, o, set);
 
     // The renderer's buffer starts as zeros; the bake fills it through CUDA.
     TransferSet zeros = host;
@@ -54,7 +55,7 @@ TEST(GpuGlInterop, TheBakeWritesIntoTheRenderersBuffer) {
     std::size_t bytes = 0;
     float* device = interop->map(bytes);
     ASSERT_GE(bytes, host.coeffs.size() * sizeof(float));
-    const TransferSet in_place = bake_gpu(mesh, o, set, device);
+    const TransferSet in_place = test::bake_gpu(mesh, o, set, device);
     interop->unmap();
     EXPECT_TRUE(in_place.coeffs.empty()) << "written to the device buffer only";
 

@@ -1,6 +1,6 @@
 // The bake options of `shprt bake`, shared with `shprt view SCENE --bake` so that both accept the
 // same names and check them the same way: --transfer, --bands, --coeffs, --samples, --sampler,
-// --seed, --threads, --device.
+// --seed, --threads, --device, --device-index.
 #pragma once
 
 #include "shprt/bake/bake.hpp"
@@ -14,18 +14,19 @@
 namespace shprt::tools {
 
 struct BakeOptionArgs {
-    std::string transfer = "shadowed", sampler = "uniform", device = "cpu";
+    std::string transfer = "shadowed", sampler = "sobol", device = "cpu";
     std::optional<long long> bands, coeffs;
     long long samples = 1024;
     std::uint64_t seed = 1;
     long long threads = 0;
+    long long device_index = 0;
 };
 
-// Adds the eight options above, writing into `args` (which must outlive the parse).
+// Adds the nine options above, writing into `args` (which must outlive the parse).
 void add_bake_options(CLI::App& app, BakeOptionArgs& args);
 
 // Checks every option (one-line Error(invalid_argument) naming the option and value) and returns
-// the BakeOptions they describe; progress and on_chunk are left empty.
+// the BakeOptions they describe; progress is left empty.
 BakeOptions bake_options_from(const BakeOptionArgs& args);
 
 }  // namespace shprt::tools

@@ -10,8 +10,8 @@
 //     call per vertex from origin offset_ray_origin(p, n) with tnear 0 and tfar ∞;
 //   * the projection as a matrix product over chunks of vertices, C[chunk×K] = W[chunk×S]·Y[S×K].
 //
-// The result is a TransferSet with one channel: coeffs[v*K + i] = Σ_s W[v][s]·y_i(w_s), the SH
-// coefficients (flat index i, paper convention, see sh/basis.hpp) of the transfer function T_v.
+// The result is one channel of K coefficients per receiver: row[v][i] = Σ_s W[v][s]·y_i(w_s), the
+// SH coefficients (flat index i, paper convention, see sh/basis.hpp) of the transfer function T_v.
 // Under distant light with SH coefficients l_i, Σ_i coeffs[v*K+i]·l_i is the irradiance at v (the
 // Lambertian 1/π and the albedo are applied when shading, see DESIGN.md "Radiometry").
 //
@@ -21,19 +21,30 @@
 // tracer's acceleration structure (Tracer::memory_bytes: Embree's peak allocation through its
 // memory monitor). The mesh, which the caller owns, is not counted.
 //
-// Determinism: the chunk partition depends only on (V, S, chunk_vertices), never on the thread
-// count, and each chunk's product is computed independently by one thread, so the same inputs and
-// seed give bit-identical coefficients with any number of threads.
+// The three seams. A bake takes its *occluders* (the mesh the rays hit), its *receivers* (where
+// transfer is computed, and which range of them: receivers.hpp) and a *sink* (where the rows go:
+// host memory, a file region, a device buffer; sink.hpp). Per chunk of receivers it runs the
+// stages weight → trace → project → sink (src/bake/stages.hpp), the places where closest hits
+// for bounces and Yᵀ·diag(w)·Y for glossy matrices plug in.
+//
+// Determinism: chunks are cut from the first receiver of the range, every chunk_receivers (a
+// count that depends on the range's size and S only, never on the thread count), and each
+// chunk's product is computed by one thread. Each row of the product depends only on its own W
+// row and Y (the SGEMM accumulates every element over the S directions in the same order,
+// whatever the chunk's row count), so the same inputs and seed give bit-identical rows with any
+// number of threads, and a sub-range gives exactly the rows of the whole bake (both tested).
 #pragma once
 
-#include "shprt/bake/transfer.hpp"
+#include "shprt/bake/receivers.hpp"
+#include "shprt/bake/sink.hpp"
 #include "shprt/core/progress.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/sampler.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>
 #include <cstdint>
-#include <functional>
+#include <string>
 
 namespace shprt {
 
@@ -41,61 +52,101 @@ class Tracer;
 
 // Largest basis size a bake accepts (32 full bands).
 inline constexpr int kMaxBakeCoeffs = 1024;
+// Most directions a bake accepts: W[chunk×S] must stay a sensible per-thread buffer.
+inline constexpr std::uint32_t kMaxBakeSamples = std::uint32_t(1) << 24;
+// Most worker threads a bake accepts.
+inline constexpr int kMaxBakeThreads = 4096;
+
+// Where a bake runs: the CPU, a CUDA GPU, or the GPU when one is usable and else the CPU.
+enum class Device { cpu, cuda, automatic };
+const char* to_string(Device device);
+Device parse_device(const std::string& name);  // "cpu", "cuda", "auto"; throws Error
 
 struct BakeOptions {
     TransferKind transfer = TransferKind::shadowed;
     int K = 16;                    // basis size, 1..kMaxBakeCoeffs; need not be a square
-    std::uint32_t samples = 1024;  // S ≥ 1 directions (ignored when a DirectionSet is passed)
-    SamplerKind sampler = SamplerKind::uniform;  // (ignored when a DirectionSet is passed)
+    std::uint32_t samples = 1024;  // S, 1..kMaxBakeSamples directions (ignored when a
+                                   // DirectionSet is given)
+    // Sobol (Owen-scrambled): the paper table measured 7× lower error than the paper's uniform
+    // set at the same cost (docs/paper_table.md); SamplerKind::uniform is the paper's.
+    SamplerKind sampler = SamplerKind::sobol;
     std::uint64_t seed = 1;
-    int threads = 0;  // worker threads; 0 = all hardware threads
+    int threads = 0;  // worker threads, 0..kMaxBakeThreads; 0 = all hardware threads
     // cpu; cuda (the GPU bake; Error(unsupported) with the reason where it cannot run); or
-    // automatic (the GPU where one is usable, else the CPU). See choose_backend in bake.cpp.
+    // automatic (the GPU where one is usable, else the CPU): resolve_device().
     Device device = Device::cpu;
-    // Vertices per chunk (one W[chunk×S] buffer and one SGEMM each); 0 = automatic, from V and S
-    // only. The partition never depends on the thread count.
-    std::size_t chunk_vertices = 0;
-    // Called with ProgressInfo{"bake", rays done, rays total (estimate), "rays"} from the thread
-    // that called bake(), at most ~20 times a second, and once at the end. Returning false stops
-    // the bake promptly; bake() then throws Error(cancelled).
+    int device_index = 0;  // the CUDA device (0-based, after CUDA_VISIBLE_DEVICES); ≥ 0
+    // Receivers per chunk (one W[chunk×S] buffer and one SGEMM each); 0 = automatic, from the
+    // receiver count and S only. The partition never depends on the thread count.
+    std::size_t chunk_receivers = 0;
+    // Called with ProgressInfo{"bake", rays done, rays total (estimate), "rays"} ("samples" for
+    // unshadowed transfer) from the thread that called bake(), at most ~20 times a second, and
+    // once at the end. Returning false stops the bake promptly; bake() then throws
+    // Error(cancelled).
     ProgressFn progress;
-    // Optional: called once per finished chunk with its K-coefficient rows (count × K floats,
-    // vertex-major) for progressive display. Called from worker threads, one call at a time (the
-    // bake serialises the calls); the pointer is valid only during the call. Keep it cheap.
-    std::function<void(std::size_t first_vertex, std::size_t count, const float* coeffs)> on_chunk;
 };
 
-// Bakes per-vertex transfer of `mesh` with the direction set
-// make_direction_set(options.sampler, options.seed, options.samples), on options.device.
-// Builds the tracer (Embree) itself; BakeStats records the time split (bvh, trace, project,
-// total), the rays cast, the peak working memory and "cpu: N threads".
+// The one check of bake options, made at the boundary (every bake entry point calls it once):
+// Error(invalid_argument) naming the option for K outside 1..kMaxBakeCoeffs, samples outside
+// 1..kMaxBakeSamples, threads outside 0..kMaxBakeThreads, a negative device index.
+void validate(const BakeOptions& options);
+
+// The one place a bake's backend is chosen: Device::cpu → cpu; Device::cuda → cuda when
+// query_gpu(device_index) finds a usable device, else Error(unsupported) with its one-line reason;
+// Device::automatic → cuda when there is one, else cpu. Returns Device::cpu or Device::cuda.
+Device resolve_device(Device requested, int device_index = 0);
+
+// What a bake with `options` produces, before it runs: its kind and layout (vertex receivers, one
+// channel, a vector of K each, float32), sampler, samples and seed; no stats. A progressive
+// display starts from TransferSet::zeros(bake_description(options), V).
+TransferInfo bake_description(const BakeOptions& options);
+
+// A bake's inputs: the three seams, plus optional caller-made pieces.
+struct BakeJob {
+    const Mesh* occluders = nullptr;  // the scene the rays hit (its triangles); required
+    Receivers receivers;              // where transfer is computed; required (count ≥ 1)
+    TransferSink* sink = nullptr;     // where the rows go; required
+    // The direction set; nullptr = make_direction_set(options.sampler, options.seed,
+    // options.samples). A given set must be non-empty with unit directions; options.samples then
+    // becomes its size (and options.sampler a label).
+    const DirectionSet* directions = nullptr;
+    // A tracer built over `occluders` (CPU only); nullptr = the bake builds Embree's.
+    const Tracer* tracer = nullptr;
+};
+
+// Bakes diffuse transfer (one channel of K coefficients per receiver, see the top of this file)
+// for job.receivers' range into job.sink, on resolve_device(options.device, ...). Returns the
+// description of what went to the sink (kind, layout, sampler, S, seed) and BakeStats: the time
+// split (bvh, trace, project, total), the rays cast, the peak working memory (not counting the
+// sink's own memory) and the device ("cpu: N threads" or the GPU's name).
 // CPU backend: TBB workers over chunks, one single-threaded cblas_sgemm per chunk; OpenBLAS's
 // thread count is a process-wide setting, set to 1 for the bake and restored afterwards (so do
 // not run OpenBLAS work of your own concurrently with a bake and expect its thread count).
-// Throws Error(invalid_argument) for K outside 1..1024, samples = 0, an empty mesh or a normal
-// count that differs from the vertex count; Error(unsupported) for Device::cuda where no GPU
-// bake can run (no CUDA in the build, or no usable device); Error(cancelled) when the progress
-// callback returns false.
+// Throws Error(invalid_argument) for bad options (validate), an occluder mesh without triangles,
+// receivers without normals or with an empty range, more than 2^32 − 1 receivers, a missing sink;
+// Error(unsupported) for Device::cuda where no GPU bake can run, for a DeviceSink on the CPU and
+// for a tracer on the GPU; Error(cancelled) when the progress callback returns false (the sink's
+// finish() is then not called); what the sink throws.
+TransferInfo bake(const BakeJob& job, const BakeOptions& options);
+
+// Convenience: every vertex of `mesh` as receivers and occluders, into host memory.
 TransferSet bake(const Mesh& mesh, const BakeOptions& options);
-
-// As above with an explicit direction set (e.g. an exact quadrature set in tests); options.samples
-// and options.sampler are ignored, and the result records sampler/samples from the options only
-// as labels (samples = directions.size()). The set must be non-empty with unit directions.
+// The same with an explicit direction set (e.g. an exact quadrature set in tests).
 TransferSet bake(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions);
-
-// As above with a caller-owned tracer built over `mesh` (the BVH time is then 0). CPU only.
+// The same with a caller-owned tracer built over `mesh` (the BVH time is then 0). CPU only.
 TransferSet bake_with_tracer(const Mesh& mesh, const BakeOptions& options,
                              const DirectionSet& directions, const Tracer& tracer);
 
 // The slow, obvious reference for tests: per vertex and per direction, in double precision, one
 // ray per occluded() call, the basis evaluated per sample (no table, no GEMM), single-threaded.
-// Same definition of W as bake(); progress, on_chunk, threads and chunking are ignored.
+// Same definition of W as bake(); progress, threads and chunking are ignored.
 TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
                            const DirectionSet& directions, const Tracer& tracer);
 
-// The automatic chunk size for V vertices and S directions: about 1 MiB of W per thread, at least
-// 64 chunks when V allows, rounded up to a multiple of 16 (the SGEMM kernel's row blocking) when
-// at least 16, at most 1024. Depends on V and S only. Exposed for tests and benchmarks.
-std::size_t auto_chunk_vertices(std::size_t vertex_count, std::size_t samples);
+// The automatic chunk size for `receivers` receivers and S directions: about 1 MiB of W per
+// thread, at least 64 chunks when the count allows, rounded up to a multiple of 16 (the SGEMM
+// kernel's row blocking) when at least 16, at most 1024. Depends on its arguments only. Exposed
+// for tests and benchmarks.
+std::size_t auto_chunk_receivers(std::size_t receivers, std::size_t samples);
 
 }  // namespace shprt

@@ -27,9 +27,9 @@
 #pragma once
 
 #include "shprt/bake/bake.hpp"
-#include "shprt/bake/transfer.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/sampler.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -50,13 +50,14 @@ struct GpuInfo {
     int multiprocessors = 0;
 };
 
-// The first CUDA device (CUDA_VISIBLE_DEVICES chooses which that is). Never throws: without a
+// CUDA device `device` (0-based among those CUDA_VISIBLE_DEVICES shows). Never throws: without a
 // CUDA build, reason is "this build has no CUDA (configure with nvcc and SHPRT_CUDA=AUTO or ON)";
 // when the CUDA runtime reports an error (e.g. "CUDA driver version is insufficient for CUDA
 // runtime version" on a machine without a GPU) or no device, reason is
-// "no CUDA device (cudaGetDeviceCount: <CUDA's message>)". The answer is computed once per
-// process and cached. Thread-safe.
-GpuInfo query_gpu();
+// "no CUDA device (cudaGetDeviceCount: <CUDA's message>)"; for an index past the last device,
+// "no CUDA device N (the machine has M)". The answer is computed once per process and device and
+// cached. Thread-safe.
+GpuInfo query_gpu(int device = 0);
 
 // ---------------------------------------------------------------------------------------------
 // Chunk planning (pure host code; tested without a GPU)
@@ -78,7 +79,7 @@ struct ChunkPlanRequest {
     std::uint64_t free_device_bytes = 0;   // cudaMemGetInfo's free memory before the bake
     std::uint64_t fixed_device_bytes = 0;  // gpu_bake_fixed_bytes(...)
     bool device_output = false;            // C written into the caller's buffer: no C per slot
-    std::size_t requested_chunk = 0;       // BakeOptions::chunk_vertices; 0 = automatic
+    std::size_t requested_chunk = 0;       // BakeOptions::chunk_receivers; 0 = automatic
     int slots = 2;                         // buffers in flight (2 = double buffering), ≥ 1
     // Automatic chunks stop growing at this many bytes per slot: larger ones fill the GPU no
     // better and leave nothing to overlap or to report progress on.
@@ -111,42 +112,32 @@ ChunkPlan plan_chunks(const ChunkPlanRequest& request);
 
 // ---------------------------------------------------------------------------------------------
 // The bake
-
-// Bakes diffuse transfer on the GPU: the same result as bake(mesh, options, directions) on the
-// CPU, to the tolerance stated at the top of this file. options.device is ignored (this is the
-// CUDA backend; bake() calls it for Device::cuda and, when query_gpu() finds a device, for
-// Device::automatic). options.threads limits the host's BVH build (0 = all cores);
-// options.chunk_vertices is honoured when it fits in device memory (else smaller chunks are
-// used). Progress: options.progress is called from the calling thread between chunks, at most
-// ~20 times a second, and once at the end, as by the CPU bake ({"bake", rays done, rays
-// estimated, "rays"}; "samples" for unshadowed transfer); returning false stops the bake after the
-// chunks in flight and throws Error(cancelled). options.on_chunk is called from the calling
-// thread, in vertex order, once per chunk.
 //
-// device_output: when non-null, a device pointer (cudaMalloc'ed, or a mapped OpenGL buffer, see
-// gpu_gl_interop.hpp) to V·K floats on the current device; the coefficients are written there
-// (vertex-major, as TransferSet::coeffs) and not copied back: the returned TransferSet then has
-// empty coeffs (K, kind and the stats are set) and on_chunk receives coeffs = nullptr. The writes
-// are complete when bake_gpu returns.
+// The GPU bake is bake() (bake.hpp) with options.device = Device::cuda (or automatic where a GPU
+// is usable), on CUDA device options.device_index. It computes what the CPU bake computes, to the
+// tolerance stated at the top of this file. options.threads limits the host's BVH build (0 = all
+// cores); options.chunk_receivers is honoured when it fits in device memory (else smaller chunks
+// are used). Progress: as the CPU bake, from the calling thread between chunks. The sink's
+// write() is called from the calling thread, in receiver order, once per chunk, with the chunk's
+// rows in (pinned) host memory — or with nullptr when the sink has device_rows() (a DeviceSink,
+// e.g. a mapped OpenGL buffer, see gpu_gl_interop.hpp): the rows are then written there, and are
+// complete when bake() returns.
 //
 // Stats: seconds_bvh (flat BVH build on the host), seconds_trace and seconds_project (GPU time of
 // the transfer kernels and of the SGEMMs, from CUDA events), seconds_total (wall time, including
-// uploads), rays_cast, peak_bytes_host (the coefficients, the basis table, the host BVH and the
-// pinned staging buffers), peak_bytes_device (every device allocation of the bake plus the cuBLAS
-// workspaces), device_name = the GPU's name. One GPU bake runs at a time per process (a second
-// caller waits). Throws what bake() throws for bad input; Error(unsupported) when query_gpu() finds
-// no device or the build has no CUDA; Error(out_of_memory) when even one-vertex chunks do not fit;
+// uploads), rays_cast, peak_bytes_host (the basis table, the host BVH and the pinned staging
+// buffers), peak_bytes_device (every device allocation of the bake plus the cuBLAS workspaces),
+// device_name = the GPU's name. One GPU bake runs at a time per process (a second caller waits).
+// Errors beyond bake()'s: Error(out_of_memory) when even one-receiver chunks do not fit;
 // Error(cuda) with the CUDA/cuBLAS message, file and line when a CUDA call fails.
-TransferSet bake_gpu(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions,
-                     float* device_output = nullptr);
 
 // The transfer samples the GPU kernel computes for vertices [first, first + count): row j holds
 // W[first + j][s] for s < S (count × S floats, vertex-major), exactly as the bake's kernel
 // produces them, copied back. For tests: compare with transfer_sample() run on the host.
-// Throws as bake_gpu, and Error(invalid_argument) for a range outside the mesh.
+// Throws as the GPU bake, and Error(invalid_argument) for a range outside the mesh.
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
                                         const DirectionSet& directions, std::size_t first,
-                                        std::size_t count);
+                                        std::size_t count, int device = 0);
 
 // Raw any-hit traversal rate: a kernel that only traces, one thread per (vertex, direction) with
 // n·w > 0, from offset_ray_origin(p, n), over the flat BVH of `mesh`; no W, no projection.
@@ -158,6 +149,6 @@ struct GpuTraversalResult {
     std::string device_name;
 };
 GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions,
-                                         int repeats);
+                                         int repeats, int device = 0);
 
 }  // namespace shprt

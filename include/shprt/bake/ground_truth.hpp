@@ -25,10 +25,10 @@
 // never on the thread count or the order in which vertices are computed.
 #pragma once
 
-#include "shprt/bake/transfer.hpp"
 #include "shprt/core/progress.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <cstdint>
 #include <functional>

@@ -5,31 +5,32 @@
 //   48-byte header  magic "\x89SHPRT\r\n\x1a\n\0\0", format version, endianness marker,
 //                   metadata offset/length/CRC-32, header CRC-32
 //   metadata        UTF-8 JSON object (conventions, K, bands, sampler, ..., section table)
-//   sections        64-byte aligned little-endian arrays, each with its byte length and CRC-32:
+//   sections        64-byte aligned little-endian arrays, each with its byte length and CRC-32,
+//                   in the order of the one section table (src/io/shprt_sections.cpp):
 //                   positions, normals, albedo (float32 V×3), triangles (uint32 T×3),
 //                   source_vertex (uint32 V, only when the mesh has one),
-//                   transfer (float32 or float16, V×channels×K)
+//                   transfer (the layout's encoding, float32 or float16: receivers × floats per
+//                   receiver, transfer/transfer.hpp)
+//
+// Version 2 adds the transfer layout's receiver domain and shape to the metadata; version 1 files
+// (vertex domain, vector shape) still read.
 //
 // Every byte of the file is covered by a check (a CRC or "padding is zero"), and the reader
 // validates every length and offset against the file size before it reads or allocates.
 #pragma once
 
-#include "shprt/bake/transfer.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <cstdint>
 #include <string>
 
 namespace shprt {
 
-// The format version this build writes and the newest it reads.
-inline constexpr std::uint32_t kShprtFormatVersion = 1;
-
-// Largest K the format accepts (64 bands; the bake itself allows up to 1024).
-inline constexpr int kShprtMaxK = 64 * 64;
+// The format version this build writes and the newest it reads (it reads 1 too).
+inline constexpr std::uint32_t kShprtFormatVersion = 2;
 
 struct WriteOptions {
-    bool half = false;  // transfer coefficients as IEEE float16 instead of float32
     // A JSON object merged into the metadata (e.g. timings, peak memory, the bake command line);
     // empty = none. Objects merge recursively ({"stats": {"seconds_load": 0.1}} adds to the
     // stats); a key that would replace a value the writer sets is an Error(invalid_argument).
@@ -42,17 +43,18 @@ struct WriteOptions {
 
 // Writes `mesh` and `transfer` to `path` through AtomicFile (a temporary file beside `path`,
 // renamed over it at the end): on any failure the target is untouched and no temporary is left.
-// Preconditions, checked (Error(invalid_argument) naming the problem): normals and albedo have
-// one entry per position; source_vertex is empty or has one; triangle indices are < V;
-// 1 <= K <= kShprtMaxK; channels is 1 or 3; coeffs.size() == V·channels·K; coefficients are
-// finite and, with options.half, within float16's range (|c| < 65520). Filesystem failures throw
-// Error(io) naming the path.
+// The coefficients are stored in transfer.layout.encoding (float32, or IEEE float16).
+// Preconditions, checked (Error(invalid_argument) naming the file and the problem): transfer
+// .check(mesh) (layout, one row per vertex, normals and albedo per vertex); source_vertex is
+// empty or has one entry per vertex; triangle indices are < V; coefficients are finite and, for
+// float16, within its range (|c| < 65520). Filesystem failures throw Error(io) naming the path.
 void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
                  const WriteOptions& options = {});
 
 struct ShprtFile {
     Mesh mesh;                  // mesh.source is the scene's source as recorded at bake time
-    TransferSet transfer;       // transfer.coeffs always float32 in memory (float16 files widened)
+    TransferSet transfer;       // coeffs always float32 in memory (float16 files widened); the
+                                // layout's encoding says how the file stored them
     std::string metadata_json;  // the metadata block exactly as stored
 };
 

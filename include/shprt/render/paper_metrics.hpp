@@ -8,10 +8,10 @@
 // (those where the optional mask is non-zero).
 #pragma once
 
-#include "shprt/bake/transfer.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/light/image.hpp"
 #include "shprt/render/camera.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -25,12 +25,12 @@
 // Every member function needs the context the object was created in to be current.
 #pragma once
 
-#include "shprt/bake/transfer.hpp"
 #include "shprt/light/image.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/render/camera.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -166,6 +166,7 @@ private:
     unsigned m_color_buffer = 0;  // V × vec4: the shading pass's output
     unsigned m_transfer_ssbo = 0, m_light_ubo = 0, m_recurrence_ubo = 0, m_background_texture = 0;
     std::size_t m_vertex_count = 0, m_index_count = 0;
+    TransferLayout m_layout;  // of the scene's transfer
     int m_K = 0, m_channels = 0;
     ShLight m_light{};         // rotated: what the shading pass uses
     ShLight m_light_source{};  // as given to set_light

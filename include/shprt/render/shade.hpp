@@ -26,10 +26,10 @@
 // negative values from SH ringing are returned as computed (images clamp when tone mapped).
 #pragma once
 
-#include "shprt/bake/transfer.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
 
 #include <vector>
 
@@ -61,15 +61,14 @@ struct ShadeResult {
     std::vector<Vec3f> radiance;    // L = k·L_D + (1−k)·L_S, per vertex, input order
 };
 
-// Checks that `transfer` fits `mesh`: K > 0, 1 or 3 channels, V·channels·K coefficients, and
-// normals and albedo for every vertex; throws Error(invalid_argument) naming what is wrong.
-// Shared by shade_vertices and the OpenGL renderer.
-void check_scene_transfer(const Mesh& mesh, const TransferSet& transfer);
+// Checks that `transfer` can shade `mesh`: transfer.check(mesh) (Error(invalid_argument) naming
+// what is wrong), and a vector per receiver (Error(unsupported) for transfer matrices, which
+// this shading model does not use). Shared by shade_vertices and the OpenGL renderer.
+void check_shadable(const Mesh& mesh, const TransferSet& transfer);
 
 // Shades every vertex (formulas above) on the CPU in double precision, in parallel (TBB); the
 // result does not depend on the thread count. Preconditions, checked (Error(invalid_argument)):
-// transfer.vertex_count() == mesh.vertex_count(), channels 1 or 3, mesh normals and albedo
-// present for every vertex, 0 ≤ k ≤ 1, gloss ≥ 0, light.coeffs.size() == 3·light.K.
+// check_shadable(mesh, transfer), 0 ≤ k ≤ 1, gloss ≥ 0, light.coeffs.size() == 3·light.K.
 ShadeResult shade_vertices(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                            const ShadeOptions& options);
 

@@ -1,12 +1,8 @@
-// A bake shown while it refines: the chunk queue, the worker thread, cancelling, and that the
-// chunks, applied as they arrive (on the host, and into the renderer's GL buffer), rebuild the
-// normal bake bit for bit.
-#include "bake_stream.hpp"
-#include "frame.hpp"
+// A bake shown while it refines: the chunk queue (a sink), the worker thread, cancelling, and
+// that the chunks, applied as they arrive, rebuild the normal bake bit for bit.
+#include "shprt/bake/background.hpp"
 
 #include "shprt/core/error.hpp"
-#include "shprt/render/gl_context.hpp"
-#include "shprt/render/renderer.hpp"
 #include "shprt/scene/load.hpp"
 
 #include <gtest/gtest.h>
@@ -16,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-namespace shprt::viewer {
+namespace shprt {
 namespace {
 
 BakeOptions small_options() {
@@ -25,38 +21,56 @@ BakeOptions small_options() {
     o.samples = 128;
     o.seed = 7;
     o.threads = 2;
-    o.chunk_vertices = 64;  // many chunks on a small scene
+    o.chunk_receivers = 64;  // many chunks on a small scene
     return o;
+}
+
+TransferInfo grey_vectors(int K) {
+    TransferInfo info;
+    info.layout.K = K;
+    return info;
 }
 
 TEST(ChunkQueue, IsAFifoOfCopies) {
     ChunkQueue q;
+    q.begin(grey_vectors(2).layout, 0, 16);
     std::vector<float> a = {1, 2, 3, 4, 5, 6}, b = {7, 8};
-    q.push(10, 3, a.data(), 2);
-    q.push(0, 1, b.data(), 2);
+    q.write(10, 3, a.data());
+    q.write(0, 1, b.data());
     a[0] = -1;  // the queue holds its own copy
     EXPECT_EQ(q.pending(), 2u);
     const auto chunks = q.take_all();
     ASSERT_EQ(chunks.size(), 2u);
-    EXPECT_EQ(chunks[0].first_vertex, 10u);
-    EXPECT_EQ(chunks[0].vertex_count, 3u);
-    EXPECT_EQ(chunks[0].coeffs, (std::vector<float>{1, 2, 3, 4, 5, 6}));
-    EXPECT_EQ(chunks[1].coeffs, (std::vector<float>{7, 8}));
+    EXPECT_EQ(chunks[0].first, 10u);
+    EXPECT_EQ(chunks[0].count, 3u);
+    EXPECT_EQ(chunks[0].rows, (std::vector<float>{1, 2, 3, 4, 5, 6}));
+    EXPECT_EQ(chunks[1].rows, (std::vector<float>{7, 8}));
     EXPECT_EQ(q.pending(), 0u);
     EXPECT_TRUE(q.take_all().empty());
-    EXPECT_EQ(q.chunks_pushed(), 2u);
-    EXPECT_EQ(q.vertices_pushed(), 4u);
+    EXPECT_EQ(q.chunks_written(), 2u);
+    EXPECT_EQ(q.receivers_written(), 4u);
+    q.write(4, 2, nullptr);  // rows that went to a device buffer: counted, not queued
+    EXPECT_EQ(q.pending(), 0u);
+    EXPECT_EQ(q.receivers_written(), 6u);
 }
 
-TEST(ChunkQueue, ApplyChunkChecksItsRange) {
-    TransferSet t = empty_transfer(4, 2, TransferKind::shadowed);
+TEST(ChunkQueue, ApplyToChecksItsRange) {
+    TransferSet t = TransferSet::zeros(grey_vectors(2), 4);
     TransferChunk c{2, 2, {1, 2, 3, 4}};
-    apply_chunk(t, c);
+    c.apply_to(t);
     EXPECT_EQ(t.coeffs, (std::vector<float>{0, 0, 0, 0, 1, 2, 3, 4}));
     TransferChunk outside{3, 2, {1, 2, 3, 4}};
-    EXPECT_THROW(apply_chunk(t, outside), Error);
+    EXPECT_THROW(outside.apply_to(t), Error);
     TransferChunk short_data{0, 2, {1, 2, 3}};
-    EXPECT_THROW(apply_chunk(t, short_data), Error);
+    EXPECT_THROW(short_data.apply_to(t), Error);
+    // RGB rows: three channels of K per receiver.
+    TransferInfo rgb = grey_vectors(2);
+    rgb.layout.channels = 3;
+    TransferSet t3 = TransferSet::zeros(rgb, 2);
+    TransferChunk c3{1, 1, {1, 2, 3, 4, 5, 6}};
+    c3.apply_to(t3);
+    EXPECT_EQ(t3.coeffs, (std::vector<float>{0, 0, 0, 0, 0, 0, 1, 2, 3, 4, 5, 6}));
+    EXPECT_THROW(c.apply_to(t3), Error) << "grey rows into an RGB set";
 }
 
 TEST(BackgroundBake, ChunksRebuildTheNormalBakeExactly) {
@@ -65,17 +79,17 @@ TEST(BackgroundBake, ChunksRebuildTheNormalBakeExactly) {
     const TransferSet want = bake(mesh, options);
 
     BackgroundBake worker(mesh, options);
-    TransferSet shown = empty_transfer(mesh.vertex_count(), options.K, options.transfer);
+    TransferSet shown = TransferSet::zeros(bake_description(options), mesh.vertex_count());
     std::vector<bool> covered(mesh.vertex_count(), false);
     std::size_t chunks = 0;
     // The consumer side, as the window loop does it: drain while the bake runs.
     auto drain = [&] {
         for (const TransferChunk& c : worker.chunks().take_all()) {
-            for (std::size_t v = c.first_vertex; v < c.first_vertex + c.vertex_count; ++v) {
+            for (std::size_t v = c.first; v < c.first + c.count; ++v) {
                 ASSERT_FALSE(covered[v]) << "vertex " << v << " arrived twice";
                 covered[v] = true;
             }
-            apply_chunk(shown, c);
+            c.apply_to(shown);
             ++chunks;
         }
     };
@@ -87,10 +101,11 @@ TEST(BackgroundBake, ChunksRebuildTheNormalBakeExactly) {
     ASSERT_EQ(worker.state(), BakeState::finished) << worker.error();
     EXPECT_EQ(worker.fraction_done(), 1.0);
     EXPECT_GT(chunks, 1u) << "progressive: more than one update";
-    EXPECT_EQ(chunks, worker.chunks().chunks_pushed());
+    EXPECT_EQ(chunks, worker.chunks().chunks_written());
     for (std::size_t v = 0; v < covered.size(); ++v) ASSERT_TRUE(covered[v]) << "vertex " << v;
     EXPECT_EQ(shown.coeffs, want.coeffs) << "chunks rebuild the bake bit for bit";
-    EXPECT_EQ(worker.result().coeffs, want.coeffs);
+    EXPECT_EQ(worker.result().layout, want.layout);
+    EXPECT_EQ(worker.result().stats.rays_cast, want.stats.rays_cast);
 }
 
 TEST(BackgroundBake, CancelStopsPromptly) {
@@ -122,39 +137,5 @@ TEST(BackgroundBake, ABadBakeReportsItsError) {
     EXPECT_NE(worker.error().find("sample"), std::string::npos) << worker.error();
 }
 
-TEST(BackgroundBake, ChunksIntoTheRenderersBufferEqualTheNormalBake) {
-    std::unique_ptr<HeadlessGlContext> context;
-    try {
-        context = std::make_unique<HeadlessGlContext>();
-    } catch (const Error& e) {
-        GTEST_SKIP() << "no headless OpenGL 4.3 core context: " << e.what();
-    }
-    const Mesh mesh = load_scene("builtin:box_on_plane");
-    const BakeOptions options = small_options();
-    const TransferSet want = bake(mesh, options);
-    {
-        Renderer renderer;
-        renderer.set_scene(mesh, empty_transfer(mesh.vertex_count(), options.K, options.transfer));
-        BackgroundBake worker(mesh, options);
-        std::size_t updates = 0;
-        auto drain = [&] {
-            for (const TransferChunk& c : worker.chunks().take_all()) {
-                renderer.update_transfer(c.first_vertex, c.vertex_count, c.coeffs.data());
-                ++updates;
-            }
-        };
-        while (!worker.done()) {
-            drain();
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        }
-        drain();
-        ASSERT_EQ(worker.state(), BakeState::finished) << worker.error();
-        EXPECT_GT(updates, 1u);
-        const std::vector<float> gpu =
-            read_gl_buffer(renderer.transfer_buffer(), want.coeffs.size());
-        EXPECT_EQ(gpu, want.coeffs);
-    }
-}
-
 }  // namespace
-}  // namespace shprt::viewer
+}  // namespace shprt

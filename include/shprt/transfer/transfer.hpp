@@ -1,0 +1,125 @@
+// Transfer: what a bake produces, what .shprt files store, what shading consumes — and its
+// layout, the one place that knows how many floats a receiver has.
+//
+// A transfer set holds, for each *receiver* (a mesh vertex today; a texel, a refined vertex or a
+// shard's range later), `channels` blocks of coefficients in the SH basis of size K (flat index
+// i = l(l+1)+m, sh/basis.hpp). A block is either a vector of K coefficients (diffuse transfer:
+// E = Σ_i c_T[i]·c_L[i]) or a K×K matrix (glossy transfer: shadowed incident radiance = M·L),
+// full or, when symmetric, as its packed upper triangle. Everything is stored receiver-major:
+//
+//     coeffs[layout.offset(r, c) + j] = element j of channel c of receiver r
+//     layout.offset(r, c)            = (r·channels + c) · layout.floats_per_channel()
+//
+// In memory coefficients are always float32; `encoding` says how a file stores them (or should).
+#pragma once
+
+#include "shprt/sh/sampler.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace shprt {
+
+struct Mesh;
+
+enum class TransferKind {
+    unshadowed,  // T(w) = max(0, n·w)
+    shadowed,    // T(w) = V(w) · max(0, n·w), V = 1 where the ray escapes the scene
+};
+
+// Where the receivers are. Only vertices exist today.
+enum class ReceiverDomain { vertex };
+
+// The shape of one channel of one receiver.
+enum class TransferShape {
+    vector,            // K coefficients
+    matrix,            // K×K, row-major
+    symmetric_matrix,  // K×K symmetric, its upper triangle packed row by row: K(K+1)/2 floats
+};
+
+// How the coefficients are (to be) stored in a file. In memory they are float32 always.
+enum class TransferEncoding { f32, f16 };
+
+const char* to_string(TransferKind kind);
+TransferKind parse_transfer_kind(const std::string& name);  // throws Error(invalid_argument)
+const char* to_string(ReceiverDomain domain);
+ReceiverDomain parse_receiver_domain(const std::string& name);  // throws Error(invalid_argument)
+const char* to_string(TransferShape shape);
+TransferShape parse_transfer_shape(const std::string& name);  // throws Error(invalid_argument)
+const char* to_string(TransferEncoding encoding);  // "float32", "float16" (the file's dtype)
+TransferEncoding parse_transfer_encoding(const std::string& name);  // throws Error
+
+// Largest basis size a transfer may have (64 bands; a bake allows fewer, see bake.hpp).
+inline constexpr int kMaxTransferK = 64 * 64;
+
+struct TransferLayout {
+    ReceiverDomain domain = ReceiverDomain::vertex;
+    int channels = 1;  // 1 (grey transfer) or 3 (RGB, e.g. with interreflections)
+    int K = 0;         // basis size: the first K coefficients in index order
+    TransferShape shape = TransferShape::vector;
+    TransferEncoding encoding = TransferEncoding::f32;
+
+    // Floats of one channel of one receiver: K, K², or K(K+1)/2.
+    std::size_t floats_per_channel() const;
+    // channels · floats_per_channel(): one receiver's row.
+    std::size_t floats_per_receiver() const { return std::size_t(channels) * floats_per_channel(); }
+    // Floats of `receivers` rows.
+    std::size_t floats(std::size_t receivers) const { return receivers * floats_per_receiver(); }
+    // Index of the first float of channel `channel` of receiver `receiver`.
+    std::size_t offset(std::size_t receiver, int channel = 0) const {
+        return (receiver * std::size_t(channels) + std::size_t(channel)) * floats_per_channel();
+    }
+    // Throws Error(invalid_argument) unless 1 ≤ K ≤ kMaxTransferK and channels is 1 or 3.
+    void validate() const;
+
+    bool operator==(const TransferLayout&) const = default;
+};
+
+// Timings (seconds) and counters of one bake, stored in the file's metadata.
+struct BakeStats {
+    double seconds_bvh = 0, seconds_trace = 0, seconds_project = 0, seconds_total = 0;
+    std::uint64_t rays_cast = 0;        // rays actually traced (below-horizon rays are not cast)
+    std::uint64_t peak_bytes_host = 0;  // bake's peak working memory with its BVH, host
+    std::uint64_t peak_bytes_device = 0;
+    std::string device_name;  // "cpu: 2 threads" or the GPU's name
+};
+
+// Everything about a transfer set but its coefficients: what a bake into a sink returns.
+struct TransferInfo {
+    TransferKind kind = TransferKind::shadowed;
+    TransferLayout layout;
+
+    // Sampling that produced it (recorded in the file).
+    SamplerKind sampler = SamplerKind::uniform;
+    int samples = 0;
+    std::uint64_t seed = 0;
+    BakeStats stats;
+};
+
+struct TransferSet : TransferInfo {
+    std::vector<float> coeffs;  // layout.floats(receiver_count()) floats, see the file comment
+
+    // An all-zero set of `receivers` rows with the given description (what a progressive display
+    // starts from before the first chunk arrives).
+    static TransferSet zeros(const TransferInfo& info, std::size_t receivers);
+
+    std::size_t receiver_count() const {
+        const std::size_t n = layout.floats_per_receiver();
+        return n > 0 ? coeffs.size() / n : 0;
+    }
+    const float* receiver(std::size_t r, int channel = 0) const {
+        return coeffs.data() + layout.offset(r, channel);
+    }
+    float* receiver(std::size_t r, int channel = 0) {
+        return coeffs.data() + layout.offset(r, channel);
+    }
+
+    // The one check of a transfer against its mesh: a valid layout, one row per receiver of the
+    // mesh (its vertices, for the vertex domain: coeffs.size() == layout.floats(V)), and normals
+    // and albedo for every vertex. Throws Error(invalid_argument) naming the mismatch.
+    void check(const Mesh& mesh) const;
+};
+
+}  // namespace shprt

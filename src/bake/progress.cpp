@@ -1,0 +1,50 @@
+// The bake's progress reporter (progress.hpp).
+#include "bake/progress.hpp"
+
+#include <algorithm>
+
+namespace shprt::detail {
+
+namespace {
+constexpr auto kReportInterval = std::chrono::milliseconds(50);  // ≤ 20 reports per second
+}
+
+BakeProgress::BakeProgress(const ProgressFn& callback, bool shadowed, std::uint64_t receivers,
+                           std::uint64_t samples)
+    : m_callback(callback),
+      m_shadowed(shadowed),
+      m_total(receivers),
+      m_samples(samples),
+      m_caller(std::this_thread::get_id()),
+      m_last(std::chrono::steady_clock::now()) {}
+
+bool BakeProgress::report(bool final) {
+    const std::uint64_t done = m_receivers.load(std::memory_order_relaxed);
+    if (!m_shadowed)
+        return m_callback(ProgressInfo{"bake", done * m_samples, m_total * m_samples, "samples"});
+    const std::uint64_t rays = m_rays.load(std::memory_order_relaxed);
+    const double per_receiver = done > 0 ? double(rays) / double(done) : double(m_samples) / 2;
+    const std::uint64_t total =
+        final
+            ? rays
+            : rays + std::uint64_t(per_receiver * double(m_total - std::min(done, m_total)) + 0.5);
+    return m_callback(ProgressInfo{"bake", rays, std::max(total, rays), "rays"});
+}
+
+bool BakeProgress::poll() {
+    if (stopped()) return false;
+    if (!m_callback || std::this_thread::get_id() != m_caller) return true;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - m_last < kReportInterval) return true;
+    m_last = now;
+    if (!report(false)) stop();
+    return !stopped();
+}
+
+bool BakeProgress::finish() {
+    if (stopped()) return false;
+    if (m_callback && !report(true)) stop();
+    return !stopped();
+}
+
+}  // namespace shprt::detail

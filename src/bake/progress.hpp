@@ -1,0 +1,49 @@
+// The bake's progress reporter, shared by the CPU and GPU backends: counters that any thread may
+// bump, and reports to BakeOptions::progress made only from the thread that called bake(), at
+// most ~20 a second and once at the end. Shadowed transfer reports rays with the total estimated
+// from the rays per receiver so far (S/2 before the first); unshadowed transfer reports samples.
+#pragma once
+
+#include "shprt/core/progress.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <thread>
+
+namespace shprt::detail {
+
+class BakeProgress {
+public:
+    BakeProgress(const ProgressFn& callback, bool shadowed, std::uint64_t receivers,
+                 std::uint64_t samples);
+
+    // Thread-safe: `receivers` more receivers are done, having cast `rays` rays.
+    void add(std::uint64_t receivers, std::uint64_t rays) {
+        m_rays.fetch_add(rays, std::memory_order_relaxed);
+        m_receivers.fetch_add(receivers, std::memory_order_relaxed);
+    }
+    // On the calling thread only (others return at once): reports when the last report is
+    // ≥ 50 ms old. Returns false once the callback asked to stop (and from then on).
+    bool poll();
+    // The final report (on the calling thread): returns false when the callback asks to stop.
+    bool finish();
+
+    bool stopped() const { return m_stop.load(std::memory_order_relaxed); }
+    void stop() { m_stop.store(true, std::memory_order_relaxed); }
+    std::uint64_t rays() const { return m_rays.load(); }
+    std::uint64_t receivers_done() const { return m_receivers.load(); }
+
+private:
+    bool report(bool final);
+
+    const ProgressFn& m_callback;
+    bool m_shadowed;
+    std::uint64_t m_total, m_samples;
+    std::atomic<std::uint64_t> m_rays{0}, m_receivers{0};
+    std::atomic<bool> m_stop{false};
+    std::thread::id m_caller;
+    std::chrono::steady_clock::time_point m_last;
+};
+
+}  // namespace shprt::detail

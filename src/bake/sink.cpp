@@ -1,0 +1,87 @@
+// The library's sinks (sink.hpp).
+#include "shprt/bake/sink.hpp"
+
+#include "shprt/core/error.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace shprt {
+namespace {
+
+void check_range(std::size_t first, std::size_t count, std::size_t begun_first,
+                 std::size_t begun_count) {
+    SHPRT_CHECK(
+        first >= begun_first && count <= begun_count && first - begun_first <= begun_count - count,
+        invalid_argument, "rows [{}, {}) outside the sink's range [{}, {})", first, first + count,
+        begun_first, begun_first + begun_count);
+}
+
+}  // namespace
+
+void HostSink::begin(const TransferLayout& layout, std::size_t first, std::size_t count) {
+    layout.validate();
+    m_layout = layout;
+    m_first = first;
+    m_count = count;
+    m_rows.assign(layout.floats(count), 0.0f);
+}
+
+float* HostSink::host_rows(std::size_t first, std::size_t count) {
+    check_range(first, count, m_first, m_count);
+    return m_rows.data() + m_layout.floats(first - m_first);
+}
+
+void HostSink::write(std::size_t first, std::size_t count, const float* rows) {
+    float* target = host_rows(first, count);
+    if (rows != nullptr && rows != target)
+        std::memcpy(target, rows, m_layout.floats(count) * sizeof(float));
+}
+
+void FileRegionSink::begin(const TransferLayout& layout, std::size_t first, std::size_t count) {
+    layout.validate();
+    SHPRT_CHECK(layout.encoding == TransferEncoding::f32, invalid_argument,
+                "a file region sink writes float32 rows, not {}", to_string(layout.encoding));
+    SHPRT_CHECK(m_fd >= 0, invalid_argument, "file region sink without an open file");
+    m_layout = layout;
+    m_first = first;
+    m_count = count;
+    m_bytes = std::uint64_t(layout.floats(count)) * sizeof(float);
+}
+
+void FileRegionSink::write(std::size_t first, std::size_t count, const float* rows) {
+    check_range(first, count, m_first, m_count);
+    SHPRT_CHECK(rows != nullptr, invalid_argument, "file region sink: no rows to write");
+    const auto* p = reinterpret_cast<const unsigned char*>(rows);
+    std::size_t left = m_layout.floats(count) * sizeof(float);
+    std::uint64_t at = m_offset + std::uint64_t(m_layout.floats(first - m_first)) * sizeof(float);
+    while (left > 0) {  // pwrite is thread-safe for disjoint regions
+        const ssize_t n = ::pwrite(m_fd, p, left, static_cast<off_t>(at));
+        if (n < 0 && errno == EINTR) continue;
+        SHPRT_CHECK(n > 0, io, "cannot write transfer rows at offset {}: {}", at,
+                    n < 0 ? std::strerror(errno) : "no progress");
+        p += n;
+        at += static_cast<std::uint64_t>(n);
+        left -= static_cast<std::size_t>(n);
+    }
+}
+
+void DeviceSink::begin(const TransferLayout& layout, std::size_t first, std::size_t count) {
+    layout.validate();
+    SHPRT_CHECK(m_device != nullptr, invalid_argument, "device sink without a device buffer");
+    SHPRT_CHECK(layout.floats(count) <= m_capacity, invalid_argument,
+                "device buffer holds {} floats, the rows need {}", m_capacity,
+                layout.floats(count));
+    m_first = first;
+    m_count = count;
+    m_chunks = 0;
+}
+
+void DeviceSink::write(std::size_t first, std::size_t count, const float*) {
+    check_range(first, count, m_first, m_count);
+    ++m_chunks;
+}
+
+}  // namespace shprt

@@ -1,0 +1,74 @@
+// The per-chunk stages of the CPU bake, one function each: weight → trace → project, then the
+// sink (sink.hpp). Separate so that later transfer kinds plug in at the right one: closest hits
+// for bounces beside trace, Yᵀ·diag(w)·Y for glossy matrices beside project.
+//
+// For a receiver with position p and unit normal n, and the shared direction set {w_s, weight_s}:
+//   weight   W[s] = max(0, n·w_s) · weight_s                 (the unoccluded transfer samples)
+//   trace    W[s] = 0 where the ray from offset_ray_origin(p, n) along w_s hits the occluders;
+//            only directions with W[s] ≠ 0 are cast (below the horizon nothing is)
+//   project  C[count×K] = W[count×S] · Y[S×K]                (one single-threaded SGEMM)
+// These are exactly the operations of transfer_sample() (transfer_sample.hpp), which the GPU
+// kernel runs, so the two backends' W agree bit for bit where their tracers agree.
+#pragma once
+
+#include "shprt/core/vec.hpp"
+#include "shprt/sh/sampler.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace shprt {
+class Tracer;
+}
+
+namespace shprt::detail {
+
+// The direction set as structure-of-arrays (the weight loop vectorises) and as Vec3f (the form
+// the tracer takes).
+struct DirectionTable {
+    std::vector<float> x, y, z, weight;
+    std::vector<Vec3f> dirs;
+    std::size_t size() const { return weight.size(); }
+    std::size_t bytes() const { return size() * (4 * sizeof(float) + sizeof(Vec3f)); }
+};
+DirectionTable make_direction_table(const DirectionSet& directions);
+
+// One worker's buffers for trace_row, reused across receivers.
+struct TraceScratch {
+    std::vector<Vec3f> ray_dirs;           // directions above the horizon of the receiver
+    std::vector<std::uint32_t> ray_index;  // their indices in the direction set
+    std::vector<std::uint8_t> occluded;    // the tracer's answers
+    void reserve(std::size_t samples);
+    static std::size_t bytes(std::size_t samples) {
+        return samples * (sizeof(Vec3f) + sizeof(std::uint32_t) + sizeof(std::uint8_t));
+    }
+};
+
+// weight: row[s] = max(0, n·w_s)·weight_s for s < S.
+void weight_row(Vec3f n, const DirectionTable& directions, float* row);
+
+// trace: zeroes row[s] where the direction is occluded; casts one stream of the directions with
+// row[s] ≠ 0 from offset_ray_origin(p, n). Returns the rays cast.
+std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionTable& directions,
+                        float* row, TraceScratch& scratch);
+
+// project: C[count×K] = W[count×S]·Y[S×K], all row-major, one single-threaded cblas_sgemm (the
+// caller keeps OpenBLAS at one thread: SingleThreadedBlas).
+void project_rows(const float* W, std::size_t count, std::size_t S, const float* Y, int K,
+                  float* C);
+
+// OpenBLAS's thread count set to 1 for a scope, restored afterwards: the bake's TBB workers each
+// run their own single-threaded SGEMM (bake_cpu.cpp says why).
+class SingleThreadedBlas {
+public:
+    SingleThreadedBlas();
+    ~SingleThreadedBlas();
+    SingleThreadedBlas(const SingleThreadedBlas&) = delete;
+    SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
+
+private:
+    int m_saved;
+};
+
+}  // namespace shprt::detail

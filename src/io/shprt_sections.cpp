@@ -1,0 +1,88 @@
+// The .shprt section table (shprt_sections.hpp).
+#include "io/shprt_sections.hpp"
+
+#include <array>
+#include <vector>
+
+namespace shprt::detail {
+namespace {
+
+// Accessors of one std::vector member of the mesh, or of the transfer's coefficients; counts are
+// in scalar elements (a Vec3f is 3 floats, a triangle 3 indices).
+template <auto Member>
+struct MeshArray {
+    using Vector = std::remove_reference_t<decltype(std::declval<Mesh&>().*Member)>;
+    static constexpr std::uint64_t kScalars =
+        sizeof(typename Vector::value_type) / sizeof(std::uint32_t);
+    static_assert(sizeof(typename Vector::value_type) % sizeof(std::uint32_t) == 0);
+    static const void* data(const Mesh& m, const TransferSet&) { return (m.*Member).data(); }
+    static std::uint64_t count(const Mesh& m, const TransferSet&) {
+        return (m.*Member).size() * kScalars;
+    }
+    static void* resize(Mesh& m, TransferSet&, std::uint64_t n) {
+        (m.*Member).resize(static_cast<std::size_t>(n / kScalars));
+        return (m.*Member).data();
+    }
+};
+
+struct TransferArray {
+    static const void* data(const Mesh&, const TransferSet& t) { return t.coeffs.data(); }
+    static std::uint64_t count(const Mesh&, const TransferSet& t) { return t.coeffs.size(); }
+    static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
+        t.coeffs.resize(static_cast<std::size_t>(n));
+        return t.coeffs.data();
+    }
+};
+
+template <class A>
+constexpr SectionRule rule(const char* name, SectionType type, SectionRows rows, std::uint64_t cols,
+                           bool required) {
+    return {name, type, rows, cols, required, &A::data, &A::count, &A::resize};
+}
+
+using S = SectionType;
+using R = SectionRows;
+constexpr bool kRequired = true, kOptional = false;
+
+const std::array kRules = {
+    rule<MeshArray<&Mesh::positions>>("positions", S::f32, R::vertices, 3, kRequired),
+    rule<MeshArray<&Mesh::normals>>("normals", S::f32, R::vertices, 3, kRequired),
+    rule<MeshArray<&Mesh::albedo>>("albedo", S::f32, R::vertices, 3, kRequired),
+    rule<MeshArray<&Mesh::triangles>>("triangles", S::u32, R::triangles, 3, kRequired),
+    rule<MeshArray<&Mesh::source_vertex>>("source_vertex", S::u32, R::vertices, 1, kOptional),
+    rule<TransferArray>("transfer", S::transfer, R::receivers, 0, kRequired),
+};
+
+}  // namespace
+
+std::string SectionRule::dtype(const TransferLayout& layout) const {
+    switch (type) {
+        case SectionType::f32:
+            return "float32";
+        case SectionType::u32:
+            return "uint32";
+        case SectionType::transfer:
+            break;
+    }
+    return to_string(layout.encoding);
+}
+
+std::uint64_t SectionRule::element_size(const TransferLayout& layout) const {
+    return type == SectionType::transfer && layout.encoding == TransferEncoding::f16 ? 2 : 4;
+}
+
+std::uint64_t SectionRule::row_count(const SectionCounts& counts) const {
+    switch (rows) {
+        case SectionRows::vertices:
+            return counts.vertices;
+        case SectionRows::triangles:
+            return counts.triangles;
+        case SectionRows::receivers:
+            break;
+    }
+    return counts.receivers;
+}
+
+std::span<const SectionRule> section_rules() { return kRules; }
+
+}  // namespace shprt::detail

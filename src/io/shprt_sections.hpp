@@ -1,0 +1,53 @@
+// The one section table of the .shprt file, shared by the reader and the writer: for every
+// section, in file order, its name, element type, shape rule, whether it is required, and where
+// its data lives in memory. A new section is one line in kSections (shprt_sections.cpp).
+//
+// Rules (docs/file_format.md): sections appear in table order; a required section is always
+// present; an optional one is written when its array is non-empty and may be absent. Rows count
+// vertices, triangles or receivers (the transfer's rows: vertices for the vertex domain); columns
+// are fixed or, for the transfer, layout.floats_per_receiver(). The transfer's element type is
+// its layout's encoding (float32 or float16).
+#pragma once
+
+#include "shprt/io/shprt_file.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace shprt::detail {
+
+enum class SectionType { f32, u32, transfer };  // transfer: the layout's encoding
+enum class SectionRows { vertices, triangles, receivers };
+
+// What the sizes of a file's sections follow from (all from the metadata).
+struct SectionCounts {
+    std::uint64_t vertices = 0, triangles = 0, receivers = 0;
+    TransferLayout layout;
+};
+
+struct SectionRule {
+    const char* name;
+    SectionType type;
+    SectionRows rows;
+    std::uint64_t cols;  // 0 = layout.floats_per_receiver()
+    bool required;
+    // The array in memory: its data and scalar element count (rows·cols when present; an empty
+    // optional array means "absent"); `resize` sizes it for reading and returns its data.
+    const void* (*data)(const Mesh& mesh, const TransferSet& transfer);
+    std::uint64_t (*count)(const Mesh& mesh, const TransferSet& transfer);
+    void* (*resize)(Mesh& mesh, TransferSet& transfer, std::uint64_t count);
+
+    std::string dtype(const TransferLayout& layout) const;
+    std::uint64_t element_size(const TransferLayout& layout) const;
+    std::uint64_t row_count(const SectionCounts& counts) const;
+    std::uint64_t col_count(const TransferLayout& layout) const {
+        return cols != 0 ? cols : std::uint64_t(layout.floats_per_receiver());
+    }
+};
+
+// The table, in file order.
+std::span<const SectionRule> section_rules();
+
+}  // namespace shprt::detail

@@ -1,0 +1,96 @@
+// The transfer layout and the names of its parts (transfer/transfer.hpp).
+#include "shprt/transfer/transfer.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/scene/mesh.hpp"
+
+namespace shprt {
+
+const char* to_string(TransferKind kind) {
+    return kind == TransferKind::unshadowed ? "unshadowed" : "shadowed";
+}
+
+TransferKind parse_transfer_kind(const std::string& name) {
+    if (name == "unshadowed") return TransferKind::unshadowed;
+    if (name == "shadowed") return TransferKind::shadowed;
+    fail(ErrorCode::invalid_argument,
+         "unknown transfer kind '{}' (expected unshadowed or shadowed)", name);
+}
+
+const char* to_string(ReceiverDomain) { return "vertex"; }
+
+ReceiverDomain parse_receiver_domain(const std::string& name) {
+    if (name == "vertex") return ReceiverDomain::vertex;
+    fail(ErrorCode::invalid_argument, "unknown receiver domain '{}' (expected vertex)", name);
+}
+
+const char* to_string(TransferShape shape) {
+    switch (shape) {
+        case TransferShape::vector:
+            return "vector";
+        case TransferShape::matrix:
+            return "matrix";
+        case TransferShape::symmetric_matrix:
+            return "symmetric_matrix";
+    }
+    return "vector";
+}
+
+TransferShape parse_transfer_shape(const std::string& name) {
+    if (name == "vector") return TransferShape::vector;
+    if (name == "matrix") return TransferShape::matrix;
+    if (name == "symmetric_matrix") return TransferShape::symmetric_matrix;
+    fail(ErrorCode::invalid_argument,
+         "unknown transfer shape '{}' (expected vector, matrix or symmetric_matrix)", name);
+}
+
+const char* to_string(TransferEncoding encoding) {
+    return encoding == TransferEncoding::f16 ? "float16" : "float32";
+}
+
+TransferEncoding parse_transfer_encoding(const std::string& name) {
+    if (name == "float32") return TransferEncoding::f32;
+    if (name == "float16") return TransferEncoding::f16;
+    fail(ErrorCode::invalid_argument, "unknown encoding '{}' (expected float32 or float16)", name);
+}
+
+std::size_t TransferLayout::floats_per_channel() const {
+    const std::size_t k = K > 0 ? std::size_t(K) : 0;
+    switch (shape) {
+        case TransferShape::vector:
+            return k;
+        case TransferShape::matrix:
+            return k * k;
+        case TransferShape::symmetric_matrix:
+            return k * (k + 1) / 2;
+    }
+    return k;
+}
+
+void TransferLayout::validate() const {
+    SHPRT_CHECK(K >= 1 && K <= kMaxTransferK, invalid_argument,
+                "transfer basis size K = {} is outside [1, {}]", K, kMaxTransferK);
+    SHPRT_CHECK(channels == 1 || channels == 3, invalid_argument,
+                "transfer has {} channels (expected 1 or 3)", channels);
+}
+
+TransferSet TransferSet::zeros(const TransferInfo& info, std::size_t receivers) {
+    info.layout.validate();
+    TransferSet t;
+    static_cast<TransferInfo&>(t) = info;
+    t.coeffs.assign(info.layout.floats(receivers), 0.0f);
+    return t;
+}
+
+void TransferSet::check(const Mesh& mesh) const {
+    layout.validate();
+    const std::size_t V = mesh.vertex_count();
+    SHPRT_CHECK(coeffs.size() == layout.floats(V), invalid_argument,
+                "transfer holds {} floats, expected {} vertices × {} channels × {} = {}",
+                coeffs.size(), V, layout.channels, layout.floats_per_channel(), layout.floats(V));
+    SHPRT_CHECK(mesh.normals.size() == V && mesh.albedo.size() == V, invalid_argument,
+                "mesh {} has {} vertices but {} normals and {} albedo values", mesh.source, V,
+                mesh.normals.size(), mesh.albedo.size());
+}
+
+}  // namespace shprt
