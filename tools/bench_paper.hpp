@@ -4,8 +4,9 @@
 // the reports (bench_paper_report.cpp) and the subcommand (cmd_bench.cpp).
 #pragma once
 
+#include "paper/paper_metrics.hpp"
+
 #include "shprt/bake/transfer.hpp"
-#include "shprt/render/paper_metrics.hpp"
 #include "shprt/sh/sampler.hpp"
 
 #include <cmath>

@@ -3,7 +3,7 @@
 // seed's СКО (root-mean-square error over vertices), ringing of truncated SH (Sloan 2008,
 // "Stupid Spherical Harmonics Tricks", on negative lobes and overshoot), shadow contrast, and the
 // 10–90 % edge width used for step responses in imaging.
-#include "shprt/render/paper_metrics.hpp"
+#include "paper/paper_metrics.hpp"
 
 #include "shprt/core/error.hpp"
 
