@@ -11,7 +11,7 @@
 #include <cmath>
 #include <limits>
 
-namespace shprt {
+namespace shprt::paper {
 namespace {
 
 void check_sizes(std::size_t a, std::size_t b, std::size_t mask, const char* what) {
@@ -218,4 +218,4 @@ TransferSet irradiance_as_transfer(std::span<const Vec3d> irradiance) {
     return t;
 }
 
-}  // namespace shprt
+}  // namespace shprt::paper

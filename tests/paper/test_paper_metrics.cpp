@@ -9,7 +9,7 @@
 #include <cmath>
 #include <vector>
 
-namespace shprt {
+namespace shprt::paper {
 namespace {
 
 constexpr double kTight = 1e-12;
@@ -206,4 +206,4 @@ TEST(PaperMetrics, IrradianceTransferShowsTheGivenIrradiance) {
 }
 
 }  // namespace
-}  // namespace shprt
+}  // namespace shprt::paper

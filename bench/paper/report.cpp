@@ -1,6 +1,6 @@
 // `shprt bench paper`, the reports: the markdown table beside the paper's numbers, CSVs, and the
 // gnuplot plots (error and time against K, the sampling study, the edge profiles).
-#include "bench_paper.hpp"
+#include "paper/paper_study.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -19,7 +19,7 @@
 
 extern char** environ;
 
-namespace shprt::tools::paper {
+namespace shprt::paper {
 namespace {
 
 std::string num(double v, const char* f = "{:.3g}") {
@@ -456,7 +456,7 @@ std::string markdown_table(const Results& r) {
     return s;
 }
 
-void write_reports(Results& r) {
+void write_reports(Results& r, const Reporter& reporter) {
     const std::string dir = r.options.out_dir;
     const auto put = [&](const std::string& name, const std::string& text) {
         write_text(dir + "/" + name, text);
@@ -479,7 +479,7 @@ void write_reports(Results& r) {
         }
     } else {
         r.warnings.push_back("plots skipped: " + why);
-        std::fprintf(stderr, "warning: plots skipped: %s\n", why.c_str());
+        if (reporter.warning) reporter.warning("plots skipped: " + why);
     }
 
     std::string md = "# The paper's table, measured\n\n";
@@ -516,4 +516,4 @@ void write_reports(Results& r) {
     put("paper_table.md", md);
 }
 
-}  // namespace shprt::tools::paper
+}  // namespace shprt::paper

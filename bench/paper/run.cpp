@@ -1,8 +1,8 @@
 // `shprt bench paper`, the run: ground truth, bakes per basis size, quality against the ground
 // truth, renders, display rate, sampling study. Definitions in docs/paper_table.md.
-#include "bench_paper.hpp"
-#include "bench_paper_image.hpp"
-#include "common/progress_bar.hpp"
+#include "paper/image_grid.hpp"
+#include "paper/paper_study.hpp"
+#include "paper/stage_log.hpp"
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/gpu.hpp"
@@ -34,10 +34,8 @@
 #include <optional>
 #include <thread>
 
-namespace shprt::tools::paper {
+namespace shprt::paper {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // The smooth sky (light/light.hpp GradientSky defaults), and the sun scene's dim sky: the same
 // gradient at kSunSkyScale, so that shadows are dark but not black.
@@ -91,19 +89,6 @@ std::string cpu_model() {
         }
     return "unknown CPU";
 }
-
-class Stages {
-public:
-    void say(const std::string& what) {
-        const double t = std::chrono::duration<double>(Clock::now() - m_start).count();
-        std::fprintf(stderr, "[%6.1f s] %s\n", t, what.c_str());
-        std::fflush(stderr);
-    }
-    double elapsed() const { return std::chrono::duration<double>(Clock::now() - m_start).count(); }
-
-private:
-    Clock::time_point m_start = Clock::now();
-};
 
 struct Lights {
     std::vector<std::string> sky_specs, sun_specs;
@@ -267,8 +252,8 @@ const PaperColumn* paper_column(int K) {
     return nullptr;
 }
 
-Results run(const Options& o, const std::string& command_line) {
-    Stages stage;
+Results run(const Options& o, const std::string& command_line, const Reporter& reporter) {
+    const StageLog stage(reporter);
     Results res;
     res.options = o;
     res.command = command_line;
@@ -316,10 +301,10 @@ Results run(const Options& o, const std::string& command_line) {
         g.disc_samples = res.gt_disc_samples;
         g.seed = o.seed + 1000 * std::uint64_t(pass + 1);
         g.threads = o.threads;
-        ProgressBar bar("ground truth");
-        g.progress = bar.callback();
+        Task task(stage, "ground truth");
+        g.progress = task.progress();
         const GroundTruth gt = ground_truth_irradiance(mesh, lights.truth, g);
-        bar.finish();
+        task.end();
         res.gt_seconds += gt.seconds;
         res.gt_rays += gt.rays_cast;
         passes[pass] = split_truth(gt);
@@ -399,10 +384,10 @@ Results run(const Options& o, const std::string& command_line) {
             stage.say(
                 fmt::format("K = {}: CPU bake, S = {} ({})", K, o.samples, to_string(o.sampler)));
             BakeOptions b = bake_options(o, K, Device::cpu);
-            ProgressBar bar("bake");
-            b.progress = bar.callback();
+            Task task(stage, "bake");
+            b.progress = task.progress();
             t = bake(mesh, b);
-            bar.finish();
+            task.end();
             row.cpu = {true, t.stats};
         }
         if (want_gpu) {
@@ -418,10 +403,10 @@ Results run(const Options& o, const std::string& command_line) {
                                   to_string(kImprovedSampler)));
             BakeOptions b = bake_options(o, K, want_cpu ? Device::cpu : Device::cuda);
             b.sampler = kImprovedSampler;
-            ProgressBar bar("bake");
-            b.progress = bar.callback();
+            Task task(stage, "bake");
+            b.progress = task.progress();
             ti = bake(mesh, b);
-            bar.finish();
+            task.end();
             row.improved = {true, ti.stats};
         }
         const ShLight sky = make_light(lights.sky_specs, K);
@@ -603,10 +588,10 @@ Results run(const Options& o, const std::string& command_line) {
     }
 
     res.seconds_total = stage.elapsed();
-    write_reports(res);
+    write_reports(res, reporter);
     res.seconds_total = stage.elapsed();
     stage.say(fmt::format("done in {:.1f} s; files in {}", res.seconds_total, o.out_dir));
     return res;
 }
 
-}  // namespace shprt::tools::paper
+}  // namespace shprt::paper
