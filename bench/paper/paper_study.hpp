@@ -8,6 +8,13 @@
 // only uses) and outside tools/ (which stay thin shells). It is still built with every
 // configuration, because the `shprt bench paper` command that users and the docs know runs it:
 // tools/cmd_bench.cpp parses the options, calls run() and prints.
+//
+// The stages, in the order run() (run.cpp) calls them, one file each: lights.hpp (the two lights),
+// ground_truth.hpp (the reference without SH), bake_sweep.hpp (the bakes per basis size),
+// quality.hpp (their errors against the truth), renders.hpp (images, the edge measurement, the
+// grids), display_rate.hpp (frames per second), sampling_study.hpp, report.hpp (markdown, CSV,
+// gnuplot). paper_metrics.hpp holds the measures, image_grid.hpp the labelled picture grid,
+// stage_log.hpp the run's clock and its Reporter.
 #pragma once
 
 #include "paper/paper_metrics.hpp"
