@@ -1,11 +1,13 @@
-// `shprt bench paper`: the paper's results table reproduced with measurements (bench_paper.hpp;
-// definitions in docs/paper_table.md). Thin: checks the options, runs, prints the table.
+// `shprt bench paper`: the paper's results table reproduced with measurements. The study is the
+// library shprt_paper (bench/paper/paper_study.hpp; definitions in docs/paper_table.md); this
+// shell checks the options, runs it with stage lines and progress bars on stderr, prints the table.
 //
 //   shprt bench paper [--device cpu|cuda|both|auto] [--samples S] [--sampler NAME] [--extended]
 //                     [--quick] [--gt-samples N] [--triangles N] [--frames N] [--threads N]
 //                     [--seed N] [--no-study] [--no-images] [-o DIR]
-#include "bench_paper.hpp"
 #include "common/command.hpp"
+#include "common/progress_bar.hpp"
+#include "paper/paper_study.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/scene/room.hpp"
@@ -56,7 +58,22 @@ void run_paper(PaperArgs a, const std::string& command_line) {
     o.threads = static_cast<int>(a.threads);
     o.study = !a.no_study;
     o.images = !a.no_images;
-    const paper::Results r = paper::run(o, command_line);
+    // Stage lines and warnings on stderr (stdout is the table), one progress bar per long task.
+    std::unique_ptr<ProgressBar> bar;
+    paper::Reporter reporter;
+    reporter.stage = [](double seconds, const std::string& line) {
+        std::fprintf(stderr, "[%6.1f s] %s\n", seconds, line.c_str());
+        std::fflush(stderr);
+    };
+    reporter.warning = [](const std::string& line) {
+        std::fprintf(stderr, "warning: %s\n", line.c_str());
+    };
+    reporter.begin_task = [&bar](const std::string& label) {
+        bar = std::make_unique<ProgressBar>(label);
+        return bar->callback();
+    };
+    reporter.end_task = [&bar] { bar.reset(); };
+    const paper::Results r = paper::run(o, command_line, reporter);
     std::printf("%s\n", paper::markdown_table(r).c_str());
     for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
     std::printf("wrote %zu files to %s (paper_table.md, paper_table.csv, ...) in %.1f s\n",

@@ -1,13 +1,13 @@
-// Image grids with bitmap labels (bench_paper_image.hpp). The glyphs are a 5×7 pixel font drawn
+// Image grids with bitmap labels (image_grid.hpp). The glyphs are a 5×7 pixel font drawn
 // by hand for the few characters the labels use.
-#include "bench_paper_image.hpp"
+#include "paper/image_grid.hpp"
 
 #include "shprt/core/error.hpp"
 
 #include <algorithm>
 #include <cstdint>
 
-namespace shprt::tools::paper {
+namespace shprt::paper {
 namespace {
 
 // Rows top to bottom, bit 4 = leftmost column.
@@ -114,4 +114,4 @@ Image half_size(const Image& image) {
     return out;
 }
 
-}  // namespace shprt::tools::paper
+}  // namespace shprt::paper

@@ -1,20 +1,36 @@
-// `shprt bench paper`: the paper's results table (Parubets & Berestneva 2011) reproduced with
-// measurements on the built-in room, beside the paper's own numbers. What it measures and why is
-// in docs/paper_table.md; this header is the data model shared by the run (bench_paper_run.cpp),
-// the reports (bench_paper_report.cpp) and the subcommand (cmd_bench.cpp).
+// The paper study: the results table of Parubets & Berestneva 2011 reproduced with measurements
+// on the built-in room, beside the paper's own numbers. What it measures and why is in
+// docs/paper_table.md.
+//
+// Why a library in bench/, reached through `shprt bench paper`: this is a study of the product,
+// not part of it. It evaluates the bakes, the renderer and the viewer against a ground truth and
+// writes a report, so it lives beside the other benchmarks, outside the shprt library (which it
+// only uses) and outside tools/ (which stay thin shells). It is still built with every
+// configuration, because the `shprt bench paper` command that users and the docs know runs it:
+// tools/cmd_bench.cpp parses the options, calls run() and prints.
+//
+// The stages, in the order run() (run.cpp) calls them, one file each: lights.hpp (the two lights),
+// ground_truth.hpp (the reference without SH), bake_sweep.hpp (the bakes per basis size),
+// quality.hpp (their errors against the truth), renders.hpp (images, the edge measurement, the
+// grids), display_rate.hpp (frames per second), sampling_study.hpp, report.hpp (markdown, CSV,
+// gnuplot). paper_metrics.hpp holds the measures, image_grid.hpp the labelled picture grid,
+// stage_log.hpp the run's clock and its Reporter.
 #pragma once
 
-#include "shprt/render/paper_metrics.hpp"
+#include "paper/paper_metrics.hpp"
+
+#include "shprt/core/progress.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
 
-namespace shprt::tools::paper {
+namespace shprt::paper {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -32,6 +48,20 @@ struct Options {
     int frames = 30;     // display benchmark: timed frames per K'
     bool study = true;   // the sampling study
     bool images = true;  // renders, image grid, edge measurement, frames/s
+};
+
+// What a run says while it works. The study never prints: `shprt bench paper` passes hooks that
+// write to stderr and draw progress bars (tools/cmd_bench.cpp). Any hook may be left empty.
+struct Reporter {
+    // A stage begins or ends: the seconds since the run began and one line of text.
+    std::function<void(double seconds, const std::string& line)> stage;
+    // A warning outside the stages (plots skipped); it is in Results::warnings as well.
+    std::function<void(const std::string& line)> warning;
+    // A long operation begins (a bake, a ground-truth pass; `label` names it): returns the
+    // ProgressFn to give it (returning false there cancels the run). end_task() follows when the
+    // operation ends, also when it throws.
+    std::function<ProgressFn(const std::string& label)> begin_task;
+    std::function<void()> end_task;
 };
 
 // Everything measured for one light at one K.
@@ -120,14 +150,18 @@ inline constexpr PaperColumn kPaperColumns[] = {
 };
 const PaperColumn* paper_column(int K);  // nullptr when K is not one of the paper's sizes
 
-// Runs everything and writes the files (see docs/paper_table.md). Prints progress to stderr.
-Results run(const Options& options, const std::string& command_line);
+// Runs everything and writes the files (see docs/paper_table.md) into options.out_dir; reports
+// its progress through `reporter`. `command_line` is quoted in the report. Throws
+// Error(unsupported) when options.device asks for a GPU that is not there, and the errors of the
+// library (cancelled when a ProgressFn returns false).
+Results run(const Options& options, const std::string& command_line, const Reporter& reporter = {});
 
 // Writes paper_table.md, paper_table.csv, sampling_study.csv, edge_profiles.csv and the
-// gnuplot plots (when gnuplot is found) into options.out_dir; appends to results.files.
-void write_reports(Results& results);
+// gnuplot plots (when gnuplot is found) into results.options.out_dir; appends to results.files
+// (and to results.warnings when the plots are skipped, also reported to reporter.warning).
+void write_reports(Results& results, const Reporter& reporter = {});
 
 // The markdown of the main table (also printed at the end of a run).
 std::string markdown_table(const Results& results);
 
-}  // namespace shprt::tools::paper
+}  // namespace shprt::paper

@@ -3,7 +3,7 @@
 // seed's СКО (root-mean-square error over vertices), ringing of truncated SH (Sloan 2008,
 // "Stupid Spherical Harmonics Tricks", on negative lobes and overshoot), shadow contrast, and the
 // 10–90 % edge width used for step responses in imaging.
-#include "shprt/render/paper_metrics.hpp"
+#include "paper/paper_metrics.hpp"
 
 #include "shprt/core/error.hpp"
 
@@ -11,7 +11,7 @@
 #include <cmath>
 #include <limits>
 
-namespace shprt {
+namespace shprt::paper {
 namespace {
 
 void check_sizes(std::size_t a, std::size_t b, std::size_t mask, const char* what) {
@@ -218,4 +218,4 @@ TransferSet irradiance_as_transfer(std::span<const Vec3d> irradiance) {
     return t;
 }
 
-}  // namespace shprt
+}  // namespace shprt::paper

@@ -1,6 +1,7 @@
-// The paper-table metrics (render/paper_metrics.hpp) on synthetic inputs with known answers.
+// The paper-table metrics (bench/paper/paper_metrics.hpp) on synthetic inputs with known answers.
+#include "paper/paper_metrics.hpp"
+
 #include "shprt/core/error.hpp"
-#include "shprt/render/paper_metrics.hpp"
 #include "shprt/render/shade.hpp"
 
 #include <gtest/gtest.h>
@@ -8,7 +9,7 @@
 #include <cmath>
 #include <vector>
 
-namespace shprt {
+namespace shprt::paper {
 namespace {
 
 constexpr double kTight = 1e-12;
@@ -205,4 +206,4 @@ TEST(PaperMetrics, IrradianceTransferShowsTheGivenIrradiance) {
 }
 
 }  // namespace
-}  // namespace shprt
+}  // namespace shprt::paper

@@ -1,4 +1,4 @@
-// Image grids for `shprt bench paper`: tiles side by side with a small bitmap label in each.
+// Image grids for the paper study: tiles side by side with a small bitmap label in each.
 #pragma once
 
 #include "shprt/light/image.hpp"
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace shprt::tools::paper {
+namespace shprt::paper {
 
 // Lays out `tiles` (all the same size, linear RGB) in rows of `columns`, 2-pixel black gaps, each
 // tile multiplied by `scale` and labelled in its top-left corner with `labels[i]` (upper-case
@@ -20,4 +20,4 @@ Image compose_grid(const std::vector<Image>& tiles, const std::vector<std::strin
 // is dropped), for documentation-sized copies. Throws Error(invalid_argument) below 2×2.
 Image half_size(const Image& image);
 
-}  // namespace shprt::tools::paper
+}  // namespace shprt::paper

@@ -18,7 +18,7 @@
 #include <span>
 #include <vector>
 
-namespace shprt {
+namespace shprt::paper {
 
 // Rec. 709 / sRGB luminance of linear RGB: 0.2126 R + 0.7152 G + 0.0722 B.
 double luminance(Vec3d rgb);
@@ -122,4 +122,4 @@ EdgeMeasure measure_edge(const Profile& profile, double plateau = 0.15);
 // (c_0 = sqrt(4π)) the shaded irradiance is E_c exactly and the radiance ρ_c/π · E_c.
 TransferSet irradiance_as_transfer(std::span<const Vec3d> irradiance);
 
-}  // namespace shprt
+}  // namespace shprt::paper
