@@ -4,13 +4,17 @@
 #include "shprt/core/error.hpp"
 #include "shprt/sh/basis.hpp"
 
+#include <limits>
+
 namespace shprt::tools {
 
 void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--transfer", args.transfer, "unshadowed or shadowed (default)");
-    app.add_option("--bands", args.bands, "SH bands n (K = n², 1 to 32); default 4");
-    app.add_option("--coeffs", args.coeffs,
-                   "Basis size K, 1 to 1024 (need not be a square); default 16");
+    app.add_option("--bands", args.bands,
+                   fmt::format("SH bands n (K = n², 1 to {}); default 4", kMaxComputeBands));
+    app.add_option(
+        "--coeffs", args.coeffs,
+        fmt::format("Basis size K, 1 to {} (need not be a square); default 16", kMaxBakeCoeffs));
     app.add_option("--samples", args.samples, "Directions per vertex S (default 1024)");
     app.add_option("--sampler", args.sampler,
                    "sobol (default: 7x lower error than the paper's set at the same cost), "
@@ -32,7 +36,7 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
     SHPRT_CHECK(!(a.bands && a.coeffs), invalid_argument,
                 "--bands and --coeffs both given; use one (K = bands²)");
     if (a.bands) {
-        const int max_bands = sh_bands_for(kMaxBakeCoeffs);
+        const int max_bands = kMaxComputeBands;
         SHPRT_CHECK(*a.bands >= 1 && *a.bands <= max_bands, invalid_argument,
                     "--bands {}: must be 1 to {} (K = bands², at most {})", *a.bands, max_bands,
                     kMaxBakeCoeffs);
@@ -49,8 +53,8 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
     SHPRT_CHECK(a.threads >= 0 && a.threads <= kMaxBakeThreads, invalid_argument,
                 "--threads {}: must be 0 (all) to {}", a.threads, kMaxBakeThreads);
     o.threads = static_cast<int>(a.threads);
-    SHPRT_CHECK(a.device_index >= 0 && a.device_index <= 1024, invalid_argument,
-                "--device-index {}: must be 0 or more", a.device_index);
+    SHPRT_CHECK(a.device_index >= 0 && a.device_index <= std::numeric_limits<int>::max(),
+                invalid_argument, "--device-index {}: must be 0 or more", a.device_index);
     o.device_index = static_cast<int>(a.device_index);
     validate(o);
     return o;

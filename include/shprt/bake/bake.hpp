@@ -39,6 +39,7 @@
 #include "shprt/bake/sink.hpp"
 #include "shprt/core/progress.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/transfer/transfer.hpp"
 
@@ -51,7 +52,7 @@ namespace shprt {
 class Tracer;
 
 // Largest basis size a bake accepts (32 full bands).
-inline constexpr int kMaxBakeCoeffs = 1024;
+inline constexpr int kMaxBakeCoeffs = sh_count(kMaxComputeBands);
 // Most directions a bake accepts: W[chunk×S] must stay a sensible per-thread buffer.
 inline constexpr std::uint32_t kMaxBakeSamples = std::uint32_t(1) << 24;
 // Most worker threads a bake accepts.

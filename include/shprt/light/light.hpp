@@ -29,6 +29,8 @@
 // docs/lights.md has examples and pictures in words.
 #pragma once
 
+#include "shprt/sh/basis.hpp"
+
 #include "shprt/core/vec.hpp"
 #include "shprt/light/image.hpp"
 #include "shprt/sh/window.hpp"
@@ -51,7 +53,7 @@ struct ShLight {
 };
 
 // Largest basis size a light may have (32 bands, the largest transfer the library bakes).
-inline constexpr int kMaxLightK = 32 * 32;
+inline constexpr int kMaxLightK = sh_count(kMaxComputeBands);
 
 // Adds `b` into `a` coefficient by coefficient; both must have the same K
 // (Error(invalid_argument) otherwise).

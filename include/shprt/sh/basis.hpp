@@ -26,12 +26,16 @@
 
 namespace shprt {
 
-// Largest number of bands the library supports anywhere (1024 coefficients = 32 bands for
-// transfer; the SH toolbox and tests go further with the double path).
-inline constexpr int kMaxBands = 64;
-
 SHPRT_HD_INLINE constexpr int sh_index(int l, int m) { return l * (l + 1) + m; }
 SHPRT_HD_INLINE constexpr int sh_count(int bands) { return bands * bands; }
+
+// The limits, in one place. kMaxBands: the most bands the library evaluates or stores anywhere
+// (the SH toolbox and tests go this far with the double path; a .shprt file may hold K up to
+// sh_count(kMaxBands), transfer/transfer.hpp kMaxTransferK). kMaxComputeBands: the most bands a
+// bake computes and a light is projected with (K ≤ 1024; float holds to l = 30, tests/sh),
+// bake.hpp kMaxBakeCoeffs and light.hpp kMaxLightK.
+inline constexpr int kMaxBands = 64;
+inline constexpr int kMaxComputeBands = 32;
 // Band l of flat index i.
 SHPRT_HD_INLINE int sh_band(int i) {
     int l = static_cast<int>(std::sqrt(static_cast<double>(i)));

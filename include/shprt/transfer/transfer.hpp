@@ -13,6 +13,7 @@
 // In memory coefficients are always float32; `encoding` says how a file stores them (or should).
 #pragma once
 
+#include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
 
 #include <cstddef>
@@ -52,7 +53,7 @@ const char* to_string(TransferEncoding encoding);  // "float32", "float16" (the 
 TransferEncoding parse_transfer_encoding(const std::string& name);  // throws Error
 
 // Largest basis size a transfer may have (64 bands; a bake allows fewer, see bake.hpp).
-inline constexpr int kMaxTransferK = 64 * 64;
+inline constexpr int kMaxTransferK = sh_count(kMaxBands);
 
 struct TransferLayout {
     ReceiverDomain domain = ReceiverDomain::vertex;
