@@ -454,6 +454,7 @@ int main(int argc, char** argv) {
             BakeOptions options;
             options.K = K;
             options.samples = S;
+            options.sampler = SamplerKind::uniform;  // the set the plain loops use (above)
             options.threads = args.threads;
             options.chunk_receivers = chunk;
             const std::vector<float> Y = basis_table(K, set);
