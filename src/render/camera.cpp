@@ -3,6 +3,7 @@
 #include "shprt/render/camera.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,8 +13,6 @@
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<double> parse_numbers(const std::string& text, std::size_t count,
                                   const std::string& what) {

@@ -4,6 +4,7 @@
 // error, a non-zero exit code and no output file.
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/image.hpp"
 #include "shprt/light/light.hpp"
@@ -33,8 +34,6 @@ namespace fs = std::filesystem;
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 using test_support::expect_one_line_error;
 using test_support::RunResult;

@@ -2,6 +2,7 @@
 // files by shape (equirect 2:1, cross 4:3/3:4, faces), sums, errors that name the spec or file,
 // rotation through SH rotation (a rotated sun is the sun in the rotated direction), windowing.
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/core/rotation3.hpp"
 #include "shprt/light/cubemap.hpp"
 #include "shprt/light/equirect.hpp"
@@ -15,13 +16,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 
 namespace shprt {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
 
 class LightSpec : public ::testing::Test {
 protected:
