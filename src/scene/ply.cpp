@@ -1,9 +1,9 @@
 // Binary little-endian PLY writer (Turk, "The PLY polygon file format", 1994).
 #include "shprt/scene/ply.hpp"
 
+#include "shprt/core/colour.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/scene/colour.hpp"
 
 #include <bit>
 #include <cstring>

@@ -1,9 +1,9 @@
 // Scene loading: PLY vertex order, OBJ/STL/glTF, normals and colours, node transforms, and bad
 // files that must give shprt::Error naming the file.
+#include "shprt/core/colour.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/scene/builtin.hpp"
-#include "shprt/scene/colour.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/scene/ply.hpp"

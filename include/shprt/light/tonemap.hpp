@@ -5,12 +5,11 @@
 //   ("ACES Filmic Tone Mapping Curve", 2016): f(x) = x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14),
 //   clamped to [0, 1], applied per channel to linear RGB after multiplying by the exposure. It
 //   maps 0 → 0, is monotonic, and reaches about 0.8 at x = 1.
-// * sRGB: the exact IEC 61966-2-1 piecewise curve (linear segment below 0.0031308).
+// * sRGB: the exact IEC 61966-2-1 piecewise curve (core/colour.hpp).
 #pragma once
 
+#include "shprt/core/colour.hpp"
 #include "shprt/core/hd.hpp"
-
-#include <cmath>
 
 namespace shprt {
 
@@ -19,20 +18,6 @@ SHPRT_HD_INLINE float tonemap_aces(float x) {
     if (!(x > 0.0f)) return 0.0f;
     const float y = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
     return y < 1.0f ? y : 1.0f;
-}
-
-// Linear [0, 1] → sRGB-encoded [0, 1]; inputs outside [0, 1] are clamped.
-SHPRT_HD_INLINE float linear_to_srgb(float x) {
-    if (!(x > 0.0f)) return 0.0f;
-    if (x >= 1.0f) return 1.0f;
-    return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
-}
-
-// sRGB-encoded [0, 1] → linear [0, 1]; inputs outside [0, 1] are clamped.
-SHPRT_HD_INLINE float srgb_to_linear(float s) {
-    if (!(s > 0.0f)) return 0.0f;
-    if (s >= 1.0f) return 1.0f;
-    return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
 }
 
 // The PNG writer's full chain for one channel: 8-bit code of srgb(tonemap(exposure · x)).
