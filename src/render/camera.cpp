@@ -4,6 +4,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
+#include "shprt/core/parse.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,25 +14,6 @@
 
 namespace shprt {
 namespace {
-
-std::vector<double> parse_numbers(const std::string& text, std::size_t count,
-                                  const std::string& what) {
-    std::vector<double> values;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const std::size_t end = std::min(text.find(',', start), text.size());
-        const std::string item = text.substr(start, end - start);
-        char* stop = nullptr;
-        const double v = std::strtod(item.c_str(), &stop);
-        SHPRT_CHECK(!item.empty() && stop && *stop == '\0' && std::isfinite(v), invalid_argument,
-                    "{} '{}': '{}' is not a number", what, text, item);
-        values.push_back(v);
-        start = end + 1;
-    }
-    SHPRT_CHECK(values.size() == count, invalid_argument,
-                "{} '{}': expected {} comma-separated numbers", what, text, count);
-    return values;
-}
 
 Vec3f to_f(double x, double y, double z) {
     return {static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)};
@@ -156,7 +138,7 @@ Camera default_camera(const Mesh& mesh, float aspect) {
 }
 
 void parse_camera(const std::string& text, Camera& camera) {
-    const auto v = parse_numbers(text, 6, "camera");
+    const auto v = parse_numbers(text, 6, "camera EX,EY,EZ,TX,TY,TZ");
     camera.eye = to_f(v[0], v[1], v[2]);
     camera.target = to_f(v[3], v[4], v[5]);
     SHPRT_CHECK(!(camera.eye == camera.target), invalid_argument,

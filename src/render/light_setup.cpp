@@ -2,11 +2,11 @@
 #include "shprt/render/light_setup.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/parse.hpp"
 #include "shprt/core/rotation3.hpp"
 #include "shprt/sh/basis.hpp"
 
-#include <cmath>
-#include <cstdlib>
+#include <vector>
 
 namespace shprt {
 
@@ -27,20 +27,7 @@ ShLight prepare_light(const LightSetup& setup, int K) {
 }
 
 Vec3d parse_yaw_pitch_roll(const std::string& text) {
-    double v[3];
-    std::size_t start = 0;
-    for (int k = 0; k < 3; ++k) {
-        const std::size_t end = k < 2 ? text.find(',', start) : text.size();
-        SHPRT_CHECK(end != std::string::npos, invalid_argument,
-                    "rotation '{}': expected YAW,PITCH,ROLL in degrees", text);
-        const std::string item = text.substr(start, end - start);
-        char* stop = nullptr;
-        v[k] = std::strtod(item.c_str(), &stop);
-        SHPRT_CHECK(!item.empty() && *stop == '\0' && std::isfinite(v[k]), invalid_argument,
-                    "rotation '{}': expected YAW,PITCH,ROLL in degrees, '{}' is not a number", text,
-                    item);
-        start = end + 1;
-    }
+    const std::vector<double> v = parse_numbers(text, 3, "rotation YAW,PITCH,ROLL (degrees)");
     return {v[0], v[1], v[2]};
 }
 

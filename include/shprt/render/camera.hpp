@@ -49,9 +49,11 @@ Camera default_camera(const Mesh& mesh, float aspect);
 // precision; geometry closer to the eye than that is clipped).
 void fit_clip_planes(Camera& camera, const Bounds& bounds);
 
-// Parses "EX,EY,EZ,TX,TY,TZ" into eye and target; throws Error(invalid_argument) naming `text`.
+// Parses "EX,EY,EZ,TX,TY,TZ" (six finite numbers, core/parse.hpp) into eye and target; throws
+// Error(invalid_argument) naming `text`, also when eye and target coincide.
 void parse_camera(const std::string& text, Camera& camera);
-// Parses "X,Y,Z" (three finite numbers); throws Error(invalid_argument) naming `what`.
+// Parses "X,Y,Z" (three finite numbers, core/parse.hpp); throws Error(invalid_argument) naming
+// `what` and `text`.
 Vec3f parse_vec3(const std::string& text, const std::string& what);
 // Parses "WxH" (both in [1, 16384]); throws Error(invalid_argument).
 void parse_size(const std::string& text, int& width, int& height);

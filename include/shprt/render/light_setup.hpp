@@ -26,8 +26,8 @@ struct LightSetup {
 // Error(invalid_argument) for K outside [1, kMaxLightK].
 ShLight prepare_light(const LightSetup& setup, int K);
 
-// Parses "YAW,PITCH,ROLL" in degrees (three finite numbers); throws Error(invalid_argument)
-// naming `text`.
+// Parses "YAW,PITCH,ROLL" in degrees (three finite numbers, core/parse.hpp); throws
+// Error(invalid_argument) naming `text`.
 Vec3d parse_yaw_pitch_roll(const std::string& text);
 
 }  // namespace shprt
