@@ -13,7 +13,7 @@
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/transfer.hpp"
-#include "shprt/render/light_setup.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/scene/mesh.hpp"
 
 #include <optional>

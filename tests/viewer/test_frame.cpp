@@ -7,9 +7,9 @@
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/light/tonemap.hpp"
 #include "shprt/render/gl_context.hpp"
-#include "shprt/render/light_setup.hpp"
 #include "shprt/scene/load.hpp"
 
 #include <epoxy/gl.h>

@@ -4,8 +4,8 @@
 // picture in every tool (the viewer's --screenshot is compared with `shprt render` in the tests).
 #pragma once
 
+#include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
-#include "shprt/render/light_setup.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/scene/mesh.hpp"
 

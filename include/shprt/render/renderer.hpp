@@ -117,9 +117,10 @@ public:
     // vertex, vertex-major), for CUDA–OpenGL interop. Valid after set_scene.
     unsigned transfer_buffer() const { return m_transfer_ssbo; }
     // Sets the light: `light` (3 × K floats, channel-major) in its own frame, turned by
-    // `rotation` (a feature at direction s appears at R·s, as rotate_light). The renderer rotates
-    // the coefficients itself (rotate_light, O(bands³) per channel). Cheap: call it whenever the
-    // light turns. The background texture is rebuilt (O(texels × K')) only when the coefficients
+    // `rotation` (a feature at direction s appears at R·s, as rotate_light). The renderer shades
+    // with rotated_light(light, rotation, K) (light/light_setup.hpp, the one light path:
+    // O(bands³) per channel; exact when K is a full band). Cheap: call it whenever the light
+    // turns. The background texture is rebuilt (O(texels × K')) only when the coefficients
     // of `light` change: for a full-band K' a turned light is drawn by turning the lookup
     // direction; for a partial band (not rotation invariant) it is rebuilt from the rotated light.
     void set_light(const ShLight& light, const Mat3d& rotation = Mat3d::identity());
