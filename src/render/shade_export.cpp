@@ -4,7 +4,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/light/tonemap.hpp"
+#include "shprt/render/tonemap.hpp"
 
 #include <fmt/format.h>
 

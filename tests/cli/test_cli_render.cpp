@@ -11,6 +11,7 @@
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/render/renderer.hpp"
+#include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/sh/basis.hpp"

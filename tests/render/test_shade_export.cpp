@@ -3,8 +3,8 @@
 #include "render_test_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/light/tonemap.hpp"
 #include "shprt/render/shade_export.hpp"
+#include "shprt/render/tonemap.hpp"
 #include "shprt/scene/builtin.hpp"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,6 @@
-// Display transforms shared by every picture writer (PNG files here, the OpenGL renderer's
-// shader mirrors the same formulas). Pure math, host and device.
+// Display transforms of the picture writers: PNG files (save_image), display-encoded PLY colours
+// (write_shade_ply); the OpenGL renderer's present shader mirrors the same formulas. Pure math,
+// host and device.
 //
 // * Tone map: Krzysztof Narkowicz's fit of the ACES filmic reference rendering transform
 //   ("ACES Filmic Tone Mapping Curve", 2016): f(x) = x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14),
@@ -20,7 +21,8 @@ SHPRT_HD_INLINE float tonemap_aces(float x) {
     return y < 1.0f ? y : 1.0f;
 }
 
-// The PNG writer's full chain for one channel: 8-bit code of srgb(tonemap(exposure · x)).
+// The PNG writer's full chain for one channel: 8-bit code of srgb(tonemap(exposure · x)), rounded
+// to nearest.
 SHPRT_HD_INLINE unsigned char display_encode8(float x, float exposure) {
     const float s = linear_to_srgb(tonemap_aces(x * exposure));
     return static_cast<unsigned char>(s * 255.0f + 0.5f);
