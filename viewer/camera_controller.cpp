@@ -74,13 +74,8 @@ void CameraController::orbit_by(float radians) {
 }
 
 Camera CameraController::camera() const {
-    Camera c;
-    c.eye = m_eye;
-    c.target = target();
-    c.up = {0, 1, 0};
-    c.fov_y_deg = m_fov_y_deg;
-    fit_clip_planes(c, m_bounds);
-    return c;
+    // Pitch stays within ±kMaxPitchDeg, so the up vector is always +Y here.
+    return look_at_camera(m_eye, target(), m_fov_y_deg, m_bounds);
 }
 
 }  // namespace shprt::viewer

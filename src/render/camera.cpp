@@ -97,6 +97,19 @@ void fit_clip_planes(Camera& camera, const Bounds& b) {
     camera.far_plane = static_cast<float>(far_d);
 }
 
+Camera look_at_camera(Vec3f eye, Vec3f target, float fov_y_deg, const Bounds& bounds) {
+    SHPRT_CHECK(!(eye == target), invalid_argument,
+                "camera eye and target coincide at ({}, {}, {})", eye.x, eye.y, eye.z);
+    Camera camera;
+    camera.eye = eye;
+    camera.target = target;
+    camera.fov_y_deg = fov_y_deg;
+    // Looking straight up or down: any horizontal up vector will do.
+    if (length(cross(normalize(target - eye), camera.up)) < 1e-4f) camera.up = {0, 0, -1};
+    fit_clip_planes(camera, bounds);
+    return camera;
+}
+
 Camera default_camera(const Mesh& mesh, float aspect) {
     SHPRT_CHECK(!mesh.positions.empty(), invalid_argument, "mesh {} has no vertices", mesh.source);
     const Bounds b = mesh_bounds(mesh);
