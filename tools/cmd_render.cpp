@@ -7,10 +7,10 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/io/shprt_file.hpp"
-#include "shprt/light/image.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
-#include "shprt/render/light_setup.hpp"
 #include "shprt/render/renderer.hpp"
+#include "shprt/render/save_image.hpp"
 
 #include <algorithm>
 #include <cctype>

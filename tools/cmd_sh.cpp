@@ -9,6 +9,7 @@
 #include "common/command.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/parse.hpp"
 #include "shprt/core/rotation3.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
@@ -18,21 +19,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
 namespace shprt::tools {
 namespace {
-
-// A whole token as a finite double, or nothing.
-bool parse_double(const std::string& token, double& value) {
-    if (token.empty()) return false;
-    errno = 0;
-    char* end = nullptr;
-    value = std::strtod(token.c_str(), &end);
-    return errno == 0 && end == token.c_str() + token.size() && std::isfinite(value);
-}
 
 int parse_bands(const std::string& text) {
     SHPRT_CHECK(!text.empty(), invalid_argument, "sh: --bands N is required");
@@ -46,21 +37,10 @@ int parse_bands(const std::string& text) {
     return static_cast<int>(n);
 }
 
-// "A,B,C" → three finite numbers.
+// "A,B,C" → three finite numbers (core/parse.hpp).
 std::vector<double> parse_triple(const std::string& text, const char* option) {
     SHPRT_CHECK(!text.empty(), invalid_argument, "sh: {} X,Y,Z is required", option);
-    std::vector<double> v;
-    std::string token;
-    std::istringstream in(text);
-    while (std::getline(in, token, ',')) {
-        double x = 0;
-        SHPRT_CHECK(parse_double(token, x), invalid_argument,
-                    "sh: {} expects three comma-separated finite numbers, got '{}'", option, text);
-        v.push_back(x);
-    }
-    SHPRT_CHECK(v.size() == 3 && text.back() != ',', invalid_argument,
-                "sh: {} expects three comma-separated numbers, got '{}'", option, text);
-    return v;
+    return parse_numbers(text, 3, fmt::format("sh: {}", option));
 }
 
 void print_values(const std::vector<double>& values, bool json) {
@@ -111,7 +91,7 @@ void run_rotate(const RotateArgs& args) {
         if (end || ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r') {
             if (!token.empty()) {
                 double x = 0;
-                SHPRT_CHECK(parse_double(token, x), invalid_argument,
+                SHPRT_CHECK(parse_number(token, x), invalid_argument,
                             "sh rotate: stdin line {}: '{}' is not a finite number", line, token);
                 SHPRT_CHECK(static_cast<int>(in.size()) < K, invalid_argument,
                             "sh rotate: expected {} coefficients ({} bands) on stdin, got more", K,

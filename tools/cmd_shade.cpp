@@ -6,8 +6,8 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
-#include "shprt/render/light_setup.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/render/shade_export.hpp"
 

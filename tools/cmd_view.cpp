@@ -1,6 +1,7 @@
 // `shprt view FILE.shprt [options]`: the interactive viewer (GLFW window, OpenGL 4.3 core, ImGui
 // panel), and its headless modes:
-//   --screenshot OUT.png   one frame without a window (EGL; a hidden GLFW window as fallback)
+//   --screenshot OUT.png   one frame without a window (EGL; a hidden GLFW window as fallback),
+//                          through render_image and save_image, as `shprt render`
 //   --benchmark FRAMES     frames/s against basis size K' = 32, 48, 64, 128, 256, offscreen
 //   --bake                 FILE is a scene: bake it in this process and show it while it refines
 // Thin: checks every option before any work, reads or bakes, calls viewer/ (shprt_viewer),
@@ -22,6 +23,7 @@
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/scene/load.hpp"
 
@@ -167,9 +169,9 @@ void run(const ViewArgs& a) {
     if (!a.screenshot.empty()) {
         const ShLight light = rig.light();
         std::string context;
-        const viewer::Rgb8Image image =
+        const Image image =
             viewer::render_screenshot(scene.mesh, scene.transfer, light, config, backend, &context);
-        viewer::save_png(a.screenshot, image);
+        save_image(a.screenshot, image, config.exposure);
         std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", width, height,
                     effective_basis_size(scene.transfer, light, K_used), a.k, seconds_since(start),
                     a.screenshot.c_str());

@@ -4,6 +4,7 @@
 #include "camera_controller.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 
 #include <epoxy/gl.h>
@@ -65,7 +66,7 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
         CameraController camera(config.draw.camera, bounds);
         DrawSettings settings = config.draw;
         settings.K_used = K_used;
-        const float step = 2.0f * 3.14159265f / float(options.frames);
+        const float step = 2.0f * kPiF / float(options.frames);
         auto frame = [&] {
             if (options.rotate_light) {
                 light.drag(2.0, 0.0, {1, 0, 0});

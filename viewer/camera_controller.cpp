@@ -1,13 +1,13 @@
 // Orbit and fly camera control (camera_controller.hpp).
 #include "camera_controller.hpp"
 
+#include "shprt/core/math.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace shprt::viewer {
 namespace {
-
-constexpr float kPi = 3.14159265358979323846f;
 
 Vec3f forward_of(float yaw, float pitch) {
     return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), -std::cos(pitch) * std::cos(yaw)};
@@ -26,10 +26,10 @@ CameraController::CameraController(const Camera& start, const Bounds& bounds)
 }
 
 void CameraController::set_direction(float yaw, float pitch) {
-    const float max_pitch = kMaxPitchDeg * kPi / 180.0f;
+    const float max_pitch = kMaxPitchDeg * kPiF / 180.0f;
     m_pitch = std::clamp(pitch, -max_pitch, max_pitch);
     // Wrap to (−π, π] so that long drags do not lose float precision.
-    m_yaw = std::remainder(yaw, 2 * kPi);
+    m_yaw = std::remainder(yaw, 2 * kPiF);
 }
 
 Vec3f CameraController::forward() const { return forward_of(m_yaw, m_pitch); }
@@ -45,7 +45,7 @@ void CameraController::rotate(float dx_px, float dy_px) {
 
 void CameraController::pan(float dx_px, float dy_px, float viewport_height_px) {
     // World units per pixel at the target's distance.
-    const float scale = 2.0f * m_distance * std::tan(m_fov_y_deg * kPi / 360.0f) /
+    const float scale = 2.0f * m_distance * std::tan(m_fov_y_deg * kPiF / 360.0f) /
                         std::max(viewport_height_px, 1.0f);
     // The scene follows the cursor: the camera moves the other way.
     m_eye += right() * (-dx_px * scale) + up() * (dy_px * scale);
@@ -74,13 +74,8 @@ void CameraController::orbit_by(float radians) {
 }
 
 Camera CameraController::camera() const {
-    Camera c;
-    c.eye = m_eye;
-    c.target = target();
-    c.up = {0, 1, 0};
-    c.fov_y_deg = m_fov_y_deg;
-    fit_clip_planes(c, m_bounds);
-    return c;
+    // Pitch stays within ±kMaxPitchDeg, so the up vector is always +Y here.
+    return look_at_camera(m_eye, target(), m_fov_y_deg, m_bounds);
 }
 
 }  // namespace shprt::viewer

@@ -52,8 +52,9 @@ public:
     // used by the benchmark whatever the mode).
     void orbit_by(float radians);
 
-    // The camera for drawing: eye, target, up +Y, the start's field of view, clip planes fitted
-    // to the bounds (fit_clip_planes).
+    // The camera for drawing: look_at_camera(eye, target, field of view, bounds)
+    // (render/camera.hpp), so up is +Y (the pitch clamp keeps it off the view direction) and the
+    // clip planes are fitted to the bounds.
     Camera camera() const;
 
     Vec3f eye() const { return m_eye; }

@@ -3,11 +3,9 @@
 #include "frame.hpp"
 
 #include "shprt/core/error.hpp"
-#include "shprt/core/file.hpp"
 #include "shprt/render/gl_context.hpp"
 
 #include <epoxy/gl.h>
-#include <stb_image_write.h>
 
 #include <string>
 
@@ -88,23 +86,6 @@ std::vector<float> read_gl_buffer(unsigned buffer, std::size_t count) {
                        out.data());
     glBindBuffer(GL_COPY_READ_BUFFER, 0);
     return out;
-}
-
-void save_png(const std::string& path, const Rgb8Image& image) {
-    SHPRT_CHECK(image.width > 0 && image.height > 0 &&
-                    image.rgb.size() == std::size_t(image.width) * image.height * 3,
-                invalid_argument, "{}: empty or inconsistent image", path);
-    std::string bytes;
-    const int ok = stbi_write_png_to_func(
-        [](void* context, void* data, int size) {
-            static_cast<std::string*>(context)->append(static_cast<const char*>(data),
-                                                       static_cast<std::size_t>(size));
-        },
-        &bytes, image.width, image.height, 3, image.rgb.data(), image.width * 3);
-    SHPRT_CHECK(ok != 0, io, "{}: PNG encoding failed", path);
-    AtomicFile file(path);
-    file.write(bytes);
-    file.commit();
 }
 
 }  // namespace shprt::viewer

@@ -1,11 +1,13 @@
-// One displayed frame, the same in the window, in --screenshot and in --benchmark: the scene is
-// drawn by the shared Renderer into a multisampled float target, then presented (the resolve,
-// exposure, ACES filmic tone map, sRGB: Renderer::present, the GPU twin of save_image's PNG
-// encoding) into an 8-bit framebuffer — the window's, or a DisplayTarget when headless.
+// One displayed frame, the same in the window and in --benchmark: the scene is drawn by the shared
+// Renderer into a multisampled float target, then presented (the resolve, exposure, ACES filmic
+// tone map, sRGB: Renderer::present, the GPU twin of save_image's PNG encoding) into an 8-bit
+// framebuffer — the window's, or a DisplayTarget when headless. (--screenshot draws the same
+// scene through render_image and save_image instead: screenshot.hpp.)
 // Every function needs a current OpenGL 4.3 core context.
 #pragma once
 
 #include "shprt/render/renderer.hpp"
+#include "shprt/render/save_image.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -38,12 +40,6 @@ struct FrameConfig {
 void draw_frame(Renderer& renderer, RenderTarget& target, const DrawSettings& settings,
                 float exposure, unsigned framebuffer);
 
-// An 8-bit sRGB picture, rows top first, three bytes per pixel.
-struct Rgb8Image {
-    int width = 0, height = 0;
-    std::vector<std::uint8_t> rgb;
-};
-
 // An offscreen RGBA8 framebuffer standing in for a window's: the present pass writes display
 // values into it.
 class DisplayTarget {
@@ -64,15 +60,12 @@ private:
 };
 
 // Reads the colour buffer of `framebuffer` (0 = the default framebuffer's back buffer), rows top
-// first. Waits for rendering to finish.
+// first, for save_png (render/save_image.hpp). Waits for rendering to finish.
 Rgb8Image read_framebuffer(unsigned framebuffer, int width, int height);
 
 // The first `count` floats of the OpenGL buffer object `buffer` (e.g. Renderer::transfer_buffer()),
 // read back to the host: for tests and diagnostics. Throws Error(invalid_argument) if the buffer
 // is smaller.
 std::vector<float> read_gl_buffer(unsigned buffer, std::size_t count);
-
-// Writes an 8-bit RGB PNG through AtomicFile (Error(io) naming the path on failure).
-void save_png(const std::string& path, const Rgb8Image& image);
 
 }  // namespace shprt::viewer

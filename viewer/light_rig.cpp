@@ -1,5 +1,5 @@
-// The viewer's light: full-band source + rotation by drag (light_rig.hpp). Rotation of SH
-// coefficients: Ivanic & Ruedenberg 1996 (through light/light.hpp's rotate_light).
+// The viewer's light: full-band source + rotation by drag (light_rig.hpp), both through the one
+// light path of light/light_setup.hpp (light_source, light_rotation, rotated_light).
 #include "light_rig.hpp"
 
 #include "shprt/core/error.hpp"
@@ -37,13 +37,8 @@ LightRig::LightRig(int K) : m_K(K) {
 }
 
 void LightRig::set_source(const LightSetup& setup) {
-    LightSetup unrotated = setup;
-    unrotated.yaw_pitch_roll_deg = {0, 0, 0};
-    // prepare_light at a full-band K: projection and window, no rotation, no truncation.
-    ShLight source = prepare_light(unrotated, sh_count(sh_bands_for(m_K)));
-    const Vec3d a = setup.yaw_pitch_roll_deg;
-    m_base = (a.x != 0 || a.y != 0 || a.z != 0) ? matrix_from_yaw_pitch_roll_deg(a.x, a.y, a.z)
-                                                : Mat3d::identity();
+    ShLight source = light_source(setup, m_K);
+    m_base = light_rotation(setup);
     m_source = std::move(source);
     m_setup = setup;
     m_has_source = true;
@@ -65,14 +60,7 @@ const ShLight& LightRig::source() const {
 
 ShLight LightRig::light() const {
     SHPRT_CHECK(m_has_source, invalid_argument, "LightRig::light before set_source");
-    ShLight full = m_source;
-    const Mat3d R = rotation();
-    if (!(R == Mat3d::identity())) rotate_light(full, R);
-    if (full.K == m_K) return full;
-    ShLight out = ShLight::zero(m_K);
-    for (int c = 0; c < 3; ++c)
-        for (int i = 0; i < m_K; ++i) out.channel(c)[i] = full.channel(c)[i];
-    return out;
+    return rotated_light(m_source, rotation(), m_K);
 }
 
 }  // namespace shprt::viewer

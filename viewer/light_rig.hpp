@@ -6,13 +6,14 @@
 // Composition. The rotation applied to the source is R = D · B, where B is the base rotation of
 // the command line (--rotate YAW,PITCH,ROLL: B = Ry(yaw)·Rx(pitch)·Rz(roll), as prepare_light
 // applies it) and D the accumulated drags: each drag d pre-multiplies, D ← R_d · D, so it turns the
-// light as it currently appears, about world axes. Hence with no drag the light equals
-// prepare_light(setup, K) (to float rounding).
+// light as it currently appears, about world axes. The source and the turned light come from the
+// one light path (light/light_setup.hpp: light_source, rotated_light), so with no drag the light
+// equals prepare_light(setup, K) bit for bit.
 #pragma once
 
 #include "shprt/core/vec.hpp"
 #include "shprt/light/light.hpp"
-#include "shprt/render/light_setup.hpp"
+#include "shprt/light/light_setup.hpp"
 
 namespace shprt::viewer {
 
@@ -33,10 +34,10 @@ public:
     // false).
     explicit LightRig(int K);
 
-    // Projects `setup`'s specs with full bands (sh_count(sh_bands_for(K)) coefficients) and
-    // applies its window; setup.yaw_pitch_roll_deg becomes the base rotation B. The accumulated
-    // drag D is kept. Throws the errors of make_light (naming the spec or file) and leaves the
-    // rig unchanged when it does.
+    // The source becomes light_source(setup, K) (the specs projected with full bands,
+    // sh_count(sh_bands_for(K)) coefficients, windowed) and the base rotation B
+    // light_rotation(setup). The accumulated drag D is kept. Throws the errors of make_light
+    // (naming the spec or file) and leaves the rig unchanged when it does.
     void set_source(const LightSetup& setup);
     bool has_source() const { return m_has_source; }
     const LightSetup& setup() const { return m_setup; }
@@ -49,8 +50,9 @@ public:
     // R = D · B.
     Mat3d rotation() const;
 
-    // The light: the full-band source rotated by rotation(), truncated to the first K
-    // coefficients (3·K floats, channel-major). Needs a source (Error(invalid_argument)).
+    // The light: rotated_light(source(), rotation(), K), the full-band source rotated, then
+    // truncated to the first K coefficients (3·K floats, channel-major). Needs a source
+    // (Error(invalid_argument)).
     ShLight light() const;
     // The full-band source, windowed, not rotated (sh_count(sh_bands_for(K)) coefficients): with
     // rotation(), what Renderer::set_light takes so that it turns the background without

@@ -1,12 +1,13 @@
-// `shprt view FILE --screenshot OUT.png`: one frame of the viewer without a window — the frame the
-// window shows (without the panel), through the same Renderer, the same present pass and an
-// offscreen 8-bit framebuffer. For the same camera and light it equals `shprt render`'s PNG up to
-// the rounding of the tone map (GPU float here, CPU in save_image).
+// `shprt view FILE --screenshot OUT.png`: one frame of the viewer without a window (without the
+// panel), taken by the one picture path: render_image's drawing (render_image_in_current_context)
+// in an offscreen context, then save_image (render/save_image.hpp). For the same camera, light
+// and options it is `shprt render`'s PNG, byte for byte.
 #pragma once
 
 #include "frame.hpp"
 #include "offscreen_context.hpp"
 
+#include "shprt/light/image.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/transfer/transfer.hpp"
@@ -15,12 +16,14 @@
 
 namespace shprt::viewer {
 
-// Creates an OffscreenContext (`backend`), draws one frame of `config` (its size, MSAA, camera…)
-// and returns the displayed bytes. `context_description` (if non-null) receives the context's
-// description. Throws what OffscreenContext, Renderer and RenderTarget throw.
-Rgb8Image render_screenshot(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
-                            const FrameConfig& config,
-                            OffscreenBackend backend = OffscreenBackend::automatic,
-                            std::string* context_description = nullptr);
+// Creates an OffscreenContext (`backend`) and draws one frame of `config` (its size, MSAA chosen
+// by choose_samples(config.msaa, false), camera…) with render_image_in_current_context; returns
+// the linear picture, for save_image with config.exposure. `context_description` (if non-null)
+// receives the context's description. Throws what OffscreenContext, Renderer and RenderTarget
+// throw.
+Image render_screenshot(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                        const FrameConfig& config,
+                        OffscreenBackend backend = OffscreenBackend::automatic,
+                        std::string* context_description = nullptr);
 
 }  // namespace shprt::viewer

@@ -12,7 +12,7 @@
 #include "frame.hpp"
 
 #include "shprt/bake/bake.hpp"
-#include "shprt/render/light_setup.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/transfer/transfer.hpp"
 

@@ -3,8 +3,8 @@
 
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
-#include "shprt/render/light_setup.hpp"
 
 #if SHPRT_HAS_VIEWER
 #include "benchmark.hpp"

@@ -5,6 +5,8 @@
 // 10–90 % edge width used for step responses in imaging.
 #include "paper/paper_metrics.hpp"
 
+#include "shprt/core/math.hpp"
+
 #include "shprt/core/error.hpp"
 
 #include <algorithm>
@@ -211,7 +213,7 @@ TransferSet irradiance_as_transfer(std::span<const Vec3d> irradiance) {
     t.layout.K = 1;
     t.layout.channels = 3;
     t.coeffs.resize(irradiance.size() * 3);
-    const double inv = 1.0 / std::sqrt(4.0 * 3.14159265358979323846264338327950288);
+    const double inv = 1.0 / std::sqrt(4.0 * kPi);
     for (std::size_t v = 0; v < irradiance.size(); ++v)
         for (int c = 0; c < 3; ++c)
             t.coeffs[v * 3 + c] = static_cast<float>(irradiance[v][c] * inv);

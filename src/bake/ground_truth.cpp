@@ -9,6 +9,7 @@
 #include "shprt/bake/ground_truth.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/sh/rng.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/ray.hpp"
@@ -30,7 +31,6 @@
 namespace shprt {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846264338327950288;
 constexpr double kDeg = kPi / 180.0;
 using Clock = std::chrono::steady_clock;
 

@@ -2,6 +2,7 @@
 #include "shprt/core/rotation3.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,7 +31,6 @@ Quat quat_from_axis_angle(Vec3d axis, double angle) {
 
 EulerZyz zyz_from_matrix(const Mat3d& R) {
     const auto& m = R.m;
-    constexpr double kPi = 3.14159265358979323846;
     const auto wrap = [](double a) {
         while (a > kPi) a -= 2 * kPi;
         while (a <= -kPi) a += 2 * kPi;

@@ -5,6 +5,7 @@
 // Ramamoorthi & Hanrahan 2001 for the clamped-cosine case). z_l is integrated with
 // Gauss–Legendre quadrature on each smooth piece of g, exact for the polynomial pieces used here.
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -17,7 +18,6 @@
 namespace shprt {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846264338327950288;
 constexpr double kDeg = kPi / 180.0;
 
 using ZonalProfile = std::function<Vec3d(double)>;

@@ -4,12 +4,12 @@
 #include "shprt/light/light.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/parse.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <string_view>
@@ -34,24 +34,13 @@ std::vector<std::string_view> split(std::string_view text, char sep) {
     return parts;
 }
 
-// Comma-separated finite numbers; throws naming the spec.
-std::vector<double> parse_numbers(std::string_view text, const std::string& spec) {
-    std::vector<double> values;
-    for (std::string_view field : split(text, ',')) {
-        double v = 0.0;
-        const char* first = field.data();
-        const char* last = field.data() + field.size();
-        if (!field.empty() && *first == '+') ++first;  // from_chars rejects a leading '+'
-        const auto [ptr, ec] = std::from_chars(first, last, v);
-        SHPRT_CHECK(!field.empty() && ec == std::errc() && ptr == last && std::isfinite(v),
-                    invalid_argument, "light '{}': '{}' is not a number", spec, field);
-        values.push_back(v);
-    }
-    return values;
+// Comma-separated finite numbers (core/parse.hpp), any count; throws naming the spec.
+std::vector<double> spec_numbers(std::string_view text, const std::string& spec) {
+    return parse_numbers(text, "light '" + spec + "'");
 }
 
 Vec3d parse_rgb(std::string_view text, const std::string& spec, const char* what) {
-    const std::vector<double> v = parse_numbers(text, spec);
+    const std::vector<double> v = spec_numbers(text, spec);
     SHPRT_CHECK(v.size() == 3, invalid_argument,
                 "light '{}': {} needs three numbers R,G,B, got '{}'", spec, what, text);
     return {v[0], v[1], v[2]};
@@ -92,7 +81,7 @@ ShLight parse_light_unwrapped(const std::string& spec, int K) {
     }
     if (head == "constant") {
         if (!has_args) return constant_light({1, 1, 1}, K);
-        const std::vector<double> v = parse_numbers(args, spec);
+        const std::vector<double> v = spec_numbers(args, spec);
         SHPRT_CHECK(v.size() == 1 || v.size() == 3, invalid_argument,
                     "light '{}': expected constant, constant:V or constant:R,G,B", spec);
         return constant_light(v.size() == 1 ? Vec3d{v[0], v[0], v[0]} : Vec3d{v[0], v[1], v[2]}, K);
@@ -114,7 +103,7 @@ ShLight parse_light_unwrapped(const std::string& spec, int K) {
     if (head == "sun") {
         SHPRT_CHECK(has_args, invalid_argument,
                     "light '{}': expected sun:X,Y,Z[,RADIUS_DEG[,R,G,B]]", spec);
-        const std::vector<double> v = parse_numbers(args, spec);
+        const std::vector<double> v = spec_numbers(args, spec);
         SHPRT_CHECK(v.size() == 3 || v.size() == 4 || v.size() == 7, invalid_argument,
                     "light '{}': expected sun:X,Y,Z[,RADIUS_DEG[,R,G,B]] (3, 4 or 7 numbers), got "
                     "{} numbers",

@@ -5,6 +5,7 @@
 // transforms of Driscoll & Healy (1994), in a frame whose pole is the map's pole +Y, then rotates
 // the result to world axes with one SH rotation (Ivanic & Ruedenberg 1996).
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/light/cubemap.hpp"
 #include "shprt/light/equirect.hpp"
 #include "shprt/light/light.hpp"
@@ -18,8 +19,6 @@
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846264338327950288;
 
 void check_map(const Image& map, const char* what) {
     SHPRT_CHECK(!map.empty() && map.rgb.size() == 3 * map.pixel_count(), invalid_argument,

@@ -3,6 +3,8 @@
 #include "shprt/render/camera.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
+#include "shprt/core/parse.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,27 +14,6 @@
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-std::vector<double> parse_numbers(const std::string& text, std::size_t count,
-                                  const std::string& what) {
-    std::vector<double> values;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const std::size_t end = std::min(text.find(',', start), text.size());
-        const std::string item = text.substr(start, end - start);
-        char* stop = nullptr;
-        const double v = std::strtod(item.c_str(), &stop);
-        SHPRT_CHECK(!item.empty() && stop && *stop == '\0' && std::isfinite(v), invalid_argument,
-                    "{} '{}': '{}' is not a number", what, text, item);
-        values.push_back(v);
-        start = end + 1;
-    }
-    SHPRT_CHECK(values.size() == count, invalid_argument,
-                "{} '{}': expected {} comma-separated numbers", what, text, count);
-    return values;
-}
 
 Vec3f to_f(double x, double y, double z) {
     return {static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)};
@@ -116,6 +97,19 @@ void fit_clip_planes(Camera& camera, const Bounds& b) {
     camera.far_plane = static_cast<float>(far_d);
 }
 
+Camera look_at_camera(Vec3f eye, Vec3f target, float fov_y_deg, const Bounds& bounds) {
+    SHPRT_CHECK(!(eye == target), invalid_argument,
+                "camera eye and target coincide at ({}, {}, {})", eye.x, eye.y, eye.z);
+    Camera camera;
+    camera.eye = eye;
+    camera.target = target;
+    camera.fov_y_deg = fov_y_deg;
+    // Looking straight up or down: any horizontal up vector will do.
+    if (length(cross(normalize(target - eye), camera.up)) < 1e-4f) camera.up = {0, 0, -1};
+    fit_clip_planes(camera, bounds);
+    return camera;
+}
+
 Camera default_camera(const Mesh& mesh, float aspect) {
     SHPRT_CHECK(!mesh.positions.empty(), invalid_argument, "mesh {} has no vertices", mesh.source);
     const Bounds b = mesh_bounds(mesh);
@@ -157,7 +151,7 @@ Camera default_camera(const Mesh& mesh, float aspect) {
 }
 
 void parse_camera(const std::string& text, Camera& camera) {
-    const auto v = parse_numbers(text, 6, "camera");
+    const auto v = parse_numbers(text, 6, "camera EX,EY,EZ,TX,TY,TZ");
     camera.eye = to_f(v[0], v[1], v[2]);
     camera.target = to_f(v[3], v[4], v[5]);
     SHPRT_CHECK(!(camera.eye == camera.target), invalid_argument,

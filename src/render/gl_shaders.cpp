@@ -224,7 +224,7 @@ layout(location = 1) uniform int u_samples;  // 1: read u_image; > 1: average u_
 layout(binding = 0) uniform sampler2D u_image;  // linear radiance, one sample per pixel
 layout(binding = 1) uniform sampler2DMS u_image_ms;  // linear radiance, u_samples per pixel
 layout(location = 0) out vec4 frag_color;
-// light/tonemap.hpp: Narkowicz's ACES fit, then the exact sRGB curve.
+// render/tonemap.hpp and core/colour.hpp: Narkowicz's ACES fit, then the exact sRGB curve.
 float tonemap_aces(float x) {
     if (!(x > 0.0)) return 0.0;
     return min((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 1.0);

@@ -9,6 +9,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/light/equirect.hpp"
 #include "shprt/light/light.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/sh/basis.hpp"
 
@@ -224,8 +225,9 @@ void Renderer::set_light(const ShLight& light, const Mat3d& rotation) {
         ++m_source_generation;
     }
     m_light_rotation = rotation;
-    m_light = light;
-    if (!(rotation == Mat3d::identity())) rotate_light(m_light, rotation);
+    // The coefficients to shade with come from the one light path; only the background keeps
+    // its shortcut for full bands (upload_background).
+    m_light = rotated_light(light, rotation, light.K);
     // The uniform block's layout: each channel padded to a multiple of 4 coefficients.
     const int stride = light_stride(m_light.K);
     std::vector<float> padded(3 * std::size_t(stride), 0.0f);

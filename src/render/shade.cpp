@@ -8,6 +8,7 @@
 #include "shprt/render/shade.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 
@@ -19,8 +20,6 @@
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 void check_inputs(const Mesh& mesh, const TransferSet& transfer, const ShLight& light) {
     check_shadable(mesh, transfer);

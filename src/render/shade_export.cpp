@@ -4,11 +4,13 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/light/tonemap.hpp"
+#include "shprt/render/tonemap.hpp"
+#include "shprt/scene/ply.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -110,45 +112,19 @@ void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResul
 void write_shade_ply(const std::string& path, const Mesh& mesh, const ShadeResult& result,
                      float exposure) {
     check_sizes(mesh, result);
-    require_little_endian();
     SHPRT_CHECK(exposure > 0 && std::isfinite(exposure), invalid_argument,
                 "exposure {} must be positive", exposure);
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(mesh.normals.size() == V, invalid_argument,
                 "mesh {} has {} normals for {} vertices", mesh.source, mesh.normals.size(), V);
-    const std::string header = fmt::format(
-        "ply\nformat binary_little_endian 1.0\ncomment shprt shade: radiance L, filmic tone map, "
-        "sRGB, exposure {}\nelement vertex {}\nproperty float x\nproperty float y\nproperty float "
-        "z\n"
-        "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\n"
-        "property uchar green\nproperty uchar blue\nelement face {}\n"
-        "property list uchar int vertex_indices\nend_header\n",
-        exposure, V, mesh.triangle_count());
-    AtomicFile file(path);
-    file.write(header);
-    constexpr std::size_t kVertexBytes = 6 * sizeof(float) + 3;
-    std::vector<unsigned char> buffer(V * kVertexBytes);
+    std::vector<std::array<std::uint8_t, 3>> colours(V);
     for (std::size_t v = 0; v < V; ++v) {
-        unsigned char* out = buffer.data() + v * kVertexBytes;
-        const Vec3f p = mesh.positions[v], n = mesh.normals[v], l = result.radiance[v];
-        const float f[6] = {p.x, p.y, p.z, n.x, n.y, n.z};
-        std::memcpy(out, f, sizeof(f));
-        out[24] = display_encode8(l.x, exposure);
-        out[25] = display_encode8(l.y, exposure);
-        out[26] = display_encode8(l.z, exposure);
+        const Vec3f l = result.radiance[v];
+        colours[v] = {display_encode8(l.x, exposure), display_encode8(l.y, exposure),
+                      display_encode8(l.z, exposure)};
     }
-    file.write(buffer.data(), buffer.size());
-    constexpr std::size_t kFaceBytes = 1 + 3 * sizeof(std::int32_t);
-    std::vector<unsigned char> faces(mesh.triangle_count() * kFaceBytes);
-    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        unsigned char* out = faces.data() + t * kFaceBytes;
-        out[0] = 3;
-        std::int32_t idx[3];
-        for (int k = 0; k < 3; ++k) idx[k] = static_cast<std::int32_t>(mesh.triangles[t][k]);
-        std::memcpy(out + 1, idx, sizeof(idx));
-    }
-    file.write(faces.data(), faces.size());
-    file.commit();
+    write_ply(mesh, path, &colours,
+              fmt::format("shprt shade: radiance L, filmic tone map, sRGB, exposure {}", exposure));
 }
 
 void write_shade(const std::string& path, const Mesh& mesh, const ShadeResult& result,

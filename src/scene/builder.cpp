@@ -3,20 +3,20 @@
 #include "shprt/scene/builder.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <utility>
 #include <vector>
 
 namespace shprt {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kTwoPi = 2.0 * kPi;
 // Interval lengths are divided by the cell size and rounded up; this slack keeps a length that
 // is an exact multiple of the cell (up to rounding) from getting one extra sliver of a cell.
 constexpr double kCeilSlack = 1e-9;
@@ -76,7 +76,7 @@ void MeshBuilder::set_placement(Vec3d origin, double yaw) {
     m_cos = std::cos(yaw);
     m_sin = std::sin(yaw);
     // Snap quarter turns so walls and furniture placed at 90 degrees meet exactly.
-    const double quarter = yaw / (0.5 * std::numbers::pi);
+    const double quarter = yaw / (0.5 * kPi);
     if (std::abs(quarter - std::round(quarter)) < 1e-12) {
         const long q = ((std::lround(quarter) % 4) + 4) % 4;
         constexpr double kCos[4] = {1, 0, -1, 0};

@@ -5,13 +5,13 @@
 #include "shprt/scene/builtin.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/scene/builder.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/scene/room.hpp"
 
 #include <array>
 #include <cmath>
-#include <numbers>
 
 namespace shprt {
 namespace {
@@ -93,7 +93,7 @@ CornerOcclusion corner_occlusion(double x, double z) {
         lambert += std::atan2(cl, dot(a, b)) * dot(n, c) / cl;
     }
     lambert = 0.5 * std::abs(lambert);
-    return {omega / (2.0 * std::numbers::pi), lambert / std::numbers::pi};
+    return {omega / (2.0 * kPi), lambert / kPi};
 }
 
 }  // namespace shprt

@@ -4,10 +4,10 @@
 
 #include "isolated_import.hpp"
 #include "ply_header.hpp"
+#include "shprt/core/colour.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/scene/builtin.hpp"
-#include "shprt/scene/colour.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/scene/polygon.hpp"
 

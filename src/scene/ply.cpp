@@ -1,9 +1,9 @@
 // Binary little-endian PLY writer (Turk, "The PLY polygon file format", 1994).
 #include "shprt/scene/ply.hpp"
 
+#include "shprt/core/colour.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/scene/colour.hpp"
 
 #include <bit>
 #include <cstring>
@@ -25,8 +25,8 @@ void put32(std::string& out, T value) {
     out.append(bytes, 4);
 }
 
-// PLY comments end at the newline; keep the source name on one printable line.
-std::string one_line(const std::string& s) {
+// PLY comments end at the newline; keep the text on one printable line.
+std::string one_line(std::string_view s) {
     std::string r;
     for (char c : s) r += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? '?' : c;
     return r;
@@ -35,7 +35,7 @@ std::string one_line(const std::string& s) {
 }  // namespace
 
 void write_ply(const Mesh& mesh, const std::string& path,
-               const std::vector<std::array<std::uint8_t, 3>>* colours) {
+               const std::vector<std::array<std::uint8_t, 3>>* colours, std::string_view comment) {
     const std::size_t nv = mesh.positions.size();
     SHPRT_CHECK(mesh.normals.empty() || mesh.normals.size() == nv, invalid_argument,
                 "{}: {} normals for {} vertices", path, mesh.normals.size(), nv);
@@ -48,6 +48,7 @@ void write_ply(const Mesh& mesh, const std::string& path,
 
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment written by shprt";
     if (!mesh.source.empty()) header += "\ncomment source " + one_line(mesh.source);
+    if (!comment.empty()) header += "\ncomment " + one_line(comment);
     header += fmt::format(
         "\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n", nv);
     if (has_normals) header += "property float nx\nproperty float ny\nproperty float nz\n";

@@ -4,19 +4,18 @@
 #include "shprt/scene/room.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/scene/builder.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 #include <vector>
 
 namespace shprt {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kW2 = kRoomHalfWidth, kD2 = kRoomHalfDepth;
 constexpr double kH = kRoomWallHeight, kT = kRoomWallThickness;
 constexpr double kSlab = double(kRoomCeilingTop) - double(kRoomWallHeight);

@@ -4,6 +4,7 @@
 #include "shprt/sh/convert.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include <array>
@@ -11,8 +12,6 @@
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // (−1)^m for index i = l(l+1)+m.
 double cs_sign(int i) {

@@ -12,6 +12,7 @@
 // the two methods in the tests means something.
 #include "sh/quadrature.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
 
@@ -23,8 +24,6 @@
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // D^l(Rx(π/2))[m'][m] = ∫ y_{l,m'}(d) · y_{l,m}(Rx(−π/2) d) dω for l in [first, last). The
 // integrand is a spherical polynomial of degree 2l ≤ 2(last−1): Gauss–Legendre with `last`

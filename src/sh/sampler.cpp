@@ -13,9 +13,9 @@
 #include "sh/quadrature.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 
 #include <cmath>
-#include <numbers>
 
 namespace shprt {
 namespace {
@@ -30,7 +30,7 @@ Set make_set(SamplerKind kind, std::uint64_t seed, std::uint32_t count) {
     using T = typename decltype(Set::weights)::value_type;
     Set set;
     set.dirs.resize(3 * static_cast<std::size_t>(count));
-    set.weights.assign(count, static_cast<T>(4.0 * std::numbers::pi / count));
+    set.weights.assign(count, static_cast<T>(4.0 * kPi / count));
     for (std::uint32_t s = 0; s < count; ++s) {
         const Vec3d d = sphere_direction<double>(kind, seed, s, count);
         set.dirs[3 * static_cast<std::size_t>(s) + 0] = static_cast<T>(d.x);
@@ -65,7 +65,7 @@ void detail::gauss_legendre(int n, std::vector<double>& nodes, std::vector<doubl
     const int half = (n + 1) / 2;
     for (int i = 0; i < half; ++i) {
         // Tricomi's estimate of the i-th largest root, then Newton.
-        double x = std::cos(std::numbers::pi * (i + 0.75) / (n + 0.5));
+        double x = std::cos(kPi * (i + 0.75) / (n + 0.5));
         double dp = 0.0;
         for (int iter = 0; iter < 100; ++iter) {
             double pn, pn1;
@@ -128,7 +128,7 @@ DirectionSetD gauss_legendre_set_d(int n_theta, int n_phi) {
     detail::gauss_legendre(n_theta, z, wz);
     std::vector<double> cos_phi(n_phi), sin_phi(n_phi);
     for (int k = 0; k < n_phi; ++k) {
-        const double phi = 2.0 * std::numbers::pi * (k + 0.5) / n_phi;
+        const double phi = 2.0 * kPi * (k + 0.5) / n_phi;
         cos_phi[k] = std::cos(phi);
         sin_phi[k] = std::sin(phi);
     }
@@ -136,7 +136,7 @@ DirectionSetD gauss_legendre_set_d(int n_theta, int n_phi) {
     const std::size_t count = static_cast<std::size_t>(n_theta) * n_phi;
     set.dirs.resize(3 * count);
     set.weights.resize(count);
-    const double dphi = 2.0 * std::numbers::pi / n_phi;
+    const double dphi = 2.0 * kPi / n_phi;
     for (int i = 0; i < n_theta; ++i) {
         const double r = std::sqrt((1.0 - z[i]) * (1.0 + z[i]));
         for (int k = 0; k < n_phi; ++k) {

@@ -4,14 +4,13 @@
 #include "shprt/sh/window.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include <cmath>
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 template <class T>
 void apply_impl(WindowKind kind, T* coeffs, int K, double strength) {

@@ -5,13 +5,12 @@
 #include "shprt/sh/zonal.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 
 #include <cmath>
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 void check_bands(int bands, const char* what) {
     SHPRT_CHECK(bands >= 1 && bands <= kMaxBands, invalid_argument,

@@ -4,6 +4,7 @@
 #include "bake/bake_test_util.hpp"
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/projection.hpp"
@@ -14,13 +15,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <vector>
 
 namespace shprt {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 // A bake with a quadrature set against `project` of the same function on the same set: only
 // float rounding separates them (W and Y in float, an S-term float dot product).
 constexpr double kQuadratureTolerance = 1e-5;

@@ -6,6 +6,7 @@
 
 #include "shprt/bake/ground_truth.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +15,6 @@
 namespace shprt {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846264338327950288;
 constexpr double kDeg = kPi / 180.0;
 
 // A plane y = 0, normal +Y, as an n×n grid of vertices over [−half, half]².

@@ -4,12 +4,14 @@
 // error, a non-zero exit code and no output file.
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/image.hpp"
 #include "shprt/light/light.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
-#include "shprt/render/light_setup.hpp"
 #include "shprt/render/renderer.hpp"
+#include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/sh/basis.hpp"
@@ -33,8 +35,6 @@ namespace fs = std::filesystem;
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 using test_support::expect_one_line_error;
 using test_support::RunResult;

@@ -2,6 +2,7 @@
 // normalised direction (plain and JSON), rotate reads coefficients from stdin (whitespace
 // tolerant) and prints the library's rotation, info names the conventions, and every bad argument
 // gives exit status 1, nothing on stdout and exactly one line on stderr that names the problem.
+#include "shprt/core/math.hpp"
 #include "shprt/core/rotation3.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
@@ -14,7 +15,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -59,8 +59,8 @@ TEST_F(CliSh, EvalPrintsBasisValuesAtNormalisedDirection) {
     ASSERT_EQ(x.exit_code, 0) << x.err;
     const std::vector<double> vx = numbers(x.out);
     ASSERT_EQ(vx.size(), 4u);
-    EXPECT_NEAR(vx[0], 0.5 / std::sqrt(std::numbers::pi), kPrintTol);
-    EXPECT_NEAR(vx[3], std::sqrt(3.0 / (4.0 * std::numbers::pi)), kPrintTol);  // at −X: +√(3/4π)
+    EXPECT_NEAR(vx[0], 0.5 / std::sqrt(kPi), kPrintTol);
+    EXPECT_NEAR(vx[3], std::sqrt(3.0 / (4.0 * kPi)), kPrintTol);  // at −X: +√(3/4π)
 }
 
 TEST_F(CliSh, EvalJson) {

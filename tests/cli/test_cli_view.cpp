@@ -1,4 +1,5 @@
-// `shprt view` run as a program: --screenshot gives `shprt render`'s picture, --benchmark prints
+// `shprt view` run as a program: --screenshot gives `shprt render`'s PNG byte for byte (one picture
+// path: render_image, then save_image), --benchmark prints
 // one line per basis size, --bake bakes in the same process, bad input gives one line and exit 1,
 // and (when xvfb-run exists) the real window opens under Xvfb, draws its panel and shows the
 // same picture as --screenshot beside it.
@@ -25,7 +26,8 @@ using shprt::test_support::RunOptions;
 using shprt::test_support::RunResult;
 using shprt::test_support::slurp;
 
-// PNG codes: the GPU's float tone map against save_image's CPU one may differ by one level.
+// PNG codes of the same picture made in two OpenGL contexts (EGL and a hidden GLX window): the
+// drivers may round differently, by one level at most.
 constexpr int kMaxLevelDifference = 1;
 constexpr double kMaxMeanLevelDifference = 0.05;
 // The window against --screenshot outside the panel: the orbit controller rebuilds eye and
@@ -113,13 +115,10 @@ TEST_F(CliView, ScreenshotEqualsRender) {
         const RunResult r =
             shprt("render '" + s_file + "' -o '" + out("render.png") + "'" + options);
         ASSERT_EQ(r.exit_code, 0) << r.err;
-        const Png a = read_png(out("view.png")), b = read_png(out("render.png"));
+        // The same path, so the same file.
+        EXPECT_EQ(slurp(out("view.png")), slurp(out("render.png"))) << options;
+        const Png a = read_png(out("view.png"));
         ASSERT_FALSE(a.rgb.empty());
-        ASSERT_EQ(a.width, b.width);
-        ASSERT_EQ(a.height, b.height);
-        const Diff d = compare(a, b, 0, 0, a.width, a.height);
-        EXPECT_LE(d.max, kMaxLevelDifference) << options;
-        EXPECT_LE(d.mean, kMaxMeanLevelDifference) << options;
         // Not a trivially equal pair of blank pictures.
         int distinct_levels = 0;
         std::vector<bool> seen(256, false);

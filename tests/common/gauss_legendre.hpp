@@ -3,8 +3,9 @@
 // those sets (and of everything checked against exact integrals) compare two implementations.
 #pragma once
 
+#include "shprt/core/math.hpp"
+
 #include <cmath>
-#include <numbers>
 #include <vector>
 
 namespace shprt::test_support {
@@ -14,7 +15,7 @@ inline void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w
     x.resize(n);
     w.resize(n);
     for (int i = 0; i < n; ++i) {
-        double z = std::cos(std::numbers::pi * (i + 0.75) / (n + 0.5)), dp = 0;
+        double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), dp = 0;
         for (int it = 0; it < 100; ++it) {
             double p0 = 1, p1 = z;
             for (int k = 2; k <= n; ++k) {

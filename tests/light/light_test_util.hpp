@@ -2,6 +2,7 @@
 // light vector) and comparisons of light vectors.
 #pragma once
 
+#include "shprt/core/math.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/sh/basis.hpp"
@@ -10,7 +11,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <vector>
 
 namespace shprt::test_support {
@@ -18,7 +18,6 @@ namespace shprt::test_support {
 // Â_l of the clamped cosine (Ramamoorthi & Hanrahan 2001): π, 2π/3, then the even-l recurrence;
 // zero for odd l > 1.
 inline std::vector<double> cosine_weights(int bands) {
-    constexpr double kPi = std::numbers::pi;
     std::vector<double> A(bands, 0.0);
     A[0] = kPi;
     if (bands > 1) A[1] = 2.0 * kPi / 3.0;

@@ -3,6 +3,7 @@
 // bound for each K), and the gradient sky and built-in environment against brute-force 2D
 // quadrature of their radiance functions.
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -13,7 +14,6 @@
 
 #include <cmath>
 #include <functional>
-#include <numbers>
 #include <random>
 #include <vector>
 
@@ -23,7 +23,6 @@ namespace {
 using test_support::cosine_weights;
 using test_support::irradiance;
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 
 // Legendre P_0..P_n at x.

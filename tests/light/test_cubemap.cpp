@@ -1,6 +1,7 @@
 // Cube maps: exact texel solid angles, right-handed face frames that fold into a cube (every
 // shared edge of the cross is the same world edge), a constant cross gives a constant light,
 // horizontal = vertical = six faces, and a cross agrees with an equirect map of the same sky.
+#include "shprt/core/math.hpp"
 #include "shprt/light/cubemap.hpp"
 
 #include "shprt/core/error.hpp"
@@ -14,15 +15,12 @@
 
 #include <cmath>
 #include <functional>
-#include <numbers>
 
 namespace shprt {
 namespace {
 
 using test_support::expect_near;
 using test_support::max_abs_diff;
-
-constexpr double kPi = std::numbers::pi;
 
 using Sky = std::function<Vec3d(Vec3d)>;
 

@@ -1,6 +1,7 @@
 // Equirect maps: the DESIGN.md orientation, exact pixel solid angles, projection (fast
 // separable path against the per-pixel reference, band-limited round trip with second-order
 // convergence), the white furnace, and "rotating the light equals projecting the rotated map".
+#include "shprt/core/math.hpp"
 #include "shprt/light/equirect.hpp"
 
 #include "shprt/core/error.hpp"
@@ -14,7 +15,6 @@
 
 #include <cmath>
 #include <functional>
-#include <numbers>
 #include <random>
 #include <vector>
 
@@ -25,8 +25,6 @@ using test_support::cosine_weights;
 using test_support::expect_near;
 using test_support::irradiance;
 using test_support::max_abs_diff;
-
-constexpr double kPi = std::numbers::pi;
 
 Image map_of(int W, int H, const std::function<Vec3d(Vec3d)>& f) {
     Image image = Image::make(W, H);

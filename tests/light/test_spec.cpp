@@ -1,7 +1,9 @@
 // Light specs and light operations: every spec form parses to the light its function gives,
 // files by shape (equirect 2:1, cross 4:3/3:4, faces), sums, errors that name the spec or file,
 // rotation through SH rotation (a rotated sun is the sun in the rotated direction), windowing.
+#include "light/image_fixture.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/core/rotation3.hpp"
 #include "shprt/light/cubemap.hpp"
 #include "shprt/light/equirect.hpp"
@@ -15,13 +17,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 
 namespace shprt {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
 
 class LightSpec : public ::testing::Test {
 protected:
@@ -71,22 +71,22 @@ void expect_spec_error(const std::string& spec, ErrorCode code,
 TEST_F(LightSpec, FilesByShape) {
     const int K = 16;
     const Image eq = sky_image(64, 32);
-    save_image(path("sky.exr"), eq);
-    save_image(path("sky.hdr"), eq);
+    test_support::write_test_image(path("sky.exr"), eq);
+    test_support::write_test_image(path("sky.hdr"), eq);
     EXPECT_EQ(parse_light(path("sky.exr"), K).coeffs, project_equirect(eq, K).coeffs);
     EXPECT_EQ(parse_light("equirect:" + path("sky.exr"), K).coeffs, project_equirect(eq, K).coeffs);
     EXPECT_EQ(parse_light(path("sky.hdr"), K).coeffs,
               project_equirect(load_image(path("sky.hdr")), K).coeffs);
     // Explicit equirect: any aspect.
     const Image wide = sky_image(30, 20);
-    save_image(path("wide.exr"), wide);
+    test_support::write_test_image(path("wide.exr"), wide);
     EXPECT_EQ(parse_light("equirect:" + path("wide.exr"), K).coeffs,
               project_equirect(wide, K).coeffs);
 
     const Image hcross = sky_image(64, 48), vcross = sky_image(48, 64);
-    save_image(path("h.exr"), hcross);
-    save_image(path("v.exr"), vcross);
-    save_image(path("h.png"), hcross);
+    test_support::write_test_image(path("h.exr"), hcross);
+    test_support::write_test_image(path("v.exr"), vcross);
+    test_support::write_test_image(path("h.png"), hcross);
     EXPECT_EQ(parse_light(path("h.exr"), K).coeffs, project_cube_cross(hcross, K).coeffs);
     EXPECT_EQ(parse_light("cross:" + path("h.exr"), K).coeffs,
               project_cube_cross(hcross, K).coeffs);
@@ -106,14 +106,14 @@ TEST_F(LightSpec, FilesByShape) {
                     face.pixel(x, y)[c] =
                         hcross.pixel(cells[f].col * 16 + x, cells[f].row * 16 + y)[c];
         const std::string p = path("face" + std::to_string(f) + ".exr");
-        save_image(p, face);
+        test_support::write_test_image(p, face);
         spec += (f ? "," : "") + p;
     }
     EXPECT_LT(max_abs_diff(parse_light(spec, K), project_cube_cross(hcross, K)), 1e-6);
 }
 
 TEST_F(LightSpec, BadFilesNameTheFile) {
-    save_image(path("odd.exr"), sky_image(30, 20));
+    test_support::write_test_image(path("odd.exr"), sky_image(30, 20));
     expect_spec_error(path("odd.exr"), ErrorCode::format, {path("odd.exr"), "30x20", "2:1"});
     expect_spec_error("cross:" + path("odd.exr"), ErrorCode::format, {path("odd.exr"), "4:3"});
     expect_spec_error(path("missing.hdr"), ErrorCode::io, {path("missing.hdr")});
@@ -121,8 +121,8 @@ TEST_F(LightSpec, BadFilesNameTheFile) {
     expect_spec_error(path("trunc.hdr"), ErrorCode::format, {path("trunc.hdr"), "truncated"});
     expect_spec_error("faces:" + path("a.exr") + "," + path("b.exr"), ErrorCode::invalid_argument,
                       {"faces:PX,NX,PY,NY,PZ,NZ"});
-    save_image(path("sq.exr"), sky_image(8, 8));
-    save_image(path("rect.exr"), sky_image(8, 4));
+    test_support::write_test_image(path("sq.exr"), sky_image(8, 8));
+    test_support::write_test_image(path("rect.exr"), sky_image(8, 4));
     const std::string sq = path("sq.exr");
     expect_spec_error(
         "faces:" + sq + "," + sq + "," + sq + "," + sq + "," + sq + "," + path("rect.exr"),

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "common/ray_triangle.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/basis.hpp"
@@ -19,8 +20,6 @@
 #include <vector>
 
 namespace shprt::test {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Unshadowed transfer of every vertex computed analytically: the clamped cosine about the
 // vertex normal, c_i = rotate_zonal(clamped_cosine_zonal) (exact up to float rounding). With 3

@@ -49,6 +49,27 @@ TEST(Camera, TargetProjectsToTheImageCentreAndRaysInvertProjection) {
     EXPECT_FALSE(project_to_pixel(cam, w, h, cam.eye + (cam.eye - cam.target), x, y, depth));
 }
 
+TEST(Camera, LookAtCameraKeepsUpAndFitsTheClipPlanes) {
+    const Bounds bounds{{-1, 0, -2}, {3, 2, 1}};
+    const Camera cam = look_at_camera({4, 3, 5}, {0.5f, 1, -0.5f}, 45, bounds);
+    EXPECT_EQ(cam.eye, (Vec3f{4, 3, 5}));
+    EXPECT_EQ(cam.target, (Vec3f{0.5f, 1, -0.5f}));
+    EXPECT_EQ(cam.up, (Vec3f{0, 1, 0}));
+    EXPECT_EQ(cam.fov_y_deg, 45.0f);
+    Camera fitted = cam;
+    fit_clip_planes(fitted, bounds);
+    EXPECT_EQ(cam.near_plane, fitted.near_plane);
+    EXPECT_EQ(cam.far_plane, fitted.far_plane);
+    // Straight down (and up): +Y would be parallel to the view, so up turns to −Z and the view
+    // matrix exists.
+    for (const float dy : {-2.0f, 2.0f}) {
+        const Camera vertical = look_at_camera({1, 1, 0}, {1, 1 + dy, 0}, 60, bounds);
+        EXPECT_EQ(vertical.up, (Vec3f{0, 0, -1}));
+        EXPECT_NO_THROW(view_matrix(vertical));
+    }
+    EXPECT_THROW(look_at_camera({1, 2, 3}, {1, 2, 3}, 60, bounds), Error);
+}
+
 TEST(Camera, DefaultCameraFramesAnObjectFromOutside) {
     const Mesh sphere = make_builtin("sphere");
     for (float aspect : {16.0f / 9.0f, 1.0f, 0.5f}) {

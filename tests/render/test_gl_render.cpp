@@ -8,9 +8,9 @@
 #include "shprt/bake/bake.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/rotation3.hpp"
-#include "shprt/light/tonemap.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/render/renderer.hpp"
+#include "shprt/render/tonemap.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/room.hpp"
 

@@ -17,8 +17,6 @@
 namespace shprt {
 namespace {
 
-using test::kPi;
-
 // float32 coefficients and a double dot product: E is exact to a few float ulps of π.
 constexpr double kFloatTolerance = 2e-6;
 // Glossy term vs brute force: float32 coefficients (~3e-6 observed) plus the lobe's truncation.

@@ -3,9 +3,10 @@
 #include "render_test_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/light/tonemap.hpp"
 #include "shprt/render/shade_export.hpp"
+#include "shprt/render/tonemap.hpp"
 #include "shprt/scene/builtin.hpp"
+#include "shprt/scene/load.hpp"
 
 #include <gtest/gtest.h>
 
@@ -114,7 +115,7 @@ TEST(ShadeExport, PlyCarriesPositionsNormalsDisplayColoursAndFaces) {
               std::string::npos)
         << header;
     EXPECT_NE(header.find("element face " + std::to_string(f.mesh.triangle_count()) +
-                          "\nproperty list uchar int vertex_indices\n"),
+                          "\nproperty list uchar uint vertex_indices\n"),
               std::string::npos);
     const char* p = bytes.data() + end + std::strlen("end_header\n");
     const std::size_t V = f.mesh.vertex_count();
@@ -132,10 +133,18 @@ TEST(ShadeExport, PlyCarriesPositionsNormalsDisplayColoursAndFaces) {
     }
     for (std::size_t t = 0; t < f.mesh.triangle_count(); ++t, p += 13) {
         ASSERT_EQ(p[0], 3);
-        std::int32_t idx[3];
+        std::uint32_t idx[3];
         std::memcpy(idx, p + 1, sizeof(idx));
-        for (int k = 0; k < 3; ++k) ASSERT_EQ(std::uint32_t(idx[k]), f.mesh.triangles[t][k]);
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(idx[k], f.mesh.triangles[t][k]);
     }
+    // What the colours mean, in the header; and the file loads as a scene, vertex for vertex.
+    EXPECT_NE(header.find("\ncomment shprt shade: radiance L, filmic tone map, sRGB, exposure 2\n"),
+              std::string::npos)
+        << header;
+    const Mesh back = load_scene(dir.file("out.ply"));
+    ASSERT_EQ(back.vertex_count(), V);
+    for (std::size_t v = 0; v < V; ++v) ASSERT_EQ(back.positions[v], f.mesh.positions[v]) << v;
+    EXPECT_EQ(back.triangles, f.mesh.triangles);
 }
 
 TEST(ShadeExport, BadPathsThrowAndLeaveNothing) {

@@ -3,6 +3,7 @@
 #include "scene/geometry_checks.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/scene/builder.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/mesh_ops.hpp"
@@ -10,7 +11,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <string>
 
 namespace shprt {
@@ -18,8 +18,6 @@ namespace {
 
 using test::brute_force_hit;
 using test::expect_valid_generated;
-
-constexpr double kPi = std::numbers::pi;
 
 TEST(SceneBuiltin, NamesAndUnknownName) {
     const auto names = builtin_scene_names();

@@ -1,9 +1,10 @@
 // Scene loading: PLY vertex order, OBJ/STL/glTF, normals and colours, node transforms, and bad
 // files that must give shprt::Error naming the file.
+#include "shprt/core/colour.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/scene/builtin.hpp"
-#include "shprt/scene/colour.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/scene/ply.hpp"
@@ -11,7 +12,9 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -90,6 +93,33 @@ TEST(SceneLoad, PlyRoundTripKeepsVertexOrderIndexByIndex) {
     }
     for (std::size_t t = 0; t < m.triangle_count(); ++t) EXPECT_EQ(r.triangles[t], m.triangles[t]);
     EXPECT_EQ(r.source, path);
+}
+
+TEST(SceneLoad, PlyWithGivenColoursAndACommentReadsBack) {
+    // write_ply as `shprt shade` uses it: colours given per vertex (written as given, not from
+    // the albedo), an extra comment line, uint indices.
+    Mesh m = make_builtin("sphere");
+    std::vector<std::array<std::uint8_t, 3>> colours(m.vertex_count());
+    for (std::size_t v = 0; v < colours.size(); ++v)
+        colours[v] = {std::uint8_t(v), std::uint8_t(255 - v % 256), std::uint8_t(v * 7)};
+    TempDir dir;
+    const std::string path = dir.file("coloured.ply");
+    write_ply(m, path, &colours, "what the colours mean\non one line");
+    const std::string bytes = read_file(path);
+    const std::string header = bytes.substr(0, bytes.find("end_header\n"));
+    EXPECT_NE(header.find("\ncomment what the colours mean?on one line\n"), std::string::npos)
+        << header;
+    EXPECT_NE(header.find("\nproperty list uchar uint vertex_indices\n"), std::string::npos)
+        << header;
+    const Mesh r = load_scene(path);
+    ASSERT_EQ(r.vertex_count(), m.vertex_count());
+    for (std::size_t v = 0; v < colours.size(); ++v)
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(r.albedo[v][c], srgb_to_linear(colours[v][c] / 255.0f), 1e-6f)
+                << v << "," << c;
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) EXPECT_EQ(r.triangles[t], m.triangles[t]);
+    colours.pop_back();
+    EXPECT_THROW(write_ply(m, dir.file("short.ply"), &colours), Error);
 }
 
 TEST(SceneLoad, HandWrittenAsciiPlyKeepsOrderAndDecodesSrgbColours) {

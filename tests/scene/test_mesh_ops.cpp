@@ -2,7 +2,6 @@
 // bounds, and the sRGB conversions.
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"
-#include "shprt/scene/colour.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 
 #include <gtest/gtest.h>
@@ -134,18 +133,6 @@ TEST(SceneBounds, BoundsAndArea) {
     const Bounds e = mesh_bounds(Mesh{});
     EXPECT_EQ(e.lo, (Vec3f{0, 0, 0}));
     EXPECT_EQ(e.hi, (Vec3f{0, 0, 0}));
-}
-
-TEST(SceneColour, SrgbRoundTripsEveryByteAndMatchesKnownValues) {
-    for (int b = 0; b < 256; ++b)
-        EXPECT_EQ(linear_to_srgb8(srgb_to_linear(static_cast<float>(b) / 255.0f)), b) << b;
-    EXPECT_NEAR(srgb_to_linear(0.5f), 0.21404f, 1e-5f);
-    EXPECT_NEAR(linear_to_srgb(0.5f), 0.73536f, 1e-5f);
-    EXPECT_EQ(srgb_to_linear(0.0f), 0.0f);
-    EXPECT_NEAR(srgb_to_linear(1.0f), 1.0f, 1e-6f);
-    EXPECT_EQ(linear_to_srgb8(2.0f), 255);
-    EXPECT_EQ(linear_to_srgb8(-1.0f), 0);
-    EXPECT_EQ(linear_to_srgb8(std::numeric_limits<float>::quiet_NaN()), 0);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Polygon triangulation: convex polygons give the fan from the first corner, concave ones are
 // covered exactly by counter-clockwise triangles, degenerate ones do not crash.
+#include "shprt/core/math.hpp"
 #include "shprt/scene/polygon.hpp"
 
 #include <gtest/gtest.h>
@@ -21,7 +22,7 @@ double signed_area_z(const std::vector<Vec3f>& p, const Tri& t) {
 TEST(ScenePolygon, ConvexPolygonIsTheFan) {
     std::vector<Vec3f> p;
     for (int i = 0; i < 5; ++i) {
-        const float a = 2.0f * 3.14159265f * static_cast<float>(i) / 5.0f;
+        const float a = 2.0f * kPiF * static_cast<float>(i) / 5.0f;
         p.push_back({std::cos(a), std::sin(a), 0.0f});
     }
     const std::vector<std::uint32_t> poly = {0, 1, 2, 3, 4};

@@ -1,5 +1,6 @@
 // SH basis: fast recurrence vs slow reference, closed forms of bands 0-3, orthonormality by
 // exact quadrature (Gauss-Legendre in cos θ × uniform φ) to 30 bands in double.
+#include "shprt/core/math.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include "shprt/core/error.hpp"
@@ -9,7 +10,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <random>
 #include <vector>
 
@@ -17,8 +17,6 @@ namespace shprt {
 namespace {
 
 using test_support::gauss_legendre;
-
-constexpr double kPi = std::numbers::pi;
 
 struct Dir {
     double theta, phi, x, y, z;

@@ -3,6 +3,7 @@
 // writes them) equal ours evaluated at the same physical direction. Known values from the
 // engines' constants.
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/convert.hpp"
 #include "shprt/sh/zonal.hpp"
@@ -11,14 +12,12 @@
 
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <random>
 #include <vector>
 
 namespace shprt {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kTightTol = 1e-14;
 constexpr double kThreeTol = 2e-5;  // three.js rounds its constants to 6 digits
 

@@ -1,6 +1,7 @@
 // Projection onto SH: basis table vs sh_eval_k, exact orthonormality by quadrature, round trip of
 // band-limited functions (quadrature: exact; Monte Carlo: error consistent with 1/√S), table
 // projection vs direct projection, reconstruction vs the slow reference, bad inputs.
+#include "shprt/core/math.hpp"
 #include "shprt/sh/projection.hpp"
 
 #include "shprt/core/error.hpp"
@@ -11,13 +12,10 @@
 
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <vector>
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Random coefficients in [−1, 1], from the library's counter RNG (portable across platforms).
 std::vector<double> random_coeffs(int K, std::uint64_t seed) {

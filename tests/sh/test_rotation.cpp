@@ -3,6 +3,7 @@
 // inverse, per-band norms; the paper's factorisation equals Ivanic to 1e-10 at 20 bands; partial
 // last bands; bad input.
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/core/rotation3.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
@@ -12,7 +13,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <random>
 #include <thread>
 #include <vector>
@@ -22,7 +22,6 @@ namespace {
 
 using test_support::gauss_legendre;
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kTightTol = 1e-12;   // identities that hold to rounding in double
 constexpr double kMethodTol = 1e-10;  // paper vs Ivanic (the bound)
 constexpr double kMatrixTol = 1e-14;  // 3x3 matrix identities

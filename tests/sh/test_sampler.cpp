@@ -1,6 +1,7 @@
 // Counter-based RNG (Philox known answers), sphere samplers (determinism, unit length, float vs
 // double, moments, χ² over equal-solid-angle bins, stratification for any count, Sobol net
 // property, integration error against uniform) and Gauss–Legendre quadrature.
+#include "shprt/core/math.hpp"
 #include "shprt/sh/sampler.hpp"
 
 #include "shprt/core/error.hpp"
@@ -10,15 +11,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <numbers>
 #include <string>
 #include <thread>
 #include <vector>
 
 namespace shprt {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 Vec3d dir_at(const DirectionSet& set, std::size_t s) {
     return {set.dirs[3 * s], set.dirs[3 * s + 1], set.dirs[3 * s + 2]};

@@ -1,6 +1,7 @@
 // SH windowing: weight properties (range, w_0 = 1, monotone), the documented formulas, identity
 // for none, less ringing on a truncated clamped cosine, apply on partial bases, bad input.
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/window.hpp"
 #include "shprt/sh/zonal.hpp"
@@ -8,13 +9,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <vector>
 
 namespace shprt {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kFormulaTol = 1e-15;
 
 const WindowKind kAll[] = {WindowKind::none, WindowKind::hann, WindowKind::lanczos,

@@ -2,6 +2,7 @@
 // O(K) zonal rotation against the general rotation; Funk–Hecke convolution against a direct
 // hemisphere integral; bad input.
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/core/rotation3.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
@@ -12,7 +13,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <random>
 #include <vector>
 
@@ -21,7 +21,6 @@ namespace {
 
 using test_support::gauss_legendre;
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kQuadTol = 1e-12;   // closed form vs exact quadrature (double rounding)
 constexpr double kTightTol = 1e-12;  // identities that hold to rounding
 constexpr double kFloatTol = 2e-5;   // float evaluation

@@ -2,6 +2,8 @@
 // eye and moves along the view direction, switching mode keeps the view, pitch stays clamped.
 #include "camera_controller.hpp"
 
+#include "shprt/core/math.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@ namespace shprt::viewer {
 namespace {
 
 constexpr float kTol = 1e-5f;  // relative, float rounding of a few trig calls
-constexpr float kPi = 3.14159265358979f;
 
 const Bounds kBounds{{-2, 0, -2}, {2, 3, 2}};
 
@@ -124,7 +125,7 @@ TEST(CameraController, PanMovesEyeAndTargetTogetherInTheViewPlane) {
     EXPECT_NEAR(dot(de, f), 0.0f, 1e-5f) << "in the view plane";
     // The scene follows the cursor: the camera moves left for a drag to the right. At the
     // target's distance one pixel is 2·d·tan(fov/2)/height world units.
-    const float per_pixel = 2 * c.distance() * std::tan(50.0f * kPi / 360.0f) / 720.0f;
+    const float per_pixel = 2 * c.distance() * std::tan(50.0f * kPiF / 360.0f) / 720.0f;
     EXPECT_NEAR(dot(de, c.right()), -30 * per_pixel, 1e-5f);
     EXPECT_NEAR(dot(de, c.up()), -12 * per_pixel, 1e-5f);
 }
@@ -143,22 +144,22 @@ TEST(CameraController, SwitchingModeKeepsTheView) {
 TEST(CameraController, PitchIsClampedSoUpNeverAlignsWithTheView) {
     CameraController c(start_camera(), kBounds);
     c.rotate(0, -100000);  // far past straight up
-    EXPECT_NEAR(c.pitch(), kMaxPitchDeg * kPi / 180.0f, 1e-6f);
+    EXPECT_NEAR(c.pitch(), kMaxPitchDeg * kPiF / 180.0f, 1e-6f);
     c.rotate(0, 100000);
-    EXPECT_NEAR(c.pitch(), -kMaxPitchDeg * kPi / 180.0f, 1e-6f);
+    EXPECT_NEAR(c.pitch(), -kMaxPitchDeg * kPiF / 180.0f, 1e-6f);
     // A start looking straight down is tilted to the clamp, not rejected.
     Camera down;
     down.eye = {0, 5, 0};
     down.target = {0, 0, 0};
     const CameraController d(down, kBounds);
-    EXPECT_NEAR(d.pitch(), -kMaxPitchDeg * kPi / 180.0f, 1e-6f);
+    EXPECT_NEAR(d.pitch(), -kMaxPitchDeg * kPiF / 180.0f, 1e-6f);
     EXPECT_GT(length(cross(d.forward(), Vec3f{0, 1, 0})), 0.01f);
 }
 
 TEST(CameraController, AFullOrbitReturnsToTheStart) {
     CameraController c(start_camera(), kBounds);
     const Vec3f eye = c.eye();
-    for (int i = 0; i < 100; ++i) c.orbit_by(2 * kPi / 100);
+    for (int i = 0; i < 100; ++i) c.orbit_by(2 * kPiF / 100);
     expect_near(c.eye(), eye, 1e-4f, "after 2π");
 }
 

@@ -50,12 +50,7 @@ Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect) {
     } else {
         Camera parsed;
         parse_camera(args.camera, parsed);
-        camera.eye = parsed.eye;
-        camera.target = parsed.target;
-        // Looking straight up or down: any horizontal up vector will do.
-        if (length(cross(normalize(parsed.target - parsed.eye), camera.up)) < 1e-4f)
-            camera.up = {0, 0, -1};
-        fit_clip_planes(camera, mesh_bounds(mesh));
+        camera = look_at_camera(parsed.eye, parsed.target, Camera{}.fov_y_deg, mesh_bounds(mesh));
     }
     if (args.fov) camera.fov_y_deg = static_cast<float>(*args.fov);
     return camera;

@@ -4,8 +4,8 @@
 // picture in every tool (the viewer's --screenshot is compared with `shprt render` in the tests).
 #pragma once
 
+#include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
-#include "shprt/render/light_setup.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/scene/mesh.hpp"
 
@@ -41,8 +41,8 @@ void add_camera_options(CLI::App& app, CameraArgs& args);
 // option fails before a file is read.
 void check_camera_args(const CameraArgs& args);
 // The camera `shprt render` uses for these options: default_camera(mesh, aspect) without
-// --camera; otherwise eye and target as given (up +Y, or −Z when looking straight up or down)
-// with clip planes fitted to the mesh's bounds; --fov overrides the field of view.
+// --camera; otherwise look_at_camera (render/camera.hpp) of the eye and target given, with clip
+// planes fitted to the mesh's bounds; --fov overrides the field of view.
 Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect);
 
 // "radiance", "irradiance" or "transfer"; throws Error(invalid_argument) naming `name`.

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "shprt/core/hd.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/core/vec.hpp"
 
 #include <cmath>
@@ -22,18 +23,18 @@ namespace shprt {
 namespace detail {
 template <class T>
 SHPRT_HD_INLINE Vec3<T> equirect_direction(T u, T v) {
-    constexpr T kPi = T(3.14159265358979323846264338327950288);
-    const T theta = v * kPi;                  // polar angle from +Y
-    const T phi = (u - T(0.5)) * T(2) * kPi;  // azimuth: 0 toward −Z, +π/2 toward +X
+    constexpr T pi = T(kPi);
+    const T theta = v * pi;                  // polar angle from +Y
+    const T phi = (u - T(0.5)) * T(2) * pi;  // azimuth: 0 toward −Z, +π/2 toward +X
     const T s = std::sin(theta);
     return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
 }
 template <class T>
 SHPRT_HD_INLINE void equirect_uv(Vec3<T> d, T& u, T& v) {
-    constexpr T kPi = T(3.14159265358979323846264338327950288);
+    constexpr T pi = T(kPi);
     const T y = d.y < T(-1) ? T(-1) : (d.y > T(1) ? T(1) : d.y);
-    u = T(0.5) + std::atan2(d.x, -d.z) / (T(2) * kPi);
-    v = std::acos(y) / kPi;
+    u = T(0.5) + std::atan2(d.x, -d.z) / (T(2) * pi);
+    v = std::acos(y) / pi;
 }
 }  // namespace detail
 
@@ -62,7 +63,6 @@ SHPRT_HD_INLINE Vec3<T> equirect_pixel_direction(int x, int y, int width, int he
 // Δω = Δφ · (cos θ0 − cos θ1) with Δφ = 2π/width, θ0 = π·y/height, θ1 = π·(y+1)/height.
 // Summed over all pixels it is 4π up to rounding.
 SHPRT_HD_INLINE double equirect_pixel_solid_angle(int y, int width, int height) {
-    constexpr double kPi = 3.14159265358979323846264338327950288;
     const double t0 = kPi * double(y) / double(height), t1 = kPi * double(y + 1) / double(height);
     // cos t0 − cos t1 = 2 sin((t0+t1)/2) sin((t1−t0)/2), free of cancellation near the poles.
     return (2.0 * kPi / double(width)) * 2.0 * std::sin(0.5 * (t0 + t1)) *

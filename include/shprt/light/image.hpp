@@ -1,17 +1,15 @@
-// Float RGB images: environment maps read here, pictures written by the renderer.
+// Float RGB images, and reading them: environment maps (light specs) are read here. Pictures are
+// written by render/save_image.hpp, a layer up.
 //
 // Pixels are linear RGB floats (radiance or any linear quantity), row-major, row 0 at the top of
-// the picture, three floats per pixel. Reading and writing are chosen by the file's extension:
+// the picture, three floats per pixel. Reading is chosen by the file's extension:
 //
-//   .exr  OpenEXR through tinyexr. Read: R, G, B channels (half or float; a single-channel file
-//         is read as grey; A is ignored). Written: 32-bit float R, G, B, ZIP-compressed, so a
-//         round trip is bit-exact.
-//   .hdr  Radiance RGBE through stb_image / stb_image_write (8-bit mantissas with a shared
-//         exponent: relative precision about 2^-8 of the pixel's largest channel).
-//   .png  8-bit sRGB through stb_image. Read: decoded to linear with the exact sRGB curve
-//         (16-bit PNGs are reduced to 8 bits first; alpha is ignored). Written: display-referred —
-//         multiplied by `exposure`, tone mapped with the ACES filmic fit and encoded with the sRGB
-//         curve (see light/tonemap.hpp).
+//   .exr  OpenEXR through tinyexr: R, G, B channels (half or float; a single-channel file is read
+//         as grey; A is ignored).
+//   .hdr  Radiance RGBE through stb_image (8-bit mantissas with a shared exponent: relative
+//         precision about 2^-8 of the pixel's largest channel).
+//   .png  8-bit sRGB through stb_image, decoded to linear with the exact sRGB curve
+//         (core/colour.hpp; 16-bit PNGs are reduced to 8 bits first; alpha is ignored).
 #pragma once
 
 #include <cstddef>
@@ -19,6 +17,10 @@
 #include <vector>
 
 namespace shprt {
+
+// Largest side of an image read or written: far beyond any environment map, small enough that
+// width·height·3 floats cannot overflow.
+inline constexpr int kMaxImageSide = 1 << 15;
 
 struct Image {
     int width = 0, height = 0;
@@ -46,12 +48,5 @@ struct Image {
 // malformed, empty, or holds a NaN or infinite pixel (the message names the first such pixel);
 // ErrorCode::unsupported for any other extension.
 Image load_image(const std::string& path);
-
-// Writes an image by extension (.exr, .hdr, .png; case-insensitive) through AtomicFile, so the
-// target is either the complete new file or untouched. `exposure` is a linear multiplier used
-// for .png only (display output); .exr and .hdr store the radiometric values unchanged.
-// Throws Error(invalid_argument) for an empty image, a wrong pixel-buffer size or a
-// non-positive exposure, Error(unsupported) for an unknown extension, Error(io) if writing fails.
-void save_image(const std::string& path, const Image& image, float exposure = 1.0f);
 
 }  // namespace shprt

@@ -49,9 +49,18 @@ Camera default_camera(const Mesh& mesh, float aspect);
 // precision; geometry closer to the eye than that is clipped).
 void fit_clip_planes(Camera& camera, const Bounds& bounds);
 
-// Parses "EX,EY,EZ,TX,TY,TZ" into eye and target; throws Error(invalid_argument) naming `text`.
+// The camera at `eye` looking at `target` with vertical field of view `fov_y_deg`: up is +Y, or
+// −Z when the view is (within 1e-4 rad) straight up or down, where +Y would be parallel to it;
+// near and far fitted to `bounds` (fit_clip_planes). The one way a camera is built from an eye and
+// a target: `--camera` (shprt render, shprt view) and the viewer's orbit/fly controller.
+// Throws Error(invalid_argument) if eye == target.
+Camera look_at_camera(Vec3f eye, Vec3f target, float fov_y_deg, const Bounds& bounds);
+
+// Parses "EX,EY,EZ,TX,TY,TZ" (six finite numbers, core/parse.hpp) into eye and target; throws
+// Error(invalid_argument) naming `text`, also when eye and target coincide.
 void parse_camera(const std::string& text, Camera& camera);
-// Parses "X,Y,Z" (three finite numbers); throws Error(invalid_argument) naming `what`.
+// Parses "X,Y,Z" (three finite numbers, core/parse.hpp); throws Error(invalid_argument) naming
+// `what` and `text`.
 Vec3f parse_vec3(const std::string& text, const std::string& what);
 // Parses "WxH" (both in [1, 16384]); throws Error(invalid_argument).
 void parse_size(const std::string& text, int& width, int& height);

@@ -11,7 +11,8 @@
 // glossy shading depends on the eye position only). Depth test on, back-face culling off (rooms are
 // seen from inside). The output is linear radiance in a float target; tone mapping happens after
 // the multisample resolve (save_image for files; `present`, which resolves as it tone-maps, for a
-// window).
+// window). The one path from a scene to a picture file is render_image, then save_image
+// (render/save_image.hpp): `shprt render` and the viewer's --screenshot both take it.
 //
 // Typical use:
 //     HeadlessGlContext context;              // or a GLFW window's context
@@ -28,6 +29,7 @@
 #include "shprt/light/image.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/render/camera.hpp"
+#include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/transfer/transfer.hpp"
@@ -117,9 +119,10 @@ public:
     // vertex, vertex-major), for CUDA–OpenGL interop. Valid after set_scene.
     unsigned transfer_buffer() const { return m_transfer_ssbo; }
     // Sets the light: `light` (3 × K floats, channel-major) in its own frame, turned by
-    // `rotation` (a feature at direction s appears at R·s, as rotate_light). The renderer rotates
-    // the coefficients itself (rotate_light, O(bands³) per channel). Cheap: call it whenever the
-    // light turns. The background texture is rebuilt (O(texels × K')) only when the coefficients
+    // `rotation` (a feature at direction s appears at R·s, as rotate_light). The renderer shades
+    // with rotated_light(light, rotation, K) (light/light_setup.hpp, the one light path:
+    // O(bands³) per channel; exact when K is a full band). Cheap: call it whenever the light
+    // turns. The background texture is rebuilt (O(texels × K')) only when the coefficients
     // of `light` change: for a full-band K' a turned light is drawn by turning the lookup
     // direction; for a partial band (not rotation invariant) it is rebuilt from the rotated light.
     void set_light(const ShLight& light, const Mat3d& rotation = Mat3d::identity());
@@ -187,9 +190,18 @@ private:
     bool m_shading_valid = false;
 };
 
-// One frame, headless: creates a HeadlessGlContext, a Renderer and a RenderTarget with `samples`
-// samples, draws, resolves and reads back linear RGB (row 0 top). What `shprt render` does.
+// One frame, headless: creates a HeadlessGlContext and calls render_image_in_current_context.
+// What `shprt render` does (then save_image).
 Image render_image(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                    const DrawSettings& settings, int width, int height, int samples = 4);
+
+// One frame in the OpenGL context current on the calling thread (4.3 core; e.g. the viewer's
+// offscreen context for --screenshot, which may be a hidden window): a Renderer with `light`
+// (unrotated: set_light(light)) and a RenderTarget with `samples` samples; draws, resolves and
+// reads back linear RGB (row 0 top). Its GL objects are released before it returns. Throws what
+// Renderer and RenderTarget throw.
+Image render_image_in_current_context(const Mesh& mesh, const TransferSet& transfer,
+                                      const ShLight& light, const DrawSettings& settings, int width,
+                                      int height, int samples = 4);
 
 }  // namespace shprt

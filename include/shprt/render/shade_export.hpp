@@ -24,10 +24,11 @@ void write_shade_csv(const std::string& path, const Mesh& mesh, const ShadeResul
 // columns as the CSV.
 void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResult& result);
 
-// Binary little-endian PLY: vertices with float x, y, z, nx, ny, nz and uchar red, green, blue
-// (the radiance L times `exposure`, filmic tone mapped and sRGB encoded exactly as PNG images
-// are, light/image.hpp), then the triangles as "list uchar int vertex_indices". Opens in MeshLab
-// and Blender.
+// Binary little-endian PLY through write_ply (scene/ply.hpp, the one PLY writer): vertices with
+// float x, y, z, nx, ny, nz and uchar red, green, blue (the radiance L times `exposure`, filmic
+// tone mapped and sRGB encoded exactly as PNG images are, render/save_image.hpp), then the
+// triangles as "list uchar uint vertex_indices". Opens in MeshLab and Blender. Needs normals
+// (Error(invalid_argument)).
 void write_shade_ply(const std::string& path, const Mesh& mesh, const ShadeResult& result,
                      float exposure = 1.0f);
 

@@ -1,4 +1,5 @@
-// Writing meshes as PLY, the exchange format whose vertex order shprt keeps exactly.
+// Writing meshes as PLY, the exchange format whose vertex order shprt keeps exactly. The one
+// binary PLY writer: `shprt scene` writes meshes with it, `shprt shade` its per-vertex colours.
 #pragma once
 
 #include "shprt/scene/mesh.hpp"
@@ -6,18 +7,23 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace shprt {
 
 // Writes `mesh` to `path` as binary little-endian PLY through AtomicFile (the target appears
 // complete or not at all). Vertex properties: float x, y, z; float nx, ny, nz when the mesh has
-// normals; uchar red, green, blue: `colours` when given (one per vertex), else the albedo encoded
-// as 8-bit sRGB when the mesh has albedo. Faces: "list uchar uint vertex_indices". Vertex i of the
+// normals; uchar red, green, blue: `colours` when given (one per vertex, written as given), else
+// the albedo encoded as 8-bit sRGB when the mesh has albedo. Faces: "list uchar uint
+// vertex_indices" — uint because Mesh indices are uint32 (no cast, no 2³¹ limit); PLY readers
+// (Assimp, MeshLab, Blender, load_scene's header check) accept uint and int alike. Vertex i of the
 // file is vertex i of the mesh, so load_scene gives the same vertices back in the same order.
-// A comment line records mesh.source. Throws Error(invalid_argument) when colours, normals or
+// Comment lines record mesh.source and, when not empty, `comment` (one line; control characters
+// become '?'), e.g. what the colours mean. Throws Error(invalid_argument) when colours, normals or
 // albedo have the wrong count, Error(io) when the file cannot be written.
 void write_ply(const Mesh& mesh, const std::string& path,
-               const std::vector<std::array<std::uint8_t, 3>>* colours = nullptr);
+               const std::vector<std::array<std::uint8_t, 3>>* colours = nullptr,
+               std::string_view comment = {});
 
 }  // namespace shprt

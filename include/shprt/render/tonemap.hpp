@@ -1,16 +1,16 @@
-// Display transforms shared by every picture writer (PNG files here, the OpenGL renderer's
-// shader mirrors the same formulas). Pure math, host and device.
+// Display transforms of the picture writers: PNG files (save_image), display-encoded PLY colours
+// (write_shade_ply); the OpenGL renderer's present shader mirrors the same formulas. Pure math,
+// host and device.
 //
 // * Tone map: Krzysztof Narkowicz's fit of the ACES filmic reference rendering transform
 //   ("ACES Filmic Tone Mapping Curve", 2016): f(x) = x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14),
 //   clamped to [0, 1], applied per channel to linear RGB after multiplying by the exposure. It
 //   maps 0 → 0, is monotonic, and reaches about 0.8 at x = 1.
-// * sRGB: the exact IEC 61966-2-1 piecewise curve (linear segment below 0.0031308).
+// * sRGB: the exact IEC 61966-2-1 piecewise curve (core/colour.hpp).
 #pragma once
 
+#include "shprt/core/colour.hpp"
 #include "shprt/core/hd.hpp"
-
-#include <cmath>
 
 namespace shprt {
 
@@ -21,21 +21,8 @@ SHPRT_HD_INLINE float tonemap_aces(float x) {
     return y < 1.0f ? y : 1.0f;
 }
 
-// Linear [0, 1] → sRGB-encoded [0, 1]; inputs outside [0, 1] are clamped.
-SHPRT_HD_INLINE float linear_to_srgb(float x) {
-    if (!(x > 0.0f)) return 0.0f;
-    if (x >= 1.0f) return 1.0f;
-    return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
-}
-
-// sRGB-encoded [0, 1] → linear [0, 1]; inputs outside [0, 1] are clamped.
-SHPRT_HD_INLINE float srgb_to_linear(float s) {
-    if (!(s > 0.0f)) return 0.0f;
-    if (s >= 1.0f) return 1.0f;
-    return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
-}
-
-// The PNG writer's full chain for one channel: 8-bit code of srgb(tonemap(exposure · x)).
+// The PNG writer's full chain for one channel: 8-bit code of srgb(tonemap(exposure · x)), rounded
+// to nearest.
 SHPRT_HD_INLINE unsigned char display_encode8(float x, float exposure) {
     const float s = linear_to_srgb(tonemap_aces(x * exposure));
     return static_cast<unsigned char>(s * 255.0f + 0.5f);

@@ -1,0 +1,56 @@
+// The one path for a light: load → SH → window → rotate. Every tool and the viewer get their
+// light through these functions, so that the same options give the same coefficients everywhere:
+//
+//   light_source(setup, K)       the specs (`--light`) projected with full bands, windowed
+//                                (`--window`): the unrotated source
+//   rotated_light(source, R, K)  the source rotated by R (SH rotation, never re-projection), then
+//                                truncated to its first K coefficients
+//   prepare_light(setup, K)      both, with R from setup.yaw_pitch_roll_deg (`--rotate`)
+//
+// `shprt shade` and `shprt render` call prepare_light; the viewer keeps the source and calls
+// rotated_light whenever the light turns (viewer/light_rig.hpp); the renderer calls rotated_light
+// for the coefficients it shades with (Renderer::set_light). Rotating before truncating keeps the
+// rotation exact when K is not a square: a full band is rotation invariant, a partial one is not.
+#pragma once
+
+#include "shprt/core/vec.hpp"
+#include "shprt/light/light.hpp"
+#include "shprt/sh/window.hpp"
+
+#include <string>
+#include <vector>
+
+namespace shprt {
+
+struct LightSetup {
+    std::vector<std::string> specs;  // light specs (light/light.hpp), summed; empty = {"builtin"}
+    Vec3d yaw_pitch_roll_deg{0, 0,
+                             0};  // rotation R = Ry(yaw)·Rx(pitch)·Rz(roll) (core/rotation3.hpp)
+    WindowKind window = WindowKind::none;
+    double window_strength = 0;  // as apply_window (sh/window.hpp)
+};
+
+// The unrotated source for lights of basis size K: the specs projected with full bands
+// (sh_count(sh_bands_for(K)) coefficients) and windowed. Throws the errors of make_light (naming
+// the spec or file) and Error(invalid_argument) for K outside [1, kMaxLightK].
+ShLight light_source(const LightSetup& setup, int K);
+
+// setup.yaw_pitch_roll_deg as a matrix; exactly the identity when all three angles are 0.
+Mat3d light_rotation(const LightSetup& setup);
+
+// The light `source` turned by the rotation R (a feature at direction s appears at R·s, as
+// rotate_light), then truncated to its first K coefficients (3·K floats, channel-major). The
+// rotation is skipped when R is exactly the identity. Exact when source.K is a full band (n²);
+// otherwise rotate_light pads the last band with zeros, which is only approximate. Throws
+// Error(invalid_argument) for a malformed source or K outside [1, source.K].
+ShLight rotated_light(const ShLight& source, const Mat3d& R, int K);
+
+// rotated_light(light_source(setup, K), light_rotation(setup), K): the light of basis size K for
+// `setup`. Throws what light_source throws.
+ShLight prepare_light(const LightSetup& setup, int K);
+
+// Parses "YAW,PITCH,ROLL" in degrees (three finite numbers, core/parse.hpp); throws
+// Error(invalid_argument) naming `text`.
+Vec3d parse_yaw_pitch_roll(const std::string& text);
+
+}  // namespace shprt

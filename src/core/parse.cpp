@@ -1,0 +1,75 @@
+// Comma-separated number lists (parse.hpp).
+#include "shprt/core/parse.hpp"
+
+#include "shprt/core/error.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <string>
+#include <system_error>
+
+namespace shprt {
+namespace {
+
+// "six" reads better than "6" in a message; larger counts stay digits.
+std::string count_words(std::size_t count) {
+    static constexpr const char* kWords[] = {"zero", "one", "two",   "three", "four",
+                                             "five", "six", "seven", "eight", "nine"};
+    return count < std::size(kWords) ? kWords[count] : std::to_string(count);
+}
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+    return s;
+}
+
+}  // namespace
+
+bool parse_number(std::string_view item, double& value) {
+    item = trim(item);
+    // from_chars takes a leading '-' but not a '+'; a lone sign is no number.
+    if (!item.empty() && item.front() == '+') item.remove_prefix(1);
+    if (item.empty() || item.front() == '+') return false;
+    const char* last = item.data() + item.size();
+    const auto [ptr, ec] = std::from_chars(item.data(), last, value);
+    return ec == std::errc() && ptr == last && std::isfinite(value);
+}
+
+namespace {
+
+std::vector<double> parse_list(std::string_view text, std::size_t count, std::string_view what) {
+    // What was expected, for both messages: "three comma-separated" or just "comma-separated".
+    const std::string expected =
+        count ? count_words(count) + " comma-separated" : "comma-separated";
+    std::vector<double> values;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t comma = text.find(',', start);
+        const std::string_view item =
+            text.substr(start, comma == std::string_view::npos ? comma : comma - start);
+        double v = 0;
+        SHPRT_CHECK(parse_number(item, v), invalid_argument,
+                    "{} expects {} finite numbers, got '{}' ('{}' is not a number)", what, expected,
+                    text, item);
+        values.push_back(v);
+        if (comma == std::string_view::npos) break;
+        start = comma + 1;
+    }
+    SHPRT_CHECK(count == 0 || values.size() == count, invalid_argument,
+                "{} expects {} numbers, got '{}'", what, expected, text);
+    return values;
+}
+
+}  // namespace
+
+std::vector<double> parse_numbers(std::string_view text, std::size_t count, std::string_view what) {
+    SHPRT_CHECK(count >= 1, invalid_argument, "parse_numbers: count must be at least 1");
+    return parse_list(text, count, what);
+}
+
+std::vector<double> parse_numbers(std::string_view text, std::string_view what) {
+    return parse_list(text, 0, what);
+}
+
+}  // namespace shprt
