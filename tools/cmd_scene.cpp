@@ -4,6 +4,7 @@
 #include "common/command.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/scene/mesh_ops.hpp"
@@ -41,11 +42,8 @@ std::string describe(const Mesh& mesh) {
 void print(const std::string& text) { std::fwrite(text.data(), 1, text.size(), stdout); }
 
 void generate(const GenerateArgs& args) {
-    std::string ext = std::filesystem::path(args.output).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    SHPRT_CHECK(ext == ".ply", invalid_argument, "{}: scenes are written as PLY (use a .ply name)",
-                args.output);
+    SHPRT_CHECK(lower_extension(args.output) == ".ply", invalid_argument,
+                "{}: scenes are written as PLY (use a .ply name)", args.output);
     Mesh mesh;
     std::string detail;
     if (args.name == "room") {

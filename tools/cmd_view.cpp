@@ -22,6 +22,7 @@
 
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
@@ -62,12 +63,7 @@ struct ViewArgs {
     std::vector<std::string> bake_only_given;
 };
 
-bool has_png_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext == ".png";
-}
+bool has_png_extension(const std::string& path) { return lower_extension(path) == ".png"; }
 
 double seconds_since(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();

@@ -55,6 +55,15 @@ void validate_job(const BakeJob& job, const BakeOptions&) {
                 rx.first, rx.first + rx.count, rx.total);
 }
 
+void validate_whole_mesh(const Mesh& mesh, TransferKind kind, const DirectionSet& directions) {
+    validate_direction_set(directions);
+    BakeOptions checked;
+    checked.transfer = kind;
+    checked.samples = static_cast<std::uint32_t>(directions.size());
+    validate(checked);
+    validate_job(BakeJob{&mesh, vertex_receivers(mesh), nullptr, nullptr, nullptr}, checked);
+}
+
 TransferInfo bake_info(const BakeOptions& options, Receivers receivers, std::size_t samples) {
     TransferInfo info = bake_description(options);
     info.layout.domain = receivers.domain;

@@ -60,17 +60,6 @@ cuda::DeviceScene device_scene(const Receivers& receivers, const FlatBvh* bvh,
     return s;
 }
 
-// The checks of the test hooks below (a whole-mesh job, as bake() would check it).
-void validate_mesh(const Mesh& mesh, TransferKind kind, const DirectionSet& directions) {
-    detail::validate_direction_set(directions);
-    BakeOptions checked;
-    checked.transfer = kind;
-    checked.samples = static_cast<std::uint32_t>(directions.size());
-    validate(checked);
-    detail::validate_job(BakeJob{&mesh, vertex_receivers(mesh), nullptr, nullptr, nullptr},
-                         checked);
-}
-
 }  // namespace
 
 namespace detail {
@@ -148,7 +137,7 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
                                         const DirectionSet& directions, std::size_t first,
                                         std::size_t count, int device) {
-    validate_mesh(mesh, kind, directions);
+    detail::validate_whole_mesh(mesh, kind, directions);
     require_gpu(device);
     const bool shadowed = kind == TransferKind::shadowed;
     FlatBvh bvh;
@@ -160,7 +149,7 @@ std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
 
 GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions,
                                          int repeats, int device) {
-    validate_mesh(mesh, TransferKind::shadowed, directions);
+    detail::validate_whole_mesh(mesh, TransferKind::shadowed, directions);
     require_gpu(device);
     const FlatBvh bvh = build_bvh(mesh, 0);
     return cuda::device_traversal_rate(

@@ -14,6 +14,10 @@ void validate_direction_set(const DirectionSet& directions);
 // by bake(); the test hooks of gpu.hpp check jobs without one.)
 void validate_job(const BakeJob& job, const BakeOptions& options);
 
+// The checks bake() makes of a whole-mesh job of `kind` with `directions`, for the GPU test hooks
+// of gpu.hpp (which take a mesh and a direction set, not a job).
+void validate_whole_mesh(const Mesh& mesh, TransferKind kind, const DirectionSet& directions);
+
 // What a diffuse bake with `options` over S directions produces: kind, the layout (the receivers'
 // domain, one channel, K, a vector each, float32), sampler, S, seed; no stats yet.
 TransferInfo bake_info(const BakeOptions& options, Receivers receivers, std::size_t samples);

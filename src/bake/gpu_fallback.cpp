@@ -19,16 +19,6 @@ constexpr const char* kNoCuda =
 
 [[noreturn]] void no_cuda() { fail(ErrorCode::unsupported, "device 'cuda': {}", kNoCuda); }
 
-void validate_mesh(const Mesh& mesh, TransferKind kind, const DirectionSet& directions) {
-    detail::validate_direction_set(directions);
-    BakeOptions checked;
-    checked.transfer = kind;
-    checked.samples = static_cast<std::uint32_t>(directions.size());
-    validate(checked);
-    detail::validate_job(BakeJob{&mesh, vertex_receivers(mesh), nullptr, nullptr, nullptr},
-                         checked);
-}
-
 }  // namespace
 
 GpuInfo query_gpu(int) {
@@ -44,13 +34,13 @@ TransferInfo detail::bake_gpu(const BakeJob&, const BakeOptions&, const Directio
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
                                         const DirectionSet& directions, std::size_t, std::size_t,
                                         int) {
-    validate_mesh(mesh, kind, directions);
+    detail::validate_whole_mesh(mesh, kind, directions);
     no_cuda();
 }
 
 GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions, int,
                                          int) {
-    validate_mesh(mesh, TransferKind::shadowed, directions);
+    detail::validate_whole_mesh(mesh, TransferKind::shadowed, directions);
     no_cuda();
 }
 

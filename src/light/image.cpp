@@ -26,13 +26,6 @@
 namespace shprt {
 namespace {
 
-std::string lower_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
-}
-
 std::string read_image_bytes(const std::string& path) {
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);

@@ -4,6 +4,7 @@
 #include "shprt/light/light.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
@@ -47,9 +48,7 @@ Vec3d parse_rgb(std::string_view text, const std::string& spec, const char* what
 }
 
 bool has_image_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string ext = lower_extension(path);
     return ext == ".hdr" || ext == ".exr" || ext == ".png";
 }
 

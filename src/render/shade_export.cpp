@@ -45,13 +45,10 @@ void require_little_endian() {
 }  // namespace
 
 ShadeFormat shade_format_for_path(const std::string& path) {
-    const std::size_t dot = path.find_last_of('.');
-    std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (ext == "csv") return ShadeFormat::csv;
-    if (ext == "ply") return ShadeFormat::ply;
-    if (ext == "npy") return ShadeFormat::npy;
+    const std::string ext = lower_extension(path);
+    if (ext == ".csv") return ShadeFormat::csv;
+    if (ext == ".ply") return ShadeFormat::ply;
+    if (ext == ".npy") return ShadeFormat::npy;
     fail(ErrorCode::invalid_argument, "output {}: unknown format (expected .csv, .ply or .npy)",
          path);
 }

@@ -6,6 +6,7 @@
 #include "ply_header.hpp"
 #include "shprt/core/colour.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/mesh_ops.hpp"
@@ -38,13 +39,6 @@ using detail::PlyHeader;
 
 constexpr std::string_view kBuiltinPrefix = "builtin:";
 constexpr float kUnitSlack = 1e-6f;
-
-std::string lower_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
-}
 
 // Reads the first bytes of a file (at most kMaxPlyHeader).
 std::string file_prefix(const std::string& path) {

@@ -2,6 +2,7 @@
 #include "common/shading_options.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 
 #include <algorithm>
@@ -74,11 +75,8 @@ void check_shading_args(double k, double gloss, double exposure) {
 }
 
 void check_image_extension(const std::string& path) {
-    const std::size_t dot = path.find_last_of('.');
-    std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    SHPRT_CHECK(ext == "png" || ext == "exr" || ext == "hdr", invalid_argument,
+    const std::string ext = lower_extension(path);
+    SHPRT_CHECK(ext == ".png" || ext == ".exr" || ext == ".hdr", invalid_argument,
                 "output {}: unknown image format (expected .png, .exr or .hdr)", path);
 }
 

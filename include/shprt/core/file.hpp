@@ -31,6 +31,10 @@ private:
     bool m_committed = false;
 };
 
+// The extension of `path`'s file name in lower case, with its dot (".png"); "" when it has none.
+// How every reader and writer chooses a format by name.
+std::string lower_extension(const std::string& path);
+
 // Reads a whole file; throws Error(io) naming `path` if it cannot be opened or read.
 std::string read_file(const std::string& path);
 
