@@ -50,6 +50,17 @@ public:
     int begins = 0, finishes = 0;
 };
 
+// Options for a small bake cut into many chunks (64 receivers each): the progressive-bake tests.
+inline BakeOptions small_chunked_options() {
+    BakeOptions o;
+    o.K = 16;
+    o.samples = 128;
+    o.seed = 7;
+    o.threads = 2;
+    o.chunk_receivers = 64;
+    return o;
+}
+
 // bake() of every vertex of `mesh` into `sink`, with `directions` when given.
 inline TransferInfo bake_into(const Mesh& mesh, const BakeOptions& options, TransferSink& sink,
                               const DirectionSet* directions = nullptr) {

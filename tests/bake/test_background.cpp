@@ -1,5 +1,6 @@
 // A bake shown while it refines: the chunk queue (a sink), the worker thread, cancelling, and
 // that the chunks, applied as they arrive, rebuild the normal bake bit for bit.
+#include "bake_test_util.hpp"
 #include "shprt/bake/background.hpp"
 
 #include "shprt/core/error.hpp"
@@ -14,16 +15,6 @@
 
 namespace shprt {
 namespace {
-
-BakeOptions small_options() {
-    BakeOptions o;
-    o.K = 16;
-    o.samples = 128;
-    o.seed = 7;
-    o.threads = 2;
-    o.chunk_receivers = 64;  // many chunks on a small scene
-    return o;
-}
 
 TransferInfo grey_vectors(int K) {
     TransferInfo info;
@@ -75,7 +66,7 @@ TEST(ChunkQueue, ApplyToChecksItsRange) {
 
 TEST(BackgroundBake, ChunksRebuildTheNormalBakeExactly) {
     const Mesh mesh = load_scene("builtin:box_on_plane");
-    const BakeOptions options = small_options();
+    const BakeOptions options = test::small_chunked_options();
     const TransferSet want = bake(mesh, options);
 
     BackgroundBake worker(mesh, options);
@@ -129,7 +120,7 @@ TEST(BackgroundBake, CancelStopsPromptly) {
 
 TEST(BackgroundBake, ABadBakeReportsItsError) {
     const Mesh mesh = load_scene("builtin:box_on_plane");
-    BakeOptions options = small_options();
+    BakeOptions options = test::small_chunked_options();
     options.samples = 0;
     BackgroundBake worker(mesh, options);
     worker.wait();

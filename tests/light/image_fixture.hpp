@@ -5,6 +5,7 @@
 #pragma once
 
 #include "shprt/core/colour.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/light/image.hpp"
 
 #include <gtest/gtest.h>
@@ -12,7 +13,7 @@
 #include <tinyexr.h>
 
 #include <algorithm>
-#include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -20,11 +21,31 @@
 
 namespace shprt::test_support {
 
+// RGBE (.hdr) keeps 8 bits of mantissa shared by the three channels: a channel may be off by up to
+// 1/128 of the pixel's largest channel.
+inline constexpr float kRgbeRelTol = 1.0f / 128.0f;
+
+// Checks that `back` is `image` after an RGBE round trip (sizes equal, every channel within
+// kRgbeRelTol of the pixel's largest), and that it lost something (the check is not vacuous).
+inline void expect_rgbe_round_trip(const Image& image, const Image& back) {
+    ASSERT_EQ(back.width, image.width);
+    ASSERT_EQ(back.height, image.height);
+    double worst = 0.0;
+    for (std::size_t px = 0; px < image.pixel_count(); ++px) {
+        const float* a = &image.rgb[3 * px];
+        const float* b = &back.rgb[3 * px];
+        const float maxc = std::max({a[0], a[1], a[2]});
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_LE(std::abs(a[c] - b[c]), kRgbeRelTol * maxc) << "pixel " << px;
+            worst = std::max(worst, double(std::abs(a[c] - b[c]) / maxc));
+        }
+    }
+    EXPECT_GT(worst, 0.0);  // RGBE is lossy: the check above is not vacuous
+}
+
 // Writes `image` to `path` by extension (.exr, .hdr or .png); fails the test otherwise.
 inline void write_test_image(const std::string& path, const Image& image) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string ext = lower_extension(path);
     if (ext == ".exr") {
         const char* err = nullptr;
         ASSERT_EQ(SaveEXR(image.rgb.data(), image.width, image.height, 3, 0, path.c_str(), &err),

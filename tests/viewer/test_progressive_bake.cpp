@@ -2,6 +2,7 @@
 // into the renderer's transfer buffer as the window loop does, equal the normal bake bit for bit.
 #include "frame.hpp"
 
+#include "bake/bake_test_util.hpp"
 #include "shprt/bake/background.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/render/gl_context.hpp"
@@ -18,16 +19,6 @@
 namespace shprt::viewer {
 namespace {
 
-BakeOptions small_options() {
-    BakeOptions o;
-    o.K = 16;
-    o.samples = 128;
-    o.seed = 7;
-    o.threads = 2;
-    o.chunk_receivers = 64;  // many chunks on a small scene
-    return o;
-}
-
 TEST(BackgroundBake, ChunksIntoTheRenderersBufferEqualTheNormalBake) {
     std::unique_ptr<HeadlessGlContext> context;
     try {
@@ -36,7 +27,7 @@ TEST(BackgroundBake, ChunksIntoTheRenderersBufferEqualTheNormalBake) {
         GTEST_SKIP() << "no headless OpenGL 4.3 core context: " << e.what();
     }
     const Mesh mesh = load_scene("builtin:box_on_plane");
-    const BakeOptions options = small_options();
+    const BakeOptions options = test::small_chunked_options();
     const TransferSet want = bake(mesh, options);
     {
         Renderer renderer;
