@@ -32,7 +32,24 @@ struct BakeArgs {
     std::string scene, output;
     BakeOptionArgs bake;  // common/bake_options.hpp, shared with `shprt view --bake`
     bool half = false;
+    std::string shard;  // "I/N", or empty
 };
+
+// "I/N" with 0 ≤ I < N: shard I of N.
+std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
+    const std::size_t slash = text.find('/');
+    unsigned long long i = 0, n = 0;
+    const auto number = [](const std::string& s, unsigned long long& v) {
+        if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos || s.size() > 9)
+            return false;
+        v = std::stoull(s);
+        return true;
+    };
+    SHPRT_CHECK(slash != std::string::npos && number(text.substr(0, slash), i) &&
+                    number(text.substr(slash + 1), n) && n >= 1 && i < n,
+                invalid_argument, "--shard '{}': expected I/N with 0 <= I < N (e.g. 0/4)", text);
+    return {static_cast<std::size_t>(i), static_cast<std::size_t>(n)};
+}
 
 double seconds_since(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
@@ -74,19 +91,31 @@ void run(const BakeArgs& args) {
     const Mesh mesh = load_scene(args.scene);
     const double seconds_load = seconds_since(load_start);
 
+    // A shard bakes receivers [⌊V·I/N⌋, ⌊V·(I+1)/N⌋) of the same bake; `shprt merge` joins them.
+    Receivers receivers = vertex_receivers(mesh);
+    nlohmann::json extra;
+    if (!args.shard.empty()) {
+        const auto [i, n] = parse_shard(args.shard);
+        const std::size_t V = mesh.vertex_count();
+        SHPRT_CHECK(n <= V, invalid_argument,
+                    "--shard {}: {} shards of {} vertices leave some empty", args.shard, n, V);
+        receivers = receivers.range(V * i / n, V * (i + 1) / n - V * i / n);
+        extra["shard"] = {{"index", i}, {"of", n}};
+    }
+
     install_interrupt_handler();
     TransferSet transfer;
     {
         ProgressBar bar("bake");
         options.progress = bar.callback();
-        transfer = bake(mesh, options);
+        transfer = bake(mesh, receivers, options);
     }
 
-    nlohmann::json extra;
     extra["stats"]["seconds_load"] = seconds_load;
     extra["command_line"] = command_line();
     if (args.half) transfer.layout.encoding = TransferEncoding::f16;
     WriteOptions write_options;
+    write_options.receiver_first = receivers.first;
     write_options.extra_metadata_json = extra.dump();
     const auto write_start = Clock::now();
     write_shprt(args.output, mesh, transfer, write_options);
@@ -97,7 +126,7 @@ void run(const BakeArgs& args) {
     std::printf(
         "baked %zu vertices, K=%d, S=%d (%s, %s): load %.3f s, bvh %.3f s, trace %.3f s, "
         "project %.3f s, write %.3f s; %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
-        mesh.vertex_count(), transfer.layout.K, transfer.samples, to_string(transfer.kind),
+        receivers.count, transfer.layout.K, transfer.samples, to_string(transfer.kind),
         to_string(transfer.sampler), seconds_load, s.seconds_bvh, s.seconds_trace,
         s.seconds_project, seconds_write, rays_per_second * 1e-6,
         double(s.peak_bytes_host) / (1024.0 * 1024.0), s.device_name.c_str(), args.output.c_str());
@@ -111,6 +140,9 @@ const bool registered = register_command(
          app.add_option("-o,--output", args->output, "Output .shprt file")->required();
          add_bake_options(app, args->bake);
          app.add_flag("--half", args->half, "Store coefficients as float16");
+         app.add_option("--shard", args->shard,
+                        "Bake part I of N (I/N, 0-based) of the vertices, for job arrays; join "
+                        "the parts with `shprt merge`");
          app.callback([args] { run(*args); });
      }});
 

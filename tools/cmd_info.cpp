@@ -18,7 +18,7 @@ struct InfoArgs {
 };
 
 void run(const InfoArgs& args) {
-    const ShprtFile file = read_shprt(args.path);
+    const ShprtFile file = read_shprt_part(args.path);  // a shard's part is described too
     std::string text = args.json ? file.metadata_json : shprt_summary(file);
     if (text.empty() || text.back() != '\n') text += '\n';
     std::fwrite(text.data(), 1, text.size(), stdout);

@@ -99,13 +99,13 @@ TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device bac
     return detail::bake_cpu(job, options, directions, tracer.get(), seconds_since(start));
 }
 
-// A whole-mesh bake into host memory: the convenience entry points' body.
-TransferSet bake_to_host(const Mesh& mesh, const BakeOptions& options,
+// A bake into host memory: the convenience entry points' body.
+TransferSet bake_to_host(const Mesh& mesh, const Receivers& receivers, const BakeOptions& options,
                          const DirectionSet* directions, const Tracer* tracer) {
     HostSink sink;
     BakeJob job;
     job.occluders = &mesh;
-    job.receivers = vertex_receivers(mesh);
+    job.receivers = receivers;
     job.sink = &sink;
     job.directions = directions;
     job.tracer = tracer;
@@ -211,11 +211,15 @@ TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
 }
 
 TransferSet bake(const Mesh& mesh, const BakeOptions& options) {
-    return bake_to_host(mesh, options, nullptr, nullptr);
+    return bake_to_host(mesh, vertex_receivers(mesh), options, nullptr, nullptr);
+}
+
+TransferSet bake(const Mesh& mesh, const Receivers& receivers, const BakeOptions& options) {
+    return bake_to_host(mesh, receivers, options, nullptr, nullptr);
 }
 
 TransferSet bake(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions) {
-    return bake_to_host(mesh, options, &directions, nullptr);
+    return bake_to_host(mesh, vertex_receivers(mesh), options, &directions, nullptr);
 }
 
 TransferSet bake_with_tracer(const Mesh& mesh, const BakeOptions& options,
@@ -224,7 +228,7 @@ TransferSet bake_with_tracer(const Mesh& mesh, const BakeOptions& options,
                 "bake_with_tracer runs on the CPU only (device 'cuda' was asked for)");
     BakeOptions cpu = options;
     cpu.device = Device::cpu;
-    return bake_to_host(mesh, cpu, &directions, &tracer);
+    return bake_to_host(mesh, vertex_receivers(mesh), cpu, &directions, &tracer);
 }
 
 TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,

@@ -206,7 +206,8 @@ class Reader {
 public:
     explicit Reader(const std::string& path) : m_path(path), m_file(path) {}
 
-    ShprtFile read();
+    // allow_part: read a part of a sharded bake too (else refuse it).
+    ShprtFile read(bool allow_part);
 
 private:
     void check_zero_gap(std::uint64_t from, std::uint64_t to, const char* before);
@@ -267,7 +268,7 @@ void Reader::read_section_chunks(const SectionSpec& spec, Sink&& sink) {
     check_crc(spec, crc);
 }
 
-ShprtFile Reader::read() {
+ShprtFile Reader::read(bool allow_part) {
     const std::uint64_t size = m_file.size();
 
     // ---- header ----
@@ -362,6 +363,22 @@ ShprtFile Reader::read() {
     const std::string recorded_hash = scene.string("hash");
     const std::uint64_t V = scene.u64("vertices");
     const std::uint64_t T = scene.u64("triangles");
+    // The rows' receivers (version 2; absent in version 1 files: all vertices).
+    std::uint64_t rows = V;
+    if (meta.contains("receivers")) {
+        const Fields r = m.object("receivers");
+        if (r.u64("total") != V)
+            corrupt(m_path, "metadata: receivers.total = {} but the scene has {} vertices",
+                    r.u64("total"), V);
+        const std::uint64_t first = r.u64("first", 0, V);
+        rows = r.u64("count", 1, V - std::min(first, V));
+        out.receiver_first = static_cast<std::size_t>(first);
+        if ((first != 0 || rows != V) && !allow_part)
+            corrupt(m_path,
+                    "is part of a sharded bake (receivers [{}, {}) of {}): join the parts with "
+                    "`shprt merge`",
+                    first, first + rows, V);
+    }
 
     if (meta.contains("stats")) {
         const Fields s = m.object("stats");
@@ -383,7 +400,7 @@ ShprtFile Reader::read() {
                 kMaxSections);
     // Match the listed sections to the table's rules in order: every required one present,
     // optional ones present or absent, nothing else.
-    const detail::SectionCounts counts{V, T, V, layout};
+    const detail::SectionCounts counts{V, T, rows, layout};
     std::vector<SectionSpec> specs;
     std::size_t listed = 0;
     for (const detail::SectionRule& rule : detail::section_rules()) {
@@ -465,6 +482,8 @@ ShprtFile Reader::read() {
 
 }  // namespace
 
-ShprtFile read_shprt(const std::string& path) { return Reader(path).read(); }
+ShprtFile read_shprt(const std::string& path) { return Reader(path).read(false); }
+
+ShprtFile read_shprt_part(const std::string& path) { return Reader(path).read(true); }
 
 }  // namespace shprt

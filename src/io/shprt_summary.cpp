@@ -52,6 +52,12 @@ std::string shprt_summary(const ShprtFile& file) {
     line("scene", mesh.source.empty() ? "(unnamed)" : mesh.source);
     line("vertices", fmt::format("{}", mesh.vertex_count()));
     line("triangles", fmt::format("{}", mesh.triangle_count()));
+    if (file.is_part())
+        line("receivers",
+             fmt::format("[{}, {}) of {}: one part of a sharded bake (join the parts with `shprt "
+                         "merge`)",
+                         file.receiver_first, file.receiver_first + t.receiver_count(),
+                         mesh.vertex_count()));
     const int channels = t.layout.channels;
     const std::string shape = t.layout.shape == TransferShape::vector
                                   ? std::string()

@@ -71,9 +71,10 @@ std::size_t first_magnitude_at_or_above(const float* p, std::size_t n, std::uint
     return n;
 }
 
-void check_inputs(const std::string& path, const Mesh& mesh, const TransferSet& t) {
+void check_inputs(const std::string& path, const Mesh& mesh, const TransferSet& t,
+                  std::size_t first) {
     try {
-        t.check(mesh);
+        t.check_rows(mesh, first);
     } catch (const Error& e) {
         fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
     }
@@ -166,6 +167,12 @@ Json build_metadata(const Mesh& mesh, const TransferSet& t, const WriteOptions& 
         {"vertices", mesh.positions.size()},
         {"triangles", mesh.triangles.size()},
     };
+    // The rows' receivers: all of them, or a shard's range (a part, see shprt_file.hpp).
+    m["receivers"] = {
+        {"first", options.receiver_first},
+        {"count", t.receiver_count()},
+        {"total", mesh.positions.size()},
+    };
     if (!options.reproducible) {
         m["stats"] = stats_json(t.stats);
         merge_extra(m, extra, "");
@@ -187,7 +194,7 @@ Json build_metadata(const Mesh& mesh, const TransferSet& t, const WriteOptions& 
 
 void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
                  const WriteOptions& options) {
-    check_inputs(path, mesh, transfer);
+    check_inputs(path, mesh, transfer, options.receiver_first);
     Json extra = Json::object();
     if (!options.extra_metadata_json.empty()) {
         try {
@@ -200,7 +207,7 @@ void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& t
 
     // The sections the table lists, in its order; an empty optional array is left out.
     const detail::SectionCounts counts{mesh.positions.size(), mesh.triangles.size(),
-                                       mesh.positions.size(), transfer.layout};
+                                       transfer.receiver_count(), transfer.layout};
     std::vector<SectionOut> sections;
     for (const detail::SectionRule& rule : detail::section_rules()) {
         if (!rule.required && rule.count(mesh, transfer) == 0) continue;

@@ -88,6 +88,20 @@ void TransferSet::check(const Mesh& mesh) const {
     SHPRT_CHECK(coeffs.size() == layout.floats(V), invalid_argument,
                 "transfer holds {} floats, expected {} vertices × {} channels × {} = {}",
                 coeffs.size(), V, layout.channels, layout.floats_per_channel(), layout.floats(V));
+    check_rows(mesh, 0);
+}
+
+void TransferSet::check_rows(const Mesh& mesh, std::size_t first) const {
+    layout.validate();
+    const std::size_t V = mesh.vertex_count();
+    const std::size_t row = layout.floats_per_receiver();
+    SHPRT_CHECK(!coeffs.empty() && coeffs.size() % row == 0, invalid_argument,
+                "transfer holds {} floats, not a whole number of rows of {} ({} channels × {})",
+                coeffs.size(), row, layout.channels, layout.floats_per_channel());
+    const std::size_t count = coeffs.size() / row;
+    SHPRT_CHECK(first <= V && count <= V - first, invalid_argument,
+                "transfer rows of receivers [{}, {}) outside the mesh's {} vertices", first,
+                first + count, V);
     SHPRT_CHECK(mesh.normals.size() == V && mesh.albedo.size() == V, invalid_argument,
                 "mesh {} has {} vertices but {} normals and {} albedo values", mesh.source, V,
                 mesh.normals.size(), mesh.albedo.size());

@@ -295,7 +295,21 @@ TEST_F(IoShprtCorrupt, CountsInconsistentWithVKAndChannels) {
          },
          "section 'transfer' has shape"},
         {"channels", [](Json& m) { m["channels"] = 3; }, "section 'transfer' has shape"},
-        {"vertices", [](Json& m) { m["scene"]["vertices"] = 15; }, "section 'positions' has shape"},
+        {"vertices", [](Json& m) { m["scene"]["vertices"] = 15; },
+         "receivers.total = 16 but the scene has 15 vertices"},
+        {"vertices and receivers",
+         [](Json& m) {
+             m["scene"]["vertices"] = 15;
+             m["receivers"]["total"] = 15;
+             m["receivers"]["count"] = 15;
+         },
+         "section 'positions' has shape"},
+        {"receivers count 0", [](Json& m) { m["receivers"]["count"] = 0; }, "field 'count'"},
+        {"receivers past the end", [](Json& m) { m["receivers"]["first"] = 10; },
+         "field 'count' = 16 is outside [1, 6]"},
+        {"receivers first huge", [](Json& m) { m["receivers"]["first"] = std::uint64_t(1) << 62; },
+         "field 'first'"},
+        {"receivers not an object", [](Json& m) { m["receivers"] = 3; }, "receivers"},
         {"triangles", [](Json& m) { m["scene"]["triangles"] = 19; },
          "section 'triangles' has shape"},
         {"count", [](Json& m) { m["sections"][0]["count"] = 47; }, "has count 47"},
@@ -311,7 +325,7 @@ TEST_F(IoShprtCorrupt, CountsInconsistentWithVKAndChannels) {
         {"K string", [](Json& m) { m["K"] = "9"; }, "field 'K'"},
         {"channels 2", [](Json& m) { m["channels"] = 2; }, "channels"},
         {"vertices huge", [](Json& m) { m["scene"]["vertices"] = std::uint64_t(1) << 62; },
-         "shape"},
+         "receivers.total"},
         {"sampler", [](Json& m) { m["sampler"] = "magic"; }, "sampler"},
         {"kind", [](Json& m) { m["transfer_kind"] = "glossy"; }, "transfer kind"},
         {"samples", [](Json& m) { m["samples"] = -1; }, "samples"},

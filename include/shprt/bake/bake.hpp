@@ -132,6 +132,9 @@ TransferInfo bake(const BakeJob& job, const BakeOptions& options);
 
 // Convenience: every vertex of `mesh` as receivers and occluders, into host memory.
 TransferSet bake(const Mesh& mesh, const BakeOptions& options);
+// The rows of `receivers`' range (e.g. a shard: vertex_receivers(mesh).range(first, count)),
+// with `mesh` as occluders, into host memory: the result's coeffs hold receivers.count rows.
+TransferSet bake(const Mesh& mesh, const Receivers& receivers, const BakeOptions& options);
 // The same with an explicit direction set (e.g. an exact quadrature set in tests).
 TransferSet bake(const Mesh& mesh, const BakeOptions& options, const DirectionSet& directions);
 // The same with a caller-owned tracer built over `mesh` (the BVH time is then 0). CPU only.

@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace shprt {
 
@@ -31,6 +32,9 @@ namespace shprt {
 inline constexpr std::uint32_t kShprtFormatVersion = 2;
 
 struct WriteOptions {
+    // The first receiver of the transfer's rows: 0 for a whole file; for a part of a sharded bake
+    // (its rows are receivers [receiver_first, receiver_first + rows)), where its range starts.
+    std::size_t receiver_first = 0;
     // A JSON object merged into the metadata (e.g. timings, peak memory, the bake command line);
     // empty = none. Objects merge recursively ({"stats": {"seconds_load": 0.1}} adds to the
     // stats); a key that would replace a value the writer sets is an Error(invalid_argument).
@@ -43,9 +47,13 @@ struct WriteOptions {
 
 // Writes `mesh` and `transfer` to `path` through AtomicFile (a temporary file beside `path`,
 // renamed over it at the end): on any failure the target is untouched and no temporary is left.
-// The coefficients are stored in transfer.layout.encoding (float32, or IEEE float16).
+// The coefficients are stored in transfer.layout.encoding (float32, or IEEE float16). A transfer
+// with fewer rows than the mesh has vertices, or options.receiver_first > 0, is written as a part
+// of a sharded bake (metadata "receivers": its range), which read_shprt refuses and
+// read_shprt_part / merge_shprt_parts read.
 // Preconditions, checked (Error(invalid_argument) naming the file and the problem): transfer
-// .check(mesh) (layout, one row per vertex, normals and albedo per vertex); source_vertex is
+// .check_rows(mesh, options.receiver_first) (layout, whole rows inside the mesh's vertices,
+// normals and albedo per vertex); source_vertex is
 // empty or has one entry per vertex; triangle indices are < V; coefficients are finite and, for
 // float16, within its range (|c| < 65520). Filesystem failures throw Error(io) naming the path.
 void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
@@ -56,6 +64,12 @@ struct ShprtFile {
     TransferSet transfer;       // coeffs always float32 in memory (float16 files widened); the
                                 // layout's encoding says how the file stored them
     std::string metadata_json;  // the metadata block exactly as stored
+    // The transfer's rows are receivers [receiver_first, receiver_first + rows): 0 and all of them
+    // for a whole file; a range for a part of a sharded bake (read_shprt_part).
+    std::size_t receiver_first = 0;
+    bool is_part() const {
+        return receiver_first != 0 || transfer.receiver_count() != mesh.vertex_count();
+    }
 };
 
 // Reads and validates a .shprt file: magic, version, endianness, header and metadata CRCs, the
@@ -65,7 +79,22 @@ struct ShprtFile {
 // ErrorCode::format (content) or ErrorCode::io (cannot open/read), whose one-line message names
 // the file and the problem, e.g. "room.shprt: truncated: section 'transfer' needs 1234 bytes at
 // offset 5678 but the file has 4000". Memory allocated is bounded by the file's size.
+// A part of a sharded bake (see write_shprt) is refused with a one-line Error(format) that says
+// to join the parts with `shprt merge`: every reader of whole files sees whole transfers.
 ShprtFile read_shprt(const std::string& path);
+
+// The same, but a part of a sharded bake is read too (receiver_first and the transfer's rows say
+// which receivers it holds).
+ShprtFile read_shprt_part(const std::string& path);
+
+// Joins the parts of one sharded bake (read with read_shprt_part; `names` name them in messages,
+// one per part, in the same order) into the whole: the parts, in any order, must have the same
+// mesh (scene hash), transfer kind, layout, sampler, samples and seed, and their receiver ranges
+// must tile [0, V) without a gap or an overlap. The rows are concatenated in receiver order, so
+// the result equals a single-process bake with the same options bit for bit. Stats: rays and
+// seconds summed (the parts' work), the largest peak memory, the devices listed. Throws
+// Error(invalid_argument) naming the part and the problem.
+ShprtFile merge_shprt_parts(std::vector<ShprtFile> parts, const std::vector<std::string>& names);
 
 // Human-readable multi-line description for `shprt info`: scene, vertices, triangles, transfer
 // kind, K with its bands (and whether the last band is full), sampler, samples, seed, precision,

@@ -121,6 +121,10 @@ struct TransferSet : TransferInfo {
     // mesh (its vertices, for the vertex domain: coeffs.size() == layout.floats(V)), and normals
     // and albedo for every vertex. Throws Error(invalid_argument) naming the mismatch.
     void check(const Mesh& mesh) const;
+    // The same for a part of a transfer (a shard): whole rows (coeffs.size() a non-zero multiple
+    // of layout.floats_per_receiver()) of receivers [first, first + receiver_count()), a range
+    // inside the mesh's. check(mesh) is check_rows(mesh, 0) with receiver_count() == V.
+    void check_rows(const Mesh& mesh, std::size_t first) const;
 };
 
 }  // namespace shprt

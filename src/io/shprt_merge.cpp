@@ -1,0 +1,96 @@
+// Joining the parts of a sharded bake (shprt_file.hpp merge_shprt_parts): `shprt bake --shard
+// i/n` writes receivers [⌊V·i/n⌋, ⌊V·(i+1)/n⌋); the rows of a sub-range are exactly those of the
+// whole bake (bake.hpp, "Determinism"), so concatenating the parts in receiver order is the whole
+// bake, bit for bit.
+#include "shprt/core/error.hpp"
+#include "shprt/io/hash.hpp"
+#include "shprt/io/shprt_file.hpp"
+
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace shprt {
+namespace {
+
+// The part's description that must agree with the first part's; "" when it does.
+std::string difference(const TransferSet& a, const TransferSet& b) {
+    if (a.kind != b.kind)
+        return fmt::format("transfer {} instead of {}", to_string(b.kind), to_string(a.kind));
+    if (!(a.layout == b.layout))
+        return fmt::format("layout K = {}, {} channel(s), {} {} instead of K = {}, {}, {} {}",
+                           b.layout.K, b.layout.channels, to_string(b.layout.shape),
+                           to_string(b.layout.encoding), a.layout.K, a.layout.channels,
+                           to_string(a.layout.shape), to_string(a.layout.encoding));
+    if (a.sampler != b.sampler || a.samples != b.samples || a.seed != b.seed)
+        return fmt::format("sampling {} S = {} seed {} instead of {} S = {} seed {}",
+                           to_string(b.sampler), b.samples, b.seed, to_string(a.sampler), a.samples,
+                           a.seed);
+    return {};
+}
+
+}  // namespace
+
+ShprtFile merge_shprt_parts(std::vector<ShprtFile> parts, const std::vector<std::string>& names) {
+    SHPRT_CHECK(!parts.empty(), invalid_argument, "merge: no parts given");
+    SHPRT_CHECK(names.size() == parts.size(), invalid_argument, "merge: {} names for {} parts",
+                names.size(), parts.size());
+    const std::string hash = format_mesh_hash(mesh_hash(parts[0].mesh));
+    for (std::size_t i = 1; i < parts.size(); ++i) {
+        SHPRT_CHECK(format_mesh_hash(mesh_hash(parts[i].mesh)) == hash, invalid_argument,
+                    "{}: a different scene than {} (scene hash {} instead of {})", names[i],
+                    names[0], format_mesh_hash(mesh_hash(parts[i].mesh)), hash);
+        const std::string diff = difference(parts[0].transfer, parts[i].transfer);
+        SHPRT_CHECK(diff.empty(), invalid_argument, "{}: not a part of the same bake as {}: {}",
+                    names[i], names[0], diff);
+    }
+    // In receiver order; the ranges must tile [0, V).
+    std::vector<std::size_t> order(parts.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return parts[a].receiver_first < parts[b].receiver_first;
+    });
+    const std::size_t V = parts[0].mesh.vertex_count();
+    std::size_t next = 0;
+    for (std::size_t i : order) {
+        const std::size_t first = parts[i].receiver_first;
+        const std::size_t end = first + parts[i].transfer.receiver_count();
+        SHPRT_CHECK(first >= next, invalid_argument,
+                    "{}: receivers [{}, {}) overlap the part before it (which ends at {})",
+                    names[i], first, end, next);
+        SHPRT_CHECK(first == next, invalid_argument,
+                    "merge: receivers [{}, {}) are in no part (the next part, {}, starts at {})",
+                    next, first, names[i], first);
+        next = end;
+    }
+    SHPRT_CHECK(next == V, invalid_argument,
+                "merge: receivers [{}, {}) are in no part (the scene has {})", next, V, V);
+
+    ShprtFile out;
+    out.mesh = std::move(parts[order[0]].mesh);
+    static_cast<TransferInfo&>(out.transfer) = parts[order[0]].transfer;
+    out.transfer.coeffs.reserve(out.transfer.layout.floats(V));
+    BakeStats& st = out.transfer.stats;
+    st = BakeStats{};
+    std::vector<std::string> devices;
+    for (std::size_t i : order) {
+        const TransferSet& t = parts[i].transfer;
+        out.transfer.coeffs.insert(out.transfer.coeffs.end(), t.coeffs.begin(), t.coeffs.end());
+        st.seconds_bvh += t.stats.seconds_bvh;
+        st.seconds_trace += t.stats.seconds_trace;
+        st.seconds_project += t.stats.seconds_project;
+        st.seconds_total += t.stats.seconds_total;
+        st.rays_cast += t.stats.rays_cast;
+        st.peak_bytes_host = std::max(st.peak_bytes_host, t.stats.peak_bytes_host);
+        st.peak_bytes_device = std::max(st.peak_bytes_device, t.stats.peak_bytes_device);
+        if (std::find(devices.begin(), devices.end(), t.stats.device_name) == devices.end())
+            devices.push_back(t.stats.device_name);
+        parts[i].transfer.coeffs = {};  // release as we go
+    }
+    st.device_name = fmt::format("{} part{}: {}", parts.size(), parts.size() == 1 ? "" : "s",
+                                 fmt::join(devices, "; "));
+    return out;
+}
+
+}  // namespace shprt

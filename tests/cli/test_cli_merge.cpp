@@ -1,0 +1,100 @@
+// Sharded bakes as programs: `shprt bake --shard I/N` parts, joined by `shprt merge`, equal the
+// single-process bake bit for bit whatever the order of the parts; parts that do not belong
+// together, leave a gap or overlap give one line and no output; a part is not a scene to shade.
+#include "shprt/core/error.hpp"
+#include "shprt/io/shprt_file.hpp"
+
+#include "cli/cli_test.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace shprt {
+namespace {
+
+using test_support::expect_one_line_error;
+using test_support::RunResult;
+
+constexpr const char* kBake = "bake builtin:box_on_plane --coeffs 16 --samples 128 --seed 3";
+
+class CliMerge : public test_support::CliTest {
+protected:
+    void bake_part(int i, int n, const std::string& extra = "") {
+        const RunResult r =
+            shprt(fmt::format("{} {} --shard {}/{} -o '{}'", kBake, extra, i, n, part(i, n)));
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    std::string part(int i, int n) const { return out(fmt::format("part_{}_of_{}.shprt", i, n)); }
+};
+
+TEST_F(CliMerge, PartsInAnyOrderMergeToTheSingleBakeBitForBit) {
+    ASSERT_EQ(shprt(fmt::format("{} -o '{}'", kBake, out("whole.shprt"))).exit_code, 0);
+    for (int i : {2, 0, 3, 1}) bake_part(i, 4);
+    const ShprtFile p1 = read_shprt_part(part(1, 4));
+    EXPECT_TRUE(p1.is_part());
+    EXPECT_EQ(p1.receiver_first, 1214u / 4);  // box_on_plane has 1214 vertices
+    EXPECT_EQ(p1.transfer.receiver_count(), 1214u * 2 / 4 - 1214u / 4);
+    const RunResult info = shprt(fmt::format("info '{}'", part(1, 4)));
+    EXPECT_EQ(info.exit_code, 0);
+    EXPECT_NE(info.out.find("receivers    [303, 607) of 1214: one part"), std::string::npos)
+        << info.out;
+
+    const RunResult r = shprt(fmt::format("merge '{}' '{}' '{}' '{}' -o '{}'", part(3, 4),
+                                          part(1, 4), part(0, 4), part(2, 4), out("m.shprt")));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("merged 4 parts: 1214 vertices"), std::string::npos) << r.out;
+    const ShprtFile whole = read_shprt(out("whole.shprt"));
+    const ShprtFile merged = read_shprt(out("m.shprt"));
+    EXPECT_FALSE(merged.is_part());
+    EXPECT_EQ(merged.transfer.layout, whole.transfer.layout);
+    EXPECT_EQ(merged.transfer.seed, 3u);
+    EXPECT_TRUE(merged.transfer.coeffs == whole.transfer.coeffs)
+        << "the merged parts differ from the single-process bake";
+    EXPECT_EQ(merged.mesh.positions, whole.mesh.positions);
+    EXPECT_EQ(merged.transfer.stats.rays_cast, whole.transfer.stats.rays_cast);
+}
+
+TEST_F(CliMerge, PartsThatDoNotTileTheSceneOrDoNotBelongTogetherAreRefused) {
+    for (int i : {0, 1, 2}) bake_part(i, 3);
+    const auto merge = [&](const std::string& parts) {
+        return shprt(fmt::format("merge {} -o '{}'", parts, out("m.shprt")));
+    };
+    const std::string p0 = "'" + part(0, 3) + "'", p1 = "'" + part(1, 3) + "'",
+                      p2 = "'" + part(2, 3) + "'";
+    expect_one_line_error(merge(p0 + " " + p2), "are in no part");
+    expect_one_line_error(merge(p0 + " " + p1), "receivers [809, 1214) are in no part");
+    expect_one_line_error(merge(p0 + " " + p1 + " " + p1 + " " + p2), "overlap");
+    // Another seed, another K: not the same bake.
+    ASSERT_EQ(shprt(fmt::format("bake builtin:box_on_plane --coeffs 16 --samples 128 --seed 4 "
+                                "--shard 1/3 -o '{}'",
+                                out("seed.shprt")))
+                  .exit_code,
+              0);
+    expect_one_line_error(merge(p0 + " '" + out("seed.shprt") + "' " + p2), "seed 4");
+    ASSERT_EQ(shprt(fmt::format("bake builtin:box_on_plane --coeffs 9 --samples 128 --seed 3 "
+                                "--shard 1/3 -o '{}'",
+                                out("k9.shprt")))
+                  .exit_code,
+              0);
+    expect_one_line_error(merge(p0 + " '" + out("k9.shprt") + "' " + p2), "K = 9");
+    EXPECT_FALSE(std::filesystem::exists(out("m.shprt"))) << "no output after a refused merge";
+}
+
+TEST_F(CliMerge, APartIsNotAWholeFileAndBadShardsAreUsageErrors) {
+    bake_part(1, 2);
+    expect_one_line_error(shprt(fmt::format("render '{}' -o '{}'", part(1, 2), out("x.png"))),
+                          "is part of a sharded bake (receivers [607, 1214) of 1214)");
+    EXPECT_THROW(read_shprt(part(1, 2)), Error);
+    for (const char* bad : {"2/2", "1", "a/3", "-1/3", "1/0", "1/2/3"})
+        expect_one_line_error(
+            shprt(fmt::format("{} --shard {} -o '{}'", kBake, bad, out("bad.shprt"))), "--shard");
+    expect_one_line_error(shprt(fmt::format("{} --shard 0/5000 -o '{}'", kBake, out("bad.shprt"))),
+                          "empty");
+    EXPECT_FALSE(std::filesystem::exists(out("bad.shprt")));
+}
+
+}  // namespace
+}  // namespace shprt
