@@ -9,6 +9,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/io/shprt_stream.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/sh/basis.hpp"
 
@@ -33,6 +34,7 @@ struct BakeArgs {
     BakeOptionArgs bake;  // common/bake_options.hpp, shared with `shprt view --bake`
     bool half = false;
     std::string shard;  // "I/N", or empty
+    bool stream = false;
 };
 
 // "I/N" with 0 ≤ I < N: shard I of N.
@@ -104,22 +106,39 @@ void run(const BakeArgs& args) {
     }
 
     install_interrupt_handler();
-    TransferSet transfer;
-    {
-        ProgressBar bar("bake");
-        options.progress = bar.callback();
-        transfer = bake(mesh, receivers, options);
-    }
-
     extra["stats"]["seconds_load"] = seconds_load;
     extra["command_line"] = command_line();
-    if (args.half) transfer.layout.encoding = TransferEncoding::f16;
     WriteOptions write_options;
     write_options.receiver_first = receivers.first;
     write_options.extra_metadata_json = extra.dump();
-    const auto write_start = Clock::now();
-    write_shprt(args.output, mesh, transfer, write_options);
-    const double seconds_write = seconds_since(write_start);
+    TransferSet transfer;
+    double seconds_write = 0;
+    if (args.stream) {
+        // Rows go to the file as chunks finish: no V×K array in memory.
+        TransferInfo description = bake_description(options);
+        if (args.half) description.layout.encoding = TransferEncoding::f16;
+        ShprtStreamWriter writer(args.output, mesh, description, receivers.first, receivers.count,
+                                 write_options);
+        {
+            ProgressBar bar("bake");
+            options.progress = bar.callback();
+            static_cast<TransferInfo&>(transfer) =
+                bake(BakeJob{&mesh, receivers, &writer.sink(), nullptr, nullptr}, options);
+        }
+        const auto write_start = Clock::now();
+        writer.commit(transfer);
+        seconds_write = seconds_since(write_start);
+    } else {
+        {
+            ProgressBar bar("bake");
+            options.progress = bar.callback();
+            transfer = bake(mesh, receivers, options);
+        }
+        if (args.half) transfer.layout.encoding = TransferEncoding::f16;
+        const auto write_start = Clock::now();
+        write_shprt(args.output, mesh, transfer, write_options);
+        seconds_write = seconds_since(write_start);
+    }
 
     const BakeStats& s = transfer.stats;
     const double rays_per_second = s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace : 0;
@@ -140,6 +159,8 @@ const bool registered = register_command(
          app.add_option("-o,--output", args->output, "Output .shprt file")->required();
          add_bake_options(app, args->bake);
          app.add_flag("--half", args->half, "Store coefficients as float16");
+         app.add_flag("--stream", args->stream,
+                      "Write coefficients to the file as chunks finish (no V×K array in memory)");
          app.add_option("--shard", args->shard,
                         "Bake part I of N (I/N, 0-based) of the vertices, for job arrays; join "
                         "the parts with `shprt merge`");

@@ -2,8 +2,8 @@
 // sections: the table of shprt_sections.hpp). Two passes over the arrays: the first computes each
 // section's CRC-32 (the CRCs live in the metadata, which precedes the data), the second writes;
 // float16 sections are converted in small chunks both times, so writing never holds a second copy
-// of the coefficients.
-#include "io/shprt_sections.hpp"
+// of the coefficients. The pieces are shared with the streaming writer (shprt_stream.cpp).
+#include "io/shprt_write_internal.hpp"
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -13,52 +13,15 @@
 #include "shprt/io/shprt_format.hpp"
 #include "shprt/sh/basis.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 namespace shprt {
+namespace detail {
 namespace {
 
-using Json = nlohmann::ordered_json;
-
 constexpr std::size_t kChunkElements = 1 << 16;
-
-struct SectionOut {
-    const char* name;
-    std::string dtype;
-    std::uint64_t rows, cols;  // shape [rows, cols]; count = rows · cols elements
-    std::uint64_t element_size;
-    const void* data;
-    bool to_half = false;  // data is float32, stored as float16
-    std::uint64_t offset = 0;
-    std::uint32_t crc = 0;
-
-    std::uint64_t count() const { return rows * cols; }
-    std::uint64_t length() const { return count() * element_size; }
-};
-
-// Calls fn(bytes, size) over the section's stored bytes in order.
-template <class Fn>
-void for_each_chunk(const SectionOut& s, Fn&& fn) {
-    if (!s.to_half) {
-        const auto* p = static_cast<const unsigned char*>(s.data);
-        const std::uint64_t chunk = kChunkElements * s.element_size;
-        for (std::uint64_t done = 0; done < s.length(); done += chunk)
-            fn(p + done, static_cast<std::size_t>(std::min(chunk, s.length() - done)));
-        return;
-    }
-    const auto* f = static_cast<const float*>(s.data);
-    std::vector<std::uint16_t> buffer(kChunkElements);
-    for (std::uint64_t done = 0; done < s.count(); done += kChunkElements) {
-        const std::size_t n =
-            static_cast<std::size_t>(std::min<std::uint64_t>(kChunkElements, s.count() - done));
-        for (std::size_t i = 0; i < n; ++i) buffer[i] = float_to_half(f[done + i]);
-        fn(buffer.data(), n * sizeof(std::uint16_t));
-    }
-}
 
 // Index of the first value whose magnitude bits (sign cleared) are >= `limit_bits`, or `n`.
 // A branch-free max over the bits first (it vectorises), the search only on failure.
@@ -69,36 +32,6 @@ std::size_t first_magnitude_at_or_above(const float* p, std::size_t n, std::uint
     for (std::size_t i = 0; i < n; ++i)
         if ((float_as_u32(p[i]) & 0x7fffffffu) >= limit_bits) return i;
     return n;
-}
-
-void check_inputs(const std::string& path, const Mesh& mesh, const TransferSet& t,
-                  std::size_t first) {
-    try {
-        t.check_rows(mesh, first);
-    } catch (const Error& e) {
-        fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
-    }
-    const std::size_t V = mesh.positions.size();
-    SHPRT_CHECK(mesh.source_vertex.empty() || mesh.source_vertex.size() == V, invalid_argument,
-                "{}: mesh has {} positions but {} source_vertex entries", path, V,
-                mesh.source_vertex.size());
-    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
-        for (std::uint32_t index : mesh.triangles[i])
-            SHPRT_CHECK(index < V, invalid_argument,
-                        "{}: triangle {} uses vertex {} but the mesh has {} vertices", path, i,
-                        index, V);
-    SHPRT_CHECK(t.samples >= 0, invalid_argument, "{}: negative sample count {}", path, t.samples);
-    // Finite, and in float16 below its overflow threshold 65520 (bits 0x477ff000).
-    const bool half = t.layout.encoding == TransferEncoding::f16;
-    const std::uint32_t limit = half ? 0x477ff000u : 0x7f800000u;
-    const std::size_t bad = first_magnitude_at_or_above(t.coeffs.data(), t.coeffs.size(), limit);
-    if (bad < t.coeffs.size()) {
-        const float c = t.coeffs[bad];
-        const std::size_t row = t.layout.floats_per_receiver();
-        fail(ErrorCode::invalid_argument, "{}: transfer coefficient {} of vertex {} ({}) {}", path,
-             bad % t.layout.floats_per_channel(), bad / row, c,
-             std::isfinite(c) ? "overflows float16" : "is not finite");
-    }
 }
 
 // Adds `extra` into `target`: objects merge recursively, any other collision is an error (the
@@ -130,8 +63,9 @@ Json stats_json(const BakeStats& s) {
     return j;
 }
 
-Json build_metadata(const Mesh& mesh, const TransferSet& t, const WriteOptions& options,
-                    const Json& extra, const std::vector<SectionOut>& sections) {
+Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
+                    const WriteOptions& options, const Json& extra,
+                    const std::vector<SectionOut>& sections) {
     const int bands = sh_bands_for(t.layout.K);
     Json m;
     m["format"] = "shprt";
@@ -170,7 +104,7 @@ Json build_metadata(const Mesh& mesh, const TransferSet& t, const WriteOptions& 
     // The rows' receivers: all of them, or a shard's range (a part, see shprt_file.hpp).
     m["receivers"] = {
         {"first", options.receiver_first},
-        {"count", t.receiver_count()},
+        {"count", rows},
         {"total", mesh.positions.size()},
     };
     if (!options.reproducible) {
@@ -192,56 +126,130 @@ Json build_metadata(const Mesh& mesh, const TransferSet& t, const WriteOptions& 
 
 }  // namespace
 
-void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
-                 const WriteOptions& options) {
-    check_inputs(path, mesh, transfer, options.receiver_first);
-    Json extra = Json::object();
-    if (!options.extra_metadata_json.empty()) {
-        try {
-            extra = Json::parse(options.extra_metadata_json);
-        } catch (const Json::exception& e) {
-            fail(ErrorCode::invalid_argument, "extra metadata is not valid JSON: {}", e.what());
-        }
-        SHPRT_CHECK(extra.is_object(), invalid_argument, "extra metadata must be a JSON object");
+void for_each_chunk(const SectionOut& s, const std::function<void(const void*, std::size_t)>& fn) {
+    if (!s.to_half) {
+        const auto* p = static_cast<const unsigned char*>(s.data);
+        const std::uint64_t chunk = kChunkElements * s.element_size;
+        for (std::uint64_t done = 0; done < s.length(); done += chunk)
+            fn(p + done, static_cast<std::size_t>(std::min(chunk, s.length() - done)));
+        return;
     }
+    const auto* f = static_cast<const float*>(s.data);
+    std::vector<std::uint16_t> buffer(kChunkElements);
+    for (std::uint64_t done = 0; done < s.count(); done += kChunkElements) {
+        const std::size_t n =
+            static_cast<std::size_t>(std::min<std::uint64_t>(kChunkElements, s.count() - done));
+        for (std::size_t i = 0; i < n; ++i) buffer[i] = float_to_half(f[done + i]);
+        fn(buffer.data(), n * sizeof(std::uint16_t));
+    }
+}
 
-    // The sections the table lists, in its order; an empty optional array is left out.
-    const detail::SectionCounts counts{mesh.positions.size(), mesh.triangles.size(),
-                                       transfer.receiver_count(), transfer.layout};
+void check_mesh(const std::string& path, const Mesh& mesh) {
+    const std::size_t V = mesh.positions.size();
+    SHPRT_CHECK(mesh.source_vertex.empty() || mesh.source_vertex.size() == V, invalid_argument,
+                "{}: mesh has {} positions but {} source_vertex entries", path, V,
+                mesh.source_vertex.size());
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+        for (std::uint32_t index : mesh.triangles[i])
+            SHPRT_CHECK(index < V, invalid_argument,
+                        "{}: triangle {} uses vertex {} but the mesh has {} vertices", path, i,
+                        index, V);
+}
+
+void check_coefficients(const std::string& path, const float* coeffs, std::size_t n,
+                        const TransferLayout& layout, std::size_t first_receiver) {
+    // Finite, and in float16 below its overflow threshold 65520 (bits 0x477ff000).
+    const bool half = layout.encoding == TransferEncoding::f16;
+    const std::uint32_t limit = half ? 0x477ff000u : 0x7f800000u;
+    const std::size_t bad = first_magnitude_at_or_above(coeffs, n, limit);
+    if (bad < n) {
+        const float c = coeffs[bad];
+        const std::size_t row = layout.floats_per_receiver();
+        fail(ErrorCode::invalid_argument, "{}: transfer coefficient {} of vertex {} ({}) {}", path,
+             bad % layout.floats_per_channel(), first_receiver + bad / row, c,
+             std::isfinite(c) ? "overflows float16" : "is not finite");
+    }
+}
+
+Json parse_extra(const WriteOptions& options) {
+    Json extra = Json::object();
+    if (options.extra_metadata_json.empty()) return extra;
+    try {
+        extra = Json::parse(options.extra_metadata_json);
+    } catch (const Json::exception& e) {
+        fail(ErrorCode::invalid_argument, "extra metadata is not valid JSON: {}", e.what());
+    }
+    SHPRT_CHECK(extra.is_object(), invalid_argument, "extra metadata must be a JSON object");
+    return extra;
+}
+
+std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info, std::size_t rows,
+                                      const float* coeffs) {
+    TransferSet none;  // the table's accessors read the mesh; the transfer's data is `coeffs`
+    const detail::SectionCounts counts{mesh.positions.size(), mesh.triangles.size(), rows,
+                                       info.layout};
     std::vector<SectionOut> sections;
     for (const detail::SectionRule& rule : detail::section_rules()) {
-        if (!rule.required && rule.count(mesh, transfer) == 0) continue;
-        const bool to_half = rule.element_size(transfer.layout) == 2;  // float32 stored as f16
-        sections.push_back({rule.name, rule.dtype(transfer.layout), rule.row_count(counts),
-                            rule.col_count(transfer.layout), rule.element_size(transfer.layout),
-                            rule.data(mesh, transfer), to_half});
+        const bool is_transfer = rule.type == SectionType::transfer;
+        if (!rule.required && !is_transfer && rule.count(mesh, none) == 0) continue;
+        const bool to_half = rule.element_size(info.layout) == 2;  // float32 stored as f16
+        sections.push_back({rule.name, rule.dtype(info.layout), rule.row_count(counts),
+                            rule.col_count(info.layout), rule.element_size(info.layout),
+                            is_transfer ? coeffs : rule.data(mesh, none), to_half});
+        sections.back().streamed = is_transfer && coeffs == nullptr;
     }
     for (SectionOut& s : sections)
-        for_each_chunk(s, [&](const void* p, std::size_t n) { s.crc = crc32(p, n, s.crc); });
+        if (!s.streamed)
+            for_each_chunk(s, [&](const void* p, std::size_t n) { s.crc = crc32(p, n, s.crc); });
+    return sections;
+}
 
-    // The offsets are written inside the metadata that precedes them: lay out, render the JSON,
-    // and repeat until the data start no longer moves (the JSON only grows as offsets grow).
-    std::string text;
-    std::uint64_t data_start = shprt_align(kShprtHeaderSize);
-    for (int iteration = 0;; ++iteration) {
-        SHPRT_CHECK(iteration < 16, invalid_argument, "{}: metadata layout did not settle", path);
+std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInfo& info,
+                    std::size_t rows, const WriteOptions& options, const Json& extra,
+                    std::vector<SectionOut>& sections, std::size_t reserve) {
+    const auto render = [&] {
+        return build_metadata(mesh, info, rows, options, extra, sections)
+                   .dump(2, ' ', false, Json::error_handler_t::replace) +
+               '\n';
+    };
+    const auto place = [&](std::uint64_t data_start) {
         std::uint64_t offset = data_start;
         for (SectionOut& s : sections) {
             s.offset = offset;
             offset = shprt_align(offset + s.length());
         }
-        text = build_metadata(mesh, transfer, options, extra, sections)
-                   .dump(2, ' ', false, Json::error_handler_t::replace);
-        text += '\n';
-        const std::uint64_t needed = shprt_align(kShprtHeaderSize + text.size());
-        if (needed < data_start)  // cannot happen as offsets only grow; pad to stay canonical
-            text.append(data_start - kShprtAlignment + 1 - kShprtHeaderSize - text.size(), ' ');
-        if (needed <= data_start) break;
-        data_start = needed;
+    };
+    std::string text;
+    if (reserve > 0) {  // a fixed length: the sections' places are known before the metadata
+        place(shprt_align(kShprtHeaderSize + reserve));
+        text = render();
+        SHPRT_CHECK(text.size() <= reserve, invalid_argument,
+                    "{}: metadata grew to {} bytes past the {} reserved for it", path, text.size(),
+                    reserve);
+        text.append(reserve - text.size(), ' ');
+    } else {
+        // The offsets are written inside the metadata that precedes them: lay out, render the
+        // JSON, and repeat until the data start no longer moves (the JSON only grows as offsets
+        // grow).
+        std::uint64_t data_start = shprt_align(kShprtHeaderSize);
+        for (int iteration = 0;; ++iteration) {
+            SHPRT_CHECK(iteration < 16, invalid_argument, "{}: metadata layout did not settle",
+                        path);
+            place(data_start);
+            text = render();
+            const std::uint64_t needed = shprt_align(kShprtHeaderSize + text.size());
+            if (needed < data_start)  // cannot happen as offsets only grow; pad to stay canonical
+                text.append(data_start - kShprtAlignment + 1 - kShprtHeaderSize - text.size(), ' ');
+            if (needed <= data_start) break;
+            data_start = needed;
+        }
     }
     SHPRT_CHECK(text.size() <= kShprtMaxMetadataBytes, invalid_argument,
                 "{}: metadata is {} bytes (limit {})", path, text.size(), kShprtMaxMetadataBytes);
+    return text;
+}
 
+void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize]) {
     ShprtHeader header;
     header.version = kShprtFormatVersion;
     header.endian_marker = kShprtEndianMarker;
@@ -249,19 +257,47 @@ void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& t
     header.metadata_offset = kShprtHeaderSize;
     header.metadata_length = text.size();
     header.metadata_crc32 = crc32(text.data(), text.size());
-    unsigned char header_bytes[kShprtHeaderSize];
-    encode_shprt_header(header, header_bytes);
+    encode_shprt_header(header, out);
+}
 
-    AtomicFile file(path);
+void write_file_body(AtomicFile& file, const std::string& text,
+                     const std::vector<SectionOut>& sections) {
+    unsigned char header_bytes[kShprtHeaderSize];
+    encode_header(text, header_bytes);
     file.write(header_bytes, sizeof header_bytes);
     file.write(text);
     std::uint64_t position = kShprtHeaderSize + text.size();
     static constexpr unsigned char kZeros[kShprtAlignment] = {};
     for (const SectionOut& s : sections) {
+        if (s.streamed) break;  // the transfer (last) is written by its sink
         file.write(kZeros, static_cast<std::size_t>(s.offset - position));
         for_each_chunk(s, [&](const void* p, std::size_t n) { file.write(p, n); });
         position = s.offset + s.length();
     }
+}
+
+}  // namespace detail
+
+void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
+                 const WriteOptions& options) {
+    try {
+        transfer.check_rows(mesh, options.receiver_first);
+    } catch (const Error& e) {
+        fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
+    }
+    detail::check_mesh(path, mesh);
+    SHPRT_CHECK(transfer.samples >= 0, invalid_argument, "{}: negative sample count {}", path,
+                transfer.samples);
+    detail::check_coefficients(path, transfer.coeffs.data(), transfer.coeffs.size(),
+                               transfer.layout, options.receiver_first);
+    const detail::Json extra = detail::parse_extra(options);
+    const std::size_t rows = transfer.receiver_count();
+    std::vector<detail::SectionOut> sections =
+        detail::plan_sections(mesh, transfer, rows, transfer.coeffs.data());
+    const std::string text =
+        detail::lay_out(path, mesh, transfer, rows, options, extra, sections, 0);
+    AtomicFile file(path);
+    detail::write_file_body(file, text, sections);
     file.commit();
 }
 

@@ -4,7 +4,7 @@
 
 #include "common/ray_triangle.hpp"
 #include "shprt/bake/bake.hpp"
-#include "shprt/bake/sink.hpp"
+#include "shprt/transfer/sink.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/sh/sampler.hpp"

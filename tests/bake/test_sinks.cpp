@@ -5,7 +5,7 @@
 #include "bake_test_util.hpp"
 
 #include "shprt/bake/bake.hpp"
-#include "shprt/bake/sink.hpp"
+#include "shprt/transfer/sink.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/scene/builtin.hpp"
 

@@ -1,5 +1,6 @@
-// Sharded bakes as programs: `shprt bake --shard I/N` parts, joined by `shprt merge`, equal the
-// single-process bake bit for bit whatever the order of the parts; parts that do not belong
+// Sharded and streamed bakes as programs: `shprt bake --shard I/N` parts (written at once or
+// streamed with --stream), joined by `shprt merge`, equal the single-process bake bit for bit
+// whatever the order of the parts; parts that do not belong
 // together, leave a gap or overlap give one line and no output; a part is not a scene to shade.
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
@@ -56,6 +57,28 @@ TEST_F(CliMerge, PartsInAnyOrderMergeToTheSingleBakeBitForBit) {
         << "the merged parts differ from the single-process bake";
     EXPECT_EQ(merged.mesh.positions, whole.mesh.positions);
     EXPECT_EQ(merged.transfer.stats.rays_cast, whole.transfer.stats.rays_cast);
+}
+
+TEST_F(CliMerge, StreamedBakesAndPartsEqualTheWrittenOnes) {
+    ASSERT_EQ(shprt(fmt::format("{} -o '{}'", kBake, out("whole.shprt"))).exit_code, 0);
+    const RunResult streamed = shprt(fmt::format("{} --stream -o '{}'", kBake, out("s.shprt")));
+    ASSERT_EQ(streamed.exit_code, 0) << streamed.err;
+    EXPECT_NE(streamed.out.find("baked 1214 vertices"), std::string::npos) << streamed.out;
+    const ShprtFile whole = read_shprt(out("whole.shprt"));
+    EXPECT_TRUE(read_shprt(out("s.shprt")).transfer.coeffs == whole.transfer.coeffs);
+    // Streamed float16 parts, merged.
+    for (int i : {0, 1})
+        ASSERT_EQ(
+            shprt(fmt::format("{} --stream --half --shard {}/2 -o '{}'", kBake, i, part(i, 2)))
+                .exit_code,
+            0);
+    ASSERT_EQ(shprt(fmt::format("{} --half -o '{}'", kBake, out("half.shprt"))).exit_code, 0);
+    ASSERT_EQ(shprt(fmt::format("merge '{}' '{}' -o '{}'", part(1, 2), part(0, 2), out("m.shprt")))
+                  .exit_code,
+              0);
+    const ShprtFile merged = read_shprt(out("m.shprt"));
+    EXPECT_EQ(merged.transfer.layout.encoding, TransferEncoding::f16);
+    EXPECT_TRUE(merged.transfer.coeffs == read_shprt(out("half.shprt")).transfer.coeffs);
 }
 
 TEST_F(CliMerge, PartsThatDoNotTileTheSceneOrDoNotBelongTogetherAreRefused) {

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "shprt/bake/bake.hpp"
-#include "shprt/bake/sink.hpp"
+#include "shprt/transfer/sink.hpp"
 #include "shprt/scene/mesh.hpp"
 
 #include <atomic>

@@ -36,7 +36,7 @@
 #pragma once
 
 #include "shprt/bake/receivers.hpp"
-#include "shprt/bake/sink.hpp"
+#include "shprt/transfer/sink.hpp"
 #include "shprt/core/progress.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/basis.hpp"

@@ -1,5 +1,5 @@
 // The library's sinks (sink.hpp).
-#include "shprt/bake/sink.hpp"
+#include "shprt/transfer/sink.hpp"
 
 #include "shprt/core/error.hpp"
 

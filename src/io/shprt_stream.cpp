@@ -1,0 +1,203 @@
+// The streaming .shprt writer (shprt_stream.hpp): lay out first, rows through a sink as a bake
+// finishes them, metadata last.
+#include "shprt/io/shprt_stream.hpp"
+
+#include "io/shprt_write_internal.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/io/half.hpp"
+
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+// Room the metadata keeps for what is known only after the bake (the transfer's CRC and the
+// bake's statistics): far more than their longest rendering.
+constexpr std::size_t kMetadataSlack = 4096;
+
+void pwrite_all(int fd, const void* data, std::size_t size, std::uint64_t at,
+                const std::string& path) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    while (size > 0) {  // pwrite is thread-safe for disjoint regions
+        const ssize_t n = ::pwrite(fd, p, size, static_cast<off_t>(at));
+        if (n < 0 && errno == EINTR) continue;
+        SHPRT_CHECK(n > 0, io, "cannot write {}: {}", path,
+                    n < 0 ? std::strerror(errno) : "no progress");
+        p += n;
+        at += static_cast<std::uint64_t>(n);
+        size -= static_cast<std::size_t>(n);
+    }
+}
+
+// Rows into the transfer section of the temporary file: converted to the layout's encoding,
+// checked, written with pwrite; each chunk's CRC-32 kept for the section's CRC.
+class SectionSink final : public TransferSink {
+public:
+    SectionSink(std::string path, int fd, std::uint64_t offset, const TransferLayout& layout,
+                std::size_t first, std::size_t count)
+        : m_path(std::move(path)),
+          m_fd(fd),
+          m_offset(offset),
+          m_layout(layout),
+          m_first(first),
+          m_count(count) {}
+
+    void begin(const TransferLayout& layout, std::size_t first, std::size_t count) override {
+        TransferLayout stored = layout;  // the rows come as float32; the file chooses its encoding
+        stored.encoding = m_layout.encoding;
+        SHPRT_CHECK(stored == m_layout && first == m_first && count == m_count, invalid_argument,
+                    "{}: the bake's rows (K = {}, receivers [{}, {})) are not the ones the file "
+                    "was laid out for (K = {}, [{}, {}))",
+                    m_path, layout.K, first, first + count, m_layout.K, m_first, m_first + m_count);
+    }
+
+    void write(std::size_t first, std::size_t count, const float* rows) override {
+        SHPRT_CHECK(rows != nullptr && first >= m_first && first + count <= m_first + m_count,
+                    invalid_argument, "{}: rows [{}, {}) outside [{}, {})", m_path, first,
+                    first + count, m_first, m_first + m_count);
+        const std::size_t n = m_layout.floats(count);
+        detail::check_coefficients(m_path, rows, n, m_layout, first);
+        const std::uint64_t element = m_layout.encoding == TransferEncoding::f16 ? 2 : 4;
+        const std::uint64_t at = m_offset + m_layout.floats(first - m_first) * element;
+        std::uint32_t crc = 0;
+        if (element == 4) {
+            crc = crc32(rows, n * sizeof(float));
+            pwrite_all(m_fd, rows, n * sizeof(float), at, m_path);
+        } else {
+            std::vector<std::uint16_t> half(n);
+            for (std::size_t i = 0; i < n; ++i) half[i] = float_to_half(rows[i]);
+            crc = crc32(half.data(), n * sizeof(std::uint16_t));
+            pwrite_all(m_fd, half.data(), n * sizeof(std::uint16_t), at, m_path);
+        }
+        const std::lock_guard<std::mutex> lock(m_mutex);
+        m_chunks.push_back({first, n * element, crc});
+    }
+
+    // The CRC-32 of the whole section, from its chunks' (zlib's crc32_combine); every receiver
+    // must have been written exactly once.
+    std::uint32_t section_crc() {
+        const std::lock_guard<std::mutex> lock(m_mutex);
+        std::sort(m_chunks.begin(), m_chunks.end(),
+                  [](const Chunk& a, const Chunk& b) { return a.first < b.first; });
+        std::uint32_t crc = 0;
+        std::size_t next = m_first;
+        const std::uint64_t element = m_layout.encoding == TransferEncoding::f16 ? 2 : 4;
+        for (const Chunk& c : m_chunks) {
+            SHPRT_CHECK(c.first == next, invalid_argument,
+                        "{}: transfer rows from receiver {} were {} before the file was finished",
+                        m_path, std::min(c.first, next),
+                        c.first > next ? "never written" : "written twice");
+            crc = static_cast<std::uint32_t>(
+                ::crc32_combine(crc, c.crc, static_cast<z_off_t>(c.bytes)));
+            next += c.bytes / element / m_layout.floats_per_receiver();
+        }
+        SHPRT_CHECK(next == m_first + m_count, invalid_argument,
+                    "{}: transfer rows from receiver {} were never written", m_path, next);
+        return crc;
+    }
+
+private:
+    struct Chunk {
+        std::size_t first;
+        std::uint64_t bytes;
+        std::uint32_t crc;
+    };
+    std::string m_path;
+    int m_fd;
+    std::uint64_t m_offset;
+    TransferLayout m_layout;
+    std::size_t m_first, m_count;
+    std::mutex m_mutex;
+    std::vector<Chunk> m_chunks;
+};
+
+}  // namespace
+
+struct ShprtStreamWriter::State {
+    std::string path;
+    const Mesh& mesh;
+    TransferInfo info;
+    std::size_t first, count;
+    WriteOptions options;
+    detail::Json extra;
+    std::size_t reserve = 0;
+    std::vector<detail::SectionOut> sections;
+    AtomicFile file;
+    std::unique_ptr<SectionSink> sink;
+
+    State(const std::string& p, const Mesh& m, const TransferInfo& i, std::size_t f, std::size_t c,
+          WriteOptions o)
+        : path(p), mesh(m), info(i), first(f), count(c), options(std::move(o)), file(p) {}
+};
+
+ShprtStreamWriter::ShprtStreamWriter(const std::string& path, const Mesh& mesh,
+                                     const TransferInfo& info, std::size_t first, std::size_t count,
+                                     WriteOptions options) {
+    // The checks write_shprt makes of everything but the coefficients (checked per chunk).
+    options.receiver_first = first;
+    TransferSet shape;
+    static_cast<TransferInfo&>(shape) = info;
+    shape.coeffs.resize(info.layout.floats(count));  // zeros, for check_rows' sizes only
+    try {
+        shape.check_rows(mesh, first);
+    } catch (const Error& e) {
+        fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
+    }
+    shape.coeffs = {};
+    detail::check_mesh(path, mesh);
+    SHPRT_CHECK(info.samples >= 0, invalid_argument, "{}: negative sample count {}", path,
+                info.samples);
+
+    m_state = std::make_unique<State>(path, mesh, info, first, count, options);
+    State& s = *m_state;
+    s.extra = detail::parse_extra(s.options);
+    s.sections = detail::plan_sections(mesh, info, count, nullptr);
+    // Lay out with a generous reserve for the metadata: with a placeholder CRC and stats now,
+    // and the real ones at commit(), the metadata keeps this length.
+    const std::string draft =
+        detail::lay_out(path, mesh, info, count, s.options, s.extra, s.sections, 0);
+    s.reserve = draft.size() + kMetadataSlack;
+    const std::string text =
+        detail::lay_out(path, mesh, info, count, s.options, s.extra, s.sections, s.reserve);
+    detail::write_file_body(s.file, text, s.sections);
+    SHPRT_CHECK(std::fflush(s.file.handle()) == 0, io, "cannot write {}: {}", path,
+                std::strerror(errno));
+    const detail::SectionOut& transfer = s.sections.back();
+    s.sink = std::make_unique<SectionSink>(path, ::fileno(s.file.handle()), transfer.offset,
+                                           info.layout, first, count);
+}
+
+ShprtStreamWriter::~ShprtStreamWriter() = default;
+
+TransferSink& ShprtStreamWriter::sink() { return *m_state->sink; }
+
+void ShprtStreamWriter::commit(const TransferInfo& info) {
+    State& s = *m_state;
+    TransferInfo final_info = info;
+    final_info.layout.encoding = s.info.layout.encoding;  // the file's choice, as in begin()
+    SHPRT_CHECK(info.kind == s.info.kind && final_info.layout == s.info.layout &&
+                    info.sampler == s.info.sampler && info.samples == s.info.samples &&
+                    info.seed == s.info.seed,
+                invalid_argument, "{}: the bake's description differs from the file's layout",
+                s.path);
+    detail::SectionOut& transfer = s.sections.back();
+    transfer.crc = s.sink->section_crc();
+    const std::string text = detail::lay_out(s.path, s.mesh, final_info, s.count, s.options,
+                                             s.extra, s.sections, s.reserve);
+    unsigned char header[kShprtHeaderSize];
+    detail::encode_header(text, header);
+    const int fd = ::fileno(s.file.handle());
+    pwrite_all(fd, header, sizeof header, 0, s.path);
+    pwrite_all(fd, text.data(), text.size(), kShprtHeaderSize, s.path);
+    s.file.commit();
+}
+
+}  // namespace shprt

@@ -1,0 +1,66 @@
+// Pieces of the .shprt writer shared by write_shprt (shprt_write.cpp) and the streaming writer
+// (shprt_stream.cpp). Private to src/io.
+#pragma once
+
+#include "io/shprt_sections.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/io/shprt_format.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace shprt::detail {
+
+using Json = nlohmann::ordered_json;
+
+// One section as written: its table entry's values and where its bytes come from.
+struct SectionOut {
+    const char* name;
+    std::string dtype;
+    std::uint64_t rows, cols;  // shape [rows, cols]; count = rows · cols elements
+    std::uint64_t element_size;
+    const void* data;       // null: the transfer of a streamed file, written by its sink
+    bool to_half = false;   // data is float32, stored as float16
+    bool streamed = false;  // the transfer of a streamed file: written by its sink, CRC later
+    std::uint64_t offset = 0;
+    std::uint32_t crc = 0;
+
+    std::uint64_t count() const { return rows * cols; }
+    std::uint64_t length() const { return count() * element_size; }
+};
+
+// Calls fn(bytes, size) over the section's stored bytes in order (float16 converted in chunks).
+void for_each_chunk(const SectionOut& s, const std::function<void(const void*, std::size_t)>& fn);
+
+// Error(invalid_argument) "<path>: ..." for a source_vertex of the wrong size or a triangle index
+// out of range.
+void check_mesh(const std::string& path, const Mesh& mesh);
+// Error(invalid_argument) "<path>: ..." for a coefficient that is not finite or, for float16,
+// out of its range; `first_receiver` numbers the receivers in the message.
+void check_coefficients(const std::string& path, const float* coeffs, std::size_t n,
+                        const TransferLayout& layout, std::size_t first_receiver);
+// options.extra_metadata_json as a JSON object (Error(invalid_argument) otherwise).
+Json parse_extra(const WriteOptions& options);
+// The sections of the table for `mesh` and `rows` transfer rows of `info`'s layout, with their
+// CRCs computed; the transfer's data is `coeffs` (null for a streamed file: no CRC yet).
+std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info, std::size_t rows,
+                                      const float* coeffs);
+// Places the sections (their offsets) and renders the metadata. reserve = 0: the canonical
+// layout right after the metadata; reserve > 0: the metadata is exactly `reserve` bytes (padded
+// with spaces; Error(invalid_argument) if it would be longer), so the offsets do not depend on
+// what the metadata says.
+std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInfo& info,
+                    std::size_t rows, const WriteOptions& options, const Json& extra,
+                    std::vector<SectionOut>& sections, std::size_t reserve);
+// The 48 header bytes for metadata `text`.
+void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize]);
+// Writes the header, the metadata and every section with data (padding between them).
+void write_file_body(AtomicFile& file, const std::string& text,
+                     const std::vector<SectionOut>& sections);
+
+}  // namespace shprt::detail
