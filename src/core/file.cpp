@@ -65,4 +65,18 @@ std::string lower_extension(const std::string& path) {
     return ext;
 }
 
+void pwrite_all(int fd, const void* data, std::size_t size, std::uint64_t offset,
+                const std::string& what) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    while (size > 0) {
+        const ssize_t n = ::pwrite(fd, p, size, static_cast<off_t>(offset));
+        if (n < 0 && errno == EINTR) continue;
+        SHPRT_CHECK(n > 0, io, "cannot write {} at offset {}: {}", what, offset,
+                    n < 0 ? std::strerror(errno) : "no progress");
+        p += n;
+        offset += static_cast<std::uint64_t>(n);
+        size -= static_cast<std::size_t>(n);
+    }
+}
+
 }  // namespace shprt

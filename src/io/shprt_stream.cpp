@@ -23,20 +23,6 @@ namespace {
 // bake's statistics): far more than their longest rendering.
 constexpr std::size_t kMetadataSlack = 4096;
 
-void pwrite_all(int fd, const void* data, std::size_t size, std::uint64_t at,
-                const std::string& path) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    while (size > 0) {  // pwrite is thread-safe for disjoint regions
-        const ssize_t n = ::pwrite(fd, p, size, static_cast<off_t>(at));
-        if (n < 0 && errno == EINTR) continue;
-        SHPRT_CHECK(n > 0, io, "cannot write {}: {}", path,
-                    n < 0 ? std::strerror(errno) : "no progress");
-        p += n;
-        at += static_cast<std::uint64_t>(n);
-        size -= static_cast<std::size_t>(n);
-    }
-}
-
 // Rows into the transfer section of the temporary file: converted to the layout's encoding,
 // checked, written with pwrite; each chunk's CRC-32 kept for the section's CRC.
 class SectionSink final : public TransferSink {
@@ -143,15 +129,11 @@ ShprtStreamWriter::ShprtStreamWriter(const std::string& path, const Mesh& mesh,
                                      WriteOptions options) {
     // The checks write_shprt makes of everything but the coefficients (checked per chunk).
     options.receiver_first = first;
-    TransferSet shape;
-    static_cast<TransferInfo&>(shape) = info;
-    shape.coeffs.resize(info.layout.floats(count));  // zeros, for check_rows' sizes only
     try {
-        shape.check_rows(mesh, first);
+        TransferSet::check_range(mesh, info.layout, first, count);
     } catch (const Error& e) {
         fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
     }
-    shape.coeffs = {};
     detail::check_mesh(path, mesh);
     SHPRT_CHECK(info.samples >= 0, invalid_argument, "{}: negative sample count {}", path,
                 info.samples);

@@ -2,6 +2,7 @@
 #include "shprt/transfer/sink.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 
 #include <unistd.h>
 
@@ -54,18 +55,9 @@ void FileRegionSink::begin(const TransferLayout& layout, std::size_t first, std:
 void FileRegionSink::write(std::size_t first, std::size_t count, const float* rows) {
     check_range(first, count, m_first, m_count);
     SHPRT_CHECK(rows != nullptr, invalid_argument, "file region sink: no rows to write");
-    const auto* p = reinterpret_cast<const unsigned char*>(rows);
-    std::size_t left = m_layout.floats(count) * sizeof(float);
-    std::uint64_t at = m_offset + std::uint64_t(m_layout.floats(first - m_first)) * sizeof(float);
-    while (left > 0) {  // pwrite is thread-safe for disjoint regions
-        const ssize_t n = ::pwrite(m_fd, p, left, static_cast<off_t>(at));
-        if (n < 0 && errno == EINTR) continue;
-        SHPRT_CHECK(n > 0, io, "cannot write transfer rows at offset {}: {}", at,
-                    n < 0 ? std::strerror(errno) : "no progress");
-        p += n;
-        at += static_cast<std::uint64_t>(n);
-        left -= static_cast<std::size_t>(n);
-    }
+    pwrite_all(m_fd, rows, m_layout.floats(count) * sizeof(float),
+               m_offset + std::uint64_t(m_layout.floats(first - m_first)) * sizeof(float),
+               "transfer rows");
 }
 
 void DeviceSink::begin(const TransferLayout& layout, std::size_t first, std::size_t count) {

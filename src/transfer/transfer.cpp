@@ -93,15 +93,20 @@ void TransferSet::check(const Mesh& mesh) const {
 
 void TransferSet::check_rows(const Mesh& mesh, std::size_t first) const {
     layout.validate();
-    const std::size_t V = mesh.vertex_count();
     const std::size_t row = layout.floats_per_receiver();
     SHPRT_CHECK(!coeffs.empty() && coeffs.size() % row == 0, invalid_argument,
                 "transfer holds {} floats, not a whole number of rows of {} ({} channels × {})",
                 coeffs.size(), row, layout.channels, layout.floats_per_channel());
-    const std::size_t count = coeffs.size() / row;
-    SHPRT_CHECK(first <= V && count <= V - first, invalid_argument,
-                "transfer rows of receivers [{}, {}) outside the mesh's {} vertices", first,
-                first + count, V);
+    check_range(mesh, layout, first, coeffs.size() / row);
+}
+
+void TransferSet::check_range(const Mesh& mesh, const TransferLayout& layout, std::size_t first,
+                              std::size_t count) {
+    layout.validate();
+    const std::size_t V = mesh.vertex_count();
+    SHPRT_CHECK(count >= 1 && first <= V && count <= V - first, invalid_argument,
+                "transfer rows of receivers [{}, {}) outside the mesh's {} vertices (or empty)",
+                first, first + count, V);
     SHPRT_CHECK(mesh.normals.size() == V && mesh.albedo.size() == V, invalid_argument,
                 "mesh {} has {} vertices but {} normals and {} albedo values", mesh.source, V,
                 mesh.normals.size(), mesh.albedo.size());

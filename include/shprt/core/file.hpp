@@ -3,6 +3,7 @@
 // cancel), the destructor removes the temporary file and the target is untouched.
 #pragma once
 
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <string_view>
@@ -30,6 +31,11 @@ private:
     std::FILE* m_file = nullptr;
     bool m_committed = false;
 };
+
+// Writes all `size` bytes at byte `offset` of the open file `fd` (pwrite, retried on EINTR and
+// short writes; thread-safe for disjoint regions). Throws Error(io) naming `what` on failure.
+void pwrite_all(int fd, const void* data, std::size_t size, std::uint64_t offset,
+                const std::string& what);
 
 // The extension of `path`'s file name in lower case, with its dot (".png"); "" when it has none.
 // How every reader and writer chooses a format by name.

@@ -1,7 +1,8 @@
 // Where a bake puts its results: a sink of rows. (It lives in transfer/, below bake/ and io/, so
-// that io/ can offer a sink too: the streaming .shprt writer, io/shprt_stream.hpp.) A row is one receiver's transfer,
-// layout.floats_per_receiver() floats (transfer/transfer.hpp); the bake hands a sink the rows of
-// consecutive receivers, chunk by chunk, as they are final. Three sinks come with the library:
+// that io/ can offer a sink too: the streaming .shprt writer, io/shprt_stream.hpp.) A row is one
+// receiver's transfer, layout.floats_per_receiver() floats (transfer/transfer.hpp); the bake hands
+// a sink the rows of consecutive receivers, chunk by chunk, as they are final. Three sinks come
+// with the library:
 //
 //   HostSink        rows in host memory, the range's rows contiguous (what bake() returns);
 //   FileRegionSink  rows written with pwrite into a region of an open file, as float32 — the

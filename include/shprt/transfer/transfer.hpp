@@ -125,6 +125,10 @@ struct TransferSet : TransferInfo {
     // of layout.floats_per_receiver()) of receivers [first, first + receiver_count()), a range
     // inside the mesh's. check(mesh) is check_rows(mesh, 0) with receiver_count() == V.
     void check_rows(const Mesh& mesh, std::size_t first) const;
+    // What check_rows checks but the coefficients themselves: `count` rows of `layout` for
+    // receivers [first, first + count) of `mesh` (for rows not in memory, e.g. a streamed file).
+    static void check_range(const Mesh& mesh, const TransferLayout& layout, std::size_t first,
+                            std::size_t count);
 };
 
 }  // namespace shprt
