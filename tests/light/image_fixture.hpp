@@ -16,10 +16,20 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <random>
 #include <string>
 #include <vector>
 
 namespace shprt::test_support {
+
+// A w×h image of values uniform in [lo, hi), reproducible from `seed`.
+inline Image random_image(int w, int h, unsigned seed, float lo, float hi) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(lo, hi);
+    Image image = Image::make(w, h);
+    for (float& v : image.rgb) v = u(rng);
+    return image;
+}
 
 // RGBE (.hdr) keeps 8 bits of mantissa shared by the three channels: a channel may be off by up to
 // 1/128 of the pixel's largest channel.

@@ -46,14 +46,6 @@ protected:
     fs::path m_dir;
 };
 
-Image random_image(int w, int h, unsigned seed, float lo, float hi) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(lo, hi);
-    Image image = Image::make(w, h);
-    for (float& v : image.rgb) v = u(rng);
-    return image;
-}
-
 void write_bytes(const std::string& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -71,7 +63,7 @@ void expect_error_naming(const std::string& path, ErrorCode code) {
 }
 
 TEST_F(ImageFiles, ExrReadsFloatPixelsBitExactly) {
-    Image image = random_image(37, 19, 1, -2.0f, 50.0f);
+    Image image = test_support::random_image(37, 19, 1, -2.0f, 50.0f);
     image.rgb[0] = 1e-30f;  // denormal-adjacent and large values survive as float32
     image.rgb[1] = 6.0e4f;
     image.rgb[5] = 1.0e20f;
@@ -85,7 +77,7 @@ TEST_F(ImageFiles, ExrReadsFloatPixelsBitExactly) {
 
 TEST_F(ImageFiles, HdrReadsWithinRgbePrecision) {
     for (int w : {5, 40}) {  // widths below 8 are written flat, 8..32767 run-length encoded
-        Image image = random_image(w, 13, 2, 0.0f, 100.0f);
+        Image image = test_support::random_image(w, 13, 2, 0.0f, 100.0f);
         for (std::size_t i = 0; i < image.rgb.size(); i += 7) image.rgb[i] *= 1e-3f;
         const std::string p = path(w < 8 ? "flat.hdr" : "rle.hdr");
         test_support::write_test_image(p, image);
@@ -134,7 +126,7 @@ TEST_F(ImageFiles, MissingEmptyAndGarbageFilesThrow) {
 }
 
 TEST_F(ImageFiles, TruncatedFilesThrowAtEveryCut) {
-    const Image image = random_image(16, 4, 4, 0.0f, 10.0f);
+    const Image image = test_support::random_image(16, 4, 4, 0.0f, 10.0f);
     for (const char* name : {"t.exr", "t.hdr", "t.png"}) {
         test_support::write_test_image(path(name), image);
         const std::string bytes = read_file(path(name));
@@ -200,7 +192,7 @@ TEST_F(ImageFiles, NonFinitePixelsInExrThrow) {
 // grey channel, and a tiled file whose edge tiles are partial.
 TEST_F(ImageFiles, ExrVariantsLoad) {
     const int W = 20, H = 12;
-    const Image image = random_image(W, H, 6, 0.0f, 4.0f);
+    const Image image = test_support::random_image(W, H, 6, 0.0f, 4.0f);
     const char* err = nullptr;
 
     const std::string half = path("half.exr");

@@ -24,20 +24,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// RGBE keeps an 8-bit mantissa shared by the three channels; stb truncates, so each channel is
-// off by less than one mantissa step of the largest channel, ≤ max/128.
-
-Image random_image(int w, int h, unsigned seed, float lo, float hi) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(lo, hi);
-    Image image = Image::make(w, h);
-    for (float& v : image.rgb) v = u(rng);
-    return image;
-}
-
 TEST(SaveImage, ExrRoundTripIsBitExact) {
     test::TempDir dir;
-    Image image = random_image(37, 19, 1, -2.0f, 50.0f);
+    Image image = test_support::random_image(37, 19, 1, -2.0f, 50.0f);
     image.rgb[0] = 1e-30f;  // denormal-adjacent and large values survive as float32
     image.rgb[1] = 6.0e4f;
     image.rgb[5] = 1.0e20f;
@@ -52,7 +41,7 @@ TEST(SaveImage, ExrRoundTripIsBitExact) {
 TEST(SaveImage, HdrRoundTripWithinRgbePrecision) {
     test::TempDir dir;
     for (int w : {5, 40}) {  // widths below 8 are written flat, 8..32767 run-length encoded
-        Image image = random_image(w, 13, 2, 0.0f, 100.0f);
+        Image image = test_support::random_image(w, 13, 2, 0.0f, 100.0f);
         for (std::size_t i = 0; i < image.rgb.size(); i += 7) image.rgb[i] *= 1e-3f;
         const std::string p = dir.file(w < 8 ? "flat.hdr" : "rle.hdr");
         save_image(p, image);
@@ -73,7 +62,7 @@ TEST(SaveImage, HdrNegativeValuesAreStoredAsZero) {
 
 TEST(SaveImage, PngRoundTripThroughDisplayChain) {
     test::TempDir dir;
-    Image image = random_image(23, 11, 3, 0.0f, 8.0f);
+    Image image = test_support::random_image(23, 11, 3, 0.0f, 8.0f);
     image.rgb[0] = 0.0f;
     image.rgb[1] = 1000.0f;  // saturates to white
     const float exposure = 0.7f;
@@ -118,7 +107,7 @@ TEST(SaveImage, DisplayBytesAreWrittenUnchangedBySavePng) {
     for (std::size_t i = 0; i < bytes.rgb.size(); ++i)
         ASSERT_EQ(back.rgb[i], srgb_to_linear(bytes.rgb[i] / 255.0f)) << i;
     // save_image's PNG is save_png of the display-encoded bytes: the same file.
-    Image linear = random_image(9, 5, 4, 0.0f, 3.0f);
+    Image linear = test_support::random_image(9, 5, 4, 0.0f, 3.0f);
     Rgb8Image encoded{9, 5, std::vector<std::uint8_t>(linear.rgb.size())};
     for (std::size_t i = 0; i < linear.rgb.size(); ++i)
         encoded.rgb[i] = display_encode8(linear.rgb[i], 1.3f);
