@@ -92,18 +92,17 @@ TEST_F(CliMerge, PartsThatDoNotTileTheSceneOrDoNotBelongTogetherAreRefused) {
     expect_one_line_error(merge(p0 + " " + p1), "receivers [809, 1214) are in no part");
     expect_one_line_error(merge(p0 + " " + p1 + " " + p1 + " " + p2), "overlap");
     // Another seed, another K: not the same bake.
-    ASSERT_EQ(shprt(fmt::format("bake builtin:box_on_plane --coeffs 16 --samples 128 --seed 4 "
-                                "--shard 1/3 -o '{}'",
-                                out("seed.shprt")))
-                  .exit_code,
-              0);
-    expect_one_line_error(merge(p0 + " '" + out("seed.shprt") + "' " + p2), "seed 4");
-    ASSERT_EQ(shprt(fmt::format("bake builtin:box_on_plane --coeffs 9 --samples 128 --seed 3 "
-                                "--shard 1/3 -o '{}'",
-                                out("k9.shprt")))
-                  .exit_code,
-              0);
-    expect_one_line_error(merge(p0 + " '" + out("k9.shprt") + "' " + p2), "K = 9");
+    const std::pair<const char*, const char*> foreign[] = {{"--coeffs 16 --seed 4", "seed 4"},
+                                                           {"--coeffs 9 --seed 3", "K = 9"}};
+    for (const auto& [options, complaint] : foreign) {
+        const std::string other = out("other.shprt");
+        ASSERT_EQ(shprt(fmt::format("bake builtin:box_on_plane --samples 128 {} --shard 1/3 -o "
+                                    "'{}'",
+                                    options, other))
+                      .exit_code,
+                  0);
+        expect_one_line_error(merge(p0 + " '" + other + "' " + p2), complaint);
+    }
     EXPECT_FALSE(std::filesystem::exists(out("m.shprt"))) << "no output after a refused merge";
 }
 
