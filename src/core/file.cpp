@@ -5,29 +5,88 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <climits>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 namespace shprt {
 namespace {
 std::atomic<unsigned> g_counter{0};
+
+// The temporary files alive in this process, for the termination handler: fixed slots, so that
+// the handler only reads memory that stays put and calls unlink (async-signal-safe). A slot is
+// free (0), being filled (1) or live (2).
+constexpr std::size_t kTempSlots = 64;
+std::array<std::atomic<int>, kTempSlots> g_slot_state{};
+std::array<std::array<char, PATH_MAX>, kTempSlots> g_slot_path{};
+
+extern "C" void remove_temporaries_and_die(int signal) {
+    for (std::size_t i = 0; i < kTempSlots; ++i)
+        if (g_slot_state[i].load() == 2) ::unlink(g_slot_path[i].data());
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
 }
+
+// SIGTERM and SIGHUP (a job killed by its launcher, e.g. mpirun when another rank died; a closed
+// terminal) remove the temporaries before the process dies of the signal. A handler the program
+// set itself, or an ignored signal, is left alone.
+void install_termination_handler() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        for (int signal : {SIGTERM, SIGHUP}) {
+            struct sigaction current {};
+            if (::sigaction(signal, nullptr, &current) == 0 && current.sa_handler == SIG_DFL &&
+                !(current.sa_flags & SA_SIGINFO))
+                std::signal(signal, remove_temporaries_and_die);
+        }
+    });
+}
+
+// The slot now holding `path`, or kTempSlots when every slot is taken (the file is then only
+// removed by the destructor).
+std::size_t register_temporary(const std::string& path) {
+    install_termination_handler();
+    if (path.size() >= PATH_MAX) return kTempSlots;
+    for (std::size_t i = 0; i < kTempSlots; ++i) {
+        int expected = 0;
+        if (!g_slot_state[i].compare_exchange_strong(expected, 1)) continue;
+        std::memcpy(g_slot_path[i].data(), path.c_str(), path.size() + 1);
+        g_slot_state[i].store(2);
+        return i;
+    }
+    return kTempSlots;
+}
+
+void unregister_temporary(std::size_t slot) {
+    if (slot < kTempSlots) g_slot_state[slot].store(0);
+}
+
+}  // namespace
 
 AtomicFile::AtomicFile(std::string path) : m_path(std::move(path)) {
     SHPRT_CHECK(!m_path.empty(), invalid_argument, "output path is empty");
     m_temp = fmt::format("{}.tmp.{}.{}", m_path, ::getpid(), g_counter++);
+    m_slot = register_temporary(m_temp);
     m_file = std::fopen(m_temp.c_str(), "wb");
-    SHPRT_CHECK(m_file != nullptr, io, "cannot write {}: {}", m_path, std::strerror(errno));
+    if (m_file == nullptr) {
+        const int err = errno;
+        unregister_temporary(m_slot);
+        fail(ErrorCode::io, "cannot write {}: {}", m_path, std::strerror(err));
+    }
 }
 
 AtomicFile::~AtomicFile() {
     if (m_file) std::fclose(m_file);
     if (!m_committed) std::remove(m_temp.c_str());
+    unregister_temporary(m_slot);
 }
 
 void AtomicFile::write(const void* data, std::size_t size) {
@@ -47,6 +106,8 @@ void AtomicFile::commit() {
     SHPRT_CHECK(std::rename(m_temp.c_str(), m_path.c_str()) == 0, io, "cannot rename {} to {}: {}",
                 m_temp, m_path, std::strerror(errno));
     m_committed = true;
+    unregister_temporary(m_slot);
+    m_slot = std::size_t(-1);
 }
 
 std::string read_file(const std::string& path) {

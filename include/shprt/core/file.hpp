@@ -1,6 +1,7 @@
 // Output files are never left half-written: AtomicFile writes to a temporary file beside the
 // target and renames it into place on commit(); if commit() is never reached (an exception, a
-// cancel), the destructor removes the temporary file and the target is untouched.
+// cancel), the destructor removes the temporary file and the target is untouched. A process
+// terminated by SIGTERM or SIGHUP (default disposition) removes its live temporaries first.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +31,7 @@ private:
     std::string m_path, m_temp;
     std::FILE* m_file = nullptr;
     bool m_committed = false;
+    std::size_t m_slot = std::size_t(-1);  // the termination handler's record of m_temp
 };
 
 // Writes all `size` bytes at byte `offset` of the open file `fd` (pwrite, retried on EINTR and
