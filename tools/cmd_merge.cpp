@@ -17,13 +17,16 @@ namespace {
 struct MergeArgs {
     std::vector<std::string> parts;
     std::string output;
+    bool reproducible = false;
 };
 
 void run(const MergeArgs& args) {
     std::vector<ShprtFile> parts;
     for (const std::string& path : args.parts) parts.push_back(read_shprt_part(path));
     const ShprtFile whole = merge_shprt_parts(std::move(parts), args.parts);
-    write_shprt(args.output, whole.mesh, whole.transfer);
+    WriteOptions options;
+    options.reproducible = args.reproducible;
+    write_shprt(args.output, whole.mesh, whole.transfer, options);
     std::printf("merged %zu parts: %zu vertices, K=%d, S=%d (%s) -> %s\n", args.parts.size(),
                 whole.mesh.vertex_count(), whole.transfer.layout.K, whole.transfer.samples,
                 to_string(whole.transfer.sampler), args.output.c_str());
@@ -35,6 +38,9 @@ const bool registered = register_command(
          auto args = std::make_shared<MergeArgs>();
          app.add_option("parts", args->parts, "The parts (.shprt files), in any order")->required();
          app.add_option("-o,--output", args->output, "Output .shprt file")->required();
+         app.add_flag("--reproducible", args->reproducible,
+                      "Leave out the stats (times, rays, peak memory, devices), so that the same "
+                      "parts give the same bytes");
          app.callback([args] { run(*args); });
      }});
 

@@ -6,8 +6,6 @@
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
 
-#include <fmt/ranges.h>
-
 #include <algorithm>
 #include <numeric>
 
@@ -73,23 +71,14 @@ ShprtFile merge_shprt_parts(std::vector<ShprtFile> parts, const std::vector<std:
     out.transfer.coeffs.reserve(out.transfer.layout.floats(V));
     BakeStats& st = out.transfer.stats;
     st = BakeStats{};
-    std::vector<std::string> devices;
     for (std::size_t i : order) {
         const TransferSet& t = parts[i].transfer;
         out.transfer.coeffs.insert(out.transfer.coeffs.end(), t.coeffs.begin(), t.coeffs.end());
-        st.seconds_bvh += t.stats.seconds_bvh;
-        st.seconds_trace += t.stats.seconds_trace;
-        st.seconds_project += t.stats.seconds_project;
-        st.seconds_total += t.stats.seconds_total;
-        st.rays_cast += t.stats.rays_cast;
-        st.peak_bytes_host = std::max(st.peak_bytes_host, t.stats.peak_bytes_host);
-        st.peak_bytes_device = std::max(st.peak_bytes_device, t.stats.peak_bytes_device);
-        if (std::find(devices.begin(), devices.end(), t.stats.device_name) == devices.end())
-            devices.push_back(t.stats.device_name);
+        add_stats(st, t.stats);
         parts[i].transfer.coeffs = {};  // release as we go
     }
-    st.device_name = fmt::format("{} part{}: {}", parts.size(), parts.size() == 1 ? "" : "s",
-                                 fmt::join(devices, "; "));
+    st.device_name =
+        fmt::format("{} part{}: {}", parts.size(), parts.size() == 1 ? "" : "s", st.device_name);
     return out;
 }
 

@@ -4,7 +4,30 @@
 #include "shprt/core/error.hpp"
 #include "shprt/scene/mesh.hpp"
 
+#include <algorithm>
+
 namespace shprt {
+
+void add_stats(BakeStats& total, const BakeStats& part) {
+    total.seconds_bvh += part.seconds_bvh;
+    total.seconds_trace += part.seconds_trace;
+    total.seconds_project += part.seconds_project;
+    total.seconds_total += part.seconds_total;
+    total.rays_cast += part.rays_cast;
+    total.peak_bytes_host = std::max(total.peak_bytes_host, part.peak_bytes_host);
+    total.peak_bytes_device = std::max(total.peak_bytes_device, part.peak_bytes_device);
+    const std::string& name = part.device_name;
+    std::size_t at = 0;
+    while ((at = total.device_name.find(name, at)) != std::string::npos) {
+        const std::size_t end = at + name.size();
+        const bool whole =
+            (at == 0 || total.device_name.compare(at - 2, 2, "; ") == 0) &&
+            (end == total.device_name.size() || total.device_name.compare(end, 2, "; ") == 0);
+        if (whole) return;
+        at = end;
+    }
+    total.device_name += (total.device_name.empty() ? "" : "; ") + name;
+}
 
 const char* to_string(TransferKind kind) {
     return kind == TransferKind::unshadowed ? "unshadowed" : "shadowed";

@@ -87,6 +87,11 @@ struct BakeStats {
     std::string device_name;  // "cpu: 2 threads" or the GPU's name
 };
 
+// Adds the work of `part` (one part of a bake: a shard, an MPI rank's share) to `total`: seconds
+// and rays summed, peak memory the larger, and part's device name appended to total's
+// "; "-separated list unless it is there already. How the parts' stats combine, everywhere.
+void add_stats(BakeStats& total, const BakeStats& part);
+
 // Everything about a transfer set but its coefficients: what a bake into a sink returns.
 struct TransferInfo {
     TransferKind kind = TransferKind::shadowed;
