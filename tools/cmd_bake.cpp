@@ -1,23 +1,31 @@
 // `shprt bake SCENE -o OUT.shprt [options]`: load a scene, bake per-vertex SH transfer, write a
-// .shprt file. Thin: it checks the options (one-line errors before any work), calls load_scene,
-// bake and write_shprt, draws the progress bar and prints a one-line summary on stdout.
+// .shprt file — in one process, a shard of one (--shard I/N), or across the ranks of an MPI job
+// (under mpirun, or --mpi). Thin: it checks the options (one-line errors before any work), calls
+// load_scene, bake (or dist::bake_distributed) and the writer, draws the progress bar and prints
+// a one-line summary on stdout.
 #include "common/bake_options.hpp"
 #include "common/command.hpp"
 #include "common/progress_bar.hpp"
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_stream.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/sh/basis.hpp"
+#if SHPRT_HAS_MPI
+#include "shprt/dist/mpi_bake.hpp"
+#endif
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -35,6 +43,9 @@ struct BakeArgs {
     bool half = false;
     std::string shard;  // "I/N", or empty
     bool stream = false;
+    bool reproducible = false;
+    bool mpi = false;
+    std::size_t mpi_unit = 0;  // 0 = automatic
 };
 
 // "I/N" with 0 ≤ I < N: shard I of N.
@@ -85,70 +96,205 @@ void check_output_writable(const std::string& path) {
     const AtomicFile probe(path);  // throws Error(io) naming the path; removed on destruction
 }
 
+// Where the bake's rows go and how the file is written: with --stream, the streaming writer
+// (laid out before the bake, rows into the file as they finish); otherwise host memory, written
+// at the end with write_shprt.
+class Output {
+public:
+    Output(const BakeArgs& args, const Mesh& mesh, const Receivers& receivers,
+           const BakeOptions& options, WriteOptions write_options)
+        : m_args(args), m_mesh(mesh), m_options(std::move(write_options)) {
+        if (!args.stream) return;
+        TransferInfo description = bake_description(options);
+        if (args.half) description.layout.encoding = TransferEncoding::f16;
+        m_writer = std::make_unique<ShprtStreamWriter>(args.output, mesh, description,
+                                                       receivers.first, receivers.count, m_options);
+    }
+    TransferSink& sink() { return m_writer ? m_writer->sink() : m_host; }
+    // Writes the file; returns the seconds it took.
+    double write(const TransferInfo& info) {
+        const auto start = Clock::now();
+        if (m_writer) {
+            m_writer->commit(info);
+        } else {
+            TransferSet transfer;
+            static_cast<TransferInfo&>(transfer) = info;
+            transfer.coeffs = m_host.take_rows();
+            transfer.stats.peak_bytes_host += transfer.coeffs.size() * sizeof(float);
+            if (m_args.half) transfer.layout.encoding = TransferEncoding::f16;
+            write_shprt(m_args.output, m_mesh, transfer, m_options);
+        }
+        return seconds_since(start);
+    }
+
+private:
+    const BakeArgs& m_args;
+    const Mesh& m_mesh;
+    WriteOptions m_options;
+    std::unique_ptr<ShprtStreamWriter> m_writer;
+    HostSink m_host;
+};
+
+// The rows this process bakes (a shard's range, or every vertex) and the file's metadata.
+struct Plan {
+    Receivers receivers;
+    WriteOptions write_options;
+};
+
+Plan plan(const BakeArgs& args, const Mesh& mesh, double seconds_load, int ranks) {
+    Plan p;
+    p.receivers = vertex_receivers(mesh);
+    nlohmann::json extra;
+    // A shard bakes receivers [⌊V·I/N⌋, ⌊V·(I+1)/N⌋) of the same bake; `shprt merge` joins them.
+    if (!args.shard.empty()) {
+        const auto [i, n] = parse_shard(args.shard);
+        const std::size_t V = mesh.vertex_count();
+        SHPRT_CHECK(n <= V, invalid_argument,
+                    "--shard {}: {} shards of {} vertices leave some empty", args.shard, n, V);
+        p.receivers = p.receivers.range(V * i / n, V * (i + 1) / n - V * i / n);
+        extra["shard"] = {{"index", i}, {"of", n}};
+    }
+    extra["stats"]["seconds_load"] = seconds_load;
+    extra["command_line"] = command_line();
+    if (ranks > 0) extra["mpi"] = {{"ranks", ranks}};
+    p.write_options.receiver_first = p.receivers.first;
+    p.write_options.extra_metadata_json = extra.dump();
+    p.write_options.reproducible = args.reproducible;
+    return p;
+}
+
+void print_summary(const BakeArgs& args, const Plan& plan, const TransferInfo& transfer,
+                   double seconds_load, double seconds_write) {
+    const BakeStats& s = transfer.stats;
+    const double rays_per_second = s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace : 0;
+    std::printf(
+        "baked %zu vertices, K=%d, S=%d (%s, %s): load %.3f s, bvh %.3f s, trace %.3f s, "
+        "project %.3f s, write %.3f s; %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
+        plan.receivers.count, transfer.layout.K, transfer.samples, to_string(transfer.kind),
+        to_string(transfer.sampler), seconds_load, s.seconds_bvh, s.seconds_trace,
+        s.seconds_project, seconds_write, rays_per_second * 1e-6,
+        double(s.peak_bytes_host) / (1024.0 * 1024.0), s.device_name.c_str(), args.output.c_str());
+}
+
+#if SHPRT_HAS_MPI
+// "ranks: receivers 4096 3968 ... (units 3 3 ...), busy 1.201 s to 1.310 s of 1.402 s;
+// gathered 0.05 GiB in 0.081 s": how the balancing and the gather went.
+void print_rank_loads(const dist::DistributedBake& result) {
+    std::vector<std::size_t> receivers, units;
+    double least = 0, most = 0;
+    for (std::size_t r = 0; r < result.ranks.size(); ++r) {
+        const dist::RankLoad& load = result.ranks[r];
+        receivers.push_back(load.receivers);
+        units.push_back(load.units);
+        least = r == 0 ? load.seconds : std::min(least, load.seconds);
+        most = std::max(most, load.seconds);
+    }
+    std::printf(
+        "ranks: receivers %s (units %s), busy %.3f s to %.3f s of %.3f s; gathered %.3f "
+        "GiB in %.3f s\n",
+        fmt::format("{}", fmt::join(receivers, " ")).c_str(),
+        fmt::format("{}", fmt::join(units, " ")).c_str(), least, most, result.seconds_wall,
+        double(result.bytes_gathered) / double(1u << 30), result.seconds_gathered);
+}
+
+// `mpirun -np P shprt bake ...` (or --mpi): every rank loads the scene, the ranks share the
+// receivers (dist/mpi_bake.hpp), rank 0 writes the one file and prints; a failure anywhere is one
+// line from rank 0, and every rank exits with its status.
+void run_mpi(const BakeArgs& args, BakeOptions options) {
+    SHPRT_CHECK(args.shard.empty(), invalid_argument,
+                "--shard and MPI: the ranks already share the bake (use one or the other)");
+    // The scene is loaded before MPI starts: the importer runs in a forked child, which some MPI
+    // transports do not allow once initialised. Its failure is agreed on once MPI runs.
+    std::optional<Mesh> mesh;
+    std::exception_ptr load_failure;
+    const auto load_start = Clock::now();
+    try {
+        mesh = load_scene(args.scene);
+    } catch (...) {
+        load_failure = std::current_exception();
+    }
+    const double seconds_load = seconds_since(load_start);
+
+    dist::MpiSession session;
+    const bool root = session.rank() == 0;
+    try {
+        session.agree([&] {
+            if (load_failure) std::rethrow_exception(load_failure);
+            if (root) check_output_writable(args.output);
+        });
+        dist::check_same_scene(session, *mesh);
+        if (root) install_interrupt_handler();
+        std::optional<Plan> p;
+        std::unique_ptr<Output> output;
+        session.agree([&] {
+            p = plan(args, *mesh, seconds_load, session.size());
+            if (root)
+                output =
+                    std::make_unique<Output>(args, *mesh, p->receivers, options, p->write_options);
+        });
+        dist::DistributedBake result;
+        {
+            std::optional<ProgressBar> bar;
+            dist::DistOptions dist;
+            if (root) dist.progress = bar.emplace("bake").callback();
+            dist.min_unit = args.mpi_unit;
+            BakeJob job{&*mesh, p->receivers, root ? &output->sink() : nullptr, nullptr, nullptr};
+            result = dist::bake_distributed(session, job, options, dist);
+        }
+        const TransferInfo& info = result.info;
+        double seconds_write = 0;
+        session.agree([&] {
+            if (root) seconds_write = output->write(info);
+        });
+        if (root) {
+            print_summary(args, *p, info, seconds_load, seconds_write);
+            print_rank_loads(result);
+        }
+    } catch (const Error& e) {
+        // Every rank has the agreed error: rank 0 prints it, and no rank exits before it has (a
+        // rank that exits non-zero makes mpirun kill the others).
+        if (root) print_error(e.what());
+        session.barrier();
+        throw ExitQuietly{1};
+    }
+}
+#endif
+
+bool use_mpi(const BakeArgs& args) {
+#if SHPRT_HAS_MPI
+    return args.mpi || dist::launched_by_mpi();
+#else
+    SHPRT_CHECK(!args.mpi, unsupported,
+                "--mpi: this build has no MPI (install libopenmpi-dev and configure with "
+                "SHPRT_MPI=AUTO or ON)");
+    return false;
+#endif
+}
+
 void run(const BakeArgs& args) {
     BakeOptions options = bake_options_from(args.bake);
+#if SHPRT_HAS_MPI
+    if (use_mpi(args)) return run_mpi(args, options);
+#else
+    use_mpi(args);
+#endif
     check_output_writable(args.output);
 
     const auto load_start = Clock::now();
     const Mesh mesh = load_scene(args.scene);
     const double seconds_load = seconds_since(load_start);
 
-    // A shard bakes receivers [⌊V·I/N⌋, ⌊V·(I+1)/N⌋) of the same bake; `shprt merge` joins them.
-    Receivers receivers = vertex_receivers(mesh);
-    nlohmann::json extra;
-    if (!args.shard.empty()) {
-        const auto [i, n] = parse_shard(args.shard);
-        const std::size_t V = mesh.vertex_count();
-        SHPRT_CHECK(n <= V, invalid_argument,
-                    "--shard {}: {} shards of {} vertices leave some empty", args.shard, n, V);
-        receivers = receivers.range(V * i / n, V * (i + 1) / n - V * i / n);
-        extra["shard"] = {{"index", i}, {"of", n}};
-    }
-
+    const Plan p = plan(args, mesh, seconds_load, 0);
     install_interrupt_handler();
-    extra["stats"]["seconds_load"] = seconds_load;
-    extra["command_line"] = command_line();
-    WriteOptions write_options;
-    write_options.receiver_first = receivers.first;
-    write_options.extra_metadata_json = extra.dump();
-    TransferSet transfer;
-    double seconds_write = 0;
-    if (args.stream) {
-        // Rows go to the file as chunks finish: no V×K array in memory.
-        TransferInfo description = bake_description(options);
-        if (args.half) description.layout.encoding = TransferEncoding::f16;
-        ShprtStreamWriter writer(args.output, mesh, description, receivers.first, receivers.count,
-                                 write_options);
-        {
-            ProgressBar bar("bake");
-            options.progress = bar.callback();
-            static_cast<TransferInfo&>(transfer) =
-                bake(BakeJob{&mesh, receivers, &writer.sink(), nullptr, nullptr}, options);
-        }
-        const auto write_start = Clock::now();
-        writer.commit(transfer);
-        seconds_write = seconds_since(write_start);
-    } else {
-        {
-            ProgressBar bar("bake");
-            options.progress = bar.callback();
-            transfer = bake(mesh, receivers, options);
-        }
-        if (args.half) transfer.layout.encoding = TransferEncoding::f16;
-        const auto write_start = Clock::now();
-        write_shprt(args.output, mesh, transfer, write_options);
-        seconds_write = seconds_since(write_start);
+    Output output(args, mesh, p.receivers, options, p.write_options);
+    TransferInfo info;
+    {
+        ProgressBar bar("bake");
+        options.progress = bar.callback();
+        info = bake(BakeJob{&mesh, p.receivers, &output.sink(), nullptr, nullptr}, options);
     }
-
-    const BakeStats& s = transfer.stats;
-    const double rays_per_second = s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace : 0;
-    std::printf(
-        "baked %zu vertices, K=%d, S=%d (%s, %s): load %.3f s, bvh %.3f s, trace %.3f s, "
-        "project %.3f s, write %.3f s; %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
-        receivers.count, transfer.layout.K, transfer.samples, to_string(transfer.kind),
-        to_string(transfer.sampler), seconds_load, s.seconds_bvh, s.seconds_trace,
-        s.seconds_project, seconds_write, rays_per_second * 1e-6,
-        double(s.peak_bytes_host) / (1024.0 * 1024.0), s.device_name.c_str(), args.output.c_str());
+    const double seconds_write = output.write(info);
+    print_summary(args, p, info, seconds_load, seconds_write);
 }
 
 const bool registered = register_command(
@@ -164,6 +310,15 @@ const bool registered = register_command(
          app.add_option("--shard", args->shard,
                         "Bake part I of N (I/N, 0-based) of the vertices, for job arrays; join "
                         "the parts with `shprt merge`");
+         app.add_flag("--reproducible", args->reproducible,
+                      "Leave out what differs between runs (times, rays, peak memory, device, "
+                      "the command line), so that the same bake gives the same bytes");
+         app.add_flag("--mpi", args->mpi,
+                      "Bake across the ranks of an MPI job (automatic under mpirun/srun): rank 0 "
+                      "writes the file");
+         app.add_option("--mpi-unit", args->mpi_unit,
+                        "Smallest share of receivers a rank claims at a time (default: automatic, "
+                        "enough to keep its threads busy)");
          app.callback([args] { run(*args); });
      }});
 

@@ -9,30 +9,20 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
-#include <cctype>
 #include <cstdio>
 #include <exception>
 #include <string>
 
 namespace {
 
-// Every error is one line on stderr: a message that spans lines (a driver's shader log, a
-// library's list of problems) has its line breaks turned into "; ".
-void print_error(const char* what, const char* suffix = "") {
-    std::string message = what;
-    while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back())))
-        message.pop_back();
-    std::string line;
-    for (std::size_t start = 0; start <= message.size();) {
-        std::size_t end = message.find('\n', start);
-        if (end == std::string::npos) end = message.size();
-        std::string part = message.substr(start, end - start);
-        while (!part.empty() && std::isspace(static_cast<unsigned char>(part.back())))
-            part.pop_back();
-        if (!part.empty()) line += (line.empty() ? "" : "; ") + part;
-        start = end + 1;
-    }
-    std::fprintf(stderr, "shprt: error: %s%s\n", line.c_str(), suffix);
+// The one error line and the exit code. Under an MPI launcher a rank other than 0 says nothing and
+// exits 0: an error found before the ranks connect (a bad argument) is met by rank 0 too, which
+// reports it for the job, and a rank that exits non-zero first would make mpirun kill rank 0
+// before it prints. (Errors after the ranks connect are agreed on: dist/mpi_bake.hpp.)
+int report_error(const char* what, int exit_code, const char* suffix = "") {
+    if (shprt::tools::is_secondary_rank()) return 0;
+    shprt::tools::print_error(what, suffix);
+    return exit_code;
 }
 
 }  // namespace
@@ -77,14 +67,13 @@ int main(int argc, char** argv) {
         // --help and --version end here too (exit code 0): CLI11 prints them.
         if (e.get_exit_code() == 0) return app.exit(e);
         // A usage error: one line like every other error, and exit code 2 (as getopt tools).
-        print_error(e.what(), " (see --help)");
-        return 2;
+        return report_error(e.what(), 2, " (see --help)");
+    } catch (const shprt::tools::ExitQuietly& e) {
+        return e.exit_code;
     } catch (const shprt::Error& e) {
-        print_error(e.what());
-        return 1;
+        return report_error(e.what(), 1);
     } catch (const std::exception& e) {
-        print_error(e.what());
-        return 2;
+        return report_error(e.what(), 2);
     }
     return 0;
 }

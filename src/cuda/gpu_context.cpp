@@ -96,6 +96,7 @@ GpuInfo discover_gpu(int device) {
             fmt::format("no CUDA device (cudaGetDeviceCount: {})", cudaGetErrorString(status));
         return info;
     }
+    info.device_count = count;
     if (count < 1) {
         info.reason = "no CUDA device (cudaGetDeviceCount: 0 devices)";
         return info;

@@ -5,7 +5,8 @@
 //       {"bake", "Bake per-vertex transfer", 20, [](CLI::App& app) { ...; app.callback(...); }});
 //
 // `setup` adds options to the subcommand and sets its callback. A callback reports failure by
-// throwing shprt::Error (main prints one line and exits 1) or CLI::Error.
+// throwing shprt::Error (main prints one line and exits 1) or CLI::Error; ExitQuietly ends a
+// process whose failure another process reports (the other ranks of an MPI job: rank 0 prints).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -22,6 +23,19 @@ struct Command {
     int order;  // position in --help (ascending)
     std::function<void(CLI::App&)> setup;
 };
+
+struct ExitQuietly {
+    int exit_code = 1;
+};
+
+// True in a process that an MPI launcher started as a rank other than 0 (Open MPI's, PMI's or
+// PMIx's rank variable is set and not 0). Such a process prints no error: every rank of an
+// `mpirun shprt ...` meets the same bad argument, and rank 0 reports it once.
+bool is_secondary_rank();
+
+// Prints "shprt: error: WHAT[SUFFIX]" as one line on stderr: a message that spans lines (a
+// driver's shader log, a library's list of problems) has its line breaks turned into "; ".
+void print_error(const char* what, const char* suffix = "");
 
 bool register_command(Command command);
 const std::vector<Command>& commands();

@@ -48,6 +48,7 @@ struct GpuInfo {
     std::size_t memory_bytes = 0;  // total device memory
     int compute_capability = 0;    // major·10 + minor, e.g. 90 for Hopper
     int multiprocessors = 0;
+    int device_count = 0;  // CUDA devices the machine shows (0 when none or no CUDA build)
 };
 
 // CUDA device `device` (0-based among those CUDA_VISIBLE_DEVICES shows). Never throws: without a
