@@ -26,7 +26,7 @@ namespace shprt::python {
 
 namespace py = pybind11;
 
-// "(V, 3) float32" for messages: `dims` as given, -1 printed as the name in `names`.
+// "(10, 3) float32": an array's shape and dtype, for messages.
 std::string describe_shape(const py::array& a);
 
 // The object as a numpy array (lists and other array-likes go through numpy.asarray);
