@@ -1,6 +1,7 @@
 """Progress, cancellation and threads: the callback runs on the calling thread, raising in it
 cancels the bake, and two bakes from two Python threads at once give the single-bake bits."""
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -147,3 +148,23 @@ def test_a_bake_ending_does_not_unset_single_threaded_blas_of_another():
         assert lib.openblas_get_num_threads() == 2
     finally:
         lib.openblas_set_num_threads(saved)
+
+
+def test_the_gil_is_released_while_baking():
+    # Thread A bakes for a second or more; the main thread sleeps 0.2 s and then needs the GIL
+    # again. With the GIL held by the bake it could only go on once the bake is over.
+    room = shprt.load_scene("builtin:room")
+    started, ends = threading.Event(), {}
+
+    def bake():
+        started.set()
+        shprt.bake(room, bands=2, samples=4096, threads=1)
+        ends["bake"] = time.monotonic()
+
+    a = threading.Thread(target=bake)
+    a.start()
+    started.wait()
+    time.sleep(0.2)
+    ends["main"] = time.monotonic()
+    a.join()
+    assert ends["main"] < ends["bake"], ends
