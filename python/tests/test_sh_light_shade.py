@@ -103,3 +103,12 @@ def test_render_to_array(box, tmp_path):
     assert ao.max() <= 1.5
     shprt.save_image(str(tmp_path / "box.png"), img)
     assert (tmp_path / "box.png").stat().st_size > 100
+
+
+@pytest.mark.skipif(not shprt.HAS_RENDER, reason="save_image comes with the renderer")
+def test_light_from_a_file_equals_light_from_the_array(tmp_path):
+    sky = np.random.default_rng(5).uniform(0.5, 2.0, size=(16, 32, 3)).astype(np.float32)
+    shprt.save_image(str(tmp_path / "sky.exr"), sky)
+    from_file = shprt.light(str(tmp_path / "sky.exr"), K=16)
+    np.testing.assert_allclose(from_file, shprt.light_from_equirect(sky, K=16), rtol=1e-3,
+                               atol=1e-3)
