@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <mutex>
 
 namespace shprt::detail {
 
@@ -78,9 +79,23 @@ void project_rows(const float* W, std::size_t count, std::size_t S, const float*
                 static_cast<int>(S), 1.0f, W, static_cast<int>(S), Y, K, 0.0f, C, K);
 }
 
-SingleThreadedBlas::SingleThreadedBlas() : m_saved(openblas_get_num_threads()) {
-    openblas_set_num_threads(1);
+namespace {
+// The scopes alive and the count the first one saved (stages.hpp: SingleThreadedBlas).
+std::mutex g_blas_mutex;
+int g_blas_scopes = 0;
+int g_blas_saved_threads = 1;
+}  // namespace
+
+SingleThreadedBlas::SingleThreadedBlas() {
+    const std::lock_guard lock(g_blas_mutex);
+    if (g_blas_scopes++ == 0) {
+        g_blas_saved_threads = openblas_get_num_threads();
+        openblas_set_num_threads(1);
+    }
 }
-SingleThreadedBlas::~SingleThreadedBlas() { openblas_set_num_threads(m_saved); }
+SingleThreadedBlas::~SingleThreadedBlas() {
+    const std::lock_guard lock(g_blas_mutex);
+    if (--g_blas_scopes == 0) openblas_set_num_threads(g_blas_saved_threads);
+}
 
 }  // namespace shprt::detail

@@ -59,16 +59,16 @@ void project_rows(const float* W, std::size_t count, std::size_t S, const float*
                   float* C);
 
 // OpenBLAS's thread count set to 1 for a scope, restored afterwards: the bake's TBB workers each
-// run their own single-threaded SGEMM (bake_cpu.cpp says why).
+// run their own single-threaded SGEMM (bake_cpu.cpp says why). The setting is process-wide, so
+// the scopes are counted: with bakes running at once on several threads (two Python threads,
+// say), the first scope saves the count, the last one restores it, and no bake's SGEMMs turn
+// multi-threaded while another bake still runs.
 class SingleThreadedBlas {
 public:
     SingleThreadedBlas();
     ~SingleThreadedBlas();
     SingleThreadedBlas(const SingleThreadedBlas&) = delete;
     SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
-
-private:
-    int m_saved;
 };
 
 }  // namespace shprt::detail

@@ -1,0 +1,32 @@
+// The Python module's parts, one function per library area (python/src/*.cpp), called by
+// PYBIND11_MODULE in module.cpp. Each binds thin wrappers: parse the Python arguments, call the
+// library with the GIL released where the call is long, convert the result (convert.hpp).
+#pragma once
+
+#include "shprt/light/light.hpp"
+#include "shprt/scene/mesh.hpp"
+
+#include <pybind11/pybind11.h>
+
+namespace shprt::python {
+
+namespace py = pybind11;
+
+void bind_errors(py::module_& m);  // shprt.Error
+void bind_scene(py::module_& m);   // shprt.Mesh, load_scene, builtin_scenes
+void bind_io(py::module_& m);      // shprt.File, load, save
+void bind_bake(py::module_& m);    // bake, bake_description
+void bind_sh(py::module_& m);      // sh_* (evaluation, projection, rotation, windowing)
+void bind_light(py::module_& m);   // light, light_from_equirect, light_from_cube_cross
+void bind_render(py::module_& m);  // shade; render and save_image when the build has render/
+
+// The mesh a Python call gives: a shprt.Mesh as it is, or arrays (vertices (V, 3) float,
+// faces (T, 3) int, normals (V, 3) or None = computed, albedo (V, 3) or None = kDefaultAlbedo)
+// made into one, checked by validate_mesh (NaN and index ranges) under the name `name`.
+// A light (3, K) float array as an ShLight (checked shape and K).
+ShLight light_arg(py::handle light);
+
+Mesh mesh_from_arrays(py::handle vertices, py::handle faces, py::handle normals, py::handle albedo,
+                      const char* name);
+
+}  // namespace shprt::python

@@ -1,0 +1,92 @@
+"""shprt.bake against the C++ results: the same options and seed give the bits of `shprt bake`."""
+import numpy as np
+import pytest
+
+import shprt
+
+CASES = [
+    dict(bands=3, samples=256, sampler="sobol", transfer="shadowed", seed=1),
+    dict(coeffs=10, samples=200, sampler="uniform", transfer="shadowed", seed=7, threads=1),
+    dict(bands=2, samples=128, sampler="fibonacci", transfer="unshadowed", seed=3),
+]
+
+
+def cli_args(case):
+    args = []
+    for key, value in case.items():
+        args += [f"--{key}", value]
+    return args
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: f"{c['sampler']}-{c['transfer']}")
+def test_bake_arrays_bit_identical_to_cli(cli, tmp_path, case):
+    out = tmp_path / "box.shprt"
+    cli("bake", "builtin:box_on_plane", "-o", out, *cli_args(case))
+    baked = shprt.load(str(out))
+    m = baked.mesh
+    T = shprt.bake(m.positions, m.triangles, m.normals, m.albedo, **case)
+    assert T.dtype == np.float32 and T.shape == baked.transfer.shape
+    assert T.tobytes() == baked.transfer.tobytes()
+    assert baked.samples == case["samples"] and baked.seed == case["seed"]
+
+
+def test_bake_of_a_ply_file_bit_identical_to_cli(cli, tmp_path):
+    ply = tmp_path / "sphere.ply"
+    cli("scene", "sphere", "-o", ply)
+    cli("bake", ply, "-o", tmp_path / "s.shprt", "--bands", 4, "--samples", 512)
+    mesh = shprt.load_scene(str(ply))  # the scene loader, as the batch example uses it
+    T = shprt.bake(mesh, bands=4, samples=512)
+    assert T.tobytes() == shprt.load(str(tmp_path / "s.shprt")).transfer.tobytes()
+
+
+def test_shadow_makes_a_difference(box):
+    shadowed = shprt.bake(box, bands=2, samples=256)
+    unshadowed = shprt.bake(box, bands=2, samples=256, transfer="unshadowed")
+    assert shadowed.shape == (box.vertex_count, 4)
+    assert np.all(shadowed[:, 0] <= unshadowed[:, 0] + 1e-5)
+    assert np.any(shadowed[:, 0] < unshadowed[:, 0] - 0.1)
+
+
+def test_default_normals_and_input_dtypes(sphere):
+    # float64 vertices, int64 faces and no normals: the mesh's normals are computed (for the
+    # icosphere they equal the positions to rounding), so the bake is close to the mesh's.
+    v = sphere.positions.astype(np.float64)
+    f = sphere.triangles.astype(np.int64)
+    T = shprt.bake(v, f, bands=2, samples=256)
+    ref = shprt.bake(sphere, bands=2, samples=256)
+    np.testing.assert_allclose(T, ref, atol=2e-2)
+
+
+def test_output_owns_its_buffer_without_copy(box):
+    T = shprt.bake(box, bands=2, samples=64)
+    assert not T.flags.owndata and T.base is not None  # the library's vector, in a capsule
+    assert T.flags.c_contiguous and T.flags.writeable
+
+
+def test_save_load_round_trip(box, tmp_path, cli):
+    T = shprt.bake(box, bands=3, samples=256, seed=5)
+    path = tmp_path / "box.shprt"
+    shprt.save(str(path), box, T, samples=256, seed=5)
+    f = shprt.load(str(path))
+    assert f.transfer.tobytes() == T.tobytes()
+    assert f.K == 9 and f.channels == 1 and f.kind == "shadowed" and f.seed == 5
+    assert f.sampler == "sobol" and shprt.metadata(f)["samples"] == 256
+    for name in ("positions", "normals", "albedo", "triangles"):
+        assert np.array_equal(getattr(f.mesh, name), getattr(box, name)), name
+    # The file's arrays are views of the loaded file (no copies).
+    assert np.shares_memory(f.transfer, f.transfer) and not f.transfer.flags.owndata
+    # The command line reads what Python wrote.
+    assert "K" in cli("info", path)
+    # float16 storage.
+    shprt.save(str(tmp_path / "h.shprt"), shprt.File(box, T, encoding="float16"))
+    h = shprt.load(str(tmp_path / "h.shprt"))
+    assert h.encoding == "float16"
+    np.testing.assert_allclose(h.transfer, T, rtol=1e-3, atol=1e-3)
+
+
+def test_rgb_transfer_shape(box):
+    T = shprt.bake(box, bands=2, samples=64)
+    rgb = np.stack([T, 0.5 * T, 0.25 * T], axis=1)  # (V, 3, K)
+    f = shprt.File(box, rgb)
+    assert f.channels == 3 and f.transfer.shape == rgb.shape
+    assert np.array_equal(f.transfer, rgb)
