@@ -1,0 +1,93 @@
+// Bad input found by a probe of the command line as a new user would try it (issue 15): an output
+// that names an input, numbers out of range or not numbers, files whose headers claim more than
+// memory holds, and what reaches stderr. Every case: the exit code of the one rule (1 for a bad
+// value or file, 2 only when the command line cannot be parsed), one line "shprt: error: ...",
+// and no output file.
+#include "cli/cli_test.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using shprt::test_support::expect_one_line_error;
+using shprt::test_support::expect_usage_error;
+using shprt::test_support::RunResult;
+using shprt::test_support::slurp;
+
+class CliBadInput : public shprt::test_support::CliTest {
+protected:
+    // Every line on stderr starts with "shprt: " (warnings and progress included), and a failure's
+    // one error line is the last.
+    static void expect_prefixed_lines(const RunResult& r) {
+        std::istringstream lines(r.err);
+        std::string line;
+        int errors = 0;
+        while (std::getline(lines, line)) {
+            EXPECT_EQ(line.rfind("shprt: ", 0), 0u) << "unprefixed stderr line: " << line;
+            if (line.rfind("shprt: error: ", 0) == 0) ++errors;
+        }
+        if (r.exit_code != 0) {
+            EXPECT_EQ(errors, 1) << r.err;
+            const std::size_t last = r.err.rfind('\n', r.err.size() - 2);
+            const std::string last_line = r.err.substr(last == std::string::npos ? 0 : last + 1);
+            EXPECT_EQ(last_line.rfind("shprt: error: ", 0), 0u) << r.err;
+        }
+    }
+    // Assimp's own test corpus (Debian's assimp-testmodels, installed by scripts/setup).
+    static std::string corpus(const std::string& name) {
+        return "/usr/share/assimp/models/" + name;
+    }
+    std::string file(const std::string& name) const { return (m_dir / name).string(); }
+};
+
+// Numbers: one parser for every numeric option. Out of range says so (not 2^63 - 1), a negative
+// value for an unsigned option is refused (not stored as 2^64 - 1), decimal is decimal, and an
+// unparsable value exits like an out-of-range one (1); only a command line that cannot be parsed
+// at all exits 2.
+TEST_F(CliBadInput, NumbersAreReadStrictlyAndBadOnesExitOne) {
+    const std::string base = "bake builtin:plane -o '" + out("n.shprt") + "' ";
+    const std::pair<std::string, std::string> bad[] = {
+        {"--samples 99999999999999999999", "--samples 99999999999999999999: out of range"},
+        {"--samples -99999999999999999999", "out of range"},
+        {"--samples abc", "--samples 'abc': not an integer"},
+        {"--samples 1e3", "--samples '1e3': not an integer"},
+        {"--samples 0x10", "not an integer"},
+        {"--samples 0", "--samples 0: must be 1 to"},
+        {"--seed -1", "--seed -1: must not be negative"},
+        {"--seed 18446744073709551616", "--seed 18446744073709551616: out of range"},
+        {"--coeffs 3.5", "--coeffs '3.5': not an integer"},
+    };
+    for (const auto& [option, message] : bad) {
+        expect_one_line_error(shprt(base + option), message);
+        EXPECT_TRUE(out_dir_empty()) << option;
+    }
+    expect_one_line_error(shprt("scene room --triangles -1 -o '" + out("r.ply") + "'"),
+                          "--triangles -1: must not be negative");
+    expect_one_line_error(
+        shprt("scene room --triangles 99999999999999999999 -o '" + out("r.ply") + "'"),
+        "out of range");
+    // A value CLI11 refuses itself (not in an option's list) is a bad value too.
+    expect_one_line_error(shprt("--log-level loud scene list"), "--log-level");
+    // The shape of the command line: exit 2.
+    expect_usage_error(shprt(base + "--no-such-option 3"), "--no-such-option");
+    expect_usage_error(shprt("bake builtin:plane"), "--output is required");
+    EXPECT_TRUE(out_dir_empty());
+
+    // The largest seed is a seed; "010" is ten (CLI11 alone read it as octal 8).
+    const RunResult ok = shprt(base + "--samples 010 --seed 18446744073709551615 --coeffs '+4'");
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_NE(ok.out.find("K=4, S=10 "), std::string::npos) << ok.out;
+}
+
+}  // namespace
