@@ -29,6 +29,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -246,6 +247,36 @@ TEST_F(CliRender, BadInputGivesOneLineErrorsAndNoOutput) {
     expect_one_line_error(shprt("render '" + m_file + "' -o '" + out("img.jpg") + "'"), "img.jpg");
     expect_one_line_error(shprt("shade /no/such/file.shprt -o '" + out("n.csv") + "'"),
                           "/no/such/file.shprt");
+    EXPECT_TRUE(out_dir_empty());
+}
+
+// Non-finite lights and results are an error in shade as in render, never an output: a light too
+// bright for float (constant:1e38), an RGBE .hdr whose pixels are ff ff ff ff (1.7e38), and a
+// negative radiance in an EXR map (refused as constant:-1 is).
+TEST_F(CliRender, ShadeAndRenderRefuseNonFiniteAndNegativeLights) {
+    const std::string ff = (m_dir / "ff.hdr").string();
+    std::ofstream(ff, std::ios::binary) << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n"
+                                        << std::string(8, '\xff');
+    const std::string neg = (m_dir / "neg.exr").string();
+    Image sky = Image::make(16, 8);
+    std::fill(sky.rgb.begin(), sky.rgb.end(), 1.0f);
+    sky.pixel(3, 2)[0] = -5.0f;
+    save_image(neg, sky);
+    const std::pair<std::string, std::string> lights[] = {
+        {"constant:1e38", "too bright"},
+        {"'" + ff + "'", "too bright"},
+        {"'" + neg + "'", "negative value -5 at pixel (3, 2)"},
+        {"constant:-1", "non-negative"},
+    };
+    for (const auto& [light, message] : lights) {
+        for (const char* name : {"l.csv", "l.npy", "l.ply"})
+            expect_one_line_error(
+                shprt("shade '" + m_file + "' --light " + light + " -o '" + out(name) + "'"),
+                message);
+        expect_one_line_error(
+            shprt("render '" + m_file + "' --light " + light + " -o '" + out("l.png") + "'"),
+            message);
+    }
     EXPECT_TRUE(out_dir_empty());
 }
 
