@@ -87,6 +87,7 @@ void check_output_writable(const std::string& path) {
 
 void run(const BakeArgs& args) {
     BakeOptions options = bake_options_from(args.bake);
+    check_output_is_not_input(args.output, {args.scene});
     check_output_writable(args.output);
 
     const auto load_start = Clock::now();

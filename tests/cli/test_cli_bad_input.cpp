@@ -51,6 +51,31 @@ protected:
     std::string file(const std::string& name) const { return (m_dir / name).string(); }
 };
 
+// `shprt bake plane.ply -o plane.ply` destroyed the input mesh: an output that is an input
+// (directly, through a symbolic link, as a hard link) is refused before any work.
+TEST_F(CliBadInput, BakeAndMergeNeverWriteOverTheirInput) {
+    const std::string ply = file("plane.ply");
+    ASSERT_EQ(shprt("scene plane -o '" + ply + "'").exit_code, 0);
+    const std::string before = slurp(ply);
+    fs::create_symlink(ply, file("link.ply"));
+    fs::create_hard_link(ply, file("hard.shprt"));
+    for (const std::string& output : {ply, file("link.ply"), file("hard.shprt")}) {
+        const RunResult r = shprt("bake '" + ply + "' --samples 16 -o '" + output + "'");
+        expect_one_line_error(r, "output " + output + " is the input file " + ply);
+        EXPECT_EQ(r.err.find("bake: "), std::string::npos) << "refused before any work";
+    }
+    expect_one_line_error(shprt("bake '" + file("link.ply") + "' --samples 16 -o '" + ply + "'"),
+                          "is the input file");
+    EXPECT_EQ(slurp(ply), before);
+
+    const std::string part = out("part.shprt");
+    ASSERT_EQ(shprt("bake builtin:plane --samples 16 --shard 0/1 -o '" + part + "'").exit_code, 0);
+    const std::string part_before = slurp(part);
+    expect_one_line_error(shprt("merge '" + part + "' -o '" + part + "'"),
+                          "output " + part + " is the input file " + part);
+    EXPECT_EQ(slurp(part), part_before);
+}
+
 // Numbers: one parser for every numeric option. Out of range says so (not 2^63 - 1), a negative
 // value for an unsigned option is refused (not stored as 2^64 - 1), decimal is decimal, and an
 // unparsable value exits like an out-of-range one (1); only a command line that cannot be parsed

@@ -280,6 +280,29 @@ TEST_F(CliRender, ShadeAndRenderRefuseNonFiniteAndNegativeLights) {
     EXPECT_TRUE(out_dir_empty());
 }
 
+// An output that names an input (the .shprt file or a light file; directly, through a symbolic
+// link or as a hard link) is refused before any work, and the input is left as it was.
+TEST_F(CliRender, ShadeAndRenderNeverWriteOverTheirInput) {
+    const std::string before = read_file(m_file);
+    const std::string link = (m_dir / "link.ply").string(), hard = (m_dir / "hard.png").string();
+    fs::create_symlink(m_file, link);
+    fs::create_hard_link(m_file, hard);
+    const std::string sky = (m_dir / "sky.exr").string();
+    save_image(sky, Image::make(16, 8));
+    const std::string sky_before = read_file(sky);
+    expect_one_line_error(shprt("shade '" + m_file + "' -o '" + link + "'"),
+                          "is the input file " + m_file);
+    expect_one_line_error(shprt("render '" + m_file + "' -o '" + hard + "'"),
+                          "is the input file " + m_file);
+    expect_one_line_error(shprt("render '" + m_file + "' --light '" + sky + "' -o '" + sky + "'"),
+                          "output " + sky + " is the input file " + sky);
+    expect_one_line_error(
+        shprt("render '" + m_file + "' --light 'equirect:" + sky + "' -o '" + sky + "'"),
+        "is the input file " + sky);
+    EXPECT_EQ(read_file(m_file), before);
+    EXPECT_EQ(read_file(sky), sky_before);
+}
+
 TEST_F(CliRender, RenderWithoutOpenGl43ReportsTheVersionFound) {
     if (!have_gl()) GTEST_SKIP() << "no headless OpenGL at all on this machine";
     // Mesa honours MESA_GL_VERSION_OVERRIDE: capped at 3.3, no 4.3 core context can be made.
