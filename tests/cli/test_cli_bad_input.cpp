@@ -115,4 +115,50 @@ TEST_F(CliBadInput, NumbersAreReadStrictlyAndBadOnesExitOne) {
     EXPECT_NE(ok.out.find("K=4, S=10 "), std::string::npos) << ok.out;
 }
 
+// Memory is bounded by the input: a header claiming more than memory holds is a clean error at
+// once, not gigabytes for seconds (Assimp's invalid/OutOfMemory.off, 309 bytes claiming 3.5e11
+// vertices, took 15.8 GB for 14 s) nor "std::bad_alloc".
+TEST_F(CliBadInput, HugeClaimedCountsAreCleanErrorsAtOnce) {
+    // A binary PLY whose one face claims a list of 4e9 indices.
+    {
+        std::ofstream ply(file("list.ply"), std::ios::binary);
+        ply << "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+               "property float y\nproperty float z\nelement face 1\n"
+               "property list uint uint vertex_indices\nend_header\n";
+        const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        const std::uint32_t face[4] = {4000000000u, 0, 1, 2};
+        ply.write(reinterpret_cast<const char*>(v), sizeof v);
+        ply.write(reinterpret_cast<const char*>(face), sizeof face);
+    }
+    std::vector<std::string> files{file("list.ply")};
+    if (fs::exists(corpus("invalid/OutOfMemory.off")))
+        files.push_back(corpus("invalid/OutOfMemory.off"));
+    for (const std::string& f : files) {
+        const auto start = std::chrono::steady_clock::now();
+        const RunResult r = shprt("bake '" + f + "' --samples 16 -o '" + out("m.shprt") + "'");
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        expect_one_line_error(r, f + ": the importer needed more than 2.0 GiB of memory");
+        EXPECT_LT(seconds, 10.0) << f;
+        EXPECT_TRUE(out_dir_empty());
+    }
+    // The limit is the user's to set.
+    expect_one_line_error(
+        shprt("scene info '" + file("list.ply") + "'", {.prefix = "SHPRT_IMPORT_MEMORY_GIB=0.5"}),
+        "needed more than 0.5 GiB");
+    expect_one_line_error(
+        shprt("scene info '" + file("list.ply") + "'", {.prefix = "SHPRT_IMPORT_MEMORY_GIB=lots"}),
+        "SHPRT_IMPORT_MEMORY_GIB='lots'");
+}
+
+// Nothing a library prints reaches the terminal: Assimp's OpenDDL parser printed
+// "nullptr returned by creating DDLNode." for this file.
+TEST_F(CliBadInput, WhatTheImporterPrintsNeverReachesTheTerminal) {
+    const std::string ogex = corpus("OpenGEX/empty_camera.ogex");
+    if (!fs::exists(ogex)) GTEST_SKIP() << "assimp-testmodels is not installed (scripts/setup)";
+    const RunResult r = shprt("scene info '" + ogex + "'");
+    expect_one_line_error(r, ogex);
+    EXPECT_EQ(r.err.find("DDLNode"), std::string::npos) << r.err;
+}
+
 }  // namespace
