@@ -66,7 +66,9 @@ int main(int argc, char** argv) {
     check_numeric_options(app);
 
     auto logger = spdlog::stderr_color_mt("shprt");
-    logger->set_pattern("%^%l%$: %v");
+    // Every line on stderr starts with "shprt: " (README, "The command line"): warnings are
+    // "shprt: warning: ...", errors "shprt: error: ...".
+    logger->set_pattern("shprt: %^%l%$: %v");
     app.parse_complete_callback([&] { logger->set_level(spdlog::level::from_str(log_level)); });
     shprt::set_log_sink([logger](shprt::LogLevel level, std::string_view message) {
         switch (level) {

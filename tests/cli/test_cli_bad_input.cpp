@@ -115,6 +115,42 @@ TEST_F(CliBadInput, NumbersAreReadStrictlyAndBadOnesExitOne) {
     EXPECT_NE(ok.out.find("K=4, S=10 "), std::string::npos) << ok.out;
 }
 
+// Stderr: every line is prefixed, a warning is one "shprt: warning:" line, and after a bake's
+// progress lines a failure is still the one error line and the last.
+TEST_F(CliBadInput, EveryStderrLineIsPrefixedAndTheErrorIsLast) {
+    std::ofstream(file("degenerate.obj"))
+        << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n";
+    RunResult r = shprt("scene info '" + file("degenerate.obj") + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "shprt: warning: " + file("degenerate.obj") +
+                         ": dropped 1 degenerate triangle (of 2)\n");
+
+    // A failure gives no warning before its line: the line says it all.
+    std::ofstream(file("points.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1 2\n";
+    expect_one_line_error(shprt("scene info '" + file("points.obj") + "'"),
+                          "empty mesh (no triangles in the file; skipped 2 point or line");
+    std::ofstream(file("flat.obj")) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
+    expect_one_line_error(shprt("scene info '" + file("flat.obj") + "'"),
+                          "all 1 triangles are degenerate");
+
+    // A bake whose output cannot be written (the file size limit: the write fails with EFBIG)
+    // after tracing printed its progress.
+    r = shprt("bake builtin:box_on_plane --coeffs 64 --samples 1024 -o '" + out("big.shprt") + "'",
+              {.prefix = "trap '' XFSZ; ulimit -f 8;"});
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find("shprt: bake: 100%"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("shprt: error: cannot write " + out("big.shprt")), std::string::npos)
+        << r.err;
+    expect_prefixed_lines(r);
+    EXPECT_TRUE(out_dir_empty());
+
+    // A successful bake: progress lines only, prefixed.
+    r = shprt("bake builtin:plane --samples 64 -o '" + out("ok.shprt") + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("shprt: bake: 100%"), std::string::npos) << r.err;
+    expect_prefixed_lines(r);
+}
+
 // Memory is bounded by the input: a header claiming more than memory holds is a clean error at
 // once, not gigabytes for seconds (Assimp's invalid/OutOfMemory.off, 309 bytes claiming 3.5e11
 // vertices, took 15.8 GB for 14 s) nor "std::bad_alloc".
