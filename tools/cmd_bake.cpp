@@ -220,7 +220,10 @@ void run_mpi(const BakeArgs& args, BakeOptions options) {
     try {
         session.agree([&] {
             if (load_failure) std::rethrow_exception(load_failure);
-            if (root) check_output_writable(args.output);
+            if (root) {
+                check_output_is_not_input(args.output, {args.scene});
+                check_output_writable(args.output);
+            }
         });
         dist::check_same_scene(session, *mesh);
         if (root) install_interrupt_handler();
@@ -278,6 +281,7 @@ void run(const BakeArgs& args) {
 #else
     use_mpi(args);
 #endif
+    check_output_is_not_input(args.output, {args.scene});
     check_output_writable(args.output);
 
     const auto load_start = Clock::now();

@@ -4,6 +4,7 @@
 #include "common/command.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
 
 #include <cstdio>
@@ -21,6 +22,7 @@ struct MergeArgs {
 };
 
 void run(const MergeArgs& args) {
+    check_output_is_not_input(args.output, args.parts);
     std::vector<ShprtFile> parts;
     for (const std::string& path : args.parts) parts.push_back(read_shprt_part(path));
     const ShprtFile whole = merge_shprt_parts(std::move(parts), args.parts);

@@ -6,6 +6,7 @@
 #include "common/shading_options.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
@@ -46,6 +47,7 @@ void run(const RenderArgs& a) {
     int width = 0, height = 0;
     parse_size(a.size, width, height);
     const LightSetup setup = light_setup_from(a.light);
+    check_output_is_not_input(a.output, input_files(a.input, a.light));
     DrawSettings settings;
     settings.view = parse_view(a.view);
     settings.k = a.k;

@@ -5,6 +5,7 @@
 #include "common/shading_options.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
@@ -39,6 +40,7 @@ void run(const ShadeArgs& a) {
                 "--exposure {}: must be positive", a.exposure);
     SHPRT_CHECK(a.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)", a.coeffs);
     const LightSetup setup = light_setup_from(a.light);
+    check_output_is_not_input(a.output, input_files(a.input, a.light));
     Vec3f eye{};
     if (!a.eye.empty()) eye = parse_vec3(a.eye, "--eye");
 

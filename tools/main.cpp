@@ -1,6 +1,7 @@
 // shprt: precomputed radiance transfer in spherical harmonics. Thin shell over the library: it
 // parses arguments, calls the library, reports. One-line errors, non-zero exit codes.
 #include "common/command.hpp"
+#include "common/number_options.hpp"
 
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
@@ -11,6 +12,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 
 namespace {
@@ -25,9 +27,20 @@ int report_error(const char* what, int exit_code, const char* suffix = "") {
     return exit_code;
 }
 
+// CLI11 says "Could not convert: --coeffs = 99999999999" when a number that passed
+// check_numeric_options does not fit its option's type (an int): say it as the range checks do.
+std::string value_error_message(const std::string& what) {
+    static const std::string kPrefix = "Could not convert: ";
+    const std::size_t equals = what.find(" = ");
+    if (what.rfind(kPrefix, 0) != 0 || equals == std::string::npos) return what;
+    return what.substr(kPrefix.size(), equals - kPrefix.size()) + " " + what.substr(equals + 3) +
+           ": out of range";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    using shprt::tools::check_numeric_options;
     CLI::App app{"shprt — precomputed radiance transfer in a spherical-harmonics basis"};
     app.set_version_flag("--version", std::string("shprt ") + SHPRT_VERSION_STRING +
                                           (SHPRT_HAS_CUDA ? " (CUDA)" : " (no CUDA)"));
@@ -40,9 +53,12 @@ int main(int argc, char** argv) {
         CLI::App* sub = app.add_subcommand(command.name, command.description);
         command.setup(*sub);
     }
+    check_numeric_options(app);
 
     auto logger = spdlog::stderr_color_mt("shprt");
-    logger->set_pattern("%^%l%$: %v");
+    // Every line on stderr starts with "shprt: " (README, "The command line"): warnings are
+    // "shprt: warning: ...", errors "shprt: error: ...".
+    logger->set_pattern("shprt: %^%l%$: %v");
     app.parse_complete_callback([&] { logger->set_level(spdlog::level::from_str(log_level)); });
     shprt::set_log_sink([logger](shprt::LogLevel level, std::string_view message) {
         switch (level) {
@@ -61,19 +77,29 @@ int main(int argc, char** argv) {
         }
     });
 
+    // Exit codes, one rule (README, "The command line"): 2 when the command line cannot be
+    // parsed (an unknown option or subcommand, a missing or extra argument); 1 for every other
+    // failure, a bad option value included, whether it is not a number, out of its range or
+    // not one of the allowed words.
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         // --help and --version end here too (exit code 0): CLI11 prints them.
         if (e.get_exit_code() == 0) return app.exit(e);
+        // A value CLI11 itself refused (a number too large for its option's type, a word not in
+        // an option's list): a bad value like any other.
+        if (dynamic_cast<const CLI::ConversionError*>(&e) ||
+            dynamic_cast<const CLI::ValidationError*>(&e)) {
+            return report_error(value_error_message(e.what()).c_str(), 1);
+        }
         // A usage error: one line like every other error, and exit code 2 (as getopt tools).
         return report_error(e.what(), 2, " (see --help)");
     } catch (const shprt::tools::ExitQuietly& e) {
         return e.exit_code;
-    } catch (const shprt::Error& e) {
-        return report_error(e.what(), 1);
+    } catch (const std::bad_alloc&) {
+        return report_error("out of memory (an allocation failed)", 1);
     } catch (const std::exception& e) {
-        return report_error(e.what(), 2);
+        return report_error(e.what(), 1);
     }
     return 0;
 }

@@ -2,6 +2,7 @@
 
 #include "shprt/core/error.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -108,6 +109,20 @@ void AtomicFile::commit() {
     m_committed = true;
     unregister_temporary(m_slot);
     m_slot = std::size_t(-1);
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+    struct stat sa {
+    }, sb{};
+    return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+void check_output_is_not_input(const std::string& output, const std::vector<std::string>& inputs) {
+    for (const std::string& input : inputs)
+        SHPRT_CHECK(!same_file(output, input), invalid_argument,
+                    "output {} is the input file {} (the same file); choose another output name",
+                    output, input);
 }
 
 std::string read_file(const std::string& path) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 #include <system_error>
+#include <type_traits>
 
 namespace shprt {
 namespace {
@@ -28,12 +29,54 @@ std::string_view trim(std::string_view s) {
 
 bool parse_number(std::string_view item, double& value) {
     item = trim(item);
-    // from_chars takes a leading '-' but not a '+'; a lone sign is no number.
-    if (!item.empty() && item.front() == '+') item.remove_prefix(1);
+    // from_chars takes a leading '-' but not a '+'; a lone sign or two signs are no number.
+    if (!item.empty() && item.front() == '+') {
+        item.remove_prefix(1);
+        if (!item.empty() && item.front() == '-') return false;
+    }
     if (item.empty() || item.front() == '+') return false;
     const char* last = item.data() + item.size();
     const auto [ptr, ec] = std::from_chars(item.data(), last, value);
     return ec == std::errc() && ptr == last && std::isfinite(value);
+}
+
+namespace {
+
+template <class Int>
+IntegerParse parse_integer_as(std::string_view item, Int& value) {
+    item = trim(item);
+    // As parse_number: one optional sign, '+' or '-'.
+    if (!item.empty() && item.front() == '+') {
+        item.remove_prefix(1);
+        if (!item.empty() && item.front() == '-') return IntegerParse::not_integer;
+    }
+    if (item.empty() || item.front() == '+') return IntegerParse::not_integer;
+    if constexpr (std::is_unsigned_v<Int>) {
+        // from_chars refuses a sign for unsigned types; a negative integer gets its own answer.
+        if (item.front() == '-') {
+            std::int64_t as_signed = 0;
+            const IntegerParse r = parse_integer_as(item, as_signed);
+            if (r != IntegerParse::ok) return r;
+            if (as_signed != 0) return IntegerParse::negative;
+            value = 0;
+            return IntegerParse::ok;
+        }
+    }
+    const char* last = item.data() + item.size();
+    const auto [ptr, ec] = std::from_chars(item.data(), last, value, 10);
+    if (ptr != last || (ec != std::errc() && ec != std::errc::result_out_of_range))
+        return IntegerParse::not_integer;
+    return ec == std::errc::result_out_of_range ? IntegerParse::out_of_range : IntegerParse::ok;
+}
+
+}  // namespace
+
+IntegerParse parse_integer(std::string_view text, std::int64_t& value) {
+    return parse_integer_as(text, value);
+}
+
+IntegerParse parse_integer(std::string_view text, std::uint64_t& value) {
+    return parse_integer_as(text, value);
 }
 
 namespace {

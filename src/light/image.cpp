@@ -41,6 +41,16 @@ void check_dimensions(const std::string& path, int width, int height) {
     SHPRT_CHECK(width > 0 && height > 0 && width <= kMaxImageSide && height <= kMaxImageSide,
                 format, "image {} has invalid size {}x{} (each side must be 1..{})", path, width,
                 height, kMaxImageSide);
+    SHPRT_CHECK(std::size_t(width) * std::size_t(height) <= kMaxImagePixels, format,
+                "image {} is too large: {}x{} is more than {} pixels", path, width, height,
+                kMaxImagePixels);
+}
+
+// The header's size, checked before decoding: ours, then the caller's.
+void check_header_size(const std::string& path, int width, int height,
+                       const ImageSizeCheck& check_size) {
+    check_dimensions(path, width, height);
+    if (check_size) check_size(width, height);
 }
 
 void check_finite(const std::string& path, const Image& image) {
@@ -68,7 +78,8 @@ bool next_line(const std::string& bytes, std::size_t& pos, std::string& line) {
 
 // Checks that the RGBE stream is complete and well formed in the layout stb_image decodes
 // (-Y H +X W; flat or "new" RLE scanlines), so that stb_image never reads past the end.
-void validate_rgbe(const std::string& path, const std::string& bytes) {
+void validate_rgbe(const std::string& path, const std::string& bytes,
+                   const ImageSizeCheck& check_size) {
     std::size_t pos = 0;
     std::string line;
     SHPRT_CHECK(next_line(bytes, pos, line) && (line == "#?RADIANCE" || line == "#?RGBE"), format,
@@ -88,7 +99,7 @@ void validate_rgbe(const std::string& path, const std::string& bytes) {
     char extra = 0;
     SHPRT_CHECK(std::sscanf(line.c_str(), "-Y %d +X %d%c", &height, &width, &extra) == 2, format,
                 "image {}: unsupported resolution line '{}' (expected '-Y H +X W')", path, line);
-    check_dimensions(path, width, height);
+    check_header_size(path, width, height, check_size);
 
     const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
     const std::size_t n = bytes.size();
@@ -137,8 +148,9 @@ struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
 
-Image load_hdr(const std::string& path, const std::string& bytes) {
-    validate_rgbe(path, bytes);
+Image load_hdr(const std::string& path, const std::string& bytes,
+               const ImageSizeCheck& check_size) {
+    validate_rgbe(path, bytes, check_size);
     int w = 0, h = 0, comp = 0;
     std::unique_ptr<float, StbFree> data(
         stbi_loadf_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
@@ -153,7 +165,8 @@ Image load_hdr(const std::string& path, const std::string& bytes) {
 
 // ---- PNG -------------------------------------------------------------------------------------
 
-Image load_png(const std::string& path, const std::string& bytes) {
+Image load_png(const std::string& path, const std::string& bytes,
+               const ImageSizeCheck& check_size) {
     SHPRT_CHECK(bytes.size() <= std::size_t(std::numeric_limits<int>::max()), format,
                 "image {} is too large", path);
     // stb_image stops reading after the last IDAT chunk; a file cut inside its final IEND chunk
@@ -168,7 +181,7 @@ Image load_png(const std::string& path, const std::string& bytes) {
     SHPRT_CHECK(stbi_info_from_memory(mem, len, &w, &h, &comp), format,
                 "cannot decode image {}: {}", path,
                 stbi_failure_reason() ? stbi_failure_reason() : "not a PNG file");
-    check_dimensions(path, w, h);
+    check_header_size(path, w, h, check_size);
     // 16-bit PNGs are reduced to 8 bits by stb_image; environment maps worth more precision
     // come as .exr or .hdr.
     std::unique_ptr<stbi_uc, StbFree> data(stbi_load_from_memory(mem, len, &w, &h, &comp, 3));
@@ -217,7 +230,8 @@ struct ExrImageGuard {
          code);
 }
 
-Image load_exr(const std::string& path, const std::string& bytes) {
+Image load_exr(const std::string& path, const std::string& bytes,
+               const ImageSizeCheck& check_size) {
     const auto* mem = reinterpret_cast<const unsigned char*>(bytes.data());
     EXRVersion version;
     int ret = ParseEXRVersionFromMemory(&version, mem, bytes.size());
@@ -229,6 +243,14 @@ Image load_exr(const std::string& path, const std::string& bytes) {
     const char* err = nullptr;
     ret = ParseEXRHeaderFromMemory(&h.header, &version, mem, bytes.size(), &err);
     if (ret != TINYEXR_SUCCESS) fail_exr(path, err, ret);
+    // The data window decides what LoadEXRImageFromMemory allocates.
+    const EXRBox2i& window = h.header.data_window;
+    const long long header_w = (long long)window.max_x - window.min_x + 1;
+    const long long header_h = (long long)window.max_y - window.min_y + 1;
+    const auto side = [](long long s) {
+        return static_cast<int>(std::clamp<long long>(s, 0, std::numeric_limits<int>::max()));
+    };
+    check_header_size(path, side(header_w), side(header_h), check_size);
     for (int c = 0; c < h.header.num_channels; ++c)
         if (h.header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
             h.header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
@@ -292,15 +314,15 @@ Image Image::make(int width, int height) {
     return image;
 }
 
-Image load_image(const std::string& path) {
+Image load_image(const std::string& path, const ImageSizeCheck& check_size) {
     const std::string ext = lower_extension(path);
     SHPRT_CHECK(ext == ".exr" || ext == ".hdr" || ext == ".png", unsupported,
                 "cannot read image {}: unknown extension '{}' (expected .exr, .hdr or .png)", path,
                 ext);
     const std::string bytes = read_image_bytes(path);
-    Image image = ext == ".exr"   ? load_exr(path, bytes)
-                  : ext == ".hdr" ? load_hdr(path, bytes)
-                                  : load_png(path, bytes);
+    Image image = ext == ".exr"   ? load_exr(path, bytes, check_size)
+                  : ext == ".hdr" ? load_hdr(path, bytes, check_size)
+                                  : load_png(path, bytes, check_size);
     check_finite(path, image);
     return image;
 }

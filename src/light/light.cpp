@@ -52,19 +52,53 @@ bool has_image_extension(const std::string& path) {
     return ext == ".hdr" || ext == ".exr" || ext == ".png";
 }
 
+// A light's radiance is never negative (nor NaN or infinite: load_image refuses those): the same
+// rule as for constant:V, sun and gradient colours. Checked on every map a light reads.
+void check_radiance_map(const std::string& path, const Image& image) {
+    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+        if (image.rgb[i] < 0.0f) {
+            const std::size_t p = i / 3;
+            fail(ErrorCode::format,
+                 "image {} has a negative value {} at pixel ({}, {}) channel {}: a light's "
+                 "radiance must be ≥ 0",
+                 path, image.rgb[i], p % image.width, p / image.width, "RGB"[i % 3]);
+        }
+    }
+}
+
+Image load_radiance_map(const std::string& path, const ImageSizeCheck& check_size = {}) {
+    Image image = load_image(path, check_size);
+    check_radiance_map(path, image);
+    return image;
+}
+
 ShLight light_from_file(const std::string& path, int K, char layout /* 'a'uto, 'e', 'c' */) {
     SHPRT_CHECK(!path.empty(), invalid_argument, "missing file name");
-    const Image image = load_image(path);
+    const auto equirect_shape = [](int W, int H) { return W == 2 * H; };
+    const auto cross_shape = [](int W, int H) {
+        return (W % 4 == 0 && H % 3 == 0 && W / 4 == H / 3) ||
+               (W % 3 == 0 && H % 4 == 0 && W / 3 == H / 4);
+    };
+    // The shape is checked from the header, before the pixels are decoded.
+    const Image image = load_radiance_map(path, [&](int W, int H) {
+        if (layout == 'e' || (layout == 'a' && equirect_shape(W, H))) return;
+        SHPRT_CHECK(cross_shape(W, H), format,
+                    "image {} is {}x{}: expected an equirect map of aspect 2:1 (e.g. 2048x1024) "
+                    "or a cube cross of aspect 4:3 or 3:4 with square faces (e.g. 1024x768)",
+                    path, W, H);
+    });
     const int W = image.width, H = image.height;
-    const bool equirect_shape = W == 2 * H;
-    const bool cross_shape = (W % 4 == 0 && H % 3 == 0 && W / 4 == H / 3) ||
-                             (W % 3 == 0 && H % 4 == 0 && W / 3 == H / 4);
-    if (layout == 'e' || (layout == 'a' && equirect_shape)) return project_equirect(image, K);
-    SHPRT_CHECK(cross_shape, format,
-                "image {} is {}x{}: expected an equirect map of aspect 2:1 (e.g. 2048x1024) or a "
-                "cube cross of aspect 4:3 or 3:4 with square faces (e.g. 1024x768)",
-                path, W, H);
+    if (layout == 'e' || (layout == 'a' && equirect_shape(W, H))) return project_equirect(image, K);
     return project_cube_cross(image, K);
+}
+
+// Float overflow: a finite but huge radiance (constant:1e38, an RGBE pixel with exponent 255)
+// projects to infinite coefficients, which would shade to inf and NaN.
+void check_finite_light(const ShLight& light, const std::string& what) {
+    for (std::size_t i = 0; i < light.coeffs.size(); ++i)
+        SHPRT_CHECK(std::isfinite(light.coeffs[i]), invalid_argument,
+                    "{} is too bright: its SH coefficient {} of channel {} overflows float", what,
+                    i % std::size_t(light.K), "RGB"[i / std::size_t(light.K)]);
 }
 
 ShLight parse_light_unwrapped(const std::string& spec, int K) {
@@ -125,7 +159,7 @@ ShLight parse_light_unwrapped(const std::string& spec, int K) {
         for (int f = 0; f < 6; ++f) {
             SHPRT_CHECK(!files[f].empty(), invalid_argument, "light '{}': face {} has no file name",
                         spec, f + 1);
-            faces[f] = load_image(std::string(files[f]));
+            faces[f] = load_radiance_map(std::string(files[f]));
         }
         return project_cube_faces(faces, K);
     }
@@ -169,7 +203,9 @@ ShLight parse_light(const std::string& spec, int K) {
     SHPRT_CHECK(!spec.empty(), invalid_argument, "empty light spec: {}", kSpecHelp);
     ShLight::zero(K);  // validate K first, with its own message
     try {
-        return parse_light_unwrapped(spec, K);
+        ShLight light = parse_light_unwrapped(spec, K);
+        check_finite_light(light, "light '" + spec + "'");
+        return light;
     } catch (const Error& e) {
         const std::string what = e.what();
         // Messages that already quote the spec are passed on; others get it prefixed.
@@ -178,10 +214,25 @@ ShLight parse_light(const std::string& spec, int K) {
     }
 }
 
+std::vector<std::string> light_spec_files(const std::string& spec) {
+    const std::size_t colon = spec.find(':');
+    const std::string head = spec.substr(0, colon);
+    const std::string args = colon == std::string::npos ? std::string() : spec.substr(colon + 1);
+    if ((head == "equirect" || head == "cross") && !args.empty()) return {args};
+    if (head == "faces" && !args.empty()) {
+        std::vector<std::string> files;
+        for (std::string_view f : split(args, ',')) files.emplace_back(f);
+        return files;
+    }
+    if (has_image_extension(spec)) return {spec};
+    return {};
+}
+
 ShLight make_light(const std::vector<std::string>& specs, int K) {
     if (specs.empty()) return parse_light("builtin", K);
     ShLight sum = parse_light(specs[0], K);
     for (std::size_t i = 1; i < specs.size(); ++i) add_light(sum, parse_light(specs[i], K));
+    if (specs.size() > 1) check_finite_light(sum, "the sum of the lights");
     return sum;
 }
 

@@ -20,11 +20,21 @@
 namespace shprt {
 namespace {
 
-void check_sizes(const Mesh& mesh, const ShadeResult& result) {
+// Sizes, and no inf or NaN: a non-finite result is an error, never an output (as for pictures,
+// render/save_image.hpp).
+void check_result(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(result.irradiance.size() == V && result.radiance.size() == V, invalid_argument,
                 "shading result has {} / {} values for {} vertices", result.irradiance.size(),
                 result.radiance.size(), V);
+    const auto finite = [](Vec3f v) {
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    for (std::size_t v = 0; v < V; ++v)
+        SHPRT_CHECK(finite(result.irradiance[v]) && finite(result.radiance[v]), invalid_argument,
+                    "cannot write {}: vertex {} shades to a non-finite value (the light or the "
+                    "transfer overflows float)",
+                    path, v);
 }
 
 // The 9 columns of one vertex: x, y, z, E_rgb, L_rgb.
@@ -54,7 +64,7 @@ ShadeFormat shade_format_for_path(const std::string& path) {
 }
 
 void write_shade_csv(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
-    check_sizes(mesh, result);
+    check_result(path, mesh, result);
     AtomicFile file(path);
     file.write("x,y,z,E_r,E_g,E_b,L_r,L_g,L_b\n");
     fmt::memory_buffer buffer;
@@ -74,7 +84,7 @@ void write_shade_csv(const std::string& path, const Mesh& mesh, const ShadeResul
 }
 
 void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
-    check_sizes(mesh, result);
+    check_result(path, mesh, result);
     require_little_endian();
     const std::size_t V = mesh.vertex_count();
     // Format 1.0: magic, version, uint16 header length, then a Python dict literal padded with
@@ -108,7 +118,7 @@ void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResul
 
 void write_shade_ply(const std::string& path, const Mesh& mesh, const ShadeResult& result,
                      float exposure) {
-    check_sizes(mesh, result);
+    check_result(path, mesh, result);
     SHPRT_CHECK(exposure > 0 && std::isfinite(exposure), invalid_argument,
                 "exposure {} must be positive", exposure);
     const std::size_t V = mesh.vertex_count();

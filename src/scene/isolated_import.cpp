@@ -5,13 +5,17 @@
 
 #include "shprt/core/error.hpp"
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <exception>
+#include <new>
 #include <vector>
 
 namespace shprt::detail {
@@ -59,7 +63,52 @@ void write_error(int fd, ErrorCode code, const char* message) {
            write_all(fd, message, length));
 }
 
-[[noreturn]] void child_main(int fd, const std::function<ImportedMesh()>& work) {
+// The address space the process has mapped now (VmSize), in bytes; 0 if unknown.
+std::uint64_t mapped_bytes() {
+    std::FILE* f = std::fopen("/proc/self/statm", "r");
+    if (!f) return 0;
+    unsigned long long pages = 0;
+    const bool ok = std::fscanf(f, "%llu", &pages) == 1;
+    std::fclose(f);
+    return ok ? pages * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE)) : 0;
+}
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+// In the child, before the work: the address-space limit, and stdout and stderr to /dev/null.
+// System calls only (async-signal-safe after fork in a threaded process).
+void prepare_child(std::uint64_t address_space_limit) {
+    if (!kSanitized && address_space_limit > 0) {
+        rlimit limit{};
+        if (::getrlimit(RLIMIT_AS, &limit) == 0) {
+            const rlim_t wanted = static_cast<rlim_t>(address_space_limit);
+            if (limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur > wanted) {
+                limit.rlim_cur = wanted;
+                ::setrlimit(RLIMIT_AS, &limit);
+            }
+        }
+    }
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) {
+        ::dup2(null, STDOUT_FILENO);
+        ::dup2(null, STDERR_FILENO);
+        if (null > STDERR_FILENO) ::close(null);
+    }
+}
+
+[[noreturn]] void child_main(int fd, const std::function<ImportedMesh()>& work,
+                             const std::string& out_of_memory_message) {
     try {
         const ImportedMesh r = work();
         const Mesh& m = r.mesh;
@@ -70,6 +119,8 @@ void write_error(int fd, ErrorCode code, const char* message) {
                write_array(fd, m.triangles) && write_array(fd, m.source_vertex));
     } catch (const Error& e) {
         write_error(fd, e.code(), e.what());
+    } catch (const std::bad_alloc&) {
+        write_error(fd, ErrorCode::out_of_memory, out_of_memory_message.c_str());
     } catch (const std::exception& e) {
         write_error(fd, ErrorCode::format, e.what());
     } catch (...) {
@@ -133,8 +184,15 @@ private:
 
 }  // namespace
 
-ImportedMesh run_isolated_import(const std::string& path,
+ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_budget,
                                  const std::function<ImportedMesh()>& work) {
+    // Formatted here: the child must not allocate once it is out of memory.
+    const std::string out_of_memory_message = fmt::format(
+        "{}: the importer needed more than {:.1f} GiB of memory (a count in the file is corrupt, "
+        "or the scene is larger than the limit: set SHPRT_IMPORT_MEMORY_GIB to raise it)",
+        path, double(memory_budget) / double(1ull << 30));
+    const std::uint64_t mapped = mapped_bytes();
+    const std::uint64_t limit = mapped > 0 ? mapped + memory_budget : 0;
     int fds[2];
     if (::pipe(fds) != 0) return work();
     const pid_t pid = ::fork();
@@ -145,7 +203,8 @@ ImportedMesh run_isolated_import(const std::string& path,
     }
     if (pid == 0) {
         ::close(fds[0]);
-        child_main(fds[1], work);
+        prepare_child(limit);
+        child_main(fds[1], work, out_of_memory_message);
     }
     ::close(fds[1]);
     Child child(pid);

@@ -20,13 +20,18 @@ struct ImportedMesh {
 };
 
 // Runs `work` in a child process made with fork() and returns its result, copied back through a
-// pipe. A shprt::Error thrown in the child is thrown here with the same code and message (any
-// other exception becomes Error(format) with its text). If the child ends without a result —
-// killed by a signal (a segmentation fault in the importer, the OOM killer) or exiting early —
-// throws Error(format) "PATH: the importer crashed reading this file (signal N, NAME) ...".
-// `work` runs in a copy of a possibly multi-threaded process, so it must only compute: no locks
-// another thread may hold (no logging, no TBB). Where fork() fails, `work` runs in this process.
-ImportedMesh run_isolated_import(const std::string& path,
+// pipe. The child may grow its address space by at most `memory_budget` bytes (RLIMIT_AS; not in
+// sanitizer builds, whose shadow memory needs terabytes of address space): an allocation beyond
+// it fails, and a std::bad_alloc that ends `work` becomes Error(out_of_memory) "PATH: the
+// importer needed more than N GiB of memory ...". The child's stdout and stderr are /dev/null:
+// nothing an importer prints reaches the terminal. A shprt::Error thrown in the child is thrown
+// here with the same code and message (any other exception becomes Error(format) with its text). If
+// the child ends without a result — killed by a signal (a segmentation fault in the importer, the
+// OOM killer) or exiting early — throws Error(format) "PATH: the importer crashed reading this file
+// (signal N, NAME) ...". `work` runs in a copy of a possibly multi-threaded process, so it must
+// only compute: no locks another thread may hold (no logging, no TBB). Where fork() fails, `work`
+// runs in this process.
+ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_budget,
                                  const std::function<ImportedMesh()>& work);
 
 }  // namespace shprt::detail

@@ -8,6 +8,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/log.hpp"
+#include "shprt/core/parse.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/scene/polygon.hpp"
@@ -18,13 +19,17 @@
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <new>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -194,17 +199,20 @@ Mesh finish(detail::ImportedMesh imported, const std::string& path, const PlyHea
     const PlyHeader ply = is_ply ? *ply_header : PlyHeader{};
     Mesh out = std::move(imported.mesh);
     out.source = path;
-    if (imported.skipped_faces > 0)
-        log_warn("{}: skipped {} point or line primitive{}", path, imported.skipped_faces,
-                 imported.skipped_faces == 1 ? "" : "s");
+    const std::uint64_t skipped = imported.skipped_faces;
+    const std::string skipped_text =
+        fmt::format("{} point or line primitive{}", skipped, skipped == 1 ? "" : "s");
+    // A failure says everything in its one line: no warning before it.
     SHPRT_CHECK(!out.positions.empty() && !out.triangles.empty(), format,
-                "{}: empty mesh (no triangles in the file)", path);
+                "{}: empty mesh (no triangles in the file{})", path,
+                skipped > 0 ? "; skipped " + skipped_text : "");
 
     // PLY promises output vertex i = file vertex i; make sure the importer kept every vertex.
     SHPRT_CHECK(!is_ply || out.vertex_count() == ply.vertices, format,
                 "{}: the importer returned {} vertices for the file's {}", path, out.vertex_count(),
                 ply.vertices);
     validate_mesh(out, path);  // before normals: they need indices in range
+    if (skipped > 0) log_warn("{}: skipped {}", path, skipped_text);
     if (!imported.all_normals) {
         if (is_ply)
             compute_vertex_normals(out);
@@ -237,6 +245,9 @@ detail::ImportedMesh import_with_assimp(const std::string& path, const std::stri
     if (!scene) {
         std::string why = importer.GetErrorString();
         if (!why.empty() && why.back() == '\n') why.pop_back();
+        // Assimp catches a failed allocation and reports it as text: the memory limit of the
+        // importer child (run_isolated_import) was reached.
+        if (why.find("bad_alloc") != std::string::npos) throw std::bad_alloc();
         SHPRT_CHECK(ext.empty() || importer.IsExtensionSupported(ext) ||
                         why.find("No suitable reader") == std::string::npos,
                     unsupported, "{}: unsupported format '{}'", path, ext);
@@ -275,12 +286,31 @@ Mesh load_file(const std::string& path) {
     // Assimp runs in a child process: a crash in one of its importers (fuzzing found a Collada
     // one) becomes an error naming the file, not the end of the program.
     const PlyHeader* ply_header = ply ? &*ply : nullptr;
-    detail::ImportedMesh imported = detail::run_isolated_import(
-        path, [&] { return import_with_assimp(path, ext, ply_header); });
+    detail::ImportedMesh imported =
+        detail::run_isolated_import(path, importer_memory_budget(size),
+                                    [&] { return import_with_assimp(path, ext, ply_header); });
     return finish(std::move(imported), path, ply_header);
 }
 
 }  // namespace
+
+std::uint64_t importer_memory_budget(std::uint64_t file_bytes) {
+    constexpr double kGiB = double(1ull << 30);
+    if (const char* text = std::getenv("SHPRT_IMPORT_MEMORY_GIB"); text && *text) {
+        double gib = 0;
+        SHPRT_CHECK(parse_number(text, gib) && gib > 0 && gib <= 1 << 20, invalid_argument,
+                    "SHPRT_IMPORT_MEMORY_GIB='{}': expected a positive number of GiB", text);
+        return static_cast<std::uint64_t>(gib * kGiB);
+    }
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    const std::uint64_t physical =
+        pages > 0 && page > 0 ? std::uint64_t(pages) * std::uint64_t(page) : 0;
+    const std::uint64_t floor = 2ull << 30;
+    std::uint64_t budget =
+        std::max<std::uint64_t>(floor, file_bytes > (~0ull >> 7) ? ~0ull : 64 * file_bytes);
+    if (physical > 0) budget = std::min(budget, physical / 2);
+    return budget;
+}
 
 bool is_builtin_spec(const std::string& spec) { return spec.rfind(kBuiltinPrefix, 0) == 0; }
 

@@ -125,12 +125,13 @@ void validate_mesh(Mesh& mesh, const std::string& name) {
         }
         if (!degenerate) mesh.triangles[kept++] = tri;
     }
+    // The failure first: a failure is one line, with no warning before it.
+    SHPRT_CHECK(kept > 0, format, "{}: empty mesh (all {} triangles are degenerate)", name, total);
     if (kept < total) {
         mesh.triangles.resize(kept);
         log_warn("{}: dropped {} degenerate triangle{} (of {})", name, total - kept,
                  total - kept == 1 ? "" : "s", total);
     }
-    SHPRT_CHECK(kept > 0, format, "{}: empty mesh (all {} triangles are degenerate)", name, total);
 }
 
 Bounds mesh_bounds(const Mesh& mesh) {

@@ -29,6 +29,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -247,6 +248,59 @@ TEST_F(CliRender, BadInputGivesOneLineErrorsAndNoOutput) {
     expect_one_line_error(shprt("shade /no/such/file.shprt -o '" + out("n.csv") + "'"),
                           "/no/such/file.shprt");
     EXPECT_TRUE(out_dir_empty());
+}
+
+// Non-finite lights and results are an error in shade as in render, never an output: a light too
+// bright for float (constant:1e38), an RGBE .hdr whose pixels are ff ff ff ff (1.7e38), and a
+// negative radiance in an EXR map (refused as constant:-1 is).
+TEST_F(CliRender, ShadeAndRenderRefuseNonFiniteAndNegativeLights) {
+    const std::string ff = (m_dir / "ff.hdr").string();
+    std::ofstream(ff, std::ios::binary) << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n"
+                                        << std::string(8, '\xff');
+    const std::string neg = (m_dir / "neg.exr").string();
+    Image sky = Image::make(16, 8);
+    std::fill(sky.rgb.begin(), sky.rgb.end(), 1.0f);
+    sky.pixel(3, 2)[0] = -5.0f;
+    save_image(neg, sky);
+    const std::pair<std::string, std::string> lights[] = {
+        {"constant:1e38", "too bright"},
+        {"'" + ff + "'", "too bright"},
+        {"'" + neg + "'", "negative value -5 at pixel (3, 2)"},
+        {"constant:-1", "non-negative"},
+    };
+    for (const auto& [light, message] : lights) {
+        for (const char* name : {"l.csv", "l.npy", "l.ply"})
+            expect_one_line_error(
+                shprt("shade '" + m_file + "' --light " + light + " -o '" + out(name) + "'"),
+                message);
+        expect_one_line_error(
+            shprt("render '" + m_file + "' --light " + light + " -o '" + out("l.png") + "'"),
+            message);
+    }
+    EXPECT_TRUE(out_dir_empty());
+}
+
+// An output that names an input (the .shprt file or a light file; directly, through a symbolic
+// link or as a hard link) is refused before any work, and the input is left as it was.
+TEST_F(CliRender, ShadeAndRenderNeverWriteOverTheirInput) {
+    const std::string before = read_file(m_file);
+    const std::string link = (m_dir / "link.ply").string(), hard = (m_dir / "hard.png").string();
+    fs::create_symlink(m_file, link);
+    fs::create_hard_link(m_file, hard);
+    const std::string sky = (m_dir / "sky.exr").string();
+    save_image(sky, Image::make(16, 8));
+    const std::string sky_before = read_file(sky);
+    expect_one_line_error(shprt("shade '" + m_file + "' -o '" + link + "'"),
+                          "is the input file " + m_file);
+    expect_one_line_error(shprt("render '" + m_file + "' -o '" + hard + "'"),
+                          "is the input file " + m_file);
+    expect_one_line_error(shprt("render '" + m_file + "' --light '" + sky + "' -o '" + sky + "'"),
+                          "output " + sky + " is the input file " + sky);
+    expect_one_line_error(
+        shprt("render '" + m_file + "' --light 'equirect:" + sky + "' -o '" + sky + "'"),
+        "is the input file " + sky);
+    EXPECT_EQ(read_file(m_file), before);
+    EXPECT_EQ(read_file(sky), sky_before);
 }
 
 TEST_F(CliRender, RenderWithoutOpenGl43ReportsTheVersionFound) {

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,44 @@ TEST(ParseNumbers, InfinityAndNanAreRefused) {
     expect_error("1,2,nan", 3, {"'nan' is not a number"});
     expect_error("1,1e999,3", 3, {"'1e999' is not a number"});
     EXPECT_EQ(parse_numbers("1e308", 1, "x")[0], 1e308);
+}
+
+// Integers, the way every integer option is read: plain decimal, signed, range-checked (CLI11's
+// own conversion saturated 99999999999999999999, wrapped -1 into 2^64 - 1 and read 010 as 8).
+TEST(ParseInteger, PlainDecimalOnlyWithRangeAndSign) {
+    std::int64_t s = 0;
+    EXPECT_EQ(parse_integer("42", s), IntegerParse::ok);
+    EXPECT_EQ(s, 42);
+    EXPECT_EQ(parse_integer(" -7\t", s), IntegerParse::ok);
+    EXPECT_EQ(s, -7);
+    EXPECT_EQ(parse_integer("+010", s), IntegerParse::ok);
+    EXPECT_EQ(s, 10) << "decimal, not octal";
+    EXPECT_EQ(parse_integer("9223372036854775807", s), IntegerParse::ok);
+    EXPECT_EQ(s, INT64_MAX);
+    EXPECT_EQ(parse_integer("-9223372036854775808", s), IntegerParse::ok);
+    EXPECT_EQ(s, INT64_MIN);
+    EXPECT_EQ(parse_integer("9223372036854775808", s), IntegerParse::out_of_range);
+    EXPECT_EQ(parse_integer("99999999999999999999", s), IntegerParse::out_of_range);
+    EXPECT_EQ(parse_integer("-99999999999999999999", s), IntegerParse::out_of_range);
+    for (const char* bad : {"", " ", "+", "-", "--3", "+-3", "1.5", "1e3", "0x10", "abc", "3abc",
+                            "1 2", "inf", "nan"})
+        EXPECT_EQ(parse_integer(bad, s), IntegerParse::not_integer) << "'" << bad << "'";
+
+    std::uint64_t u = 0;
+    EXPECT_EQ(parse_integer("18446744073709551615", u), IntegerParse::ok);
+    EXPECT_EQ(u, UINT64_MAX);
+    EXPECT_EQ(parse_integer("18446744073709551616", u), IntegerParse::out_of_range);
+    EXPECT_EQ(parse_integer("-1", u), IntegerParse::negative);
+    EXPECT_EQ(parse_integer("-99999999999999999999", u), IntegerParse::out_of_range);
+    EXPECT_EQ(parse_integer("-0", u), IntegerParse::ok);
+    EXPECT_EQ(u, 0u);
+    EXPECT_EQ(parse_integer("-x", u), IntegerParse::not_integer);
+    EXPECT_EQ(parse_integer("+5", u), IntegerParse::ok);
+    EXPECT_EQ(u, 5u);
+    // Both parsers take one sign at most.
+    double d = 0;
+    EXPECT_FALSE(parse_number("+-3", d));
+    EXPECT_TRUE(parse_number("+3", d));
 }
 
 }  // namespace

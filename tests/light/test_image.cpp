@@ -188,6 +188,65 @@ TEST_F(ImageFiles, NonFinitePixelsInExrThrow) {
     }
 }
 
+// A PNG that claims `width` x `height` pixels in its header, with a corrupt IDAT and a correct
+// IEND: only a reader that decodes pixels notices the IDAT. (stb_image does not check CRCs.)
+// Grey (colour type 0): stb_image refuses an RGB header of more than 2^30 bytes itself, but a
+// grey one of 20000 x 20000 it decodes, and to RGB floats that is 4.8 GB.
+std::string png_claiming(std::uint32_t width, std::uint32_t height) {
+    const auto be32 = [](std::uint32_t v) {
+        return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+    };
+    std::string png = "\x89PNG\r\n\x1a\n";
+    png +=
+        be32(13) + "IHDR" + be32(width) + be32(height) + std::string("\x08\0\0\0\0", 5) + be32(0);
+    png += be32(4) + "IDAT" + "junk" + be32(0);
+    png += std::string("\0\0\0\0IEND\xAE\x42\x60\x82", 12);
+    return png;
+}
+
+// A header that claims a huge image is refused from the header, before any pixel is decoded: a
+// 20000 x 20000 PNG of a few hundred bytes would otherwise take 5.7 GB.
+TEST_F(ImageFiles, HugeImagesAreRefusedFromTheHeader) {
+    const std::string png = path("huge.png");
+    std::ofstream(png, std::ios::binary) << png_claiming(20000, 20000);
+    const std::string hdr = path("huge.hdr");
+    std::ofstream(hdr, std::ios::binary)
+        << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 20000 +X 20000\n";
+    for (const std::string& p : {png, hdr}) {
+        try {
+            load_image(p);
+            ADD_FAILURE() << "huge image accepted: " << p;
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            EXPECT_EQ(e.code(), ErrorCode::format) << what;
+            EXPECT_NE(what.find(p), std::string::npos) << what;
+            EXPECT_NE(what.find("too large: 20000x20000"), std::string::npos) << what;
+        }
+    }
+}
+
+// The caller's size check runs on the header's size, before decoding: the corrupt pixel data of
+// this PNG is never reached.
+TEST_F(ImageFiles, TheCallersSizeCheckRunsBeforeDecoding) {
+    const std::string png = path("claims.png");
+    std::ofstream(png, std::ios::binary) << png_claiming(30, 20);
+    int seen_w = 0, seen_h = 0;
+    try {
+        load_image(png, [&](int w, int h) {
+            seen_w = w;
+            seen_h = h;
+            fail(ErrorCode::format, "refused {}x{}", w, h);
+        });
+        ADD_FAILURE() << "not refused";
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "refused 30x20");
+    }
+    EXPECT_EQ(seen_w, 30);
+    EXPECT_EQ(seen_h, 20);
+    // Without the check, decoding finds the corrupt data.
+    EXPECT_THROW(load_image(png), Error);
+}
+
 // EXR variants that save_image does not write, made with tinyexr directly: half floats, a single
 // grey channel, and a tiled file whose edge tiles are partial.
 TEST_F(ImageFiles, ExrVariantsLoad) {

@@ -129,6 +129,64 @@ TEST_F(LightSpec, BadFilesNameTheFile) {
         ErrorCode::format, {"not square"});
 }
 
+// A light's radiance is ≥ 0, from a file as from constant:V (which refuses -1): a negative
+// pixel in a map (EXR can hold one; RGBE and PNG cannot) is refused, naming the file and pixel.
+TEST_F(LightSpec, NegativeRadianceIsRefusedEverywhere) {
+    Image image = sky_image(64, 32);
+    image.pixel(5, 3)[1] = -5.0f;
+    test_support::write_test_image(path("neg.exr"), image);
+    expect_spec_error(path("neg.exr"), ErrorCode::format,
+                      {path("neg.exr"), "negative value -5 at pixel (5, 3) channel G", "≥ 0"});
+    expect_spec_error("equirect:" + path("neg.exr"), ErrorCode::format, {"negative"});
+    Image face = sky_image(8, 8);
+    face.pixel(0, 0)[0] = -0.5f;
+    test_support::write_test_image(path("negface.exr"), face);
+    test_support::write_test_image(path("face.exr"), sky_image(8, 8));
+    const std::string f = path("face.exr");
+    expect_spec_error(
+        "faces:" + f + "," + f + "," + path("negface.exr") + "," + f + "," + f + "," + f,
+        ErrorCode::format, {path("negface.exr"), "negative"});
+    expect_spec_error("constant:-1", ErrorCode::invalid_argument, {"non-negative"});
+    expect_spec_error("constant:1,-1,1", ErrorCode::invalid_argument, {"non-negative"});
+    expect_spec_error("sun:0,1,0,2,1,-1,1", ErrorCode::invalid_argument, {"non-negative"});
+    expect_spec_error("gradient:1,1,1:1,-1,1", ErrorCode::invalid_argument, {"non-negative"});
+}
+
+// A finite radiance too large for float once projected (constant:1e38; an RGBE pixel ff ff ff ff
+// is 1.7e38) would shade to inf and NaN: refused, naming the light.
+TEST_F(LightSpec, LightsThatOverflowFloatAreRefused) {
+    expect_spec_error("constant:1e38", ErrorCode::invalid_argument,
+                      {"'constant:1e38'", "too bright", "overflows float"});
+    std::ofstream(path("ff.hdr"), std::ios::binary)
+        << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n"
+        << std::string(8, '\xff');
+    expect_spec_error(path("ff.hdr"), ErrorCode::invalid_argument, {path("ff.hdr"), "too bright"});
+    // Each finite, the sum not.
+    try {
+        make_light({"constant:3e37", "constant:3e37", "constant:3e37", "constant:3e37"}, 9);
+        ADD_FAILURE() << "an overflowing sum accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("the sum of the lights is too bright"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_NO_THROW(parse_light("constant:3e37", 9));
+}
+
+// The shape of a map is checked from its header, before its pixels are decoded (a 389 KB
+// 20000 x 20000 PNG was decoded in full, 5.7 GB, before its aspect was refused).
+TEST_F(LightSpec, TheShapeIsCheckedBeforeDecoding) {
+    // A 30 x 20 PNG header followed by corrupt pixel data: the shape error, not a decode error.
+    const auto be32 = [](std::uint32_t v) {
+        return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+    };
+    std::string png = "\x89PNG\r\n\x1a\n";
+    png += be32(13) + "IHDR" + be32(30) + be32(20) + std::string("\x08\x02\0\0\0", 5) + be32(0);
+    png += be32(4) + "IDATjunk" + be32(0) + std::string("\0\0\0\0IEND\xAE\x42\x60\x82", 12);
+    std::ofstream(path("odd.png"), std::ios::binary) << png;
+    expect_spec_error(path("odd.png"), ErrorCode::format, {path("odd.png"), "30x20", "2:1"});
+}
+
 TEST(LightSpecParse, BadSpecsSayWhatIsExpected) {
     expect_spec_error("", ErrorCode::invalid_argument, {"expected"});
     expect_spec_error("nope", ErrorCode::invalid_argument, {"'nope'", "sun:X,Y,Z", "builtin"});

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 namespace shprt {
@@ -165,6 +166,32 @@ TEST(ShadeExport, BadPathsThrowAndLeaveNothing) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("result.json"), std::string::npos);
     }
+}
+
+// A non-finite result (a light or transfer that overflows float) is an error in every format,
+// never an output: no file, and the message names the file and the first such vertex.
+TEST(ShadeExport, NonFiniteResultsAreRefusedInEveryFormat) {
+    test::TempDir dir;
+    const float bad[] = {std::numeric_limits<float>::infinity(),
+                         std::numeric_limits<float>::quiet_NaN()};
+    for (const float value : bad) {
+        for (const bool in_radiance : {false, true}) {
+            Fixture f = make_fixture();
+            (in_radiance ? f.result.radiance : f.result.irradiance)[7].y = value;
+            for (const char* name : {"out.csv", "out.npy", "out.ply"}) {
+                try {
+                    write_shade(dir.file(name), f.mesh, f.result);
+                    ADD_FAILURE() << name << ": a non-finite value was written";
+                } catch (const Error& e) {
+                    const std::string what = e.what();
+                    EXPECT_NE(what.find(dir.file(name)), std::string::npos) << what;
+                    EXPECT_NE(what.find("vertex 7"), std::string::npos) << what;
+                    EXPECT_NE(what.find("non-finite"), std::string::npos) << what;
+                }
+            }
+        }
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 
 }  // namespace

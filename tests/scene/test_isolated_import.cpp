@@ -9,13 +9,17 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace shprt::detail {
 namespace {
+
+constexpr std::uint64_t kBudget = 1ull << 30;  // 1 GiB
 
 ImportedMesh random_mesh(std::size_t vertices, std::size_t triangles, std::uint32_t seed) {
     std::mt19937 rng(seed);
@@ -44,7 +48,7 @@ bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
 
 std::string error_of(const std::function<ImportedMesh()>& work, ErrorCode* code = nullptr) {
     try {
-        run_isolated_import("some/file.dae", work);
+        run_isolated_import("some/file.dae", kBudget, work);
     } catch (const Error& e) {
         if (code) *code = e.code();
         return e.what();
@@ -55,7 +59,7 @@ std::string error_of(const std::function<ImportedMesh()>& work, ErrorCode* code 
 TEST(IsolatedImport, TheChildsMeshComesBackBitForBit) {
     // Larger than a pipe's buffer many times over: the parent must read while the child writes.
     const ImportedMesh want = random_mesh(200000, 300000, 5);
-    const ImportedMesh got = run_isolated_import("x.obj", [&] {
+    const ImportedMesh got = run_isolated_import("x.obj", kBudget, [&] {
         ImportedMesh r = want;
         r.mesh.source = "not carried";
         return r;
@@ -69,7 +73,7 @@ TEST(IsolatedImport, TheChildsMeshComesBackBitForBit) {
     EXPECT_EQ(got.skipped_faces, 12345678901ull);
     EXPECT_EQ(got.mesh.source, "") << "the source is not carried (the caller sets it)";
 
-    const ImportedMesh empty = run_isolated_import("x.obj", [] { return ImportedMesh{}; });
+    const ImportedMesh empty = run_isolated_import("x.obj", kBudget, [] { return ImportedMesh{}; });
     EXPECT_TRUE(empty.mesh.positions.empty() && empty.mesh.triangles.empty());
     EXPECT_TRUE(empty.all_normals);
 }
@@ -104,6 +108,50 @@ TEST(IsolatedImport, ADyingChildIsAnErrorNamingTheFileAndTheSignal) {
     EXPECT_NE(abort.find("(signal 6"), std::string::npos) << abort;
     const std::string exited = error_of([]() -> ImportedMesh { ::_exit(3); });
     EXPECT_EQ(exited, "some/file.dae: the importer ended without a result (exit status 3)");
+}
+
+// The importer's memory is bounded: an allocation beyond the budget fails at once in the child
+// (instead of growing until the machine runs out) and becomes Error(out_of_memory) saying so.
+TEST(IsolatedImport, TheChildsMemoryIsBoundedByTheBudget) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+    GTEST_SKIP() << "no address-space limit under the sanitizers (their shadow memory needs it)";
+#endif
+    ErrorCode code = ErrorCode::io;
+    const std::string message = error_of(
+        []() -> ImportedMesh {
+            // 4 GiB, touched page by page: the child would take it all without the limit.
+            std::vector<char> big(std::size_t(4) << 30);
+            for (std::size_t i = 0; i < big.size(); i += 4096) big[i] = 1;
+            return {};
+        },
+        &code);
+    EXPECT_EQ(code, ErrorCode::out_of_memory) << message;
+    EXPECT_EQ(message.rfind("some/file.dae: the importer needed more than 1.0 GiB of memory", 0),
+              0u)
+        << message;
+    EXPECT_NE(message.find("SHPRT_IMPORT_MEMORY_GIB"), std::string::npos) << message;
+    // Well inside the budget, the work succeeds.
+    const ImportedMesh ok = run_isolated_import("x.obj", kBudget, [] {
+        std::vector<char> some(std::size_t(256) << 20, 1);
+        ImportedMesh r;
+        r.skipped_faces = some[12345];
+        return r;
+    });
+    EXPECT_EQ(ok.skipped_faces, 1u);
+}
+
+// Nothing the importer prints reaches this process's stdout or stderr.
+TEST(IsolatedImport, WhatTheChildPrintsGoesNowhere) {
+    testing::internal::CaptureStderr();
+    testing::internal::CaptureStdout();
+    run_isolated_import("x.obj", kBudget, [] {
+        std::fprintf(stderr, "nullptr returned by creating DDLNode.\n");
+        std::fprintf(stdout, "a library's chatter\n");
+        std::fflush(nullptr);
+        return ImportedMesh{};
+    });
+    EXPECT_EQ(testing::internal::GetCapturedStdout(), "");
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
 }
 
 }  // namespace

@@ -90,10 +90,10 @@ TEST(ProgressBarTest, NotATerminalPrintsOneLinePerQuarter) {
     const std::vector<std::string> got = lines(contents(file));
     std::fclose(file);
     ASSERT_EQ(got.size(), 4u);
-    EXPECT_EQ(got[0].rfind("bake: 30% (300 of 1.00 k rays, ", 0), 0u) << got[0];
-    EXPECT_EQ(got[1].rfind("bake: 50% (500 of 1.00 k rays, ", 0), 0u) << got[1];
-    EXPECT_EQ(got[2].rfind("bake: 76% (760 of 1.00 k rays, ", 0), 0u) << got[2];
-    EXPECT_EQ(got[3].rfind("bake: 100% (1.00 k of 1.00 k rays, ", 0), 0u) << got[3];
+    EXPECT_EQ(got[0].rfind("shprt: bake: 30% (300 of 1.00 k rays, ", 0), 0u) << got[0];
+    EXPECT_EQ(got[1].rfind("shprt: bake: 50% (500 of 1.00 k rays, ", 0), 0u) << got[1];
+    EXPECT_EQ(got[2].rfind("shprt: bake: 76% (760 of 1.00 k rays, ", 0), 0u) << got[2];
+    EXPECT_EQ(got[3].rfind("shprt: bake: 100% (1.00 k of 1.00 k rays, ", 0), 0u) << got[3];
     for (const std::string& line : got) {
         EXPECT_NE(line.find("rays/s, "), std::string::npos) << line;
         EXPECT_EQ(line.back(), ')') << line;
@@ -109,7 +109,7 @@ TEST(ProgressBarTest, WithoutALabelTheStageNamesTheWork) {
     }
     const std::string text = contents(file);
     std::fclose(file);
-    EXPECT_EQ(text.rfind("tracing: 100% (1.00 of 1.00 rays, ", 0), 0u) << text;
+    EXPECT_EQ(text.rfind("shprt: tracing: 100% (1.00 of 1.00 rays, ", 0), 0u) << text;
 }
 
 // A pseudo-terminal `columns` wide: the bar writes to the slave side, the test reads the master.

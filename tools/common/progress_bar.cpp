@@ -134,7 +134,7 @@ void ProgressBar::print_plain(const ProgressInfo& info, double elapsed, int perc
     const std::string label = m_label.empty() ? std::string(info.stage) : m_label;
     const double rate = elapsed > 0 ? double(info.done) / elapsed : 0.0;
     const std::string unit(info.unit);
-    std::fprintf(m_out, "%s: %d%% (%s of %s %s, %s%s/s, %s)\n", label.c_str(),
+    std::fprintf(m_out, "shprt: %s: %d%% (%s of %s %s, %s%s/s, %s)\n", label.c_str(),
                  std::min(percent, 100), format_si(double(info.done)).c_str(),
                  format_si(double(info.total)).c_str(), unit.c_str(), format_si(rate).c_str(),
                  unit.c_str(), format_duration(elapsed).c_str());

@@ -5,7 +5,9 @@
 //     second, e.g.
 //       bake [##############..............]  48%  51.2 Mrays/s  ETA 3.1 s
 //   * Otherwise (a log file, a pipe, CI): one plain line each time 25, 50, 75 and 100 % are
-//     passed, e.g. "bake: 50% (2.41 M of 4.82 M rays, 51.2 Mrays/s, 0.05 s)".
+//     passed, e.g. "shprt: bake: 50% (2.41 M of 4.82 M rays, 51.2 Mrays/s, 0.05 s)": prefixed
+//     like every other line the tool writes to stderr, so a log read line by line tells the
+//     tool's lines apart, and a failure's "shprt: error: ..." line stays the last one.
 //
 // Ctrl-C: after install_interrupt_handler(), the first SIGINT makes the next update() return
 // false, so the library cancels cleanly (no half-written output); a second SIGINT ends the

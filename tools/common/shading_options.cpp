@@ -30,6 +30,13 @@ LightSetup light_setup_from(const LightArgs& args) {
     return setup;
 }
 
+std::vector<std::string> input_files(const std::string& file, const LightArgs& args) {
+    std::vector<std::string> files{file};
+    for (const std::string& spec : args.lights)
+        for (std::string& f : light_spec_files(spec)) files.push_back(std::move(f));
+    return files;
+}
+
 void add_camera_options(CLI::App& app, CameraArgs& args) {
     app.add_option("--camera", args.camera,
                    "EX,EY,EZ,TX,TY,TZ: eye and target (default: frames the scene)");

@@ -35,6 +35,10 @@ struct CameraArgs {
     std::optional<double> fov;  // degrees
 };
 
+// The files a command with these light options reads: `file` (the .shprt input) and every file
+// the --light specs name, for check_output_is_not_input (core/file.hpp).
+std::vector<std::string> input_files(const std::string& file, const LightArgs& args);
+
 // Adds --camera and --fov.
 void add_camera_options(CLI::App& app, CameraArgs& args);
 // Checks --camera and --fov without a scene (one-line Error(invalid_argument)), so that a bad

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace shprt {
 
@@ -42,6 +43,16 @@ void pwrite_all(int fd, const void* data, std::size_t size, std::uint64_t offset
 // The extension of `path`'s file name in lower case, with its dot (".png"); "" when it has none.
 // How every reader and writer chooses a format by name.
 std::string lower_extension(const std::string& path);
+
+// True when `a` and `b` name the same existing file: the same device and inode, so a symbolic
+// link to it or a hard link of it counts. False when either does not exist (or cannot be
+// examined).
+bool same_file(const std::string& a, const std::string& b);
+
+// Refuses, before any work, to write `output` over one of the files a command reads: throws
+// Error(invalid_argument) "output OUT is the input file IN (the same file); choose another
+// output name" when same_file(output, input) for any of `inputs`.
+void check_output_is_not_input(const std::string& output, const std::vector<std::string>& inputs);
 
 // Reads a whole file; throws Error(io) naming `path` if it cannot be opened or read.
 std::string read_file(const std::string& path);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -14,6 +15,20 @@ namespace shprt {
 // unspecified, for anything else: empty text, trailing characters, "inf", "nan", hexadecimal, or
 // a value out of double's range (1e999).
 bool parse_number(std::string_view text, double& value);
+
+// How parse_integer read a text.
+enum class IntegerParse {
+    ok,            // `value` holds the number
+    not_integer,   // not a plain decimal integer: empty, "1.5", "1e3", "0x10", "abc", "--3"
+    out_of_range,  // a decimal integer outside the type's range (99999999999999999999)
+    negative,      // for the unsigned overload: a negative decimal integer ("-1")
+};
+
+// Parses one integer the way every integer option is read: decimal digits with an optional sign
+// ('+' or '-'), surrounded by spaces or tabs allowed; no hexadecimal or octal prefixes (CLI11's
+// own conversion reads "010" as 8 and wraps "-1" into 2^64 - 1 for unsigned types).
+IntegerParse parse_integer(std::string_view text, std::int64_t& value);
+IntegerParse parse_integer(std::string_view text, std::uint64_t& value);
 
 // Parses `text` as comma-separated finite numbers, exactly `count` of them (count ≥ 1), each as
 // parse_number reads it (an empty item is no number). Throws Error(invalid_argument) with a

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,10 @@ namespace shprt {
 // Largest side of an image read or written: far beyond any environment map, small enough that
 // width·height·3 floats cannot overflow.
 inline constexpr int kMaxImageSide = 1 << 15;
+// Largest pixel count of an image read: 2^27 pixels (16384 x 8192, an equirect map far sharper
+// than any SH light can use) is 1.5 GiB of float RGB. Checked from the file's header, before a
+// pixel is decoded, so a small file claiming a huge image costs nothing.
+inline constexpr std::size_t kMaxImagePixels = std::size_t(1) << 27;
 
 struct Image {
     int width = 0, height = 0;
@@ -43,10 +48,16 @@ struct Image {
     }
 };
 
+// Called with an image's width and height as its header gives them, before any pixel is decoded;
+// throws to refuse the image (a light refuses a shape it cannot use).
+using ImageSizeCheck = std::function<void(int width, int height)>;
+
 // Reads an image by extension (.exr, .hdr, .png; case-insensitive). Throws shprt::Error naming
 // the file: ErrorCode::io if it is missing or unreadable; ErrorCode::format if it is truncated,
-// malformed, empty, or holds a NaN or infinite pixel (the message names the first such pixel);
-// ErrorCode::unsupported for any other extension.
-Image load_image(const std::string& path);
+// malformed, empty, larger than kMaxImageSide on a side or kMaxImagePixels in all (both checked
+// from the header, before decoding), or holds a NaN or infinite pixel (the message names the
+// first such pixel); ErrorCode::unsupported for any other extension. `check_size`, when given,
+// is called with the header's size before decoding as well.
+Image load_image(const std::string& path, const ImageSizeCheck& check_size = {});
 
 }  // namespace shprt

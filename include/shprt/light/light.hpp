@@ -66,11 +66,20 @@ Vec3d light_radiance(const ShLight& light, Vec3d d);
 
 // One spec (syntax above) projected to basis size K. Throws shprt::Error naming the spec (and
 // the file, for file specs) and saying what was expected: Error(invalid_argument) for a bad
-// spec or K, the errors of load_image for files, Error(format) for a map of the wrong shape.
+// spec or K, the errors of load_image for files, Error(format) for a map of the wrong shape
+// (checked from the file's header, before decoding) or with a negative pixel (a light is
+// radiance ≥ 0, as constant:V, sun and gradient colours), Error(invalid_argument) for a light
+// so bright that a coefficient overflows float (constant:1e38).
 ShLight parse_light(const std::string& spec, int K);
 
-// Sum of the specs, each through parse_light; an empty list means {"builtin"}.
+// Sum of the specs, each through parse_light; an empty list means {"builtin"}. A sum that
+// overflows float is Error(invalid_argument).
 ShLight make_light(const std::vector<std::string>& specs, int K);
+
+// The files a spec reads (FILE.hdr, equirect:FILE, cross:FILE, the six of faces:...), without
+// reading them; empty for analytic lights and for text that is no spec. For the check that an
+// output does not overwrite an input (core/file.hpp check_output_is_not_input).
+std::vector<std::string> light_spec_files(const std::string& spec);
 
 // ---- Environment maps ------------------------------------------------------------------------
 

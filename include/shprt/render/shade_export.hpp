@@ -1,6 +1,8 @@
 // Writers for per-vertex shading results (`shprt shade -o OUT.csv|OUT.ply|OUT.npy`). Every row or
 // vertex is in the mesh's vertex order (input order). All files are written atomically
-// (AtomicFile): on any error no output file is left.
+// (AtomicFile): on any error no output file is left. Every writer refuses a result with an
+// infinite or NaN value (Error(invalid_argument) naming the file and the vertex) before it
+// creates the file.
 #pragma once
 
 #include "shprt/render/shade.hpp"

@@ -3,6 +3,7 @@
 
 #include "shprt/scene/mesh.hpp"
 
+#include <cstdint>
 #include <string>
 
 namespace shprt {
@@ -33,12 +34,25 @@ namespace shprt {
 // without bound on some corrupt ones). Assimp itself runs in a child process (fork; see
 // src/scene/isolated_import.hpp): a crafted corrupt file can crash its importers (fuzzing found
 // a Collada one; see assimp issues #6507, #6443), and such a crash becomes Error(format) naming
-// the file and the signal instead of ending the program.
+// the file and the signal instead of ending the program. The child's memory is bounded by
+// importer_memory_budget (below): a file that needs more (a corrupt count: Assimp's own
+// invalid/OutOfMemory.off claims 3.5e11 vertices) gives Error(out_of_memory) "PATH: the importer
+// needed more than N GiB of memory ..." instead of taking the machine's memory. Nothing the
+// importer prints reaches stdout or stderr.
 // Mesh::source is `spec`. Throws shprt::Error whose message starts with the path and names the
 // problem: Error(io) for a missing or unreadable file, Error(unsupported) for a format Assimp
 // does not know, Error(format) for a file it cannot parse, an empty mesh, NaN/Inf coordinates or
 // out-of-range indices; Error(invalid_argument) for an unknown built-in name.
 Mesh load_scene(const std::string& spec);
+
+// How much memory (bytes of address space) the importer child may use to read a file of
+// `file_bytes` bytes. The environment variable SHPRT_IMPORT_MEMORY_GIB, when set, gives it in GiB
+// (a positive number, e.g. 0.5 or 16; Error(invalid_argument) otherwise). By default it is
+// 64 x the file's size, at least 2 GiB, at most half of the machine's physical memory: Assimp
+// takes about 10 to 40 times a mesh file's size (an 80 MB OBJ of 10 M faces takes 2.5 GB), the
+// floor leaves room for the buffers and textures a small glTF or OBJ file refers to, and the cap
+// keeps a corrupt file from pushing the machine into swap or the OOM killer.
+std::uint64_t importer_memory_budget(std::uint64_t file_bytes);
 
 // True when `spec` names a built-in scene ("builtin:" prefix).
 bool is_builtin_spec(const std::string& spec);
