@@ -33,7 +33,8 @@ namespace shprt::dist {
 namespace {
 
 // Point-to-point tags of the bake protocol (MPI_COMM_WORLD).
-constexpr int kTagRows = 1;   // worker → 0: [u64 unit index][rows as float32]
+constexpr int kTagUnit = 1;   // worker → 0: [u64 unit index], then at once kTagRows:
+constexpr int kTagRows = 5;   // worker → 0: the unit's rows, float32 (received in place)
 constexpr int kTagDone = 2;   // worker → 0, after its rows: [u8 failed][RankLoad][BakeStats]
 constexpr int kTagStop = 3;   // 0 → worker, exactly one: [u8 cancel] (0: no more units)
 constexpr int kTagError = 4;  // failing rank → 0 in agree(): [i32 code][message]
@@ -154,7 +155,7 @@ private:
     TransferSink& m_target;
 };
 
-// A worker's unit, baked in place into the message it is sent as: [u64 unit index][rows].
+// A worker's unit, baked in place into the buffer it is sent from: [u64 unit index][rows].
 class UnitMessage final : public TransferSink {
 public:
     UnitMessage(std::uint64_t unit, const TransferLayout& layout, std::size_t first,
@@ -302,6 +303,34 @@ struct Coordinator {
         stop_everyone();
     }
 
+    std::vector<float> scratch{};  // rows for a sink without host memory, or to drop
+
+    // The rows of `unit` that follow its index from `source`: straight into the sink's host
+    // memory where it has some (no copy), else through `scratch`; dropped after a failure.
+    void receive_rows(int source, std::uint64_t index) {
+        SHPRT_CHECK(index < units.size(), format, "rank {} sent unit {} of {}", source, index,
+                    units.size());
+        const WorkUnit& unit = units[index];
+        const std::size_t first = job.receivers.first + unit.first,
+                          floats = layout.floats(unit.count);
+        float* rows = out.failure ? nullptr : job.sink->host_rows(first, unit.count);
+        if (rows == nullptr) {
+            if (scratch.size() < floats) scratch.resize(floats);
+            rows = scratch.data();
+        }
+        MPI_Status status;
+        MPI_Recv(rows, as_count(floats), MPI_FLOAT, source, kTagRows, MPI_COMM_WORLD, &status);
+        int received = 0;
+        MPI_Get_count(&status, MPI_FLOAT, &received);
+        SHPRT_CHECK(std::size_t(received) == floats, format,
+                    "rank {} sent {} floats for unit {} ({} expected)", source, received, index,
+                    floats);
+        if (out.failure) return;
+        job.sink->write(first, unit.count, rows);
+        out.receivers_done += unit.count;
+        out.bytes_gathered += floats * sizeof(float);
+    }
+
     void handle(const MPI_Status& status) {
         const auto start = Clock::now();
         std::vector<char> message = receive(status);
@@ -316,22 +345,10 @@ struct Coordinator {
             if (!message.empty() && message[0] != 0) stop_everyone();  // that worker failed
             return;
         }
-        if (status.MPI_TAG != kTagRows || out.failure) return;  // after a failure: drain only
+        if (status.MPI_TAG != kTagUnit) return;
         try {
             std::size_t at = 0;
-            const auto index = take<std::uint64_t>(message, at);
-            SHPRT_CHECK(index < units.size(), format, "rank {} sent unit {} of {}",
-                        status.MPI_SOURCE, index, units.size());
-            const WorkUnit& unit = units[index];
-            SHPRT_CHECK(message.size() == at + layout.floats(unit.count) * sizeof(float), format,
-                        "rank {} sent {} bytes for unit {}", status.MPI_SOURCE, message.size(),
-                        index);
-            std::vector<float> rows(layout.floats(unit.count));
-            std::memcpy(rows.data(), message.data() + at, rows.size() * sizeof(float));
-            message = {};
-            job.sink->write(job.receivers.first + unit.first, unit.count, rows.data());
-            out.receivers_done += unit.count;
-            out.bytes_gathered += rows.size() * sizeof(float);
+            receive_rows(status.MPI_SOURCE, take<std::uint64_t>(message, at));
             out.seconds_gathered += seconds_since(start);
         } catch (...) {
             fail_here(std::current_exception());
@@ -417,9 +434,9 @@ struct Worker {
     RankOutcome out;
     std::optional<bool> stop;  // rank 0's stop message, once received: cancel (true) or finish
 
-    struct InFlight {
+    struct InFlight {  // a unit's message: its index, then its rows, from one buffer
         std::vector<char> buffer;
-        MPI_Request request = MPI_REQUEST_NULL;
+        MPI_Request requests[2] = {MPI_REQUEST_NULL, MPI_REQUEST_NULL};
     };
     std::deque<InFlight> in_flight;
 
@@ -441,9 +458,9 @@ struct Worker {
     void reap(std::size_t limit) {
         while (!in_flight.empty()) {
             int done = 0;
-            MPI_Test(&in_flight.front().request, &done, MPI_STATUS_IGNORE);
+            MPI_Testall(2, in_flight.front().requests, &done, MPI_STATUSES_IGNORE);
             if (!done && in_flight.size() < limit) return;
-            if (!done) MPI_Wait(&in_flight.front().request, MPI_STATUS_IGNORE);
+            if (!done) MPI_Waitall(2, in_flight.front().requests, MPI_STATUSES_IGNORE);
             in_flight.pop_front();
         }
     }
@@ -472,9 +489,13 @@ struct Worker {
                     out.failure = std::current_exception();
                 break;
             }
-            InFlight send{std::move(message.buffer()), MPI_REQUEST_NULL};
-            MPI_Isend(send.buffer.data(), as_count(send.buffer.size()), MPI_BYTE, 0, kTagRows,
-                      MPI_COMM_WORLD, &send.request);
+            InFlight send{std::move(message.buffer())};
+            const std::size_t header = sizeof(std::uint64_t);
+            MPI_Isend(send.buffer.data(), int(header), MPI_BYTE, 0, kTagUnit, MPI_COMM_WORLD,
+                      &send.requests[0]);
+            MPI_Isend(send.buffer.data() + header,
+                      as_count((send.buffer.size() - header) / sizeof(float)), MPI_FLOAT, 0,
+                      kTagRows, MPI_COMM_WORLD, &send.requests[1]);
             in_flight.push_back(std::move(send));
         }
         reap(1);  // every row has arrived, then DONE (a failure stops the others at once)...
