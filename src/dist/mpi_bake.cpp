@@ -271,8 +271,8 @@ struct RankOutcome {
     double seconds_wall = 0;           // rank 0: first claim to the last row
 };
 
-// Rank 0: bakes its units, receives the others' rows into the sink, stops everyone on a failure.
-struct Coordinator {
+// What every rank's part of the bake works from.
+struct RankContext {
     const MpiSession& session;
     const BakeJob& job;
     const Prepared& p;
@@ -280,7 +280,10 @@ struct Coordinator {
     const std::vector<WorkUnit>& units;
     UnitCounter& counter;
     TransferLayout layout;
+};
 
+// Rank 0: bakes its units, receives the others' rows into the sink, stops everyone on a failure.
+struct Coordinator : RankContext {
     RankOutcome out{};  // failure: this rank's own (its bake, its sink)
     bool stopping = false;
     std::vector<bool> stop_sent{};
@@ -419,17 +422,8 @@ struct Coordinator {
 };
 
 // Every other rank: claims units until none is left or rank 0 says stop, sends their rows.
-struct Worker {
-    Worker(const BakeJob& job_, const Prepared& p_, const DistOptions& dist_,
-           const std::vector<WorkUnit>& units_, UnitCounter& counter_, TransferLayout layout_)
-        : job(job_), p(p_), dist(dist_), units(units_), counter(counter_), layout(layout_) {}
-
-    const BakeJob& job;
-    const Prepared& p;
-    const DistOptions& dist;
-    const std::vector<WorkUnit>& units;
-    UnitCounter& counter;
-    TransferLayout layout;
+struct Worker : RankContext {
+    explicit Worker(const RankContext& context) : RankContext(context) {}
 
     RankOutcome out;
     std::optional<bool> stop;  // rank 0's stop message, once received: cancel (true) or finish
@@ -631,12 +625,13 @@ DistributedBake bake_distributed(const MpiSession& session, const BakeJob& job,
     RankOutcome out;
     {
         UnitCounter counter(session.rank());
+        const RankContext context{session, job, p, dist, units, counter, info.layout};
         if (session.rank() == 0) {
-            Coordinator c{session, job, p, dist, units, counter, info.layout};
+            Coordinator c{context};
             c.run();
             out = std::move(c.out);
         } else {
-            Worker w(job, p, dist, units, counter, info.layout);
+            Worker w(context);
             w.run();
             out = std::move(w.out);
         }
