@@ -234,33 +234,23 @@ void bind_light(py::module_& m) {
 path (light/light_setup.hpp): the specs summed — 'FILE.hdr|.exr' (equirect or cube cross),
 'constant[:R,G,B]', 'gradient', 'sun:X,Y,Z[,RADIUS_DEG[,R,G,B]]', 'builtin' — windowed, then
 rotated by (yaw, pitch, roll) degrees.)");
-    m.def(
-        "light_from_equirect",
-        [](py::handle image, int K) {
+    // A light projected from an image array by `project` (equirect or cube cross), GIL released.
+    const auto projected = [](ShLight (*project)(const Image&, int)) {
+        return [project](py::handle image, int K) {
             const Image map = image_from_array(image);
             ShLight light;
             {
                 py::gil_scoped_release release;
-                light = project_equirect(map, K);
+                light = project(map, K);
             }
             return light_array(std::move(light));
-        },
-        "image"_a, "K"_a = 16,
-        "Projects an equirect radiance map (H, W, 3) (row 0 the zenith, the centre toward −Z) "
-        "with exact pixel solid angles: (3, K) float32.");
-    m.def(
-        "light_from_cube_cross",
-        [](py::handle image, int K) {
-            const Image cross = image_from_array(image);
-            ShLight light;
-            {
-                py::gil_scoped_release release;
-                light = project_cube_cross(cross, K);
-            }
-            return light_array(std::move(light));
-        },
-        "image"_a, "K"_a = 16,
-        "Projects a horizontal (4:3) or vertical (3:4) cube cross (H, W, 3): (3, K) float32.");
+        };
+    };
+    m.def("light_from_equirect", projected(&project_equirect), "image"_a, "K"_a = 16,
+          "Projects an equirect radiance map (H, W, 3) (row 0 the zenith, the centre toward −Z) "
+          "with exact pixel solid angles: (3, K) float32.");
+    m.def("light_from_cube_cross", projected(&project_cube_cross), "image"_a, "K"_a = 16,
+          "Projects a horizontal (4:3) or vertical (3:4) cube cross (H, W, 3): (3, K) float32.");
     m.def(
         "light_rotate",
         [](py::handle light, py::handle R) {
