@@ -308,30 +308,31 @@ struct Coordinator : RankContext {
 
     std::vector<float> scratch{};  // rows for a sink without host memory, or to drop
 
-    // The rows of `unit` that follow its index from `source`: straight into the sink's host
-    // memory where it has some (no copy), else through `scratch`; dropped after a failure.
+    // The rows of unit `index` that follow its index from `source`: straight into the sink's
+    // host memory where it has some (no copy), else through `scratch`; dropped after a failure.
+    // The message is always received (a sender must never wait forever), then checked.
     void receive_rows(int source, std::uint64_t index) {
-        SHPRT_CHECK(index < units.size(), format, "rank {} sent unit {} of {}", source, index,
-                    units.size());
-        const WorkUnit& unit = units[index];
-        const std::size_t first = job.receivers.first + unit.first,
-                          floats = layout.floats(unit.count);
-        float* rows = out.failure ? nullptr : job.sink->host_rows(first, unit.count);
+        MPI_Status status;
+        MPI_Probe(source, kTagRows, MPI_COMM_WORLD, &status);
+        int sent = 0;
+        MPI_Get_count(&status, MPI_FLOAT, &sent);
+        const bool known = index < units.size();
+        const std::size_t first = known ? job.receivers.first + units[index].first : 0;
+        const std::size_t count = known ? units[index].count : 0;
+        const bool fits = known && std::size_t(sent) == layout.floats(count);
+        float* rows = fits && !out.failure ? job.sink->host_rows(first, count) : nullptr;
         if (rows == nullptr) {
-            if (scratch.size() < floats) scratch.resize(floats);
+            if (scratch.size() < std::size_t(sent)) scratch.resize(std::size_t(sent));
             rows = scratch.data();
         }
-        MPI_Status status;
-        MPI_Recv(rows, as_count(floats), MPI_FLOAT, source, kTagRows, MPI_COMM_WORLD, &status);
-        int received = 0;
-        MPI_Get_count(&status, MPI_FLOAT, &received);
-        SHPRT_CHECK(std::size_t(received) == floats, format,
-                    "rank {} sent {} floats for unit {} ({} expected)", source, received, index,
-                    floats);
+        MPI_Recv(rows, sent, MPI_FLOAT, source, kTagRows, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        SHPRT_CHECK(known, format, "rank {} sent unit {} of {}", source, index, units.size());
+        SHPRT_CHECK(fits, format, "rank {} sent {} floats for unit {} ({} expected)", source, sent,
+                    index, layout.floats(count));
         if (out.failure) return;
-        job.sink->write(first, unit.count, rows);
-        out.receivers_done += unit.count;
-        out.bytes_gathered += floats * sizeof(float);
+        job.sink->write(first, count, rows);
+        out.receivers_done += count;
+        out.bytes_gathered += std::size_t(sent) * sizeof(float);
     }
 
     void handle(const MPI_Status& status) {

@@ -1,5 +1,6 @@
 // `shprt bake` run as a program: a bake of a built-in scene writes a readable file; bad options
 // give a one-line error, a non-zero exit code and leave nothing behind.
+#include "shprt/config.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/builtin.hpp"
 
@@ -138,5 +139,17 @@ TEST_F(CliBake, MissingSceneAndUnwritableOutputFailCleanly) {
         EXPECT_TRUE(fs::exists(file));
     }
 }
+
+#if !SHPRT_HAS_MPI
+// A build without MPI (SHPRT_MPI=OFF) says so for --mpi, and bakes without it.
+TEST_F(CliBake, MpiWithoutMpiInTheBuildIsOneLine) {
+    shprt::test_support::expect_one_line_error(
+        shprt("bake builtin:plane --mpi -o '" + out("x.shprt") + "'"), "this build has no MPI");
+    EXPECT_TRUE(out_dir_empty());
+    EXPECT_EQ(shprt("bake builtin:plane --coeffs 4 --samples 16 -o '" + out("x.shprt") + "'")
+                  .exit_code,
+              0);
+}
+#endif
 
 }  // namespace

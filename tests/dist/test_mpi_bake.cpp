@@ -3,6 +3,8 @@
 // once or streamed, with ranks of uneven speed and small units; a failure on any rank is one line
 // from rank 0 and no file; a killed rank leaves nothing behind.
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/scene/ply.hpp"
 
 #include "cli/cli_test.hpp"
 
@@ -54,6 +56,38 @@ TEST_F(MpiBake, FourRanksWriteTheSingleProcessBytes) {
     EXPECT_TRUE(slurp(out("one.shprt")) == slurp(out("four.shprt")))
         << "the 4-rank file differs from the single-process file";
     EXPECT_EQ(read_shprt(out("four.shprt")).mesh.vertex_count(), 15607u);
+    // Rank 0's progress counts every rank's receivers.
+    EXPECT_NE(r.err.find("bake: 100% (15.6 k of 15.6 k receivers"), std::string::npos) << r.err;
+}
+
+// A scene whose cost is uneven along the vertex range: a wide plane far from everything first
+// (its rays escape at once), the furnished room after it (its rays walk a deeper BVH and hit).
+// Equal static shares would leave the ranks with the plane idle; the units keep them busy and
+// the bytes are still the single-process bytes, for shadowed and unshadowed transfer.
+TEST_F(MpiBake, AnUnevenCostSceneKeepsTheBytes) {
+    // 24 tiles of the plane (~7 k cheap vertices), then the room (~15.6 k dear ones).
+    Mesh scene;
+    const auto append = [&scene](const Mesh& part, Vec3f shift) {
+        const auto offset = static_cast<std::uint32_t>(scene.positions.size());
+        for (const Vec3f& p : part.positions) scene.positions.push_back(p + shift);
+        scene.normals.insert(scene.normals.end(), part.normals.begin(), part.normals.end());
+        for (auto t : part.triangles)
+            scene.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    };
+    const Mesh plane = make_builtin("plane");
+    for (int tile = 0; tile < 24; ++tile) append(plane, Vec3f{100.0f + 2.0f * float(tile), 0, 0});
+    append(make_builtin("room"), Vec3f{0, 0, 0});
+    scene.source = "uneven";
+    write_ply(scene, out("uneven.ply"));
+    for (const std::string kind : {"shadowed", "unshadowed"}) {
+        const std::string bake = fmt::format(
+            "bake '{}' --transfer {} --coeffs 9 --samples 256 --reproducible --mpi-unit 64",
+            out("uneven.ply"), kind);
+        ASSERT_EQ(shprt(fmt::format("{} -o '{}'", bake, out("one.shprt"))).exit_code, 0);
+        const RunResult r = mpirun(4, fmt::format("{} -o '{}'", bake, out("four.shprt")));
+        ASSERT_EQ(r.exit_code, 0) << kind << ": " << r.err;
+        EXPECT_TRUE(slurp(out("one.shprt")) == slurp(out("four.shprt"))) << kind;
+    }
 }
 
 TEST_F(MpiBake, StreamedAndHalfFilesEqualTheirSingleProcessBytes) {
