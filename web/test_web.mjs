@@ -4,8 +4,9 @@
 // compares the canvas with `shprt render` of the same .shprt file (same camera, light, size, one
 // sample per pixel) pixel by pixel on the 8-bit sRGB codes, three times: the file's light with all
 // K coefficients, the light turned by --rotate (the page's JavaScript SH rotation) with K′ < K
-// (the page's K′), and the file's light from an `export --half` file (int16 decoding). Also checks that the page reports its frame rate. Used by the CTest test
-// web_viewer (tests/CMakeLists.txt).
+// (the page's K′), and the file's light from an `export --half` file (int16 decoding). Also
+// checks that a mouse drag and the K′ slider change the picture and that the page reports its
+// frame rate. Used by the CTest test web_viewer (tests/CMakeLists.txt).
 //
 //   node web/test_web.mjs --shprt PATH/shprt --work DIR [--screenshot OUT.png]
 //
@@ -140,6 +141,28 @@ try {
     console.log(`${apart > 4 * kMaxMean ? "ok  " : "FAIL"} the two references differ by a mean ` +
                 `${apart.toFixed(2)} (> ${4 * kMaxMean}: the test tells lights apart)`);
     if (!(apart > 4 * kMaxMean)) failed = true;
+
+    // The controls: a mouse drag turns the light, the slider changes K′; each changes the picture.
+    const meanDiff = (a, b) => a.reduce((sum, v, k) => sum + Math.abs(v - b[k]), 0) / a.length;
+    const nextFrames = async () => {
+        const n = await page.evaluate("window.shprt.frames");
+        await page.waitForFunction(`window.shprt.frames >= ${n + 2}`, { timeout: 30000 });
+        return page.evaluate("Array.from(window.shprtPixels())");
+    };
+    const before = await nextFrames();
+    await page.mouse.move(W / 2, H / 2);
+    await page.mouse.down();
+    await page.mouse.move(W / 2 + 120, H / 2 + 30, { steps: 4 });
+    await page.mouse.up();
+    const dragged = await nextFrames();
+    await page.$eval("#kslider", (e) => { e.value = "4"; e.dispatchEvent(new Event("input")); });
+    const sliderLabel = await (await nextFrames(), page.$eval("#klabel", (e) => e.textContent));
+    const slid = await page.evaluate("Array.from(window.shprtPixels())");
+    const [dDrag, dSlide] = [meanDiff(before, dragged), meanDiff(dragged, slid)];
+    const controlsOk = dDrag > 1 && dSlide > 1 && sliderLabel.startsWith("4 of 64");
+    console.log(`${controlsOk ? "ok  " : "FAIL"} a drag changes the picture by ${dDrag.toFixed(2)}, ` +
+                `the slider (K′ = 4: "${sliderLabel}") by ${dSlide.toFixed(2)} (> 1 each)`);
+    if (!controlsOk) failed = true;
 
     // The frame rate the page reports (after its first half-second window).
     await page.waitForFunction("window.shprt.fps > 0", { timeout: 30000 });
