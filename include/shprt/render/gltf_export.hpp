@@ -1,0 +1,61 @@
+// glTF 2.0 export of a baked scene (`shprt export F.shprt -o scene.glb`): one binary .glb with
+// the mesh, its colours baked under a light, and the transfer coefficients as custom vertex
+// attributes, so that any engine can show the baked light at once and relight it with its own.
+//
+// The primitive (one mesh, one node, one scene; vertices in the .shprt file's order):
+//
+//   POSITION, NORMAL    float VEC3 (NORMAL unit length, as the file stores it)
+//   COLOR_0             float VEC3: the linear outgoing radiance L = albedo/π · E under the light
+//                       (render/shade.hpp, shade_vertices, pure diffuse, the first K
+//                       coefficients) times `exposure`, clamped to [0, 1] — glTF allows float
+//                       colours only in [0, 1], so brighter values are clipped as a display
+//                       without a tone map would clip them (extras count the clipped vertices);
+//                       the exact radiance is what relighting from the transfer gives
+//   _SHPRT_ALBEDO       float VEC3: the diffuse albedo ρ in [0, 1] (what relighting needs)
+//   _SHPRT_T<j>         VEC4, j = c·A + a with A = ceil(K/4) attributes per channel: coefficients
+//                       4a … 4a+3 of channel c (coefficients at K and beyond are 0)
+//   indices             unsigned int, counter-clockwise triangles
+//   material            KHR_materials_unlit, white base colour: viewers show COLOR_0 as is
+//
+// Encodings of the transfer (`--half`): float32, or — glTF 2.0 has no 16-bit float component
+// type — 16-bit signed normalized integers (componentType SHORT, normalized: true, decoded by
+// every glTF reader to max(q/32767, −1)) with one scale per channel and coefficient:
+// c_T = decoded · scale[c][i], scale = the largest |c_T| of that coefficient over the vertices.
+// The error is at most scale/65534 per coefficient (≈ 1.5e-5 of the largest value, smaller than
+// float16's 4.9e-4 relative), at half the size of float32.
+//
+// `primitives[0].extras.shprt` describes everything a relighting engine needs (three.js puts it
+// in geometry.userData.shprt): the SH convention (real SH of Green 2003 with the Condon–Shortley
+// phase, index l(l+1)+m, θ from +Z, φ from +X toward +Y, +Y up), K, bands, channels, the
+// attribute layout and encoding with its scales, the radiometry (E = Σ_i c_T,i · c_L,i is
+// irradiance; radiance = albedo/π · E), the transfer kind and sampling, the light of COLOR_0 (its
+// full-band coefficients as 3 lists, already rotated and windowed, so that an engine may rotate
+// it further exactly before cutting it to K), and the camera `shprt render` uses by default.
+// web/ (the browser viewer) relights from exactly this.
+#pragma once
+
+#include "shprt/light/light_setup.hpp"
+#include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
+
+#include <string>
+
+namespace shprt {
+
+struct GltfExportOptions {
+    int K = 0;              // export the first K coefficients; 0 = all of the transfer's
+    bool half = false;      // transfer as 16-bit normalized integers with scales (above)
+    LightSetup light;       // the light of COLOR_0 and extras.shprt.light (light/light_setup.hpp)
+    float exposure = 1.0f;  // COLOR_0 = clamp(exposure · L, 0, 1); > 0
+};
+
+// Writes `path` (.glb) atomically (AtomicFile: on any error no file is left). Checks, before the
+// file is created: exposure > 0, check_shadable(mesh, transfer) (vertex transfer vectors, normals,
+// albedo; Error(invalid_argument) or Error(unsupported) for transfer matrices), 0 ≤ options.K ≤
+// transfer.layout.K and K ≤ kMaxLightK (Error(invalid_argument)), finite coefficients and
+// colours (Error(invalid_argument) naming the vertex); throws what light_source throws for a bad
+// light. CPU only (the shading is shade_vertices).
+void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
+               const GltfExportOptions& options);
+
+}  // namespace shprt

@@ -1,0 +1,309 @@
+// glTF 2.0 binary (.glb) export: Khronos glTF 2.0 specification, §4.4 (GLB: a 12-byte header,
+// a JSON chunk padded with spaces and a BIN chunk padded with zeros, both to 4 bytes), §3.6-3.7
+// (buffer views and accessors; every vertex attribute here has its own tightly packed view, so no
+// byteStride is needed), §3.11 (custom attributes start with an underscore), KHR_materials_unlit.
+// Layout and conventions: include/shprt/render/gltf_export.hpp.
+#include "shprt/render/gltf_export.hpp"
+
+#include "shprt/config.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/render/camera.hpp"
+#include "shprt/render/shade.hpp"
+#include "shprt/sh/basis.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// glTF enumerations (specification §5).
+constexpr int kFloat = 5126, kShort = 5122, kUnsignedInt = 5125;
+constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
+constexpr int kTriangles = 4;
+
+// The BIN chunk and the JSON arrays describing it, built together.
+struct GlbBuilder {
+    std::vector<unsigned char> bin;
+    Json buffer_views = Json::array(), accessors = Json::array();
+
+    // Appends `bytes` as a new buffer view (4-byte aligned) and an accessor of `count` elements
+    // of `type` over it; returns the accessor's index.
+    int add(const void* bytes, std::size_t size, int target, int component, const char* type,
+            std::size_t count, bool normalized = false) {
+        while (bin.size() % 4 != 0) bin.push_back(0);
+        const std::size_t offset = bin.size();
+        bin.resize(offset + size);
+        std::memcpy(bin.data() + offset, bytes, size);
+        buffer_views.push_back(
+            {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}, {"target", target}});
+        Json a = {{"bufferView", buffer_views.size() - 1},
+                  {"componentType", component},
+                  {"count", count},
+                  {"type", type}};
+        if (normalized) a["normalized"] = true;
+        accessors.push_back(std::move(a));
+        return static_cast<int>(accessors.size() - 1);
+    }
+};
+
+Json vec3_json(Vec3f v) { return Json::array({v.x, v.y, v.z}); }
+
+void check_finite(const std::string& path, std::size_t v, Vec3f c, const char* what) {
+    SHPRT_CHECK(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z), invalid_argument,
+                "cannot write {}: vertex {} has a non-finite {}", path, v, what);
+}
+
+void append_u32(std::vector<unsigned char>& out, std::uint32_t x) {
+    for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(x >> (8 * i)));
+}
+
+}  // namespace
+
+void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
+               const GltfExportOptions& options) {
+    // 1. Every check before the file exists.
+    check_shadable(mesh, transfer);
+    {
+        const std::uint32_t one = 1;
+        unsigned char b;
+        std::memcpy(&b, &one, 1);
+        SHPRT_CHECK(b == 1, unsupported, "glTF export needs a little-endian host");
+    }
+    const int file_K = transfer.layout.K;
+    SHPRT_CHECK(options.exposure > 0 && std::isfinite(options.exposure), invalid_argument,
+                "exposure {}: must be positive", options.exposure);
+    SHPRT_CHECK(options.K >= 0 && options.K <= file_K, invalid_argument,
+                "cannot export {} coefficients: the file has K = {}", options.K, file_K);
+    const int K = options.K > 0 ? options.K : file_K;
+    SHPRT_CHECK(K <= kMaxLightK, invalid_argument,
+                "cannot export K = {}: lights have at most {} coefficients ({} bands); export "
+                "fewer bands",
+                K, kMaxLightK, kMaxComputeBands);
+    const std::size_t V = mesh.vertex_count();
+    const int channels = transfer.layout.channels;
+    for (std::size_t v = 0; v < V; ++v)
+        for (int c = 0; c < channels; ++c) {
+            const float* t = transfer.receiver(v, c);
+            for (int i = 0; i < K; ++i)
+                SHPRT_CHECK(std::isfinite(t[i]), invalid_argument,
+                            "cannot write {}: vertex {} has a non-finite transfer coefficient",
+                            path, v);
+        }
+    for (std::size_t v = 0; v < V; ++v) {
+        check_finite(path, v, mesh.positions[v], "position");
+        check_finite(path, v, mesh.normals[v], "normal");
+        check_finite(path, v, mesh.albedo[v], "albedo");
+    }
+
+    // 2. The light: its full-band source turned by --rotate (what the extras carry, so a viewer
+    // can rotate it further exactly), and the same cut to K for COLOR_0 — prepare_light's path.
+    const ShLight source = light_source(options.light, K);
+    const ShLight full = rotated_light(source, light_rotation(options.light), source.K);
+    const ShLight light = rotated_light(full, Mat3d::identity(), K);
+    ShadeOptions shade_options;
+    shade_options.K_used = K;
+    const ShadeResult shaded = shade_vertices(mesh, transfer, light, shade_options);
+    // glTF requires float colours in [0, 1] (the validator's ACCESSOR_NON_CLAMPED is an error):
+    // exposure × L clamped, as a display without a tone map would show it. The exact radiance is
+    // what relighting with the transfer gives.
+    std::vector<Vec3f> colour(V);
+    std::size_t clipped = 0;
+    const auto clamp01 = [](float x) { return std::clamp(x, 0.0f, 1.0f); };
+    for (std::size_t v = 0; v < V; ++v) {
+        check_finite(path, v, shaded.radiance[v], "colour (the light overflows float)");
+        const Vec3f L = shaded.radiance[v] * options.exposure;
+        colour[v] = {clamp01(L.x), clamp01(L.y), clamp01(L.z)};
+        if (std::max({L.x, L.y, L.z}) > 1.0f) ++clipped;
+    }
+
+    // 3. Buffers and accessors.
+    GlbBuilder glb;
+    Json attributes = Json::object();
+    const int position =
+        glb.add(mesh.positions.data(), V * sizeof(Vec3f), kArrayBuffer, kFloat, "VEC3", V);
+    {
+        Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+                 std::numeric_limits<float>::max()};
+        Vec3f hi = lo * -1.0f;
+        for (const Vec3f p : mesh.positions) {
+            lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+            hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+        }
+        glb.accessors[position]["min"] = vec3_json(lo);  // POSITION must have min and max
+        glb.accessors[position]["max"] = vec3_json(hi);
+    }
+    attributes["POSITION"] = position;
+    attributes["NORMAL"] =
+        glb.add(mesh.normals.data(), V * sizeof(Vec3f), kArrayBuffer, kFloat, "VEC3", V);
+    attributes["COLOR_0"] =
+        glb.add(colour.data(), V * sizeof(Vec3f), kArrayBuffer, kFloat, "VEC3", V);
+    attributes["_SHPRT_ALBEDO"] =
+        glb.add(mesh.albedo.data(), V * sizeof(Vec3f), kArrayBuffer, kFloat, "VEC3", V);
+
+    const int per_channel = (K + 3) / 4;  // VEC4 attributes per channel
+    Json scales = Json::array();
+    std::vector<float> f32(V * 4);
+    std::vector<std::int16_t> i16(V * 4);
+    for (int c = 0; c < channels; ++c) {
+        std::vector<double> scale(std::size_t(K), 1.0);
+        if (options.half) {
+            for (int i = 0; i < K; ++i) {
+                double m = 0;
+                for (std::size_t v = 0; v < V; ++v)
+                    m = std::max(m, std::abs(double(transfer.receiver(v, c)[i])));
+                // Rounded to float: the scale a reader sees in the JSON is the one used here.
+                scale[i] = m > 0 ? double(static_cast<float>(m)) : 1.0;
+            }
+            scales.push_back(Json::array());
+            for (int i = 0; i < K; ++i) scales.back().push_back(static_cast<float>(scale[i]));
+        }
+        for (int a = 0; a < per_channel; ++a) {
+            for (std::size_t v = 0; v < V; ++v) {
+                const float* t = transfer.receiver(v, c);
+                for (int j = 0; j < 4; ++j) {
+                    const int i = 4 * a + j;
+                    const float x = i < K ? t[i] : 0.0f;
+                    f32[4 * v + j] = x;
+                    if (options.half) {
+                        const double q = std::round(double(x) / scale[std::min(i, K - 1)] * 32767);
+                        i16[4 * v + j] =
+                            static_cast<std::int16_t>(std::clamp(q, -32767.0, 32767.0));
+                    }
+                }
+            }
+            const std::string name = "_SHPRT_T" + std::to_string(c * per_channel + a);
+            attributes[name] = options.half ? glb.add(i16.data(), V * 4 * sizeof(std::int16_t),
+                                                      kArrayBuffer, kShort, "VEC4", V, true)
+                                            : glb.add(f32.data(), V * 4 * sizeof(float),
+                                                      kArrayBuffer, kFloat, "VEC4", V);
+        }
+    }
+    const int indices =
+        glb.add(mesh.triangles.data(), mesh.triangle_count() * 3 * 4, kElementArrayBuffer,
+                kUnsignedInt, "SCALAR", mesh.triangle_count() * 3);
+    // Index buffer views carry no byteStride; targets are given so loaders need not guess.
+
+    // 4. The convention block.
+    Json light_coeffs = Json::array();
+    for (int c = 0; c < 3; ++c)
+        light_coeffs.push_back(Json(std::vector<float>(full.channel(c), full.channel(c) + full.K)));
+    const Camera camera = default_camera(mesh, 16.0f / 9.0f);
+    const Vec3d ypr = options.light.yaw_pitch_roll_deg;
+    Json shprt = {
+        {"format", "shprt-gltf"},
+        {"version", 1},
+        {"generator", std::string("shprt ") + SHPRT_VERSION_STRING},
+        {"sh",
+         {{"basis", "real spherical harmonics, Green 2003 (the paper's)"},
+          {"condon_shortley_phase", true},
+          {"index", "i = l*(l+1) + m"},
+          {"direction", "unit world vector (x, y, z); theta from +Z, phi from +X toward +Y"},
+          {"world", "right-handed, +Y up"},
+          {"normalization", "orthonormal over the unit sphere"}}},
+        {"K", K},
+        {"bands", sh_bands_for(K)},
+        {"full_bands", K == sh_count(sh_bands_for(K))},
+        {"channels", channels},
+        {"transfer", to_string(transfer.kind)},
+        {"sampler", to_string(transfer.sampler)},
+        {"samples", transfer.samples},
+        {"attributes",
+         {{"prefix", "_SHPRT_T"},
+          {"per_channel", per_channel},
+          {"layout",
+           "_SHPRT_T<c*per_channel + a> holds coefficients 4a..4a+3 of channel c "
+           "(0 beyond K)"},
+          {"albedo", "_SHPRT_ALBEDO"}}},
+        {"encoding", options.half ? "int16_normalized" : "float32"},
+        {"radiometry",
+         {{"irradiance",
+           "E_c = sum_{i<K'} T_c[i] * L_c[i] (T_0 for every colour when channels = 1)"},
+          {"radiance", "albedo_c / pi * E_c"},
+          {"color_0",
+           "exposure * linear radiance under `light` (K coefficients), clamped to "
+           "[0, 1] (glTF colours)"},
+          {"color_0_exposure", options.exposure},
+          {"color_0_clipped_vertices", clipped},
+          {"white_furnace",
+           "a constant sky of radiance 1 has L[0] = sqrt(4 pi), E = pi unoccluded"}}},
+        {"light",
+         {{"specs",
+           options.light.specs.empty() ? std::vector<std::string>{"builtin"} : options.light.specs},
+          {"rotate_yaw_pitch_roll_deg", Json::array({ypr.x, ypr.y, ypr.z})},
+          {"window", to_string(options.light.window)},
+          {"K", full.K},
+          {"coeffs", light_coeffs}}},
+        {"camera",
+         {{"eye", vec3_json(camera.eye)},
+          {"target", vec3_json(camera.target)},
+          {"fov_y_deg", camera.fov_y_deg},
+          {"aspect", 16.0 / 9.0}}},
+    };
+    if (options.half) {
+        shprt["scale"] = scales;
+        shprt["decode"] = "T_c[i] = max(q / 32767, -1) * scale[c][i] (what normalized SHORT gives)";
+    }
+
+    Json gltf = {
+        {"asset",
+         {{"version", "2.0"}, {"generator", std::string("shprt ") + SHPRT_VERSION_STRING}}},
+        {"extensionsUsed", {"KHR_materials_unlit"}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {{{"mesh", 0}, {"name", "shprt"}}}},
+        {"materials",
+         {{{"name", "baked (COLOR_0)"},
+           {"pbrMetallicRoughness",
+            {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
+           {"doubleSided", true},
+           {"extensions", {{"KHR_materials_unlit", Json::object()}}}}}},
+        {"meshes",
+         {{{"name", "shprt"},
+           {"primitives",
+            {{{"attributes", attributes},
+              {"indices", indices},
+              {"material", 0},
+              {"mode", kTriangles},
+              {"extras", {{"shprt", shprt}}}}}}}}},
+        {"buffers", {{{"byteLength", glb.bin.size()}}}},
+        {"bufferViews", glb.buffer_views},
+        {"accessors", glb.accessors},
+    };
+
+    // 5. GLB container.
+    std::string json = gltf.dump();
+    while (json.size() % 4 != 0) json.push_back(' ');
+    while (glb.bin.size() % 4 != 0) glb.bin.push_back(0);
+    const std::uint64_t total = 12 + 8 + json.size() + 8 + glb.bin.size();
+    SHPRT_CHECK(total <= 0xffffffffu, invalid_argument,
+                "cannot write {}: {} bytes exceed the 4 GiB a .glb can hold (export fewer bands "
+                "or use --half)",
+                path, total);
+    std::vector<unsigned char> head;
+    append_u32(head, 0x46546C67u);  // "glTF"
+    append_u32(head, 2);
+    append_u32(head, static_cast<std::uint32_t>(total));
+    append_u32(head, static_cast<std::uint32_t>(json.size()));
+    append_u32(head, 0x4E4F534Au);  // "JSON"
+    AtomicFile out(path);
+    out.write(head.data(), head.size());
+    out.write(json);
+    head.clear();
+    append_u32(head, static_cast<std::uint32_t>(glb.bin.size()));
+    append_u32(head, 0x004E4942u);  // "BIN\0"
+    out.write(head.data(), head.size());
+    out.write(glb.bin.data(), glb.bin.size());
+    out.commit();
+}
+
+}  // namespace shprt

@@ -1,0 +1,79 @@
+// `shprt export FILE.shprt -o SCENE.glb [--light L ...] [--bands n] [--half] [--exposure E]`:
+// the mesh, its colours baked under the light and the transfer coefficients as a glTF 2.0
+// binary (render/gltf_export.hpp). Thin: checks the options, reads the file, calls write_glb.
+#include "common/command.hpp"
+#include "common/shading_options.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/render/gltf_export.hpp"
+#include "shprt/sh/basis.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace shprt::tools {
+namespace {
+
+struct ExportArgs {
+    std::string input, output;
+    LightArgs light;  // common/shading_options.hpp, as `shprt shade` and `shprt render`
+    int bands = 0;
+    double exposure = 1.0;
+    bool half = false;
+};
+
+void run(const ExportArgs& a) {
+    const auto start = std::chrono::steady_clock::now();
+    SHPRT_CHECK(lower_extension(a.output) == ".glb", invalid_argument,
+                "{}: the output must be a binary glTF file (.glb)", a.output);
+    SHPRT_CHECK(a.bands >= 0 && a.bands <= kMaxComputeBands, invalid_argument,
+                "--bands {}: must be 1 to {} (0 = all)", a.bands, kMaxComputeBands);
+    GltfExportOptions options;
+    options.light = light_setup_from(a.light);
+    options.half = a.half;
+    SHPRT_CHECK(a.exposure > 0 && std::isfinite(a.exposure), invalid_argument,
+                "--exposure {}: must be positive", a.exposure);
+    options.exposure = static_cast<float>(a.exposure);
+    check_output_is_not_input(a.output, input_files(a.input, a.light));
+
+    const ShprtFile file = read_shprt(a.input);
+    if (a.bands > 0) {
+        options.K = sh_count(a.bands);
+        SHPRT_CHECK(options.K <= file.transfer.layout.K, invalid_argument,
+                    "--bands {}: {} has K = {}, fewer than {} coefficients", a.bands, a.input,
+                    file.transfer.layout.K, options.K);
+    }
+    write_glb(a.output, file.mesh, file.transfer, options);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("exported %zu vertices, K=%d, %s in %.2f s -> %s (%ju bytes)\n",
+                file.mesh.vertex_count(), options.K > 0 ? options.K : file.transfer.layout.K,
+                a.half ? "int16 normalized" : "float32", seconds, a.output.c_str(),
+                static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
+}
+
+const bool registered = register_command(
+    {"export", "Export a baked scene as glTF (.glb): mesh, baked colours, transfer attributes", 55,
+     [](CLI::App& app) {
+         auto args = std::make_shared<ExportArgs>();
+         app.add_option("file", args->input, "Baked .shprt file")->required();
+         app.add_option("-o,--output", args->output, "Output .glb")->required();
+         add_light_options(app, args->light);
+         app.add_option("--bands", args->bands,
+                        "Export the first n bands (n² coefficients; default: all of the file's)");
+         app.add_option("--exposure", args->exposure,
+                        "COLOR_0 = exposure × radiance, clamped to [0, 1] (default 1)");
+         app.add_flag("--half", args->half,
+                      "16-bit coefficients: normalized int16 with a scale per coefficient (glTF "
+                      "has no float16)");
+         app.callback([args] { run(*args); });
+     }});
+
+}  // namespace
+}  // namespace shprt::tools
