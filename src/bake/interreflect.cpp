@@ -41,12 +41,6 @@ int thread_count(int threads) {
     return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
 }
 
-// One entry of a row before merging: column and the three channels' weights.
-struct Entry {
-    std::uint32_t column;
-    float r, g, b;
-};
-
 // The merged rows of one chunk of vertices, concatenated; row_nnz per vertex.
 struct ChunkRows {
     std::vector<std::int32_t> column;
@@ -60,7 +54,12 @@ struct RowScratch {
     std::vector<Vec3f> ray_dirs;
     std::vector<std::uint32_t> ray_index;
     std::vector<Hit> hits;
-    std::vector<Entry> entries;
+    // The row being merged: per column (vertex) three sums, and the columns touched. Dense over
+    // the vertices (24 bytes each per worker), so merging costs one add per entry and a sort of
+    // the distinct columns only.
+    std::vector<double> sums;
+    std::vector<std::uint8_t> seen;
+    std::vector<std::uint32_t> touched;
 };
 
 // Rows per chunk of the operator build: fixed (never from the thread count), so the chunks and
@@ -107,7 +106,11 @@ TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet&
             sc.ray_dirs[m] = table.dirs[s];
             m += sc.weight[s] != 0.0f ? 1u : 0u;
         }
-        sc.entries.clear();
+        if (sc.seen.size() != V) {
+            sc.sums.assign(3 * V, 0.0);
+            sc.seen.assign(V, 0);
+        }
+        sc.touched.clear();
         if (m > 0)
             tracer.closest_hits(offset_ray_origin(mesh.positions[v], n), sc.ray_dirs.data(),
                                 static_cast<int>(m), 0.0f, kInf, sc.hits.data());
@@ -124,23 +127,27 @@ TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet&
             Vec3f rho{0, 0, 0};
             for (int k = 0; k < 3; ++k) rho += mesh.albedo[tri[k]] * bary[k];
             const float a = sc.weight[sc.ray_index[r]] * inv_pi;
+            // Entries of the same column merge, summed in ray order: deterministic.
             for (int k = 0; k < 3; ++k) {
+                const std::uint32_t col = tri[k];
                 const float ab = a * bary[k];
-                sc.entries.push_back({tri[k], ab * rho.x, ab * rho.y, ab * rho.z});
+                if (!sc.seen[col]) {
+                    sc.seen[col] = 1;
+                    sc.touched.push_back(col);
+                }
+                double* sum = sc.sums.data() + 3 * std::size_t(col);
+                sum[0] += ab * rho.x;
+                sum[1] += ab * rho.y;
+                sum[2] += ab * rho.z;
             }
         }
-        // Merge the entries of each column, summing in ray order (stable sort): deterministic.
-        std::stable_sort(sc.entries.begin(), sc.entries.end(),
-                         [](const Entry& x, const Entry& y) { return x.column < y.column; });
+        std::sort(sc.touched.begin(), sc.touched.end());
         std::uint32_t count = 0;
-        for (std::size_t i = 0; i < sc.entries.size();) {
-            const std::uint32_t col = sc.entries[i].column;
-            double r = 0, g = 0, b = 0;
-            for (; i < sc.entries.size() && sc.entries[i].column == col; ++i) {
-                r += sc.entries[i].r;
-                g += sc.entries[i].g;
-                b += sc.entries[i].b;
-            }
+        for (const std::uint32_t col : sc.touched) {
+            double* sum = sc.sums.data() + 3 * std::size_t(col);
+            const double r = sum[0], g = sum[1], b = sum[2];
+            sum[0] = sum[1] = sum[2] = 0.0;
+            sc.seen[col] = 0;
             if (r == 0 && g == 0 && b == 0) continue;  // a black or grazing hit
             out.column.push_back(static_cast<std::int32_t>(col));
             out.r.push_back(static_cast<float>(r));
