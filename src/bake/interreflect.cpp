@@ -210,10 +210,21 @@ TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet&
 void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads) {
     const auto V = static_cast<Eigen::Index>(A.vertices);
     const Eigen::Index stride = 3 * Eigen::Index(K);
-    // Blocks of rows: enough for the workers to balance, fixed (the bits never depend on them:
-    // each output row is its own sum over its row's entries in column order).
-    constexpr Eigen::Index kBlockRows = 256;
+    // Blocks of rows, fixed (the bits never depend on them: each output row is its own sum over
+    // its row's entries in column order), large enough that a block's product runs at the speed
+    // of Eigen's whole-matrix product; one thread runs that whole-matrix product itself.
+    constexpr Eigen::Index kBlockRows = 2048;
     const Eigen::Index blocks = (V + kBlockRows - 1) / kBlockRows;
+    if (thread_count(threads) == 1 || blocks == 1) {
+        for (int c = 0; c < 3; ++c) {
+            const SparseMap a(V, V, Eigen::Index(A.nnz()), A.row_start.data(), A.column.data(),
+                              A.values[c].data());
+            const DenseMap x(in + c * K, V, K, Eigen::OuterStride<>(stride));
+            DenseOut y(out + c * K, V, K, Eigen::OuterStride<>(stride));
+            y.noalias() = a * x;
+        }
+        return;
+    }
     tbb::task_arena arena(thread_count(threads));
     arena.execute([&] {
         tbb::parallel_for(
