@@ -341,6 +341,34 @@ TEST(Interreflect, AgreesWithABruteForcePathTracer) {
     }
 }
 
+// The AVX2 kernel and Eigen's product give the same bits (same multiplies and adds, same order),
+// for any thread count, with K not a multiple of the vector width.
+TEST(Interreflect, KernelsGiveTheSameBits) {
+    Mesh mesh = make_builtin("box_on_plane");
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        mesh.albedo[v] = {0.9f, 0.5f, float(v % 7) / 7.0f};
+    const auto tracer = make_embree_tracer(mesh);
+    const DirectionSet d = make_direction_set(SamplerKind::sobol, 1, 256);
+    TransportOptions to;
+    to.threads = 2;
+    const TransportOperator A = build_transport_operator(mesh, d, *tracer, to);
+    ASSERT_GT(A.nnz(), 0u);
+    for (int K : {1, 13, 16}) {
+        std::vector<float> x(mesh.vertex_count() * 3 * std::size_t(K));
+        for (std::size_t i = 0; i < x.size(); ++i) x[i] = float(i % 101) * 0.01f - 0.3f;
+        std::vector<float> eigen1(x.size()), eigen2(x.size());
+        apply_transport(A, x.data(), eigen1.data(), K, 1, TransportKernel::eigen);
+        apply_transport(A, x.data(), eigen2.data(), K, 2, TransportKernel::eigen);
+        EXPECT_EQ(std::memcmp(eigen1.data(), eigen2.data(), x.size() * 4), 0) << K;
+        if (!__builtin_cpu_supports("avx2")) continue;
+        std::vector<float> avx1(x.size()), avx2(x.size());
+        apply_transport(A, x.data(), avx1.data(), K, 1, TransportKernel::avx2);
+        apply_transport(A, x.data(), avx2.data(), K, 2, TransportKernel::avx2);
+        EXPECT_EQ(std::memcmp(avx1.data(), eigen1.data(), x.size() * 4), 0) << K;
+        EXPECT_EQ(std::memcmp(avx2.data(), eigen1.data(), x.size() * 4), 0) << K;
+    }
+}
+
 TEST(Interreflect, RefusesWhatItCannotDo) {
     const Mesh mesh = make_builtin("plane");
     BakeOptions o = ir_options(4, 64, 1);

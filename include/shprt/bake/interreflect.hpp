@@ -68,10 +68,17 @@ struct TransportOptions {
 TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,
                                            const Tracer& tracer, const TransportOptions& options);
 
+// Which code runs a bounce's product: automatic (AVX2 where the CPU has it, else Eigen), Eigen's
+// sparse × dense product (Eigen::SparseMatrix row-major, mapped on A's arrays, per channel), or
+// the AVX2 kernel (all three channels in one pass over the shared pattern; Error(unsupported)
+// without AVX2). Both give the same bits (tested): the same multiplies and adds in the same order.
+enum class TransportKernel { automatic, eigen, avx2 };
+
 // One bounce: out = A·in per channel, where `in` and `out` are V rows of 3 channels × K floats
-// (the transfer layout, receiver-major: row v, channel c at (v·3 + c)·K). TBB over blocks of
-// rows, each block an Eigen sparse × dense product (Eigen::SparseMatrix row-major, mapped on A's
-// arrays). `threads` 0 = all.
+// (the transfer layout, receiver-major: row v, channel c at (v·3 + c)·K). TBB over fixed blocks of
+// 2048 rows; `threads` 0 = all. The bits do not depend on the threads or the kernel.
 void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads);
+void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads,
+                     TransportKernel kernel);
 
 }  // namespace shprt
