@@ -111,6 +111,8 @@ public:
                                                        receivers.first, receivers.count, m_options);
     }
     TransferSink& sink() { return m_writer ? m_writer->sink() : m_host; }
+    // Where an interreflected bake's direct part goes (written as "transfer_direct").
+    std::vector<float>* direct() { return m_writer ? nullptr : &m_direct; }
     // Writes the file; returns the seconds it took.
     double write(const TransferInfo& info) {
         const auto start = Clock::now();
@@ -120,6 +122,7 @@ public:
             TransferSet transfer;
             static_cast<TransferInfo&>(transfer) = info;
             transfer.coeffs = m_host.take_rows();
+            transfer.direct = std::move(m_direct);
             transfer.stats.peak_bytes_host += transfer.coeffs.size() * sizeof(float);
             if (m_args.half) transfer.layout.encoding = TransferEncoding::f16;
             write_shprt(m_args.output, m_mesh, transfer, m_options);
@@ -133,6 +136,7 @@ private:
     WriteOptions m_options;
     std::unique_ptr<ShprtStreamWriter> m_writer;
     HostSink m_host;
+    std::vector<float> m_direct;
 };
 
 // The rows this process bakes (a shard's range, or every vertex) and the file's metadata.
@@ -166,6 +170,17 @@ Plan plan(const BakeArgs& args, const Mesh& mesh, double seconds_load, int ranks
 void print_summary(const BakeArgs& args, const Plan& plan, const TransferInfo& transfer,
                    double seconds_load, double seconds_write) {
     const BakeStats& s = transfer.stats;
+    if (transfer.kind == TransferKind::interreflected) {
+        const InterreflectionInfo& ir = transfer.interreflection;
+        std::printf(
+            "interreflection: %d bounce%s%s (last relative change %.2g), operator %.3f s (nnz(A) "
+            "= %llu, %.1f MiB), bounces %.3f s; albedo: %s\n",
+            ir.bounces, ir.bounces == 1 ? "" : "s",
+            ir.converge ? (ir.converged ? ", converged" : ", NOT converged") : "", ir.last_change,
+            s.seconds_operator, static_cast<unsigned long long>(ir.operator_nnz),
+            double(ir.operator_bytes) / (1024.0 * 1024.0), s.seconds_bounces,
+            ir.albedo_source.c_str());
+    }
     const double rays_per_second = s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace : 0;
     std::printf(
         "baked %zu vertices, K=%d, S=%d (%s, %s): load %.3f s, bvh %.3f s, trace %.3f s, "
@@ -276,6 +291,14 @@ bool use_mpi(const BakeArgs& args) {
 
 void run(const BakeArgs& args) {
     BakeOptions options = bake_options_from(args.bake);
+    if (options.transfer == TransferKind::interreflected) {
+        SHPRT_CHECK(args.shard.empty(), unsupported,
+                    "--shard: interreflected transfer cannot be sharded (its bounces couple every "
+                    "vertex); bake it in one process");
+        SHPRT_CHECK(!args.stream, unsupported,
+                    "--stream: interreflected transfer keeps every vertex's rows in memory for "
+                    "its bounces; bake it without --stream");
+    }
 #if SHPRT_HAS_MPI
     if (use_mpi(args)) return run_mpi(args, options);
 #else
@@ -285,7 +308,8 @@ void run(const BakeArgs& args) {
     check_output_writable(args.output);
 
     const auto load_start = Clock::now();
-    const Mesh mesh = load_scene(args.scene);
+    Mesh mesh = load_scene(args.scene);
+    apply_albedo_option(args.bake, mesh);
     const double seconds_load = seconds_since(load_start);
 
     const Plan p = plan(args, mesh, seconds_load, 0);
@@ -295,7 +319,8 @@ void run(const BakeArgs& args) {
     {
         ProgressBar bar("bake");
         options.progress = bar.callback();
-        info = bake(BakeJob{&mesh, p.receivers, &output.sink(), nullptr, nullptr}, options);
+        info = bake(BakeJob{&mesh, p.receivers, &output.sink(), nullptr, nullptr, output.direct()},
+                    options);
     }
     const double seconds_write = output.write(info);
     print_summary(args, p, info, seconds_load, seconds_write);

@@ -27,6 +27,7 @@ namespace shprt::tools {
 namespace {
 
 struct RenderArgs {
+    bool direct = false;  // shade the direct part of an interreflected bake only
     std::string input, output;
     LightArgs light;  // common/shading_options.hpp, shared with `shprt view`
     CameraArgs camera;
@@ -56,7 +57,13 @@ void run(const RenderArgs& a) {
     settings.background = a.background;
     settings.wireframe = a.wireframe;
 
-    const ShprtFile file = read_shprt(a.input);
+    ShprtFile file = read_shprt(a.input);
+    if (a.direct) {
+        SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
+                    "--direct: {} has no direct part (only interreflected bakes keep one)",
+                    a.input);
+        file.transfer = file.transfer.direct_only();
+    }
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
     const float aspect = float(width) / float(height);
     settings.camera = camera_from(a.camera, file.mesh, aspect);
@@ -80,6 +87,9 @@ const bool registered = register_command(
                         "Output image: .png (tone mapped), .exr or .hdr (linear)")
              ->required();
          add_light_options(app, args->light);
+         app.add_flag("--direct", args->direct,
+                      "Interreflected bakes: the direct light only (the file's T_0), without the "
+                      "bounces");
          app.add_option("--k", args->k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
          app.add_option("--gloss", args->gloss, "Phong exponent of the glossy lobe (default 16)");
          add_camera_options(app, args->camera);

@@ -21,6 +21,7 @@ namespace shprt::tools {
 namespace {
 
 struct ShadeArgs {
+    bool direct = false;  // shade the direct part of an interreflected bake only
     std::string input, output;
     LightArgs light;  // common/shading_options.hpp, shared with `shprt render` and `shprt view`
     std::string eye;
@@ -44,7 +45,13 @@ void run(const ShadeArgs& a) {
     Vec3f eye{};
     if (!a.eye.empty()) eye = parse_vec3(a.eye, "--eye");
 
-    const ShprtFile file = read_shprt(a.input);
+    ShprtFile file = read_shprt(a.input);
+    if (a.direct) {
+        SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
+                    "--direct: {} has no direct part (only interreflected bakes keep one)",
+                    a.input);
+        file.transfer = file.transfer.direct_only();
+    }
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
     ShadeOptions options;
     options.k = a.k;
@@ -69,6 +76,9 @@ const bool registered = register_command(
          app.add_option("file", args->input, "Baked .shprt file")->required();
          app.add_option("-o,--output", args->output, "Output .csv, .ply or .npy")->required();
          add_light_options(app, args->light);
+         app.add_flag("--direct", args->direct,
+                      "Interreflected bakes: the direct light only (the file's T_0), without the "
+                      "bounces");
          app.add_option("--k", args->k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
          app.add_option("--gloss", args->gloss, "Phong exponent of the glossy lobe (default 16)");
          app.add_option(

@@ -84,11 +84,17 @@ double seconds_since(Clock::time_point start) {
 // After validate(options) and validate_job: runs the chosen backend with the direction set.
 TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device backend,
                       const DirectionSet& directions) {
+    const bool interreflected = options.transfer == TransferKind::interreflected;
     if (backend == Device::cuda) {
+        SHPRT_CHECK(!interreflected, unsupported,
+                    "interreflected transfer runs on the CPU only so far (the GPU path is not "
+                    "written): use --device cpu");
         SHPRT_CHECK(job.tracer == nullptr, unsupported,
                     "a caller-built tracer runs on the CPU only (device 'cuda' was asked for)");
         return detail::bake_gpu(job, options, directions);
     }
+    if (interreflected && job.tracer)
+        return detail::bake_interreflected(job, options, directions, job.tracer, 0.0);
     if (job.tracer || options.transfer == TransferKind::unshadowed)  // unshadowed: no rays
         return detail::bake_cpu(job, options, directions, job.tracer, 0.0);
     // Embree builds with TBB tasks in the caller's arena: limit it to the bake's threads.
@@ -96,6 +102,9 @@ TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device bac
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     const auto start = Clock::now();
     tbb::task_arena(threads).execute([&] { tracer = make_embree_tracer(*job.occluders); });
+    if (interreflected)
+        return detail::bake_interreflected(job, options, directions, tracer.get(),
+                                           seconds_since(start));
     return detail::bake_cpu(job, options, directions, tracer.get(), seconds_since(start));
 }
 
@@ -110,6 +119,7 @@ TransferSet bake_to_host(const Mesh& mesh, const Receivers& receivers, const Bak
     job.directions = directions;
     job.tracer = tracer;
     TransferSet out;
+    job.direct = options.transfer == TransferKind::interreflected ? &out.direct : nullptr;
     static_cast<TransferInfo&>(out) = bake(job, options);
     out.coeffs = sink.take_rows();
     out.stats.peak_bytes_host += out.coeffs.size() * sizeof(float);
@@ -141,7 +151,7 @@ TransferInfo bake_description(const BakeOptions& options) {
     TransferInfo info;
     info.kind = options.transfer;
     info.layout.domain = ReceiverDomain::vertex;
-    info.layout.channels = 1;
+    info.layout.channels = options.transfer == TransferKind::interreflected ? 3 : 1;
     info.layout.K = options.K;
     info.layout.shape = TransferShape::vector;
     info.layout.encoding = TransferEncoding::f32;
@@ -163,6 +173,12 @@ void validate(const BakeOptions& options) {
                 "threads = {} must be 0 (all) to {}", options.threads, kMaxBakeThreads);
     SHPRT_CHECK(options.device_index >= 0, invalid_argument, "device index {} must be ≥ 0",
                 options.device_index);
+    SHPRT_CHECK(options.bounces >= 0, invalid_argument, "bounces = {} must be 0 or more",
+                options.bounces);
+    SHPRT_CHECK(options.tolerance > 0 && std::isfinite(options.tolerance), invalid_argument,
+                "tolerance = {} must be a positive number", options.tolerance);
+    SHPRT_CHECK(options.max_bounces >= 1, invalid_argument, "max_bounces = {} must be 1 or more",
+                options.max_bounces);
 }
 
 Device resolve_device(Device requested, int device_index) {
@@ -203,7 +219,15 @@ TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
     validate(checked);
     detail::validate_job(job, checked);
     SHPRT_CHECK(job.sink != nullptr, invalid_argument, "a bake needs a sink for its rows");
-    const Device backend = resolve_device(checked.device, checked.device_index);
+    // Interreflected transfer has no GPU path yet: `auto` picks the CPU, `cuda` is refused.
+    SHPRT_CHECK(checked.transfer != TransferKind::interreflected || checked.device != Device::cuda,
+                unsupported,
+                "interreflected transfer runs on the CPU only so far (its GPU path is not "
+                "written): use --device cpu or auto");
+    const Device backend =
+        checked.transfer == TransferKind::interreflected && checked.device == Device::automatic
+            ? Device::cpu
+            : resolve_device(checked.device, checked.device_index);
     if (job.directions) return run_bake(job, checked, backend, *job.directions);
     const DirectionSet directions =
         make_direction_set(checked.sampler, checked.seed, checked.samples);

@@ -28,6 +28,11 @@ TransferInfo bake_info(const BakeOptions& options, Receivers receivers, std::siz
 // gpu_fallback.cpp without CUDA) builds its own flat BVH.
 TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
                       const DirectionSet& directions, const Tracer* tracer, double seconds_bvh);
+// Interreflected transfer (interreflect.cpp), CPU only: T_0 by bake_cpu, then the transport
+// operator and the bounces; `tracer` is required.
+TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
+                                 const DirectionSet& directions, const Tracer* tracer,
+                                 double seconds_bvh);
 TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
                       const DirectionSet& directions);
 

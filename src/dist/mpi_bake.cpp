@@ -606,7 +606,12 @@ std::vector<WorkUnit> plan_units(std::size_t count, int ranks, std::size_t min_u
 DistributedBake bake_distributed(const MpiSession& session, const BakeJob& job,
                                  const BakeOptions& options, const DistOptions& dist) {
     Prepared p;
-    session.agree([&] { prepare(session, job, options, dist, p); });
+    session.agree([&] {
+        SHPRT_CHECK(options.transfer != TransferKind::interreflected, unsupported,
+                    "interreflected transfer cannot be shared between MPI ranks (its bounces "
+                    "couple every vertex): bake it in one process");
+        prepare(session, job, options, dist, p);
+    });
 
     TransferInfo info = bake_description(p.options);
     info.layout.domain = job.receivers.domain;

@@ -391,6 +391,22 @@ ShprtFile Reader::read(bool allow_part) {
         if (s.obj.contains("peak_bytes_host")) st.peak_bytes_host = s.u64("peak_bytes_host");
         if (s.obj.contains("peak_bytes_device")) st.peak_bytes_device = s.u64("peak_bytes_device");
         if (s.obj.contains("device")) st.device_name = s.string("device");
+        st.seconds_operator = s.number_or_zero("seconds_operator");
+        st.seconds_bounces = s.number_or_zero("seconds_bounces");
+    }
+    if (meta.contains("interreflection")) {
+        const Fields f = m.object("interreflection");
+        InterreflectionInfo& ir = t.interreflection;
+        ir.bounces = f.integer("bounces", 0, INT_MAX);
+        ir.converge = f.boolean("converge");
+        ir.converged = f.boolean("converged");
+        ir.tolerance = f.number_or_zero("tolerance");
+        ir.last_change = f.number_or_zero("last_change");
+        ir.two_sided = f.boolean("two_sided");
+        ir.albedo_source = f.string("albedo_source");
+        ir.operator_nnz = f.u64("operator_nnz");
+        ir.operator_bytes = f.u64("operator_bytes");
+        if (f.obj.contains("operator_rays")) ir.operator_rays = f.u64("operator_rays");
     }
 
     // ---- section table ----
@@ -472,6 +488,7 @@ ShprtFile Reader::read(bool allow_part) {
     check_finite(reinterpret_cast<const float*>(mesh.normals.data()), 3 * V, "normals");
     check_finite(reinterpret_cast<const float*>(mesh.albedo.data()), 3 * V, "albedo");
     check_finite(t.coeffs.data(), t.coeffs.size(), "transfer");
+    check_finite(t.direct.data(), t.direct.size(), "transfer_direct");
     const std::string hash = format_mesh_hash(mesh_hash(mesh));
     if (hash != recorded_hash)
         corrupt(m_path, "scene hash {} differs from the recorded {}", hash, recorded_hash);

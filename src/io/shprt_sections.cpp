@@ -34,6 +34,16 @@ struct TransferArray {
     }
 };
 
+// The direct part T_0 of an interreflected transfer (TransferSet::direct).
+struct DirectArray {
+    static const void* data(const Mesh&, const TransferSet& t) { return t.direct.data(); }
+    static std::uint64_t count(const Mesh&, const TransferSet& t) { return t.direct.size(); }
+    static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
+        t.direct.resize(static_cast<std::size_t>(n));
+        return t.direct.data();
+    }
+};
+
 template <class A>
 constexpr SectionRule rule(const char* name, SectionType type, SectionRows rows, std::uint64_t cols,
                            bool required) {
@@ -50,6 +60,10 @@ const std::array kRules = {
     rule<MeshArray<&Mesh::albedo>>("albedo", S::f32, R::vertices, 3, kRequired),
     rule<MeshArray<&Mesh::triangles>>("triangles", S::u32, R::triangles, 3, kRequired),
     rule<MeshArray<&Mesh::source_vertex>>("source_vertex", S::u32, R::vertices, 1, kOptional),
+    // Interreflected transfer's direct part, one channel per receiver: before "transfer", which
+    // stays last (a streamed bake writes it in place).
+    rule<DirectArray>("transfer_direct", S::transfer, R::receivers, SectionRule::kPerChannel,
+                      kOptional),
     rule<TransferArray>("transfer", S::transfer, R::receivers, 0, kRequired),
 };
 

@@ -31,7 +31,7 @@ struct SectionRule {
     const char* name;
     SectionType type;
     SectionRows rows;
-    std::uint64_t cols;  // 0 = layout.floats_per_receiver()
+    std::uint64_t cols;  // 0 = layout.floats_per_receiver(), kPerChannel = floats_per_channel()
     bool required;
     // The array in memory: its data and scalar element count (rows·cols when present; an empty
     // optional array means "absent"); `resize` sizes it for reading and returns its data.
@@ -42,9 +42,13 @@ struct SectionRule {
     std::string dtype(const TransferLayout& layout) const;
     std::uint64_t element_size(const TransferLayout& layout) const;
     std::uint64_t row_count(const SectionCounts& counts) const;
+    static constexpr std::uint64_t kPerChannel = ~std::uint64_t(0);
     std::uint64_t col_count(const TransferLayout& layout) const {
+        if (cols == kPerChannel) return layout.floats_per_channel();
         return cols != 0 ? cols : std::uint64_t(layout.floats_per_receiver());
     }
+    // The transfer itself (the streamed section, always last), not the optional direct part.
+    bool is_transfer() const { return type == SectionType::transfer && cols == 0; }
 };
 
 // The table, in file order.

@@ -74,6 +74,32 @@ std::string shprt_summary(const ShprtFile& file) {
     line("sampling",
          fmt::format("{}, {} samples, seed {}", to_string(t.sampler), t.samples, t.seed));
     line("precision", to_string(t.layout.encoding));
+    if (t.kind == TransferKind::interreflected) {
+        const InterreflectionInfo& ir = t.interreflection;
+        std::string bounces = fmt::format("{} (stored: T_0 + ... + T_{})", ir.bounces, ir.bounces);
+        if (ir.converge)
+            bounces +=
+                ir.converged
+                    ? fmt::format(", converged: last relative change {:.2g} < tolerance {:.2g}",
+                                  ir.last_change, ir.tolerance)
+                    : fmt::format(
+                          ", NOT converged: last relative change {:.2g} >= "
+                          "tolerance {:.2g}",
+                          ir.last_change, ir.tolerance);
+        else if (ir.bounces > 0)
+            bounces += fmt::format(", last relative change {:.2g}", ir.last_change);
+        line("bounces", bounces);
+        line("albedo", ir.albedo_source.empty() ? "(source not recorded)" : ir.albedo_source);
+        line("back faces", ir.two_sided ? "two-sided (a back face sends its front's light)"
+                                        : "one-sided (a ray that hits a back face brings nothing)");
+        line("operator", fmt::format("nnz(A) = {} ({:.1f} per vertex), {}, {} closest-hit rays",
+                                     ir.operator_nnz,
+                                     mesh.vertex_count() > 0
+                                         ? double(ir.operator_nnz) / double(mesh.vertex_count())
+                                         : 0.0,
+                                     bytes_text(double(ir.operator_bytes)), ir.operator_rays));
+        line("direct part", t.direct.empty() ? "absent" : "kept (transfer_direct: shade --direct)");
+    }
 
     auto stats_it = meta.find("stats");
     if (stats_it != meta.end() && stats_it->is_object()) {

@@ -60,6 +60,10 @@ Json stats_json(const BakeStats& s) {
     j["rays_cast"] = s.rays_cast;
     j["peak_bytes_host"] = s.peak_bytes_host;
     j["peak_bytes_device"] = s.peak_bytes_device;
+    if (s.seconds_operator > 0 || s.seconds_bounces > 0) {
+        j["seconds_operator"] = s.seconds_operator;
+        j["seconds_bounces"] = s.seconds_bounces;
+    }
     return j;
 }
 
@@ -95,6 +99,21 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
     m["sampler"] = to_string(t.sampler);
     m["samples"] = t.samples;
     m["seed"] = t.seed;
+    if (t.kind == TransferKind::interreflected) {
+        const InterreflectionInfo& ir = t.interreflection;
+        m["interreflection"] = {
+            {"bounces", ir.bounces},
+            {"converge", ir.converge},
+            {"converged", ir.converged},
+            {"tolerance", ir.tolerance},
+            {"last_change", ir.last_change},
+            {"two_sided", ir.two_sided},
+            {"albedo_source", ir.albedo_source},
+            {"operator_nnz", ir.operator_nnz},
+            {"operator_bytes", ir.operator_bytes},
+            {"operator_rays", ir.operator_rays},
+        };
+    }
     m["scene"] = {
         {"source", mesh.source},
         {"hash", format_mesh_hash(mesh_hash(mesh))},
@@ -184,18 +203,21 @@ Json parse_extra(const WriteOptions& options) {
 }
 
 std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info, std::size_t rows,
-                                      const float* coeffs) {
-    TransferSet none;  // the table's accessors read the mesh; the transfer's data is `coeffs`
+                                      const float* coeffs, const TransferSet* transfer) {
+    // The table's accessors read the mesh and the optional transfer parts; the transfer's data
+    // is `coeffs`.
+    const TransferSet none;
+    const TransferSet& parts = transfer ? *transfer : none;
     const detail::SectionCounts counts{mesh.positions.size(), mesh.triangles.size(), rows,
                                        info.layout};
     std::vector<SectionOut> sections;
     for (const detail::SectionRule& rule : detail::section_rules()) {
-        const bool is_transfer = rule.type == SectionType::transfer;
-        if (!rule.required && !is_transfer && rule.count(mesh, none) == 0) continue;
+        const bool is_transfer = rule.is_transfer();
+        if (!rule.required && !is_transfer && rule.count(mesh, parts) == 0) continue;
         const bool to_half = rule.element_size(info.layout) == 2;  // float32 stored as f16
         sections.push_back({rule.name, rule.dtype(info.layout), rule.row_count(counts),
                             rule.col_count(info.layout), rule.element_size(info.layout),
-                            is_transfer ? coeffs : rule.data(mesh, none), to_half});
+                            is_transfer ? coeffs : rule.data(mesh, parts), to_half});
         sections.back().streamed = is_transfer && coeffs == nullptr;
     }
     for (SectionOut& s : sections)
@@ -290,10 +312,16 @@ void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& t
                 transfer.samples);
     detail::check_coefficients(path, transfer.coeffs.data(), transfer.coeffs.size(),
                                transfer.layout, options.receiver_first);
+    if (!transfer.direct.empty()) {
+        TransferLayout direct = transfer.layout;
+        direct.channels = 1;
+        detail::check_coefficients(path, transfer.direct.data(), transfer.direct.size(), direct,
+                                   options.receiver_first);
+    }
     const detail::Json extra = detail::parse_extra(options);
     const std::size_t rows = transfer.receiver_count();
     std::vector<detail::SectionOut> sections =
-        detail::plan_sections(mesh, transfer, rows, transfer.coeffs.data());
+        detail::plan_sections(mesh, transfer, rows, transfer.coeffs.data(), &transfer);
     const std::string text =
         detail::lay_out(path, mesh, transfer, rows, options, extra, sections, 0);
     AtomicFile file(path);

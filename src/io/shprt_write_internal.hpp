@@ -47,9 +47,10 @@ void check_coefficients(const std::string& path, const float* coeffs, std::size_
 // options.extra_metadata_json as a JSON object (Error(invalid_argument) otherwise).
 Json parse_extra(const WriteOptions& options);
 // The sections of the table for `mesh` and `rows` transfer rows of `info`'s layout, with their
-// CRCs computed; the transfer's data is `coeffs` (null for a streamed file: no CRC yet).
+// CRCs computed; the transfer's data is `coeffs` (null for a streamed file: no CRC yet); the
+// optional transfer sections (the direct part) come from `transfer` (null: none).
 std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info, std::size_t rows,
-                                      const float* coeffs);
+                                      const float* coeffs, const TransferSet* transfer = nullptr);
 // Places the sections (their offsets) and renders the metadata. reserve = 0: the canonical
 // layout right after the metadata; reserve > 0: the metadata is exactly `reserve` bytes (padded
 // with spaces; Error(invalid_argument) if it would be longer), so the offsets do not depend on

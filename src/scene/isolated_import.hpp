@@ -17,7 +17,9 @@ struct ImportedMesh {
     Mesh mesh;  // positions, normals, albedo, triangles, source_vertex (source is not carried)
     bool all_normals = true;          // every vertex had a usable normal in the file
     std::uint64_t skipped_faces = 0;  // points and lines left out
+    std::uint8_t albedo_sources = 0;  // kAlbedo* bits: where the albedo came from
 };
+inline constexpr std::uint8_t kAlbedoVertexColours = 1, kAlbedoMaterial = 2, kAlbedoDefault = 4;
 
 // Runs `work` in a child process made with fork() and returns its result, copied back through a
 // pipe. The child may grow its address space by at most `memory_budget` bytes (RLIMIT_AS; not in

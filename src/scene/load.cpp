@@ -88,7 +88,9 @@ std::vector<Instance> collect_instances(const aiScene& scene) {
     return out;
 }
 
-Vec3f material_albedo(const aiScene& scene, const aiMesh& mesh) {
+// The material's diffuse colour, or the default grey (`found` says which).
+Vec3f material_albedo(const aiScene& scene, const aiMesh& mesh, bool& found) {
+    found = false;
     const Vec3f grey{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
     if (!scene.mMaterials || mesh.mMaterialIndex >= scene.mNumMaterials) return grey;
     const aiMaterial* material = scene.mMaterials[mesh.mMaterialIndex];
@@ -99,8 +101,10 @@ Vec3f material_albedo(const aiScene& scene, const aiMesh& mesh) {
         return grey;  // Assimp's placeholder for files without materials
     aiColor4D c;
     if (aiGetMaterialColor(material, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS ||
-        aiGetMaterialColor(material, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS)
+        aiGetMaterialColor(material, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS) {
+        found = true;
         return {c.r, c.g, c.b};
+    }
     return grey;
 }
 
@@ -141,9 +145,13 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
         const bool mirrored = det < 0.0f;
         const bool identity = m == aiMatrix4x4();  // exact: identity keeps every bit
 
-        const Vec3f flat = use_material ? material_albedo(scene, *mesh)
+        bool from_material = false;
+        const Vec3f flat = use_material ? material_albedo(scene, *mesh, from_material)
                                         : Vec3f{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
         const aiColor4D* colours = mesh->mColors[0];
+        result.albedo_sources |=
+            colours ? detail::kAlbedoVertexColours
+                    : (from_material ? detail::kAlbedoMaterial : detail::kAlbedoDefault);
         for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
             const aiVector3D p = identity ? mesh->mVertices[v] : m * mesh->mVertices[v];
             out.positions.push_back({p.x, p.y, p.z});
@@ -199,6 +207,17 @@ Mesh finish(detail::ImportedMesh imported, const std::string& path, const PlyHea
     const PlyHeader ply = is_ply ? *ply_header : PlyHeader{};
     Mesh out = std::move(imported.mesh);
     out.source = path;
+    {
+        std::string sources;
+        const std::pair<std::uint8_t, const char*> names[] = {
+            {detail::kAlbedoVertexColours, "vertex colours"},
+            {detail::kAlbedoMaterial, "material diffuse colour"},
+            {detail::kAlbedoDefault, "default 0.8 grey"}};
+        for (const auto& [bit, name] : names)
+            if (imported.albedo_sources & bit)
+                sources += (sources.empty() ? "" : " + ") + std::string(name);
+        out.albedo_source = sources;
+    }
     const std::uint64_t skipped = imported.skipped_faces;
     const std::string skipped_text =
         fmt::format("{} point or line primitive{}", skipped, skipped == 1 ? "" : "s");
@@ -318,6 +337,7 @@ Mesh load_scene(const std::string& spec) {
     if (is_builtin_spec(spec)) {
         Mesh mesh = make_builtin(spec.substr(kBuiltinPrefix.size()));
         mesh.source = spec;
+        mesh.albedo_source = "builtin scene colours";
         validate_mesh(mesh, spec);
         return mesh;
     }

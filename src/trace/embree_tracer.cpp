@@ -105,6 +105,45 @@ public:
 
     std::size_t memory_bytes() const override { return m_device.bytes_peak(); }
 
+    void closest_hits(Vec3f origin, const Vec3f* dirs, int count, float tnear, float tfar,
+                      Hit* hits) const override {
+        FtzDazScope ftz;
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        RTCRayHit rays[kStreamChunk];
+        for (int base = 0; base < count; base += kStreamChunk) {
+            const int n = std::min(kStreamChunk, count - base);
+            for (int i = 0; i < n; ++i) {
+                RTCRayHit& rh = rays[i];
+                const Vec3f d = dirs[base + i];
+                rh.ray.org_x = origin.x;
+                rh.ray.org_y = origin.y;
+                rh.ray.org_z = origin.z;
+                rh.ray.tnear = tnear;
+                rh.ray.dir_x = d.x;
+                rh.ray.dir_y = d.y;
+                rh.ray.dir_z = d.z;
+                rh.ray.time = 0.0f;
+                rh.ray.tfar = tfar;
+                rh.ray.mask = 0xFFFFFFFFu;
+                rh.ray.id = static_cast<unsigned>(i);
+                rh.ray.flags = 0;
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            }
+            rtcIntersect1M(m_scene.get(), &context, rays, static_cast<unsigned>(n),
+                           sizeof(RTCRayHit));
+            for (int i = 0; i < n; ++i) {
+                const RTCRayHit& rh = rays[i];
+                hits[base + i] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID
+                                     ? Hit{false, kNoTriangle, tfar, 0, 0}
+                                     : Hit{true, rh.hit.primID, rh.ray.tfar, rh.hit.u, rh.hit.v};
+            }
+        }
+    }
+
     Hit intersect(Vec3f origin, Vec3f dir, float tnear, float tfar) const override {
         FtzDazScope ftz;
         RTCIntersectContext context;

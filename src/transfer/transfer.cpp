@@ -16,6 +16,8 @@ void add_stats(BakeStats& total, const BakeStats& part) {
     total.rays_cast += part.rays_cast;
     total.peak_bytes_host = std::max(total.peak_bytes_host, part.peak_bytes_host);
     total.peak_bytes_device = std::max(total.peak_bytes_device, part.peak_bytes_device);
+    total.seconds_operator += part.seconds_operator;
+    total.seconds_bounces += part.seconds_bounces;
     const std::string& name = part.device_name;
     std::size_t at = 0;
     while ((at = total.device_name.find(name, at)) != std::string::npos) {
@@ -30,14 +32,23 @@ void add_stats(BakeStats& total, const BakeStats& part) {
 }
 
 const char* to_string(TransferKind kind) {
-    return kind == TransferKind::unshadowed ? "unshadowed" : "shadowed";
+    switch (kind) {
+        case TransferKind::unshadowed:
+            return "unshadowed";
+        case TransferKind::shadowed:
+            return "shadowed";
+        case TransferKind::interreflected:
+            return "interreflected";
+    }
+    return "shadowed";
 }
 
 TransferKind parse_transfer_kind(const std::string& name) {
     if (name == "unshadowed") return TransferKind::unshadowed;
     if (name == "shadowed") return TransferKind::shadowed;
+    if (name == "interreflected") return TransferKind::interreflected;
     fail(ErrorCode::invalid_argument,
-         "unknown transfer kind '{}' (expected unshadowed or shadowed)", name);
+         "unknown transfer kind '{}' (expected unshadowed, shadowed or interreflected)", name);
 }
 
 const char* to_string(ReceiverDomain) { return "vertex"; }
@@ -105,6 +116,18 @@ TransferSet TransferSet::zeros(const TransferInfo& info, std::size_t receivers) 
     return t;
 }
 
+TransferSet TransferSet::direct_only() const {
+    SHPRT_CHECK(!direct.empty(), invalid_argument,
+                "the transfer has no direct part (only interreflected transfer keeps one)");
+    TransferSet out;
+    static_cast<TransferInfo&>(out) = *this;
+    out.kind = TransferKind::shadowed;
+    out.layout.channels = 1;
+    out.interreflection = {};
+    out.coeffs = direct;
+    return out;
+}
+
 void TransferSet::check(const Mesh& mesh) const {
     layout.validate();
     const std::size_t V = mesh.vertex_count();
@@ -121,6 +144,10 @@ void TransferSet::check_rows(const Mesh& mesh, std::size_t first) const {
                 "transfer holds {} floats, not a whole number of rows of {} ({} channels × {})",
                 coeffs.size(), row, layout.channels, layout.floats_per_channel());
     check_range(mesh, layout, first, coeffs.size() / row);
+    SHPRT_CHECK(
+        direct.empty() || direct.size() == coeffs.size() / row * layout.floats_per_channel(),
+        invalid_argument, "direct transfer holds {} floats, expected {} rows × {}", direct.size(),
+        coeffs.size() / row, layout.floats_per_channel());
 }
 
 void TransferSet::check_range(const Mesh& mesh, const TransferLayout& layout, std::size_t first,

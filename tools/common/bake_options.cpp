@@ -2,6 +2,7 @@
 #include "common/bake_options.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/parse.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include <limits>
@@ -9,7 +10,8 @@
 namespace shprt::tools {
 
 void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
-    app.add_option("--transfer", args.transfer, "unshadowed or shadowed (default)");
+    app.add_option("--transfer", args.transfer,
+                   "unshadowed, shadowed (default) or interreflected (RGB, with bounces)");
     app.add_option("--bands", args.bands,
                    fmt::format("SH bands n (K = n², 1 to {}); default 4", kMaxComputeBands));
     app.add_option(
@@ -24,6 +26,27 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--device", args.device, "cpu (default), cuda or auto");
     app.add_option("--device-index", args.device_index,
                    "CUDA device for --device cuda|auto (default 0)");
+    app.add_option("--bounces", args.bounces,
+                   "Interreflected: bounces N (0 to 10000; default 1) or 'converged'");
+    app.add_option("--tolerance", args.tolerance,
+                   "Interreflected, --bounces converged: stop when no vertex's transfer changes "
+                   "by more than this fraction (default 1e-4)");
+    app.add_option("--albedo", args.albedo,
+                   "Interreflected: albedo R,G,B (linear, 0 to 1) for every vertex (default: the "
+                   "scene's vertex colours, else its materials' diffuse colour, else 0.8 grey)");
+    app.add_flag("--two-sided", args.two_sided,
+                 "Interreflected: a ray that hits a back face sees the front's light (default: "
+                 "it brings nothing)");
+}
+
+void apply_albedo_option(const BakeOptionArgs& args, Mesh& mesh) {
+    if (args.albedo.empty()) return;
+    const std::vector<double> rgb = parse_numbers(args.albedo, 3, "--albedo R,G,B");
+    for (double c : rgb)
+        SHPRT_CHECK(c >= 0.0 && c <= 1.0, invalid_argument,
+                    "--albedo {}: each component must be 0 to 1 (linear reflectance)", args.albedo);
+    mesh.albedo.assign(mesh.vertex_count(), Vec3f{float(rgb[0]), float(rgb[1]), float(rgb[2])});
+    mesh.albedo_source = "--albedo " + args.albedo;
 }
 
 // The CLI turns its text and wide integers into BakeOptions, naming the option it cannot convert;
@@ -56,6 +79,30 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
     SHPRT_CHECK(a.device_index >= 0 && a.device_index <= std::numeric_limits<int>::max(),
                 invalid_argument, "--device-index {}: must be 0 or more", a.device_index);
     o.device_index = static_cast<int>(a.device_index);
+    const bool interreflected = o.transfer == TransferKind::interreflected;
+    SHPRT_CHECK(
+        interreflected || (a.bounces.empty() && !a.tolerance && a.albedo.empty() && !a.two_sided),
+        invalid_argument,
+        "--bounces, --tolerance, --albedo and --two-sided need --transfer interreflected");
+    if (!a.bounces.empty()) {
+        if (a.bounces == "converged") {
+            o.converge = true;
+        } else {
+            std::int64_t n = 0;
+            SHPRT_CHECK(parse_integer(a.bounces, n) == IntegerParse::ok && n >= 0 && n <= 10000,
+                        invalid_argument,
+                        "--bounces '{}': expected a number of bounces 0 to 10000 or 'converged'",
+                        a.bounces);
+            o.bounces = static_cast<int>(n);
+        }
+    }
+    if (a.tolerance) {
+        SHPRT_CHECK(o.converge, invalid_argument, "--tolerance needs --bounces converged");
+        SHPRT_CHECK(*a.tolerance > 0 && *a.tolerance < 1, invalid_argument,
+                    "--tolerance {}: must be between 0 and 1 (a relative change)", *a.tolerance);
+        o.tolerance = *a.tolerance;
+    }
+    o.two_sided = a.two_sided;
     validate(o);
     return o;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/scene/mesh.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -20,6 +21,12 @@ struct BakeOptionArgs {
     std::uint64_t seed = 1;
     long long threads = 0;
     long long device_index = 0;
+    // Interreflected transfer: --bounces N|converged, --tolerance T, --two-sided (and --albedo,
+    // which changes the scene: apply_albedo_option).
+    std::string bounces;
+    std::optional<double> tolerance;
+    std::string albedo;
+    bool two_sided = false;
 };
 
 // Adds the nine options above, writing into `args` (which must outlive the parse).
@@ -28,5 +35,9 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args);
 // Checks every option (one-line Error(invalid_argument) naming the option and value) and returns
 // the BakeOptions they describe; progress is left empty.
 BakeOptions bake_options_from(const BakeOptionArgs& args);
+
+// --albedo R,G,B: every vertex's albedo replaced (linear RGB, each in [0, 1]) and the source
+// recorded; nothing when the option was not given.
+void apply_albedo_option(const BakeOptionArgs& args, Mesh& mesh);
 
 }  // namespace shprt::tools

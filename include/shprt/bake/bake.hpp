@@ -36,16 +36,17 @@
 #pragma once
 
 #include "shprt/bake/receivers.hpp"
-#include "shprt/transfer/sink.hpp"
 #include "shprt/core/progress.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
+#include "shprt/transfer/sink.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace shprt {
 
@@ -80,6 +81,16 @@ struct BakeOptions {
     // Receivers per chunk (one W[chunk×S] buffer and one SGEMM each); 0 = automatic, from the
     // receiver count and S only. The partition never depends on the thread count.
     std::size_t chunk_receivers = 0;
+    // Interreflected transfer only (TransferKind::interreflected, bake/interreflect.hpp): the
+    // bounces N ≥ 0 (0 = the shadowed transfer in three channels), or with `converge` as many as
+    // it takes for the largest relative change of any receiver's transfer to fall under
+    // `tolerance` (> 0), at most max_bounces; `two_sided`: a ray that hits a back face sees the
+    // radiance of the front (else it brings nothing). The albedo is the occluder mesh's.
+    int bounces = 1;
+    bool converge = false;
+    double tolerance = 1e-4;
+    int max_bounces = 1000;
+    bool two_sided = false;
     // Called with ProgressInfo{"bake", rays done, rays total (estimate), "rays"} ("samples" for
     // unshadowed transfer) from the thread that called bake(), at most ~20 times a second, and
     // once at the end. Returning false stops the bake promptly; bake() then throws
@@ -113,6 +124,9 @@ struct BakeJob {
     const DirectionSet* directions = nullptr;
     // A tracer built over `occluders` (CPU only); nullptr = the bake builds Embree's.
     const Tracer* tracer = nullptr;
+    // Interreflected transfer only: where the direct part T_0 goes (receivers × K floats, see
+    // TransferSet::direct); nullptr = not kept.
+    std::vector<float>* direct = nullptr;
 };
 
 // Bakes diffuse transfer (one channel of K coefficients per receiver, see the top of this file)

@@ -21,6 +21,10 @@ struct Mesh {
     // scene's meshes in order. Empty for generated scenes (identity).
     std::vector<std::uint32_t> source_vertex;
     std::string source;  // file path or "builtin:NAME"
+    // Where `albedo` came from, for people (`shprt info`): "vertex colours", "material diffuse
+    // colour", "default 0.8 grey", "builtin scene colours", "--albedo R,G,B", a mix ("vertex
+    // colours + default 0.8 grey"); empty when unknown. Not part of the scene hash.
+    std::string albedo_source;
 
     std::size_t vertex_count() const { return positions.size(); }
     std::size_t triangle_count() const { return triangles.size(); }

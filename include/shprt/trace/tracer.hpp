@@ -58,6 +58,14 @@ public:
     // index and barycentrics in the mesh's vertex order). Thread-safe.
     virtual Hit intersect(Vec3f origin, Vec3f dir, float tnear, float tfar) const = 0;
 
+    // hits[i] = intersect(origin, dirs[i], tnear, tfar) for i in [0, count): the closest hits of
+    // rays that share an origin (one vertex's directions), for interreflected transfer. Embree
+    // casts them as one stream (rtcIntersect1M); the default loops over intersect(). Thread-safe.
+    virtual void closest_hits(Vec3f origin, const Vec3f* dirs, int count, float tnear, float tfar,
+                              Hit* hits) const {
+        for (int i = 0; i < count; ++i) hits[i] = intersect(origin, dirs[i], tnear, tfar);
+    }
+
     // "embree" or "flat-bvh".
     virtual const char* name() const = 0;
 

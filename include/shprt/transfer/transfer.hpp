@@ -28,6 +28,9 @@ struct Mesh;
 enum class TransferKind {
     unshadowed,  // T(w) = max(0, n·w)
     shadowed,    // T(w) = V(w) · max(0, n·w), V = 1 where the ray escapes the scene
+    // The shadowed transfer plus the light that reaches the receiver after bouncing off the
+    // scene's diffuse surfaces: T_0 + T_1 + … + T_N, RGB (three channels), docs/interreflection.md.
+    interreflected,
 };
 
 // Where the receivers are. Only vertices exist today.
@@ -85,6 +88,25 @@ struct BakeStats {
     std::uint64_t peak_bytes_host = 0;  // bake's peak working memory with its BVH, host
     std::uint64_t peak_bytes_device = 0;
     std::string device_name;  // "cpu: 2 threads" or the GPU's name
+    // Interreflected transfer only: building the transport operator A (closest hits included)
+    // and the bounces' sparse products (T_0's tracing and projection are in trace/project).
+    double seconds_operator = 0, seconds_bounces = 0;
+};
+
+// How an interreflected transfer was made (TransferKind::interreflected; empty otherwise).
+struct InterreflectionInfo {
+    int bounces = 0;            // N: the stored transfer is T_0 + … + T_N
+    bool converge = false;      // N was chosen by iterating until `tolerance` was met (or
+                                // max_bounces ran out: then `converged` is false)
+    bool converged = false;     // converge asked and last_change < tolerance
+    double tolerance = 0;       // converge only: the largest relative change allowed
+    double last_change = 0;     // the largest relative change of any receiver's transfer by T_N
+    bool two_sided = false;     // rays that hit a back face see its front's radiance
+    std::string albedo_source;  // where the albedo came from: "--albedo 0.5,0.5,0.5", ...
+    std::uint64_t operator_nnz = 0;    // non-zeros of A (one pattern, three channels' values)
+    std::uint64_t operator_bytes = 0;  // bytes of A: pattern + 3 value arrays
+    std::uint64_t operator_rays = 0;   // closest-hit rays traced for A (not in stats.rays_cast,
+                                       // which counts T_0's visibility rays)
 };
 
 // Adds the work of `part` (one part of a bake: a shard, an MPI rank's share) to `total`: seconds
@@ -102,10 +124,15 @@ struct TransferInfo {
     int samples = 0;
     std::uint64_t seed = 0;
     BakeStats stats;
+    InterreflectionInfo interreflection;  // kind == interreflected only
 };
 
 struct TransferSet : TransferInfo {
     std::vector<float> coeffs;  // layout.floats(receiver_count()) floats, see the file comment
+    // Interreflected transfer only (else empty): the direct (shadowed) transfer T_0, one channel
+    // per receiver (it is the same for R, G and B: the albedo enters only at bounces),
+    // receiver_count() × layout.floats_per_channel() floats. direct_only() shades with it.
+    std::vector<float> direct;
 
     // An all-zero set of `receivers` rows with the given description (what a progressive display
     // starts from before the first chunk arrives).
@@ -121,6 +148,11 @@ struct TransferSet : TransferInfo {
     float* receiver(std::size_t r, int channel = 0) {
         return coeffs.data() + layout.offset(r, channel);
     }
+
+    // The direct (T_0) transfer of an interreflected set as a one-channel shadowed set with the
+    // same K, sampler and seed: "direct only" for shading. Throws Error(invalid_argument) when
+    // there is no direct part.
+    TransferSet direct_only() const;
 
     // The one check of a transfer against its mesh: a valid layout, one row per receiver of the
     // mesh (its vertices, for the vertex domain: coeffs.size() == layout.floats(V)), and normals

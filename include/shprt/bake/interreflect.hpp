@@ -1,0 +1,84 @@
+// Interreflected transfer: the light that reaches a receiver after bouncing off the scene's
+// diffuse surfaces, as a sparse linear operator on per-vertex transfer (docs/interreflection.md).
+//
+// Definition. T_0 is the shadowed transfer (bake.hpp). Light leaving a surface point h of albedo
+// ρ(h) under irradiance E(h) has radiance ρ(h)/π · E(h), so with the shared direction set
+// {w_s, weight_s} and the closest hit h_s of the ray from vertex v along w_s:
+//
+//     T_b(v) = Σ_s weight_s · max(0, n_v·w_s) · ρ(h_s)/π · T_{b−1}(h_s)
+//
+// where T_{b−1}(h) is interpolated from the hit triangle's vertices with the hit's barycentrics
+// and ρ(h) likewise from their albedos. A ray that escapes brings nothing (its light is T_0's); a
+// ray that hits the back of a triangle (one-sided surfaces: counter-clockwise = front) brings
+// nothing unless `two_sided`. Every bounce is linear in T_{b−1}, per colour channel c:
+//
+//     T_b = A_c · T_{b−1},   A_c[v][j] = Σ_{s: h_s on a triangle with vertex j}
+//                                          weight_s · cos_s / π · ρ_c(h_s) · bary_j(h_s)
+//
+// a sparse V×V matrix: one row per vertex, one column per vertex its rays hit (entries from the
+// same vertex merged). The three channels share one pattern. The stored transfer is
+// T_0 + T_1 + … + T_N (RGB: three channels of K per receiver).
+//
+// Determinism: each row of A is built by one thread from its own rays in direction order and its
+// duplicates merged in that order; each row of a product is one thread's sum over its entries in
+// column order. Same inputs and seed → same bits for any thread count (tested).
+#pragma once
+
+#include "shprt/core/progress.hpp"
+#include "shprt/scene/mesh.hpp"
+#include "shprt/sh/sampler.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace shprt {
+
+class Tracer;
+
+// The transport operator A in compressed sparse rows (int32 indices, float values), one pattern
+// and three channels' values (R, G, B).
+struct TransportOperator {
+    std::size_t vertices = 0;
+    std::vector<std::int32_t> row_start;       // vertices + 1 offsets into column/values
+    std::vector<std::int32_t> column;          // nnz() columns, increasing within a row
+    std::array<std::vector<float>, 3> values;  // per channel, nnz() each
+    std::uint64_t rays_cast = 0;               // closest-hit rays traced to build it
+
+    std::uint64_t nnz() const { return column.size(); }
+    // Bytes of the arrays: row starts, columns, three channels of values.
+    std::uint64_t bytes() const {
+        return row_start.size() * 4 + column.size() * 4 + 3 * column.size() * 4;
+    }
+};
+
+struct TransportOptions {
+    bool two_sided = false;
+    int threads = 0;      // 0 = all hardware threads
+    ProgressFn progress;  // ProgressInfo{"bounce rays", rays done, rays (estimate), "rays"}
+};
+
+// Builds A for every vertex of `mesh` (positions, unit normals, albedo per vertex) with the
+// direction set `directions` and a tracer built over `mesh` (its closest_hits: one stream per
+// vertex from offset_ray_origin(p, n), directions above the horizon only). Throws
+// Error(invalid_argument) for a mesh without albedo per vertex; Error(out_of_memory) when nnz(A)
+// would pass 2^31 − 1 (chunking the operator is not implemented); Error(cancelled) when the
+// progress callback returns false.
+TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,
+                                           const Tracer& tracer, const TransportOptions& options);
+
+// Which code runs a bounce's product: automatic (AVX2 where the CPU has it, else Eigen), Eigen's
+// sparse × dense product (Eigen::SparseMatrix row-major, mapped on A's arrays, per channel), or
+// the AVX2 kernel (all three channels in one pass over the shared pattern; Error(unsupported)
+// without AVX2). Both give the same bits (tested): the same multiplies and adds in the same order.
+enum class TransportKernel { automatic, eigen, avx2 };
+
+// One bounce: out = A·in per channel, where `in` and `out` are V rows of 3 channels × K floats
+// (the transfer layout, receiver-major: row v, channel c at (v·3 + c)·K). TBB over fixed blocks of
+// 2048 rows; `threads` 0 = all. The bits do not depend on the threads or the kernel.
+void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads);
+void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads,
+                     TransportKernel kernel);
+
+}  // namespace shprt

@@ -1,0 +1,387 @@
+// Interreflected transfer (bake/interreflect.hpp, docs/interreflection.md), against things that
+// do not share its code:
+//   * N = 0 is the shadowed bake, bit for bit, in each of the three channels;
+//   * same seed → same bits for 1 and 2 threads;
+//   * the spherical cavity (a sphere seen from inside, a cap cut away): every point of a sphere
+//     sees any part of it with a view factor equal to that part's share of the area, so the
+//     direct irradiance under a constant sky L is the same everywhere, E_0 = π·L·f (f: the share
+//     of the cosine-weighted hemisphere that leaves through the opening), and each bounce
+//     multiplies it by ρ(1 − f): E_N = E_0·Σ_{b≤N} (ρ(1−f))^b. With ρ = 1 that is the white
+//     furnace: E_N rises with N at every vertex and tends to π·L;
+//   * a brute-force Monte Carlo path tracer written here (the tracer's closest hits, cosine-
+//     sampled directions, the hit's vertex chosen with probability = its barycentric), at N = 1
+//     and 3, RGB albedo, a non-constant light;
+//   * one-sided surfaces: rays that hit a back face bring nothing (and do with two_sided).
+#include "shprt/bake/bake.hpp"
+#include "shprt/bake/interreflect.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/scene/builder.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/sh/basis.hpp"
+#include "shprt/trace/ray.hpp"
+#include "shprt/trace/tracer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The irradiance of channel c of vertex v under a constant sky of radiance 1: only the DC term
+// counts, l_0 = 2√π.
+double constant_sky_E(const TransferSet& t, std::size_t v, int c) {
+    return double(t.receiver(v, c)[0]) * 2.0 * std::sqrt(kPi);
+}
+
+// The inside of a unit sphere (icosphere, `level`) with the cap y > cap_y cut away: normals point
+// inward, triangles wind counter-clockwise seen from inside. Only vertices of kept triangles.
+Mesh spherical_cavity(int level, double cap_y, Vec3f albedo) {
+    MeshBuilder b;
+    b.add_icosphere({0, 0, 0}, 1.0, level, albedo);
+    const Mesh sphere = b.take_mesh("test:cavity");
+    Mesh m;
+    m.source = "test:cavity";
+    std::vector<std::uint32_t> remap(sphere.vertex_count(), ~0u);
+    for (const auto& tri : sphere.triangles) {
+        const Vec3f c =
+            (sphere.positions[tri[0]] + sphere.positions[tri[1]] + sphere.positions[tri[2]]) / 3.0f;
+        if (c.y > cap_y) continue;
+        std::array<std::uint32_t, 3> out{};
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = tri[k];
+            if (remap[v] == ~0u) {
+                remap[v] = static_cast<std::uint32_t>(m.positions.size());
+                m.positions.push_back(sphere.positions[v]);
+                m.normals.push_back(-normalize(sphere.positions[v]));
+                m.albedo.push_back(albedo);
+            }
+            out[k] = remap[v];
+        }
+        std::swap(out[1], out[2]);  // counter-clockwise seen from inside
+        m.triangles.push_back(out);
+    }
+    return m;
+}
+
+BakeOptions ir_options(int K, std::uint32_t samples, int bounces) {
+    BakeOptions o;
+    o.transfer = TransferKind::interreflected;
+    o.K = K;
+    o.samples = samples;
+    o.seed = 3;
+    o.threads = 2;
+    o.bounces = bounces;
+    return o;
+}
+
+TEST(Interreflect, ZeroBouncesIsTheShadowedBakeBitForBit) {
+    const Mesh mesh = make_builtin("box_on_plane");
+    BakeOptions shadowed = ir_options(16, 256, 0);
+    shadowed.transfer = TransferKind::shadowed;
+    const TransferSet direct = bake(mesh, shadowed);
+    const TransferSet ir = bake(mesh, ir_options(16, 256, 0));
+    ASSERT_EQ(ir.layout.channels, 3);
+    ASSERT_EQ(ir.kind, TransferKind::interreflected);
+    ASSERT_EQ(ir.receiver_count(), mesh.vertex_count());
+    ASSERT_EQ(ir.direct.size(), direct.coeffs.size());
+    EXPECT_EQ(std::memcmp(ir.direct.data(), direct.coeffs.data(), direct.coeffs.size() * 4), 0);
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        for (int c = 0; c < 3; ++c)
+            ASSERT_EQ(std::memcmp(ir.receiver(v, c), direct.receiver(v), 16 * sizeof(float)), 0)
+                << "vertex " << v << " channel " << c;
+    // With bounces, the direct part is still the shadowed bake's.
+    const TransferSet ir3 = bake(mesh, ir_options(16, 256, 3));
+    EXPECT_EQ(std::memcmp(ir3.direct.data(), direct.coeffs.data(), direct.coeffs.size() * 4), 0);
+    EXPECT_EQ(ir3.interreflection.bounces, 3);
+    EXPECT_GT(ir3.interreflection.operator_nnz, 0u);
+}
+
+TEST(Interreflect, SameBitsForAnyThreadCount) {
+    const Mesh mesh = make_builtin("box_on_plane");
+    BakeOptions one = ir_options(9, 256, 3);
+    one.threads = 1;
+    BakeOptions two = one;
+    two.threads = 2;
+    const TransferSet a = bake(mesh, one), b = bake(mesh, two);
+    ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
+    EXPECT_EQ(std::memcmp(a.coeffs.data(), b.coeffs.data(), a.coeffs.size() * 4), 0);
+    EXPECT_EQ(a.interreflection.operator_nnz, b.interreflection.operator_nnz);
+}
+
+TEST(Interreflect, ClosestHitsAreIntersect) {
+    const Mesh mesh = make_builtin("box_on_plane");
+    const auto tracer = make_embree_tracer(mesh);
+    const DirectionSet d = make_direction_set(SamplerKind::sobol, 1, 600);
+    std::vector<Vec3f> dirs;
+    for (std::size_t s = 0; s < d.size(); ++s)
+        dirs.push_back({d.dirs[3 * s], d.dirs[3 * s + 1], d.dirs[3 * s + 2]});
+    const Vec3f origin{0.7f, 0.3f, -1.1f};
+    std::vector<Hit> hits(dirs.size());
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    tracer->closest_hits(origin, dirs.data(), int(dirs.size()), 0.0f, kInf, hits.data());
+    int hit_count = 0;
+    for (std::size_t i = 0; i < dirs.size(); ++i) {
+        const Hit one = tracer->intersect(origin, dirs[i], 0.0f, kInf);
+        ASSERT_EQ(hits[i].hit, one.hit) << i;
+        if (!one.hit) continue;
+        ++hit_count;
+        EXPECT_EQ(hits[i].triangle, one.triangle);
+        EXPECT_EQ(hits[i].t, one.t);
+    }
+    EXPECT_GT(hit_count, 100);
+}
+
+// White furnace: ρ = 1 in a cavity under a constant sky of 1: E_N rises with N at every vertex
+// and tends to π (to the direction set's cosine quadrature error).
+TEST(Interreflect, WhiteFurnaceCavityTendsToPiMonotonically) {
+    const Mesh cavity = spherical_cavity(3, 0.5, {1, 1, 1});
+    std::vector<std::vector<double>> E;  // [N][v]
+    for (int N : {0, 1, 2, 4, 8}) {
+        const TransferSet t = bake(cavity, ir_options(1, 4096, N));
+        std::vector<double> e(cavity.vertex_count());
+        for (std::size_t v = 0; v < e.size(); ++v) e[v] = constant_sky_E(t, v, 0);
+        E.push_back(e);
+    }
+    for (std::size_t n = 1; n < E.size(); ++n)
+        for (std::size_t v = 0; v < cavity.vertex_count(); ++v)
+            ASSERT_GT(E[n][v], E[n - 1][v]) << "step " << n << " vertex " << v;
+    BakeOptions conv = ir_options(1, 4096, 0);
+    conv.converge = true;
+    conv.tolerance = 1e-6;
+    const TransferSet t = bake(cavity, conv);
+    EXPECT_TRUE(t.interreflection.converged);
+    EXPECT_GT(t.interreflection.bounces, 20);
+    double worst = 0;
+    for (std::size_t v = 0; v < cavity.vertex_count(); ++v)
+        worst = std::max(worst, std::abs(constant_sky_E(t, v, 0) - kPi) / kPi);
+    // Named tolerance: the 4096-direction Sobol set integrates the clamped cosine to ~1e-3; the
+    // rim vertices' rays graze the cut edge.
+    EXPECT_LT(worst, 0.01) << "E_inf should be pi at every vertex";
+    EXPECT_GT(E[4][0], E[0][0] * 2.0);  // the bounces matter here (f ≈ 0.25)
+}
+
+// The analytic cavity with albedo ρ = (0.3, 0.6, 0.9): E_N = E_0·Σ_{b≤N} (ρ(1−f))^b per channel
+// and E_∞ = E_0 / (1 − ρ(1 − f)), with f = E_0/π measured from T_0 at each vertex.
+TEST(Interreflect, SphericalCavityMatchesTheClosedForm) {
+    const Vec3f rho{0.3f, 0.6f, 0.9f};
+    const Mesh cavity = spherical_cavity(3, 0.5, rho);
+    for (int N : {1, 3}) {
+        const TransferSet t = bake(cavity, ir_options(1, 4096, N));
+        double worst = 0;
+        for (std::size_t v = 0; v < cavity.vertex_count(); ++v) {
+            const double E0 = double(t.direct[v]) * 2.0 * std::sqrt(kPi);
+            const double f = E0 / kPi;
+            for (int c = 0; c < 3; ++c) {
+                const double r = double(rho[c]) * (1.0 - f);
+                double expect = 0, term = E0;
+                for (int b = 0; b <= N; ++b, term *= r) expect += term;
+                worst = std::max(worst, std::abs(constant_sky_E(t, v, c) - expect) / expect);
+            }
+        }
+        // Named tolerance: f varies by about 1% over the vertices (flat triangles, a jagged cut),
+        // and the closed form takes each vertex's own f for the whole cavity.
+        EXPECT_LT(worst, 0.02) << "N = " << N;
+    }
+    BakeOptions conv = ir_options(1, 4096, 0);
+    conv.converge = true;
+    const TransferSet t = bake(cavity, conv);
+    EXPECT_TRUE(t.interreflection.converged);
+    double worst = 0;
+    for (std::size_t v = 0; v < cavity.vertex_count(); ++v) {
+        const double E0 = double(t.direct[v]) * 2.0 * std::sqrt(kPi);
+        const double f = E0 / kPi;
+        for (int c = 0; c < 3; ++c) {
+            const double expect = E0 / (1.0 - double(rho[c]) * (1.0 - f));
+            worst = std::max(worst, std::abs(constant_sky_E(t, v, c) - expect) / expect);
+        }
+    }
+    EXPECT_LT(worst, 0.03);
+}
+
+// One-sided surfaces: a floor under a panel whose front faces up sees only the panel's back, so
+// nothing bounces down; two-sided, the panel's underside sends the panel's light.
+TEST(Interreflect, BackFacesBringNothingUnlessTwoSided) {
+    MeshBuilder b;
+    b.add_rect(Axis::y, 0.0, +1, {-2, 2, -2, 2}, 0.5, {0.8f, 0.8f, 0.8f});
+    b.add_rect(Axis::y, 0.5, +1, {-1, 1, -1, 1}, 0.5, {0.8f, 0.8f, 0.8f});
+    const Mesh mesh = b.take_mesh("test:panel");
+    const TransferSet one = bake(mesh, ir_options(4, 512, 2));
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        for (int c = 0; c < 3; ++c)
+            for (int i = 0; i < 4; ++i)
+                ASSERT_EQ(one.receiver(v, c)[i], one.direct[v * 4 + i]) << v;
+    EXPECT_EQ(one.interreflection.operator_nnz, 0u);
+    BakeOptions two_sided = ir_options(4, 512, 2);
+    two_sided.two_sided = true;
+    const TransferSet two = bake(mesh, two_sided);
+    EXPECT_GT(two.interreflection.operator_nnz, 0u);
+    EXPECT_GT(constant_sky_E(two, 0, 0), double(two.direct[0]) * 2.0 * std::sqrt(kPi));
+}
+
+// The independent estimate: a path tracer over the same discretisation (radiance at a hit is the
+// barycentric mix of its vertices', chosen stochastically) with the same tracer, cosine-sampled
+// directions from the vertex's offset origin, under a band-limited light (so that the bake's
+// E = Σ_i c_T[i]·l_i is exact but for its own sampling). Returns E and its standard error per
+// channel.
+struct Estimate {
+    double E[3], sigma[3];
+};
+
+Estimate path_trace(const Mesh& mesh, const Tracer& tracer, std::size_t v0, int N, int K,
+                    const std::vector<double>& light, int paths, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    double sum[3] = {}, sum2[3] = {};
+    std::vector<double> y(K);
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    for (int p = 0; p < paths; ++p) {
+        std::size_t x = v0;
+        double throughput[3] = {1, 1, 1};
+        double value[3] = {0, 0, 0};
+        for (int depth = 0; depth <= N; ++depth) {
+            // Cosine-weighted direction about n (Malley): pdf cos/π.
+            const Vec3d n = cast<double>(mesh.normals[x]);
+            const Vec3d a = std::abs(n.x) > 0.5 ? Vec3d{0, 1, 0} : Vec3d{1, 0, 0};
+            const Vec3d t1 = normalize(cross(a, n));
+            const Vec3d t2 = cross(n, t1);
+            const double r = std::sqrt(u01(rng)), phi = 2 * kPi * u01(rng);
+            const double z = std::sqrt(std::max(0.0, 1 - r * r));
+            const Vec3d w = t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi)) + n * z;
+            const Vec3f wf = cast<float>(w);
+            const Hit h = tracer.intersect(offset_ray_origin(mesh.positions[x], mesh.normals[x]),
+                                           wf, 0.0f, kInf);
+            if (!h.hit) {  // escapes: π·L(ω) estimates ∫ L cos dω
+                sh_eval_k<double>(K, w.x, w.y, w.z, y.data());
+                for (int c = 0; c < 3; ++c) {
+                    double L = 0;
+                    for (int i = 0; i < K; ++i) L += light[c * K + i] * y[i];
+                    value[c] = throughput[c] * kPi * L;
+                }
+                break;
+            }
+            if (depth == N) break;
+            const auto& tri = mesh.triangles[h.triangle];
+            const Vec3f p0 = mesh.positions[tri[0]];
+            const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
+            if (dot(face, wf) >= 0.0f) break;  // a back face sends nothing
+            const double bary[3] = {1.0 - h.u - h.v, h.u, h.v};
+            // ρ(h)/π · T(h) with pdf cos/π: the weight is ρ(h); T(h) = Σ b_k T(k), one k drawn.
+            for (int c = 0; c < 3; ++c) {
+                double rho = 0;
+                for (int k = 0; k < 3; ++k) rho += bary[k] * double(mesh.albedo[tri[k]][c]);
+                throughput[c] *= rho;
+            }
+            const double pick = u01(rng);
+            x = pick < bary[0] ? tri[0] : (pick < bary[0] + bary[1] ? tri[1] : tri[2]);
+        }
+        for (int c = 0; c < 3; ++c) {
+            sum[c] += value[c];
+            sum2[c] += value[c] * value[c];
+        }
+    }
+    Estimate e{};
+    for (int c = 0; c < 3; ++c) {
+        e.E[c] = sum[c] / paths;
+        const double var = std::max(0.0, sum2[c] / paths - e.E[c] * e.E[c]);
+        e.sigma[c] = std::sqrt(var / paths);
+    }
+    return e;
+}
+
+TEST(Interreflect, AgreesWithABruteForcePathTracer) {
+    // A box on a floor, coloured: the floor reddish, the box bluish.
+    Mesh mesh = make_builtin("box_on_plane");
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        mesh.albedo[v] =
+            mesh.positions[v].y > 1e-4f ? Vec3f{0.2f, 0.4f, 0.9f} : Vec3f{0.9f, 0.6f, 0.3f};
+    const int K = 9;
+    // A band-limited sky: a constant plus linear and quadratic terms per channel.
+    const std::vector<double> light = {3.5, 0.4, 1.2, 0.3, 0.1, 0.2, 0.3, 0.1, 0.2,   // R
+                                       3.0, 0.2, 1.0, 0.1, 0.2, 0.1, 0.2, 0.2, 0.1,   // G
+                                       2.5, 0.1, 0.8, 0.2, 0.1, 0.3, 0.1, 0.1, 0.3};  // B
+    const auto tracer = make_embree_tracer(mesh);
+    // Receivers where the bounces matter: floor vertices at the foot of the box, box vertices
+    // near the floor.
+    std::vector<std::size_t> probes, floor_probes;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        const Vec3f p = mesh.positions[v];
+        const bool floor_near_box =
+            p.y == 0.0f && std::abs(p.x) > 0.5f && std::abs(p.x) < 0.8f && std::abs(p.z) < 0.3f;
+        const bool box_low = p.y > 0.05f && p.y < 0.3f && std::abs(p.z) < 0.3f &&
+                             std::abs(std::abs(p.x) - 0.5f) < 1e-4f;
+        if (floor_near_box && floor_probes.size() < 2) floor_probes.push_back(v);
+        if (box_low && probes.size() < 2) probes.push_back(v);
+    }
+    probes.insert(probes.end(), floor_probes.begin(), floor_probes.end());
+    ASSERT_EQ(probes.size(), 4u);
+    for (int N : {1, 3}) {
+        BakeOptions o = ir_options(K, 16384, N);
+        const TransferSet t =
+            bake_with_tracer(mesh, o, make_direction_set(o.sampler, o.seed, 16384), *tracer);
+        for (std::size_t v : probes) {
+            const Estimate e = path_trace(mesh, *tracer, v, N, K, light, 200000, 17 + v);
+            for (int c = 0; c < 3; ++c) {
+                double E = 0;
+                for (int i = 0; i < K; ++i) E += double(t.receiver(v, c)[i]) * light[c * K + i];
+                // Named tolerance: 4 standard errors of the path tracer plus 0.5% for the bake's
+                // own 16384-direction quadrature.
+                const double tol = 4 * e.sigma[c] + 0.005 * std::abs(e.E[c]);
+                EXPECT_NEAR(E, e.E[c], tol) << "N = " << N << " vertex " << v << " channel " << c
+                                            << " sigma " << e.sigma[c];
+            }
+        }
+    }
+}
+
+// The AVX2 kernel and Eigen's product give the same bits (same multiplies and adds, same order),
+// for any thread count, with K not a multiple of the vector width.
+TEST(Interreflect, KernelsGiveTheSameBits) {
+    Mesh mesh = make_builtin("box_on_plane");
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        mesh.albedo[v] = {0.9f, 0.5f, float(v % 7) / 7.0f};
+    const auto tracer = make_embree_tracer(mesh);
+    const DirectionSet d = make_direction_set(SamplerKind::sobol, 1, 256);
+    TransportOptions to;
+    to.threads = 2;
+    const TransportOperator A = build_transport_operator(mesh, d, *tracer, to);
+    ASSERT_GT(A.nnz(), 0u);
+    for (int K : {1, 13, 16}) {
+        std::vector<float> x(mesh.vertex_count() * 3 * std::size_t(K));
+        for (std::size_t i = 0; i < x.size(); ++i) x[i] = float(i % 101) * 0.01f - 0.3f;
+        std::vector<float> eigen1(x.size()), eigen2(x.size());
+        apply_transport(A, x.data(), eigen1.data(), K, 1, TransportKernel::eigen);
+        apply_transport(A, x.data(), eigen2.data(), K, 2, TransportKernel::eigen);
+        EXPECT_EQ(std::memcmp(eigen1.data(), eigen2.data(), x.size() * 4), 0) << K;
+        if (!__builtin_cpu_supports("avx2")) continue;
+        std::vector<float> avx1(x.size()), avx2(x.size());
+        apply_transport(A, x.data(), avx1.data(), K, 1, TransportKernel::avx2);
+        apply_transport(A, x.data(), avx2.data(), K, 2, TransportKernel::avx2);
+        EXPECT_EQ(std::memcmp(avx1.data(), eigen1.data(), x.size() * 4), 0) << K;
+        EXPECT_EQ(std::memcmp(avx2.data(), eigen1.data(), x.size() * 4), 0) << K;
+    }
+}
+
+TEST(Interreflect, RefusesWhatItCannotDo) {
+    const Mesh mesh = make_builtin("plane");
+    BakeOptions o = ir_options(4, 64, 1);
+    o.device = Device::cuda;
+    EXPECT_THROW(bake(mesh, o), Error);
+    o.device = Device::cpu;
+    EXPECT_THROW(bake(mesh, vertex_receivers(mesh).range(0, 10), o), Error);
+    o.bounces = -1;
+    EXPECT_THROW(bake(mesh, o), Error);
+    o.bounces = 1;
+    o.tolerance = 0;
+    EXPECT_THROW(bake(mesh, o), Error);
+}
+
+}  // namespace
+}  // namespace shprt

@@ -1,0 +1,98 @@
+// `shprt bake --transfer interreflected` run as a program: the file holds RGB transfer and its
+// direct part (read back by the library: the direct part is the shadowed bake's bits), `info`
+// says where the albedo came from and the bounces, `shade --direct` shades T_0 only, and what
+// cannot be done (cuda, shards, streaming, options without the kind) is one line on stderr.
+#include "shprt/bake/bake.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/scene/load.hpp"
+
+#include "cli/cli_test.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+
+namespace shprt {
+namespace {
+
+using test_support::expect_one_line_error;
+
+class CliInterreflect : public test_support::CliTest {};
+
+TEST_F(CliInterreflect, BakeInfoShadeDirect) {
+    const std::string file = (m_dir / "box.shprt").string();
+    auto r = shprt(
+        "bake builtin:box_on_plane --transfer interreflected --bounces 2 --coeffs 9 "
+        "--samples 128 --albedo 0.9,0.5,0.25 --reproducible -o '" +
+        file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("interreflection: 2 bounces"));
+
+    const ShprtFile f = read_shprt(file);
+    EXPECT_EQ(f.transfer.kind, TransferKind::interreflected);
+    EXPECT_EQ(f.transfer.layout.channels, 3);
+    EXPECT_EQ(f.transfer.interreflection.bounces, 2);
+    EXPECT_EQ(f.transfer.interreflection.albedo_source, "--albedo 0.9,0.5,0.25");
+    EXPECT_GT(f.transfer.interreflection.operator_nnz, 0u);
+    EXPECT_EQ(f.mesh.albedo[0].x, 0.9f);  // the file keeps the albedo the bake used
+
+    // The direct part is the shadowed bake of the same scene, bit for bit.
+    BakeOptions o;
+    o.K = 9;
+    o.samples = 128;
+    const TransferSet shadowed = bake(load_scene("builtin:box_on_plane"), o);
+    ASSERT_EQ(f.transfer.direct.size(), shadowed.coeffs.size());
+    EXPECT_EQ(std::memcmp(f.transfer.direct.data(), shadowed.coeffs.data(),
+                          shadowed.coeffs.size() * sizeof(float)),
+              0);
+
+    r = shprt("info '" + file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("albedo       --albedo 0.9,0.5,0.25"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("bounces      2"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("nnz(A) = "));
+
+    const std::string both = (m_dir / "both.csv").string(),
+                      direct = (m_dir / "direct.csv").string();
+    ASSERT_EQ(shprt("shade '" + file + "' --light constant -o '" + both + "'").exit_code, 0);
+    ASSERT_EQ(shprt("shade '" + file + "' --direct --light constant -o '" + direct + "'").exit_code,
+              0);
+    EXPECT_NE(test_support::slurp(both), test_support::slurp(direct));
+
+    // The same bake without --albedo: the builtin scene's own colours, named.
+    r = shprt(
+        "bake builtin:box_on_plane --transfer interreflected --bounces converged "
+        "--coeffs 4 --samples 64 -o '" +
+        file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = shprt("info '" + file + "'");
+    EXPECT_THAT(r.out, ::testing::HasSubstr("albedo       builtin scene colours"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("converged"));
+}
+
+TEST_F(CliInterreflect, RefusalsAreOneLine) {
+    const std::string out = (m_dir / "x.shprt").string();
+    const std::string base = "bake builtin:plane --samples 64 --coeffs 4 -o '" + out + "' ";
+    expect_one_line_error(shprt(base + "--transfer interreflected --device cuda"),
+                          "interreflected transfer runs on the CPU only");
+    expect_one_line_error(shprt(base + "--transfer interreflected --shard 0/2"),
+                          "cannot be sharded");
+    expect_one_line_error(shprt(base + "--transfer interreflected --stream"), "--stream");
+    expect_one_line_error(shprt(base + "--bounces 2"), "need --transfer interreflected");
+    expect_one_line_error(shprt(base + "--transfer interreflected --bounces lots"),
+                          "--bounces 'lots'");
+    expect_one_line_error(shprt(base + "--transfer interreflected --tolerance 0.01"),
+                          "--tolerance needs --bounces converged");
+    expect_one_line_error(shprt(base + "--transfer interreflected --albedo 1.5,0,0"),
+                          "--albedo 1.5,0,0");
+    const std::string plain = (m_dir / "plain.shprt").string();
+    ASSERT_EQ(shprt("bake builtin:plane --samples 64 --coeffs 4 -o '" + plain + "'").exit_code, 0);
+    expect_one_line_error(shprt("shade '" + plain + "' --direct --light constant -o '" +
+                                (m_dir / "a.csv").string() + "'"),
+                          "has no direct part");
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace shprt
