@@ -178,7 +178,7 @@ int main(int argc, char** argv) {
         int threads;
         TransportKernel kernel;
         double seconds = 1e30;
-        std::vector<float> y;
+        std::vector<float> y{};
     };
     std::vector<Case> cases = {
         {"apply_transport, automatic kernel (as in the bake)", threads, TransportKernel::automatic},
