@@ -103,6 +103,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 shprt::Camera camera;
                 shprt::parse_camera(text, camera);
                 check(finite3(camera.eye) && finite3(camera.target));
+                check(finite3(camera.target - camera.eye) && !(camera.target == camera.eye));
                 break;
             }
             case 8:
