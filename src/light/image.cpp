@@ -16,12 +16,14 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
 #include <string_view>
+#include <vector>
 
 namespace shprt {
 namespace {
@@ -230,6 +232,67 @@ struct ExrImageGuard {
          code);
 }
 
+// At most 40 characters of a string from a file, non-printable bytes as '?'.
+std::string printable_exr_type(const std::string& t) {
+    std::string out = t.substr(0, 40);
+    for (char& c : out)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+    return out;
+}
+
+// Debian's libtinyexr is built with assertions, and ParseEXRHeaderFromMemory asserts (aborting the
+// program) on header attributes it does not expect: a "type" other than scanlineimage without
+// tiles or tiledimage with them, a "tiles" attribute that is not 9 bytes (fuzz_light_load found
+// the first). So the attributes those asserts and unchecked reads look at are checked here first,
+// by the same walk tinyexr makes (name\0 type\0 size value, until an empty name). Where the walk
+// breaks tinyexr reports an error, but only after it has converted (and asserted on) the
+// attributes read so far, so those are checked too.
+void check_exr_attributes(const std::string& path, const unsigned char* mem, std::size_t size,
+                          const EXRVersion& version) {
+    std::size_t pos = 8;  // magic and version
+    bool tiled = false;
+    std::vector<std::string> types;
+    while (pos < size && mem[pos] != 0) {
+        const char* p = reinterpret_cast<const char*>(mem + pos);
+        const std::size_t left = size - pos;
+        const std::size_t name_len = strnlen(p, left);
+        if (name_len == left) break;
+        const std::size_t type_len = strnlen(p + name_len + 1, left - name_len - 1);
+        const std::size_t head = name_len + 1 + type_len + 1;
+        if (type_len == left - name_len - 1 || left - head < 4) break;
+        std::uint32_t len = 0;
+        std::memcpy(&len, p + head, 4);  // little-endian, as this machine
+        if (len > left - head - 4) break;
+        const std::string name(p, name_len);
+        const unsigned char* data = mem + pos + head + 4;
+        static const char* const kRead[] = {"channels",           "compression",
+                                            "dataWindow",         "displayWindow",
+                                            "lineOrder",          "pixelAspectRatio",
+                                            "screenWindowCenter", "screenWindowWidth",
+                                            "chunkCount",         "tiles"};
+        for (const char* r : kRead)
+            SHPRT_CHECK(len > 0 || name != r, format,
+                        "cannot decode image {}: OpenEXR attribute '{}' is empty (corrupt file)",
+                        path, name);
+        if (name == "tiles" && (version.tiled || version.multipart || version.non_image)) {
+            SHPRT_CHECK(len == 9, format,
+                        "cannot decode image {}: OpenEXR attribute 'tiles' has {} bytes, not 9 "
+                        "(corrupt file)",
+                        path, len);
+            tiled = true;
+        }
+        if (name == "type" && len > 0 && data[0] != 0)
+            types.emplace_back(reinterpret_cast<const char*>(data),
+                               strnlen(reinterpret_cast<const char*>(data), len));
+        pos += head + 4 + len;
+    }
+    for (const std::string& t : types)
+        SHPRT_CHECK((t == "scanlineimage" && !tiled) || (t == "tiledimage" && tiled), format,
+                    "cannot decode image {}: OpenEXR part type '{}' does not match its {} layout "
+                    "(deep or corrupt file)",
+                    path, printable_exr_type(t), tiled ? "tiled" : "scanline");
+}
+
 Image load_exr(const std::string& path, const std::string& bytes,
                const ImageSizeCheck& check_size) {
     const auto* mem = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -239,6 +302,7 @@ Image load_exr(const std::string& path, const std::string& bytes,
                 path, ret);
     SHPRT_CHECK(!version.multipart && !version.non_image, unsupported,
                 "image {}: multi-part and deep OpenEXR files are not supported", path);
+    check_exr_attributes(path, mem, bytes.size(), version);
     ExrHeaderGuard h;
     const char* err = nullptr;
     ret = ParseEXRHeaderFromMemory(&h.header, &version, mem, bytes.size(), &err);

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -150,16 +151,34 @@ Camera default_camera(const Mesh& mesh, float aspect) {
     return cam;
 }
 
+namespace {
+
+// Positions are floats: a finite double beyond float's range (1e39) would become infinite.
+void check_float_range(const std::vector<double>& v, const std::string& what,
+                       const std::string& text) {
+    for (double x : v)
+        SHPRT_CHECK(std::abs(x) <= double(std::numeric_limits<float>::max()), invalid_argument,
+                    "{} '{}': {} is out of range (at most {:g} in magnitude)", what, text, x,
+                    double(std::numeric_limits<float>::max()));
+}
+
+}  // namespace
+
 void parse_camera(const std::string& text, Camera& camera) {
     const auto v = parse_numbers(text, 6, "camera EX,EY,EZ,TX,TY,TZ");
+    check_float_range(v, "camera", text);
     camera.eye = to_f(v[0], v[1], v[2]);
     camera.target = to_f(v[3], v[4], v[5]);
     SHPRT_CHECK(!(camera.eye == camera.target), invalid_argument,
                 "camera '{}': eye and target coincide", text);
+    const Vec3f d = camera.target - camera.eye;  // the view direction, finite in float
+    SHPRT_CHECK(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z), invalid_argument,
+                "camera '{}': eye and target are too far apart", text);
 }
 
 Vec3f parse_vec3(const std::string& text, const std::string& what) {
     const auto v = parse_numbers(text, 3, what);
+    check_float_range(v, what, text);
     return to_f(v[0], v[1], v[2]);
 }
 

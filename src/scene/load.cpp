@@ -37,6 +37,7 @@
 namespace shprt {
 namespace {
 
+using detail::check_off_header;
 using detail::check_ply_header;
 using detail::kMaxPlyHeader;
 using detail::looks_like_ply;
@@ -300,8 +301,11 @@ Mesh load_file(const std::string& path) {
     // Assimp 5.2.5 hangs or allocates without bound on some corrupt PLY headers, so check them
     // here (for .ply files and for anything Assimp would recognise as PLY by its first line).
     std::optional<PlyHeader> ply;
-    if (const std::string prefix = file_prefix(path); ext == ".ply" || looks_like_ply(prefix))
-        ply = check_ply_header(path, prefix, size);
+    // The same for the counts on an OFF file's first lines, which Assimp allocates before it reads
+    // a vertex.
+    const std::string prefix = file_prefix(path);
+    if (ext == ".ply" || looks_like_ply(prefix)) ply = check_ply_header(path, prefix, size);
+    check_off_header(path, prefix, size);
     // Assimp runs in a child process: a crash in one of its importers (fuzzing found a Collada
     // one) becomes an error naming the file, not the end of the program.
     const PlyHeader* ply_header = ply ? &*ply : nullptr;

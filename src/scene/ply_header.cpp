@@ -163,4 +163,34 @@ PlyHeader check_ply_header(const std::string& path, const std::string& prefix,
     return header;
 }
 
+void check_off_header(const std::string& path, const std::string& prefix,
+                      std::uintmax_t file_size) {
+    std::istringstream in(prefix);
+    std::string line, token;
+    // The first line that is not a comment or blank holds the header token.
+    while (std::getline(in, line)) {
+        const auto first = line.find_first_not_of(" \t\r");
+        if (first != std::string::npos && line[first] != '#') break;
+    }
+    std::istringstream head(line);
+    if (!(head >> token) || (token != "OFF" && token != "COFF" && token != "NOFF")) return;
+    // The counts follow on the same line or on the next line that is not a comment.
+    std::string counts;
+    std::getline(head, counts);
+    if (counts.find_first_not_of(" \t\r") == std::string::npos) {
+        while (std::getline(in, line)) {
+            const auto first = line.find_first_not_of(" \t\r");
+            if (first != std::string::npos && line[first] != '#') break;
+        }
+        counts = line;
+    }
+    std::istringstream numbers(counts);
+    std::uint64_t vertices = 0, faces = 0;
+    if (!(numbers >> vertices >> faces)) return;
+    SHPRT_CHECK(vertices <= file_size / 6 && faces <= file_size / 8, format,
+                "{}: the OFF header claims {} vertices and {} faces, more than a file of {} bytes "
+                "can hold",
+                path, vertices, faces, file_size);
+}
+
 }  // namespace shprt::detail

@@ -31,4 +31,14 @@ bool looks_like_ply(const std::string& prefix);
 PlyHeader check_ply_header(const std::string& path, const std::string& prefix,
                            std::uintmax_t file_size);
 
+// The same bound for OFF files (Assimp 5.2.5 allocates the counts on an OFF file's first lines
+// before it reads a vertex: a 130-byte file claiming 1e8 vertices took 1.2 GB and 1.5 s, Assimp's
+// own invalid/OutOfMemory.off claims 3.5e11). When `prefix` (the first bytes of a file of
+// `file_size` bytes) starts, after '#' comment lines, with the token OFF, COFF or NOFF and then
+// the vertex and face counts, checks that the rest of the file can hold them: an ASCII vertex
+// takes at least 6 bytes ("0 0 0\n"), a face at least 8 ("3 0 1 2\n"). Throws Error(format)
+// naming `path` and the counts when it cannot; anything else (another header, unparsable counts)
+// is left to Assimp.
+void check_off_header(const std::string& path, const std::string& prefix, std::uintmax_t file_size);
+
 }  // namespace shprt::detail

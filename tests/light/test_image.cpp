@@ -329,3 +329,39 @@ TEST_F(ImageFiles, ExrVariantsLoad) {
 
 }  // namespace
 }  // namespace shprt
+
+namespace shprt {
+namespace {
+
+// Debian's libtinyexr asserts (aborting the program) on a header whose "type" does not match its
+// layout or whose "tiles" is not 9 bytes, even when it then reports the header as corrupt. Found
+// by fuzz_light_load (tests/data/light/exr_type_assert.exr is its input; in the fuzz corpus as
+// light_load/exr-type-assert): these must be errors, not the end of the program.
+std::string exr_with(const std::string& name, const std::string& type, const std::string& value,
+                     std::uint8_t version_flags = 0) {
+    std::string out("\x76\x2f\x31\x01", 4);
+    out += std::string{char(2), char(version_flags), char(0), char(0)};
+    out += name + '\0' + type + '\0';
+    const auto len = static_cast<std::uint32_t>(value.size());
+    out.append(reinterpret_cast<const char*>(&len), 4);  // little-endian machine
+    out += value;
+    out += '\0';  // end of the header
+    return out;
+}
+
+TEST_F(ImageFiles, ExrHeadersThatTinyexrAssertsOnAreErrors) {
+    expect_error_naming(std::string(SHPRT_TEST_DATA_DIR) + "/light/exr_type_assert.exr",
+                        ErrorCode::format);
+    write_bytes(path("tiled_type.exr"), exr_with("type", "string", "tiledimage"));
+    expect_error_naming(path("tiled_type.exr"), ErrorCode::format);
+    write_bytes(path("odd_type.exr"), exr_with("type", "string", "flat"));
+    expect_error_naming(path("odd_type.exr"), ErrorCode::format);
+    // A tiled file (version bit 9) whose "tiles" attribute is 4 bytes.
+    write_bytes(path("tiles.exr"), exr_with("tiles", "tiledesc", "abcd", 0x02));
+    expect_error_naming(path("tiles.exr"), ErrorCode::format);
+    write_bytes(path("empty.exr"), exr_with("compression", "string", ""));
+    expect_error_naming(path("empty.exr"), ErrorCode::format);
+}
+
+}  // namespace
+}  // namespace shprt

@@ -101,6 +101,20 @@ TEST(Camera, DefaultCameraForTheRoomIsInsideNearARaisedCornerLookingDown) {
     EXPECT_GT(cam.far_plane, 7.0f);
 }
 
+// Found by fuzz_value_parse (tests/fuzz/corpus/value_parse/camera-float-overflow): a finite
+// double beyond float's range became an infinite eye, and eye and target at ±3e38 an infinite
+// view direction.
+TEST(Camera, ParsersRejectNumbersBeyondFloat) {
+    Camera cam;
+    EXPECT_THROW(parse_camera("0,1,4e81,0,1,5", cam), Error);
+    EXPECT_THROW(parse_camera("0,0,-1e39,0,0,0", cam), Error);
+    EXPECT_THROW(parse_camera("0,0,-3e38,0,0,3e38", cam), Error);
+    parse_camera("0,0,-1e38,0,0,1e38", cam);  // far apart, but the direction fits a float
+    EXPECT_EQ(cam.eye.z, -1e38f);
+    EXPECT_THROW(parse_vec3("1e39,0,0", "--eye"), Error);
+    EXPECT_EQ(parse_vec3("3e38,0,0", "--eye").x, 3e38f);
+}
+
 TEST(Camera, ParsersAcceptGoodTextAndRejectBad) {
     Camera cam;
     parse_camera("1,2,3,4,5,6.5", cam);

@@ -57,10 +57,11 @@ void fit_clip_planes(Camera& camera, const Bounds& bounds);
 Camera look_at_camera(Vec3f eye, Vec3f target, float fov_y_deg, const Bounds& bounds);
 
 // Parses "EX,EY,EZ,TX,TY,TZ" (six finite numbers, core/parse.hpp) into eye and target; throws
-// Error(invalid_argument) naming `text`, also when eye and target coincide.
+// Error(invalid_argument) naming `text`, also when a number is beyond float's range (1e39), when
+// eye and target coincide, or when they are so far apart that target - eye overflows float.
 void parse_camera(const std::string& text, Camera& camera);
-// Parses "X,Y,Z" (three finite numbers, core/parse.hpp); throws Error(invalid_argument) naming
-// `what` and `text`.
+// Parses "X,Y,Z" (three finite numbers within float's range, core/parse.hpp); throws
+// Error(invalid_argument) naming `what` and `text`.
 Vec3f parse_vec3(const std::string& text, const std::string& what);
 // Parses "WxH" (both in [1, 16384]); throws Error(invalid_argument).
 void parse_size(const std::string& text, int& width, int& height);

@@ -31,18 +31,20 @@ namespace shprt {
 //     kDefaultAlbedo grey (also for Assimp's placeholder material);
 //   * the result passes validate_mesh (degenerate triangles dropped with a warning).
 // PLY headers are checked strictly before Assimp sees them (Assimp 5.2.5 hangs or allocates
-// without bound on some corrupt ones). Assimp itself runs in a child process (fork; see
-// src/scene/isolated_import.hpp): a crafted corrupt file can crash its importers (fuzzing found
-// a Collada one; see assimp issues #6507, #6443), and such a crash becomes Error(format) naming
-// the file and the signal instead of ending the program. The child's memory is bounded by
-// importer_memory_budget (below): a file that needs more (a corrupt count: Assimp's own
-// invalid/OutOfMemory.off claims 3.5e11 vertices) gives Error(out_of_memory) "PATH: the importer
-// needed more than N GiB of memory ..." instead of taking the machine's memory. Nothing the
-// importer prints reaches stdout or stderr.
-// Mesh::source is `spec`. Throws shprt::Error whose message starts with the path and names the
-// problem: Error(io) for a missing or unreadable file, Error(unsupported) for a format Assimp
-// does not know, Error(format) for a file it cannot parse, an empty mesh, NaN/Inf coordinates or
-// out-of-range indices; Error(invalid_argument) for an unknown built-in name.
+// without bound on some corrupt ones). The counts on an OFF file's first lines are checked
+// against the file's size too: Assimp allocates them before it reads a vertex (its own
+// invalid/OutOfMemory.off claims 3.5e11 vertices in 309 bytes). Assimp itself runs in a child
+// process (fork; see src/scene/isolated_import.hpp): a crafted corrupt file can crash its importers
+// (fuzzing found a Collada one; see assimp issues #6507, #6443), and such a crash becomes
+// Error(format) naming the file and the signal instead of ending the program. The child's memory is
+// bounded by importer_memory_budget (below): a file that needs more (a corrupt count that no header
+// check catches: a binary PLY face claiming a list of 4e9 indices) gives Error(out_of_memory)
+// "PATH: the importer needed more than N GiB of memory ..." instead of taking the machine's memory.
+// Nothing the importer prints reaches stdout or stderr. Mesh::source is `spec`. Throws shprt::Error
+// whose message starts with the path and names the problem: Error(io) for a missing or unreadable
+// file, Error(unsupported) for a format Assimp does not know, Error(format) for a file it cannot
+// parse, an empty mesh, NaN/Inf coordinates or out-of-range indices; Error(invalid_argument) for an
+// unknown built-in name.
 Mesh load_scene(const std::string& spec);
 
 // How much memory (bytes of address space) the importer child may use to read a file of
