@@ -3,6 +3,7 @@
 // says where the albedo came from and the bounces, `shade --direct` shades T_0 only, and what
 // cannot be done (cuda, shards, streaming, options without the kind) is one line on stderr.
 #include "shprt/bake/bake.hpp"
+#include "shprt/config.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/load.hpp"
 
@@ -53,12 +54,14 @@ TEST_F(CliInterreflect, BakeInfoShadeDirect) {
     EXPECT_THAT(r.out, ::testing::HasSubstr("bounces      2"));
     EXPECT_THAT(r.out, ::testing::HasSubstr("nnz(A) = "));
 
+#if SHPRT_HAS_RENDER  // `shade` comes with the renderer
     const std::string both = (m_dir / "both.csv").string(),
                       direct = (m_dir / "direct.csv").string();
     ASSERT_EQ(shprt("shade '" + file + "' --light constant -o '" + both + "'").exit_code, 0);
     ASSERT_EQ(shprt("shade '" + file + "' --direct --light constant -o '" + direct + "'").exit_code,
               0);
     EXPECT_NE(test_support::slurp(both), test_support::slurp(direct));
+#endif
 
     // The same bake without --albedo: the builtin scene's own colours, named.
     r = shprt(
@@ -86,11 +89,13 @@ TEST_F(CliInterreflect, RefusalsAreOneLine) {
                           "--tolerance needs --bounces converged");
     expect_one_line_error(shprt(base + "--transfer interreflected --albedo 1.5,0,0"),
                           "--albedo 1.5,0,0");
+#if SHPRT_HAS_RENDER
     const std::string plain = (m_dir / "plain.shprt").string();
     ASSERT_EQ(shprt("bake builtin:plane --samples 64 --coeffs 4 -o '" + plain + "'").exit_code, 0);
     expect_one_line_error(shprt("shade '" + plain + "' --direct --light constant -o '" +
                                 (m_dir / "a.csv").string() + "'"),
                           "has no direct part");
+#endif
     EXPECT_FALSE(std::filesystem::exists(out));
 }
 
