@@ -57,13 +57,7 @@ void run(const RenderArgs& a) {
     settings.background = a.background;
     settings.wireframe = a.wireframe;
 
-    ShprtFile file = read_shprt(a.input);
-    if (a.direct) {
-        SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
-                    "--direct: {} has no direct part (only interreflected bakes keep one)",
-                    a.input);
-        file.transfer = file.transfer.direct_only();
-    }
+    ShprtFile file = read_for_shading(a.input, a.direct);
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
     const float aspect = float(width) / float(height);
     settings.camera = camera_from(a.camera, file.mesh, aspect);

@@ -45,13 +45,7 @@ void run(const ShadeArgs& a) {
     Vec3f eye{};
     if (!a.eye.empty()) eye = parse_vec3(a.eye, "--eye");
 
-    ShprtFile file = read_shprt(a.input);
-    if (a.direct) {
-        SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
-                    "--direct: {} has no direct part (only interreflected bakes keep one)",
-                    a.input);
-        file.transfer = file.transfer.direct_only();
-    }
+    ShprtFile file = read_for_shading(a.input, a.direct);
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
     ShadeOptions options;
     options.k = a.k;

@@ -21,6 +21,22 @@ using trace_detail::FtzDazScope;
 // enough to live on the stack (48 bytes each).
 constexpr int kStreamChunk = 256;
 
+// One ray of a stream call: from `origin` along `dir` over [tnear, tfar], the i-th of its chunk.
+void set_ray(RTCRay& r, Vec3f origin, Vec3f dir, float tnear, float tfar, int i) {
+    r.org_x = origin.x;
+    r.org_y = origin.y;
+    r.org_z = origin.z;
+    r.tnear = tnear;
+    r.dir_x = dir.x;
+    r.dir_y = dir.y;
+    r.dir_z = dir.z;
+    r.time = 0.0f;
+    r.tfar = tfar;
+    r.mask = 0xFFFFFFFFu;
+    r.id = static_cast<unsigned>(i);
+    r.flags = 0;
+}
+
 struct GeometryRelease {
     void operator()(RTCGeometry g) const { rtcReleaseGeometry(g); }
 };
@@ -82,20 +98,7 @@ public:
         for (int base = 0; base < count; base += kStreamChunk) {
             const int n = std::min(kStreamChunk, count - base);
             for (int i = 0; i < n; ++i) {
-                RTCRay& r = rays[i];
-                const Vec3f d = dirs[base + i];
-                r.org_x = origin.x;
-                r.org_y = origin.y;
-                r.org_z = origin.z;
-                r.tnear = tnear;
-                r.dir_x = d.x;
-                r.dir_y = d.y;
-                r.dir_z = d.z;
-                r.time = 0.0f;
-                r.tfar = tfar;
-                r.mask = 0xFFFFFFFFu;
-                r.id = static_cast<unsigned>(i);
-                r.flags = 0;
+                set_ray(rays[i], origin, dirs[base + i], tnear, tfar, i);
             }
             rtcOccluded1M(m_scene.get(), &context, rays, static_cast<unsigned>(n), sizeof(RTCRay));
             // Embree marks an occluded ray by setting tfar to -inf.
@@ -116,19 +119,7 @@ public:
             const int n = std::min(kStreamChunk, count - base);
             for (int i = 0; i < n; ++i) {
                 RTCRayHit& rh = rays[i];
-                const Vec3f d = dirs[base + i];
-                rh.ray.org_x = origin.x;
-                rh.ray.org_y = origin.y;
-                rh.ray.org_z = origin.z;
-                rh.ray.tnear = tnear;
-                rh.ray.dir_x = d.x;
-                rh.ray.dir_y = d.y;
-                rh.ray.dir_z = d.z;
-                rh.ray.time = 0.0f;
-                rh.ray.tfar = tfar;
-                rh.ray.mask = 0xFFFFFFFFu;
-                rh.ray.id = static_cast<unsigned>(i);
-                rh.ray.flags = 0;
+                set_ray(rh.ray, origin, dirs[base + i], tnear, tfar, i);
                 rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
@@ -149,18 +140,7 @@ public:
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         RTCRayHit rh;
-        rh.ray.org_x = origin.x;
-        rh.ray.org_y = origin.y;
-        rh.ray.org_z = origin.z;
-        rh.ray.tnear = tnear;
-        rh.ray.dir_x = dir.x;
-        rh.ray.dir_y = dir.y;
-        rh.ray.dir_z = dir.z;
-        rh.ray.time = 0.0f;
-        rh.ray.tfar = tfar;
-        rh.ray.mask = 0xFFFFFFFFu;
-        rh.ray.id = 0;
-        rh.ray.flags = 0;
+        set_ray(rh.ray, origin, dir, tnear, tfar, 0);
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;

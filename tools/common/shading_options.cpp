@@ -87,4 +87,14 @@ void check_image_extension(const std::string& path) {
                 "output {}: unknown image format (expected .png, .exr or .hdr)", path);
 }
 
+ShprtFile read_for_shading(const std::string& path, bool direct) {
+    ShprtFile file = read_shprt(path);
+    if (direct) {
+        SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
+                    "--direct: {} has no direct part (only interreflected bakes keep one)", path);
+        file.transfer = file.transfer.direct_only();
+    }
+    return file;
+}
+
 }  // namespace shprt::tools

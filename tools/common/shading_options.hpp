@@ -4,6 +4,8 @@
 // picture in every tool (the viewer's --screenshot is compared with `shprt render` in the tests).
 #pragma once
 
+#include "shprt/io/shprt_file.hpp"
+
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
 #include "shprt/render/renderer.hpp"
@@ -57,5 +59,9 @@ void check_shading_args(double k, double gloss, double exposure);
 
 // Throws Error(invalid_argument) unless `path` ends in .png, .exr or .hdr (any case).
 void check_image_extension(const std::string& path);
+
+// Reads a .shprt file to shade; with `direct`, only its direct part (an interreflected bake's T_0;
+// a one-line error for a file without one). `shade` and `render --direct`.
+ShprtFile read_for_shading(const std::string& path, bool direct);
 
 }  // namespace shprt::tools
