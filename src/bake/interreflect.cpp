@@ -13,6 +13,7 @@
 #include "bake/stages.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
 
@@ -32,12 +33,6 @@
 
 namespace shprt {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 int thread_count(int threads) {
     return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
@@ -324,12 +319,7 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
     SHPRT_CHECK(job.sink->device_rows() == nullptr, unsupported,
                 "the CPU bake cannot write into a device buffer (a DeviceSink needs device "
                 "'cuda')");
-    SHPRT_CHECK(options.bounces >= 0, invalid_argument, "bounces = {} must be 0 or more",
-                options.bounces);
-    SHPRT_CHECK(options.tolerance > 0 && std::isfinite(options.tolerance), invalid_argument,
-                "tolerance = {} must be a positive number", options.tolerance);
-    SHPRT_CHECK(options.max_bounces >= 1, invalid_argument, "max_bounces = {} must be ≥ 1",
-                options.max_bounces);
+    // bounces, tolerance and max_bounces were checked by validate() at bake()'s boundary.
     SHPRT_CHECK(mesh.albedo.size() == V, invalid_argument,
                 "interreflected transfer needs an albedo per vertex ({} for {} vertices)",
                 mesh.albedo.size(), V);
