@@ -17,6 +17,7 @@
 //                   [--chunk N] [--K K]...
 // (--chunk overrides the automatic chunk size, --K (repeatable) the list of K.)
 #include "shprt/bake/bake.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/scene/room.hpp"
@@ -49,12 +50,6 @@
 namespace {
 
 using namespace shprt;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
 struct Args {
     int threads = 0;
     int reps = 3;

@@ -17,6 +17,7 @@
 //                           [--no-converged] [--only-product]
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/interreflect.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/tracer.hpp"
@@ -37,12 +38,6 @@
 namespace {
 
 using namespace shprt;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
 struct Args {
     int K = 256;
     int samples = 1024;

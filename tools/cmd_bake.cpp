@@ -11,6 +11,7 @@
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_stream.hpp"
 #include "shprt/scene/load.hpp"
@@ -34,8 +35,6 @@
 
 namespace shprt::tools {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 struct BakeArgs {
     std::string scene, output;
@@ -62,10 +61,6 @@ std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
                     number(text.substr(slash + 1), n) && n >= 1 && i < n,
                 invalid_argument, "--shard '{}': expected I/N with 0 <= I < N (e.g. 0/4)", text);
     return {static_cast<std::size_t>(i), static_cast<std::size_t>(n)};
-}
-
-double seconds_since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
 // The command line as typed (from /proc/self/cmdline), for the file's metadata; empty if

@@ -23,6 +23,7 @@
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
@@ -40,8 +41,6 @@
 
 namespace shprt::tools {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 struct ViewArgs {
     std::string input;
@@ -64,10 +63,6 @@ struct ViewArgs {
 };
 
 bool has_png_extension(const std::string& path) { return lower_extension(path) == ".png"; }
-
-double seconds_since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 // The scene to show: a .shprt file, or (with --bake) a scene baked here.
 struct Loaded {

@@ -10,6 +10,7 @@
 #include "bake/bake_internal.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/ray.hpp"
@@ -74,12 +75,6 @@ TransferInfo bake_info(const BakeOptions& options, Receivers receivers, std::siz
 }  // namespace detail
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // After validate(options) and validate_job: runs the chosen backend with the direction set.
 TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device backend,

@@ -13,6 +13,7 @@
 #include "cuda/gpu_bake_device.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/bvh_build.hpp"
 
@@ -24,12 +25,6 @@
 
 namespace shprt {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Fails with the one-line message bake() gives for a missing device.
 void require_gpu(int device) {

@@ -7,6 +7,7 @@
 
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/io/hash.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/tracer.hpp"
@@ -41,12 +42,6 @@ constexpr int kTagError = 4;  // failing rank → 0 in agree(): [i32 code][messa
 
 // The largest message of rows: MPI counts are int, and a unit's rows sit in memory a few times.
 constexpr std::size_t kMaxUnitBytes = std::size_t(64) << 20;
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 int as_count(std::size_t bytes) {
     SHPRT_CHECK(bytes <= std::size_t(INT32_MAX), invalid_argument,
