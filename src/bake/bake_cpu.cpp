@@ -16,6 +16,7 @@
 #include "bake/progress.hpp"
 #include "bake/stages.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/tracer.hpp"
 
@@ -26,7 +27,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <vector>
 
 namespace shprt::detail {
@@ -36,15 +36,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_between(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
-}
-
-// CPU time of the calling thread. The time split accumulates it per worker rather than wall
-// intervals: on a machine shared with other work, a preempted worker's wall interval would charge
-// the waiting to whichever phase it happened in.
-double thread_cpu_seconds() {
-    timespec ts{};
-    ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
 // One worker's buffers, reused for every chunk it runs.

@@ -14,6 +14,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/timer.hpp"
+#include "shprt/sh/projection.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
 
@@ -38,16 +39,9 @@ int thread_count(int threads) {
     return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
 }
 
-// The merged rows of one chunk of vertices, concatenated; row_nnz per vertex.
-struct ChunkRows {
-    std::vector<std::int32_t> column;
-    std::vector<float> r, g, b;
-    std::vector<std::uint32_t> row_nnz;
-};
-
 // One worker's buffers.
 struct RowScratch {
-    std::vector<float> weight;
+    std::vector<float> weight;  // T_0's weight row when none is given (A alone)
     std::vector<Vec3f> ray_dirs;
     std::vector<std::uint32_t> ray_index;
     std::vector<Hit> hits;
@@ -57,11 +51,9 @@ struct RowScratch {
     std::vector<double> sums;
     std::vector<std::uint8_t> seen;
     std::vector<std::uint32_t> touched;
+    std::vector<float> w;  // W[block×S] for T_0's projection (fused pass)
+    double trace_seconds = 0, merge_seconds = 0, project_seconds = 0;  // this worker's CPU time
 };
-
-// Rows per chunk of the operator build: fixed (never from the thread count), so the chunks and
-// with them the rows' bits do not depend on the threads.
-constexpr std::size_t kRowsPerChunk = 64;
 
 using SparseMap = Eigen::Map<const Eigen::SparseMatrix<float, Eigen::RowMajor, std::int32_t>>;
 using DenseMap =
@@ -70,24 +62,23 @@ using DenseMap =
 using DenseOut = Eigen::Map<Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>,
                             0, Eigen::OuterStride<>>;
 
-// The three channels' products for rows [first, first + rows) with AVX2, one pass over the
-// rows' non-zeros (the shared pattern) instead of three: y(v) = Σ_nz a_c · x(col) per channel,
+// The three channels' products for the rows of one block with AVX2, one pass over the rows'
+// non-zeros (the shared pattern) instead of three: y(v) = Σ_nz a_c · x(col) per channel,
 // accumulated in the order of the row's non-zeros from zero, one rounded multiply and one rounded
 // add per element — exactly the operations of Eigen's row-major sparse × dense product (res.row
 // += value · rhs.row, from zero), so the bits are Eigen's (checked by the benchmark and a test).
 // No FMA: a fused multiply-add rounds once and would change them. Intrinsics only: a target
 // attribute does not reach inline functions from headers, which must not be compiled for AVX2
 // here (the linker could keep those copies for the portable path).
-__attribute__((target("avx2"))) void transport_rows_avx2(const TransportOperator& A,
+__attribute__((target("avx2"))) void transport_rows_avx2(const TransportOperator::Block& A,
                                                          const float* in, float* out, int K,
-                                                         std::size_t first, std::size_t rows,
                                                          float* acc) {
     const std::size_t stride = 3 * std::size_t(K);
     const int vec_end = K / 8 * 8;
     const float* v0 = A.values[0].data();
     const float* v1 = A.values[1].data();
     const float* v2 = A.values[2].data();
-    for (std::size_t r = first; r < first + rows; ++r) {
+    for (std::size_t r = 0; r < A.rows(); ++r) {
         for (std::size_t i = 0; i < stride; ++i) acc[i] = 0.0f;
         for (std::int32_t p = A.row_start[r]; p < A.row_start[r + 1]; ++p) {
             const float* x = in + std::size_t(A.column[std::size_t(p)]) * stride;
@@ -104,7 +95,7 @@ __attribute__((target("avx2"))) void transport_rows_avx2(const TransportOperator
                 for (; k < K; ++k) yc[k] = yc[k] + a[c] * xc[k];
             }
         }
-        float* y = out + r * stride;
+        float* y = out + (A.first + r) * stride;
         for (std::size_t i = 0; i < stride; ++i) y[i] = acc[i];
     }
 }
@@ -117,10 +108,20 @@ bool cpu_has_avx2() {
     return has;
 }
 
-}  // namespace
+// T_0's rows from the same rays as A's (the fused pass of bake_interreflected): the visibility of
+// a direction is "no closest hit", the very answer of the shadowed bake's occlusion rays, and the
+// rows are projected as bake_cpu projects them (the same weights, chunks and SGEMM), so T_0's
+// bits are the shadowed bake's (tested).
+struct DirectRows {
+    const float* Y = nullptr;  // the basis table, S×K
+    int K = 0;
+    float* rows = nullptr;  // V×K
+};
 
-TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,
-                                           const Tracer& tracer, const TransportOptions& options) {
+// The rows of A (and, given `direct`, of T_0) for every vertex, in blocks of `rows_per_block`.
+TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable& table,
+                                  const Tracer& tracer, const TransportOptions& options,
+                                  const DirectRows* direct, RowScratch* totals) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(mesh.albedo.size() == V && mesh.normals.size() == V, invalid_argument,
                 "interreflected transfer needs a normal and an albedo per vertex ({} vertices, {} "
@@ -128,27 +129,34 @@ TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet&
                 V, mesh.normals.size(), mesh.albedo.size());
     SHPRT_CHECK(V <= std::size_t(std::numeric_limits<std::int32_t>::max()), invalid_argument,
                 "interreflected transfer supports at most 2^31 - 1 vertices ({} given)", V);
-    const detail::DirectionTable table = detail::make_direction_table(directions);
     const std::size_t S = table.size();
-    const std::size_t chunk_count = (V + kRowsPerChunk - 1) / kRowsPerChunk;
-    std::vector<ChunkRows> chunks(chunk_count);
+    const std::size_t block_rows =
+        options.rows_per_block > 0 ? options.rows_per_block : auto_chunk_receivers(V, S);
+    const std::size_t block_count = (V + block_rows - 1) / block_rows;
+    TransportOperator A;
+    A.vertices = V;
+    A.blocks.resize(block_count);
     tbb::enumerable_thread_specific<RowScratch> scratch;
     detail::BakeProgress progress(options.progress, true, V, S);
     const float inv_pi = float(1.0 / std::numbers::pi);
     constexpr float kInf = std::numeric_limits<float>::infinity();
+    constexpr float kKeep[2] = {1.0f, 0.0f};  // visible, occluded: as trace_row, branch-free
 
-    auto build_row = [&](std::size_t v, RowScratch& sc, ChunkRows& out) -> std::uint64_t {
-        sc.weight.resize(S);
+    // One row: its rays' closest hits, T_0's weights (`weight`: zeroed where a ray hits anything,
+    // front or back — an occluder either way) and A's merged entries.
+    auto build_row = [&](std::size_t v, RowScratch& sc, float* weight,
+                         TransportOperator::Block& out) -> std::uint64_t {
+        const double trace_start = thread_cpu_seconds();
         sc.ray_dirs.resize(S);
         sc.ray_index.resize(S);
         sc.hits.resize(S);
         const Vec3f n = mesh.normals[v];
-        detail::weight_row(n, table, sc.weight.data());
+        detail::weight_row(n, table, weight);
         std::uint32_t m = 0;
         for (std::size_t s = 0; s < S; ++s) {
             sc.ray_index[m] = static_cast<std::uint32_t>(s);
             sc.ray_dirs[m] = table.dirs[s];
-            m += sc.weight[s] != 0.0f ? 1u : 0u;
+            m += weight[s] != 0.0f ? 1u : 0u;
         }
         if (sc.seen.size() != V) {
             sc.sums.assign(3 * V, 0.0);
@@ -158,8 +166,11 @@ TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet&
         if (m > 0)
             tracer.closest_hits(offset_ray_origin(mesh.positions[v], n), sc.ray_dirs.data(),
                                 static_cast<int>(m), 0.0f, kInf, sc.hits.data());
+        const double merge_start = thread_cpu_seconds();
         for (std::uint32_t r = 0; r < m; ++r) {
             const Hit& h = sc.hits[r];
+            const float a = weight[sc.ray_index[r]] * inv_pi;
+            weight[sc.ray_index[r]] *= kKeep[h.hit ? 1 : 0];
             if (!h.hit) continue;
             const auto& tri = mesh.triangles[h.triangle];
             const Vec3f p0 = mesh.positions[tri[0]];
@@ -170,7 +181,6 @@ TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet&
             const float bary[3] = {1.0f - h.u - h.v, h.u, h.v};
             Vec3f rho{0, 0, 0};
             for (int k = 0; k < 3; ++k) rho += mesh.albedo[tri[k]] * bary[k];
-            const float a = sc.weight[sc.ray_index[r]] * inv_pi;
             // Entries of the same column merge, summed in ray order: deterministic.
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t col = tri[k];
@@ -186,7 +196,6 @@ TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet&
             }
         }
         std::sort(sc.touched.begin(), sc.touched.end());
-        std::uint32_t count = 0;
         for (const std::uint32_t col : sc.touched) {
             double* sum = sc.sums.data() + 3 * std::size_t(col);
             const double r = sum[0], g = sum[1], b = sum[2];
@@ -194,111 +203,145 @@ TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet&
             sc.seen[col] = 0;
             if (r == 0 && g == 0 && b == 0) continue;  // a black or grazing hit
             out.column.push_back(static_cast<std::int32_t>(col));
-            out.r.push_back(static_cast<float>(r));
-            out.g.push_back(static_cast<float>(g));
-            out.b.push_back(static_cast<float>(b));
-            ++count;
+            out.values[0].push_back(static_cast<float>(r));
+            out.values[1].push_back(static_cast<float>(g));
+            out.values[2].push_back(static_cast<float>(b));
         }
-        out.row_nnz.push_back(count);
+        SHPRT_CHECK(out.column.size() <= std::size_t(std::numeric_limits<std::int32_t>::max()),
+                    out_of_memory,
+                    "a block of the transport operator has more than 2^31 - 1 non-zeros (use "
+                    "fewer samples)");
+        out.row_start.push_back(static_cast<std::int32_t>(out.column.size()));
+        const double end = thread_cpu_seconds();
+        sc.trace_seconds += merge_start - trace_start;
+        sc.merge_seconds += end - merge_start;
         return m;
     };
 
-    tbb::task_arena arena(thread_count(options.threads));
-    arena.execute([&] {
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, chunk_count, 1),
-            [&](const tbb::blocked_range<std::size_t>& range) {
-                for (std::size_t c = range.begin(); c != range.end(); ++c) {
-                    if (progress.stopped()) return;
-                    RowScratch& sc = scratch.local();
-                    const std::size_t first = c * kRowsPerChunk;
-                    const std::size_t last = std::min(V, first + kRowsPerChunk);
-                    std::uint64_t rays = 0;
-                    for (std::size_t v = first; v < last; ++v) rays += build_row(v, sc, chunks[c]);
-                    progress.add(last - first, rays);
-                    if (!progress.poll()) return;
-                }
-            },
-            tbb::simple_partitioner());
-    });
-    SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled while tracing the bounce rays");
-
-    TransportOperator A;
-    A.vertices = V;
-    A.rays_cast = progress.rays();
-    std::uint64_t nnz = 0;
-    for (const ChunkRows& c : chunks) nnz += c.column.size();
-    SHPRT_CHECK(nnz <= std::uint64_t(std::numeric_limits<std::int32_t>::max()), out_of_memory,
-                "the transport operator has {} non-zeros, more than 2^31 - 1 (chunking it is not "
-                "implemented; use fewer samples)",
-                nnz);
-    A.row_start.resize(V + 1);
-    A.column.reserve(nnz);
-    for (auto& values : A.values) values.reserve(nnz);
-    std::size_t row = 0;
-    A.row_start[0] = 0;
-    for (ChunkRows& c : chunks) {
-        A.column.insert(A.column.end(), c.column.begin(), c.column.end());
-        A.values[0].insert(A.values[0].end(), c.r.begin(), c.r.end());
-        A.values[1].insert(A.values[1].end(), c.g.begin(), c.g.end());
-        A.values[2].insert(A.values[2].end(), c.b.begin(), c.b.end());
-        for (std::uint32_t k : c.row_nnz) {
-            A.row_start[row + 1] = A.row_start[row] + static_cast<std::int32_t>(k);
-            ++row;
+    auto build_block = [&](std::size_t c) {
+        if (progress.stopped()) return;
+        RowScratch& sc = scratch.local();
+        TransportOperator::Block& out = A.blocks[c];
+        out.first = c * block_rows;
+        const std::size_t count = std::min(block_rows, V - out.first);
+        out.row_start.reserve(count + 1);
+        out.row_start.push_back(0);
+        float* W = nullptr;
+        if (direct) {
+            sc.w.resize(block_rows * S);
+            W = sc.w.data();
+        } else {
+            sc.weight.resize(S);
         }
-        c = ChunkRows{};  // release as we go
+        std::uint64_t rays = 0;
+        for (std::size_t j = 0; j < count; ++j) {
+            rays += build_row(out.first + j, sc, W ? W + j * S : sc.weight.data(), out);
+            if ((j & 15u) == 15u || j + 1 == count) {
+                progress.add((j & 15u) + 1, rays);
+                rays = 0;
+            }
+            if (!progress.poll()) return;
+        }
+        if (direct) {
+            const double project_start = thread_cpu_seconds();
+            detail::project_rows(W, count, S, direct->Y, direct->K,
+                                 direct->rows + out.first * std::size_t(direct->K));
+            sc.project_seconds += thread_cpu_seconds() - project_start;
+        }
+    };
+
+    {
+        const detail::SingleThreadedBlas single_threaded_blas;
+        tbb::task_arena arena(thread_count(options.threads));
+        arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, block_count, 1),
+                [&](const tbb::blocked_range<std::size_t>& range) {
+                    for (std::size_t c = range.begin(); c != range.end(); ++c) build_block(c);
+                },
+                tbb::simple_partitioner());
+        });
     }
+    SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} of {} vertices",
+                progress.receivers_done(), V);
+    A.rays_cast = progress.rays();
+    if (totals)
+        for (const RowScratch& sc : scratch) {
+            totals->trace_seconds += sc.trace_seconds;
+            totals->merge_seconds += sc.merge_seconds;
+            totals->project_seconds += sc.project_seconds;
+            totals->w.resize(totals->w.size() + sc.w.size());  // counts the W buffers' floats
+        }
     return A;
 }
 
-void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads) {
-    apply_transport(A, in, out, K, threads, TransportKernel::automatic);
-}
-
-void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads,
-                     TransportKernel kernel) {
+// The products of apply_transport, with an optional progress reporter counting rows.
+void apply_transport_blocks(const TransportOperator& A, const float* in, float* out, int K,
+                            int threads, TransportKernel kernel, detail::BakeProgress* progress) {
     const auto V = static_cast<Eigen::Index>(A.vertices);
     const Eigen::Index stride = 3 * Eigen::Index(K);
     const bool avx2 =
         kernel == TransportKernel::avx2 || (kernel == TransportKernel::automatic && cpu_has_avx2());
     SHPRT_CHECK(!avx2 || cpu_has_avx2(), unsupported, "this CPU has no AVX2");
-    // Rows in fixed blocks (the bits never depend on them: each output row is its own sum over
-    // its row's entries in column order), large enough that a block's product runs at the speed
-    // of Eigen's whole-matrix product; Eigen on one thread runs that whole-matrix product itself.
-    constexpr Eigen::Index kBlockRows = 2048;
-    const Eigen::Index blocks = (V + kBlockRows - 1) / kBlockRows;
-    const auto eigen_rows = [&](Eigen::Index first, Eigen::Index rows) {
+    // Each output row is its own sum over its row's entries in column order: the bits never
+    // depend on the blocks, the threads or the kernel.
+    const auto eigen_block = [&](const TransportOperator::Block& b) {
+        const auto rows = static_cast<Eigen::Index>(b.rows());
         for (int c = 0; c < 3; ++c) {
-            const SparseMap a(V, V, Eigen::Index(A.nnz()), A.row_start.data(), A.column.data(),
-                              A.values[c].data());
+            const SparseMap a(rows, V, Eigen::Index(b.column.size()), b.row_start.data(),
+                              b.column.data(), b.values[c].data());
             const DenseMap x(in + c * K, V, K, Eigen::OuterStride<>(stride));
-            DenseOut y(out + first * stride + c * K, rows, K, Eigen::OuterStride<>(stride));
-            if (first == 0 && rows == V)
-                y.noalias() = a * x;
-            else
-                y.noalias() = a.middleRows(first, rows) * x;
+            DenseOut y(out + Eigen::Index(b.first) * stride + c * K, rows, K,
+                       Eigen::OuterStride<>(stride));
+            y.noalias() = a * x;
         }
     };
     tbb::enumerable_thread_specific<std::vector<float>> accumulators;
-    const auto run_block = [&](Eigen::Index first, Eigen::Index rows) {
-        if (!avx2) return eigen_rows(first, rows);
-        std::vector<float>& acc = accumulators.local();
-        acc.resize(std::size_t(stride));
-        transport_rows_avx2(A, in, out, K, std::size_t(first), std::size_t(rows), acc.data());
+    const auto run_block = [&](const TransportOperator::Block& b) {
+        if (progress && progress->stopped()) return;
+        if (!avx2) {
+            eigen_block(b);
+        } else {
+            std::vector<float>& acc = accumulators.local();
+            acc.resize(std::size_t(stride));
+            transport_rows_avx2(b, in, out, K, acc.data());
+        }
+        if (progress) {
+            progress->add(b.rows(), 0);
+            progress->poll();
+        }
     };
-    if (thread_count(threads) == 1 || blocks == 1) return run_block(0, V);
+    const std::size_t blocks = A.blocks.size();
+    if (thread_count(threads) == 1 || blocks == 1) {
+        for (const auto& b : A.blocks) run_block(b);
+        return;
+    }
     tbb::task_arena arena(thread_count(threads));
     arena.execute([&] {
         tbb::parallel_for(
-            tbb::blocked_range<Eigen::Index>(0, blocks, 1),
-            [&](const tbb::blocked_range<Eigen::Index>& range) {
-                for (Eigen::Index b = range.begin(); b != range.end(); ++b) {
-                    const Eigen::Index first = b * kBlockRows;
-                    run_block(first, std::min(kBlockRows, V - first));
-                }
+            tbb::blocked_range<std::size_t>(0, blocks, 1),
+            [&](const tbb::blocked_range<std::size_t>& range) {
+                for (std::size_t b = range.begin(); b != range.end(); ++b) run_block(A.blocks[b]);
             },
             tbb::simple_partitioner());
     });
+}
+
+}  // namespace
+
+TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,
+                                           const Tracer& tracer, const TransportOptions& options) {
+    return trace_transport(mesh, detail::make_direction_table(directions), tracer, options, nullptr,
+                           nullptr);
+}
+
+void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads) {
+    apply_transport_blocks(A, in, out, K, threads, TransportKernel::automatic, nullptr);
+}
+
+void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads,
+                     TransportKernel kernel) {
+    apply_transport_blocks(A, in, out, K, threads, kernel, nullptr);
 }
 
 namespace detail {
@@ -325,17 +368,56 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
                 mesh.albedo.size(), V);
     const int K = options.K;
 
-    // T_0: exactly the shadowed bake (same stages, same bits), into host memory.
-    BakeOptions direct_options = options;
-    direct_options.transfer = TransferKind::shadowed;
-    HostSink direct_sink;
-    BakeJob direct_job = job;
-    direct_job.sink = &direct_sink;
-    const TransferInfo direct_info =
-        bake_cpu(direct_job, direct_options, directions, tracer, seconds_bvh);
-    std::vector<float> T0 = direct_sink.take_rows();
+    const int wanted = options.converge ? options.max_bounces : options.bounces;
+    std::vector<float> T0;
+    TransferInfo info;
+    TransportOperator A;
+    std::uint64_t pass_bytes = 0;  // the fused pass's tables and buffers
+    if (wanted == 0) {
+        // T_0 alone: exactly the shadowed bake (same stages, same bits), into host memory.
+        BakeOptions direct_options = options;
+        direct_options.transfer = TransferKind::shadowed;
+        HostSink direct_sink;
+        BakeJob direct_job = job;
+        direct_job.sink = &direct_sink;
+        info = bake_cpu(direct_job, direct_options, directions, tracer, seconds_bvh);
+        T0 = direct_sink.take_rows();
+    } else {
+        // One pass of closest hits gives T_0's visibility and A's rows (the same rays).
+        const auto pass_start = Clock::now();
+        const DirectionTable table = make_direction_table(directions);
+        const std::vector<float> Y = basis_table(K, directions);
+        T0.resize(V * std::size_t(K));
+        const DirectRows direct{Y.data(), K, T0.data()};
+        TransportOptions to;
+        to.two_sided = options.two_sided;
+        to.threads = options.threads;
+        to.rows_per_block = options.chunk_receivers;  // 0: the CPU bake's chunks
+        to.progress = options.progress;
+        RowScratch totals;
+        A = trace_transport(mesh, table, *tracer, to, &direct, &totals);
+        const double wall = seconds_since(pass_start);
+        BakeOptions direct_options = options;
+        direct_options.transfer = TransferKind::shadowed;
+        info = bake_info(direct_options, rx, directions.size());
+        BakeStats& st = info.stats;
+        const double busy = totals.trace_seconds + totals.merge_seconds + totals.project_seconds;
+        if (busy > 0) {
+            st.seconds_trace = wall * totals.trace_seconds / busy;
+            st.seconds_operator = wall * totals.merge_seconds / busy;
+            st.seconds_project = wall * totals.project_seconds / busy;
+        }
+        st.seconds_bvh = seconds_bvh;
+        st.rays_cast = A.rays_cast;
+        const int threads = thread_count(options.threads);
+        st.device_name = fmt::format("cpu: {} thread{}", threads, threads == 1 ? "" : "s");
+        pass_bytes =
+            Y.size() * sizeof(float) + table.bytes() + totals.w.size() * sizeof(float) +
+            std::uint64_t(threads) *
+                (directions.size() * (sizeof(Vec3f) + sizeof(std::uint32_t) + sizeof(Hit)) +
+                 25 * std::uint64_t(V));
+    }
 
-    TransferInfo info = direct_info;
     info.kind = TransferKind::interreflected;
     info.layout.channels = 3;
     InterreflectionInfo& ir = info.interreflection;
@@ -343,32 +425,28 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
     ir.converge = options.converge;
     ir.tolerance = options.converge ? options.tolerance : 0.0;
     ir.albedo_source = mesh.albedo_source;
+    ir.operator_nnz = A.nnz();
+    ir.operator_bytes = A.bytes();
+    ir.operator_rays = A.rays_cast;
 
-    const int wanted = options.converge ? options.max_bounces : options.bounces;
     const std::size_t row = 3 * std::size_t(K);
     std::vector<float> sum(V * row);
     for (std::size_t v = 0; v < V; ++v)
         for (int c = 0; c < 3; ++c)
             std::copy_n(T0.data() + v * K, K, sum.data() + v * row + std::size_t(c) * K);
 
-    TransportOperator A;
     std::uint64_t buffers_bytes = sum.size() * sizeof(float);
     if (wanted > 0) {
-        const auto operator_start = Clock::now();
-        TransportOptions to;
-        to.two_sided = options.two_sided;
-        to.threads = options.threads;
-        to.progress = options.progress;
-        A = build_transport_operator(mesh, directions, *tracer, to);
-        info.stats.seconds_operator = seconds_since(operator_start);
-        ir.operator_nnz = A.nnz();
-        ir.operator_bytes = A.bytes();
-
         const auto bounce_start = Clock::now();
         std::vector<float> previous = sum, current(sum.size());
         buffers_bytes += 2 * sum.size() * sizeof(float);
+        // One bar over the bounces' rows (with --bounces converged the total is unknown).
+        BakeProgress progress(options.progress, "bounces", "rows",
+                              options.converge ? 0 : std::uint64_t(wanted) * V);
         for (int b = 1; b <= wanted; ++b) {
-            apply_transport(A, previous.data(), current.data(), K, options.threads);
+            apply_transport_blocks(A, previous.data(), current.data(), K, options.threads,
+                                   TransportKernel::automatic, &progress);
+            SHPRT_CHECK(!progress.stopped(), cancelled, "bake cancelled during bounce {}", b);
             // The largest relative change of any receiver's transfer by this bounce:
             // |T_b(v)| / |T_0(v) + … + T_b(v)| (Euclidean over its 3K floats).
             double change = 0;
@@ -386,12 +464,9 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
             ir.bounces = b;
             ir.last_change = change;
             std::swap(previous, current);
-            if (options.progress && !options.progress(ProgressInfo{
-                                        "bounces", std::uint64_t(b),
-                                        options.converge ? 0 : std::uint64_t(wanted), "bounces"}))
-                fail(ErrorCode::cancelled, "bake cancelled after {} bounces", b);
             if (options.converge && change < options.tolerance) break;
         }
+        SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} bounces", ir.bounces);
         info.stats.seconds_bounces = seconds_since(bounce_start);
     }
     ir.converged = options.converge && ir.bounces > 0 && ir.last_change < options.tolerance;
@@ -408,11 +483,10 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
     if (job.direct) *job.direct = std::move(T0);
 
     BakeStats& st = info.stats;
-    ir.operator_rays = A.rays_cast;
     st.seconds_total = seconds_bvh + seconds_since(start);
     st.peak_bytes_host = std::max<std::uint64_t>(
         st.peak_bytes_host, V * std::size_t(K) * sizeof(float) + A.bytes() + buffers_bytes +
-                                (tracer ? tracer->memory_bytes() : 0));
+                                pass_bytes + (tracer ? tracer->memory_bytes() : 0));
     return info;
 }
 

@@ -18,8 +18,20 @@ BakeProgress::BakeProgress(const ProgressFn& callback, bool shadowed, std::uint6
       m_caller(std::this_thread::get_id()),
       m_last(std::chrono::steady_clock::now()) {}
 
+BakeProgress::BakeProgress(const ProgressFn& callback, std::string_view stage,
+                           std::string_view unit, std::uint64_t total)
+    : m_callback(callback),
+      m_shadowed(false),
+      m_stage(stage),
+      m_unit(unit),
+      m_total(total),
+      m_samples(1),
+      m_caller(std::this_thread::get_id()),
+      m_last(std::chrono::steady_clock::now()) {}
+
 bool BakeProgress::report(bool final) {
     const std::uint64_t done = m_receivers.load(std::memory_order_relaxed);
+    if (!m_unit.empty()) return m_callback(ProgressInfo{m_stage, done, m_total, m_unit});
     if (!m_shadowed)
         return m_callback(ProgressInfo{"bake", done * m_samples, m_total * m_samples, "samples"});
     const std::uint64_t rays = m_rays.load(std::memory_order_relaxed);

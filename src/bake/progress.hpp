@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <string_view>
 #include <thread>
 
 namespace shprt::detail {
@@ -17,6 +18,11 @@ class BakeProgress {
 public:
     BakeProgress(const ProgressFn& callback, bool shadowed, std::uint64_t receivers,
                  std::uint64_t samples);
+    // A stage counted in plain units (the rows of the bounces' products, say): reports
+    // ProgressInfo{stage, done, total, unit}; add(n, 0) counts n units. `stage` and `unit` must
+    // outlive the reporter (string literals).
+    BakeProgress(const ProgressFn& callback, std::string_view stage, std::string_view unit,
+                 std::uint64_t total);
 
     // Thread-safe: `receivers` more receivers are done, having cast `rays` rays.
     void add(std::uint64_t receivers, std::uint64_t rays) {
@@ -39,6 +45,7 @@ private:
 
     const ProgressFn& m_callback;
     bool m_shadowed;
+    std::string_view m_stage = "bake", m_unit;  // m_unit empty: a bake (rays or samples)
     std::uint64_t m_total, m_samples;
     std::atomic<std::uint64_t> m_rays{0}, m_receivers{0};
     std::atomic<bool> m_stop{false};

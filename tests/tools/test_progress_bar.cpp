@@ -112,6 +112,26 @@ TEST(ProgressBarTest, WithoutALabelTheStageNamesTheWork) {
     EXPECT_EQ(text.rfind("shprt: tracing: 100% (1.00 of 1.00 rays, ", 0), 0u) << text;
 }
 
+// A second stage (the bounces after the rays) gets its own lines, percentages and rate, named
+// after the label.
+TEST(ProgressBarTest, EachStageHasItsOwnLines) {
+    std::FILE* file = std::tmpfile();
+    ASSERT_NE(file, nullptr);
+    {
+        ProgressBar bar("bake", file);
+        bar.update(report(1000, 1000));
+        for (std::uint64_t done : {10u, 20u, 30u})
+            bar.update(ProgressInfo{"bounces", done, 30, "rows"});
+    }
+    const std::vector<std::string> got = lines(contents(file));
+    std::fclose(file);
+    ASSERT_EQ(got.size(), 4u);
+    EXPECT_EQ(got[0].rfind("shprt: bake: 100% (1.00 k of 1.00 k rays, ", 0), 0u) << got[0];
+    EXPECT_EQ(got[1].rfind("shprt: bake: bounces: 33% (10.0 of 30.0 rows, ", 0), 0u) << got[1];
+    EXPECT_EQ(got[2].rfind("shprt: bake: bounces: 66% (20.0 of 30.0 rows, ", 0), 0u) << got[2];
+    EXPECT_EQ(got[3].rfind("shprt: bake: bounces: 100% (30.0 of 30.0 rows, ", 0), 0u) << got[3];
+}
+
 // A pseudo-terminal `columns` wide: the bar writes to the slave side, the test reads the master.
 class Pty {
 public:

@@ -79,8 +79,26 @@ ProgressFn ProgressBar::callback() {
     return [this](const ProgressInfo& info) { return update(info); };
 }
 
+std::string ProgressBar::label(std::string_view stage) const {
+    if (m_label.empty()) return std::string(stage);
+    if (stage == m_first_stage) return m_label;
+    return m_label + ": " + std::string(stage);
+}
+
 bool ProgressBar::update(const ProgressInfo& info) {
     if (m_out != nullptr) {
+        if (info.stage != m_stage) {
+            // A new stage (the bounces after the rays): its own line, rate, ETA and percentages.
+            if (m_started) {
+                finish();
+                m_start = Clock::now();
+                m_next_plain_percent = 25;
+            } else {
+                m_first_stage = std::string(info.stage);
+            }
+            m_started = true;
+            m_stage = std::string(info.stage);
+        }
         const auto now = Clock::now();
         const double elapsed = std::chrono::duration<double>(now - m_start).count();
         const bool complete = info.total > 0 && info.done >= info.total;
@@ -102,7 +120,7 @@ bool ProgressBar::update(const ProgressInfo& info) {
 }
 
 void ProgressBar::draw_terminal(const ProgressInfo& info, double elapsed) {
-    const std::string label = m_label.empty() ? std::string(info.stage) : m_label;
+    const std::string label = this->label(info.stage);
     const double fraction =
         info.total > 0 ? std::clamp(double(info.done) / double(info.total), 0.0, 1.0) : 0.0;
     const double rate = elapsed > 0 ? double(info.done) / elapsed : 0.0;
@@ -131,7 +149,7 @@ void ProgressBar::draw_terminal(const ProgressInfo& info, double elapsed) {
 }
 
 void ProgressBar::print_plain(const ProgressInfo& info, double elapsed, int percent) {
-    const std::string label = m_label.empty() ? std::string(info.stage) : m_label;
+    const std::string label = this->label(info.stage);
     const double rate = elapsed > 0 ? double(info.done) / elapsed : 0.0;
     const std::string unit(info.unit);
     std::fprintf(m_out, "shprt: %s: %d%% (%s of %s %s, %s%s/s, %s)\n", label.c_str(),

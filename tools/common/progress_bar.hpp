@@ -20,13 +20,16 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <string_view>
 
 namespace shprt::tools {
 
 class ProgressBar {
 public:
-    // `label` names the work ("bake"); when empty, each report's stage is shown. Writes to `out`
-    // (stderr by default, so stdout stays clean for results).
+    // `label` names the work ("bake"); when empty, each report's stage is shown. With a label,
+    // the stages after the first are shown after it ("bake: bounces"). Each new stage starts a new
+    // line with its own rate, ETA and percentages. Writes to `out` (stderr by default, so stdout
+    // stays clean for results).
     explicit ProgressBar(std::string label = {}, std::FILE* out = stderr);
     // Finishes the line if one was drawn.
     ~ProgressBar();
@@ -47,8 +50,11 @@ public:
 private:
     void draw_terminal(const ProgressInfo& info, double elapsed);
     void print_plain(const ProgressInfo& info, double elapsed, int percent);
+    std::string label(std::string_view stage) const;
 
     std::string m_label;
+    std::string m_stage, m_first_stage;  // the stages of the last and the first report
+    bool m_started = false;              // a report arrived
     std::FILE* m_out;
     bool m_terminal;
     bool m_line_open = false;  // an in-place line is on screen and not yet ended

@@ -38,33 +38,50 @@ namespace shprt {
 class Tracer;
 
 // The transport operator A in compressed sparse rows (int32 indices, float values), one pattern
-// and three channels' values (R, G, B).
+// and three channels' values (R, G, B), stored as consecutive blocks of rows: each block is the
+// CSR of its own rows, built by one worker and kept as it was built. Nothing is ever concatenated,
+// so building A needs no second copy of it (the peak is A itself), and a block's int32 offsets
+// bound only its own non-zeros: the whole operator may hold more than 2^31 − 1.
 struct TransportOperator {
+    struct Block {
+        std::size_t first = 0;                     // the block's first row (vertex)
+        std::vector<std::int32_t> row_start;       // rows() + 1 offsets into column/values
+        std::vector<std::int32_t> column;          // columns, increasing within a row
+        std::array<std::vector<float>, 3> values;  // per channel, one per column entry
+        std::size_t rows() const { return row_start.empty() ? 0 : row_start.size() - 1; }
+    };
     std::size_t vertices = 0;
-    std::vector<std::int32_t> row_start;       // vertices + 1 offsets into column/values
-    std::vector<std::int32_t> column;          // nnz() columns, increasing within a row
-    std::array<std::vector<float>, 3> values;  // per channel, nnz() each
-    std::uint64_t rays_cast = 0;               // closest-hit rays traced to build it
+    std::vector<Block> blocks;    // rows [0, vertices) in order, each row in exactly one block
+    std::uint64_t rays_cast = 0;  // closest-hit rays traced to build it
 
-    std::uint64_t nnz() const { return column.size(); }
+    std::uint64_t nnz() const {
+        std::uint64_t n = 0;
+        for (const Block& b : blocks) n += b.column.size();
+        return n;
+    }
     // Bytes of the arrays: row starts, columns, three channels of values.
     std::uint64_t bytes() const {
-        return row_start.size() * 4 + column.size() * 4 + 3 * column.size() * 4;
+        std::uint64_t n = 0;
+        for (const Block& b : blocks) n += b.row_start.size() * 4 + b.column.size() * 16;
+        return n;
     }
 };
 
 struct TransportOptions {
     bool two_sided = false;
-    int threads = 0;      // 0 = all hardware threads
-    ProgressFn progress;  // ProgressInfo{"bounce rays", rays done, rays (estimate), "rays"}
+    int threads = 0;  // 0 = all hardware threads
+    // Rows per block of A (and per task): 0 = the CPU bake's chunk (auto_chunk_receivers).
+    // Fixed by the caller, never by the threads, so A's blocks do not depend on them.
+    std::size_t rows_per_block = 0;
+    ProgressFn progress;  // ProgressInfo{"bake", rays done, rays (estimate), "rays"}
 };
 
 // Builds A for every vertex of `mesh` (positions, unit normals, albedo per vertex) with the
 // direction set `directions` and a tracer built over `mesh` (its closest_hits: one stream per
 // vertex from offset_ray_origin(p, n), directions above the horizon only). Throws
-// Error(invalid_argument) for a mesh without albedo per vertex; Error(out_of_memory) when nnz(A)
-// would pass 2^31 − 1 (chunking the operator is not implemented); Error(cancelled) when the
-// progress callback returns false.
+// Error(invalid_argument) for a mesh without albedo per vertex; Error(out_of_memory) when one
+// block's non-zeros would pass 2^31 − 1; Error(cancelled) when the progress callback returns
+// false.
 TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,
                                            const Tracer& tracer, const TransportOptions& options);
 
