@@ -20,7 +20,8 @@ namespace {
 
 BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
                          const std::string& sampler, const std::string& transfer,
-                         std::uint64_t seed, int threads, const std::string& device) {
+                         std::uint64_t seed, int threads, const std::string& device,
+                         const py::object& bounces, double tolerance, bool two_sided) {
     BakeOptions o;
     SHPRT_CHECK(!(bands && coeffs), invalid_argument,
                 "bands and coeffs both given; use one (K = bands²)");
@@ -40,6 +41,24 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
     o.seed = seed;
     o.threads = threads;
     o.device = parse_device(device);
+    // Interreflected transfer: bounces N ≥ 0 or 'converged' (until the largest relative change is
+    // under `tolerance`), as `shprt bake --bounces`.
+    if (py::isinstance<py::str>(bounces)) {
+        const std::string name = bounces.cast<std::string>();
+        SHPRT_CHECK(name == "converged", invalid_argument,
+                    "bounces='{}': expected a number of bounces or 'converged'", name);
+        o.converge = true;
+    } else {
+        SHPRT_CHECK(py::isinstance<py::int_>(bounces) && !py::isinstance<py::bool_>(bounces),
+                    invalid_argument, "bounces: expected an int or 'converged', got {}",
+                    py::str(py::type::of(bounces).attr("__name__")).cast<std::string>());
+        const auto n = bounces.cast<long long>();
+        SHPRT_CHECK(n >= 0 && n <= o.max_bounces, invalid_argument, "bounces={}: must be 0 to {}",
+                    n, o.max_bounces);
+        o.bounces = int(n);
+    }
+    o.tolerance = tolerance;
+    o.two_sided = two_sided;
     validate(o);
     return o;
 }
@@ -47,9 +66,10 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
 py::array bake_py(py::handle vertices, py::handle faces, py::handle normals, py::handle albedo,
                   std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
                   const std::string& sampler, const std::string& transfer, std::uint64_t seed,
-                  int threads, const std::string& device, py::object progress) {
-    BakeOptions options =
-        bake_options(bands, coeffs, samples, sampler, transfer, seed, threads, device);
+                  const py::object& bounces, double tolerance, bool two_sided, int threads,
+                  const std::string& device, py::object progress) {
+    BakeOptions options = bake_options(bands, coeffs, samples, sampler, transfer, seed, threads,
+                                       device, bounces, tolerance, two_sided);
     // A shprt.Mesh is used in place; arrays become a Mesh (one copy, checked).
     std::optional<Mesh> own;
     const Mesh* mesh = nullptr;
@@ -104,18 +124,22 @@ void bind_bake(py::module_& m) {
     m.def("bake", &bake_py, "vertices"_a, "faces"_a = py::none(), "normals"_a = py::none(),
           "albedo"_a = py::none(), py::kw_only(), "bands"_a = py::none(), "coeffs"_a = py::none(),
           "samples"_a = 1024, "sampler"_a = "sobol", "transfer"_a = "shadowed", "seed"_a = 1,
-          "threads"_a = 0, "device"_a = "cpu", "progress"_a = py::none(),
+          "bounces"_a = 1, "tolerance"_a = 1e-4, "two_sided"_a = false, "threads"_a = 0,
+          "device"_a = "cpu", "progress"_a = py::none(),
           R"(Bakes per-vertex SH transfer (bake/bake.hpp) and returns it as a float32 array of
 shape (V, K) — (V, 3, K) for RGB transfer — with K = bands² or coeffs (default 16).
 
 vertices (V, 3) float and faces (T, 3) int, or a shprt.Mesh as the only positional argument.
 normals=None computes them; albedo=None is 0.8 grey. samples S directions per vertex from
 sampler 'sobol' (default), 'uniform' (the paper's), 'stratified' or 'fibonacci' with seed;
-transfer 'shadowed' (default) or 'unshadowed'; threads 0 = all; device 'cpu', 'cuda' or 'auto'.
-The same options and seed give the same bits as `shprt bake`.
+transfer 'shadowed' (default), 'unshadowed' or 'interreflected' (RGB, shape (V, 3, K); with
+bounces N or 'converged' until the largest relative change is under tolerance, and two_sided:
+docs/interreflection.md); threads 0 = all; device 'cpu', 'cuda' or 'auto'. The same options and
+seed give the same bits as `shprt bake`.
 
 The GIL is released while it runs. progress(done, total) is called on this thread about 20
-times a second; returning False cancels (shprt.Error with code 'cancelled'), raising cancels
+times a second (an interreflected bake reports its rays, then the bounces' rows, each from 0 to
+its total); returning False cancels (shprt.Error with code 'cancelled'), raising cancels
 and re-raises; Ctrl-C cancels too.)");
 }
 

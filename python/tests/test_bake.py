@@ -8,6 +8,9 @@ CASES = [
     dict(bands=3, samples=256, sampler="sobol", transfer="shadowed", seed=1),
     dict(coeffs=10, samples=200, sampler="uniform", transfer="shadowed", seed=7, threads=1),
     dict(bands=2, samples=128, sampler="fibonacci", transfer="unshadowed", seed=3),
+    dict(bands=2, samples=128, sampler="sobol", transfer="interreflected", bounces=2, seed=1),
+    dict(bands=1, samples=64, sampler="sobol", transfer="interreflected", bounces="converged",
+         tolerance=1e-3, seed=2),
 ]
 
 
@@ -18,7 +21,8 @@ def cli_args(case):
     return args
 
 
-@pytest.mark.parametrize("case", CASES, ids=lambda c: f"{c['sampler']}-{c['transfer']}")
+@pytest.mark.parametrize("case", CASES,
+                         ids=lambda c: f"{c['sampler']}-{c['transfer']}-{c.get('bounces', '')}")
 def test_bake_arrays_bit_identical_to_cli(cli, tmp_path, case):
     out = tmp_path / "box.shprt"
     cli("bake", "builtin:box_on_plane", "-o", out, *cli_args(case))
@@ -82,6 +86,17 @@ def test_save_load_round_trip(box, tmp_path, cli):
     h = shprt.load(str(tmp_path / "h.shprt"))
     assert h.encoding == "float16"
     np.testing.assert_allclose(h.transfer, T, rtol=1e-3, atol=1e-3)
+
+
+def test_interreflected_bounces_add_light_and_bad_bounces_are_refused(box):
+    T0 = shprt.bake(box, bands=2, samples=128, transfer="interreflected", bounces=0)
+    T2 = shprt.bake(box, bands=2, samples=128, transfer="interreflected", bounces=2)
+    assert T0.shape == T2.shape == (len(box.positions), 3, 4)
+    # The box's vertices on the floor see light off the box: more DC, never less.
+    assert (T2[:, :, 0] >= T0[:, :, 0]).all() and (T2[:, :, 0] > T0[:, :, 0]).any()
+    for bad in (-1, "forever", 1.5, True):
+        with pytest.raises(shprt.Error):
+            shprt.bake(box, bands=2, samples=64, transfer="interreflected", bounces=bad)
 
 
 def test_rgb_transfer_shape(box):

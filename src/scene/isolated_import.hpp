@@ -19,7 +19,9 @@ struct ImportedMesh {
     std::uint64_t skipped_faces = 0;  // points and lines left out
     std::uint8_t albedo_sources = 0;  // kAlbedo* bits: where the albedo came from
 };
-inline constexpr std::uint8_t kAlbedoVertexColours = 1, kAlbedoMaterial = 2, kAlbedoDefault = 4;
+inline constexpr std::uint8_t kAlbedoVertexColours = 1, kAlbedoMaterial = 2, kAlbedoDefault = 4,
+                              kAlbedoTexture = 8,
+                              kAlbedoTextureUnreadable = 16;  // a texture named but not read
 
 // Runs `work` in a child process made with fork() and returns its result, copied back through a
 // pipe. The child may grow its address space by at most `memory_budget` bytes (RLIMIT_AS; not in

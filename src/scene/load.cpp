@@ -12,6 +12,7 @@
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/scene/polygon.hpp"
+#include "texture_albedo.hpp"
 
 #include <assimp/config.h>
 #include <assimp/material.h>
@@ -131,6 +132,7 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
     bool& all_normals = result.all_normals;
     std::uint64_t& skipped_faces = result.skipped_faces;
     std::vector<std::uint32_t> polygon;
+    detail::AlbedoTextures textures(scene, path);
     for (const Instance& inst : collect_instances(scene)) {
         const aiMesh* mesh = scene.mMeshes[inst.mesh];
         if (!mesh || !mesh->mVertices || mesh->mNumVertices == 0) continue;
@@ -150,9 +152,24 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
         const Vec3f flat = use_material ? material_albedo(scene, *mesh, from_material)
                                         : Vec3f{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
         const aiColor4D* colours = mesh->mColors[0];
+        // A colour texture, when there are no vertex colours and the mesh has its UV set.
+        const detail::AlbedoTexture* texture = nullptr;
+        const aiVector3D* uvs = nullptr;
+        Vec3f factor{1, 1, 1};
+        if (!colours && use_material && scene.mMaterials &&
+            mesh->mMaterialIndex < scene.mNumMaterials && scene.mMaterials[mesh->mMaterialIndex]) {
+            unsigned uv_set = 0;
+            bool failed = false;
+            texture =
+                textures.find(*scene.mMaterials[mesh->mMaterialIndex], uv_set, factor, failed);
+            if (failed) result.albedo_sources |= detail::kAlbedoTextureUnreadable;
+            uvs = uv_set < AI_MAX_NUMBER_OF_TEXTURECOORDS ? mesh->mTextureCoords[uv_set] : nullptr;
+            if (!uvs) texture = nullptr;
+        }
         result.albedo_sources |=
-            colours ? detail::kAlbedoVertexColours
-                    : (from_material ? detail::kAlbedoMaterial : detail::kAlbedoDefault);
+            colours   ? detail::kAlbedoVertexColours
+            : texture ? detail::kAlbedoTexture
+                      : (from_material ? detail::kAlbedoMaterial : detail::kAlbedoDefault);
         for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
             const aiVector3D p = identity ? mesh->mVertices[v] : m * mesh->mVertices[v];
             out.positions.push_back({p.x, p.y, p.z});
@@ -172,6 +189,9 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
                 out.albedo.push_back(srgb_colours ? Vec3f{srgb_to_linear(c.r), srgb_to_linear(c.g),
                                                           srgb_to_linear(c.b)}
                                                   : Vec3f{c.r, c.g, c.b});
+            } else if (texture) {
+                const Vec3f t = texture->sample(uvs[v].x, uvs[v].y);
+                out.albedo.push_back({t.x * factor.x, t.y * factor.y, t.z * factor.z});
             } else {
                 out.albedo.push_back(flat);
             }
@@ -212,6 +232,7 @@ Mesh finish(detail::ImportedMesh imported, const std::string& path, const PlyHea
         std::string sources;
         const std::pair<std::uint8_t, const char*> names[] = {
             {detail::kAlbedoVertexColours, "vertex colours"},
+            {detail::kAlbedoTexture, "diffuse texture"},
             {detail::kAlbedoMaterial, "material diffuse colour"},
             {detail::kAlbedoDefault, "default 0.8 grey"}};
         for (const auto& [bit, name] : names)
@@ -233,6 +254,11 @@ Mesh finish(detail::ImportedMesh imported, const std::string& path, const PlyHea
                 ply.vertices);
     validate_mesh(out, path);  // before normals: they need indices in range
     if (skipped > 0) log_warn("{}: skipped {}", path, skipped_text);
+    if (imported.albedo_sources & detail::kAlbedoTextureUnreadable)
+        log_warn(
+            "{}: a material's colour texture could not be read (missing, corrupt, or larger "
+            "than {} texels a side); the material's colour is used instead",
+            path, detail::kMaxTextureSide);
     if (!imported.all_normals) {
         if (is_ply)
             compute_vertex_normals(out);

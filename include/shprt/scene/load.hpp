@@ -27,8 +27,12 @@ namespace shprt {
 //     author's; compute_vertex_normals_by_position for other formats, whose importers duplicate
 //     vertices per corner);
 //   * albedo from the first vertex-colour set (8-bit PLY colours are decoded from sRGB; float
-//     colours are taken as linear), else the material's base or diffuse colour, else
-//     kDefaultAlbedo grey (also for Assimp's placeholder material);
+//     colours are taken as linear), else the material's base colour or diffuse texture sampled
+//     at the vertex's UV (sRGB texels made linear, bilinear, times the material's colour factor;
+//     files next to the model or embedded in it: src/scene/texture_albedo.hpp; a texture that
+//     cannot be read gives one warning and the material's colour), else the material's base or
+//     diffuse colour, else kDefaultAlbedo grey (also for Assimp's placeholder material);
+//     Mesh::albedo_source says which;
 //   * the result passes validate_mesh (degenerate triangles dropped with a warning).
 // PLY headers are checked strictly before Assimp sees them (Assimp 5.2.5 hangs or allocates
 // without bound on some corrupt ones). The counts on an OFF file's first lines are checked
