@@ -51,7 +51,7 @@ struct ViewArgs {
     std::string size = "1280x720", view = "radiance";
     double k = 1.0, gloss = kDefaultGloss, exposure = 1.0;
     int msaa = viewer::kAutoMsaa;
-    bool background = false, wireframe = false, no_vsync = false;
+    bool background = false, wireframe = false, no_vsync = false, direct = false;
     std::optional<int> benchmark;
     bool benchmark_light = false;
     std::string screenshot;
@@ -115,6 +115,9 @@ void run(const ViewArgs& a) {
     if (!a.do_bake && !a.bake_only_given.empty())
         fail(ErrorCode::invalid_argument, "{} is a bake option: add --bake (FILE is then a scene)",
              a.bake_only_given.front());
+    SHPRT_CHECK(!(a.direct && a.do_bake), invalid_argument,
+                "--direct shows a baked file's direct part; with --bake, bake with "
+                "--transfer shadowed instead");
     std::optional<BakeOptions> bake_options;
     int K_used = 0;
     if (a.do_bake) {
@@ -138,7 +141,13 @@ void run(const ViewArgs& a) {
         else
             scene.transfer = bake_now(scene.mesh, *bake_options);
     } else {
-        ShprtFile file = read_shprt(a.input);
+        // The window keeps the whole transfer (its panel toggles the direct part); a screenshot
+        // or a benchmark shows what --direct asks for.
+        ShprtFile file = read_for_shading(a.input, a.direct && !windowed);
+        if (a.direct && windowed)
+            SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
+                        "--direct: {} has no direct part (only interreflected bakes keep one)",
+                        a.input);
         scene.mesh = std::move(file.mesh);
         scene.transfer = std::move(file.transfer);
     }
@@ -190,6 +199,7 @@ void run(const ViewArgs& a) {
     options.max_frames = a.frames.value_or(0);
     options.window_screenshot = a.window_screenshot;
     options.vsync = !a.no_vsync;
+    options.direct_only = a.direct;
     viewer::WindowReport report;
     try {
         report = viewer::run_window(scene.mesh, scene.transfer, options, bake_options);
@@ -223,6 +233,9 @@ const bool registered = register_command(
          app.add_option("--view", args->view,
                         "radiance (default), irradiance, or transfer (AO-like, light ignored)");
          app.add_flag("--background", args->background, "Draw the light behind the scene");
+         app.add_flag("--direct", args->direct,
+                      "Interreflected bakes: show the direct light only (the file's T_0; the "
+                      "panel toggles it)");
          app.add_flag("--wireframe", args->wireframe, "Draw triangle edges only");
          app.add_option("--msaa", args->msaa,
                         "MSAA samples per pixel; 0 = automatic (default): 4, as `shprt render "

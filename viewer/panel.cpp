@@ -76,6 +76,13 @@ void shading_section(PanelState& s) {
     ImGui::Checkbox("wireframe", &s.wireframe);
     ImGui::SameLine();
     ImGui::Checkbox("background", &s.background);
+    if (s.has_direct) {
+        if (ImGui::Checkbox("direct light only", &s.direct_only)) s.direct_changed = true;
+        help_marker(
+            "An interreflected bake keeps its direct (shadowed) transfer T_0: on, the light "
+            "that reaches each vertex straight from the sky; off, with the light that bounced "
+            "off the scene (T_0 + ... + T_N).");
+    }
 }
 
 void camera_section(PanelState& s) {
@@ -129,7 +136,7 @@ std::vector<LightChoice> light_choices(const std::vector<std::string>& command_l
 
 void draw_panel(PanelState& s) {
     s.light_source_changed = s.reset_light_rotation = s.reset_camera = s.camera_mode_changed =
-        s.msaa_changed = false;
+        s.msaa_changed = s.direct_changed = false;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowBgAlpha(0.85f);

@@ -33,6 +33,8 @@ struct PanelState {
     int view = 0;      // ShadeView: 0 radiance, 1 irradiance, 2 transfer (AO-like)
     bool wireframe = false;
     bool background = false;
+    bool has_direct = false;   // the transfer is interreflected and keeps its direct part
+    bool direct_only = false;  // show the direct part (T_0) instead of T_0 + … + T_N
 
     // Light.
     std::vector<LightChoice> choices;
@@ -63,6 +65,7 @@ struct PanelState {
     bool reset_camera = false;
     bool camera_mode_changed = false;
     bool msaa_changed = false;
+    bool direct_changed = false;  // direct_only toggled
 };
 
 // Draws the panel (inside an ImGui frame) and updates `state`.

@@ -101,9 +101,12 @@ private:
     void handle_input(float seconds);
     void update_bake();
     void start_bake(const BakeOptions& options);
+    void show_transfer();
     DrawSettings draw_settings() const;
 
     const Mesh& m_mesh;
+    const TransferSet& m_transfer;
+    TransferSet m_direct;  // its direct part (interreflected transfer only; else empty)
     WindowOptions m_options;
     GlfwSession m_glfw;
     Window m_window;
@@ -130,6 +133,7 @@ private:
 App::App(const Mesh& mesh, const TransferSet& transfer, const WindowOptions& options,
          const std::optional<BakeOptions>& bake)
     : m_mesh(mesh),
+      m_transfer(transfer),
       m_options(options),
       m_window(options.frame.width, options.frame.height, options.title),
       m_imgui(m_window.get()),
@@ -137,9 +141,11 @@ App::App(const Mesh& mesh, const TransferSet& transfer, const WindowOptions& opt
       m_start_camera(options.frame.draw.camera),
       m_light(std::min(transfer.layout.K, kMaxLightK)) {
     glfwSwapInterval(options.vsync ? 1 : 0);
-    m_renderer.set_scene(mesh, transfer);
+    if (!transfer.direct.empty()) m_direct = transfer.direct_only();
+    m_panel.has_direct = !m_direct.coeffs.empty();
+    m_panel.direct_only = m_panel.has_direct && options.direct_only;
     m_light.set_source(options.light);  // errors (a missing file) end the program: one line
-    m_renderer.set_light(m_light.source(), m_light.rotation());
+    show_transfer();
     m_report.context = gl_context_summary();
     init_state();
     if (bake) start_bake(*bake);
@@ -152,6 +158,12 @@ App::~App() {
         m_bake->wait();
     }
     if (m_interop) m_interop->unmap();
+}
+
+// Uploads the transfer the panel asks for (the whole, or an interreflected bake's direct part).
+void App::show_transfer() {
+    m_renderer.set_scene(m_mesh, m_panel.direct_only ? m_direct : m_transfer);
+    m_renderer.set_light(m_light.source(), m_light.rotation());
 }
 
 void App::init_state() {
@@ -203,6 +215,10 @@ void App::set_light_source() {
 }
 
 void App::apply_panel() {
+    if (m_panel.direct_changed) {
+        show_transfer();
+        m_reshade_once = true;
+    }
     if (m_panel.light_source_changed) set_light_source();
     if (m_panel.reset_light_rotation) {
         m_light.reset_drag();

@@ -33,6 +33,7 @@ struct WindowOptions {
                                     // included); empty = none
     bool vsync = true;
     bool show_panel = true;
+    bool direct_only = false;  // an interreflected transfer: start with its direct part shown
 };
 
 struct WindowReport {

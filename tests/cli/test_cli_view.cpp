@@ -128,6 +128,35 @@ TEST_F(CliView, ScreenshotEqualsRender) {
     }
 }
 
+// An interreflected bake: --direct shows its direct part, the picture of `render --direct`, and
+// not the picture with the bounces; a file without a direct part is refused.
+TEST_F(CliView, DirectShowsTheDirectPartAsRenderDoes) {
+    const std::string ir = out("ir.shprt");
+    ASSERT_EQ(shprt("bake builtin:box_on_plane -o '" + ir +
+                    "' --transfer interreflected --bounces 2 --bands 3 --samples 128")
+                  .exit_code,
+              0);
+    const std::string options = " --size 96x64 --light sun:1,2,1,6";
+    for (const char* name : {"view", "render"}) {
+        const std::string flag = std::string(name) == "view" ? " --screenshot '" : " -o '";
+        ASSERT_EQ(shprt(std::string(name) + " '" + ir + "'" + flag +
+                        out(std::string(name) + "-direct.png") + "' --direct" + options)
+                      .exit_code,
+                  0);
+        ASSERT_EQ(shprt(std::string(name) + " '" + ir + "'" + flag +
+                        out(std::string(name) + "-all.png") + "'" + options)
+                      .exit_code,
+                  0);
+    }
+    EXPECT_EQ(slurp(out("view-direct.png")), slurp(out("render-direct.png")));
+    EXPECT_EQ(slurp(out("view-all.png")), slurp(out("render-all.png")));
+    EXPECT_NE(slurp(out("view-direct.png")), slurp(out("view-all.png")));
+    expect_one_line_error(
+        shprt("view '" + s_file + "' --direct --screenshot '" + out("x.png") + "'"),
+        "has no direct part");
+    EXPECT_FALSE(fs::exists(out("x.png")));
+}
+
 TEST_F(CliView, BenchmarkPrintsALinePerBasisSize) {
     const RunResult r = shprt("view '" + s_file + "' --benchmark 3 --size 64x48 --msaa 1");
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -258,6 +287,37 @@ TEST_F(CliViewWindow, OpensUnderXvfbDrawsThePanelAndTheSamePicture) {
         if (key < int(seen.size()) && !seen[key]) seen[key] = true, ++colours;
     }
     EXPECT_GT(colours, 50) << "the window is not blank";
+}
+
+// The window starts with --direct's picture (the panel's toggle uploads the same way).
+TEST_F(CliViewWindow, StartsWithTheDirectPartWithDirect) {
+    const std::string ir = out("ir.shprt");
+    ASSERT_EQ(shprt("bake builtin:box_on_plane -o '" + ir +
+                    "' --transfer interreflected --bounces 2 --bands 3 --samples 128")
+                  .exit_code,
+              0);
+    const std::string size = " --size 800x500 --light sun:1,2,1,6";
+    for (const std::string direct : {"", " --direct"}) {
+        const RunResult w = shprt("view '" + ir + "' --frames 2 --window-screenshot '" +
+                                      out("window.png") + "'" + size + direct,
+                                  xvfb());
+        ASSERT_EQ(w.exit_code, 0) << w.err;
+        ASSERT_EQ(shprt("view '" + ir + "' --screenshot '" + out("shot.png") + "'" + size + direct)
+                      .exit_code,
+                  0);
+        ASSERT_EQ(shprt("view '" + ir + "' --screenshot '" + out("other.png") + "'" + size +
+                        (direct.empty() ? " --direct" : ""))
+                      .exit_code,
+                  0);
+        const Png win = read_png(out("window.png")), shot = read_png(out("shot.png")),
+                  other = read_png(out("other.png"));
+        ASSERT_EQ(win.width, 800);
+        // Right of the panel: this picture, and clearly not the other one.
+        EXPECT_LE(compare(win, shot, 400, 0, 800, 500).mean, kMaxMeanWindowDifference) << direct;
+        EXPECT_GT(compare(win, other, 400, 0, 800, 500).mean,
+                  compare(win, shot, 400, 0, 800, 500).mean + 0.5)
+            << direct;
+    }
 }
 
 TEST_F(CliViewWindow, ShowsABakeWhileItRefinesAndFinishesIt) {
