@@ -31,8 +31,37 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 namespace shprt {
+namespace detail {
+
+// Merges rows of A; one per worker (it keeps a dense accumulator over the vertices: 25 bytes
+// each).
+class TransportRowBuilder {
+public:
+    TransportRowBuilder(const Mesh& mesh, bool two_sided) : m_mesh(&mesh), m_two_sided(two_sided) {}
+
+    // Appends one row to `out` (its entries, then its end in out.row_start) from its rays in
+    // direction order: ray r has direction dirs[r], unoccluded weight weights[r] = max(0, n·w_s)·
+    // weight_s and closest hit hits[r] (kNoTriangle: it escaped). Each hit on a front face (or
+    // any face when two-sided) adds weights[r]/π · ρ_c(h) · β_k(h) to the columns of its
+    // triangle's vertices k; entries of one column are summed in ray order, in double.
+    void add_row(const Vec3f* dirs, const float* weights, const SampleHit* hits, std::uint32_t rays,
+                 TransportOperator::Block& out);
+
+    static std::size_t bytes(std::size_t vertices) { return 25 * vertices; }
+
+private:
+    const Mesh* m_mesh;
+    bool m_two_sided;
+    std::vector<double> m_sums;  // 3 per column
+    std::vector<std::uint8_t> m_seen;
+    std::vector<std::uint32_t> m_touched;
+};
+
+}  // namespace detail
+
 namespace {
 
 int thread_count(int threads) {
@@ -45,12 +74,9 @@ struct RowScratch {
     std::vector<Vec3f> ray_dirs;
     std::vector<std::uint32_t> ray_index;
     std::vector<Hit> hits;
-    // The row being merged: per column (vertex) three sums, and the columns touched. Dense over
-    // the vertices (24 bytes each per worker), so merging costs one add per entry and a sort of
-    // the distinct columns only.
-    std::vector<double> sums;
-    std::vector<std::uint8_t> seen;
-    std::vector<std::uint32_t> touched;
+    std::vector<SampleHit> sample_hits;  // the hits as TransportRowBuilder takes them
+    std::vector<float> ray_weights;      // the rays' unoccluded weights
+    std::optional<detail::TransportRowBuilder> rows;
     std::vector<float> w;  // W[block×S] for T_0's projection (fused pass)
     double trace_seconds = 0, merge_seconds = 0, project_seconds = 0;  // this worker's CPU time
 };
@@ -138,7 +164,6 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
     A.blocks.resize(block_count);
     tbb::enumerable_thread_specific<RowScratch> scratch;
     detail::BakeProgress progress(options.progress, true, V, S);
-    const float inv_pi = float(1.0 / std::numbers::pi);
     constexpr float kInf = std::numeric_limits<float>::infinity();
     constexpr float kKeep[2] = {1.0f, 0.0f};  // visible, occluded: as trace_row, branch-free
 
@@ -150,6 +175,9 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
         sc.ray_dirs.resize(S);
         sc.ray_index.resize(S);
         sc.hits.resize(S);
+        sc.sample_hits.resize(S);
+        sc.ray_weights.resize(S);
+        if (!sc.rows) sc.rows.emplace(mesh, options.two_sided);
         const Vec3f n = mesh.normals[v];
         detail::weight_row(n, table, weight);
         std::uint32_t m = 0;
@@ -158,60 +186,17 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
             sc.ray_dirs[m] = table.dirs[s];
             m += weight[s] != 0.0f ? 1u : 0u;
         }
-        if (sc.seen.size() != V) {
-            sc.sums.assign(3 * V, 0.0);
-            sc.seen.assign(V, 0);
-        }
-        sc.touched.clear();
         if (m > 0)
             tracer.closest_hits(offset_ray_origin(mesh.positions[v], n), sc.ray_dirs.data(),
                                 static_cast<int>(m), 0.0f, kInf, sc.hits.data());
         const double merge_start = thread_cpu_seconds();
         for (std::uint32_t r = 0; r < m; ++r) {
             const Hit& h = sc.hits[r];
-            const float a = weight[sc.ray_index[r]] * inv_pi;
+            sc.sample_hits[r] = SampleHit{h.hit ? h.triangle : kNoTriangle, h.u, h.v};
+            sc.ray_weights[r] = weight[sc.ray_index[r]];
             weight[sc.ray_index[r]] *= kKeep[h.hit ? 1 : 0];
-            if (!h.hit) continue;
-            const auto& tri = mesh.triangles[h.triangle];
-            const Vec3f p0 = mesh.positions[tri[0]];
-            const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
-            // The ray meets the front (counter-clockwise) side when it runs against the face's
-            // normal; a back face is a one-sided surface's inside and sends nothing.
-            if (!options.two_sided && dot(face, sc.ray_dirs[r]) >= 0.0f) continue;
-            const float bary[3] = {1.0f - h.u - h.v, h.u, h.v};
-            Vec3f rho{0, 0, 0};
-            for (int k = 0; k < 3; ++k) rho += mesh.albedo[tri[k]] * bary[k];
-            // Entries of the same column merge, summed in ray order: deterministic.
-            for (int k = 0; k < 3; ++k) {
-                const std::uint32_t col = tri[k];
-                const float ab = a * bary[k];
-                if (!sc.seen[col]) {
-                    sc.seen[col] = 1;
-                    sc.touched.push_back(col);
-                }
-                double* sum = sc.sums.data() + 3 * std::size_t(col);
-                sum[0] += ab * rho.x;
-                sum[1] += ab * rho.y;
-                sum[2] += ab * rho.z;
-            }
         }
-        std::sort(sc.touched.begin(), sc.touched.end());
-        for (const std::uint32_t col : sc.touched) {
-            double* sum = sc.sums.data() + 3 * std::size_t(col);
-            const double r = sum[0], g = sum[1], b = sum[2];
-            sum[0] = sum[1] = sum[2] = 0.0;
-            sc.seen[col] = 0;
-            if (r == 0 && g == 0 && b == 0) continue;  // a black or grazing hit
-            out.column.push_back(static_cast<std::int32_t>(col));
-            out.values[0].push_back(static_cast<float>(r));
-            out.values[1].push_back(static_cast<float>(g));
-            out.values[2].push_back(static_cast<float>(b));
-        }
-        SHPRT_CHECK(out.column.size() <= std::size_t(std::numeric_limits<std::int32_t>::max()),
-                    out_of_memory,
-                    "a block of the transport operator has more than 2^31 - 1 non-zeros (use "
-                    "fewer samples)");
-        out.row_start.push_back(static_cast<std::int32_t>(out.column.size()));
+        sc.rows->add_row(sc.ray_dirs.data(), sc.ray_weights.data(), sc.sample_hits.data(), m, out);
         const double end = thread_cpu_seconds();
         sc.trace_seconds += merge_start - trace_start;
         sc.merge_seconds += end - merge_start;
@@ -275,6 +260,98 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
     return A;
 }
 
+}  // namespace
+
+namespace detail {
+
+void TransportRowBuilder::add_row(const Vec3f* dirs, const float* weights, const SampleHit* hits,
+                                  std::uint32_t rays, TransportOperator::Block& out) {
+    const Mesh& mesh = *m_mesh;
+    const std::size_t V = mesh.vertex_count();
+    if (m_seen.size() != V) {
+        m_sums.assign(3 * V, 0.0);
+        m_seen.assign(V, 0);
+    }
+    m_touched.clear();
+    const float inv_pi = float(1.0 / std::numbers::pi);
+    for (std::uint32_t r = 0; r < rays; ++r) {
+        const SampleHit& h = hits[r];
+        if (h.triangle == kNoTriangle) continue;
+        const auto& tri = mesh.triangles[h.triangle];
+        const Vec3f p0 = mesh.positions[tri[0]];
+        const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
+        // The ray meets the front (counter-clockwise) side when it runs against the face's
+        // normal; a back face is a one-sided surface's inside and sends nothing.
+        if (!m_two_sided && dot(face, dirs[r]) >= 0.0f) continue;
+        const float bary[3] = {1.0f - h.u - h.v, h.u, h.v};
+        Vec3f rho{0, 0, 0};
+        for (int k = 0; k < 3; ++k) rho += mesh.albedo[tri[k]] * bary[k];
+        const float a = weights[r] * inv_pi;
+        // Entries of the same column merge, summed in ray order: deterministic.
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t col = tri[k];
+            const float ab = a * bary[k];
+            if (!m_seen[col]) {
+                m_seen[col] = 1;
+                m_touched.push_back(col);
+            }
+            double* sum = m_sums.data() + 3 * std::size_t(col);
+            sum[0] += ab * rho.x;
+            sum[1] += ab * rho.y;
+            sum[2] += ab * rho.z;
+        }
+    }
+    std::sort(m_touched.begin(), m_touched.end());
+    for (const std::uint32_t col : m_touched) {
+        double* sum = m_sums.data() + 3 * std::size_t(col);
+        const double r = sum[0], g = sum[1], b = sum[2];
+        sum[0] = sum[1] = sum[2] = 0.0;
+        m_seen[col] = 0;
+        if (r == 0 && g == 0 && b == 0) continue;  // a black or grazing hit
+        out.column.push_back(static_cast<std::int32_t>(col));
+        out.values[0].push_back(static_cast<float>(r));
+        out.values[1].push_back(static_cast<float>(g));
+        out.values[2].push_back(static_cast<float>(b));
+    }
+    SHPRT_CHECK(out.column.size() <= std::size_t(std::numeric_limits<std::int32_t>::max()),
+                out_of_memory,
+                "a block of the transport operator has more than 2^31 - 1 non-zeros (use fewer "
+                "samples)");
+    out.row_start.push_back(static_cast<std::int32_t>(out.column.size()));
+}
+
+TransportOperator::Block transport_block_from_hits_impl(const Mesh& mesh,
+                                                        const DirectionTable& directions,
+                                                        std::size_t first, std::size_t count,
+                                                        const SampleHit* hits,
+                                                        TransportRowBuilder& builder) {
+    const std::size_t S = directions.size();
+    TransportOperator::Block block;
+    block.first = first;
+    block.row_start.reserve(count + 1);
+    block.row_start.push_back(0);
+    std::vector<float> weight(S), ray_weights(S);
+    std::vector<Vec3f> dirs(S);
+    std::vector<SampleHit> row_hits(S);
+    for (std::size_t j = 0; j < count; ++j) {
+        weight_row(mesh.normals[first + j], directions, weight.data());
+        std::uint32_t m = 0;
+        for (std::size_t s = 0; s < S; ++s) {
+            if (weight[s] == 0.0f) continue;  // below the horizon: no ray
+            dirs[m] = directions.dirs[s];
+            ray_weights[m] = weight[s];
+            row_hits[m] = hits[s * count + j];
+            ++m;
+        }
+        builder.add_row(dirs.data(), ray_weights.data(), row_hits.data(), m, block);
+    }
+    return block;
+}
+
+}  // namespace detail
+
+namespace {
+
 // The products of apply_transport, with an optional progress reporter counting rows.
 void apply_transport_blocks(const TransportOperator& A, const float* in, float* out, int K,
                             int threads, TransportKernel kernel, detail::BakeProgress* progress) {
@@ -328,6 +405,19 @@ void apply_transport_blocks(const TransportOperator& A, const float* in, float* 
 }
 
 }  // namespace
+
+TransportOperator::Block transport_block_from_hits(const Mesh& mesh, const DirectionSet& directions,
+                                                   bool two_sided, std::size_t first,
+                                                   std::size_t count, const SampleHit* hits) {
+    const std::size_t V = mesh.vertex_count();
+    SHPRT_CHECK(mesh.albedo.size() == V && mesh.normals.size() == V, invalid_argument,
+                "interreflected transfer needs a normal and an albedo per vertex");
+    SHPRT_CHECK(first <= V && count <= V - first, invalid_argument,
+                "vertices [{}, {}) are outside the mesh's {}", first, first + count, V);
+    detail::TransportRowBuilder builder(mesh, two_sided);
+    return detail::transport_block_from_hits_impl(mesh, detail::make_direction_table(directions),
+                                                  first, count, hits, builder);
+}
 
 TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,
                                            const Tracer& tracer, const TransportOptions& options) {

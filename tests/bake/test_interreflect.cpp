@@ -14,10 +14,12 @@
 //   * one-sided surfaces: rays that hit a back face bring nothing (and do with two_sided).
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/interreflect.hpp"
+#include "shprt/bake/transfer_sample.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/scene/builder.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/sh/basis.hpp"
+#include "shprt/trace/bvh_build.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
 
@@ -137,6 +139,55 @@ TEST(Interreflect, ClosestHitsAreIntersect) {
         EXPECT_EQ(hits[i].t, one.t);
     }
     EXPECT_GT(hit_count, 100);
+}
+
+// The GPU bake's path to A, emulated on the CPU: the kernel's closest_hit_sample over the flat
+// BVH (its W is transfer_sample's, bit for bit) gives sample-major hit records, and
+// transport_block_from_hits merges them into the same bits as build_transport_operator with a
+// tracer over the same flat BVH.
+TEST(Interreflect, KernelHitRecordsGiveTheOperatorsBits) {
+    Mesh mesh = make_builtin("box_on_plane");
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        mesh.albedo[v] = {0.9f, 0.5f, float(v % 5) / 5.0f};
+    const DirectionSet d = make_direction_set(SamplerKind::sobol, 4, 300);
+    const std::size_t V = mesh.vertex_count(), S = d.size();
+    const FlatBvh bvh = build_flat_bvh(mesh);
+    const auto tracer = make_flat_bvh_tracer(mesh);
+    TransportOptions to;
+    to.rows_per_block = 37;  // blocks that do not divide V
+    for (const bool two_sided : {false, true}) {
+        to.two_sided = two_sided;
+        const TransportOperator A = build_transport_operator(mesh, d, *tracer, to);
+        ASSERT_GT(A.nnz(), 0u);
+        std::size_t hits_seen = 0;
+        for (const TransportOperator::Block& b : A.blocks) {
+            const std::size_t count = b.rows();
+            std::vector<SampleHit> hits(S * count);
+            for (std::size_t j = 0; j < count; ++j) {
+                const std::size_t v = b.first + j;
+                for (std::size_t s = 0; s < S; ++s) {
+                    const Vec3f w{d.dirs[3 * s], d.dirs[3 * s + 1], d.dirs[3 * s + 2]};
+                    bool cast = false, cast2 = false;
+                    const float value =
+                        closest_hit_sample(bvh.view(), mesh.positions[v], mesh.normals[v], w,
+                                           d.weights[s], cast, hits[s * count + j]);
+                    const float shadowed =
+                        transfer_sample(bvh.view(), mesh.positions[v], mesh.normals[v], w,
+                                        d.weights[s], true, cast2);
+                    ASSERT_EQ(value, shadowed) << v << " " << s;
+                    ASSERT_EQ(cast, cast2);
+                    hits_seen += hits[s * count + j].triangle != kNoTriangle;
+                }
+            }
+            const TransportOperator::Block got =
+                transport_block_from_hits(mesh, d, two_sided, b.first, count, hits.data());
+            EXPECT_EQ(got.first, b.first);
+            EXPECT_EQ(got.row_start, b.row_start);
+            EXPECT_EQ(got.column, b.column);
+            for (int c = 0; c < 3; ++c) EXPECT_EQ(got.values[c], b.values[c]) << c;
+        }
+        EXPECT_GT(hits_seen, 1000u);
+    }
 }
 
 // White furnace: ρ = 1 in a cavity under a constant sky of 1: E_N rises with N at every vertex

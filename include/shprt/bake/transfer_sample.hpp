@@ -16,6 +16,8 @@
 #include "shprt/trace/flat_bvh.hpp"
 #include "shprt/trace/ray.hpp"
 
+#include <cstdint>
+
 namespace shprt {
 
 // max(0, n·w) as the CPU bake computes it: no FMA contraction, left-to-right sum.
@@ -28,6 +30,16 @@ SHPRT_HD_INLINE float transfer_cosine(Vec3f n, Vec3f w) {
 #endif
 }
 
+// max(0, n·w)·weight: the unoccluded value of a sample, as the CPU bake's weight_row computes it.
+SHPRT_HD_INLINE float transfer_unoccluded(Vec3f n, Vec3f w, float weight) {
+    const float cosine = transfer_cosine(n, w);
+#if defined(__CUDA_ARCH__)
+    return cosine > 0.0f ? __fmul_rn(cosine, weight) : 0.0f;
+#else
+    return cosine > 0.0f ? cosine * weight : 0.0f;
+#endif
+}
+
 // W = V·max(0, n·w)·weight for the vertex at `p` with unit normal `n` and the unit direction `w`
 // of integration weight `weight`. V (visibility: 1 when the ray from offset_ray_origin(p, n) along
 // w hits nothing in (0, ∞) of `bvh`) is evaluated only when `shadowed` and the unoccluded value is
@@ -35,17 +47,36 @@ SHPRT_HD_INLINE float transfer_cosine(Vec3f n, Vec3f w) {
 // (n·w ≤ 0) the result is 0 and no ray is cast. `bvh` may be empty when !shadowed.
 SHPRT_HD_INLINE float transfer_sample(const FlatBvhView& bvh, Vec3f p, Vec3f n, Vec3f w,
                                       float weight, bool shadowed, bool& ray_cast) {
-    const float cosine = transfer_cosine(n, w);
-#if defined(__CUDA_ARCH__)
-    const float unoccluded = cosine > 0.0f ? __fmul_rn(cosine, weight) : 0.0f;
-#else
-    const float unoccluded = cosine > 0.0f ? cosine * weight : 0.0f;
-#endif
+    const float unoccluded = transfer_unoccluded(n, w, weight);
     ray_cast = false;
     if (!shadowed || unoccluded == 0.0f) return unoccluded;
     ray_cast = true;
     constexpr float kInf = __builtin_huge_valf();
     return bvh_occluded(bvh, offset_ray_origin(p, n), w, 0.0f, kInf) ? 0.0f : unoccluded;
+}
+
+// What interreflected transfer keeps of a sample's ray: the closest hit's triangle (kNoTriangle
+// when no ray was cast or it escaped) and barycentrics (u, v) (ray.hpp's Hit, without t).
+struct SampleHit {
+    std::uint32_t triangle;
+    float u, v;
+};
+
+// The interreflected bake's sample (docs/interreflection.md): the same W as transfer_sample with
+// `shadowed` (a ray that hits anything is occluded), from the closest hit, which it also returns.
+// The same ray (origin, direction, interval) as transfer_sample.
+SHPRT_HD_INLINE float closest_hit_sample(const FlatBvhView& bvh, Vec3f p, Vec3f n, Vec3f w,
+                                         float weight, bool& ray_cast, SampleHit& hit) {
+    const float unoccluded = transfer_unoccluded(n, w, weight);
+    ray_cast = false;
+    hit = SampleHit{kNoTriangle, 0.0f, 0.0f};
+    if (unoccluded == 0.0f) return unoccluded;
+    ray_cast = true;
+    constexpr float kInf = __builtin_huge_valf();
+    const Hit h = bvh_intersect(bvh, offset_ray_origin(p, n), w, 0.0f, kInf);
+    if (!h.hit) return unoccluded;
+    hit = SampleHit{h.triangle, h.u, h.v};
+    return 0.0f;
 }
 
 }  // namespace shprt
