@@ -35,11 +35,12 @@ if(SHPRT_HAS_CUDA)
         add_library(shprt_cuda STATIC ${shprt_cuda_sources})
         target_include_directories(shprt_cuda PUBLIC ${CMAKE_SOURCE_DIR}/include ${CMAKE_BINARY_DIR}/generated
                                               PRIVATE ${CMAKE_SOURCE_DIR}/src)
-        # cuBLAS is not linked but opened on first use (src/cuda/cublas_loader.hpp): linking it
-        # costs every program ~0.3 s of start-up. Its headers come with the toolkit's includes.
+        # cuBLAS and cuSPARSE are not linked but opened on first use (src/cuda/cublas_loader.hpp,
+        # cusparse_loader.hpp): linking them costs every program ~0.3 s of start-up. Their
+        # headers come with the toolkit's includes.
         target_link_libraries(shprt_cuda PUBLIC CUDA::cudart_static fmt::fmt ${CMAKE_DL_LIBS}
                                          PRIVATE shprt_warnings)
-        target_compile_definitions(shprt_cuda PRIVATE SHPRT_CUBLAS_DIR="${CUDAToolkit_LIBRARY_DIR}")
+        target_compile_definitions(shprt_cuda PRIVATE SHPRT_CUDA_LIBRARY_DIR="${CUDAToolkit_LIBRARY_DIR}")
         # --fmad=false: no contraction of a*b+c into FMA in device code, so the SHPRT_HD traversal
         # and transfer math round exactly as on the host (the CPU emulation tests rely on it).
         target_compile_options(shprt_cuda PRIVATE $<$<COMPILE_LANGUAGE:CUDA>:--expt-relaxed-constexpr -lineinfo --fmad=false>)

@@ -81,11 +81,9 @@ TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device bac
                       const DirectionSet& directions) {
     const bool interreflected = options.transfer == TransferKind::interreflected;
     if (backend == Device::cuda) {
-        SHPRT_CHECK(!interreflected, unsupported,
-                    "interreflected transfer runs on the CPU only so far (the GPU path is not "
-                    "written): use --device cpu");
         SHPRT_CHECK(job.tracer == nullptr, unsupported,
                     "a caller-built tracer runs on the CPU only (device 'cuda' was asked for)");
+        if (interreflected) return detail::bake_interreflected_gpu(job, options, directions);
         return detail::bake_gpu(job, options, directions);
     }
     if (interreflected && job.tracer)
@@ -214,15 +212,7 @@ TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
     validate(checked);
     detail::validate_job(job, checked);
     SHPRT_CHECK(job.sink != nullptr, invalid_argument, "a bake needs a sink for its rows");
-    // Interreflected transfer has no GPU path yet: `auto` picks the CPU, `cuda` is refused.
-    SHPRT_CHECK(checked.transfer != TransferKind::interreflected || checked.device != Device::cuda,
-                unsupported,
-                "interreflected transfer runs on the CPU only so far (its GPU path is not "
-                "written): use --device cpu or auto");
-    const Device backend =
-        checked.transfer == TransferKind::interreflected && checked.device == Device::automatic
-            ? Device::cpu
-            : resolve_device(checked.device, checked.device_index);
+    const Device backend = resolve_device(checked.device, checked.device_index);
     if (job.directions) return run_bake(job, checked, backend, *job.directions);
     const DirectionSet directions =
         make_direction_set(checked.sampler, checked.seed, checked.samples);

@@ -127,6 +127,102 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     return info;
 }
 
+TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& options,
+                                     const DirectionSet& directions) {
+    const auto start = Clock::now();
+    check_interreflected_job(job);
+    const int wanted = options.converge ? options.max_bounces : options.bounces;
+    if (wanted == 0) {  // T_0 alone: the shadowed GPU bake itself, then the shared finish
+        BakeOptions direct_options = options;
+        direct_options.transfer = TransferKind::shadowed;
+        HostSink direct_sink;
+        BakeJob direct_job = job;
+        direct_job.sink = &direct_sink;
+        TransferInfo info = bake_gpu(direct_job, direct_options, directions);
+        const double seconds = seconds_since(start);
+        return finish_interreflected(
+            job, options, std::move(info), direct_sink.take_rows(), TransportOperator{},
+            [](const float*, float*, BakeProgress&) {}, 0, seconds);
+    }
+    require_gpu(options.device_index);
+    const cuda::DeviceState device = cuda::prepare_device(options.device_index);
+    const Mesh& mesh = *job.occluders;
+    const Receivers& rx = job.receivers;
+    const std::size_t V = rx.count, S = directions.size();
+    const int K = options.K;
+    const auto bvh_start = Clock::now();
+    const FlatBvh bvh = build_bvh(mesh, options.threads);
+    const double seconds_bvh = seconds_since(bvh_start);
+    const std::vector<float> Y = basis_table(K, directions);
+
+    ChunkPlanRequest request;
+    request.vertices = V;
+    request.samples = S;
+    request.K = K;
+    request.free_device_bytes = device.free_bytes;
+    request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, K, bvh.bytes());
+    request.closest_hits = true;
+    request.requested_chunk = options.chunk_receivers;
+    const ChunkPlan plan = plan_chunks(request);
+
+    // One pass on the device: W from the closest hits (T_0, projected by cuBLAS) and the hits,
+    // merged into A's rows here, one block per chunk, by the CPU pass's row builder.
+    std::vector<float> T0(V * std::size_t(K));
+    TransportOperator A;
+    A.vertices = V;
+    BakeProgress progress(options.progress, true, V, S);
+    double seconds_merge = 0;
+    cuda::DeviceBakeInput input;
+    input.device = options.device_index;
+    input.scene = device_scene(rx, &bvh, directions);
+    input.basis = Y.data();
+    input.K = K;
+    input.first = 0;
+    input.count = V;
+    input.plan = plan;
+    input.closest_hits = true;
+    input.on_hits = [&](std::size_t first, std::size_t count, const SampleHit* hits) {
+        const auto merge_start = Clock::now();
+        A.blocks.push_back(
+            transport_block_from_hits(mesh, directions, options.two_sided, first, count, hits));
+        seconds_merge += seconds_since(merge_start);
+    };
+    input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* rows,
+                              std::uint64_t rays) {
+        std::copy_n(rows, count * std::size_t(K), T0.data() + first * std::size_t(K));
+        progress.add(count, rays);
+        return progress.poll();
+    };
+    const cuda::DeviceBakeResult result = cuda::run_device_bake(input);
+    SHPRT_CHECK(!result.cancelled && progress.finish(), cancelled,
+                "bake cancelled after {} of {} receivers", progress.receivers_done(), V);
+    A.rays_cast = result.rays;
+
+    BakeOptions direct_options = options;
+    direct_options.transfer = TransferKind::shadowed;
+    TransferInfo info = bake_info(direct_options, rx, S);
+    BakeStats& st = info.stats;
+    st.seconds_bvh = seconds_bvh;
+    st.seconds_trace = result.seconds_trace;
+    st.seconds_project = result.seconds_project;
+    st.seconds_operator = seconds_merge;
+    st.rays_cast = result.rays;
+    st.device_name = device.name;
+
+    cuda::DeviceTransport transport(options.device_index, A, K);
+    st.peak_bytes_device = std::max(result.peak_device_bytes, transport.device_bytes());
+    const double seconds = seconds_since(start);
+    TransferInfo out = finish_interreflected(
+        job, options, std::move(info), std::move(T0), A,
+        [&](const float* in, float* out_rows, BakeProgress& rows) {
+            transport.apply(in, out_rows);
+            rows.add(V, 0);
+            rows.poll();
+        },
+        Y.size() * sizeof(float) + bvh.bytes() + result.pinned_bytes, seconds);
+    return out;
+}
+
 }  // namespace detail
 
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,

@@ -2,6 +2,10 @@
 #pragma once
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/interreflect.hpp"
+
+#include <functional>
+#include <vector>
 
 namespace shprt::detail {
 
@@ -35,5 +39,24 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
                                  double seconds_bvh);
 TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
                       const DirectionSet& directions);
+
+// Interreflected transfer, the pieces both backends share (interreflect.cpp): the job check (all
+// vertices of the scene, host rows, an albedo per vertex), and, once T_0 (V × K) and A exist, the
+// bounces — each `bounce` is out = A·in over V × 3K floats, counting rows on `progress` — with
+// the sums, the relative changes, --bounces converged, the sink and the stats. `other_bytes`:
+// the backend's host memory besides T_0, A and the bounce buffers; `seconds_so_far`: since the
+// bake began (BVH included).
+class BakeProgress;
+using BounceProduct = std::function<void(const float* in, float* out, BakeProgress& progress)>;
+void check_interreflected_job(const BakeJob& job);
+TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& options,
+                                   TransferInfo info, std::vector<float> T0,
+                                   const TransportOperator& A, const BounceProduct& bounce,
+                                   std::uint64_t other_bytes, double seconds_so_far);
+// The GPU backend of interreflected transfer (bake_gpu.cpp; gpu_fallback.cpp without CUDA):
+// closest hits and T_0 on the device, A merged on the host from the kernel's hit records
+// (transport_block_from_hits), the bounces by cuSPARSE.
+TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& options,
+                                     const DirectionSet& directions);
 
 }  // namespace shprt::detail

@@ -4,6 +4,7 @@
 // Chunking is what keeps the bake's memory O(V·K + BVH + chunk·S) (DESIGN.md "Units of work"):
 // the S×V matrix of transfer samples never exists, only `slots` chunks of it at a time.
 #include "shprt/bake/gpu.hpp"
+#include "shprt/bake/transfer_sample.hpp"
 
 #include "shprt/core/error.hpp"
 
@@ -26,9 +27,11 @@ std::uint64_t gpu_bake_fixed_bytes(std::size_t vertices, std::size_t samples, in
     return bvh_bytes + v * 2 * 3 * sizeof(float) + s * 4 * sizeof(float) + s * k * sizeof(float);
 }
 
-std::uint64_t gpu_bake_bytes_per_vertex(std::size_t samples, int K, bool device_output) {
+std::uint64_t gpu_bake_bytes_per_vertex(std::size_t samples, int K, bool device_output,
+                                        bool closest_hits) {
     const std::uint64_t k = K > 0 ? std::uint64_t(K) : 0;
-    return (std::uint64_t(samples) + (device_output ? 0 : k)) * sizeof(float);
+    return (std::uint64_t(samples) + (device_output ? 0 : k)) * sizeof(float) +
+           (closest_hits ? std::uint64_t(samples) * sizeof(SampleHit) : 0);
 }
 
 ChunkPlan plan_chunks(const ChunkPlanRequest& r) {
@@ -40,7 +43,8 @@ ChunkPlan plan_chunks(const ChunkPlanRequest& r) {
     SHPRT_CHECK(r.usable_fraction > 0.0 && r.usable_fraction <= 1.0, invalid_argument,
                 "chunk plan: usable fraction {} is outside (0, 1]", r.usable_fraction);
 
-    const std::uint64_t per_vertex = gpu_bake_bytes_per_vertex(r.samples, r.K, r.device_output);
+    const std::uint64_t per_vertex =
+        gpu_bake_bytes_per_vertex(r.samples, r.K, r.device_output, r.closest_hits);
     const std::uint64_t slots = std::uint64_t(r.slots);
     const auto usable =
         static_cast<std::uint64_t>(static_cast<double>(r.free_device_bytes) * r.usable_fraction);

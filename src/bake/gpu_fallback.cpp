@@ -31,6 +31,11 @@ TransferInfo detail::bake_gpu(const BakeJob&, const BakeOptions&, const Directio
     no_cuda();
 }
 
+TransferInfo detail::bake_interreflected_gpu(const BakeJob&, const BakeOptions&,
+                                             const DirectionSet&) {
+    no_cuda();
+}
+
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
                                         const DirectionSet& directions, std::size_t, std::size_t,
                                         int) {

@@ -436,10 +436,7 @@ void apply_transport(const TransportOperator& A, const float* in, float* out, in
 
 namespace detail {
 
-TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
-                                 const DirectionSet& directions, const Tracer* tracer,
-                                 double seconds_bvh) {
-    const auto start = Clock::now();
+void check_interreflected_job(const BakeJob& job) {
     const Mesh& mesh = *job.occluders;
     const Receivers& rx = job.receivers;
     const std::size_t V = mesh.vertex_count();
@@ -450,12 +447,21 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
                 "interreflected transfer bakes every vertex of the scene at once (its bounces "
                 "couple them all): no shards, receiver ranges or MPI");
     SHPRT_CHECK(job.sink->device_rows() == nullptr, unsupported,
-                "the CPU bake cannot write into a device buffer (a DeviceSink needs device "
-                "'cuda')");
+                "interreflected transfer writes host rows (a DeviceSink cannot take them)");
     // bounces, tolerance and max_bounces were checked by validate() at bake()'s boundary.
     SHPRT_CHECK(mesh.albedo.size() == V, invalid_argument,
                 "interreflected transfer needs an albedo per vertex ({} for {} vertices)",
                 mesh.albedo.size(), V);
+}
+
+TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
+                                 const DirectionSet& directions, const Tracer* tracer,
+                                 double seconds_bvh) {
+    const auto start = Clock::now();
+    check_interreflected_job(job);
+    const Mesh& mesh = *job.occluders;
+    const Receivers& rx = job.receivers;
+    const std::size_t V = mesh.vertex_count();
     const int K = options.K;
 
     const int wanted = options.converge ? options.max_bounces : options.bounces;
@@ -508,13 +514,30 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
                  25 * std::uint64_t(V));
     }
 
+    return finish_interreflected(
+        job, options, std::move(info), std::move(T0), A,
+        [&](const float* in, float* out, BakeProgress& progress) {
+            apply_transport_blocks(A, in, out, K, options.threads, TransportKernel::automatic,
+                                   &progress);
+        },
+        pass_bytes + (tracer ? tracer->memory_bytes() : 0), seconds_bvh + seconds_since(start));
+}
+
+TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& options,
+                                   TransferInfo info, std::vector<float> T0,
+                                   const TransportOperator& A, const BounceProduct& bounce,
+                                   std::uint64_t other_bytes, double seconds_so_far) {
+    const auto start = Clock::now();
+    const std::size_t V = job.occluders->vertex_count();
+    const int K = options.K;
+    const int wanted = options.converge ? options.max_bounces : options.bounces;
     info.kind = TransferKind::interreflected;
     info.layout.channels = 3;
     InterreflectionInfo& ir = info.interreflection;
     ir.two_sided = options.two_sided;
     ir.converge = options.converge;
     ir.tolerance = options.converge ? options.tolerance : 0.0;
-    ir.albedo_source = mesh.albedo_source;
+    ir.albedo_source = job.occluders->albedo_source;
     ir.operator_nnz = A.nnz();
     ir.operator_bytes = A.bytes();
     ir.operator_rays = A.rays_cast;
@@ -534,8 +557,7 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
         BakeProgress progress(options.progress, "bounces", "rows",
                               options.converge ? 0 : std::uint64_t(wanted) * V);
         for (int b = 1; b <= wanted; ++b) {
-            apply_transport_blocks(A, previous.data(), current.data(), K, options.threads,
-                                   TransportKernel::automatic, &progress);
+            bounce(previous.data(), current.data(), progress);
             SHPRT_CHECK(!progress.stopped(), cancelled, "bake cancelled during bounce {}", b);
             // The largest relative change of any receiver's transfer by this bounce:
             // |T_b(v)| / |T_0(v) + … + T_b(v)| (Euclidean over its 3K floats).
@@ -573,10 +595,10 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
     if (job.direct) *job.direct = std::move(T0);
 
     BakeStats& st = info.stats;
-    st.seconds_total = seconds_bvh + seconds_since(start);
-    st.peak_bytes_host = std::max<std::uint64_t>(
-        st.peak_bytes_host, V * std::size_t(K) * sizeof(float) + A.bytes() + buffers_bytes +
-                                pass_bytes + (tracer ? tracer->memory_bytes() : 0));
+    st.seconds_total = seconds_so_far + seconds_since(start);
+    st.peak_bytes_host =
+        std::max<std::uint64_t>(st.peak_bytes_host, V * std::size_t(K) * sizeof(float) + A.bytes() +
+                                                        buffers_bytes + other_bytes);
     return info;
 }
 

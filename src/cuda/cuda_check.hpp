@@ -1,12 +1,13 @@
-// Checks for CUDA runtime and cuBLAS calls: a failure becomes shprt::Error(ErrorCode::cuda) whose
-// message names the call, the file and line, and CUDA's own error name and text. Allocation
-// failures become Error(out_of_memory). Host code of the CUDA backend only (.cpp files compiled by
-// the host compiler; nvcc cannot parse fmt, so .cu launchers return cudaError_t to be checked
-// here).
+// Checks for CUDA runtime, cuBLAS and cuSPARSE calls: a failure becomes
+// shprt::Error(ErrorCode::cuda) whose message names the call, the file and line, and CUDA's own
+// error name and text. Allocation failures become Error(out_of_memory). Host code of the CUDA
+// backend only (.cpp files compiled by the host compiler; nvcc cannot parse fmt, so .cu launchers
+// return cudaError_t to be checked here).
 #pragma once
 
 #include <cublas_v2.h>
 #include <cuda_runtime_api.h>
+#include <cusparse.h>
 
 namespace shprt::cuda {
 
@@ -14,6 +15,7 @@ namespace shprt::cuda {
 // last-error state is cleared first, so a failure does not resurface in an unrelated later check.
 void check(cudaError_t status, const char* call, const char* file, int line);
 void check(cublasStatus_t status, const char* call, const char* file, int line);
+void check(cusparseStatus_t status, const char* call, const char* file, int line);
 
 }  // namespace shprt::cuda
 

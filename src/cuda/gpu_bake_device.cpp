@@ -94,7 +94,9 @@ struct Slot {
     DeviceBuffer<float> w;                  // Wt[S×chunk]
     DeviceBuffer<float> c;                  // C[chunk×K] (empty with device output)
     DeviceBuffer<unsigned long long> rays;  // rays cast by the chunk
+    DeviceBuffer<SampleHit> hits;           // closest hits: S × chunk (interreflected only)
     PinnedBuffer<float> host_c;             // staging for the copy back
+    PinnedBuffer<SampleHit> host_hits;
     PinnedBuffer<unsigned long long> host_rays;
     Event start, traced, projected, done;
     std::size_t first = 0, count = 0;
@@ -140,6 +142,11 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         slot->w = DeviceBuffer<float>(plan.chunk_vertices * S, &tally);
         slot->rays = DeviceBuffer<unsigned long long>(1, &tally);
         slot->host_rays = PinnedBuffer<unsigned long long>(1);
+        if (in.closest_hits) {
+            slot->hits = DeviceBuffer<SampleHit>(plan.chunk_vertices * S, &tally);
+            slot->host_hits = PinnedBuffer<SampleHit>(plan.chunk_vertices * S);
+            result.pinned_bytes += slot->host_hits.bytes();
+        }
         if (!device_output) {
             slot->c = DeviceBuffer<float>(plan.chunk_vertices * K, &tally);
             slot->host_c = PinnedBuffer<float>(plan.chunk_vertices * K);
@@ -161,7 +168,12 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         TransferLaunch launch = scene.launch(slot.first, slot.count);
         launch.w_t = slot.w.data();
         launch.rays = slot.rays.data();
-        SHPRT_CUDA_CHECK(launch_transfer(launch, stream));
+        if (in.closest_hits) {
+            launch.hits = slot.hits.data();
+            SHPRT_CUDA_CHECK(launch_closest_hits(launch, stream));
+        } else {
+            SHPRT_CUDA_CHECK(launch_transfer(launch, stream));
+        }
         slot.traced.record(stream);
         float* C = device_output ? in.device_output + (slot.first - in.first) * K : slot.c.data();
         const int m = in.K, n = static_cast<int>(slot.count), k = static_cast<int>(S);
@@ -174,6 +186,10 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         SHPRT_CUDA_CHECK(cudaMemcpyAsync(slot.host_rays.data(), slot.rays.data(),
                                          sizeof(unsigned long long), cudaMemcpyDeviceToHost,
                                          stream));
+        if (in.closest_hits)
+            SHPRT_CUDA_CHECK(cudaMemcpyAsync(slot.host_hits.data(), slot.hits.data(),
+                                             slot.count * S * sizeof(SampleHit),
+                                             cudaMemcpyDeviceToHost, stream));
         slot.done.record(stream);
         slot.busy = true;
     };
@@ -187,6 +203,8 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         const std::uint64_t rays = slot.host_rays.data()[0];
         result.rays += rays;
         const float* rows = device_output ? nullptr : slot.host_c.data();
+        if (in.closest_hits && in.on_hits)
+            in.on_hits(slot.first, slot.count, slot.host_hits.data());
         return in.on_chunk_done ? in.on_chunk_done(slot.first, slot.count, rows, rays) : true;
     };
 

@@ -4,12 +4,15 @@
 #pragma once
 
 #include "shprt/bake/gpu.hpp"
+#include "shprt/bake/interreflect.hpp"
+#include "shprt/bake/transfer_sample.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/trace/flat_bvh.hpp"
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -56,6 +59,11 @@ struct DeviceBakeInput {
     std::function<bool(std::size_t first, std::size_t count, const float* coeffs,
                        std::uint64_t rays)>
         on_chunk_done;
+    // Interreflected transfer: W from the closest hits (closest_hit_sample), whose records are
+    // handed to on_hits (sample-major, count × S, pinned host memory valid during the call)
+    // before on_chunk_done, for each chunk.
+    bool closest_hits = false;
+    std::function<void(std::size_t first, std::size_t count, const SampleHit* hits)> on_hits;
 };
 
 struct DeviceBakeResult {
@@ -69,6 +77,26 @@ struct DeviceBakeResult {
 
 // Runs the chunk pipeline of gpu.hpp's bake_gpu. Holds the GPU lock throughout.
 DeviceBakeResult run_device_bake(const DeviceBakeInput& input);
+
+// The bounces of an interreflected bake on the device: A (interreflect.hpp) uploaded once, then
+// each apply() is out = A·in per channel by cuSPARSE SpMM (CSR, one call per block of A and
+// channel, CUSPARSE_SPMM_CSR_ALG2: deterministic run to run), `in` and `out` V × 3K floats in
+// host memory (the transfer layout). Holds the GPU lock while it uploads and while it applies.
+class DeviceTransport {
+public:
+    DeviceTransport(int device, const TransportOperator& A, int K);
+    ~DeviceTransport();
+    DeviceTransport(const DeviceTransport&) = delete;
+    DeviceTransport& operator=(const DeviceTransport&) = delete;
+
+    void apply(const float* in, float* out);
+    std::uint64_t device_bytes() const;  // A, the two dense buffers and SpMM's workspace
+    double seconds() const;              // Σ GPU time of the products so far
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
 
 // W rows of vertices [first, first + count): count × S floats, vertex-major (gpu.hpp).
 std::vector<float> device_transfer_samples(int device, const DeviceScene& scene, std::size_t first,

@@ -2,6 +2,7 @@
 #include "cuda/gpu_context.hpp"
 
 #include "cuda/cublas_loader.hpp"
+#include "cuda/cusparse_loader.hpp"
 #include "cuda/device_buffer.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
@@ -29,6 +30,14 @@ void check(cublasStatus_t status, const char* call, const char* file, int line) 
         status == CUBLAS_STATUS_ALLOC_FAILED ? ErrorCode::out_of_memory : ErrorCode::cuda;
     throw Error(code, fmt::format("cuBLAS error {} ({}) in {} at {}:{}", int(status),
                                   cublas_status_string(status), call, file, line));
+}
+
+void check(cusparseStatus_t status, const char* call, const char* file, int line) {
+    if (status == CUSPARSE_STATUS_SUCCESS) return;
+    const ErrorCode code =
+        status == CUSPARSE_STATUS_ALLOC_FAILED ? ErrorCode::out_of_memory : ErrorCode::cuda;
+    throw Error(code, fmt::format("cuSPARSE error {} ({}) in {} at {}:{}", int(status),
+                                  cusparse().error_string(status), call, file, line));
 }
 
 void check_allocation(cudaError_t status, std::size_t bytes, const char* what, const char* file,

@@ -36,6 +36,21 @@ __global__ void __launch_bounds__(kBlock) transfer_kernel(TransferLaunch p) {
     count_lanes(cast, p.rays);
 }
 
+__global__ void __launch_bounds__(kBlock) closest_hit_kernel(TransferLaunch p) {
+    const std::uint32_t total = p.count * p.samples;
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    bool cast = false;
+    if (i < total) {
+        const std::uint32_t s = i / p.count;
+        const std::uint32_t vertex = p.first + (i - s * p.count);
+        SampleHit hit;
+        p.w_t[i] = closest_hit_sample(p.bvh, p.positions[vertex], p.normals[vertex],
+                                      load_direction(p.dirs, s), p.weights[s], cast, hit);
+        p.hits[i] = hit;
+    }
+    count_lanes(cast, p.rays);
+}
+
 __global__ void __launch_bounds__(kBlock) trace_only_kernel(TransferLaunch p) {
     const std::uint32_t total = p.count * p.samples;
     const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
@@ -62,6 +77,12 @@ unsigned blocks_for(const TransferLaunch& p) {
 cudaError_t launch_transfer(const TransferLaunch& launch, cudaStream_t stream) {
     if (launch.count == 0 || launch.samples == 0) return cudaSuccess;
     transfer_kernel<<<blocks_for(launch), kBlock, 0, stream>>>(launch);
+    return cudaGetLastError();
+}
+
+cudaError_t launch_closest_hits(const TransferLaunch& launch, cudaStream_t stream) {
+    if (launch.count == 0 || launch.samples == 0) return cudaSuccess;
+    closest_hit_kernel<<<blocks_for(launch), kBlock, 0, stream>>>(launch);
     return cudaGetLastError();
 }
 

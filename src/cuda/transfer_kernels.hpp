@@ -4,6 +4,7 @@
 // (nvcc cannot compile shprt::Error's fmt-based header).
 #pragma once
 
+#include "shprt/bake/transfer_sample.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/trace/flat_bvh.hpp"
 
@@ -28,10 +29,15 @@ struct TransferLaunch {
     float* w_t = nullptr;                    // S × count, sample-major: w_t[s·count + v]
     unsigned long long* rays = nullptr;      // += rays cast (must be non-null)
     unsigned long long* occluded = nullptr;  // trace-only: += rays that hit something
+    SampleHit* hits = nullptr;  // closest hits: S × count, sample-major: hits[s·count + v]
 };
 
 // W[v][s] = transfer_sample(...) into w_t, and the rays cast into *rays. Asynchronous on `stream`.
 cudaError_t launch_transfer(const TransferLaunch& launch, cudaStream_t stream);
+
+// Interreflected transfer: W as launch_transfer with shadowed (from the closest hit:
+// closest_hit_sample) and each sample's hit record into `hits`. Asynchronous on `stream`.
+cudaError_t launch_closest_hits(const TransferLaunch& launch, cudaStream_t stream);
 
 // The raw traversal rate kernel: traces the same rays (n·w > 0) and only counts them and their
 // hits (*rays, *occluded); w_t and weights are not used.

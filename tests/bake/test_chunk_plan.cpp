@@ -55,6 +55,8 @@ TEST(ChunkPlan, ByteCountsFollowTheDocumentedFormulas) {
               12345u + 1000u * 24u + 512u * 16u + 512u * 16u * 4u);
     EXPECT_EQ(gpu_bake_bytes_per_vertex(4096, 256, false), (4096u + 256u) * 4u);
     EXPECT_EQ(gpu_bake_bytes_per_vertex(4096, 256, true), 4096u * 4u);
+    // Interreflected: a 12-byte hit record per sample too.
+    EXPECT_EQ(gpu_bake_bytes_per_vertex(4096, 256, false, true), (4096u + 256u) * 4u + 4096u * 12u);
 }
 
 TEST(ChunkPlan, RoomSweepOnAnAmpleDevice) {

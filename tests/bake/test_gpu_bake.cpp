@@ -257,6 +257,50 @@ TEST(GpuBake, AgreesWithTheCpuBakeInTheRoom) {
     EXPECT_LE(max_rel_agreeing, 1e-4);
 }
 
+// Interreflected transfer on the GPU (closest hits and T_0 on the device, A merged on the host
+// from the kernel's hit records, bounces by cuSPARSE) against the CPU bake with a tracer over the
+// same flat BVH: the same hits, so the same A (nnz equal), T_0 as the SGEMMs round (cuBLAS vs
+// OpenBLAS), the bounces as the sparse products round: 1e-5 of each vertex's largest coefficient.
+TEST(GpuBake, InterreflectedAgreesWithTheCpuBake) {
+    SKIP_WITHOUT_GPU();
+    Mesh mesh = make_builtin("box_on_plane");
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        mesh.albedo[v] = {0.9f, 0.6f, float(v % 4) / 4.0f};
+    BakeOptions o;
+    o.transfer = TransferKind::interreflected;
+    o.K = 16;
+    o.bounces = 3;
+    const DirectionSet d = make_direction_set(SamplerKind::sobol, 1, 512);
+    const auto flat = make_flat_bvh_tracer(mesh);
+    const TransferSet cpu = bake_with_tracer(mesh, o, d, *flat);
+    o.device = Device::cuda;
+    const TransferSet gpu = bake(mesh, o, d);
+    EXPECT_EQ(gpu.interreflection.operator_nnz, cpu.interreflection.operator_nnz);
+    EXPECT_EQ(gpu.interreflection.bounces, 3);
+    EXPECT_EQ(gpu.stats.rays_cast, cpu.stats.rays_cast);
+    ASSERT_EQ(gpu.coeffs.size(), cpu.coeffs.size());
+    ASSERT_EQ(gpu.direct.size(), cpu.direct.size());
+    const std::size_t row = 3 * std::size_t(o.K);
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        float scale = 0;
+        for (std::size_t i = 0; i < row; ++i)
+            scale = std::max(scale, std::fabs(cpu.coeffs[v * row + i]));
+        for (std::size_t i = 0; i < row; ++i)
+            ASSERT_NEAR(gpu.coeffs[v * row + i], cpu.coeffs[v * row + i], 1e-5f * scale + 1e-9f)
+                << "vertex " << v << " float " << i;
+        for (int i = 0; i < o.K; ++i)
+            ASSERT_NEAR(gpu.direct[v * o.K + i], cpu.direct[v * o.K + i], 1e-5f * scale + 1e-9f)
+                << "vertex " << v << " direct " << i;
+    }
+    // --bounces converged stops where the CPU stops.
+    o.converge = true;
+    o.tolerance = 1e-3;
+    const TransferSet gpu_converged = bake(mesh, o, d);
+    o.device = Device::cpu;
+    const TransferSet cpu_converged = bake_with_tracer(mesh, o, d, *flat);
+    EXPECT_EQ(gpu_converged.interreflection.bounces, cpu_converged.interreflection.bounces);
+}
+
 TEST(GpuBake, UnshadowedAgreesWithTheCpuBake) {
     SKIP_WITHOUT_GPU();
     const Mesh mesh = make_builtin("sphere");

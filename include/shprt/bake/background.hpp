@@ -7,8 +7,8 @@
 #pragma once
 
 #include "shprt/bake/bake.hpp"
-#include "shprt/transfer/sink.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/sink.hpp"
 
 #include <atomic>
 #include <cstddef>

@@ -70,8 +70,10 @@ std::uint64_t gpu_bake_fixed_bytes(std::size_t vertices, std::size_t samples, in
                                    std::uint64_t bvh_bytes);
 
 // Bytes each chunk buffer ("slot") holds per vertex: W (4·S) plus C (4·K, unless the bake writes
-// into a caller's device buffer) plus nothing else; a slot also holds one 8-byte ray counter.
-std::uint64_t gpu_bake_bytes_per_vertex(std::size_t samples, int K, bool device_output);
+// into a caller's device buffer) plus, for interreflected transfer (`closest_hits`), a 12-byte
+// SampleHit per sample; a slot also holds one 8-byte ray counter.
+std::uint64_t gpu_bake_bytes_per_vertex(std::size_t samples, int K, bool device_output,
+                                        bool closest_hits = false);
 
 struct ChunkPlanRequest {
     std::size_t vertices = 0;              // V ≥ 1
@@ -80,8 +82,9 @@ struct ChunkPlanRequest {
     std::uint64_t free_device_bytes = 0;   // cudaMemGetInfo's free memory before the bake
     std::uint64_t fixed_device_bytes = 0;  // gpu_bake_fixed_bytes(...)
     bool device_output = false;            // C written into the caller's buffer: no C per slot
-    std::size_t requested_chunk = 0;       // BakeOptions::chunk_receivers; 0 = automatic
-    int slots = 2;                         // buffers in flight (2 = double buffering), ≥ 1
+    bool closest_hits = false;        // interreflected: a hit record (12 bytes) per sample per slot
+    std::size_t requested_chunk = 0;  // BakeOptions::chunk_receivers; 0 = automatic
+    int slots = 2;                    // buffers in flight (2 = double buffering), ≥ 1
     // Automatic chunks stop growing at this many bytes per slot: larger ones fill the GPU no
     // better and leave nothing to overlap or to report progress on.
     std::uint64_t max_slot_bytes = std::uint64_t(64) << 20;
