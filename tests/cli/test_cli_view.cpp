@@ -90,6 +90,12 @@ protected:
             "bake builtin:box_on_plane -o '" + s_file + "' --coeffs 64 --samples 128 --seed 2",
             s_dir);
         ASSERT_EQ(r.exit_code, 0) << r.err;
+        // An interreflected bake, for --direct.
+        const RunResult ir = shprt::test_support::run_shprt(
+            "bake builtin:box_on_plane -o '" + (s_dir / "ir.shprt").string() +
+                "' --transfer interreflected --bounces 2 --bands 3 --samples 128",
+            s_dir);
+        ASSERT_EQ(ir.exit_code, 0) << ir.err;
     }
     static void TearDownTestSuite() { fs::remove_all(s_dir); }
 
@@ -131,11 +137,7 @@ TEST_F(CliView, ScreenshotEqualsRender) {
 // An interreflected bake: --direct shows its direct part, the picture of `render --direct`, and
 // not the picture with the bounces; a file without a direct part is refused.
 TEST_F(CliView, DirectShowsTheDirectPartAsRenderDoes) {
-    const std::string ir = out("ir.shprt");
-    ASSERT_EQ(shprt("bake builtin:box_on_plane -o '" + ir +
-                    "' --transfer interreflected --bounces 2 --bands 3 --samples 128")
-                  .exit_code,
-              0);
+    const std::string ir = (s_dir / "ir.shprt").string();
     const std::string options = " --size 96x64 --light sun:1,2,1,6";
     for (const char* name : {"view", "render"}) {
         const std::string flag = std::string(name) == "view" ? " --screenshot '" : " -o '";
@@ -291,11 +293,7 @@ TEST_F(CliViewWindow, OpensUnderXvfbDrawsThePanelAndTheSamePicture) {
 
 // The window starts with --direct's picture (the panel's toggle uploads the same way).
 TEST_F(CliViewWindow, StartsWithTheDirectPartWithDirect) {
-    const std::string ir = out("ir.shprt");
-    ASSERT_EQ(shprt("bake builtin:box_on_plane -o '" + ir +
-                    "' --transfer interreflected --bounces 2 --bands 3 --samples 128")
-                  .exit_code,
-              0);
+    const std::string ir = (s_dir / "ir.shprt").string();
     const std::string size = " --size 800x500 --light sun:1,2,1,6";
     for (const std::string direct : {"", " --direct"}) {
         const RunResult w = shprt("view '" + ir + "' --frames 2 --window-screenshot '" +
