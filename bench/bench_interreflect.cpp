@@ -158,10 +158,10 @@ int main(int argc, char** argv) {
         std::printf("| bake | seconds |\n|---|---:|\n");
         std::printf("| direct (shadowed) | %.3f |\n", t_direct);
         std::printf("| interreflected, %d bounces | %.3f |\n", args.bounces, t_ir);
-        std::printf("| — of which T_0 (trace + project) | %.3f |\n",
-                    st.seconds_trace + st.seconds_project);
-        std::printf("| — of which operator A (closest hits, merge) | %.3f |\n",
-                    st.seconds_operator);
+        std::printf("| — of which the rays (closest hits, for T_0 and A at once) | %.3f |\n",
+                    st.seconds_trace);
+        std::printf("| — of which T_0's projection (SGEMM) | %.3f |\n", st.seconds_project);
+        std::printf("| — of which merging the hits into A | %.3f |\n", st.seconds_operator);
         std::printf("| — of which bounces (%d SpMM + sums) | %.3f |\n\n", info.bounces,
                     st.seconds_bounces);
         std::printf("ratio interreflected / direct = %.2f (limit 3): %s\n", t_ir / t_direct,

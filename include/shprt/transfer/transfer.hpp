@@ -88,8 +88,9 @@ struct BakeStats {
     std::uint64_t peak_bytes_host = 0;  // bake's peak working memory with its BVH, host
     std::uint64_t peak_bytes_device = 0;
     std::string device_name;  // "cpu: 2 threads" or the GPU's name
-    // Interreflected transfer only: building the transport operator A (closest hits included)
-    // and the bounces' sparse products (T_0's tracing and projection are in trace/project).
+    // Interreflected transfer only: merging the closest hits into the transport operator A (the
+    // hits themselves are traced once, for T_0 and A together: seconds_trace) and the bounces'
+    // sparse products with their sums.
     double seconds_operator = 0, seconds_bounces = 0;
 };
 
@@ -105,8 +106,8 @@ struct InterreflectionInfo {
     std::string albedo_source;  // where the albedo came from: "--albedo 0.5,0.5,0.5", ...
     std::uint64_t operator_nnz = 0;    // non-zeros of A (one pattern, three channels' values)
     std::uint64_t operator_bytes = 0;  // bytes of A: pattern + 3 value arrays
-    std::uint64_t operator_rays = 0;   // closest-hit rays traced for A (not in stats.rays_cast,
-                                       // which counts T_0's visibility rays)
+    std::uint64_t operator_rays = 0;   // closest-hit rays traced for A: the same rays as T_0's
+                                       // (stats.rays_cast) since one pass traces both
 };
 
 // Adds the work of `part` (one part of a bake: a shard, an MPI rank's share) to `total`: seconds
