@@ -218,9 +218,10 @@ TEST_F(IoShprtCorrupt, WrongMagic) {
 
 TEST_F(IoShprtCorrupt, FutureAndInvalidVersions) {
     ShprtHeader h = header();
-    h.version = kShprtFormatVersion + 1;
+    h.version = kShprtNewestReadVersion + 1;
     expect_error(with_header(m_good, h),
-                 fmt::format("format version {} is newer", kShprtFormatVersion + 1), "version +1");
+                 fmt::format("format version {} is newer", kShprtNewestReadVersion + 1),
+                 "version +1");
     h.version = 0;
     expect_error(with_header(m_good, h), "invalid format version 0", "version 0");
     h = header();

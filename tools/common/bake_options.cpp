@@ -11,9 +11,11 @@ namespace shprt::tools {
 
 void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--transfer", args.transfer,
-                   "unshadowed, shadowed (default) or interreflected (RGB, with bounces)");
+                   "unshadowed, shadowed (default), interreflected (RGB, with bounces) or glossy "
+                   "(K×K matrices, at most 8 bands)");
     app.add_option("--bands", args.bands,
-                   fmt::format("SH bands n (K = n², 1 to {}); default 4", kMaxComputeBands));
+                   fmt::format("SH bands n (K = n², 1 to {}); default 4 (glossy: 5, at most 8)",
+                               kMaxComputeBands));
     app.add_option(
         "--coeffs", args.coeffs,
         fmt::format("Basis size K, 1 to {} (need not be a square); default 16", kMaxBakeCoeffs));
@@ -68,6 +70,8 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
         SHPRT_CHECK(*a.coeffs >= 1 && *a.coeffs <= kMaxBakeCoeffs, invalid_argument,
                     "--coeffs {}: must be 1 to {}", *a.coeffs, kMaxBakeCoeffs);
         o.K = static_cast<int>(*a.coeffs);
+    } else if (o.transfer == TransferKind::glossy) {
+        o.K = sh_count(5);  // glossy default: 5 bands, 25×25 matrices
     }
     SHPRT_CHECK(a.samples >= 1 && a.samples <= kMaxBakeSamples, invalid_argument,
                 "--samples {}: must be 1 to {}", a.samples, kMaxBakeSamples);
@@ -80,6 +84,9 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
                 invalid_argument, "--device-index {}: must be 0 or more", a.device_index);
     o.device_index = static_cast<int>(a.device_index);
     const bool interreflected = o.transfer == TransferKind::interreflected;
+    SHPRT_CHECK(o.transfer != TransferKind::glossy || a.bounces.empty(), unsupported,
+                "--bounces: interreflected glossy transfer is not implemented (glossy matrices "
+                "hold the direct, shadowed light only)");
     SHPRT_CHECK(
         interreflected || (a.bounces.empty() && !a.tolerance && a.albedo.empty() && !a.two_sided),
         invalid_argument,
