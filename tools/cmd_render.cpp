@@ -12,6 +12,7 @@
 #include "shprt/render/camera.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/render/save_image.hpp"
+#include "shprt/sh/basis.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -93,9 +94,15 @@ void run(const RenderArgs& a) {
     save_image(a.output, image, static_cast<float>(a.exposure));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("rendered %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", width, height,
-                effective_basis_size(file.transfer, light, a.coeffs), a.k, seconds,
-                a.output.c_str());
+    const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
+    const std::string term =
+        plan.glossy ? fmt::format(", brdf={} (zonal fit error {:.1f}% at {} bands)",
+                                  to_string(plan.glossy->brdf),
+                                  100 * brdf_lobe(plan.glossy->brdf, sh_bands_for(K_used)).fit_error,
+                                  sh_bands_for(K_used))
+                    : std::string();
+    std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used, a.k,
+                term.c_str(), seconds, a.output.c_str());
 }
 
 const bool registered = register_command(

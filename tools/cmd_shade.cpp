@@ -11,6 +11,7 @@
 #include "shprt/render/camera.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/render/shade_export.hpp"
+#include "shprt/sh/basis.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -71,8 +72,13 @@ void run(const ShadeArgs& a) {
     write_shade(a.output, file.mesh, result, static_cast<float>(a.exposure));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
     const std::string term =
-        plan.glossy ? "brdf=" + to_string(plan.glossy->brdf) : fmt::format("gloss={}", gloss);
+        plan.glossy ? fmt::format("brdf={}, zonal fit error {:.1f}% at {} bands",
+                                  to_string(plan.glossy->brdf),
+                                  100 * brdf_lobe(plan.glossy->brdf, sh_bands_for(K_used)).fit_error,
+                                  sh_bands_for(K_used))
+                    : fmt::format("gloss={}", gloss);
     std::printf("shaded %zu vertices (K'=%d, k=%g, %s) in %.3f s -> %s\n", file.mesh.vertex_count(),
                 effective_basis_size(file.transfer, light, a.coeffs), a.k, term.c_str(), seconds,
                 a.output.c_str());
