@@ -12,7 +12,6 @@
 #include "shprt/render/camera.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/render/save_image.hpp"
-#include "shprt/sh/basis.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -96,11 +95,7 @@ void run(const RenderArgs& a) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
     const std::string term =
-        plan.glossy ? fmt::format(", brdf={} (zonal fit error {:.1f}% at {} bands)",
-                                  to_string(plan.glossy->brdf),
-                                  100 * brdf_lobe(plan.glossy->brdf, sh_bands_for(K_used)).fit_error,
-                                  sh_bands_for(K_used))
-                    : std::string();
+        plan.glossy ? ", " + describe_brdf(plan.glossy->brdf, K_used) : std::string();
     std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used, a.k,
                 term.c_str(), seconds, a.output.c_str());
 }

@@ -11,7 +11,6 @@
 #include "shprt/render/camera.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/render/shade_export.hpp"
-#include "shprt/sh/basis.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -74,14 +73,9 @@ void run(const ShadeArgs& a) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
     const std::string term =
-        plan.glossy ? fmt::format("brdf={}, zonal fit error {:.1f}% at {} bands",
-                                  to_string(plan.glossy->brdf),
-                                  100 * brdf_lobe(plan.glossy->brdf, sh_bands_for(K_used)).fit_error,
-                                  sh_bands_for(K_used))
-                    : fmt::format("gloss={}", gloss);
+        plan.glossy ? describe_brdf(plan.glossy->brdf, K_used) : fmt::format("gloss={}", gloss);
     std::printf("shaded %zu vertices (K'=%d, k=%g, %s) in %.3f s -> %s\n", file.mesh.vertex_count(),
-                effective_basis_size(file.transfer, light, a.coeffs), a.k, term.c_str(), seconds,
-                a.output.c_str());
+                K_used, a.k, term.c_str(), seconds, a.output.c_str());
 }
 
 const bool registered = register_command(

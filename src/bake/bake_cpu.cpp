@@ -103,10 +103,7 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
         for (std::size_t j = 0; j < count; ++j) {
             const std::size_t r = first + j;
             float* row = sc.w.data() + j * S;
-            if (glossy)
-                weight_row_hemisphere(rx.normals[r], table, row);
-            else
-                weight_row(rx.normals[r], table, row);
+            weight_row(rx.normals[r], table, row, glossy);
             if (shadowed)
                 local_rays +=
                     trace_row(*tracer, rx.positions[r], rx.normals[r], table, row, sc.trace);

@@ -37,28 +37,21 @@ void TraceScratch::reserve(std::size_t samples) {
     occluded.resize(samples);
 }
 
-void weight_row(Vec3f n, const DirectionTable& d, float* row) {
+void weight_row(Vec3f n, const DirectionTable& d, float* row, bool hemisphere) {
     const std::size_t S = d.size();
     const float* dx = d.x.data();
     const float* dy = d.y.data();
     const float* dz = d.z.data();
     const float* weight = d.weight.data();
-    // Written with max, not a conditional, so that the loop compiles to SIMD without branches.
+    // Written with max and a select, not branches, so that the loops compile to SIMD.
+    if (hemisphere) {
+        for (std::size_t s = 0; s < S; ++s)
+            row[s] = n.x * dx[s] + n.y * dy[s] + n.z * dz[s] > 0.0f ? weight[s] : 0.0f;
+        return;
+    }
     for (std::size_t s = 0; s < S; ++s) {
         const float cosine = n.x * dx[s] + n.y * dy[s] + n.z * dz[s];
         row[s] = std::max(cosine, 0.0f) * weight[s];
-    }
-}
-
-void weight_row_hemisphere(Vec3f n, const DirectionTable& d, float* row) {
-    const std::size_t S = d.size();
-    const float* dx = d.x.data();
-    const float* dy = d.y.data();
-    const float* dz = d.z.data();
-    const float* weight = d.weight.data();
-    for (std::size_t s = 0; s < S; ++s) {
-        const float cosine = n.x * dx[s] + n.y * dy[s] + n.z * dz[s];
-        row[s] = cosine > 0.0f ? weight[s] : 0.0f;
     }
 }
 

@@ -45,11 +45,9 @@ struct TraceScratch {
     }
 };
 
-// weight: row[s] = max(0, n·w_s)·weight_s for s < S.
-void weight_row(Vec3f n, const DirectionTable& directions, float* row);
-
-// weight, glossy transfer: row[s] = weight_s where n·w_s > 0, else 0 (the hemisphere, no cosine).
-void weight_row_hemisphere(Vec3f n, const DirectionTable& directions, float* row);
+// weight: row[s] = max(0, n·w_s)·weight_s for s < S; with `hemisphere` (glossy transfer),
+// row[s] = weight_s where n·w_s > 0, else 0 (the hemisphere, no cosine).
+void weight_row(Vec3f n, const DirectionTable& directions, float* row, bool hemisphere = false);
 
 // The glossy projection table: P[s·F + p(i,j)] = y_i(w_s)·y_j(w_s) for 0 ≤ i ≤ j < K, with
 // F = K(K+1)/2 and p(i,j) the packed upper-triangle index (row by row), from the basis table

@@ -41,13 +41,17 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
                  "it brings nothing)");
 }
 
-void apply_albedo_option(const BakeOptionArgs& args, Mesh& mesh) {
-    if (args.albedo.empty()) return;
-    const std::vector<double> rgb = parse_numbers(args.albedo, 3, "--albedo R,G,B");
+Vec3f parse_albedo(const std::string& text) {
+    const std::vector<double> rgb = parse_numbers(text, 3, "--albedo R,G,B");
     for (double c : rgb)
         SHPRT_CHECK(c >= 0.0 && c <= 1.0, invalid_argument,
-                    "--albedo {}: each component must be 0 to 1 (linear reflectance)", args.albedo);
-    mesh.albedo.assign(mesh.vertex_count(), Vec3f{float(rgb[0]), float(rgb[1]), float(rgb[2])});
+                    "--albedo {}: each component must be 0 to 1 (linear reflectance)", text);
+    return Vec3f{float(rgb[0]), float(rgb[1]), float(rgb[2])};
+}
+
+void apply_albedo_option(const BakeOptionArgs& args, Mesh& mesh) {
+    if (args.albedo.empty()) return;
+    mesh.albedo.assign(mesh.vertex_count(), parse_albedo(args.albedo));
     mesh.albedo_source = "--albedo " + args.albedo;
 }
 

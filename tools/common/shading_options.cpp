@@ -1,10 +1,13 @@
 // Options shared by `shprt render` and `shprt view` (shading_options.hpp).
 #include "common/shading_options.hpp"
 
+#include "common/bake_options.hpp"
+
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/scene/mesh_ops.hpp"
+#include "shprt/sh/basis.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -117,9 +120,7 @@ void check_glossy_args(const GlossyArgs& args) {
     if (!args.albedo.empty()) {
         SHPRT_CHECK(args.glossy == "matrix", invalid_argument,
                     "--albedo needs the matrix term (--glossy matrix)");
-        for (double c : parse_numbers(args.albedo, 3, "--albedo R,G,B"))
-            SHPRT_CHECK(c >= 0 && c <= 1, invalid_argument,
-                        "--albedo {}: each component must be 0 to 1", args.albedo);
+        parse_albedo(args.albedo);
     }
 }
 
@@ -151,12 +152,15 @@ GlossyPlan plan_glossy(const GlossyArgs& args, const std::string& path, ShprtFil
     GlossyShadeOptions o;
     o.brdf = parse_brdf(args.brdf);
     o.k = k;
-    if (!args.albedo.empty()) {
-        const std::vector<double> a = parse_numbers(args.albedo, 3, "--albedo R,G,B");
-        o.albedo = Vec3f{float(a[0]), float(a[1]), float(a[2])};
-    }
+    if (!args.albedo.empty()) o.albedo = parse_albedo(args.albedo);
     plan.glossy = o;
     return plan;
+}
+
+std::string describe_brdf(const Brdf& brdf, int K) {
+    const int bands = sh_bands_for(K);
+    return fmt::format("brdf={}, zonal fit error {:.1f}% at {} bands", to_string(brdf),
+                       100 * brdf_lobe(brdf, bands).fit_error, bands);
 }
 
 }  // namespace shprt::tools

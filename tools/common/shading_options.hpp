@@ -83,6 +83,9 @@ void check_glossy_args(const GlossyArgs& args);
 struct GlossyPlan {
     std::optional<GlossyShadeOptions> glossy;
 };
+// "brdf=phong:16, zonal fit error 47.5% at 5 bands": what `shade` and `render` print.
+std::string describe_brdf(const Brdf& brdf, int K);
+
 GlossyPlan plan_glossy(const GlossyArgs& args, const std::string& path, ShprtFile& file, double k,
                        double& gloss);
 
