@@ -354,6 +354,9 @@ ShprtFile Reader::read(bool allow_part) {
     } catch (const Error& e) {
         corrupt(m_path, "metadata: {}", e.what());
     }
+    if (t.kind == TransferKind::glossy && layout.shape != TransferShape::symmetric_matrix)
+        corrupt(m_path, "metadata: transfer_kind glossy needs shape symmetric_matrix, not {}",
+                to_string(layout.shape));
     const std::string precision = m.string("precision");
     if (precision != "float32" && precision != "float16")
         corrupt(m_path, "metadata: precision '{}' (expected float32 or float16)", precision);
