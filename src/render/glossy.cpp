@@ -163,10 +163,61 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
     ShadeResult result;
     result.irradiance.resize(V);
     result.radiance.resize(V);
+    // A CPCA code (transfer/cpca.hpp) is shaded as Sloan et al. 2003 do: the light is transformed
+    // once per cluster, mean·L and B_i·L, and a vertex's shadowed radiance is
+    // T = mean·L + Σ_i w_i (B_i·L) — N·K per vertex and colour instead of K².
+    const CpcaCode& code = transfer.cpca;
+    const bool per_cluster = !code.empty();
+    const std::size_t N = per_cluster ? std::size_t(code.vectors) : 0;
+    std::vector<double> cluster_light;  // [cluster][1 + N][colour][K]
+    if (per_cluster) {
+        const std::size_t D = transfer.layout.floats_per_receiver();
+        SHPRT_CHECK(code.means.size() == std::size_t(code.clusters) * D &&
+                        code.basis.size() == std::size_t(code.clusters) * N * D &&
+                        code.weights.size() == V * N && code.cluster.size() == V,
+                    invalid_argument, "the transfer's CPCA code does not fit its {} receivers", V);
+        cluster_light.assign(std::size_t(code.clusters) * (1 + N) * 3 * K, 0.0);
+        tbb::parallel_for(tbb::blocked_range<int>(0, code.clusters), [&](const auto& range) {
+            std::vector<double> M(std::size_t(K) * K);
+            for (int c = range.begin(); c != range.end(); ++c)
+                for (std::size_t b = 0; b <= N; ++b) {
+                    const float* packed = b == 0 ? code.means.data() + std::size_t(c) * D
+                                                 : code.basis.data() + (c * N + b - 1) * D;
+                    unpack_symmetric(packed, Kt, K, M.data());
+                    for (int ch = 0; ch < 3; ++ch) {
+                        double* out = cluster_light.data() + ((c * (1 + N) + b) * 3 + ch) * K;
+                        const float* l = light.channel(ch);
+                        for (int i = 0; i < K; ++i)
+                            for (int j = 0; j < K; ++j)
+                                out[i] += M[std::size_t(i) * K + j] * double(l[j]);
+                    }
+                }
+        });
+    }
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V, 128), [&](const auto& range) {
-        std::vector<double> M(std::size_t(K) * K), T(K), a(K), g(K);
+        std::vector<double> M(std::size_t(K) * K), T(3 * std::size_t(K)), a(K), g(K);
         for (std::size_t v = range.begin(); v != range.end(); ++v) {
-            unpack_symmetric(transfer.receiver(v), Kt, K, M.data());
+            // T[colour][i]: the shadowed incident radiance M_v·L.
+            std::fill(T.begin(), T.end(), 0.0);
+            if (per_cluster) {
+                const std::size_t c = code.cluster[v];
+                for (std::size_t b = 0; b <= N; ++b) {
+                    const double w = b == 0 ? 1.0 : double(code.weights[v * N + b - 1]);
+                    const double* cl = cluster_light.data() + (c * (1 + N) + b) * 3 * K;
+                    for (std::size_t i = 0; i < 3 * std::size_t(K); ++i) T[i] += w * cl[i];
+                }
+            } else {
+                unpack_symmetric(transfer.receiver(v), Kt, K, M.data());
+                for (int ch = 0; ch < 3; ++ch) {
+                    const float* l = light.channel(ch);
+                    for (int i = 0; i < K; ++i) {
+                        const double* row = M.data() + std::size_t(i) * K;
+                        double t = 0;
+                        for (int j = 0; j < K; ++j) t += row[j] * double(l[j]);
+                        T[std::size_t(ch) * K + i] = t;
+                    }
+                }
+            }
             const Vec3d p = cast<double>(mesh.positions[v]);
             const Vec3d n = normalize(cast<double>(mesh.normals[v]));
             rotate_zonal(cosine.data(), K, n, a.data());
@@ -177,18 +228,14 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
             const double rd[3] = {diffuse_colour.x, diffuse_colour.y, diffuse_colour.z};
             const double rs[3] = {specular_colour.x, specular_colour.y, specular_colour.z};
             double E[3], L[3];
-            for (int c = 0; c < 3; ++c) {
-                const float* l = light.channel(c);
+            for (int ch = 0; ch < 3; ++ch) {
                 double e = 0, s = 0;
                 for (int i = 0; i < K; ++i) {
-                    double t = 0;
-                    const double* row = M.data() + std::size_t(i) * K;
-                    for (int j = 0; j < K; ++j) t += row[j] * double(l[j]);
-                    e += a[i] * t;
-                    s += g[i] * t;
+                    e += a[i] * T[std::size_t(ch) * K + i];
+                    s += g[i] * T[std::size_t(ch) * K + i];
                 }
-                E[c] = e;
-                L[c] = options.k * rd[c] / kPi * e + (1 - options.k) * rs[c] * s;
+                E[ch] = e;
+                L[ch] = options.k * rd[ch] / kPi * e + (1 - options.k) * rs[ch] * s;
             }
             result.irradiance[v] = {float(E[0]), float(E[1]), float(E[2])};
             result.radiance[v] = {float(L[0]), float(L[1]), float(L[2])};

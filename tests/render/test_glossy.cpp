@@ -12,6 +12,7 @@
 #include "shprt/sh/zonal.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/cpca.hpp"
 
 #include <gtest/gtest.h>
 
@@ -244,6 +245,30 @@ TEST(GlossyShade, RoomVerticesAgreeWithABruteForceIntegralWithinTheTruncationBou
         const double bound = std::sqrt(residual2 * light2);
         SCOPED_TRACE(v);
         EXPECT_NEAR(s.radiance[v].x, brute, bound + 1e-4 * std::fabs(brute));
+    }
+}
+
+TEST(GlossyShade, ACpcaCodeIsShadedPerClusterLikeItsRebuiltRows) {
+    const Mesh scene = make_builtin("box_on_plane");
+    BakeOptions bo;
+    bo.transfer = TransferKind::glossy;
+    bo.K = 16;
+    bo.samples = 128;
+    CpcaOptions co;
+    co.clusters = 12;
+    co.vectors = 5;
+    const CpcaResult r = compress_transfer(bake(scene, bo), scene.normals, co, false);
+    TransferSet rows = r.compressed;
+    rows.cpca = CpcaCode{};  // the same rows without the code: shaded row by row
+    GlossyShadeOptions o;
+    o.brdf = {BrdfModel::ggx, 0.3};
+    o.eye = Vec3f{2, 3, 4};
+    const ShLight light = random_light(16, 3);
+    const ShadeResult by_cluster = shade_glossy(scene, r.compressed, light, o);
+    const ShadeResult by_row = shade_glossy(scene, rows, light, o);
+    for (std::size_t v = 0; v < scene.vertex_count(); ++v) {
+        EXPECT_NEAR(by_cluster.radiance[v].y, by_row.radiance[v].y, 1e-4) << v;
+        EXPECT_NEAR(by_cluster.irradiance[v].z, by_row.irradiance[v].z, 1e-3) << v;
     }
 }
 

@@ -89,7 +89,10 @@ void check_glossy_shadable(const Mesh& mesh, const TransferSet& transfer);
 void unpack_symmetric(const float* packed, int K, int K_used, double* out);
 
 // Shades every vertex with the formulas above, in parallel (TBB; the result does not depend on
-// the thread count). irradiance holds E, radiance L. Preconditions, checked (Error): as
+// the thread count). A transfer that carries a CPCA code (TransferSet::cpca, e.g. read from a
+// `shprt compress` file) is shaded from the code: the light transformed once per cluster,
+// M_v·L = mean·L + Σ_i w_i (B_i·L) (Sloan et al. 2003), equal to shading the rebuilt rows up to
+// rounding. irradiance holds E, radiance L. Preconditions, checked (Error): as
 // check_glossy_shadable, 0 ≤ k ≤ 1, albedo in [0, 1], a valid BRDF, light 3·K floats.
 ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                          const GlossyShadeOptions& options);
