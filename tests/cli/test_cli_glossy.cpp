@@ -105,6 +105,14 @@ TEST_F(CliGlossy, ShadeWhiteFurnaceCompressAndRender) {
     EXPECT_TRUE(std::filesystem::exists(png));
     r = shprt("render '" + file + "' --glossy paper --k 0.5 --size 64x36 -o '" + png + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
+    // The viewer shows glossy bakes with the paper's term (it does not shade matrices), saying so.
+    const std::string shot = (m_dir / "view.png").string();
+    r = shprt("view '" + file + "' --size 64x36 --screenshot '" + shot + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.err, ::testing::HasSubstr("shown with the paper's zonal term"));
+    expect_one_line_error(
+        shprt("view builtin:plane --bake --transfer glossy --screenshot '" + shot + "'"),
+        "not shown live");
 }
 
 TEST_F(CliGlossy, DiffuseAndGlossyFilesRefuseTheOtherShading) {
