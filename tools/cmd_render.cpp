@@ -30,6 +30,7 @@ struct RenderArgs {
     bool direct = false;  // shade the direct part of an interreflected bake only
     std::string input, output;
     LightArgs light;  // common/shading_options.hpp, shared with `shprt view`
+    GlossyArgs glossy;
     CameraArgs camera;
     std::string size = "1280x720", view = "radiance";
     double k = 1.0, gloss = kDefaultGloss, exposure = 1.0;
@@ -45,6 +46,7 @@ void run(const RenderArgs& a) {
     SHPRT_CHECK(a.samples >= 1 && a.samples <= 64, invalid_argument,
                 "--samples {}: MSAA samples must be 1 to 64", a.samples);
     check_camera_args(a.camera);
+    check_glossy_args(a.glossy);
     int width = 0, height = 0;
     parse_size(a.size, width, height);
     const LightSetup setup = light_setup_from(a.light);
@@ -58,18 +60,44 @@ void run(const RenderArgs& a) {
     settings.wireframe = a.wireframe;
 
     ShprtFile file = read_for_shading(a.input, a.direct);
+    double gloss = a.gloss;
+    const GlossyPlan plan = plan_glossy(a.glossy, a.input, file, a.k, gloss);
+    settings.gloss = gloss;
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
     const float aspect = float(width) / float(height);
     settings.camera = camera_from(a.camera, file.mesh, aspect);
 
-    const Image image =
-        render_image(file.mesh, file.transfer, light, settings, width, height, a.samples);
+    Image image;
+    if (plan.glossy && settings.view != ShadeView::transfer) {
+        // Transfer matrices are shaded per vertex on the CPU for the camera's eye
+        // (render/glossy.hpp); the GL renderer draws the colours.
+        SHPRT_CHECK(!a.background, unsupported,
+                    "--background is not drawn with glossy transfer matrices (--brdf)");
+        GlossyShadeOptions options = *plan.glossy;
+        options.eye = settings.camera.eye;
+        options.K_used = a.coeffs;
+        const ShadeResult shaded = shade_glossy(file.mesh, file.transfer, light, options);
+        DrawSettings colours = settings;
+        colours.view = ShadeView::irradiance;
+        colours.k = 1;
+        colours.K_used = 0;
+        image = render_image(
+            file.mesh,
+            colours_as_transfer(settings.view == ShadeView::irradiance ? shaded.irradiance
+                                                                       : shaded.radiance),
+            light_for_colours(), colours, width, height, a.samples);
+    } else {
+        if (plan.glossy) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
+        image = render_image(file.mesh, file.transfer, light, settings, width, height, a.samples);
+    }
     save_image(a.output, image, static_cast<float>(a.exposure));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("rendered %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", width, height,
-                effective_basis_size(file.transfer, light, a.coeffs), a.k, seconds,
-                a.output.c_str());
+    const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
+    const std::string term =
+        plan.glossy ? ", " + describe_brdf(plan.glossy->brdf, K_used) : std::string();
+    std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used, a.k,
+                term.c_str(), seconds, a.output.c_str());
 }
 
 const bool registered = register_command(
@@ -81,6 +109,7 @@ const bool registered = register_command(
                         "Output image: .png (tone mapped), .exr or .hdr (linear)")
              ->required();
          add_light_options(app, args->light);
+         add_glossy_options(app, args->glossy);
          app.add_flag("--direct", args->direct,
                       "Interreflected bakes: the direct light only (the file's T_0), without the "
                       "bounces");

@@ -24,6 +24,7 @@ struct ShadeArgs {
     bool direct = false;  // shade the direct part of an interreflected bake only
     std::string input, output;
     LightArgs light;  // common/shading_options.hpp, shared with `shprt render` and `shprt view`
+    GlossyArgs glossy;
     std::string eye;
     double k = 1.0, gloss = kDefaultGloss, exposure = 1.0;
     int coeffs = 0;
@@ -40,27 +41,41 @@ void run(const ShadeArgs& a) {
     SHPRT_CHECK(a.exposure > 0 && std::isfinite(a.exposure), invalid_argument,
                 "--exposure {}: must be positive", a.exposure);
     SHPRT_CHECK(a.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)", a.coeffs);
+    check_glossy_args(a.glossy);
     const LightSetup setup = light_setup_from(a.light);
     check_output_is_not_input(a.output, input_files(a.input, a.light));
     Vec3f eye{};
     if (!a.eye.empty()) eye = parse_vec3(a.eye, "--eye");
 
     ShprtFile file = read_for_shading(a.input, a.direct);
+    double gloss = a.gloss;
+    const GlossyPlan plan = plan_glossy(a.glossy, a.input, file, a.k, gloss);
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
-    ShadeOptions options;
-    options.k = a.k;
-    options.gloss = a.gloss;
-    options.K_used = a.coeffs;
     // Without --eye, the eye of the default `shprt render` camera (16:9), so the glossy term
     // matches the default picture.
-    options.eye = a.eye.empty() ? default_camera(file.mesh, 16.0f / 9.0f).eye : eye;
-    const ShadeResult result = shade_vertices(file.mesh, file.transfer, light, options);
+    const Vec3f eye_used = a.eye.empty() ? default_camera(file.mesh, 16.0f / 9.0f).eye : eye;
+    ShadeResult result;
+    if (plan.glossy) {
+        GlossyShadeOptions options = *plan.glossy;
+        options.eye = eye_used;
+        options.K_used = a.coeffs;
+        result = shade_glossy(file.mesh, file.transfer, light, options);
+    } else {
+        ShadeOptions options;
+        options.k = a.k;
+        options.gloss = gloss;
+        options.K_used = a.coeffs;
+        options.eye = eye_used;
+        result = shade_vertices(file.mesh, file.transfer, light, options);
+    }
     write_shade(a.output, file.mesh, result, static_cast<float>(a.exposure));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("shaded %zu vertices (K'=%d, k=%g, gloss=%g) in %.3f s -> %s\n",
-                file.mesh.vertex_count(), effective_basis_size(file.transfer, light, a.coeffs), a.k,
-                a.gloss, seconds, a.output.c_str());
+    const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
+    const std::string term =
+        plan.glossy ? describe_brdf(plan.glossy->brdf, K_used) : fmt::format("gloss={}", gloss);
+    std::printf("shaded %zu vertices (K'=%d, k=%g, %s) in %.3f s -> %s\n", file.mesh.vertex_count(),
+                K_used, a.k, term.c_str(), seconds, a.output.c_str());
 }
 
 const bool registered = register_command(
@@ -70,6 +85,7 @@ const bool registered = register_command(
          app.add_option("file", args->input, "Baked .shprt file")->required();
          app.add_option("-o,--output", args->output, "Output .csv, .ply or .npy")->required();
          add_light_options(app, args->light);
+         add_glossy_options(app, args->glossy);
          app.add_flag("--direct", args->direct,
                       "Interreflected bakes: the direct light only (the file's T_0), without the "
                       "bounces");

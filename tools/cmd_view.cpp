@@ -23,6 +23,7 @@
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/log.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/render/save_image.hpp"
@@ -122,6 +123,9 @@ void run(const ViewArgs& a) {
     int K_used = 0;
     if (a.do_bake) {
         bake_options = bake_options_from(a.bake);
+        SHPRT_CHECK(bake_options->transfer != TransferKind::glossy, unsupported,
+                    "view --bake: glossy transfer matrices are not shown live (bake them with "
+                    "`shprt bake --transfer glossy`, then `shprt render --brdf`)");
         resolve_device(bake_options->device, bake_options->device_index);  // fail before a window
     } else if (a.bake.coeffs) {
         // Without --bake, --coeffs is the K' shown first (as `shprt render --coeffs`).
@@ -150,6 +154,15 @@ void run(const ViewArgs& a) {
                         a.input);
         scene.mesh = std::move(file.mesh);
         scene.transfer = std::move(file.transfer);
+        // Glossy matrices: the viewer has no matrix shading yet (docs/glossy.md, "Not done");
+        // it shows them with the paper's term, as `render --glossy paper` does.
+        if (scene.transfer.layout.shape == TransferShape::symmetric_matrix) {
+            log_warn(
+                "{}: glossy transfer matrices are shown with the paper's zonal term (the "
+                "viewer does not shade matrices; use `shprt render --brdf`)",
+                a.input);
+            scene.transfer = glossy_to_diffuse(scene.mesh, scene.transfer);
+        }
     }
     viewer::LightRig rig(std::min(scene.transfer.layout.K, kMaxLightK));
     rig.set_source(setup);  // a missing light file fails here, before any window

@@ -146,7 +146,8 @@ TransferInfo bake_description(const BakeOptions& options) {
     info.layout.domain = ReceiverDomain::vertex;
     info.layout.channels = options.transfer == TransferKind::interreflected ? 3 : 1;
     info.layout.K = options.K;
-    info.layout.shape = TransferShape::vector;
+    info.layout.shape = options.transfer == TransferKind::glossy ? TransferShape::symmetric_matrix
+                                                                 : TransferShape::vector;
     info.layout.encoding = TransferEncoding::f32;
     info.sampler = options.sampler;
     info.samples = static_cast<int>(options.samples);
@@ -158,6 +159,11 @@ void validate(const BakeOptions& options) {
     SHPRT_CHECK(options.K >= 1 && options.K <= kMaxBakeCoeffs, invalid_argument,
                 "basis size K = {} is out of range (1 to {} coefficients, i.e. up to 32 bands)",
                 options.K, kMaxBakeCoeffs);
+    SHPRT_CHECK(options.transfer != TransferKind::glossy || options.K <= kMaxGlossyCoeffs,
+                invalid_argument,
+                "glossy transfer: K = {} is too large (at most {}, i.e. 8 bands: a K×K matrix per "
+                "receiver)",
+                options.K, kMaxGlossyCoeffs);
     SHPRT_CHECK(options.samples >= 1, invalid_argument,
                 "samples = 0: a bake needs at least one direction");
     SHPRT_CHECK(options.samples <= kMaxBakeSamples, invalid_argument,
@@ -212,7 +218,15 @@ TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
     validate(checked);
     detail::validate_job(job, checked);
     SHPRT_CHECK(job.sink != nullptr, invalid_argument, "a bake needs a sink for its rows");
-    const Device backend = resolve_device(checked.device, checked.device_index);
+    // Glossy transfer has no GPU path yet: `auto` picks the CPU, `cuda` is refused.
+    const bool cpu_only = checked.transfer == TransferKind::glossy;
+    SHPRT_CHECK(!cpu_only || checked.device != Device::cuda, unsupported,
+                "{} transfer runs on the CPU only so far (its GPU path is not written): use "
+                "--device cpu or auto",
+                to_string(checked.transfer));
+    const Device backend = cpu_only && checked.device == Device::automatic
+                               ? Device::cpu
+                               : resolve_device(checked.device, checked.device_index);
     if (job.directions) return run_bake(job, checked, backend, *job.directions);
     const DirectionSet directions =
         make_direction_set(checked.sampler, checked.seed, checked.samples);
@@ -251,13 +265,16 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
     const auto start = Clock::now();
     const int K = options.K;
     const std::size_t S = directions.size();
-    const bool shadowed = options.transfer == TransferKind::shadowed;
+    const bool glossy = options.transfer == TransferKind::glossy;
+    const bool shadowed = options.transfer == TransferKind::shadowed || glossy;
     constexpr float kInf = std::numeric_limits<float>::infinity();
 
     TransferSet out =
         TransferSet::zeros(detail::bake_info(checked, receivers, S), mesh.vertex_count());
 
-    std::vector<double> y(K), sum(K);
+    // Glossy: the packed upper triangle of Σ_s weight_s V y yᵀ (no cosine).
+    const std::size_t F = out.layout.floats_per_channel();
+    std::vector<double> y(K), sum(F);
     std::uint64_t rays = 0;
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
         const Vec3f nf = mesh.normals[v];
@@ -277,11 +294,18 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
                 if (occluded) continue;
             }
             sh_eval_k<double>(K, w.x, w.y, w.z, y.data());
+            if (glossy) {
+                const double t = double(directions.weights[s]);
+                std::size_t p = 0;
+                for (int i = 0; i < K; ++i)
+                    for (int j = i; j < K; ++j) sum[p++] += t * y[i] * y[j];
+                continue;
+            }
             const double t = cosine * double(directions.weights[s]);
             for (int i = 0; i < K; ++i) sum[i] += t * y[i];
         }
         float* row = out.receiver(v);
-        for (int i = 0; i < K; ++i) row[i] = static_cast<float>(sum[i]);
+        for (std::size_t i = 0; i < F; ++i) row[i] = static_cast<float>(sum[i]);
     }
     out.stats.rays_cast = rays;
     out.stats.seconds_total = out.stats.seconds_trace = seconds_since(start);

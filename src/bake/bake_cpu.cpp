@@ -52,7 +52,8 @@ struct Scratch {
 TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
                       const DirectionSet& directions, const Tracer* tracer, double seconds_bvh) {
     const auto start = Clock::now();
-    const bool shadowed = options.transfer == TransferKind::shadowed;
+    const bool glossy = options.transfer == TransferKind::glossy;
+    const bool shadowed = options.transfer == TransferKind::shadowed || glossy;  // rays are cast
     SHPRT_CHECK(!shadowed || tracer != nullptr, invalid_argument,
                 "shadowed transfer needs a tracer");
     SHPRT_CHECK(job.sink->device_rows() == nullptr, unsupported,
@@ -69,7 +70,11 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
 
     const DirectionTable table = make_direction_table(directions);
     // The basis table, once for all receivers: Y[s*K + i] = y_i(w_s).
-    const std::vector<float> Y = basis_table(K, directions);
+    // Glossy transfer projects onto the pair-product table instead (stages.hpp): its F =
+    // K(K+1)/2 columns are the packed upper triangle of each receiver's matrix.
+    const std::vector<float> Y =
+        glossy ? pair_product_table(basis_table(K, directions), S, K) : basis_table(K, directions);
+    const int F = glossy ? K * (K + 1) / 2 : K;  // columns of the product
 
     TransferInfo info = bake_info(options, rx, S);
     TransferSink& sink = *job.sink;
@@ -89,7 +94,7 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
         for (std::size_t j = 0; j < count; ++j) {
             const std::size_t r = first + j;
             float* row = sc.w.data() + j * S;
-            weight_row(rx.normals[r], table, row);
+            weight_row(rx.normals[r], table, row, glossy);
             if (shadowed)
                 local_rays +=
                     trace_row(*tracer, rx.positions[r], rx.normals[r], table, row, sc.trace);
@@ -104,10 +109,10 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
         const double project_start = thread_cpu_seconds();
         float* C = sink.host_rows(first, count);
         if (C == nullptr) {
-            if (sc.c.empty()) sc.c.resize(chunk * std::size_t(K));
+            if (sc.c.empty()) sc.c.resize(chunk * std::size_t(F));
             C = sc.c.data();
         }
-        project_rows(sc.w.data(), count, S, Y.data(), K, C);
+        project_rows(sc.w.data(), count, S, Y.data(), F, C);
         const double project_end = thread_cpu_seconds();
         sc.trace_seconds += project_start - trace_start;
         sc.project_seconds += project_end - project_start;

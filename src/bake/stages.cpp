@@ -37,17 +37,34 @@ void TraceScratch::reserve(std::size_t samples) {
     occluded.resize(samples);
 }
 
-void weight_row(Vec3f n, const DirectionTable& d, float* row) {
+void weight_row(Vec3f n, const DirectionTable& d, float* row, bool hemisphere) {
     const std::size_t S = d.size();
     const float* dx = d.x.data();
     const float* dy = d.y.data();
     const float* dz = d.z.data();
     const float* weight = d.weight.data();
-    // Written with max, not a conditional, so that the loop compiles to SIMD without branches.
+    // Written with max and a select, not branches, so that the loops compile to SIMD.
+    if (hemisphere) {
+        for (std::size_t s = 0; s < S; ++s)
+            row[s] = n.x * dx[s] + n.y * dy[s] + n.z * dz[s] > 0.0f ? weight[s] : 0.0f;
+        return;
+    }
     for (std::size_t s = 0; s < S; ++s) {
         const float cosine = n.x * dx[s] + n.y * dy[s] + n.z * dz[s];
         row[s] = std::max(cosine, 0.0f) * weight[s];
     }
+}
+
+std::vector<float> pair_product_table(const std::vector<float>& Y, std::size_t S, int K) {
+    const std::size_t F = std::size_t(K) * std::size_t(K + 1) / 2;
+    std::vector<float> P(S * F);
+    for (std::size_t s = 0; s < S; ++s) {
+        const float* y = Y.data() + s * std::size_t(K);
+        float* p = P.data() + s * F;
+        for (int i = 0; i < K; ++i)
+            for (int j = i; j < K; ++j) *p++ = y[i] * y[j];
+    }
+    return P;
 }
 
 std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionTable& d, float* row,

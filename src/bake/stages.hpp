@@ -45,8 +45,14 @@ struct TraceScratch {
     }
 };
 
-// weight: row[s] = max(0, n·w_s)·weight_s for s < S.
-void weight_row(Vec3f n, const DirectionTable& directions, float* row);
+// weight: row[s] = max(0, n·w_s)·weight_s for s < S; with `hemisphere` (glossy transfer),
+// row[s] = weight_s where n·w_s > 0, else 0 (the hemisphere, no cosine).
+void weight_row(Vec3f n, const DirectionTable& directions, float* row, bool hemisphere = false);
+
+// The glossy projection table: P[s·F + p(i,j)] = y_i(w_s)·y_j(w_s) for 0 ≤ i ≤ j < K, with
+// F = K(K+1)/2 and p(i,j) the packed upper-triangle index (row by row), from the basis table
+// Y[S×K]. project_rows(W, count, S, P, F, C) then gives each receiver's packed M = Yᵀ·diag(W)·Y.
+std::vector<float> pair_product_table(const std::vector<float>& Y, std::size_t S, int K);
 
 // trace: zeroes row[s] where the direction is occluded; casts one stream of the directions with
 // row[s] ≠ 0 from offset_ray_origin(p, n). Returns the rays cast.

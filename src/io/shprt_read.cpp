@@ -11,6 +11,7 @@
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_format.hpp"
 #include "shprt/sh/basis.hpp"
+#include "shprt/transfer/cpca.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -210,6 +211,9 @@ void check_section_entry(const std::string& path, const Json& entry, SectionSpec
                 spec.length, count, spec.dtype, bytes);
 }
 
+// The most a CPCA file's rebuilt rows may exceed the file's size by.
+constexpr std::uint64_t kMaxCpcaExpansion = 256;
+
 class Reader {
 public:
     explicit Reader(const std::string& path) : m_path(path), m_file(path) {}
@@ -297,9 +301,9 @@ ShprtFile Reader::read(bool allow_part) {
                 kShprtHeaderSize, size);
     const ShprtHeader h = decode_shprt_header(head);
     if (h.version == 0) corrupt(m_path, "invalid format version 0");
-    if (h.version > kShprtFormatVersion)
+    if (h.version > kShprtNewestReadVersion)
         corrupt(m_path, "format version {} is newer than this shprt reads ({}); use a newer shprt",
-                h.version, kShprtFormatVersion);
+                h.version, kShprtNewestReadVersion);
     if (h.endian_marker == 0x04030201u) corrupt(m_path, "big-endian file: not supported");
     if (h.endian_marker != kShprtEndianMarker)
         corrupt(m_path, "bad endianness marker {:#010x}", h.endian_marker);
@@ -350,6 +354,9 @@ ShprtFile Reader::read(bool allow_part) {
     } catch (const Error& e) {
         corrupt(m_path, "metadata: {}", e.what());
     }
+    if (t.kind == TransferKind::glossy && layout.shape != TransferShape::symmetric_matrix)
+        corrupt(m_path, "metadata: transfer_kind glossy needs shape symmetric_matrix, not {}",
+                to_string(layout.shape));
     const std::string precision = m.string("precision");
     if (precision != "float32" && precision != "float16")
         corrupt(m_path, "metadata: precision '{}' (expected float32 or float16)", precision);
@@ -417,6 +424,28 @@ ShprtFile Reader::read(bool allow_part) {
         if (f.obj.contains("operator_rays")) ir.operator_rays = f.u64("operator_rays");
     }
 
+    // A CPCA code instead of the rows (version 3 only).
+    std::uint64_t clusters = 0, vectors = 0;
+    if (h.version >= kShprtCpcaFormatVersion) {
+        const Fields c = m.object("cpca");
+        clusters = c.u64("clusters", 1, rows);
+        vectors = c.u64("vectors", 1, layout.floats_per_receiver());
+        t.cpca.clusters = static_cast<int>(clusters);
+        t.cpca.vectors = static_cast<int>(vectors);
+        t.cpca.seed = c.u64("seed");
+        // The rows are rebuilt in memory: bound them by the file's size, as every allocation
+        // of the reader is (a real code is ~10-100× smaller than its rows).
+        const double rebuilt = double(rows) * double(layout.floats_per_receiver()) * 4.0;
+        if (rebuilt > double(kMaxCpcaExpansion) * double(size))
+            corrupt(m_path,
+                    "CPCA code of {} bytes would rebuild {:.0f} bytes of rows (more than {}× the "
+                    "file)",
+                    size, rebuilt, kMaxCpcaExpansion);
+    } else if (meta.contains("cpca")) {
+        corrupt(m_path, "metadata: 'cpca' in a version {} file (CPCA files are version {})",
+                h.version, kShprtCpcaFormatVersion);
+    }
+
     // ---- section table ----
     const Json& table = m.get("sections");
     if (!table.is_array() || table.size() > kMaxSections)
@@ -424,18 +453,21 @@ ShprtFile Reader::read(bool allow_part) {
                 kMaxSections);
     // Match the listed sections to the table's rules in order: every required one present,
     // optional ones present or absent, nothing else.
-    const detail::SectionCounts counts{V, T, rows, layout};
+    const detail::SectionCounts counts{V, T, rows, layout, clusters, vectors};
     std::vector<SectionSpec> specs;
     std::size_t listed = 0;
     for (const detail::SectionRule& rule : detail::section_rules()) {
+        // A CPCA file has every cpca_* section and no "transfer"; other files the reverse.
+        if (clusters > 0 ? rule.is_transfer() : rule.is_cpca()) continue;
+        const bool required = rule.required || (clusters > 0 && rule.is_cpca());
         const bool present = listed < table.size() && table[listed].is_object() &&
                              table[listed].contains("name") &&
                              table[listed]["name"] == std::string(rule.name);
-        if (!present && !rule.required) continue;
+        if (!present && !required) continue;
         if (!present && listed >= table.size())
             corrupt(m_path, "metadata: sections: required section '{}' is missing", rule.name);
         specs.push_back({&rule, rule.name, rule.dtype(layout), rule.row_count(counts),
-                         rule.col_count(layout), rule.element_size(layout)});
+                         rule.col_count(layout, vectors), rule.element_size(layout)});
         check_section_entry(m_path, table[listed], specs.back(), size);
         ++listed;
     }
@@ -491,6 +523,16 @@ ShprtFile Reader::read(bool allow_part) {
         for (std::size_t i = 0; i < n; ++i)
             if (!std::isfinite(p[i])) corrupt(m_path, "{}: value {} is not finite", what, i);
     };
+    if (clusters > 0) {
+        check_finite(t.cpca.weights.data(), t.cpca.weights.size(), "cpca_weights");
+        check_finite(t.cpca.means.data(), t.cpca.means.size(), "cpca_means");
+        check_finite(t.cpca.basis.data(), t.cpca.basis.size(), "cpca_basis");
+        try {
+            reconstruct_cpca(t.cpca, layout.floats_per_receiver(), t.coeffs);
+        } catch (const Error& e) {
+            corrupt(m_path, "{}", e.what());
+        }
+    }
     static_assert(sizeof(Vec3f) == 3 * sizeof(float));
     check_finite(reinterpret_cast<const float*>(mesh.positions.data()), 3 * V, "positions");
     check_finite(reinterpret_cast<const float*>(mesh.normals.data()), 3 * V, "normals");

@@ -2,6 +2,7 @@
 #include "io/shprt_sections.hpp"
 
 #include <array>
+#include <string_view>
 #include <vector>
 
 namespace shprt::detail {
@@ -44,6 +45,19 @@ struct DirectArray {
     }
 };
 
+// One array of the CPCA code (TransferSet::cpca).
+template <auto Member>
+struct CpcaArray {
+    static const void* data(const Mesh&, const TransferSet& t) { return (t.cpca.*Member).data(); }
+    static std::uint64_t count(const Mesh&, const TransferSet& t) {
+        return (t.cpca.*Member).size();
+    }
+    static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
+        (t.cpca.*Member).resize(static_cast<std::size_t>(n));
+        return (t.cpca.*Member).data();
+    }
+};
+
 template <class A>
 constexpr SectionRule rule(const char* name, SectionType type, SectionRows rows, std::uint64_t cols,
                            bool required) {
@@ -64,6 +78,13 @@ const std::array kRules = {
     // stays last (a streamed bake writes it in place).
     rule<DirectArray>("transfer_direct", S::transfer, R::receivers, SectionRule::kPerChannel,
                       kOptional),
+    // A CPCA file (format version 3) stores its code instead of "transfer": each receiver's
+    // cluster and weights, each cluster's mean and basis (transfer/cpca.hpp).
+    rule<CpcaArray<&CpcaCode::cluster>>("cpca_cluster", S::u32, R::receivers, 1, kOptional),
+    rule<CpcaArray<&CpcaCode::weights>>("cpca_weights", S::transfer, R::receivers,
+                                        SectionRule::kVectors, kOptional),
+    rule<CpcaArray<&CpcaCode::means>>("cpca_means", S::transfer, R::clusters, 0, kOptional),
+    rule<CpcaArray<&CpcaCode::basis>>("cpca_basis", S::transfer, R::basis_rows, 0, kOptional),
     rule<TransferArray>("transfer", S::transfer, R::receivers, 0, kRequired),
 };
 
@@ -91,11 +112,17 @@ std::uint64_t SectionRule::row_count(const SectionCounts& counts) const {
             return counts.vertices;
         case SectionRows::triangles:
             return counts.triangles;
+        case SectionRows::clusters:
+            return counts.clusters;
+        case SectionRows::basis_rows:
+            return counts.clusters * counts.vectors;
         case SectionRows::receivers:
             break;
     }
     return counts.receivers;
 }
+
+bool SectionRule::is_cpca() const { return std::string_view(name).starts_with("cpca_"); }
 
 std::span<const SectionRule> section_rules() { return kRules; }
 

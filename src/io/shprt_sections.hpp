@@ -19,19 +19,22 @@
 namespace shprt::detail {
 
 enum class SectionType { f32, u32, transfer };  // transfer: the layout's encoding
-enum class SectionRows { vertices, triangles, receivers };
+// clusters and basis_rows (clusters × vectors): the CPCA code's arrays (TransferSet::cpca).
+enum class SectionRows { vertices, triangles, receivers, clusters, basis_rows };
 
 // What the sizes of a file's sections follow from (all from the metadata).
 struct SectionCounts {
     std::uint64_t vertices = 0, triangles = 0, receivers = 0;
     TransferLayout layout;
+    std::uint64_t clusters = 0, vectors = 0;  // a CPCA code's (0: none)
 };
 
 struct SectionRule {
     const char* name;
     SectionType type;
     SectionRows rows;
-    std::uint64_t cols;  // 0 = layout.floats_per_receiver(), kPerChannel = floats_per_channel()
+    std::uint64_t cols;  // 0 = layout.floats_per_receiver(), kPerChannel = floats_per_channel(),
+                         // kVectors = the CPCA code's vectors
     bool required;
     // The array in memory: its data and scalar element count (rows·cols when present; an empty
     // optional array means "absent"); `resize` sizes it for reading and returns its data.
@@ -43,12 +46,19 @@ struct SectionRule {
     std::uint64_t element_size(const TransferLayout& layout) const;
     std::uint64_t row_count(const SectionCounts& counts) const;
     static constexpr std::uint64_t kPerChannel = ~std::uint64_t(0);
-    std::uint64_t col_count(const TransferLayout& layout) const {
+    static constexpr std::uint64_t kVectors = ~std::uint64_t(1);
+    std::uint64_t col_count(const TransferLayout& layout, std::uint64_t vectors = 0) const {
         if (cols == kPerChannel) return layout.floats_per_channel();
+        if (cols == kVectors) return vectors;
         return cols != 0 ? cols : std::uint64_t(layout.floats_per_receiver());
     }
     // The transfer itself (the streamed section, always last), not the optional direct part.
-    bool is_transfer() const { return type == SectionType::transfer && cols == 0; }
+    bool is_transfer() const {
+        return type == SectionType::transfer && cols == 0 && rows == SectionRows::receivers;
+    }
+    // One of the CPCA code's arrays: present exactly when the file has a code (then "transfer"
+    // is absent).
+    bool is_cpca() const;
 };
 
 // The table, in file order.

@@ -74,6 +74,10 @@ std::string shprt_summary(const ShprtFile& file) {
     line("sampling",
          fmt::format("{}, {} samples, seed {}", to_string(t.sampler), t.samples, t.seed));
     line("precision", to_string(t.layout.encoding));
+    if (!t.cpca.empty())
+        line("cpca", fmt::format("{} clusters x {} vectors (k-means++ seed {}); rows rebuilt on "
+                                 "reading",
+                                 t.cpca.clusters, t.cpca.vectors, t.cpca.seed));
     if (t.kind == TransferKind::interreflected) {
         const InterreflectionInfo& ir = t.interreflection;
         std::string bounces = fmt::format("{} (stored: T_0 + ... + T_{})", ir.bounces, ir.bounces);

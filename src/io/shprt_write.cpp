@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 #include <vector>
 
 namespace shprt {
@@ -69,11 +70,11 @@ Json stats_json(const BakeStats& s) {
 
 Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
                     const WriteOptions& options, const Json& extra,
-                    const std::vector<SectionOut>& sections) {
+                    const std::vector<SectionOut>& sections, const CpcaCode* cpca) {
     const int bands = sh_bands_for(t.layout.K);
     Json m;
     m["format"] = "shprt";
-    m["format_version"] = kShprtFormatVersion;
+    m["format_version"] = cpca ? kShprtCpcaFormatVersion : kShprtFormatVersion;
     m["tool"] = "shprt";
     m["tool_version"] = SHPRT_VERSION_STRING;
     m["convention"] = {
@@ -112,6 +113,16 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
             {"operator_nnz", ir.operator_nnz},
             {"operator_bytes", ir.operator_bytes},
             {"operator_rays", ir.operator_rays},
+        };
+    }
+    if (cpca) {
+        m["cpca"] = {
+            {"clusters", cpca->clusters},
+            {"vectors", cpca->vectors},
+            {"seed", cpca->seed},
+            {"method",
+             "k-means++ seeding (std::mt19937_64) + Lloyd, then per-cluster PCA, Frobenius "
+             "metric; row = means[cluster] + sum_i weights[i] * basis[cluster][i]"},
         };
     }
     m["scene"] = {
@@ -208,15 +219,22 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
     // is `coeffs`.
     const TransferSet none;
     const TransferSet& parts = transfer ? *transfer : none;
-    const detail::SectionCounts counts{mesh.positions.size(), mesh.triangles.size(), rows,
-                                       info.layout};
+    const bool cpca = !parts.cpca.empty();
+    const detail::SectionCounts counts{mesh.positions.size(),
+                                       mesh.triangles.size(),
+                                       rows,
+                                       info.layout,
+                                       std::uint64_t(std::max(parts.cpca.clusters, 0)),
+                                       std::uint64_t(std::max(parts.cpca.vectors, 0))};
     std::vector<SectionOut> sections;
     for (const detail::SectionRule& rule : detail::section_rules()) {
         const bool is_transfer = rule.is_transfer();
+        if (is_transfer && cpca) continue;  // the code stands for the rows
         if (!rule.required && !is_transfer && rule.count(mesh, parts) == 0) continue;
         const bool to_half = rule.element_size(info.layout) == 2;  // float32 stored as f16
         sections.push_back({rule.name, rule.dtype(info.layout), rule.row_count(counts),
-                            rule.col_count(info.layout), rule.element_size(info.layout),
+                            rule.col_count(info.layout, counts.vectors),
+                            rule.element_size(info.layout),
                             is_transfer ? coeffs : rule.data(mesh, parts), to_half});
         sections.back().streamed = is_transfer && coeffs == nullptr;
     }
@@ -228,9 +246,9 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
 
 std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInfo& info,
                     std::size_t rows, const WriteOptions& options, const Json& extra,
-                    std::vector<SectionOut>& sections, std::size_t reserve) {
+                    std::vector<SectionOut>& sections, std::size_t reserve, const CpcaCode* cpca) {
     const auto render = [&] {
-        return build_metadata(mesh, info, rows, options, extra, sections)
+        return build_metadata(mesh, info, rows, options, extra, sections, cpca)
                    .dump(2, ' ', false, Json::error_handler_t::replace) +
                '\n';
     };
@@ -271,9 +289,10 @@ std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInf
     return text;
 }
 
-void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize]) {
+void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize],
+                   std::uint32_t version) {
     ShprtHeader header;
-    header.version = kShprtFormatVersion;
+    header.version = version;
     header.endian_marker = kShprtEndianMarker;
     header.header_size = kShprtHeaderSize;
     header.metadata_offset = kShprtHeaderSize;
@@ -285,7 +304,10 @@ void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize])
 void write_file_body(AtomicFile& file, const std::string& text,
                      const std::vector<SectionOut>& sections) {
     unsigned char header_bytes[kShprtHeaderSize];
-    encode_header(text, header_bytes);
+    const bool cpca = std::any_of(sections.begin(), sections.end(), [](const SectionOut& s) {
+        return std::string_view(s.name).starts_with("cpca_");
+    });
+    encode_header(text, header_bytes, cpca ? kShprtCpcaFormatVersion : kShprtFormatVersion);
     file.write(header_bytes, sizeof header_bytes);
     file.write(text);
     std::uint64_t position = kShprtHeaderSize + text.size();
@@ -322,8 +344,8 @@ void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& t
     const std::size_t rows = transfer.receiver_count();
     std::vector<detail::SectionOut> sections =
         detail::plan_sections(mesh, transfer, rows, transfer.coeffs.data(), &transfer);
-    const std::string text =
-        detail::lay_out(path, mesh, transfer, rows, options, extra, sections, 0);
+    const std::string text = detail::lay_out(path, mesh, transfer, rows, options, extra, sections,
+                                             0, transfer.cpca.empty() ? nullptr : &transfer.cpca);
     AtomicFile file(path);
     detail::write_file_body(file, text, sections);
     file.commit();

@@ -57,9 +57,11 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
 // what the metadata says.
 std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInfo& info,
                     std::size_t rows, const WriteOptions& options, const Json& extra,
-                    std::vector<SectionOut>& sections, std::size_t reserve);
-// The 48 header bytes for metadata `text`.
-void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize]);
+                    std::vector<SectionOut>& sections, std::size_t reserve,
+                    const CpcaCode* cpca = nullptr);
+// The 48 header bytes for metadata `text` of a file of format `version`.
+void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize],
+                   std::uint32_t version = kShprtFormatVersion);
 // Writes the header, the metadata and every section with data (padding between them).
 void write_file_body(AtomicFile& file, const std::string& text,
                      const std::vector<SectionOut>& sections);

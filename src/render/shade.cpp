@@ -34,7 +34,7 @@ void check_shadable(const Mesh& mesh, const TransferSet& transfer) {
     transfer.check(mesh);
     SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, unsupported,
                 "{} transfer cannot be shaded with L = k·L_D + (1−k)·L_S (it needs a vector per "
-                "receiver)",
+                "receiver; glossy transfer matrices are shaded with --brdf, render/glossy.hpp)",
                 to_string(transfer.layout.shape));
 }
 

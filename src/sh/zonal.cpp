@@ -4,6 +4,7 @@
 // Spherical Harmonics (SH) Tricks", GDC 2008 (zonal rotation and convolution, Phong lobes).
 #include "shprt/sh/zonal.hpp"
 
+#include "sh/quadrature.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 
@@ -61,6 +62,34 @@ std::vector<double> phong_lobe_zonal(int bands, double s) {
         if (l >= 2) i_l *= (s - l + 2.0) / (s + l + 1.0);
         z[l] = std::sqrt((2.0 * l + 1.0) / (4.0 * kPi)) * (s + 1.0) * i_l;
     }
+    return z;
+}
+
+std::vector<double> project_zonal(const std::function<double(double)>& f, int bands, int nodes,
+                                  double* norm2) {
+    check_bands(bands, "project_zonal");
+    SHPRT_CHECK(nodes >= 1, invalid_argument, "project_zonal: nodes = {} must be ≥ 1", nodes);
+    std::vector<double> x, w;
+    detail::gauss_legendre(nodes, x, w);
+    std::vector<double> z(bands, 0.0), p(bands);
+    double n2 = 0;
+    for (int half = 0; half < 2; ++half) {
+        for (int q = 0; q < nodes; ++q) {
+            // [−1, 1] → [0, 1] (half 0) or [−1, 0] (half 1); the Jacobian is 1/2.
+            const double t = half == 0 ? 0.5 * (x[q] + 1) : 0.5 * (x[q] - 1);
+            const double weight = 2 * kPi * 0.5 * w[q];
+            const double v = f(t);
+            // Legendre P_l(t) by the three-term recurrence; y_l^0 = sqrt((2l+1)/(4π)) P_l.
+            p[0] = 1;
+            if (bands > 1) p[1] = t;
+            for (int l = 2; l < bands; ++l)
+                p[l] = ((2 * l - 1) * t * p[l - 1] - (l - 1) * p[l - 2]) / l;
+            for (int l = 0; l < bands; ++l)
+                z[l] += weight * v * std::sqrt((2 * l + 1) / (4 * kPi)) * p[l];
+            n2 += weight * v * v;
+        }
+    }
+    if (norm2) *norm2 = n2;
     return z;
 }
 

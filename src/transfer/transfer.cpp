@@ -39,6 +39,8 @@ const char* to_string(TransferKind kind) {
             return "shadowed";
         case TransferKind::interreflected:
             return "interreflected";
+        case TransferKind::glossy:
+            return "glossy";
     }
     return "shadowed";
 }
@@ -47,8 +49,10 @@ TransferKind parse_transfer_kind(const std::string& name) {
     if (name == "unshadowed") return TransferKind::unshadowed;
     if (name == "shadowed") return TransferKind::shadowed;
     if (name == "interreflected") return TransferKind::interreflected;
+    if (name == "glossy") return TransferKind::glossy;
     fail(ErrorCode::invalid_argument,
-         "unknown transfer kind '{}' (expected unshadowed, shadowed or interreflected)", name);
+         "unknown transfer kind '{}' (expected unshadowed, shadowed, interreflected or glossy)",
+         name);
 }
 
 const char* to_string(ReceiverDomain) { return "vertex"; }

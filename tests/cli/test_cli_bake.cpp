@@ -101,7 +101,10 @@ TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
         {"--samples 0 ", "--samples 0: must be"},
         {"--samples -3", "--samples -3"},
         {"--sampler bogus", "unknown sampler 'bogus'"},
-        {"--transfer glossy", "unknown transfer kind 'glossy'"},
+        {"--transfer specular", "unknown transfer kind 'specular'"},
+        {"--transfer glossy --bands 9", "glossy transfer: K = 81 is too large"},
+        {"--transfer glossy --device cuda", "glossy transfer runs on the CPU only"},
+        {"--transfer glossy --bounces 2", "--bounces: interreflected glossy transfer"},
         {"--device quantum", "unknown device 'quantum'"},
         {"--threads -1", "--threads -1"},
         {"--bands 2 --coeffs 4", "--bands and --coeffs both given"},
@@ -146,9 +149,9 @@ TEST_F(CliBake, MpiWithoutMpiInTheBuildIsOneLine) {
     shprt::test_support::expect_one_line_error(
         shprt("bake builtin:plane --mpi -o '" + out("x.shprt") + "'"), "this build has no MPI");
     EXPECT_TRUE(out_dir_empty());
-    EXPECT_EQ(shprt("bake builtin:plane --coeffs 4 --samples 16 -o '" + out("x.shprt") + "'")
-                  .exit_code,
-              0);
+    EXPECT_EQ(
+        shprt("bake builtin:plane --coeffs 4 --samples 16 -o '" + out("x.shprt") + "'").exit_code,
+        0);
 }
 #endif
 

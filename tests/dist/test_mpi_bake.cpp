@@ -60,6 +60,18 @@ TEST_F(MpiBake, FourRanksWriteTheSingleProcessBytes) {
     EXPECT_NE(r.err.find("bake: 100% (15.6 k of 15.6 k receivers"), std::string::npos) << r.err;
 }
 
+// Glossy transfer matrices go through the same sink: two ranks write the single-process bytes.
+TEST_F(MpiBake, GlossyMatricesFromTwoRanksEqualTheSingleProcessBytes) {
+    const std::string bake =
+        "bake builtin:box_on_plane --transfer glossy --bands 3 --samples 64 --reproducible";
+    ASSERT_EQ(shprt(fmt::format("{} -o '{}'", bake, out("one.shprt"))).exit_code, 0);
+    const RunResult r = mpirun(2, fmt::format("{} --mpi-unit 64 -o '{}'", bake, out("two.shprt")));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(slurp(out("one.shprt")) == slurp(out("two.shprt")))
+        << "the 2-rank glossy file differs from the single-process file";
+    EXPECT_EQ(read_shprt(out("two.shprt")).transfer.layout.shape, TransferShape::symmetric_matrix);
+}
+
 // A scene whose cost is uneven along the vertex range: a wide plane far from everything first
 // (its rays escape at once), the furnished room after it (its rays walk a deeper BVH and hit).
 // Equal static shares would leave the ranks with the plane idle; the units keep them busy and

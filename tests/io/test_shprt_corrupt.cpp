@@ -218,9 +218,10 @@ TEST_F(IoShprtCorrupt, WrongMagic) {
 
 TEST_F(IoShprtCorrupt, FutureAndInvalidVersions) {
     ShprtHeader h = header();
-    h.version = kShprtFormatVersion + 1;
+    h.version = kShprtNewestReadVersion + 1;
     expect_error(with_header(m_good, h),
-                 fmt::format("format version {} is newer", kShprtFormatVersion + 1), "version +1");
+                 fmt::format("format version {} is newer", kShprtNewestReadVersion + 1),
+                 "version +1");
     h.version = 0;
     expect_error(with_header(m_good, h), "invalid format version 0", "version 0");
     h = header();
@@ -327,7 +328,9 @@ TEST_F(IoShprtCorrupt, CountsInconsistentWithVKAndChannels) {
         {"vertices huge", [](Json& m) { m["scene"]["vertices"] = std::uint64_t(1) << 62; },
          "receivers.total"},
         {"sampler", [](Json& m) { m["sampler"] = "magic"; }, "sampler"},
-        {"kind", [](Json& m) { m["transfer_kind"] = "glossy"; }, "transfer kind"},
+        {"kind", [](Json& m) { m["transfer_kind"] = "specular"; }, "transfer kind"},
+        {"glossy vectors", [](Json& m) { m["transfer_kind"] = "glossy"; },
+         "transfer_kind glossy needs shape symmetric_matrix"},
         {"samples", [](Json& m) { m["samples"] = -1; }, "samples"},
         {"missing K", [](Json& m) { m.erase("K"); }, "missing field 'K'"},
         {"missing sections", [](Json& m) { m.erase("sections"); }, "missing field 'sections'"},

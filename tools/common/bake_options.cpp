@@ -11,9 +11,11 @@ namespace shprt::tools {
 
 void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--transfer", args.transfer,
-                   "unshadowed, shadowed (default) or interreflected (RGB, with bounces)");
+                   "unshadowed, shadowed (default), interreflected (RGB, with bounces) or glossy "
+                   "(K×K matrices, at most 8 bands)");
     app.add_option("--bands", args.bands,
-                   fmt::format("SH bands n (K = n², 1 to {}); default 4", kMaxComputeBands));
+                   fmt::format("SH bands n (K = n², 1 to {}); default 4 (glossy: 5, at most 8)",
+                               kMaxComputeBands));
     app.add_option(
         "--coeffs", args.coeffs,
         fmt::format("Basis size K, 1 to {} (need not be a square); default 16", kMaxBakeCoeffs));
@@ -39,13 +41,17 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
                  "it brings nothing)");
 }
 
-void apply_albedo_option(const BakeOptionArgs& args, Mesh& mesh) {
-    if (args.albedo.empty()) return;
-    const std::vector<double> rgb = parse_numbers(args.albedo, 3, "--albedo R,G,B");
+Vec3f parse_albedo(const std::string& text) {
+    const std::vector<double> rgb = parse_numbers(text, 3, "--albedo R,G,B");
     for (double c : rgb)
         SHPRT_CHECK(c >= 0.0 && c <= 1.0, invalid_argument,
-                    "--albedo {}: each component must be 0 to 1 (linear reflectance)", args.albedo);
-    mesh.albedo.assign(mesh.vertex_count(), Vec3f{float(rgb[0]), float(rgb[1]), float(rgb[2])});
+                    "--albedo {}: each component must be 0 to 1 (linear reflectance)", text);
+    return Vec3f{float(rgb[0]), float(rgb[1]), float(rgb[2])};
+}
+
+void apply_albedo_option(const BakeOptionArgs& args, Mesh& mesh) {
+    if (args.albedo.empty()) return;
+    mesh.albedo.assign(mesh.vertex_count(), parse_albedo(args.albedo));
     mesh.albedo_source = "--albedo " + args.albedo;
 }
 
@@ -68,6 +74,8 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
         SHPRT_CHECK(*a.coeffs >= 1 && *a.coeffs <= kMaxBakeCoeffs, invalid_argument,
                     "--coeffs {}: must be 1 to {}", *a.coeffs, kMaxBakeCoeffs);
         o.K = static_cast<int>(*a.coeffs);
+    } else if (o.transfer == TransferKind::glossy) {
+        o.K = sh_count(5);  // glossy default: 5 bands, 25×25 matrices
     }
     SHPRT_CHECK(a.samples >= 1 && a.samples <= kMaxBakeSamples, invalid_argument,
                 "--samples {}: must be 1 to {}", a.samples, kMaxBakeSamples);
@@ -80,6 +88,9 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
                 invalid_argument, "--device-index {}: must be 0 or more", a.device_index);
     o.device_index = static_cast<int>(a.device_index);
     const bool interreflected = o.transfer == TransferKind::interreflected;
+    SHPRT_CHECK(o.transfer != TransferKind::glossy || a.bounces.empty(), unsupported,
+                "--bounces: interreflected glossy transfer is not implemented (glossy matrices "
+                "hold the direct, shadowed light only)");
     SHPRT_CHECK(
         interreflected || (a.bounces.empty() && !a.tolerance && a.albedo.empty() && !a.two_sided),
         invalid_argument,

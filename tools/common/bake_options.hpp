@@ -36,6 +36,10 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args);
 // the BakeOptions they describe; progress is left empty.
 BakeOptions bake_options_from(const BakeOptionArgs& args);
 
+// --albedo R,G,B as a colour: linear, each component 0 to 1 (one-line Error(invalid_argument)
+// otherwise). `bake --albedo` and the glossy shading's `--albedo` (shading_options.hpp).
+Vec3f parse_albedo(const std::string& text);
+
 // --albedo R,G,B: every vertex's albedo replaced (linear RGB, each in [0, 1]) and the source
 // recorded; nothing when the option was not given.
 void apply_albedo_option(const BakeOptionArgs& args, Mesh& mesh);

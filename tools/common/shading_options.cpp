@@ -1,9 +1,13 @@
 // Options shared by `shprt render` and `shprt view` (shading_options.hpp).
 #include "common/shading_options.hpp"
 
+#include "common/bake_options.hpp"
+
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/parse.hpp"
 #include "shprt/scene/mesh_ops.hpp"
+#include "shprt/sh/basis.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -95,6 +99,68 @@ ShprtFile read_for_shading(const std::string& path, bool direct) {
         file.transfer = file.transfer.direct_only();
     }
     return file;
+}
+
+void add_glossy_options(CLI::App& app, GlossyArgs& args) {
+    app.add_option("--brdf", args.brdf,
+                   "Glossy bakes: the BRDF lobe phong:E (normalised Phong), blinn:E (Blinn-Phong) "
+                   "or ggx:R (roughness); with --k the diffuse share");
+    app.add_option("--glossy", args.glossy,
+                   "matrix (default: transfer matrices, needs a glossy bake) or paper (the "
+                   "paper's zonal term; a glossy bake is turned into diffuse transfer)");
+    app.add_option("--albedo", args.albedo,
+                   "Glossy shading: R,G,B (linear, 0 to 1) overriding the diffuse and specular "
+                   "colours");
+}
+
+void check_glossy_args(const GlossyArgs& args) {
+    SHPRT_CHECK(args.glossy == "matrix" || args.glossy == "paper", invalid_argument,
+                "--glossy '{}': expected matrix or paper", args.glossy);
+    if (!args.brdf.empty()) parse_brdf(args.brdf);
+    if (!args.albedo.empty()) {
+        SHPRT_CHECK(args.glossy == "matrix", invalid_argument,
+                    "--albedo needs the matrix term (--glossy matrix)");
+        parse_albedo(args.albedo);
+    }
+}
+
+GlossyPlan plan_glossy(const GlossyArgs& args, const std::string& path, ShprtFile& file, double k,
+                       double& gloss) {
+    const bool matrices = file.transfer.layout.shape != TransferShape::vector;
+    GlossyPlan plan;
+    if (args.glossy == "paper") {
+        std::optional<Brdf> brdf;
+        if (!args.brdf.empty()) brdf = parse_brdf(args.brdf);
+        SHPRT_CHECK(!brdf || brdf->model == BrdfModel::phong, invalid_argument,
+                    "--glossy paper: the paper's term has a Phong lobe only (--brdf phong:E)");
+        if (brdf) gloss = brdf->parameter;
+        if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
+        return plan;
+    }
+    SHPRT_CHECK(!matrices || !args.brdf.empty(), invalid_argument,
+                "{}: glossy transfer matrices need --brdf phong:E|blinn:E|ggx:R (or --glossy "
+                "paper)",
+                path);
+    if (args.brdf.empty()) {
+        SHPRT_CHECK(args.albedo.empty(), invalid_argument, "--albedo needs --brdf");
+        return plan;
+    }
+    SHPRT_CHECK(matrices, invalid_argument,
+                "{}: {} transfer is diffuse (a vector per vertex): --brdf needs a glossy bake "
+                "(--transfer glossy), or use --gloss",
+                path, to_string(file.transfer.kind));
+    GlossyShadeOptions o;
+    o.brdf = parse_brdf(args.brdf);
+    o.k = k;
+    if (!args.albedo.empty()) o.albedo = parse_albedo(args.albedo);
+    plan.glossy = o;
+    return plan;
+}
+
+std::string describe_brdf(const Brdf& brdf, int K) {
+    const int bands = sh_bands_for(K);
+    return fmt::format("brdf={}, zonal fit error {:.1f}% at {} bands", to_string(brdf),
+                       100 * brdf_lobe(brdf, bands).fit_error, bands);
 }
 
 }  // namespace shprt::tools

@@ -8,6 +8,7 @@
 
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
+#include "shprt/render/glossy.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/scene/mesh.hpp"
 
@@ -63,5 +64,29 @@ void check_image_extension(const std::string& path);
 // Reads a .shprt file to shade; with `direct`, only its direct part (an interreflected bake's T_0;
 // a one-line error for a file without one). `shade` and `render --direct`.
 ShprtFile read_for_shading(const std::string& path, bool direct);
+
+// Glossy shading (render/glossy.hpp): --brdf, --glossy, --albedo, shared by `shade` and `render`.
+struct GlossyArgs {
+    std::string brdf;               // "phong:E", "blinn:E", "ggx:R", or empty
+    std::string glossy = "matrix";  // "matrix" (transfer matrices) or "paper" (the zonal term)
+    std::string albedo;             // "R,G,B" or empty
+};
+void add_glossy_options(CLI::App& app, GlossyArgs& args);
+// Checks --brdf, --glossy and --albedo before any file is read (one-line Error).
+void check_glossy_args(const GlossyArgs& args);
+
+// How a file read with these options is shaded: `glossy` set = the matrix term (shade_glossy);
+// unset = the diffuse/paper path (shade_vertices, the GL renderer), with `file.transfer` turned
+// into diffuse transfer first when it is a glossy bake shaded with --glossy paper (whose Phong
+// exponent then replaces `gloss`). A diffuse file with --brdf (unless --glossy paper), or a glossy
+// file without --brdf or --glossy paper, is a one-line Error(invalid_argument) naming `path`.
+struct GlossyPlan {
+    std::optional<GlossyShadeOptions> glossy;
+};
+// "brdf=phong:16, zonal fit error 47.5% at 5 bands": what `shade` and `render` print.
+std::string describe_brdf(const Brdf& brdf, int K);
+
+GlossyPlan plan_glossy(const GlossyArgs& args, const std::string& path, ShprtFile& file, double k,
+                       double& gloss);
 
 }  // namespace shprt::tools

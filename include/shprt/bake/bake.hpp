@@ -54,6 +54,8 @@ class Tracer;
 
 // Largest basis size a bake accepts (32 full bands).
 inline constexpr int kMaxBakeCoeffs = sh_count(kMaxComputeBands);
+// Largest basis size of a glossy (matrix) bake: 8 bands, K = 64 (a 64×64 matrix per receiver).
+inline constexpr int kMaxGlossyCoeffs = sh_count(8);
 // Most directions a bake accepts: W[chunk×S] must stay a sensible per-thread buffer.
 inline constexpr std::uint32_t kMaxBakeSamples = std::uint32_t(1) << 24;
 // Most worker threads a bake accepts.
@@ -99,7 +101,8 @@ struct BakeOptions {
 };
 
 // The one check of bake options, made at the boundary (every bake entry point calls it once):
-// Error(invalid_argument) naming the option for K outside 1..kMaxBakeCoeffs, samples outside
+// Error(invalid_argument) naming the option for K outside 1..kMaxBakeCoeffs (1..kMaxGlossyCoeffs
+// for glossy transfer), samples outside
 // 1..kMaxBakeSamples, threads outside 0..kMaxBakeThreads, a negative device index.
 void validate(const BakeOptions& options);
 
@@ -109,7 +112,8 @@ void validate(const BakeOptions& options);
 Device resolve_device(Device requested, int device_index = 0);
 
 // What a bake with `options` produces, before it runs: its kind and layout (vertex receivers, one
-// channel, a vector of K each, float32), sampler, samples and seed; no stats. A progressive
+// channel — three for interreflected —, a vector of K each — a symmetric K×K matrix for glossy
+// transfer —, float32), sampler, samples and seed; no stats. A progressive
 // display starts from TransferSet::zeros(bake_description(options), V).
 TransferInfo bake_description(const BakeOptions& options);
 
@@ -129,6 +133,15 @@ struct BakeJob {
     std::vector<float>* direct = nullptr;
 };
 
+// Glossy transfer (TransferKind::glossy, docs/glossy.md) is the same pipeline with two changes:
+// the weight is W[v][s] = V(p, w_s)·[n·w_s > 0]·weight_s (visibility over the hemisphere, no
+// cosine: the cosine and the BRDF enter at shading), and the table is the pair-product table
+// P[s][(i,j)] = y_i(w_s)·y_j(w_s) for i ≤ j (packed upper triangle, row by row), so that a chunk's
+// matrices are again one SGEMM, C[chunk×K(K+1)/2] = W[chunk×S]·P[S×K(K+1)/2] — row v of C is the
+// packed upper triangle of M_v = Yᵀ·diag(W[v])·Y, with the same determinism as the diffuse
+// product. CPU only (Device::cuda: Error(unsupported); automatic picks the CPU); K ≤
+// kMaxGlossyCoeffs; no bounces (interreflected glossy transfer is not written).
+//
 // Bakes diffuse transfer (one channel of K coefficients per receiver, see the top of this file)
 // for job.receivers' range into job.sink, on resolve_device(options.device, ...). Returns the
 // description of what went to the sink (kind, layout, sampler, S, seed) and BakeStats: the time

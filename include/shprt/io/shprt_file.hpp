@@ -13,7 +13,8 @@
 //                   receiver, transfer/transfer.hpp)
 //
 // Version 2 adds the transfer layout's receiver domain and shape to the metadata; version 1 files
-// (vertex domain, vector shape) still read.
+// (vertex domain, vector shape) still read. Version 3 (CPCA files only) replaces the transfer
+// section by a clustered-PCA code; the reader reconstructs the rows (transfer/cpca.hpp).
 //
 // Every byte of the file is covered by a check (a CRC or "padding is zero"), and the reader
 // validates every length and offset against the file size before it reads or allocates.
@@ -28,8 +29,14 @@
 
 namespace shprt {
 
-// The format version this build writes and the newest it reads (it reads 1 too).
+// The format version this build writes (it reads 1 too).
 inline constexpr std::uint32_t kShprtFormatVersion = 2;
+// The version of a file that stores a CPCA code instead of the rows (TransferSet::cpca, "cpca"
+// metadata and the cpca_* sections; docs/file_format.md): only those files carry it, so every
+// other file stays readable by older builds.
+inline constexpr std::uint32_t kShprtCpcaFormatVersion = 3;
+// The newest version this build reads.
+inline constexpr std::uint32_t kShprtNewestReadVersion = kShprtCpcaFormatVersion;
 
 struct WriteOptions {
     // The first receiver of the transfer's rows: 0 for a whole file; for a part of a sharded bake

@@ -17,6 +17,7 @@
 #include "shprt/sh/basis.hpp"
 
 #include <cmath>
+#include <functional>
 #include <vector>
 
 namespace shprt {
@@ -34,6 +35,15 @@ std::vector<double> clamped_cosine_zonal(int bands);
 // s = 1 is the clamped cosine divided by π. Throws Error for s < 0, s not finite, or bands
 // outside [1, kMaxBands].
 std::vector<double> phong_lobe_zonal(int bands, double s);
+
+// z_l, l = 0..bands−1, of the zonal function f(cos θ) by Gauss–Legendre quadrature in x = cos θ,
+// z_l = 2π ∫ f(x) y_l^0(x) dx, integrating [−1, 0] and [0, 1] separately with `nodes` nodes each
+// (so a lobe that is cut off at the horizon x = 0 is integrated exactly where it is smooth).
+// Also returns ∫ f² dω in *norm2 (when non-null): the residual of the n-band fit is
+// sqrt(norm2 − Σ z_l²) (Parseval; the projection is the L2-optimal zonal fit). Throws Error for
+// bands outside [1, kMaxBands] or nodes < 1.
+std::vector<double> project_zonal(const std::function<double(double)>& f, int bands,
+                                  int nodes = 256, double* norm2 = nullptr);
 
 // Rotates the zonal function `zonal` (z_l for every band touched by K, i.e. at least
 // sh_bands_for(K) values) so that its pole points along `dir`, writing the first K coefficients:

@@ -31,6 +31,11 @@ enum class TransferKind {
     // The shadowed transfer plus the light that reaches the receiver after bouncing off the
     // scene's diffuse surfaces: T_0 + T_1 + … + T_N, RGB (three channels), docs/interreflection.md.
     interreflected,
+    // Glossy (incident-radiance) transfer: per receiver the symmetric K×K matrix
+    // M = Σ_s weight_s V(w_s) y(w_s) y(w_s)ᵀ over the hemisphere of the normal (V = 0 below it;
+    // no cosine), so that M·L is the SH projection of the shadowed incident radiance
+    // (docs/glossy.md). One channel, TransferShape::symmetric_matrix.
+    glossy,
 };
 
 // Where the receivers are. Only vertices exist today.
@@ -128,12 +133,29 @@ struct TransferInfo {
     InterreflectionInfo interreflection;  // kind == interreflected only
 };
 
+// A clustered-PCA code of a transfer's rows (Sloan, Hall, Hart & Snyder 2003; transfer/cpca.hpp):
+// receiver r's row ≈ means[c] + Σ_i weights[r][i] · basis[c][i], c = cluster[r]. Each row is
+// layout.floats_per_receiver() floats (D). Empty (clusters == 0) unless the set came from
+// compress_cpca or a CPCA file; a file written from a set with a code stores the code instead of
+// the rows (docs/file_format.md, "CPCA").
+struct CpcaCode {
+    int clusters = 0, vectors = 0;
+    std::vector<std::uint32_t> cluster;  // receivers
+    std::vector<float> weights;          // receivers × vectors
+    std::vector<float> means;            // clusters × D
+    std::vector<float> basis;            // clusters × vectors × D
+    std::uint64_t seed = 0;              // the k-means++ seed
+    bool empty() const { return clusters == 0; }
+};
+
 struct TransferSet : TransferInfo {
     std::vector<float> coeffs;  // layout.floats(receiver_count()) floats, see the file comment
     // Interreflected transfer only (else empty): the direct (shadowed) transfer T_0, one channel
     // per receiver (it is the same for R, G and B: the albedo enters only at bounces),
     // receiver_count() × layout.floats_per_channel() floats. direct_only() shades with it.
     std::vector<float> direct;
+    // The CPCA code the rows were reconstructed from (or are to be stored as); empty otherwise.
+    CpcaCode cpca;
 
     // An all-zero set of `receivers` rows with the given description (what a progressive display
     // starts from before the first chunk arrives).

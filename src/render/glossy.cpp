@@ -1,0 +1,293 @@
+// Glossy shading with transfer matrices (render/glossy.hpp, docs/glossy.md).
+//
+// Implements the glossy transfer of P.-P. Sloan, J. Kautz, J. Snyder, "Precomputed Radiance
+// Transfer for Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH
+// 2002 (§5: transfer matrices, lobes rotated to the reflection direction), with zonal lobes for
+// normalised Phong, Blinn–Phong and GGX (B. Walter et al., "Microfacet Models for Refraction
+// through Rough Surfaces", EGSR 2007, for D_GGX).
+#include "shprt/render/glossy.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
+#include "shprt/core/parse.hpp"
+#include "shprt/sh/basis.hpp"
+#include "shprt/sh/zonal.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace shprt {
+namespace {
+
+// Lowest GGX roughness: narrower lobes need more quadrature nodes than the fit uses (and far
+// more bands than a transfer matrix has).
+constexpr double kMinGgxRoughness = 0.05;
+// Quadrature nodes per half of [−1, 1] for the numerically fitted lobes.
+constexpr int kLobeNodes = 1024;
+
+void check_brdf(const Brdf& b) {
+    if (b.model == BrdfModel::ggx) {
+        SHPRT_CHECK(
+            std::isfinite(b.parameter) && b.parameter >= kMinGgxRoughness && b.parameter <= 1,
+            invalid_argument, "ggx roughness {} must be in [{}, 1]", b.parameter, kMinGgxRoughness);
+    } else {
+        SHPRT_CHECK(std::isfinite(b.parameter) && b.parameter >= 0 && b.parameter <= 1e4,
+                    invalid_argument, "{} exponent {} must be in [0, 10000]",
+                    b.model == BrdfModel::phong ? "phong" : "blinn", b.parameter);
+    }
+}
+
+// The lobe profile before normalisation.
+double raw_profile(const Brdf& b, double x) {
+    if (x <= 0) return 0;
+    switch (b.model) {
+        case BrdfModel::phong:
+            return (b.parameter + 1) / (2 * kPi) * std::pow(x, b.parameter);
+        case BrdfModel::blinn_phong:
+            return std::pow(0.5 * (1 + x), 0.5 * b.parameter);  // cos(θ/2)^E
+        case BrdfModel::ggx: {
+            const double a2 = b.parameter * b.parameter * b.parameter * b.parameter;  // α = R²
+            const double c2 = 0.5 * (1 + x);  // cos²(θ/2): n·h at normal incidence
+            const double d = c2 * (a2 - 1) + 1;
+            return a2 / (kPi * d * d);
+        }
+    }
+    return 0;
+}
+
+double normalisation(const Brdf& b) {
+    if (b.model == BrdfModel::phong) return 1;  // (E+1)/(2π) x^E integrates to 1 already
+    const std::vector<double> z0 =
+        project_zonal([&](double x) { return raw_profile(b, x); }, 1, kLobeNodes);
+    return 1 / (z0[0] * std::sqrt(4 * kPi));  // ∫ f dω = z_0 · √(4π)
+}
+
+Vec3d reflect_view(const Vec3d& n, const Vec3d& p, const Vec3d& eye) {
+    const Vec3d to_eye = eye - p;
+    const Vec3d w = length(to_eye) > 0 ? normalize(to_eye) : n;  // at the eye: along n
+    return n * (2 * dot(n, w)) - w;
+}
+
+}  // namespace
+
+Brdf parse_brdf(const std::string& spec) {
+    const std::size_t colon = spec.find(':');
+    SHPRT_CHECK(colon != std::string::npos, invalid_argument,
+                "--brdf '{}': expected phong:E, blinn:E or ggx:R", spec);
+    const std::string name = spec.substr(0, colon);
+    Brdf b;
+    if (name == "phong")
+        b.model = BrdfModel::phong;
+    else if (name == "blinn")
+        b.model = BrdfModel::blinn_phong;
+    else if (name == "ggx")
+        b.model = BrdfModel::ggx;
+    else
+        fail(ErrorCode::invalid_argument, "--brdf '{}': unknown model '{}' (phong, blinn or ggx)",
+             spec, name);
+    b.parameter = parse_numbers(spec.substr(colon + 1), 1, "--brdf " + spec)[0];
+    check_brdf(b);
+    return b;
+}
+
+std::string to_string(const Brdf& b) {
+    const char* name = b.model == BrdfModel::phong         ? "phong"
+                       : b.model == BrdfModel::blinn_phong ? "blinn"
+                                                           : "ggx";
+    return fmt::format("{}:{}", name, b.parameter);
+}
+
+double BrdfProfile::operator()(double x) const { return scale * raw_profile(brdf, x); }
+
+BrdfProfile brdf_profile(const Brdf& brdf) {
+    check_brdf(brdf);
+    return {brdf, normalisation(brdf)};
+}
+
+BrdfLobe brdf_lobe(const Brdf& brdf, int bands) {
+    const BrdfProfile profile = brdf_profile(brdf);
+    double norm2 = 0;
+    BrdfLobe lobe;
+    lobe.zonal = project_zonal(profile, bands, kLobeNodes, &norm2);
+    // Phong: the closed form (the quadrature above only measures the residual).
+    if (brdf.model == BrdfModel::phong) lobe.zonal = phong_lobe_zonal(bands, brdf.parameter);
+    double kept = 0;
+    for (double z : lobe.zonal) kept += z * z;
+    lobe.fit_error = norm2 > 0 ? std::sqrt(std::max(0.0, norm2 - kept) / norm2) : 0;
+    return lobe;
+}
+
+void check_glossy_shadable(const Mesh& mesh, const TransferSet& transfer) {
+    transfer.check(mesh);
+    SHPRT_CHECK(
+        transfer.layout.shape == TransferShape::symmetric_matrix && transfer.layout.channels == 1,
+        invalid_argument,
+        "{} transfer with {} channel(s) cannot be shaded with --brdf: glossy shading needs "
+        "a glossy bake (--transfer glossy)",
+        to_string(transfer.layout.shape), transfer.layout.channels);
+}
+
+void unpack_symmetric(const float* packed, int K, int K_used, double* out) {
+    std::size_t p = 0;
+    for (int i = 0; i < K; ++i)
+        for (int j = i; j < K; ++j, ++p) {
+            if (i >= K_used || j >= K_used) continue;
+            out[i * K_used + j] = out[j * K_used + i] = double(packed[p]);
+        }
+}
+
+ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                         const GlossyShadeOptions& options) {
+    check_glossy_shadable(mesh, transfer);
+    SHPRT_CHECK(light.K > 0 && light.coeffs.size() == 3 * std::size_t(light.K), invalid_argument,
+                "light has K = {} and {} coefficients (expected 3 × K)", light.K,
+                light.coeffs.size());
+    SHPRT_CHECK(options.k >= 0 && options.k <= 1, invalid_argument,
+                "diffuse share k = {} is outside [0, 1]", options.k);
+    if (options.albedo) {
+        const Vec3f a = *options.albedo;
+        SHPRT_CHECK(a.x >= 0 && a.x <= 1 && a.y >= 0 && a.y <= 1 && a.z >= 0 && a.z <= 1,
+                    invalid_argument, "albedo ({}, {}, {}) must be in [0, 1]", a.x, a.y, a.z);
+    }
+    const int K = effective_basis_size(transfer, light, options.K_used);
+    const int bands = sh_bands_for(K);
+    const std::vector<double> lobe = brdf_lobe(options.brdf, bands).zonal;
+    const std::vector<double> cosine = clamped_cosine_zonal(bands);
+    const Vec3d eye = cast<double>(options.eye);
+    const int Kt = transfer.layout.K;
+
+    const std::size_t V = mesh.vertex_count();
+    ShadeResult result;
+    result.irradiance.resize(V);
+    result.radiance.resize(V);
+    // A CPCA code (transfer/cpca.hpp) is shaded as Sloan et al. 2003 do: the light is transformed
+    // once per cluster, mean·L and B_i·L, and a vertex's shadowed radiance is
+    // T = mean·L + Σ_i w_i (B_i·L) — N·K per vertex and colour instead of K².
+    const CpcaCode& code = transfer.cpca;
+    const bool per_cluster = !code.empty();
+    const std::size_t N = per_cluster ? std::size_t(code.vectors) : 0;
+    std::vector<double> cluster_light;  // [cluster][1 + N][colour][K]
+    if (per_cluster) {
+        const std::size_t D = transfer.layout.floats_per_receiver();
+        SHPRT_CHECK(code.means.size() == std::size_t(code.clusters) * D &&
+                        code.basis.size() == std::size_t(code.clusters) * N * D &&
+                        code.weights.size() == V * N && code.cluster.size() == V,
+                    invalid_argument, "the transfer's CPCA code does not fit its {} receivers", V);
+        cluster_light.assign(std::size_t(code.clusters) * (1 + N) * 3 * K, 0.0);
+        tbb::parallel_for(tbb::blocked_range<int>(0, code.clusters), [&](const auto& range) {
+            std::vector<double> M(std::size_t(K) * K);
+            for (int c = range.begin(); c != range.end(); ++c)
+                for (std::size_t b = 0; b <= N; ++b) {
+                    const float* packed = b == 0 ? code.means.data() + std::size_t(c) * D
+                                                 : code.basis.data() + (c * N + b - 1) * D;
+                    unpack_symmetric(packed, Kt, K, M.data());
+                    for (int ch = 0; ch < 3; ++ch) {
+                        double* out = cluster_light.data() + ((c * (1 + N) + b) * 3 + ch) * K;
+                        const float* l = light.channel(ch);
+                        for (int i = 0; i < K; ++i)
+                            for (int j = 0; j < K; ++j)
+                                out[i] += M[std::size_t(i) * K + j] * double(l[j]);
+                    }
+                }
+        });
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V, 128), [&](const auto& range) {
+        std::vector<double> M(std::size_t(K) * K), T(3 * std::size_t(K)), a(K), g(K);
+        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+            // T[colour][i]: the shadowed incident radiance M_v·L.
+            std::fill(T.begin(), T.end(), 0.0);
+            if (per_cluster) {
+                const std::size_t c = code.cluster[v];
+                for (std::size_t b = 0; b <= N; ++b) {
+                    const double w = b == 0 ? 1.0 : double(code.weights[v * N + b - 1]);
+                    const double* cl = cluster_light.data() + (c * (1 + N) + b) * 3 * K;
+                    for (std::size_t i = 0; i < 3 * std::size_t(K); ++i) T[i] += w * cl[i];
+                }
+            } else {
+                unpack_symmetric(transfer.receiver(v), Kt, K, M.data());
+                for (int ch = 0; ch < 3; ++ch) {
+                    const float* l = light.channel(ch);
+                    for (int i = 0; i < K; ++i) {
+                        const double* row = M.data() + std::size_t(i) * K;
+                        double t = 0;
+                        for (int j = 0; j < K; ++j) t += row[j] * double(l[j]);
+                        T[std::size_t(ch) * K + i] = t;
+                    }
+                }
+            }
+            const Vec3d p = cast<double>(mesh.positions[v]);
+            const Vec3d n = normalize(cast<double>(mesh.normals[v]));
+            rotate_zonal(cosine.data(), K, n, a.data());
+            rotate_zonal(lobe.data(), K, reflect_view(n, p, eye), g.data());
+            const Vec3f albedo = mesh.albedo[v];
+            const Vec3f diffuse_colour = options.albedo ? *options.albedo : albedo;
+            const Vec3f specular_colour = options.albedo ? *options.albedo : Vec3f{1, 1, 1};
+            const double rd[3] = {diffuse_colour.x, diffuse_colour.y, diffuse_colour.z};
+            const double rs[3] = {specular_colour.x, specular_colour.y, specular_colour.z};
+            double E[3], L[3];
+            for (int ch = 0; ch < 3; ++ch) {
+                double e = 0, s = 0;
+                for (int i = 0; i < K; ++i) {
+                    e += a[i] * T[std::size_t(ch) * K + i];
+                    s += g[i] * T[std::size_t(ch) * K + i];
+                }
+                E[ch] = e;
+                L[ch] = options.k * rd[ch] / kPi * e + (1 - options.k) * rs[ch] * s;
+            }
+            result.irradiance[v] = {float(E[0]), float(E[1]), float(E[2])};
+            result.radiance[v] = {float(L[0]), float(L[1]), float(L[2])};
+        }
+    });
+    return result;
+}
+
+TransferSet glossy_to_diffuse(const Mesh& mesh, const TransferSet& transfer) {
+    check_glossy_shadable(mesh, transfer);
+    const int K = transfer.layout.K;
+    TransferInfo info = transfer;
+    info.kind = TransferKind::shadowed;
+    info.layout.shape = TransferShape::vector;
+    info.layout.channels = 1;
+    const std::size_t V = mesh.vertex_count();
+    TransferSet out = TransferSet::zeros(info, V);
+    const std::vector<double> cosine = clamped_cosine_zonal(sh_bands_for(K));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V, 128), [&](const auto& range) {
+        std::vector<double> M(std::size_t(K) * K), a(K);
+        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+            unpack_symmetric(transfer.receiver(v), K, K, M.data());
+            rotate_zonal(cosine.data(), K, normalize(cast<double>(mesh.normals[v])), a.data());
+            float* t = out.receiver(v);
+            for (int i = 0; i < K; ++i) {
+                double s = 0;
+                for (int j = 0; j < K; ++j) s += M[std::size_t(i) * K + j] * a[j];
+                t[i] = float(s);
+            }
+        }
+    });
+    return out;
+}
+
+TransferSet colours_as_transfer(const std::vector<Vec3f>& radiance) {
+    TransferInfo info;
+    info.kind = TransferKind::shadowed;
+    info.layout.channels = 3;
+    info.layout.K = 1;
+    TransferSet out = TransferSet::zeros(info, radiance.size());
+    for (std::size_t v = 0; v < radiance.size(); ++v) {
+        out.receiver(v, 0)[0] = radiance[v].x;
+        out.receiver(v, 1)[0] = radiance[v].y;
+        out.receiver(v, 2)[0] = radiance[v].z;
+    }
+    return out;
+}
+
+ShLight light_for_colours() {
+    ShLight light = ShLight::zero(1);
+    for (int c = 0; c < 3; ++c) light.channel(c)[0] = 1;
+    return light;
+}
+
+}  // namespace shprt

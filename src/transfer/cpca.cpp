@@ -1,0 +1,404 @@
+// Clustered PCA of transfer rows (transfer/cpca.hpp).
+//
+// Implements P.-P. Sloan, J. Hall, J. Hart, J. Snyder, "Clustered Principal Components for
+// Precomputed Radiance Transfer", SIGGRAPH 2003 (cluster, then PCA per cluster), seeded with
+// k-means++ (D. Arthur, S. Vassilvitskii, "k-means++: The Advantages of Careful Seeding", SODA
+// 2007).
+#include "shprt/transfer/cpca.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
+#include "shprt/core/timer.hpp"
+// Header-only float16 conversion (it sits in io/ because files are where float16 lives; no link
+// dependency on the io library).
+#include "shprt/io/half.hpp"
+#include "shprt/sh/basis.hpp"
+#include "shprt/sh/zonal.hpp"
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/info.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+namespace shprt {
+namespace {
+
+using MatrixF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using MatrixD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Rows per block of the assignment products: fixed, so the partition never depends on threads.
+constexpr std::size_t kBlockRows = 256;
+
+// The Frobenius metric's scale of each of a row's D floats: √2 for the off-diagonal entries of
+// a packed symmetric matrix, 1 otherwise.
+std::vector<float> metric_scale(const TransferLayout& layout) {
+    const std::size_t D = layout.floats_per_receiver();
+    std::vector<float> s(D, 1.0f);
+    if (layout.shape != TransferShape::symmetric_matrix) return s;
+    const int K = layout.K;
+    std::size_t p = 0;
+    for (int c = 0; c < layout.channels; ++c)
+        for (int i = 0; i < K; ++i)
+            for (int j = i; j < K; ++j, ++p) s[p] = i == j ? 1.0f : float(std::sqrt(2.0));
+    return s;
+}
+
+double uniform01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
+
+}  // namespace
+
+CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) {
+    const std::size_t N = transfer.receiver_count();
+    const std::size_t D = transfer.layout.floats_per_receiver();
+    SHPRT_CHECK(N >= 1 && D >= 1, invalid_argument, "CPCA of an empty transfer");
+    SHPRT_CHECK(options.clusters >= 1 && std::size_t(options.clusters) <= N, invalid_argument,
+                "CPCA clusters = {} must be 1 to the receiver count {}", options.clusters, N);
+    SHPRT_CHECK(
+        options.vectors >= 1 && std::size_t(options.vectors) <= D, invalid_argument,
+        "CPCA vectors = {} must be 1 to {} (the floats per receiver: {})", options.vectors, D,
+        transfer.layout.shape == TransferShape::symmetric_matrix ? "K(K+1)/2 for a symmetric matrix"
+                                                                 : "K per channel");
+    SHPRT_CHECK(options.iterations >= 0, invalid_argument, "CPCA iterations = {} must be ≥ 0",
+                options.iterations);
+    const int C = options.clusters, V = options.vectors;
+    const int threads =
+        options.threads > 0 ? options.threads : std::max(1, tbb::info::default_concurrency());
+    tbb::task_arena arena(threads);
+
+    // The rows in the Frobenius metric.
+    const std::vector<float> scale = metric_scale(transfer.layout);
+    MatrixF X(N, D);
+    for (std::size_t r = 0; r < N; ++r)
+        for (std::size_t d = 0; d < D; ++d) X(r, d) = transfer.coeffs[r * D + d] * scale[d];
+    Eigen::VectorXf norms = X.rowwise().squaredNorm();
+
+    // 1. k-means++ seeding.
+    MatrixF centres(C, D);
+    std::vector<double> nearest(N, std::numeric_limits<double>::infinity());
+    std::vector<char> used(N, 0);
+    std::mt19937_64 rng(options.seed);
+    std::size_t pick = std::min<std::size_t>(N - 1, std::size_t(uniform01(rng) * double(N)));
+    for (int c = 0; c < C; ++c) {
+        used[pick] = 1;
+        centres.row(c) = X.row(pick);
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 1024), [&](const auto& r) {
+                for (std::size_t i = r.begin(); i != r.end(); ++i)
+                    nearest[i] =
+                        std::min(nearest[i], double((X.row(i) - centres.row(c)).squaredNorm()));
+            });
+        });
+        if (c + 1 == C) break;
+        const double total = std::accumulate(nearest.begin(), nearest.end(), 0.0);
+        pick = N;
+        if (total > 0) {
+            const double target = uniform01(rng) * total;
+            double run = 0;
+            for (std::size_t i = 0; i < N; ++i) {
+                run += nearest[i];
+                if (run > target && nearest[i] > 0) {
+                    pick = i;
+                    break;
+                }
+            }
+        }
+        if (pick == N)  // all remaining rows coincide with a centre (or rounding): lowest unused
+            pick = std::size_t(std::find(used.begin(), used.end(), 0) - used.begin());
+        if (pick == N) pick = 0;
+    }
+
+    // 2. Lloyd iterations.
+    std::vector<std::uint32_t> assign(N, 0);
+    const std::size_t blocks = (N + kBlockRows - 1) / kBlockRows;
+    for (int it = 0; it <= options.iterations; ++it) {
+        const Eigen::VectorXf cnorm = centres.rowwise().squaredNorm();
+        std::vector<char> changed(blocks, 0);
+        arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, blocks, 1),
+                [&](const auto& r) {
+                    for (std::size_t b = r.begin(); b != r.end(); ++b) {
+                        const std::size_t first = b * kBlockRows;
+                        const std::size_t count = std::min(kBlockRows, N - first);
+                        const MatrixF dots = X.middleRows(first, count) * centres.transpose();
+                        for (std::size_t i = 0; i < count; ++i) {
+                            std::uint32_t best = 0;
+                            float best_d = std::numeric_limits<float>::infinity();
+                            for (int c = 0; c < C; ++c) {
+                                const float d = norms[first + i] - 2 * dots(i, c) + cnorm[c];
+                                if (d < best_d) {
+                                    best_d = d;
+                                    best = std::uint32_t(c);
+                                }
+                            }
+                            if (assign[first + i] != best || it == 0) changed[b] = 1;
+                            assign[first + i] = best;
+                        }
+                    }
+                },
+                tbb::simple_partitioner());
+        });
+        const bool any = std::find(changed.begin(), changed.end(), 1) != changed.end();
+        if (!any || it == options.iterations) break;
+        MatrixD sums = MatrixD::Zero(C, D);
+        std::vector<std::size_t> counts(C, 0);
+        for (std::size_t i = 0; i < N; ++i) {
+            sums.row(assign[i]) += X.row(i).cast<double>();
+            ++counts[assign[i]];
+        }
+        for (int c = 0; c < C; ++c)
+            if (counts[c] > 0) centres.row(c) = (sums.row(c) / double(counts[c])).cast<float>();
+    }
+
+    // 3. Per cluster: the mean (from the original rows, so a one-member cluster is exact) and
+    // the principal directions.
+    std::vector<std::vector<std::size_t>> members(C);
+    for (std::size_t i = 0; i < N; ++i) members[assign[i]].push_back(i);
+    CpcaCode code;
+    code.clusters = C;
+    code.vectors = V;
+    code.seed = options.seed;
+    code.cluster = assign;
+    code.means.assign(std::size_t(C) * D, 0.0f);
+    code.basis.assign(std::size_t(C) * V * D, 0.0f);
+    code.weights.assign(N * std::size_t(V), 0.0f);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, C, 1), [&](const auto& range) {
+            for (int c = range.begin(); c != range.end(); ++c) {
+                const std::vector<std::size_t>& m = members[c];
+                if (m.empty()) continue;
+                Eigen::VectorXd mean = Eigen::VectorXd::Zero(D);
+                for (std::size_t i : m)
+                    for (std::size_t d = 0; d < D; ++d) mean[d] += transfer.coeffs[i * D + d];
+                mean /= double(m.size());
+                float* out_mean = code.means.data() + std::size_t(c) * D;
+                for (std::size_t d = 0; d < D; ++d) out_mean[d] = float(mean[d]);
+                MatrixD A(m.size(), D);  // centred members, Frobenius metric
+                for (std::size_t k = 0; k < m.size(); ++k)
+                    for (std::size_t d = 0; d < D; ++d)
+                        A(k, d) = (double(transfer.coeffs[m[k] * D + d]) - double(out_mean[d])) *
+                                  scale[d];
+                MatrixD B = MatrixD::Zero(V, D);  // rows: orthonormal directions
+                if (m.size() > 1) {
+                    const bool gram = m.size() <= D;
+                    const MatrixD S =
+                        gram ? MatrixD(A * A.transpose()) : MatrixD(A.transpose() * A);
+                    Eigen::SelfAdjointEigenSolver<MatrixD> eig(S);
+                    const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
+                    const double tiny = 1e-12 * std::max(1.0, lambda[lambda.size() - 1]);
+                    for (int v = 0; v < V && v < lambda.size(); ++v) {
+                        const Eigen::Index e = lambda.size() - 1 - v;
+                        if (lambda[e] <= tiny) break;
+                        Eigen::VectorXd dir =
+                            gram ? Eigen::VectorXd(A.transpose() * eig.eigenvectors().col(e))
+                                 : Eigen::VectorXd(eig.eigenvectors().col(e));
+                        dir.normalize();
+                        Eigen::Index at = 0;
+                        dir.cwiseAbs().maxCoeff(&at);
+                        if (dir[at] < 0) dir = -dir;
+                        B.row(v) = dir.transpose();
+                    }
+                }
+                // 4. weights, and the directions stored in the original coordinates.
+                for (std::size_t k = 0; k < m.size(); ++k) {
+                    const Eigen::VectorXd w = B * A.row(k).transpose();
+                    for (int v = 0; v < V; ++v) code.weights[m[k] * V + v] = float(w[v]);
+                }
+                float* out_basis = code.basis.data() + std::size_t(c) * V * D;
+                for (int v = 0; v < V; ++v)
+                    for (std::size_t d = 0; d < D; ++d)
+                        out_basis[std::size_t(v) * D + d] = float(B(v, d) / scale[d]);
+            }
+        });
+    });
+    return code;
+}
+
+void reconstruct_cpca(const CpcaCode& code, std::size_t D, std::vector<float>& out) {
+    const std::size_t N = code.cluster.size();
+    const std::size_t C = std::size_t(std::max(code.clusters, 0));
+    const std::size_t V = std::size_t(std::max(code.vectors, 0));
+    SHPRT_CHECK(C >= 1 && V >= 1 && code.means.size() == C * D && code.basis.size() == C * V * D &&
+                    code.weights.size() == N * V,
+                invalid_argument,
+                "CPCA code does not fit: {} clusters, {} vectors, {} receivers, D = {}", C, V, N,
+                D);
+    out.assign(N * D, 0.0f);
+    for (std::size_t r = 0; r < N; ++r) {
+        const std::size_t c = code.cluster[r];
+        SHPRT_CHECK(c < C, invalid_argument, "CPCA cluster {} of receiver {} is not below {}", c, r,
+                    C);
+        float* x = out.data() + r * D;
+        const float* mean = code.means.data() + c * D;
+        // Accumulate in double, in a fixed order: the mean, then each direction.
+        for (std::size_t d = 0; d < D; ++d) {
+            double s = mean[d];
+            for (std::size_t v = 0; v < V; ++v)
+                s += double(code.weights[r * V + v]) * double(code.basis[(c * V + v) * D + d]);
+            x[d] = float(s);
+        }
+    }
+}
+
+double cpca_bytes_per_receiver(const CpcaCode& code, std::size_t D, std::size_t receivers,
+                               int element_bytes) {
+    const double shared =
+        double(code.clusters) * double(D) * double(1 + code.vectors) * element_bytes;
+    return 4.0 + double(code.vectors) * element_bytes +
+           shared / double(std::max<std::size_t>(1, receivers));
+}
+
+TransferError transfer_error(const TransferSet& exact, const TransferSet& approx,
+                             const std::vector<Vec3f>& normals, std::uint64_t seed) {
+    SHPRT_CHECK(exact.layout == approx.layout || (exact.layout.K == approx.layout.K &&
+                                                  exact.layout.shape == approx.layout.shape &&
+                                                  exact.layout.channels == approx.layout.channels),
+                invalid_argument, "transfer_error: the two transfers have different layouts");
+    const std::size_t N = exact.receiver_count();
+    SHPRT_CHECK(approx.receiver_count() == N && normals.size() == N, invalid_argument,
+                "transfer_error: {} vs {} receivers and {} normals", N, approx.receiver_count(),
+                normals.size());
+    const TransferLayout& layout = exact.layout;
+    const int K = layout.K;
+    const int bands = sh_bands_for(K);
+    const bool matrix = layout.shape != TransferShape::vector;
+    constexpr int kLights = 8;
+    std::mt19937_64 rng(seed);
+    std::vector<double> lights(std::size_t(kLights) * K);
+    for (int l = 0; l < kLights; ++l)
+        for (int i = 0; i < K; ++i) {
+            const int band = int(std::sqrt(double(i)));
+            lights[std::size_t(l) * K + i] =
+                (i == 0 ? 3.0 : 0.0) + (2 * uniform01(rng) - 1) / (1.0 + band);
+        }
+    const std::vector<double> phong = phong_lobe_zonal(bands, 16.0);
+    const std::vector<double> cosine = clamped_cosine_zonal(bands);
+
+    std::vector<double> err2(N, 0.0), ref2(N, 0.0);
+    std::vector<int> values(N, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 256), [&](const auto& range) {
+        std::vector<double> Me(std::size_t(K) * K), Ma(std::size_t(K) * K), lobe(K);
+        std::vector<std::vector<double>> lobes;
+        for (std::size_t r = range.begin(); r != range.end(); ++r) {
+            for (int c = 0; c < layout.channels; ++c) {
+                const float* e = exact.receiver(r, c);
+                const float* a = approx.receiver(r, c);
+                if (!matrix) {
+                    for (int l = 0; l < kLights; ++l) {
+                        double se = 0, sa = 0;
+                        for (int i = 0; i < K; ++i) {
+                            se += double(e[i]) * lights[std::size_t(l) * K + i];
+                            sa += double(a[i]) * lights[std::size_t(l) * K + i];
+                        }
+                        err2[r] += (se - sa) * (se - sa);
+                        ref2[r] += se * se;
+                        ++values[r];
+                    }
+                    continue;
+                }
+                // Unpack both matrices (symmetric packed or full row-major).
+                for (int i = 0, p = 0; i < K; ++i)
+                    for (int j = layout.shape == TransferShape::matrix ? 0 : i; j < K; ++j, ++p) {
+                        Me[i * K + j] = Me[j * K + i] = e[p];
+                        Ma[i * K + j] = Ma[j * K + i] = a[p];
+                    }
+                if (layout.shape == TransferShape::matrix)
+                    for (int i = 0; i < K * K; ++i) {
+                        Me[i] = e[i];
+                        Ma[i] = a[i];
+                    }
+                // The views: Phong 16 about n and three directions 45° from it, and the cosine.
+                const Vec3d n = normalize(cast<double>(normals[r]));
+                const Vec3d t =
+                    normalize(cross(std::fabs(n.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0}, n));
+                const Vec3d b = cross(n, t);
+                lobes.assign(5, std::vector<double>(K));
+                const double h = std::sqrt(0.5);
+                const Vec3d dirs[4] = {n, n * h + t * h, n * h - t * 0.5 * h + b * (0.866 * h),
+                                       n * h - t * 0.5 * h - b * (0.866 * h)};
+                for (int v = 0; v < 4; ++v)
+                    rotate_zonal(phong.data(), K, normalize(dirs[v]), lobes[v].data());
+                rotate_zonal(cosine.data(), K, n, lobes[4].data());
+                std::vector<double> te(K), ta(K);
+                for (int l = 0; l < kLights; ++l) {
+                    const double* L = lights.data() + std::size_t(l) * K;
+                    for (int i = 0; i < K; ++i) {
+                        te[i] = ta[i] = 0;
+                        for (int j = 0; j < K; ++j) {
+                            te[i] += Me[i * K + j] * L[j];
+                            ta[i] += Ma[i * K + j] * L[j];
+                        }
+                    }
+                    for (const std::vector<double>& g : lobes) {
+                        double se = 0, sa = 0;
+                        for (int i = 0; i < K; ++i) {
+                            se += g[i] * te[i];
+                            sa += g[i] * ta[i];
+                        }
+                        err2[r] += (se - sa) * (se - sa);
+                        ref2[r] += se * se;
+                        ++values[r];
+                    }
+                }
+            }
+        }
+    });
+    double total_err = 0, total_ref = 0, total_values = 0;
+    for (std::size_t r = 0; r < N; ++r) {
+        total_err += err2[r];
+        total_ref += ref2[r];
+        total_values += values[r];
+    }
+    TransferError out;
+    out.relative_rmse = total_ref > 0 ? std::sqrt(total_err / total_ref) : std::sqrt(total_err);
+    const double rms = total_ref > 0 ? std::sqrt(total_ref / total_values) : 1.0;
+    out.receiver_rmse.resize(N);
+    for (std::size_t r = 0; r < N; ++r)
+        out.receiver_rmse[r] = float(std::sqrt(err2[r] / std::max(1, values[r])) / rms);
+    std::vector<std::size_t> order(N);
+    std::iota(order.begin(), order.end(), 0);
+    const std::size_t top = std::min<std::size_t>(10, N);
+    std::partial_sort(order.begin(), order.begin() + top, order.end(),
+                      [&](std::size_t a, std::size_t b) {
+                          return out.receiver_rmse[a] > out.receiver_rmse[b] ||
+                                 (out.receiver_rmse[a] == out.receiver_rmse[b] && a < b);
+                      });
+    out.worst.assign(order.begin(), order.begin() + top);
+    return out;
+}
+
+CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3f>& normals,
+                             const CpcaOptions& options, bool half) {
+    const std::size_t N = transfer.receiver_count();
+    const std::size_t D = transfer.layout.floats_per_receiver();
+    CpcaResult out;
+    auto start = Clock::now();
+    CpcaCode code = compress_cpca(transfer, options);
+    out.seconds_fit = seconds_since(start);
+    if (half) {
+        for (std::vector<float>* a : {&code.weights, &code.means, &code.basis})
+            for (float& x : *a) x = half_to_float(float_to_half(x));
+    }
+    static_cast<TransferInfo&>(out.compressed) = transfer;
+    out.compressed.layout.encoding = half ? TransferEncoding::f16 : TransferEncoding::f32;
+    reconstruct_cpca(code, D, out.compressed.coeffs);
+    out.compressed.cpca = std::move(code);
+    start = Clock::now();
+    out.error = transfer_error(transfer, out.compressed, normals, options.seed);
+    out.seconds_error = seconds_since(start);
+    out.bytes_per_receiver = cpca_bytes_per_receiver(out.compressed.cpca, D, N, half ? 2 : 4);
+    out.raw_bytes_per_receiver = 4.0 * double(D);
+    out.raw_full_bytes_per_receiver =
+        transfer.layout.shape == TransferShape::vector
+            ? 4.0 * double(D)
+            : 4.0 * transfer.layout.channels * double(transfer.layout.K) * transfer.layout.K;
+    return out;
+}
+
+}  // namespace shprt

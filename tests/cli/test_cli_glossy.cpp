@@ -1,0 +1,152 @@
+// Glossy transfer matrices and CPCA from the command line: bake → shade (the white furnace on
+// the plane), --stream and --shard give the same rows, compress → shade, render, and the
+// one-line refusals.
+#include "shprt/config.hpp"
+#include "shprt/io/shprt_file.hpp"
+
+#include "cli/cli_test.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+using test_support::expect_one_line_error;
+
+class CliGlossy : public test_support::CliTest {
+protected:
+    std::string bake_plane(const std::string& name, const std::string& extra = "") {
+        const std::string file = (m_dir / name).string();
+        const auto r = shprt(
+            "bake builtin:plane --transfer glossy --bands 4 --samples 1024 "
+            "--reproducible -o '" +
+            file + "' " + extra);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return file;
+    }
+};
+
+// The radiance column L_r of a `shade` CSV at the vertex nearest (x, z) = (0, 0).
+double centre_radiance(const std::string& csv) {
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);  // header
+    double best = 1e30, value = 0;
+    while (std::getline(in, line)) {
+        std::vector<double> v;
+        std::stringstream ss(line);
+        std::string cell;
+        while (std::getline(ss, cell, ',')) v.push_back(std::stod(cell));
+        const double d = v[0] * v[0] + v[2] * v[2];
+        if (d < best) {
+            best = d;
+            value = v[6];
+        }
+    }
+    return value;
+}
+
+TEST_F(CliGlossy, BakeInfoAndStreamAndShardsGiveTheSameRows) {
+    const std::string whole = bake_plane("whole.shprt");
+    const ShprtFile f = read_shprt(whole);
+    EXPECT_EQ(f.transfer.kind, TransferKind::glossy);
+    EXPECT_EQ(f.transfer.layout.shape, TransferShape::symmetric_matrix);
+    EXPECT_EQ(f.transfer.layout.K, 16);
+    auto r = shprt("info '" + whole + "'");
+    EXPECT_THAT(r.out, ::testing::HasSubstr("symmetric_matrix"));
+
+    const std::string streamed = bake_plane("stream.shprt", "--stream");
+    EXPECT_EQ(read_shprt(streamed).transfer.coeffs, f.transfer.coeffs);
+    const std::string a = bake_plane("a.shprt", "--shard 0/2"),
+                      b = bake_plane("b.shprt", "--shard 1/2");
+    const std::string merged = (m_dir / "merged.shprt").string();
+    ASSERT_EQ(shprt("merge '" + a + "' '" + b + "' -o '" + merged + "'").exit_code, 0);
+    EXPECT_EQ(read_shprt(merged).transfer.coeffs, f.transfer.coeffs);
+}
+
+#if SHPRT_HAS_RENDER
+TEST_F(CliGlossy, ShadeWhiteFurnaceCompressAndRender) {
+    const std::string file = bake_plane("plane.shprt");
+    const std::string csv = (m_dir / "furnace.csv").string();
+    // A white normalised Phong lobe, seen along the normal, under constant light 1: radiance 1
+    // up to the 4-band truncation (fit error · ‖g‖ · √(2π) ≈ 0.10 for phong:8, docs/glossy.md)
+    // and Monte Carlo.
+    auto r = shprt("shade '" + file +
+                   "' --brdf phong:8 --k 0 --albedo 1,1,1 --light constant "
+                   "--eye 0,10,0 -o '" +
+                   csv + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("brdf=phong:8"));
+    EXPECT_NEAR(centre_radiance(csv), 1.0, 0.1);
+
+    // CPCA: one cluster, full rank: the same shading to rounding.
+    const std::string cpca = (m_dir / "plane_cpca.shprt").string();
+    r = shprt("compress '" + file + "' -o '" + cpca + "' --cpca 1,136");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("B/vertex"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("relative RMSE"));
+    const std::string csv2 = (m_dir / "furnace_cpca.csv").string();
+    r = shprt("shade '" + cpca +
+              "' --brdf phong:8 --k 0 --albedo 1,1,1 --light constant "
+              "--eye 0,10,0 -o '" +
+              csv2 + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NEAR(centre_radiance(csv2), centre_radiance(csv), 1e-4);
+
+    const std::string png = (m_dir / "g.png").string();
+    r = shprt("render '" + cpca + "' --brdf ggx:0.3 --k 0.5 --size 64x36 -o '" + png + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(png));
+    r = shprt("render '" + file + "' --glossy paper --k 0.5 --size 64x36 -o '" + png + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    // The viewer shows glossy bakes with the paper's term (it does not shade matrices), saying so.
+    const std::string shot = (m_dir / "view.png").string();
+    r = shprt("view '" + file + "' --size 64x36 --screenshot '" + shot + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.err, ::testing::HasSubstr("shown with the paper's zonal term"));
+    expect_one_line_error(
+        shprt("view builtin:plane --bake --transfer glossy --screenshot '" + shot + "'"),
+        "not shown live");
+}
+
+TEST_F(CliGlossy, DiffuseAndGlossyFilesRefuseTheOtherShading) {
+    const std::string glossy = bake_plane("g.shprt");
+    const std::string diffuse = (m_dir / "d.shprt").string();
+    ASSERT_EQ(shprt("bake builtin:plane --samples 64 -o '" + diffuse + "'").exit_code, 0);
+    const std::string csv = out("x.csv");
+    expect_one_line_error(
+        shprt("shade '" + diffuse + "' --brdf phong:8 --light constant -o '" + csv + "'"),
+        "--brdf needs a glossy bake");
+    expect_one_line_error(shprt("shade '" + glossy + "' --light constant -o '" + csv + "'"),
+                          "glossy transfer matrices need --brdf");
+    expect_one_line_error(
+        shprt("shade '" + glossy + "' --brdf wood:3 --light constant -o '" + csv + "'"),
+        "unknown model 'wood'");
+    expect_one_line_error(
+        shprt("shade '" + glossy + "' --brdf phong:8 --albedo 2,0,0 --light constant -o '" + csv +
+              "'"),
+        "--albedo 2,0,0");
+    EXPECT_TRUE(out_dir_empty());
+}
+#endif
+
+TEST_F(CliGlossy, CompressRefusesBadParameters) {
+    const std::string file = bake_plane("p.shprt");
+    const std::string o = out("c.shprt");
+    expect_one_line_error(shprt("compress '" + file + "' -o '" + o + "' --cpca 100000,4"),
+                          "clusters for 289 vertices");
+    expect_one_line_error(shprt("compress '" + file + "' -o '" + o + "' --cpca 4,137"),
+                          "137 vectors, more than the 136 floats");
+    expect_one_line_error(shprt("compress '" + file + "' -o '" + o + "' --cpca 4"),
+                          "--cpca CLUSTERS,VECTORS");
+    EXPECT_TRUE(out_dir_empty());
+}
+
+}  // namespace
+}  // namespace shprt

@@ -1,0 +1,145 @@
+// Clustered PCA of transfer rows (transfer/cpca.hpp) on synthetic sets: exact reconstruction at
+// full rank or one cluster per receiver, error falling with more vectors, determinism across
+// thread counts, and the one-line refusals.
+#include "shprt/transfer/cpca.hpp"
+
+#include "shprt/core/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+// `n` symmetric K×K matrices (packed): a few clusters of low-rank variation plus noise.
+TransferSet synthetic(std::size_t n, int K, unsigned seed) {
+    TransferInfo info;
+    info.kind = TransferKind::glossy;
+    info.layout.K = K;
+    info.layout.shape = TransferShape::symmetric_matrix;
+    TransferSet t = TransferSet::zeros(info, n);
+    const std::size_t D = info.layout.floats_per_receiver();
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    std::vector<float> centres(4 * D), dirs(4 * 3 * D);
+    for (float& x : centres) x = g(rng);
+    for (float& x : dirs) x = g(rng);
+    for (std::size_t r = 0; r < n; ++r) {
+        const std::size_t c = r % 4;
+        const float a = g(rng), b = g(rng), e = g(rng);
+        for (std::size_t d = 0; d < D; ++d)
+            t.coeffs[r * D + d] = centres[c * D + d] + a * dirs[(c * 3 + 0) * D + d] +
+                                  0.3f * b * dirs[(c * 3 + 1) * D + d] +
+                                  0.1f * e * dirs[(c * 3 + 2) * D + d] + 0.01f * g(rng);
+    }
+    return t;
+}
+
+std::vector<Vec3f> up_normals(std::size_t n) { return std::vector<Vec3f>(n, Vec3f{0, 1, 0}); }
+
+double max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
+    double worst = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        worst = std::max(worst, double(std::fabs(a[i] - b[i])));
+    return worst;
+}
+
+TEST(Cpca, OneClusterPerReceiverReproducesTheInputExactly) {
+    const TransferSet t = synthetic(40, 4, 1);
+    const std::size_t D = t.layout.floats_per_receiver();
+    CpcaOptions o;
+    o.clusters = 40;
+    o.vectors = int(D);
+    const CpcaCode code = compress_cpca(t, o);
+    std::vector<float> rows;
+    reconstruct_cpca(code, D, rows);
+    EXPECT_EQ(rows, t.coeffs);  // every mean is its one member, bit for bit
+}
+
+TEST(Cpca, FullRankOneClusterReproducesTheInputToRounding) {
+    const TransferSet t = synthetic(60, 4, 2);
+    const std::size_t D = t.layout.floats_per_receiver();  // 10 (K² = 16 for the full matrix)
+    CpcaOptions o;
+    o.clusters = 1;
+    o.vectors = int(D);
+    const CpcaCode code = compress_cpca(t, o);
+    std::vector<float> rows;
+    reconstruct_cpca(code, D, rows);
+    EXPECT_LT(max_abs_diff(rows, t.coeffs), 1e-4);
+    o.vectors = int(D) - 3;  // below the rank: not exact
+    std::vector<float> fewer;
+    reconstruct_cpca(compress_cpca(t, o), D, fewer);
+    EXPECT_GT(max_abs_diff(fewer, t.coeffs), 1e-3);
+}
+
+TEST(Cpca, ErrorFallsMonotonicallyWithMoreVectorsAndMoreClusters) {
+    const TransferSet t = synthetic(400, 5, 3);
+    const std::vector<Vec3f> normals = up_normals(400);
+    double previous = 1e30;
+    for (int vectors : {1, 2, 3, 5, 8}) {
+        CpcaOptions o;
+        o.clusters = 4;
+        o.vectors = vectors;
+        const double e = compress_transfer(t, normals, o, false).error.relative_rmse;
+        EXPECT_LT(e, previous) << vectors << " vectors";
+        previous = e;
+    }
+    previous = 1e30;
+    for (int clusters : {1, 2, 4, 16, 64}) {
+        CpcaOptions o;
+        o.clusters = clusters;
+        o.vectors = 1;
+        const double e = compress_transfer(t, normals, o, false).error.relative_rmse;
+        EXPECT_LT(e, previous) << clusters << " clusters";
+        previous = e;
+    }
+}
+
+TEST(Cpca, SameBitsWithAnyThreadCountAndSeedMatters) {
+    const TransferSet t = synthetic(700, 4, 4);
+    CpcaOptions a;
+    a.clusters = 9;
+    a.vectors = 3;
+    a.threads = 1;
+    CpcaOptions b = a;
+    b.threads = 2;
+    const CpcaCode ca = compress_cpca(t, a), cb = compress_cpca(t, b);
+    EXPECT_EQ(ca.cluster, cb.cluster);
+    EXPECT_EQ(ca.basis, cb.basis);
+    EXPECT_EQ(ca.weights, cb.weights);
+    b.seed = 99;
+    EXPECT_NE(compress_cpca(t, b).cluster, ca.cluster);
+}
+
+TEST(Cpca, WorksOnDiffuseVectors) {
+    TransferInfo info;
+    info.layout.K = 9;
+    TransferSet t = TransferSet::zeros(info, 50);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1, 1);
+    for (float& x : t.coeffs) x = u(rng);
+    CpcaOptions o;
+    o.clusters = 50;
+    o.vectors = 9;
+    std::vector<float> rows;
+    reconstruct_cpca(compress_cpca(t, o), 9, rows);
+    EXPECT_EQ(rows, t.coeffs);
+    const CpcaResult r = compress_transfer(t, up_normals(50), o, false);
+    EXPECT_EQ(r.error.relative_rmse, 0.0);
+}
+
+TEST(Cpca, BadParametersAreRefused) {
+    const TransferSet t = synthetic(10, 3, 6);
+    for (auto [clusters, vectors] : {std::pair{0, 1}, {11, 1}, {2, 0}, {2, 7}}) {
+        CpcaOptions o;
+        o.clusters = clusters;
+        o.vectors = vectors;
+        EXPECT_THROW(compress_cpca(t, o), Error) << clusters << "," << vectors;
+    }
+}
+
+}  // namespace
+}  // namespace shprt

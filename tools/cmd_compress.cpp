@@ -1,0 +1,110 @@
+// `shprt compress F.shprt -o G.shprt --cpca CLUSTERS,VECTORS [--half]`: clustered PCA of a
+// file's transfer rows (transfer/cpca.hpp), written as a CPCA .shprt file (format version 3),
+// with the error of exit radiance under test lights and views and the bytes per vertex. Thin:
+// parses, reads, calls compress_transfer, writes atomically, prints.
+#include "common/command.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/core/parse.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/transfer/cpca.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace shprt::tools {
+namespace {
+
+struct CompressArgs {
+    std::string input, output, cpca;
+    bool half = false, reproducible = false;
+    std::uint64_t seed = 1;
+    int iterations = 16, threads = 0;
+};
+
+void run(const CompressArgs& a) {
+    const std::vector<double> cv = parse_numbers(a.cpca, 2, "--cpca CLUSTERS,VECTORS");
+    SHPRT_CHECK(cv[0] >= 1 && cv[1] >= 1 && cv[0] == std::floor(cv[0]) &&
+                    cv[1] == std::floor(cv[1]) && cv[0] < 1e9 && cv[1] < 1e9,
+                invalid_argument, "--cpca {}: CLUSTERS and VECTORS must be whole numbers ≥ 1",
+                a.cpca);
+    SHPRT_CHECK(a.iterations >= 0, invalid_argument, "--iterations {}: must be ≥ 0", a.iterations);
+    check_output_is_not_input(a.output, {a.input});
+    const ShprtFile file = read_shprt(a.input);
+    const TransferSet& t = file.transfer;
+    const std::size_t V = t.receiver_count();
+    const std::size_t D = t.layout.floats_per_receiver();
+    SHPRT_CHECK(cv[0] <= double(V), invalid_argument,
+                "{}: --cpca {}: {} clusters for {} vertices (at most one per vertex)", a.input,
+                a.cpca, cv[0], V);
+    SHPRT_CHECK(cv[1] <= double(D), invalid_argument,
+                "{}: --cpca {}: {} vectors, more than the {} floats of a vertex ({} transfer, "
+                "K = {}; a symmetric K×K matrix stores K(K+1)/2 ≤ K²)",
+                a.input, a.cpca, cv[1], D, to_string(t.layout.shape), t.layout.K);
+    CpcaOptions options;
+    options.clusters = int(cv[0]);
+    options.vectors = int(cv[1]);
+    options.seed = a.seed;
+    options.iterations = a.iterations;
+    options.threads = a.threads;
+    const CpcaResult r = compress_transfer(t, file.mesh.normals, options, a.half);
+    WriteOptions write;
+    write.reproducible = a.reproducible;
+    write_shprt(a.output, file.mesh, r.compressed, write);
+
+    const TransferError& e = r.error;
+    std::vector<float> sorted = e.receiver_rmse;
+    std::sort(sorted.begin(), sorted.end());
+    const auto pct = [&](double q) {
+        return 100.0 * sorted[std::min(sorted.size() - 1, std::size_t(q * double(sorted.size())))];
+    };
+    std::printf(
+        "cpca: %d clusters x %d vectors (k-means++ seed %llu, at most %d Lloyd iterations), "
+        "%s, fit %.3f s\n",
+        options.clusters, options.vectors, static_cast<unsigned long long>(a.seed), a.iterations,
+        a.half ? "float16" : "float32", r.seconds_fit);
+    std::printf(
+        "size: %.1f B/vertex (raw float32: %.0f B/vertex as stored, %.0f B/vertex as full "
+        "matrices) = %.1fx / %.1fx smaller\n",
+        r.bytes_per_receiver, r.raw_bytes_per_receiver, r.raw_full_bytes_per_receiver,
+        r.raw_bytes_per_receiver / r.bytes_per_receiver,
+        r.raw_full_bytes_per_receiver / r.bytes_per_receiver);
+    std::printf(
+        "error: exit radiance relative RMSE %.3f%% (8 test lights x %s); per vertex (RMSE / "
+        "scene RMS): median %.3f%%, p99 %.3f%%, max %.3f%%\n",
+        100.0 * e.relative_rmse, t.layout.shape == TransferShape::vector ? "diffuse" : "5 views",
+        pct(0.5), pct(0.99), pct(1.0));
+    std::string worst;
+    for (std::size_t i = 0; i < std::min<std::size_t>(5, e.worst.size()); ++i)
+        worst += fmt::format("{}{} ({:.2f}%)", i ? ", " : "", e.worst[i],
+                             100.0 * e.receiver_rmse[e.worst[i]]);
+    std::printf("worst vertices: %s\n", worst.c_str());
+    std::printf("wrote %s\n", a.output.c_str());
+}
+
+const bool registered = register_command(
+    {"compress", "Compress a .shprt file's transfer with clustered PCA (CPCA)", 36,
+     [](CLI::App& app) {
+         auto args = std::make_shared<CompressArgs>();
+         app.add_option("file", args->input, "Baked .shprt file (glossy matrices or vectors)")
+             ->required();
+         app.add_option("-o,--output", args->output, "Output .shprt file (CPCA)")->required();
+         app.add_option("--cpca", args->cpca,
+                        "CLUSTERS,VECTORS: clusters (1 to the vertex count) and PCA vectors "
+                        "per cluster (1 to the floats per vertex)")
+             ->required();
+         app.add_flag("--half", args->half, "Store the code as float16");
+         app.add_option("--seed", args->seed, "Seed of the k-means++ seeding (default 1)");
+         app.add_option("--iterations", args->iterations, "Lloyd iterations at most (default 16)");
+         app.add_option("--threads", args->threads, "Worker threads (default 0 = all)");
+         app.add_flag("--reproducible", args->reproducible,
+                      "Leave out what differs between runs (the stats)");
+         app.callback([args] { run(*args); });
+     }});
+
+}  // namespace
+}  // namespace shprt::tools
