@@ -117,7 +117,7 @@ bool usable_normal(const aiVector3D& n) {
 // The importer's scene as arrays, in the child process of run_isolated_import: no logging, and
 // only the checks that must happen before an index is read.
 detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
-                             const PlyHeader* ply_header) {
+                             const PlyHeader* ply_header, int uv_set) {
     const bool is_ply = ply_header != nullptr;
     detail::ImportedMesh result;
     Mesh& out = result.mesh;
@@ -131,6 +131,7 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
     bool& all_normals = result.all_normals;
     std::uint64_t& skipped_faces = result.skipped_faces;
     std::vector<std::uint32_t> polygon;
+    bool all_uvs = true;  // every mesh has UV set `uv_set` (else no UVs are kept)
     for (const Instance& inst : collect_instances(scene)) {
         const aiMesh* mesh = scene.mMeshes[inst.mesh];
         if (!mesh || !mesh->mVertices || mesh->mNumVertices == 0) continue;
@@ -150,6 +151,8 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
         const Vec3f flat = use_material ? material_albedo(scene, *mesh, from_material)
                                         : Vec3f{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
         const aiColor4D* colours = mesh->mColors[0];
+        const aiVector3D* uvs = mesh->mTextureCoords[uv_set];
+        all_uvs = all_uvs && uvs != nullptr;
         result.albedo_sources |=
             colours ? detail::kAlbedoVertexColours
                     : (from_material ? detail::kAlbedoMaterial : detail::kAlbedoDefault);
@@ -176,6 +179,7 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
                 out.albedo.push_back(flat);
             }
             out.source_vertex.push_back(static_cast<std::uint32_t>(base[inst.mesh] + v));
+            if (all_uvs) out.uvs.push_back({uvs[v].x, uvs[v].y});
         }
         for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
             const aiFace& face = mesh->mFaces[f];
@@ -199,6 +203,7 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
                     std::swap(out.triangles[t][1], out.triangles[t][2]);
         }
     }
+    if (!all_uvs) out.uvs.clear();
     return result;
 }
 
@@ -244,7 +249,7 @@ Mesh finish(detail::ImportedMesh imported, const std::string& path, const PlyHea
 
 // Reads the file with Assimp and extracts its arrays (in the child process: see load_file).
 detail::ImportedMesh import_with_assimp(const std::string& path, const std::string& ext,
-                                        const PlyHeader* ply) {
+                                        const PlyHeader* ply, int uv_set) {
     Assimp::Importer importer;
     // Some importers invent a mesh to show a skeleton when a file has none; we want real geometry.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
@@ -281,10 +286,10 @@ detail::ImportedMesh import_with_assimp(const std::string& path, const std::stri
     }
     SHPRT_CHECK(scene->mNumMeshes > 0 && scene->mMeshes, format, "{}: empty mesh (no geometry)",
                 path);
-    return extract(*scene, path, ply);
+    return extract(*scene, path, ply, uv_set);
 }
 
-Mesh load_file(const std::string& path) {
+Mesh load_file(const std::string& path, int uv_set) {
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);
@@ -309,9 +314,9 @@ Mesh load_file(const std::string& path) {
     // Assimp runs in a child process: a crash in one of its importers (fuzzing found a Collada
     // one) becomes an error naming the file, not the end of the program.
     const PlyHeader* ply_header = ply ? &*ply : nullptr;
-    detail::ImportedMesh imported =
-        detail::run_isolated_import(path, importer_memory_budget(size),
-                                    [&] { return import_with_assimp(path, ext, ply_header); });
+    detail::ImportedMesh imported = detail::run_isolated_import(
+        path, importer_memory_budget(size),
+        [&] { return import_with_assimp(path, ext, ply_header, uv_set); });
     return finish(std::move(imported), path, ply_header);
 }
 
@@ -337,7 +342,9 @@ std::uint64_t importer_memory_budget(std::uint64_t file_bytes) {
 
 bool is_builtin_spec(const std::string& spec) { return spec.rfind(kBuiltinPrefix, 0) == 0; }
 
-Mesh load_scene(const std::string& spec) {
+Mesh load_scene(const std::string& spec, int uv_set) {
+    SHPRT_CHECK(uv_set >= 0 && uv_set < AI_MAX_NUMBER_OF_TEXTURECOORDS, invalid_argument,
+                "--uv-set {}: must be 0 to {}", uv_set, AI_MAX_NUMBER_OF_TEXTURECOORDS - 1);
     if (is_builtin_spec(spec)) {
         Mesh mesh = make_builtin(spec.substr(kBuiltinPrefix.size()));
         mesh.source = spec;
@@ -346,7 +353,7 @@ Mesh load_scene(const std::string& spec) {
         return mesh;
     }
     SHPRT_CHECK(!spec.empty(), invalid_argument, "scene path is empty");
-    return load_file(spec);
+    return load_file(spec, uv_set);
 }
 
 }  // namespace shprt
