@@ -183,6 +183,7 @@ RefineResult bake_refined(const Mesh& input, const BakeOptions& options,
         std::vector<std::pair<double, Edge>> over;
         r.largest_difference = 0;
         r.depth_reached = false;
+        std::size_t blocked = 0;  // over the tolerance but too deep to split
         for (const Edge& e : all) {
             const double d = transfer_difference(r.transfer.receiver(e[0]),
                                                  r.transfer.receiver(e[1]), K, lights);
@@ -190,11 +191,12 @@ RefineResult bake_refined(const Mesh& input, const BakeOptions& options,
             if (d <= refine.tolerance) continue;
             if (std::max(depth[e[0]], depth[e[1]]) + 1 > refine.max_depth) {
                 r.depth_reached = true;
+                ++blocked;
                 continue;
             }
             over.push_back({d, e});
         }
-        r.edges_over = over.size();
+        r.edges_over = over.size() + blocked;
         if (over.empty()) break;
         const std::size_t room = budget - mesh.vertex_count();
         if (over.size() > room) {
