@@ -51,7 +51,12 @@ double transfer_difference(const float* a, const float* b, int K,
     return worst / kTwoPiOverThree;
 }
 
-std::size_t split_edges(Mesh& mesh, std::vector<Edge> edges) {
+std::size_t split_edges(Mesh& mesh, std::vector<Edge> edges,
+                        std::vector<std::uint32_t>* triangle_origin) {
+    SHPRT_CHECK(!triangle_origin || triangle_origin->size() == mesh.triangle_count(),
+                invalid_argument, "split_edges: {} triangle origins for {} triangles",
+                triangle_origin ? triangle_origin->size() : 0, mesh.triangle_count());
+    std::vector<std::uint32_t> origin_out;
     for (Edge& e : edges) e = edge_key(e[0], e[1]);
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
@@ -88,7 +93,9 @@ std::size_t split_edges(Mesh& mesh, std::vector<Edge> edges) {
     };
     std::vector<std::array<std::uint32_t, 3>> out;
     out.reserve(mesh.triangles.size() + 3 * edges.size());
-    for (const auto& t : mesh.triangles) {
+    for (std::size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
+        const auto& t = mesh.triangles[ti];
+        const std::size_t first_child = out.size();
         std::uint32_t m[3];  // midpoint of edge (t[k], t[k+1]), or kNoParent
         int split = 0;
         for (int k = 0; k < 3; ++k) {
@@ -123,8 +130,11 @@ std::size_t split_edges(Mesh& mesh, std::vector<Edge> edges) {
                 out.push_back({b, mbc, mca});
             }
         }
+        if (triangle_origin)
+            origin_out.insert(origin_out.end(), out.size() - first_child, (*triangle_origin)[ti]);
     }
     mesh.triangles = std::move(out);
+    if (triangle_origin) *triangle_origin = std::move(origin_out);
     return edges.size();
 }
 
@@ -150,6 +160,9 @@ RefineResult bake_refined(const Mesh& input, const BakeOptions& options,
     Mesh& mesh = r.mesh;
     mesh.parents.assign(V0, {Mesh::kNoParent, Mesh::kNoParent});
     std::vector<int> depth(V0, 0);
+    r.triangle_origin.resize(input.triangle_count());
+    for (std::size_t t = 0; t < r.triangle_origin.size(); ++t)
+        r.triangle_origin[t] = static_cast<std::uint32_t>(t);
 
     // The occluders never change (new vertices lie on the input's triangles): one BVH.
     std::unique_ptr<Tracer> tracer;
@@ -199,38 +212,27 @@ RefineResult bake_refined(const Mesh& input, const BakeOptions& options,
         r.edges_over = over.size() + blocked;
         if (over.empty()) break;
         const std::size_t room = budget - mesh.vertex_count();
-        if (over.size() > room) {
+        if (room == 0) {
             r.budget_reached = true;
+            break;
+        }
+        if (over.size() > room) {
+            // Not every edge fits: the largest differences first, and only half of what is
+            // left per pass, so that later passes can split the worst places again (deeper)
+            // instead of spending the whole budget one level deep.
             std::stable_sort(over.begin(), over.end(),
                              [](const auto& a, const auto& b) { return a.first > b.first; });
-            over.resize(room);
+            over.resize(std::max<std::size_t>(1, room / 2));
         }
         if (over.empty()) break;
         std::vector<Edge> edges;
         for (const auto& o : over) edges.push_back(o.second);
         const std::size_t first = mesh.vertex_count();
-        const std::size_t added = split_edges(mesh, edges);
+        const std::size_t added = split_edges(mesh, edges, &r.triangle_origin);
         for (std::size_t v = first; v < first + added; ++v)
             depth.push_back(std::max(depth[mesh.parents[v][0]], depth[mesh.parents[v][1]]) + 1);
         bake_range(first, added);
         ++r.passes;
-        if (r.budget_reached) {
-            // Recount what is left over the tolerance on the final mesh, then stop.
-            r.edges_over = 0;
-            r.largest_difference = 0;
-            all.clear();
-            for (const auto& t : mesh.triangles)
-                for (int k = 0; k < 3; ++k) all.push_back(edge_key(t[k], t[(k + 1) % 3]));
-            std::sort(all.begin(), all.end());
-            all.erase(std::unique(all.begin(), all.end()), all.end());
-            for (const Edge& e : all) {
-                const double d = transfer_difference(r.transfer.receiver(e[0]),
-                                                     r.transfer.receiver(e[1]), K, lights);
-                r.largest_difference = std::max(r.largest_difference, d);
-                r.edges_over += d > refine.tolerance;
-            }
-            break;
-        }
     }
     return r;
 }

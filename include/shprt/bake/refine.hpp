@@ -52,6 +52,8 @@ struct RefineResult {
     bool budget_reached = false;    // max_vertices stopped it (some edges over tolerance left)
     bool depth_reached = false;     // max_depth kept some edge over tolerance from splitting
     double largest_difference = 0;  // max d(a, b) over the final mesh's edges
+    // For each triangle of `mesh`, the input triangle it lies in (for locating points).
+    std::vector<std::uint32_t> triangle_origin;
 };
 
 // The 14 test lights' SH coefficients (first K of each, see the top of this file).
@@ -63,9 +65,12 @@ double transfer_difference(const float* a, const float* b, int K,
 
 // Splits the given edges of `mesh` (pairs of vertex indices that are edges of its triangles;
 // order and duplicates do not matter) as described at the top of this file, appending one vertex
-// per edge and extending Mesh::parents. Returns the number of vertices added. Throws
-// Error(invalid_argument) for a pair that is not an edge.
-std::size_t split_edges(Mesh& mesh, std::vector<std::array<std::uint32_t, 2>> edges);
+// per edge and extending Mesh::parents. Returns the number of vertices added. With
+// `triangle_origin` (one entry per triangle, e.g. the input triangle it lies in), each new
+// triangle inherits its parent's entry. Throws Error(invalid_argument) for a pair that is not an
+// edge, or origins of the wrong size.
+std::size_t split_edges(Mesh& mesh, std::vector<std::array<std::uint32_t, 2>> edges,
+                        std::vector<std::uint32_t>* triangle_origin = nullptr);
 
 // The refinement loop on `mesh` with bake options `options` (shadowed or unshadowed, one channel,
 // CPU or GPU as options.device says). Edges are visited in the order of their end indices; when
