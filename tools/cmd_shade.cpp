@@ -35,7 +35,8 @@ struct ShadeArgs {
 void run(const ShadeArgs& a) {
     const auto start = Clock::now();
     // Every option is checked before any work (a texel file's image formats once it is read).
-    const bool image_output = lower_extension(a.output) == ".exr";
+    const bool image_output =
+        lower_extension(a.output) == ".exr" || lower_extension(a.output) == ".png";
     if (!image_output) shade_format_for_path(a.output);
     SHPRT_CHECK(a.quantity.empty() || a.quantity == "irradiance" || a.quantity == "radiance",
                 invalid_argument, "--quantity '{}': expected irradiance or radiance", a.quantity);
@@ -67,7 +68,8 @@ void run(const ShadeArgs& a) {
         // Per-texel values as an H x W x 3 image (NaN outside the charts).
         const ShadeResult result = shade_texels(file.mesh, file.transfer, light, options);
         write_texel_image(a.output, file.transfer.texels,
-                          a.quantity == "radiance" ? result.radiance : result.irradiance);
+                          a.quantity == "radiance" ? result.radiance : result.irradiance,
+                          static_cast<float>(a.exposure));
         std::printf("shaded %zu texels of %dx%d (%s, K'=%d) in %.3f s -> %s\n",
                     file.transfer.texels.texel.size(), file.transfer.texels.width,
                     file.transfer.texels.height,
@@ -76,10 +78,11 @@ void run(const ShadeArgs& a) {
                     a.output.c_str());
         return;
     }
-    SHPRT_CHECK(!image_output, unsupported,
-                "{}: .exr output is for texel files; {} holds vertex transfer (use .csv, .ply or "
-                ".npy)",
-                a.output, a.input);
+    SHPRT_CHECK(
+        !image_output, unsupported,
+        "{}: .exr and .png output are for texel files; {} holds vertex transfer (use .csv, .ply or "
+        ".npy)",
+        a.output, a.input);
     const ShadeResult result = shade_vertices(file.mesh, file.transfer, light, options);
     write_shade(a.output, file.mesh, result, static_cast<float>(a.exposure));
     const double seconds = seconds_since(start);
@@ -109,7 +112,7 @@ const bool registered = register_command(
          app.add_option("--exposure", args->exposure, "Exposure of the PLY colours (default 1)");
          app.add_option("--quantity", args->quantity,
                         "Texel files: irradiance (default) or radiance, written as an H x W x 3 "
-                        ".npy or .exr (NaN outside the charts)");
+                        ".npy or .exr (NaN outside the charts), or a .png picture");
          app.callback([args] { run(*args); });
      }});
 

@@ -44,10 +44,10 @@ ShadeResult shade_texels(const Mesh& mesh, const TransferSet& transfer, const Sh
 }
 
 void write_texel_image(const std::string& path, const TexelAtlas& atlas,
-                       const std::vector<Vec3f>& values) {
+                       const std::vector<Vec3f>& values, float exposure) {
     const std::string ext = lower_extension(path);
-    SHPRT_CHECK(ext == ".npy" || ext == ".exr", unsupported,
-                "{}: a texel transfer shades to an image: .npy (H x W x 3) or .exr", path);
+    SHPRT_CHECK(ext == ".npy" || ext == ".exr" || ext == ".png", unsupported,
+                "{}: a texel transfer shades to an image: .npy (H x W x 3), .exr or .png", path);
     SHPRT_CHECK(values.size() == atlas.texel.size(), invalid_argument,
                 "{}: {} values for {} texels", path, values.size(), atlas.texel.size());
     const std::size_t W = std::size_t(atlas.width), H = std::size_t(atlas.height);
@@ -57,6 +57,16 @@ void write_texel_image(const std::string& path, const TexelAtlas& atlas,
         for (std::size_t r = 0; r < values.size(); ++r)
             for (int c = 0; c < 3; ++c) image[3 * std::size_t(atlas.texel[r]) + c] = values[r][c];
         return write_npy_f32(path, {H, W, 3}, image);
+    }
+    if (ext == ".png") {  // a picture of the lightmap: tone mapped, black outside the charts
+        Image image;
+        image.width = atlas.width;
+        image.height = atlas.height;
+        image.rgb.assign(W * H * 3, 0.0f);
+        for (std::size_t r = 0; r < values.size(); ++r)
+            for (int c = 0; c < 3; ++c)
+                image.rgb[3 * std::size_t(atlas.texel[r]) + c] = values[r][c];
+        return save_image(path, image, exposure);
     }
     std::vector<ExrChannel> channels = {{"R", {}}, {"G", {}}, {"B", {}}};
     for (int c = 0; c < 3; ++c) {

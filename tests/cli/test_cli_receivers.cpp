@@ -54,7 +54,7 @@ TEST_F(CliReceivers, TexelBakeShadeExport) {
     EXPECT_THAT(test_support::slurp(exr), ::testing::HasSubstr("sh003.Y"));
     expect_one_line_error(
         shprt("shade '" + file + "' --light constant -o '" + (m_dir / "e.csv").string() + "'"),
-        ".npy (H x W x 3) or .exr");
+        ".npy (H x W x 3), .exr or .png");
 #endif
 }
 
@@ -74,6 +74,10 @@ TEST_F(CliReceivers, RefineWritesTheRefinedMeshAndWarnsAtTheBudget) {
     EXPECT_EQ(f.mesh.parents[0][0], Mesh::kNoParent);
     EXPECT_LT(f.mesh.parents[1299][0], 1214u + 86u);
     EXPECT_NE(f.metadata_json.find("\"refinement\""), std::string::npos);
+    const std::string ply = (m_dir / "r.ply").string();
+    r = shprt("scene mesh '" + file + "' -o '" + ply + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("1300 vertices"));
 }
 
 TEST_F(CliReceivers, RefusalsAreOneLine) {

@@ -24,10 +24,11 @@ ShadeResult shade_texels(const Mesh& mesh, const TransferSet& transfer, const Sh
                          const ShadeOptions& options);
 
 // Writes one value per receiver as a width × height × 3 image, row 0 at the top, texels outside
-// every chart NaN: `.npy` (float32, shape (H, W, 3)) or `.exr` (float32 R, G, B). Throws
-// Error(unsupported) for another extension, Error(invalid_argument) for a size mismatch.
+// every chart NaN: `.npy` (float32, shape (H, W, 3)) or `.exr` (float32 R, G, B); or a `.png`
+// picture of it (times `exposure`, tone mapped as save_image does, black outside the charts).
+// Throws Error(unsupported) for another extension, Error(invalid_argument) for a size mismatch.
 void write_texel_image(const std::string& path, const TexelAtlas& atlas,
-                       const std::vector<Vec3f>& values);
+                       const std::vector<Vec3f>& values, float exposure = 1.0f);
 
 // Writes the coefficients of a texel-domain transfer as one multi-channel EXR: channel c of
 // coefficient i is "shIII.Y" (one channel) or "shIII.R|G|B" (three), each a width × height plane,
