@@ -13,14 +13,8 @@
 namespace shprt {
 
 Receivers texel_receivers(const TexelSamples& samples) {
-    Receivers r;
-    r.domain = ReceiverDomain::texel;
-    r.positions = samples.positions.data();
-    r.normals = samples.normals.data();
-    r.total = samples.count();
-    r.first = 0;
-    r.count = samples.count();
-    return r;
+    return Receivers::all(ReceiverDomain::texel, samples.positions.data(), samples.normals.data(),
+                          samples.count());
 }
 
 TexelAtlas texel_atlas(const TexelSamples& samples, int uv_set) {

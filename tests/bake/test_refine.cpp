@@ -1,12 +1,12 @@
 // Adaptive refinement (bake/refine.hpp): the splits keep the mesh conforming and the input's
 // vertex indices; refinement on a shadow edge lowers the error of the interpolated irradiance
 // against the direct ground truth; the budget stops it.
+#include "bake/linear_light.hpp"
 #include "shprt/bake/ground_truth.hpp"
 #include "shprt/bake/refine.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/scene/builder.hpp"
 #include "shprt/scene/mesh_ops.hpp"
-#include "shprt/sh/zonal.hpp"
 
 #include <gtest/gtest.h>
 
@@ -87,9 +87,6 @@ TEST(Refine, SplitsStayConformingAndKeepIndices) {
     EXPECT_THROW(split_edges(mesh, {{0, std::uint32_t(mesh.vertex_count() - 1)}}), Error);
 }
 
-// The light L(w) = 1 + d·w (2 bands, non-negative).
-const Vec3d kDir = normalize(Vec3d{0.6, 0.8, 0.3});
-
 // Irradiance interpolated over the +Y floor triangles of `mesh` at (x, 0, z).
 double floor_value(const Mesh& mesh, const std::vector<double>& e, double x, double z) {
     for (const auto& t : mesh.triangles) {
@@ -107,10 +104,7 @@ double floor_value(const Mesh& mesh, const std::vector<double>& e, double x, dou
 }
 
 std::vector<double> vertex_irradiance(const TransferSet& t) {
-    const double zonal[2] = {2 * std::sqrt(3.14159265358979323846),
-                             std::sqrt(4 * 3.14159265358979323846 / 3)};
-    std::vector<double> L(std::size_t(t.layout.K), 0.0);
-    rotate_zonal(zonal, 4, kDir, L.data());
+    const std::vector<double> L = test::linear_light_coeffs(t.layout.K);
     std::vector<double> e(t.receiver_count());
     for (std::size_t v = 0; v < e.size(); ++v)
         for (int i = 0; i < t.layout.K; ++i) e[v] += double(t.receiver(v)[i]) * L[i];
@@ -148,15 +142,7 @@ TEST(Refine, RefinementOnAShadowEdgeLowersTheErrorAgainstTheGroundTruth) {
             probes.normals.push_back({0, 1, 0});
             probes.albedo.push_back({0.8f, 0.8f, 0.8f});
         }
-    GroundTruthLight light;
-    light.sky = [](Vec3d w) {
-        const double l = 1 + dot(kDir, w);
-        return Vec3d{l, l, l};
-    };
-    GroundTruthOptions gt_options;
-    gt_options.sky_samples = 1024;
-    gt_options.threads = 2;
-    const GroundTruth truth = ground_truth_irradiance(probes, light, gt_options);
+    const GroundTruth truth = test::linear_light_truth(probes, 1024);
     const std::vector<double> e_coarse = vertex_irradiance(coarse),
                               e_fine = vertex_irradiance(r.transfer);
     double err_coarse = 0, err_fine = 0;

@@ -1,11 +1,11 @@
 // Per-texel transfer (bake/texels.hpp): on a two-triangle floor with a box on it, the texel
 // bake's irradiance at texel centres matches the direct ground truth (bake/ground_truth.hpp) and
 // shows the box's shadow; the vertex bake, interpolated to the same points, cannot.
+#include "bake/linear_light.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/ground_truth.hpp"
 #include "shprt/bake/texels.hpp"
 #include "shprt/scene/builtin.hpp"
-#include "shprt/sh/zonal.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,17 +15,8 @@
 namespace shprt {
 namespace {
 
-// The light L(w) = 1 + d·w: non-negative and exactly representable with 2 bands, so the SH bake
-// and the ground truth integrate the same light and differ only by sampling.
-const Vec3d kDir = normalize(Vec3d{0.6, 0.8, 0.3});
-constexpr double kSqrtPi = 1.7724538509055160273;
-
-std::vector<double> light_coeffs(int K) {
-    const double zonal[2] = {2 * kSqrtPi, std::sqrt(4 * 3.14159265358979323846 / 3)};
-    std::vector<double> c(std::size_t(K), 0.0);
-    rotate_zonal(zonal, 4, kDir, c.data());
-    return c;
-}
+using test::linear_light_coeffs;
+using test::linear_light_truth;
 
 double irradiance(const float* row, const std::vector<double>& light) {
     double e = 0;
@@ -65,17 +56,9 @@ TEST(TexelBake, FloorShowsTheBoxShadowLikeTheGroundTruthAndVerticesCannot) {
     probes.normals.insert(probes.normals.end(), texels.normals.begin(), texels.normals.end());
     probes.albedo.insert(probes.albedo.end(), texels.albedo.begin(), texels.albedo.end());
     probes.uvs.clear();
-    GroundTruthLight light;
-    light.sky = [](Vec3d w) {
-        const double l = 1 + dot(kDir, w);
-        return Vec3d{l, l, l};
-    };
-    GroundTruthOptions gt_options;
-    gt_options.sky_samples = 2048;
-    gt_options.threads = 2;
-    const GroundTruth truth = ground_truth_irradiance(probes, light, gt_options);
+    const GroundTruth truth = linear_light_truth(probes, 2048);
 
-    const std::vector<double> L = light_coeffs(16);
+    const std::vector<double> L = linear_light_coeffs(16);
     std::vector<double> vertex_e(mesh.vertex_count());
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
         vertex_e[v] = irradiance(vertices.receiver(v), L);
