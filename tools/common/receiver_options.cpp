@@ -60,6 +60,13 @@ void print_bake_line(const char* what, std::size_t receivers, const TransferInfo
 void bake_texels(const ReceiverArgs& args, const Mesh& mesh, BakeOptions options,
                  const std::string& output, WriteOptions write_options) {
     const auto [width, height] = parse_resolution(args.resolution);
+    // The rasteriser's coverage image alone (6 bytes a texel) must fit before anything runs.
+    const std::uint64_t image_bytes = std::uint64_t(width) * std::uint64_t(height) * 6;
+    const std::uint64_t free_bytes = available_memory_bytes();
+    SHPRT_CHECK(free_bytes == 0 || image_bytes <= free_bytes, out_of_memory,
+                "{}: rasterising {}x{} texels needs about {:.1f} MiB but {:.1f} MiB are "
+                "available; lower --resolution",
+                mesh.source, width, height, double(image_bytes) / kMiB, double(free_bytes) / kMiB);
     const TexelSamples texels = rasterize_texels(mesh, width, height, args.uv_set);
     // Refuse what cannot fit, before tracing.
     TransferInfo description = bake_description(options);
