@@ -6,6 +6,7 @@
 #include "common/bake_options.hpp"
 #include "common/command.hpp"
 #include "common/progress_bar.hpp"
+#include "common/receiver_options.hpp"
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/config.hpp"
@@ -45,6 +46,7 @@ struct BakeArgs {
     bool reproducible = false;
     bool mpi = false;
     std::size_t mpi_unit = 0;  // 0 = automatic
+    ReceiverArgs receivers;    // --domain texel, --refine: common/receiver_options.hpp
 };
 
 // "I/N" with 0 ≤ I < N: shard I of N.
@@ -286,6 +288,10 @@ bool use_mpi(const BakeArgs& args) {
 
 void run(const BakeArgs& args) {
     BakeOptions options = bake_options_from(args.bake);
+    check_receiver_options(args.receivers, !args.shard.empty() ? "--shard"
+                                           : args.stream       ? "--stream"
+                                           : args.mpi          ? "--mpi"
+                                                               : "");
     if (options.transfer == TransferKind::interreflected) {
         SHPRT_CHECK(args.shard.empty(), unsupported,
                     "--shard: interreflected transfer cannot be sharded (its bounces couple every "
@@ -303,11 +309,14 @@ void run(const BakeArgs& args) {
     check_output_writable(args.output);
 
     const auto load_start = Clock::now();
-    Mesh mesh = load_scene(args.scene);
+    Mesh mesh = load_scene(args.scene, args.receivers.uv_set);
     apply_albedo_option(args.bake, mesh);
     const double seconds_load = seconds_since(load_start);
 
     const Plan p = plan(args, mesh, seconds_load, 0);
+    if (args.receivers.requested())
+        return bake_other_receivers(args.receivers, mesh, options, args.output, args.half,
+                                    p.write_options);
     install_interrupt_handler();
     Output output(args, mesh, p.receivers, options, p.write_options);
     TransferInfo info;
@@ -328,6 +337,7 @@ const bool registered = register_command(
              ->required();
          app.add_option("-o,--output", args->output, "Output .shprt file")->required();
          add_bake_options(app, args->bake);
+         add_receiver_options(app, args->receivers);
          app.add_flag("--half", args->half, "Store coefficients as float16");
          app.add_flag("--stream", args->stream,
                       "Write coefficients to the file as chunks finish (no V×K array in memory)");

@@ -8,6 +8,7 @@
 #include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/render/gltf_export.hpp"
+#include "shprt/render/texel_shade.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include <chrono>
@@ -30,8 +31,10 @@ struct ExportArgs {
 
 void run(const ExportArgs& a) {
     const auto start = std::chrono::steady_clock::now();
-    SHPRT_CHECK(lower_extension(a.output) == ".glb", invalid_argument,
-                "{}: the output must be a binary glTF file (.glb)", a.output);
+    const bool exr = lower_extension(a.output) == ".exr";
+    SHPRT_CHECK(lower_extension(a.output) == ".glb" || exr, invalid_argument,
+                "{}: the output must be a binary glTF file (.glb), or .exr for a texel file",
+                a.output);
     SHPRT_CHECK(a.bands >= 0 && a.bands <= kMaxComputeBands, invalid_argument,
                 "--bands {}: must be 1 to {} (0 = all)", a.bands, kMaxComputeBands);
     GltfExportOptions options;
@@ -49,6 +52,22 @@ void run(const ExportArgs& a) {
                     "--bands {}: {} has K = {}, fewer than {} coefficients", a.bands, a.input,
                     file.transfer.layout.K, options.K);
     }
+    const bool texel = file.transfer.layout.domain == ReceiverDomain::texel;
+    SHPRT_CHECK(texel == exr, invalid_argument, "{}: {}", a.output,
+                texel ? "a texel file exports its coefficient planes as .exr"
+                      : ".exr export is for texel files (bake with --domain texel)");
+    if (texel) {
+        // The coefficient planes, dilated into the gutters, for engines.
+        write_texel_coefficients_exr(a.output, file.transfer);
+        std::printf(
+            "exported %zu texels of %dx%d, K=%d x %d channel(s), %s planes -> %s (%ju "
+            "bytes)\n",
+            file.transfer.texels.texel.size(), file.transfer.texels.width,
+            file.transfer.texels.height, file.transfer.layout.K, file.transfer.layout.channels,
+            to_string(file.transfer.layout.encoding), a.output.c_str(),
+            static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
+        return;
+    }
     write_glb(a.output, file.mesh, file.transfer, options);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -63,7 +82,9 @@ const bool registered = register_command(
      [](CLI::App& app) {
          auto args = std::make_shared<ExportArgs>();
          app.add_option("file", args->input, "Baked .shprt file")->required();
-         app.add_option("-o,--output", args->output, "Output .glb")->required();
+         app.add_option("-o,--output", args->output,
+                        "Output .glb (texel files: .exr coefficient planes)")
+             ->required();
          add_light_options(app, args->light);
          app.add_option("--bands", args->bands,
                         "Export the first n bands (n² coefficients; default: all of the file's)");

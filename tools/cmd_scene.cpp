@@ -5,6 +5,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/scene/mesh_ops.hpp"
@@ -66,6 +67,7 @@ const char* summary(const std::string& name) {
     if (name == "sphere") return "The unit sphere (icosphere, 1280 triangles)";
     if (name == "corner") return "An inner 90-degree corner: floor y = 0 and wall x = 0";
     if (name == "room") return "The paper's furnished room (open top; --ceiling closes it)";
+    if (name == "quad_box") return "Low poly with UVs: a two-triangle floor and a box on it";
     return "A built-in scene";
 }
 
@@ -88,6 +90,23 @@ const bool registered = register_command(
          info->callback([spec] {
              const Mesh mesh = load_scene(*spec);
              print(fmt::format("{}\n{}", *spec, describe(mesh)));
+         });
+
+         // The mesh a bake stored (a refined one, after `shprt bake --refine`) as PLY.
+         auto mesh_args = std::make_shared<GenerateArgs>();
+         CLI::App* from_file = app.add_subcommand(
+             "mesh",
+             "Write the mesh of a .shprt file (the refined mesh of a --refine bake) as PLY");
+         from_file->add_option("file", mesh_args->name, "Baked .shprt file")->required();
+         from_file->add_option("-o,--output", mesh_args->output, "Output PLY file")->required();
+         from_file->callback([mesh_args] {
+             SHPRT_CHECK(lower_extension(mesh_args->output) == ".ply", invalid_argument,
+                         "{}: scenes are written as PLY (use a .ply name)", mesh_args->output);
+             check_output_is_not_input(mesh_args->output, {mesh_args->name});
+             const ShprtFile file = read_shprt(mesh_args->name);
+             write_ply(file.mesh, mesh_args->output);
+             print(fmt::format("wrote {}: the mesh of {}\n{}", mesh_args->output, mesh_args->name,
+                               describe(file.mesh)));
          });
 
          for (const std::string& name : builtin_scene_names()) {

@@ -6,11 +6,13 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/camera.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/render/shade_export.hpp"
+#include "shprt/render/texel_shade.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -28,12 +30,17 @@ struct ShadeArgs {
     std::string eye;
     double k = 1.0, gloss = kDefaultGloss, exposure = 1.0;
     int coeffs = 0;
+    std::string quantity;  // texel files: irradiance (default) or radiance
 };
 
 void run(const ShadeArgs& a) {
-    const auto start = std::chrono::steady_clock::now();
-    // Every option is checked before any work.
-    shade_format_for_path(a.output);
+    const auto start = Clock::now();
+    // Every option is checked before any work (a texel file's image formats once it is read).
+    const bool image_output =
+        lower_extension(a.output) == ".exr" || lower_extension(a.output) == ".png";
+    if (!image_output) shade_format_for_path(a.output);
+    SHPRT_CHECK(a.quantity.empty() || a.quantity == "irradiance" || a.quantity == "radiance",
+                invalid_argument, "--quantity '{}': expected irradiance or radiance", a.quantity);
     SHPRT_CHECK(a.k >= 0 && a.k <= 1, invalid_argument,
                 "--k {}: the diffuse share must be in [0, 1]", a.k);
     SHPRT_CHECK(a.gloss >= 0 && std::isfinite(a.gloss), invalid_argument,
@@ -54,6 +61,36 @@ void run(const ShadeArgs& a) {
     // Without --eye, the eye of the default `shprt render` camera (16:9), so the glossy term
     // matches the default picture.
     const Vec3f eye_used = a.eye.empty() ? default_camera(file.mesh, 16.0f / 9.0f).eye : eye;
+    const bool texel = file.transfer.layout.domain == ReceiverDomain::texel;
+    SHPRT_CHECK(texel || a.quantity.empty(), invalid_argument,
+                "--quantity is for texel files; {} holds vertex transfer", a.input);
+    if (texel) {
+        SHPRT_CHECK(!plan.glossy, unsupported,
+                    "{}: glossy shading of texel transfer is not written (shade it diffuse)",
+                    a.input);
+        ShadeOptions options;
+        options.k = a.k;
+        options.gloss = gloss;
+        options.K_used = a.coeffs;
+        options.eye = eye_used;
+        // Per-texel values as an H x W x 3 image (NaN outside the charts).
+        const ShadeResult result = shade_texels(file.mesh, file.transfer, light, options);
+        write_texel_image(a.output, file.transfer.texels,
+                          a.quantity == "radiance" ? result.radiance : result.irradiance,
+                          static_cast<float>(a.exposure));
+        std::printf("shaded %zu texels of %dx%d (%s, K'=%d) in %.3f s -> %s\n",
+                    file.transfer.texels.texel.size(), file.transfer.texels.width,
+                    file.transfer.texels.height,
+                    a.quantity.empty() ? "irradiance" : a.quantity.c_str(),
+                    effective_basis_size(file.transfer, light, a.coeffs), seconds_since(start),
+                    a.output.c_str());
+        return;
+    }
+    SHPRT_CHECK(
+        !image_output, unsupported,
+        "{}: .exr and .png output are for texel files; {} holds vertex transfer (use .csv, .ply or "
+        ".npy)",
+        a.output, a.input);
     ShadeResult result;
     if (plan.glossy) {
         GlossyShadeOptions options = *plan.glossy;
@@ -69,8 +106,7 @@ void run(const ShadeArgs& a) {
         result = shade_vertices(file.mesh, file.transfer, light, options);
     }
     write_shade(a.output, file.mesh, result, static_cast<float>(a.exposure));
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = seconds_since(start);
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
     const std::string term =
         plan.glossy ? describe_brdf(plan.glossy->brdf, K_used) : fmt::format("gloss={}", gloss);
@@ -83,7 +119,9 @@ const bool registered = register_command(
      [](CLI::App& app) {
          auto args = std::make_shared<ShadeArgs>();
          app.add_option("file", args->input, "Baked .shprt file")->required();
-         app.add_option("-o,--output", args->output, "Output .csv, .ply or .npy")->required();
+         app.add_option("-o,--output", args->output,
+                        "Output .csv, .ply or .npy (texel files: .npy or .exr)")
+             ->required();
          add_light_options(app, args->light);
          add_glossy_options(app, args->glossy);
          app.add_flag("--direct", args->direct,
@@ -96,6 +134,9 @@ const bool registered = register_command(
              "Eye position X,Y,Z for the glossy term (default: the default render camera)");
          app.add_option("--coeffs", args->coeffs, "Use the first K' coefficients (default: all)");
          app.add_option("--exposure", args->exposure, "Exposure of the PLY colours (default 1)");
+         app.add_option("--quantity", args->quantity,
+                        "Texel files: irradiance (default) or radiance, written as an H x W x 3 "
+                        ".npy or .exr (NaN outside the charts), or a .png picture");
          app.callback([args] { run(*args); });
      }});
 

@@ -21,13 +21,19 @@ Receivers vertex_receivers(const Mesh& mesh) {
     SHPRT_CHECK(mesh.normals.size() == mesh.vertex_count(), invalid_argument,
                 "{} has {} normals for {} vertices", name, mesh.normals.size(),
                 mesh.vertex_count());
+    return Receivers::all(ReceiverDomain::vertex, mesh.positions.data(), mesh.normals.data(),
+                          mesh.vertex_count());
+}
+
+Receivers Receivers::all(ReceiverDomain domain, const Vec3f* positions, const Vec3f* normals,
+                         std::size_t count) {
     Receivers r;
-    r.domain = ReceiverDomain::vertex;
-    r.positions = mesh.positions.data();
-    r.normals = mesh.normals.data();
-    r.total = mesh.vertex_count();
+    r.domain = domain;
+    r.positions = positions;
+    r.normals = normals;
+    r.total = count;
     r.first = 0;
-    r.count = mesh.vertex_count();
+    r.count = count;
     return r;
 }
 

@@ -380,19 +380,34 @@ ShprtFile Reader::read(bool allow_part) {
     const std::uint64_t T = scene.u64("triangles");
     // The rows' receivers (version 2; absent in version 1 files: all vertices).
     std::uint64_t rows = V;
+    // The texel domain's receivers are texels (docs/texels.md): their count is receivers.total,
+    // bounded by the image's size; the vertex domain's are the vertices.
+    const bool texel = layout.domain == ReceiverDomain::texel;
+    std::uint64_t total = V;
+    if (texel) {
+        if (!meta.contains("receivers") || !meta.contains("texels"))
+            corrupt(m_path, "metadata: a texel transfer needs 'receivers' and 'texels'");
+        const Fields x = m.object("texels");
+        t.texels.width = x.integer("width", 1, INT_MAX);
+        t.texels.height = x.integer("height", 1, INT_MAX);
+        t.texels.uv_set = x.integer("uv_set", 0, 7);
+        total =
+            m.object("receivers")
+                .u64("total", 1, std::uint64_t(t.texels.width) * std::uint64_t(t.texels.height));
+    }
     if (meta.contains("receivers")) {
         const Fields r = m.object("receivers");
-        if (r.u64("total") != V)
+        if (r.u64("total") != total)
             corrupt(m_path, "metadata: receivers.total = {} but the scene has {} vertices",
                     r.u64("total"), V);
-        const std::uint64_t first = r.u64("first", 0, V);
-        rows = r.u64("count", 1, V - std::min(first, V));
+        const std::uint64_t first = r.u64("first", 0, total);
+        rows = r.u64("count", 1, total - std::min(first, total));
         out.receiver_first = static_cast<std::size_t>(first);
-        if ((first != 0 || rows != V) && !allow_part)
+        if ((first != 0 || rows != total) && !allow_part)
             corrupt(m_path,
                     "is part of a sharded bake (receivers [{}, {}) of {}): join the parts with "
                     "`shprt merge`",
-                    first, first + rows, V);
+                    first, first + rows, total);
     }
 
     if (meta.contains("stats")) {
@@ -539,6 +554,27 @@ ShprtFile Reader::read(bool allow_part) {
     check_finite(reinterpret_cast<const float*>(mesh.albedo.data()), 3 * V, "albedo");
     check_finite(t.coeffs.data(), t.coeffs.size(), "transfer");
     check_finite(t.direct.data(), t.direct.size(), "transfer_direct");
+    // Texel domain: the UVs and every receiver's texel, in order and inside the image; and
+    // neither for vertex transfer.
+    if (texel != !t.texels.texel.empty() || texel != !mesh.uvs.empty())
+        corrupt(m_path, "a {} transfer {} sections 'uvs' and 'texel_index'",
+                to_string(layout.domain), texel ? "needs" : "cannot have");
+    if (texel) {
+        if (t.texels.texel.size() != total)
+            corrupt(m_path, "section 'texel_index' lists {} texels, receivers.total is {}",
+                    t.texels.texel.size(), total);
+        const std::uint64_t image = std::uint64_t(t.texels.width) * std::uint64_t(t.texels.height);
+        for (std::size_t i = 0; i < t.texels.texel.size(); ++i)
+            if (t.texels.texel[i] >= image || (i > 0 && t.texels.texel[i] <= t.texels.texel[i - 1]))
+                corrupt(m_path, "texel_index {} ({}) is out of order or outside the {}x{} image", i,
+                        t.texels.texel[i], t.texels.width, t.texels.height);
+        check_finite(reinterpret_cast<const float*>(mesh.uvs.data()), 2 * V, "uvs");
+    }
+    for (std::size_t i = 0; i < mesh.parents.size(); ++i)
+        for (std::uint32_t p : mesh.parents[i])
+            if (p != Mesh::kNoParent && p >= i)
+                corrupt(m_path, "vertex_parents: vertex {} has parent {} (parents come first)", i,
+                        p);
     const std::string hash = format_mesh_hash(mesh_hash(mesh));
     if (hash != recorded_hash)
         corrupt(m_path, "scene hash {} differs from the recorded {}", hash, recorded_hash);

@@ -58,6 +58,29 @@ struct CpcaArray {
     }
 };
 
+// The mesh's UVs, stored with texel-domain transfer only (the texels were rasterised in them).
+struct UvArray {
+    static bool stored(const TransferSet& t) { return t.layout.domain == ReceiverDomain::texel; }
+    static const void* data(const Mesh& m, const TransferSet&) { return m.uvs.data(); }
+    static std::uint64_t count(const Mesh& m, const TransferSet& t) {
+        return stored(t) ? m.uvs.size() * 2 : 0;
+    }
+    static void* resize(Mesh& m, TransferSet&, std::uint64_t n) {
+        m.uvs.resize(static_cast<std::size_t>(n / 2));
+        return m.uvs.data();
+    }
+};
+
+// Which texel each receiver of a texel-domain transfer is (TexelAtlas::texel).
+struct TexelIndexArray {
+    static const void* data(const Mesh&, const TransferSet& t) { return t.texels.texel.data(); }
+    static std::uint64_t count(const Mesh&, const TransferSet& t) { return t.texels.texel.size(); }
+    static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
+        t.texels.texel.resize(static_cast<std::size_t>(n));
+        return t.texels.texel.data();
+    }
+};
+
 template <class A>
 constexpr SectionRule rule(const char* name, SectionType type, SectionRows rows, std::uint64_t cols,
                            bool required) {
@@ -74,6 +97,12 @@ const std::array kRules = {
     rule<MeshArray<&Mesh::albedo>>("albedo", S::f32, R::vertices, 3, kRequired),
     rule<MeshArray<&Mesh::triangles>>("triangles", S::u32, R::triangles, 3, kRequired),
     rule<MeshArray<&Mesh::source_vertex>>("source_vertex", S::u32, R::vertices, 1, kOptional),
+    // Adaptive refinement (bake/refine.hpp): the two ends of the edge each vertex split, or
+    // 0xFFFFFFFF twice for a vertex of the scene as loaded.
+    rule<MeshArray<&Mesh::parents>>("vertex_parents", S::u32, R::vertices, 2, kOptional),
+    // Texel domain (docs/texels.md): the mesh's UVs and each receiver's texel.
+    rule<UvArray>("uvs", S::f32, R::vertices, 2, kOptional),
+    rule<TexelIndexArray>("texel_index", S::u32, R::receivers, 1, kOptional),
     // Interreflected transfer's direct part, one channel per receiver: before "transfer", which
     // stays last (a streamed bake writes it in place).
     rule<DirectArray>("transfer_direct", S::transfer, R::receivers, SectionRule::kPerChannel,

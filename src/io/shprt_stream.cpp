@@ -130,7 +130,10 @@ ShprtStreamWriter::ShprtStreamWriter(const std::string& path, const Mesh& mesh,
     // The checks write_shprt makes of everything but the coefficients (checked per chunk).
     options.receiver_first = first;
     try {
-        TransferSet::check_range(mesh, info.layout, first, count);
+        SHPRT_CHECK(info.layout.domain == ReceiverDomain::vertex, unsupported,
+                    "streaming a {} transfer: only vertex transfer streams",
+                    to_string(info.layout.domain));
+        TransferSet::check_range(mesh, info.layout, first, count, mesh.vertex_count());
     } catch (const Error& e) {
         fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
     }

@@ -51,6 +51,18 @@ std::string shprt_summary(const ShprtFile& file) {
 
     line("scene", mesh.source.empty() ? "(unnamed)" : mesh.source);
     line("vertices", fmt::format("{}", mesh.vertex_count()));
+    if (!mesh.parents.empty()) {
+        std::size_t added = 0;
+        for (const auto& p : mesh.parents) added += p[0] != Mesh::kNoParent;
+        line("refined",
+             fmt::format("{} vertices added by adaptive refinement (vertex_parents)", added));
+    }
+    if (t.layout.domain == ReceiverDomain::texel)
+        line("texels", fmt::format("{}x{} image, {} covered ({:.1f}%), UV set {}", t.texels.width,
+                                   t.texels.height, t.texels.texel.size(),
+                                   100.0 * double(t.texels.texel.size()) /
+                                       (double(t.texels.width) * double(t.texels.height)),
+                                   t.texels.uv_set));
     line("triangles", fmt::format("{}", mesh.triangle_count()));
     if (file.is_part())
         line("receivers",

@@ -132,11 +132,20 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
         {"triangles", mesh.triangles.size()},
     };
     // The rows' receivers: all of them, or a shard's range (a part, see shprt_file.hpp).
+    const bool texel = t.layout.domain == ReceiverDomain::texel;
     m["receivers"] = {
         {"first", options.receiver_first},
         {"count", rows},
-        {"total", mesh.positions.size()},
+        {"total", texel ? t.texels.texel.size() : mesh.positions.size()},
     };
+    // The texel domain's image (docs/texels.md); its receivers' texels are section "texel_index".
+    if (texel)
+        m["texels"] = {{"width", t.texels.width},
+                       {"height", t.texels.height},
+                       {"uv_set", t.texels.uv_set},
+                       {"origin",
+                        "row 0 at v = 1 (top); texel (x, y) centre u = (x + 0.5) / "
+                        "width, v = 1 - (y + 0.5) / height"}};
     if (!options.reproducible) {
         m["stats"] = stats_json(t.stats);
         merge_extra(m, extra, "");

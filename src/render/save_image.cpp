@@ -25,38 +25,38 @@ void append_bytes(void* context, void* data, int size) {
     static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
 }
 
-std::string encode_exr(const std::string& path, const Image& image) {
-    // EXR stores channels in alphabetical order; tinyexr writes them in the order given.
-    const std::size_t n = image.pixel_count();
-    std::vector<float> planes[3];  // B, G, R
-    for (int c = 0; c < 3; ++c) {
-        planes[c].resize(n);
-        for (std::size_t p = 0; p < n; ++p) planes[c][p] = image.rgb[3 * p + (2 - c)];
+// Channels (name, plane of width·height floats) as one ZIP-compressed EXR part; `half` stores
+// 16-bit floats. tinyexr writes channels in the order given, and EXR wants them sorted by name.
+std::string encode_exr_channels(const std::string& path, int width, int height,
+                                std::vector<std::pair<std::string, const float*>> channels,
+                                bool half) {
+    std::sort(channels.begin(), channels.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    const std::size_t n = channels.size();
+    std::vector<const float*> plane_ptrs(n);
+    std::vector<EXRChannelInfo> info(n);
+    std::vector<int> pixel_types(n, TINYEXR_PIXELTYPE_FLOAT);  // type of the data handed over
+    std::vector<int> requested(n, half ? TINYEXR_PIXELTYPE_HALF : TINYEXR_PIXELTYPE_FLOAT);
+    for (std::size_t c = 0; c < n; ++c) {
+        std::memset(&info[c], 0, sizeof(info[c]));
+        SHPRT_CHECK(channels[c].first.size() < sizeof(info[c].name), invalid_argument,
+                    "cannot write image {}: channel name '{}' too long", path, channels[c].first);
+        std::strncpy(info[c].name, channels[c].first.c_str(), sizeof(info[c].name) - 1);
+        plane_ptrs[c] = channels[c].second;
     }
-    float* plane_ptrs[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
-
     EXRImage exr_image;
     InitEXRImage(&exr_image);
-    exr_image.num_channels = 3;
-    exr_image.images = reinterpret_cast<unsigned char**>(plane_ptrs);
-    exr_image.width = image.width;
-    exr_image.height = image.height;
+    exr_image.num_channels = static_cast<int>(n);
+    exr_image.images = reinterpret_cast<unsigned char**>(const_cast<float**>(plane_ptrs.data()));
+    exr_image.width = width;
+    exr_image.height = height;
 
     EXRHeader header;
     InitEXRHeader(&header);
-    EXRChannelInfo channels[3];
-    std::memset(channels, 0, sizeof(channels));
-    const char* names[3] = {"B", "G", "R"};
-    int pixel_types[3], requested[3];
-    for (int c = 0; c < 3; ++c) {
-        std::strncpy(channels[c].name, names[c], sizeof(channels[c].name) - 1);
-        pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;  // type of the data we hand over
-        requested[c] = TINYEXR_PIXELTYPE_FLOAT;    // type stored in the file: full float
-    }
-    header.num_channels = 3;
-    header.channels = channels;
-    header.pixel_types = pixel_types;
-    header.requested_pixel_types = requested;
+    header.num_channels = static_cast<int>(n);
+    header.channels = info.data();
+    header.pixel_types = pixel_types.data();
+    header.requested_pixel_types = requested.data();
     header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
 
     unsigned char* memory = nullptr;
@@ -69,6 +69,18 @@ std::string encode_exr(const std::string& path, const Image& image) {
         fail(ErrorCode::io, "cannot encode image {}: {}", path, message);
     }
     return std::string(reinterpret_cast<const char*>(memory), size);
+}
+
+std::string encode_exr(const std::string& path, const Image& image) {
+    const std::size_t n = image.pixel_count();
+    std::vector<float> planes[3];  // R, G, B
+    for (int c = 0; c < 3; ++c) {
+        planes[c].resize(n);
+        for (std::size_t p = 0; p < n; ++p) planes[c][p] = image.rgb[3 * p + c];
+    }
+    return encode_exr_channels(
+        path, image.width, image.height,
+        {{"R", planes[0].data()}, {"G", planes[1].data()}, {"B", planes[2].data()}}, false);
 }
 
 std::string encode_hdr(const std::string& path, const Image& image) {
@@ -123,6 +135,22 @@ void save_image(const std::string& path, const Image& image, float exposure) {
     for (std::size_t i = 0; i < display.rgb.size(); ++i)
         display.rgb[i] = display_encode8(image.rgb[i], exposure);
     write_atomically(path, encode_png(path, display));
+}
+
+void save_exr_channels(const std::string& path, int width, int height,
+                       const std::vector<ExrChannel>& channels, bool half) {
+    SHPRT_CHECK(width > 0 && height > 0 && width <= kMaxImageSide && height <= kMaxImageSide &&
+                    !channels.empty(),
+                invalid_argument, "cannot write image {}: invalid size {}x{} or no channels", path,
+                width, height);
+    std::vector<std::pair<std::string, const float*>> list;
+    for (const ExrChannel& c : channels) {
+        SHPRT_CHECK(c.plane.size() == std::size_t(width) * std::size_t(height), invalid_argument,
+                    "cannot write image {}: channel {} has {} values for {}x{}", path, c.name,
+                    c.plane.size(), width, height);
+        list.push_back({c.name, c.plane.data()});
+    }
+    write_atomically(path, encode_exr_channels(path, width, height, std::move(list), half));
 }
 
 void save_png(const std::string& path, const Rgb8Image& image) {

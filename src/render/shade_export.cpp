@@ -83,14 +83,22 @@ void write_shade_csv(const std::string& path, const Mesh& mesh, const ShadeResul
     file.commit();
 }
 
-void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
-    check_result(path, mesh, result);
+void write_npy_f32(const std::string& path, const std::vector<std::size_t>& shape,
+                   const std::vector<float>& data) {
     require_little_endian();
-    const std::size_t V = mesh.vertex_count();
+    std::size_t count = 1;
+    std::string dims;
+    for (std::size_t d : shape) {
+        count *= d;
+        dims += fmt::format("{}, ", d);
+    }
+    if (shape.size() > 1) dims.resize(dims.size() - 2);  // (n,) keeps its comma; (a, b) does not
+    SHPRT_CHECK(count == data.size(), invalid_argument, "{}: {} floats for an array of {}", path,
+                data.size(), count);
     // Format 1.0: magic, version, uint16 header length, then a Python dict literal padded with
     // spaces and ended by '\n' so that the data starts at a multiple of 64 bytes.
     std::string header =
-        fmt::format("{{'descr': '<f4', 'fortran_order': False, 'shape': ({}, 9), }}", V);
+        fmt::format("{{'descr': '<f4', 'fortran_order': False, 'shape': ({}), }}", dims);
     const std::size_t preamble = 10;
     const std::size_t total = (preamble + header.size() + 1 + 63) / 64 * 64;
     header.append(total - preamble - header.size() - 1, ' ');
@@ -110,10 +118,16 @@ void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResul
     AtomicFile file(path);
     file.write(magic, sizeof(magic));
     file.write(header);
-    std::vector<float> data(V * 9);
-    for (std::size_t v = 0; v < V; ++v) row(mesh, result, v, data.data() + 9 * v);
     file.write(data.data(), data.size() * sizeof(float));
     file.commit();
+}
+
+void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
+    check_result(path, mesh, result);
+    const std::size_t V = mesh.vertex_count();
+    std::vector<float> data(V * 9);
+    for (std::size_t v = 0; v < V; ++v) row(mesh, result, v, data.data() + 9 * v);
+    write_npy_f32(path, {V, 9}, data);
 }
 
 void write_shade_ply(const std::string& path, const Mesh& mesh, const ShadeResult& result,

@@ -55,10 +55,39 @@ double triangle_solid_angle(Vec3d a, Vec3d b, Vec3d c) {
     return 2.0 * std::atan2(num, den);
 }
 
+// The low-poly asset per-vertex transfer cannot shadow: a two-triangle floor with a box on it,
+// every face one quad of two triangles, laid out in one UV atlas without overlaps (the floor in
+// [0, 0.7]², the box's five faces in 0.2-wide tiles along the top and right, 0.05 apart).
+Mesh make_quad_box() {
+    Mesh m;
+    const auto quad = [&m](Vec3f o, Vec3f e1, Vec3f e2, float u0, float v0, float size) {
+        const Vec3f n = normalize(cross(e1, e2));
+        const auto base = static_cast<std::uint32_t>(m.positions.size());
+        const Vec3f corners[4] = {o, o + e1, o + e1 + e2, o + e2};
+        const float st[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        for (int i = 0; i < 4; ++i) {
+            m.positions.push_back(corners[i]);
+            m.normals.push_back(n);
+            m.albedo.push_back(kGrey);
+            m.uvs.push_back({u0 + st[i][0] * size, v0 + st[i][1] * size});
+        }
+        m.triangles.push_back({base, base + 1, base + 2});
+        m.triangles.push_back({base, base + 2, base + 3});
+    };
+    quad({-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, 0.0f, 0.0f, 0.7f);          // floor, +Y
+    quad({-0.5f, 1, -0.5f}, {0, 0, 1}, {1, 0, 0}, 0.75f, 0.0f, 0.2f);   // top, +Y
+    quad({0.5f, 0, -0.5f}, {0, 1, 0}, {0, 0, 1}, 0.75f, 0.25f, 0.2f);   // +X
+    quad({-0.5f, 0, -0.5f}, {0, 0, 1}, {0, 1, 0}, 0.75f, 0.5f, 0.2f);   // -X
+    quad({-0.5f, 0, 0.5f}, {1, 0, 0}, {0, 1, 0}, 0.75f, 0.75f, 0.2f);   // +Z
+    quad({-0.5f, 0, -0.5f}, {0, 1, 0}, {1, 0, 0}, 0.25f, 0.75f, 0.2f);  // -Z
+    m.source = "builtin:quad_box";
+    return m;
+}
+
 }  // namespace
 
 std::vector<std::string> builtin_scene_names() {
-    return {"plane", "box_on_plane", "sphere", "corner", "room"};
+    return {"plane", "box_on_plane", "sphere", "corner", "room", "quad_box"};
 }
 
 Mesh make_builtin(const std::string& name) {
@@ -67,6 +96,7 @@ Mesh make_builtin(const std::string& name) {
     if (name == "sphere") return make_sphere();
     if (name == "corner") return make_corner();
     if (name == "room") return generate_room(RoomOptions{});
+    if (name == "quad_box") return make_quad_box();
     std::string names;
     for (const auto& n : builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
     fail(ErrorCode::invalid_argument, "unknown built-in scene '{}' (choose from: {})", name, names);

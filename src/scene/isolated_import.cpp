@@ -117,7 +117,7 @@ void prepare_child(std::uint64_t address_space_limit) {
                write_value(fd, r.skipped_faces) && write_value(fd, r.albedo_sources) &&
                write_array(fd, m.positions) && write_array(fd, m.normals) &&
                write_array(fd, m.albedo) && write_array(fd, m.triangles) &&
-               write_array(fd, m.source_vertex));
+               write_array(fd, m.source_vertex) && write_array(fd, m.uvs));
     } catch (const Error& e) {
         write_error(fd, e.code(), e.what());
     } catch (const std::bad_alloc&) {
@@ -220,7 +220,8 @@ ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_b
         Mesh& m = r.mesh;
         complete = in.value(all_normals) && in.value(r.skipped_faces) &&
                    in.value(r.albedo_sources) && in.array(m.positions) && in.array(m.normals) &&
-                   in.array(m.albedo) && in.array(m.triangles) && in.array(m.source_vertex);
+                   in.array(m.albedo) && in.array(m.triangles) && in.array(m.source_vertex) &&
+                   in.array(m.uvs);
         r.all_normals = all_normals != 0;
     } else if (tag == kErrorTag) {
         std::uint32_t code = 0;

@@ -118,7 +118,7 @@ bool usable_normal(const aiVector3D& n) {
 // The importer's scene as arrays, in the child process of run_isolated_import: no logging, and
 // only the checks that must happen before an index is read.
 detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
-                             const PlyHeader* ply_header) {
+                             const PlyHeader* ply_header, int uv_set) {
     const bool is_ply = ply_header != nullptr;
     detail::ImportedMesh result;
     Mesh& out = result.mesh;
@@ -133,6 +133,7 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
     std::uint64_t& skipped_faces = result.skipped_faces;
     std::vector<std::uint32_t> polygon;
     detail::AlbedoTextures textures(scene, path);
+    bool all_uvs = true;  // every mesh has UV set `uv_set` (else no UVs are kept)
     for (const Instance& inst : collect_instances(scene)) {
         const aiMesh* mesh = scene.mMeshes[inst.mesh];
         if (!mesh || !mesh->mVertices || mesh->mNumVertices == 0) continue;
@@ -152,19 +153,24 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
         const Vec3f flat = use_material ? material_albedo(scene, *mesh, from_material)
                                         : Vec3f{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
         const aiColor4D* colours = mesh->mColors[0];
-        // A colour texture, when there are no vertex colours and the mesh has its UV set.
+        const aiVector3D* uvs = mesh->mTextureCoords[uv_set];
+        all_uvs = all_uvs && uvs != nullptr;
+        // A colour texture, when there are no vertex colours and the mesh has the texture's UV
+        // set (the material names it; it may differ from the set kept in Mesh::uvs).
         const detail::AlbedoTexture* texture = nullptr;
-        const aiVector3D* uvs = nullptr;
+        const aiVector3D* texture_uvs = nullptr;
         Vec3f factor{1, 1, 1};
         if (!colours && use_material && scene.mMaterials &&
             mesh->mMaterialIndex < scene.mNumMaterials && scene.mMaterials[mesh->mMaterialIndex]) {
-            unsigned uv_set = 0;
+            unsigned texture_uv_set = 0;
             bool failed = false;
-            texture =
-                textures.find(*scene.mMaterials[mesh->mMaterialIndex], uv_set, factor, failed);
+            texture = textures.find(*scene.mMaterials[mesh->mMaterialIndex], texture_uv_set,
+                                    factor, failed);
             if (failed) result.albedo_sources |= detail::kAlbedoTextureUnreadable;
-            uvs = uv_set < AI_MAX_NUMBER_OF_TEXTURECOORDS ? mesh->mTextureCoords[uv_set] : nullptr;
-            if (!uvs) texture = nullptr;
+            texture_uvs = texture_uv_set < AI_MAX_NUMBER_OF_TEXTURECOORDS
+                              ? mesh->mTextureCoords[texture_uv_set]
+                              : nullptr;
+            if (!texture_uvs) texture = nullptr;
         }
         result.albedo_sources |=
             colours   ? detail::kAlbedoVertexColours
@@ -190,12 +196,13 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
                                                           srgb_to_linear(c.b)}
                                                   : Vec3f{c.r, c.g, c.b});
             } else if (texture) {
-                const Vec3f t = texture->sample(uvs[v].x, uvs[v].y);
+                const Vec3f t = texture->sample(texture_uvs[v].x, texture_uvs[v].y);
                 out.albedo.push_back({t.x * factor.x, t.y * factor.y, t.z * factor.z});
             } else {
                 out.albedo.push_back(flat);
             }
             out.source_vertex.push_back(static_cast<std::uint32_t>(base[inst.mesh] + v));
+            if (all_uvs) out.uvs.push_back({uvs[v].x, uvs[v].y});
         }
         for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
             const aiFace& face = mesh->mFaces[f];
@@ -219,6 +226,7 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
                     std::swap(out.triangles[t][1], out.triangles[t][2]);
         }
     }
+    if (!all_uvs) out.uvs.clear();
     return result;
 }
 
@@ -270,7 +278,7 @@ Mesh finish(detail::ImportedMesh imported, const std::string& path, const PlyHea
 
 // Reads the file with Assimp and extracts its arrays (in the child process: see load_file).
 detail::ImportedMesh import_with_assimp(const std::string& path, const std::string& ext,
-                                        const PlyHeader* ply) {
+                                        const PlyHeader* ply, int uv_set) {
     Assimp::Importer importer;
     // Some importers invent a mesh to show a skeleton when a file has none; we want real geometry.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
@@ -307,10 +315,10 @@ detail::ImportedMesh import_with_assimp(const std::string& path, const std::stri
     }
     SHPRT_CHECK(scene->mNumMeshes > 0 && scene->mMeshes, format, "{}: empty mesh (no geometry)",
                 path);
-    return extract(*scene, path, ply);
+    return extract(*scene, path, ply, uv_set);
 }
 
-Mesh load_file(const std::string& path) {
+Mesh load_file(const std::string& path, int uv_set) {
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);
@@ -335,9 +343,9 @@ Mesh load_file(const std::string& path) {
     // Assimp runs in a child process: a crash in one of its importers (fuzzing found a Collada
     // one) becomes an error naming the file, not the end of the program.
     const PlyHeader* ply_header = ply ? &*ply : nullptr;
-    detail::ImportedMesh imported =
-        detail::run_isolated_import(path, importer_memory_budget(size),
-                                    [&] { return import_with_assimp(path, ext, ply_header); });
+    detail::ImportedMesh imported = detail::run_isolated_import(
+        path, importer_memory_budget(size),
+        [&] { return import_with_assimp(path, ext, ply_header, uv_set); });
     return finish(std::move(imported), path, ply_header);
 }
 
@@ -363,7 +371,9 @@ std::uint64_t importer_memory_budget(std::uint64_t file_bytes) {
 
 bool is_builtin_spec(const std::string& spec) { return spec.rfind(kBuiltinPrefix, 0) == 0; }
 
-Mesh load_scene(const std::string& spec) {
+Mesh load_scene(const std::string& spec, int uv_set) {
+    SHPRT_CHECK(uv_set >= 0 && uv_set < AI_MAX_NUMBER_OF_TEXTURECOORDS, invalid_argument,
+                "--uv-set {}: must be 0 to {}", uv_set, AI_MAX_NUMBER_OF_TEXTURECOORDS - 1);
     if (is_builtin_spec(spec)) {
         Mesh mesh = make_builtin(spec.substr(kBuiltinPrefix.size()));
         mesh.source = spec;
@@ -372,7 +382,7 @@ Mesh load_scene(const std::string& spec) {
         return mesh;
     }
     SHPRT_CHECK(!spec.empty(), invalid_argument, "scene path is empty");
-    return load_file(spec);
+    return load_file(spec, uv_set);
 }
 
 }  // namespace shprt

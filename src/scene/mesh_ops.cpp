@@ -92,6 +92,10 @@ void validate_mesh(Mesh& mesh, const std::string& name) {
     SHPRT_CHECK(mesh.source_vertex.empty() || mesh.source_vertex.size() == nv, invalid_argument,
                 "{}: {} source_vertex entries for {} vertices", name, mesh.source_vertex.size(),
                 nv);
+    SHPRT_CHECK(mesh.uvs.empty() || mesh.uvs.size() == nv, invalid_argument,
+                "{}: {} texture coordinates for {} vertices", name, mesh.uvs.size(), nv);
+    SHPRT_CHECK(mesh.parents.empty() || mesh.parents.size() == nv, invalid_argument,
+                "{}: {} vertex parents for {} vertices", name, mesh.parents.size(), nv);
 
     for (std::size_t v = 0; v < nv; ++v) {
         const Vec3f p = mesh.positions[v];

@@ -55,11 +55,15 @@ TransferKind parse_transfer_kind(const std::string& name) {
          name);
 }
 
-const char* to_string(ReceiverDomain) { return "vertex"; }
+const char* to_string(ReceiverDomain domain) {
+    return domain == ReceiverDomain::texel ? "texel" : "vertex";
+}
 
 ReceiverDomain parse_receiver_domain(const std::string& name) {
     if (name == "vertex") return ReceiverDomain::vertex;
-    fail(ErrorCode::invalid_argument, "unknown receiver domain '{}' (expected vertex)", name);
+    if (name == "texel") return ReceiverDomain::texel;
+    fail(ErrorCode::invalid_argument, "unknown receiver domain '{}' (expected vertex or texel)",
+         name);
 }
 
 const char* to_string(TransferShape shape) {
@@ -132,12 +136,17 @@ TransferSet TransferSet::direct_only() const {
     return out;
 }
 
+std::size_t TransferSet::receiver_total(const Mesh& mesh) const {
+    return layout.domain == ReceiverDomain::texel ? texels.texel.size() : mesh.vertex_count();
+}
+
 void TransferSet::check(const Mesh& mesh) const {
     layout.validate();
-    const std::size_t V = mesh.vertex_count();
+    const std::size_t V = receiver_total(mesh);
     SHPRT_CHECK(coeffs.size() == layout.floats(V), invalid_argument,
-                "transfer holds {} floats, expected {} vertices × {} channels × {} = {}",
-                coeffs.size(), V, layout.channels, layout.floats_per_channel(), layout.floats(V));
+                "transfer holds {} floats, expected {} {}s × {} channels × {} = {}", coeffs.size(),
+                V, to_string(layout.domain), layout.channels, layout.floats_per_channel(),
+                layout.floats(V));
     check_rows(mesh, 0);
 }
 
@@ -147,7 +156,23 @@ void TransferSet::check_rows(const Mesh& mesh, std::size_t first) const {
     SHPRT_CHECK(!coeffs.empty() && coeffs.size() % row == 0, invalid_argument,
                 "transfer holds {} floats, not a whole number of rows of {} ({} channels × {})",
                 coeffs.size(), row, layout.channels, layout.floats_per_channel());
-    check_range(mesh, layout, first, coeffs.size() / row);
+    if (layout.domain == ReceiverDomain::texel) {
+        SHPRT_CHECK(!mesh.uvs.empty(), invalid_argument,
+                    "texel transfer of a mesh without texture coordinates");
+        const std::uint64_t image = std::uint64_t(texels.width) * std::uint64_t(texels.height);
+        SHPRT_CHECK(texels.width >= 1 && texels.height >= 1 && !texels.texel.empty(),
+                    invalid_argument, "texel transfer without its atlas ({}x{}, {} texels)",
+                    texels.width, texels.height, texels.texel.size());
+        for (std::size_t i = 0; i < texels.texel.size(); ++i)
+            SHPRT_CHECK(
+                texels.texel[i] < image && (i == 0 || texels.texel[i] > texels.texel[i - 1]),
+                invalid_argument,
+                "texel atlas entry {} ({}) is out of order or outside the {}x{} image", i,
+                texels.texel[i], texels.width, texels.height);
+    } else {
+        SHPRT_CHECK(texels.empty(), invalid_argument, "vertex transfer with a texel atlas");
+    }
+    check_range(mesh, layout, first, coeffs.size() / row, receiver_total(mesh));
     SHPRT_CHECK(
         direct.empty() || direct.size() == coeffs.size() / row * layout.floats_per_channel(),
         invalid_argument, "direct transfer holds {} floats, expected {} rows × {}", direct.size(),
@@ -155,12 +180,12 @@ void TransferSet::check_rows(const Mesh& mesh, std::size_t first) const {
 }
 
 void TransferSet::check_range(const Mesh& mesh, const TransferLayout& layout, std::size_t first,
-                              std::size_t count) {
+                              std::size_t count, std::size_t total) {
     layout.validate();
     const std::size_t V = mesh.vertex_count();
-    SHPRT_CHECK(count >= 1 && first <= V && count <= V - first, invalid_argument,
-                "transfer rows of receivers [{}, {}) outside the mesh's {} vertices (or empty)",
-                first, first + count, V);
+    SHPRT_CHECK(count >= 1 && first <= total && count <= total - first, invalid_argument,
+                "transfer rows of receivers [{}, {}) outside the mesh's {} {}s (or empty)", first,
+                first + count, total, to_string(layout.domain));
     SHPRT_CHECK(mesh.normals.size() == V && mesh.albedo.size() == V, invalid_argument,
                 "mesh {} has {} vertices but {} normals and {} albedo values", mesh.source, V,
                 mesh.normals.size(), mesh.albedo.size());

@@ -21,8 +21,8 @@ using test::expect_valid_generated;
 
 TEST(SceneBuiltin, NamesAndUnknownName) {
     const auto names = builtin_scene_names();
-    EXPECT_EQ(names,
-              (std::vector<std::string>{"plane", "box_on_plane", "sphere", "corner", "room"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"plane", "box_on_plane", "sphere", "corner", "room",
+                                               "quad_box"}));
     try {
         make_builtin("nope");
         FAIL() << "no error";
@@ -42,7 +42,8 @@ TEST(SceneBuiltin, EachIsValidWithDocumentedCounts) {
     const Expected expected[] = {{"plane", 289, 512, 4.0},
                                  {"box_on_plane", 33 * 33 + 5 * 25, 2048 + 5 * 32, 16.0 + 5.0},
                                  {"sphere", 642, 1280, 0.0},
-                                 {"corner", 2 * 21 * 41, 2 * 1600, 16.0}};
+                                 {"corner", 2 * 21 * 41, 2 * 1600, 16.0},
+                                 {"quad_box", 24, 12, 16.0 + 5.0}};
     for (const auto& e : expected) {
         SCOPED_TRACE(e.name);
         const Mesh m = make_builtin(e.name);

@@ -51,12 +51,13 @@ TEST(TransferLayout, NamesRoundTrip) {
         EXPECT_EQ(parse_transfer_shape(to_string(s)), s);
     for (TransferEncoding e : {TransferEncoding::f32, TransferEncoding::f16})
         EXPECT_EQ(parse_transfer_encoding(to_string(e)), e);
-    EXPECT_EQ(parse_receiver_domain(to_string(ReceiverDomain::vertex)), ReceiverDomain::vertex);
+    for (ReceiverDomain d : {ReceiverDomain::vertex, ReceiverDomain::texel})
+        EXPECT_EQ(parse_receiver_domain(to_string(d)), d);
     for (TransferKind k : {TransferKind::shadowed, TransferKind::unshadowed})
         EXPECT_EQ(parse_transfer_kind(to_string(k)), k);
     EXPECT_THROW(parse_transfer_shape("tensor"), Error);
     EXPECT_THROW(parse_transfer_encoding("float64"), Error);
-    EXPECT_THROW(parse_receiver_domain("texel"), Error);
+    EXPECT_THROW(parse_receiver_domain("voxel"), Error);
 }
 
 Mesh three_vertices() {

@@ -24,6 +24,10 @@ struct Receivers {
     std::size_t first = 0;
     std::size_t count = 0;
 
+    // All `count` receivers of `domain` at the given arrays (the caller's: they must outlive the
+    // bake).
+    static Receivers all(ReceiverDomain domain, const Vec3f* positions, const Vec3f* normals,
+                         std::size_t count);
     // The same receivers restricted to [first, first + count) of the domain's numbering; throws
     // Error(invalid_argument) when the range is empty or leaves [0, total).
     Receivers range(std::size_t first, std::size_t count) const;

@@ -75,7 +75,7 @@ struct ShprtFile {
     // for a whole file; a range for a part of a sharded bake (read_shprt_part).
     std::size_t receiver_first = 0;
     bool is_part() const {
-        return receiver_first != 0 || transfer.receiver_count() != mesh.vertex_count();
+        return receiver_first != 0 || transfer.receiver_count() != transfer.receiver_total(mesh);
     }
 };
 

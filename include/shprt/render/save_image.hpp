@@ -31,6 +31,19 @@ namespace shprt {
 // writing fails.
 void save_image(const std::string& path, const Image& image, float exposure = 1.0f);
 
+// One named channel of an EXR image: width·height floats, rows top first. Names follow EXR's
+// "layer.channel" convention ("sh03.R", "Y").
+struct ExrChannel {
+    std::string name;
+    std::vector<float> plane;
+};
+
+// Writes `channels` (any number, any finite or non-finite values: NaN marks "no data") as one
+// ZIP-compressed OpenEXR image through tinyexr and AtomicFile; `half` stores 16-bit floats
+// (else 32-bit). Throws Error(invalid_argument) for a bad size or plane, Error(io).
+void save_exr_channels(const std::string& path, int width, int height,
+                       const std::vector<ExrChannel>& channels, bool half = false);
+
 // A picture already encoded for display: 8-bit sRGB, three bytes per pixel, rows top first (what
 // a window's framebuffer holds).
 struct Rgb8Image {

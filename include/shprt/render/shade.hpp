@@ -62,8 +62,9 @@ struct ShadeResult {
 };
 
 // Checks that `transfer` can shade `mesh`: transfer.check(mesh) (Error(invalid_argument) naming
-// what is wrong), and a vector per receiver (Error(unsupported) for transfer matrices, which
-// this shading model does not use). Shared by shade_vertices and the OpenGL renderer.
+// what is wrong), vertex receivers (Error(unsupported) for texel transfer: texel_shade.hpp), and a
+// vector per receiver (Error(unsupported) for transfer matrices, which this shading model does not
+// use). Shared by shade_vertices and the OpenGL renderer.
 void check_shadable(const Mesh& mesh, const TransferSet& transfer);
 
 // Shades every vertex (formulas above) on the CPU in double precision, in parallel (TBB); the

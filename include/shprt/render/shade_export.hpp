@@ -26,6 +26,11 @@ void write_shade_csv(const std::string& path, const Mesh& mesh, const ShadeResul
 // columns as the CSV.
 void write_shade_npy(const std::string& path, const Mesh& mesh, const ShadeResult& result);
 
+// Writes `data` (row-major, little-endian float32) as a NumPy .npy file (format 1.0) of the given
+// shape, through AtomicFile. Throws Error(invalid_argument) when the sizes disagree, Error(io).
+void write_npy_f32(const std::string& path, const std::vector<std::size_t>& shape,
+                   const std::vector<float>& data);
+
 // Binary little-endian PLY through write_ply (scene/ply.hpp, the one PLY writer): vertices with
 // float x, y, z, nx, ny, nz and uchar red, green, blue (the radiance L times `exposure`, filmic
 // tone mapped and sRGB encoded exactly as PNG images are, render/save_image.hpp), then the

@@ -14,6 +14,11 @@
 //                 vertex, and corner_occlusion() gives the exact occluded fractions. Probe
 //                 vertex: the floor vertex at kCornerProbe = (0.1, 0, 0), one cell from the wall.
 //   room          generate_room() with default options (about 20 000 triangles, open top).
+//   quad_box      low poly, with UVs: the floor x, z in [-2, 2] at y = 0 as two triangles, and the
+//                 box [-0.5, 0.5] x [0, 1] x [-0.5, 0.5] without its bottom, each face two
+//                 triangles (24 vertices, 12 triangles); one UV atlas without overlaps (floor in
+//                 [0, 0.7]^2, the faces in 0.2-wide tiles). Per-vertex transfer shows no shadow
+//                 on its floor; per-texel transfer does (docs/texels.md).
 #pragma once
 
 #include "shprt/core/vec.hpp"

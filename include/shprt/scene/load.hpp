@@ -33,6 +33,8 @@ namespace shprt {
 //     cannot be read gives one warning and the material's colour), else the material's base or
 //     diffuse colour, else kDefaultAlbedo grey (also for Assimp's placeholder material);
 //     Mesh::albedo_source says which;
+//   * texture coordinates: UV set `uv_set` (Assimp's mTextureCoords[uv_set], its u and v) when
+//     every mesh of the file has that set, else none (Mesh::uvs empty);
 //   * the result passes validate_mesh (degenerate triangles dropped with a warning).
 // PLY headers are checked strictly before Assimp sees them (Assimp 5.2.5 hangs or allocates
 // without bound on some corrupt ones). The counts on an OFF file's first lines are checked
@@ -49,7 +51,7 @@ namespace shprt {
 // file, Error(unsupported) for a format Assimp does not know, Error(format) for a file it cannot
 // parse, an empty mesh, NaN/Inf coordinates or out-of-range indices; Error(invalid_argument) for an
 // unknown built-in name.
-Mesh load_scene(const std::string& spec);
+Mesh load_scene(const std::string& spec, int uv_set = 0);
 
 // How much memory (bytes of address space) the importer child may use to read a file of
 // `file_bytes` bytes. The environment variable SHPRT_IMPORT_MEMORY_GIB, when set, gives it in GiB

@@ -15,6 +15,15 @@ struct Mesh {
     std::vector<Vec3f> normals;    // unit length, one per vertex
     std::vector<Vec3f> albedo;     // linear RGB diffuse reflectance in [0, 1], one per vertex
     std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise = front face
+    // Texture coordinates (u, v) of one UV set, one per vertex, or empty when the scene has none
+    // (load_scene's uv_set chooses the set). Per-texel transfer (bake/texels.hpp) rasterises the
+    // triangles in this space. Not part of the scene hash.
+    std::vector<std::array<float, 2>> uvs;
+    // Adaptive refinement (bake/refine.hpp) only, else empty: one per vertex, the two vertices
+    // whose edge vertex i split (its parents, both lower indices), or {kNoParent, kNoParent} for a
+    // vertex of the scene as loaded. Not part of the scene hash.
+    std::vector<std::array<std::uint32_t, 2>> parents;
+    static constexpr std::uint32_t kNoParent = 0xFFFFFFFFu;
 
     // Where vertex i came from in the loader's order: for PLY input this is the identity (the
     // file's vertex i is vertex i); for other formats, the index Assimp produced across the

@@ -38,8 +38,9 @@ enum class TransferKind {
     glossy,
 };
 
-// Where the receivers are. Only vertices exist today.
-enum class ReceiverDomain { vertex };
+// Where the receivers are: the mesh's vertices, or the texel centres of its UV atlas
+// (bake/texels.hpp; the set's TexelAtlas says which texels).
+enum class ReceiverDomain { vertex, texel };
 
 // The shape of one channel of one receiver.
 enum class TransferShape {
@@ -120,6 +121,25 @@ struct InterreflectionInfo {
 // "; "-separated list unless it is there already. How the parts' stats combine, everywhere.
 void add_stats(BakeStats& total, const BakeStats& part);
 
+// The texels of a texel-domain transfer (ReceiverDomain::texel; empty otherwise): a W×H image
+// of the mesh's UV set, row 0 at the top (v = 1), and for each receiver r, in ascending order,
+// the index y·width + x of its texel. Texels not listed are outside every chart.
+struct TexelAtlas {
+    int width = 0, height = 0;
+    int uv_set = 0;                    // which UV set of the scene (load_scene's uv_set)
+    std::vector<std::uint32_t> texel;  // one per receiver, strictly increasing, < width·height
+
+    bool empty() const { return texel.empty(); }
+    bool operator==(const TexelAtlas&) const = default;
+};
+
+// Gutter dilation, so bilinear filtering and mip-maps do not bleed the empty background into a
+// chart: for every texel of the atlas's width × height image, the receiver whose value it shows:
+// its own for a covered texel; for an empty texel within `gutter` rings (8-neighbourhood) of a
+// chart, the receiver of a covered texel reached ring by ring (the first neighbour in the order
+// W, E, N, S, NW, NE, SW, SE that has one); −1 elsewhere.
+std::vector<std::int64_t> dilate_texels(const TexelAtlas& atlas, int gutter);
+
 // Everything about a transfer set but its coefficients: what a bake into a sink returns.
 struct TransferInfo {
     TransferKind kind = TransferKind::shadowed;
@@ -131,6 +151,8 @@ struct TransferInfo {
     std::uint64_t seed = 0;
     BakeStats stats;
     InterreflectionInfo interreflection;  // kind == interreflected only
+    TexelAtlas texels;                    // layout.domain == texel only: which texel each
+                                          // receiver is (the bake leaves it to its caller)
 };
 
 // A clustered-PCA code of a transfer's rows (Sloan, Hall, Hart & Snyder 2003; transfer/cpca.hpp):
@@ -177,8 +199,12 @@ struct TransferSet : TransferInfo {
     // there is no direct part.
     TransferSet direct_only() const;
 
+    // How many receivers the domain has: the mesh's vertices, or texels.texel.size().
+    std::size_t receiver_total(const Mesh& mesh) const;
+
     // The one check of a transfer against its mesh: a valid layout, one row per receiver of the
-    // mesh (its vertices, for the vertex domain: coeffs.size() == layout.floats(V)), and normals
+    // mesh (its vertices, for the vertex domain: coeffs.size() == layout.floats(V); its atlas's
+    // texels for the texel domain, whose atlas must be valid and the mesh have UVs), and normals
     // and albedo for every vertex. Throws Error(invalid_argument) naming the mismatch.
     void check(const Mesh& mesh) const;
     // The same for a part of a transfer (a shard): whole rows (coeffs.size() a non-zero multiple
@@ -187,8 +213,9 @@ struct TransferSet : TransferInfo {
     void check_rows(const Mesh& mesh, std::size_t first) const;
     // What check_rows checks but the coefficients themselves: `count` rows of `layout` for
     // receivers [first, first + count) of `mesh` (for rows not in memory, e.g. a streamed file).
+    // `total` is the domain's receiver count (receiver_total).
     static void check_range(const Mesh& mesh, const TransferLayout& layout, std::size_t first,
-                            std::size_t count);
+                            std::size_t count, std::size_t total);
 };
 
 }  // namespace shprt

@@ -1,0 +1,41 @@
+// Shading and exporting texel-domain transfer (docs/texels.md): per-texel irradiance and radiance
+// as images, and the coefficients as EXR planes for engines.
+#pragma once
+
+#include "shprt/render/shade.hpp"
+#include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
+
+#include <string>
+#include <vector>
+
+namespace shprt {
+
+// Gutter of the exported coefficient planes, in texels (dilate_texels): enough for bilinear
+// filtering and a few mip levels.
+inline constexpr int kTexelGutter = 4;
+
+// Shades every receiver (texel) of a texel-domain transfer with shade_vertices' formulas: the
+// texels' positions, normals and albedo come from rasterize_texels over `mesh` (its UVs) at the
+// atlas's size, which must give exactly the atlas's texels (else Error(format): the file's mesh
+// and atlas disagree). Results are per receiver, in atlas order. Throws what shade_vertices
+// throws, Error(invalid_argument) for a transfer that is not texel-domain.
+ShadeResult shade_texels(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                         const ShadeOptions& options);
+
+// Writes one value per receiver as a width × height × 3 image, row 0 at the top, texels outside
+// every chart NaN: `.npy` (float32, shape (H, W, 3)) or `.exr` (float32 R, G, B); or a `.png`
+// picture of it (times `exposure`, tone mapped as save_image does, black outside the charts).
+// Throws Error(unsupported) for another extension, Error(invalid_argument) for a size mismatch.
+void write_texel_image(const std::string& path, const TexelAtlas& atlas,
+                       const std::vector<Vec3f>& values, float exposure = 1.0f);
+
+// Writes the coefficients of a texel-domain transfer as one multi-channel EXR: channel c of
+// coefficient i is "shIII.Y" (one channel) or "shIII.R|G|B" (three), each a width × height plane,
+// dilated `gutter` texels into the empty space (dilate_texels) and 0 beyond; float16 when the
+// transfer's encoding is f16, else float32. Throws Error(invalid_argument) for a transfer that is
+// not texel-domain vectors.
+void write_texel_coefficients_exr(const std::string& path, const TransferSet& transfer,
+                                  int gutter = kTexelGutter);
+
+}  // namespace shprt

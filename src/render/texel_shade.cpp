@@ -1,0 +1,102 @@
+// Texel-domain shading and export (texel_shade.hpp).
+#include "shprt/render/texel_shade.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/render/save_image.hpp"
+#include "shprt/render/shade_export.hpp"
+#include "shprt/scene/texel_raster.hpp"
+
+#include <fmt/format.h>
+
+#include <limits>
+
+namespace shprt {
+namespace {
+
+void require_texels(const TransferSet& transfer) {
+    SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::texel && !transfer.texels.empty(),
+                invalid_argument, "not a texel transfer (domain {})",
+                to_string(transfer.layout.domain));
+}
+
+}  // namespace
+
+ShadeResult shade_texels(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                         const ShadeOptions& options) {
+    require_texels(transfer);
+    transfer.check(mesh);
+    const TexelAtlas& atlas = transfer.texels;
+    const TexelSamples samples = rasterize_texels(mesh, atlas.width, atlas.height, atlas.uv_set);
+    SHPRT_CHECK(samples.texel == atlas.texel, format,
+                "{}: the texels of its UVs at {}x{} ({}) are not the file's ({})", mesh.source,
+                atlas.width, atlas.height, samples.count(), atlas.texel.size());
+    // The texels as the vertices of a mesh without triangles: shading is per point.
+    Mesh points;
+    points.source = mesh.source;
+    points.positions = samples.positions;
+    points.normals = samples.normals;
+    points.albedo = samples.albedo;
+    TransferSet rows = transfer;
+    rows.layout.domain = ReceiverDomain::vertex;
+    rows.texels = {};
+    return shade_vertices(points, rows, light, options);
+}
+
+void write_texel_image(const std::string& path, const TexelAtlas& atlas,
+                       const std::vector<Vec3f>& values, float exposure) {
+    const std::string ext = lower_extension(path);
+    SHPRT_CHECK(ext == ".npy" || ext == ".exr" || ext == ".png", unsupported,
+                "{}: a texel transfer shades to an image: .npy (H x W x 3), .exr or .png", path);
+    SHPRT_CHECK(values.size() == atlas.texel.size(), invalid_argument,
+                "{}: {} values for {} texels", path, values.size(), atlas.texel.size());
+    const std::size_t W = std::size_t(atlas.width), H = std::size_t(atlas.height);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    if (ext == ".npy") {
+        std::vector<float> image(W * H * 3, nan);
+        for (std::size_t r = 0; r < values.size(); ++r)
+            for (int c = 0; c < 3; ++c) image[3 * std::size_t(atlas.texel[r]) + c] = values[r][c];
+        return write_npy_f32(path, {H, W, 3}, image);
+    }
+    if (ext == ".png") {  // a picture of the lightmap: tone mapped, black outside the charts
+        Image image;
+        image.width = atlas.width;
+        image.height = atlas.height;
+        image.rgb.assign(W * H * 3, 0.0f);
+        for (std::size_t r = 0; r < values.size(); ++r)
+            for (int c = 0; c < 3; ++c)
+                image.rgb[3 * std::size_t(atlas.texel[r]) + c] = values[r][c];
+        return save_image(path, image, exposure);
+    }
+    std::vector<ExrChannel> channels = {{"R", {}}, {"G", {}}, {"B", {}}};
+    for (int c = 0; c < 3; ++c) {
+        channels[c].plane.assign(W * H, nan);
+        for (std::size_t r = 0; r < values.size(); ++r)
+            channels[c].plane[atlas.texel[r]] = values[r][c];
+    }
+    save_exr_channels(path, atlas.width, atlas.height, channels, false);
+}
+
+void write_texel_coefficients_exr(const std::string& path, const TransferSet& transfer,
+                                  int gutter) {
+    require_texels(transfer);
+    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, invalid_argument,
+                "{}: only vector transfer exports as texel planes", path);
+    const TexelAtlas& atlas = transfer.texels;
+    const std::vector<std::int64_t> source = dilate_texels(atlas, gutter);
+    const int K = transfer.layout.K, C = transfer.layout.channels;
+    static const char* kNames[3] = {"R", "G", "B"};
+    std::vector<ExrChannel> channels;
+    for (int i = 0; i < K; ++i)
+        for (int c = 0; c < C; ++c) {
+            ExrChannel ch{fmt::format("sh{:03}.{}", i, C == 1 ? "Y" : kNames[c]),
+                          std::vector<float>(source.size(), 0.0f)};
+            for (std::size_t p = 0; p < source.size(); ++p)
+                if (source[p] >= 0) ch.plane[p] = transfer.receiver(std::size_t(source[p]), c)[i];
+            channels.push_back(std::move(ch));
+        }
+    save_exr_channels(path, atlas.width, atlas.height, channels,
+                      transfer.layout.encoding == TransferEncoding::f16);
+}
+
+}  // namespace shprt

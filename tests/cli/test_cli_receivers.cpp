@@ -1,0 +1,109 @@
+// `shprt bake --domain texel` and `shprt bake --refine` run as a program: the files they write
+// (texel atlas, refined mesh with parents), `shade` of a texel file as an H×W×3 .npy with NaN
+// outside the charts, `export` of its coefficient planes as EXR, the budget warning, and the
+// refusals (no UVs, bad options, options that do not go together) as one line on stderr.
+#include "shprt/config.hpp"
+#include "shprt/io/shprt_file.hpp"
+
+#include "cli/cli_test.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+namespace shprt {
+namespace {
+
+using test_support::expect_one_line_error;
+
+class CliReceivers : public test_support::CliTest {};
+
+TEST_F(CliReceivers, TexelBakeShadeExport) {
+    const std::string file = (m_dir / "t.shprt").string();
+    auto r = shprt(
+        "bake builtin:quad_box --domain texel --resolution 32x16 --samples 64 "
+        "--coeffs 4 -o '" +
+        file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("texels: 32x16"));
+    const ShprtFile f = read_shprt(file);
+    EXPECT_EQ(f.transfer.layout.domain, ReceiverDomain::texel);
+    EXPECT_EQ(f.transfer.layout.encoding, TransferEncoding::f16);  // the texel default
+    EXPECT_EQ(f.transfer.texels.width, 32);
+    EXPECT_EQ(f.transfer.texels.height, 16);
+    EXPECT_EQ(f.transfer.receiver_count(), f.transfer.texels.texel.size());
+#if SHPRT_HAS_RENDER
+    const std::string npy = (m_dir / "e.npy").string();
+    r = shprt("shade '" + file + "' --light constant -o '" + npy + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string bytes = test_support::slurp(npy);
+    EXPECT_NE(bytes.find("'shape': (16, 32, 3)"), std::string::npos);
+    const std::size_t data = bytes.size() - 16 * 32 * 3 * 4;
+    std::size_t nan = 0;
+    for (std::size_t i = 0; i < 16 * 32 * 3; ++i) {
+        float v;
+        std::memcpy(&v, bytes.data() + data + 4 * i, 4);
+        nan += std::isnan(v);
+    }
+    EXPECT_EQ(nan, 3 * (16 * 32 - f.transfer.texels.texel.size()));
+    const std::string exr = (m_dir / "c.exr").string();
+    r = shprt("export '" + file + "' -o '" + exr + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(test_support::slurp(exr), ::testing::HasSubstr("sh003.Y"));
+    expect_one_line_error(
+        shprt("shade '" + file + "' --light constant -o '" + (m_dir / "e.csv").string() + "'"),
+        ".npy (H x W x 3), .exr or .png");
+#endif
+}
+
+TEST_F(CliReceivers, RefineWritesTheRefinedMeshAndWarnsAtTheBudget) {
+    const std::string file = (m_dir / "r.shprt").string();
+    auto r = shprt(
+        "bake builtin:box_on_plane --refine 0.001 --max-vertices 1300 --samples 64 "
+        "--coeffs 4 -o '" +
+        file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("refined: 1214 -> 1300 vertices"));
+    EXPECT_THAT(r.err, ::testing::HasSubstr("shprt: warning: refinement stopped at --max-vertices "
+                                            "1300"));
+    const ShprtFile f = read_shprt(file);
+    EXPECT_EQ(f.mesh.vertex_count(), 1300u);
+    ASSERT_EQ(f.mesh.parents.size(), 1300u);
+    EXPECT_EQ(f.mesh.parents[0][0], Mesh::kNoParent);
+    EXPECT_LT(f.mesh.parents[1299][0], 1214u + 86u);
+    EXPECT_NE(f.metadata_json.find("\"refinement\""), std::string::npos);
+    const std::string ply = (m_dir / "r.ply").string();
+    r = shprt("scene mesh '" + file + "' -o '" + ply + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("1300 vertices"));
+}
+
+TEST_F(CliReceivers, RefusalsAreOneLine) {
+    const std::string out = (m_dir / "x.shprt").string();
+    const std::string base = "bake --samples 16 --coeffs 4 -o '" + out + "' ";
+    expect_one_line_error(shprt(base + "builtin:plane --domain texel --resolution 8"),
+                          "has no texture coordinates");
+    expect_one_line_error(shprt(base + "builtin:quad_box --domain texel"), "needs --resolution");
+    expect_one_line_error(shprt(base + "builtin:quad_box --domain texel --resolution 8y8"),
+                          "--resolution '8y8'");
+    expect_one_line_error(shprt(base + "builtin:quad_box --domain voxel"),
+                          "unknown receiver domain 'voxel'");
+    expect_one_line_error(shprt(base + "builtin:quad_box --resolution 8"), "need --domain texel");
+    expect_one_line_error(
+        shprt(base + "builtin:quad_box --domain texel --resolution 8 --shard 0/2"),
+        "--shard does not go with --domain texel");
+    expect_one_line_error(shprt(base + "builtin:plane --refine 0.05 --stream"),
+                          "--stream does not go with --refine");
+    expect_one_line_error(shprt(base + "builtin:plane --refine -1"), "--refine -1");
+    expect_one_line_error(shprt(base + "builtin:plane --max-vertices 10"), "need --refine");
+    expect_one_line_error(shprt(base + "builtin:plane --refine 0.1 --max-edge-split-depth 99"),
+                          "--max-edge-split-depth 99");
+    expect_one_line_error(shprt(base + "builtin:plane --refine 0.1 --max-vertices 10"),
+                          "--max-vertices 10");
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace shprt
