@@ -29,6 +29,7 @@ namespace shprt {
 struct ReceiverSpan {
     std::size_t first = 0;
     std::size_t count = 0;
+    bool operator==(const ReceiverSpan&) const = default;
 };
 
 // The spans of [first, first + count) not covered by `done` (in any order, possibly overlapping,
