@@ -64,15 +64,8 @@ TransferInfo bake_remaining(const BakeJob& job, const BakeOptions& options,
         part.receivers = all.range(gap.first, gap.count);
         info = bake(part, o);
         receivers_before += gap.count;
-        const BakeStats& s = info.stats;
-        sum.seconds_bvh += s.seconds_bvh;
-        sum.seconds_trace += s.seconds_trace;
-        sum.seconds_project += s.seconds_project;
-        sum.seconds_total += s.seconds_total;
-        sum.rays_cast += s.rays_cast;
-        sum.peak_bytes_host = std::max(sum.peak_bytes_host, s.peak_bytes_host);
+        add_stats(sum, info.stats);
     }
-    sum.device_name = info.stats.device_name;
     info.stats = sum;
     return info;
 }

@@ -23,34 +23,17 @@ constexpr std::size_t kHeaderBytes = 64;
 constexpr std::size_t kRecordHeadBytes = 32;
 constexpr std::uint32_t kRecordTag = 0x4352'4b43;  // "CKRC" little-endian
 
-void put32(unsigned char* p, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
-}
-void put64(unsigned char* p, std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
-}
-std::uint32_t get32(const unsigned char* p) {
-    std::uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= std::uint32_t(p[i]) << (8 * i);
-    return v;
-}
-std::uint64_t get64(const unsigned char* p) {
-    std::uint64_t v = 0;
-    for (int i = 0; i < 8; ++i) v |= std::uint64_t(p[i]) << (8 * i);
-    return v;
-}
-
 std::array<unsigned char, kHeaderBytes> make_header(std::uint64_t fingerprint, std::size_t first,
                                                     std::size_t count, std::size_t floats) {
     std::array<unsigned char, kHeaderBytes> h{};
     std::memcpy(h.data(), kMagic, 8);
-    put32(h.data() + 8, kVersion);
-    put32(h.data() + 12, kHeaderBytes);
-    put64(h.data() + 16, fingerprint);
-    put64(h.data() + 24, first);
-    put64(h.data() + 32, count);
-    put64(h.data() + 40, floats);
-    put32(h.data() + 60, crc32(h.data(), 60));
+    put_u32(h.data() + 8, kVersion);
+    put_u32(h.data() + 12, kHeaderBytes);
+    put_u64(h.data() + 16, fingerprint);
+    put_u64(h.data() + 24, first);
+    put_u64(h.data() + 32, count);
+    put_u64(h.data() + 40, floats);
+    put_u32(h.data() + 60, crc32(h.data(), 60));
     return h;
 }
 
@@ -123,13 +106,14 @@ CheckpointFile CheckpointFile::resume(const std::string& path, std::uint64_t fin
     std::array<unsigned char, kHeaderBytes> h{};
     SHPRT_CHECK(pread_some(f.m_fd, h.data(), h.size(), 0, path) == h.size() &&
                     std::memcmp(h.data(), kMagic, 8) == 0 &&
-                    get32(h.data() + 60) == crc32(h.data(), 60),
+                    get_u32(h.data() + 60) == crc32(h.data(), 60),
                 format, "{}: not a shprt checkpoint (or its header is damaged)", path);
-    SHPRT_CHECK(get32(h.data() + 8) == kVersion, format,
+    SHPRT_CHECK(get_u32(h.data() + 8) == kVersion, format,
                 "{}: checkpoint version {} (this shprt reads version {})", path,
-                get32(h.data() + 8), kVersion);
-    SHPRT_CHECK(get64(h.data() + 16) == fingerprint && get64(h.data() + 24) == first &&
-                    get64(h.data() + 32) == count && get64(h.data() + 40) == floats_per_receiver,
+                get_u32(h.data() + 8), kVersion);
+    SHPRT_CHECK(get_u64(h.data() + 16) == fingerprint && get_u64(h.data() + 24) == first &&
+                    get_u64(h.data() + 32) == count &&
+                    get_u64(h.data() + 40) == floats_per_receiver,
                 invalid_argument,
                 "{}: the checkpoint is of another bake (the scene, its receivers or the bake "
                 "options differ); resume with the same scene and options, or start afresh",
@@ -142,14 +126,14 @@ CheckpointFile CheckpointFile::resume(const std::string& path, std::uint64_t fin
     while (at + kRecordHeadBytes <= size) {
         unsigned char r[kRecordHeadBytes];
         if (pread_some(f.m_fd, r, sizeof r, at, path) != sizeof r) break;
-        if (get32(r) != kRecordTag || get32(r + 28) != crc32(r, 28)) break;
-        const std::uint64_t rf = get64(r + 8), rc = get64(r + 16);
+        if (get_u32(r) != kRecordTag || get_u32(r + 28) != crc32(r, 28)) break;
+        const std::uint64_t rf = get_u64(r + 8), rc = get_u64(r + 16);
         if (rc == 0 || rf < first || rf > first + count || rc > first + count - rf) break;
         const std::uint64_t bytes = rc * row_bytes;
         if (bytes > size - at - kRecordHeadBytes) break;
         rows.resize(bytes);
         if (pread_some(f.m_fd, rows.data(), bytes, at + kRecordHeadBytes, path) != bytes ||
-            crc32(rows.data(), bytes) != get32(r + 4))
+            crc32(rows.data(), bytes) != get_u32(r + 4))
             break;
         f.m_found.push_back({at + kRecordHeadBytes, {rf, rc}});
         f.m_done.push_back({rf, rc});
@@ -192,11 +176,11 @@ void CheckpointFile::append(std::size_t first, std::size_t count, const float* r
         invalid_argument, "checkpoint {}: rows {}+{} outside its range", m_path, first, count);
     const std::size_t bytes = count * m_floats * sizeof(float);
     unsigned char head[kRecordHeadBytes] = {};
-    put32(head, kRecordTag);
-    put32(head + 4, crc32(rows, bytes));
-    put64(head + 8, first);
-    put64(head + 16, count);
-    put32(head + 28, crc32(head, 28));
+    put_u32(head, kRecordTag);
+    put_u32(head + 4, crc32(rows, bytes));
+    put_u64(head + 8, first);
+    put_u64(head + 16, count);
+    put_u32(head + 28, crc32(head, 28));
     std::vector<unsigned char> record(kRecordHeadBytes + bytes);
     std::memcpy(record.data(), head, kRecordHeadBytes);
     std::memcpy(record.data() + kRecordHeadBytes, rows, bytes);

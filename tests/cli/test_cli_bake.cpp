@@ -146,9 +146,9 @@ TEST_F(CliBake, MpiWithoutMpiInTheBuildIsOneLine) {
     shprt::test_support::expect_one_line_error(
         shprt("bake builtin:plane --mpi -o '" + out("x.shprt") + "'"), "this build has no MPI");
     EXPECT_TRUE(out_dir_empty());
-    EXPECT_EQ(shprt("bake builtin:plane --coeffs 4 --samples 16 -o '" + out("x.shprt") + "'")
-                  .exit_code,
-              0);
+    EXPECT_EQ(
+        shprt("bake builtin:plane --coeffs 4 --samples 16 -o '" + out("x.shprt") + "'").exit_code,
+        0);
 }
 #endif
 

@@ -106,22 +106,8 @@ protected:
     static void expect_interrupted(const RunResult& r, int signal, const std::string& needle) {
         expect_failure(r, 128 + signal, needle);
     }
-    // A failed run: exit code `code`, every stderr line prefixed (progress lines may come
-    // first), the last one the one error line, containing `needle`; nothing on stdout.
     static void expect_failure(const RunResult& r, int code, const std::string& needle) {
-        EXPECT_EQ(r.exit_code, code) << r.err;
-        EXPECT_EQ(r.out, "");
-        std::istringstream lines(r.err);
-        std::string line, last;
-        int errors = 0;
-        while (std::getline(lines, line)) {
-            EXPECT_EQ(line.rfind("shprt: ", 0), 0u) << "unprefixed stderr line: " << line;
-            errors += line.rfind("shprt: error: ", 0) == 0;
-            last = line;
-        }
-        EXPECT_EQ(errors, 1) << r.err;
-        EXPECT_EQ(last.rfind("shprt: error: ", 0), 0u) << r.err;
-        EXPECT_NE(last.find(needle), std::string::npos) << r.err;
+        shprt::test_support::expect_failure(r, code, {needle});
     }
     static std::vector<std::string> with(std::vector<std::string> args,
                                          const std::vector<std::string>& more) {
