@@ -238,7 +238,7 @@ void run_mpi(const BakeArgs& args, BakeOptions options) {
             }
         });
         dist::check_same_scene(session, *mesh);
-        if (root) install_interrupt_handler();
+        if (root) install_interrupt_handler(false);  // SIGTERM: mpirun ending the job
         std::optional<Plan> p;
         std::unique_ptr<Output> output;
         session.agree([&] {

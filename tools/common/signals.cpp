@@ -18,7 +18,7 @@ namespace {
 constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 
 volatile std::sig_atomic_t g_request = 0;   // the signal that arrived as a request, or 0
-volatile std::sig_atomic_t g_requests = 0;  // 1 while signals are requests
+volatile std::sig_atomic_t g_requests = 0;  // which signals are requests: 1 SIGINT, 2 all
 pid_t g_main_pid = 0;                       // a forked child (the importer) dies quietly
 bool g_quiet = false;                       // an MPI rank other than 0: rank 0 speaks
 std::atomic<bool> g_installed{false};
@@ -36,7 +36,7 @@ void write_all(const char* text) {
 // Async-signal-safe: write, unlink (remove_live_temporaries) and _exit only.
 extern "C" void on_signal(int signal) {
     if (::getpid() != g_main_pid) ::_exit(128 + signal);
-    if (g_requests != 0 && g_request == 0) {
+    if ((g_requests == 2 || (g_requests == 1 && signal == SIGINT)) && g_request == 0) {
         g_request = signal;
         return;
     }
@@ -78,9 +78,9 @@ void install_signal_handlers() {
     }
 }
 
-void install_interrupt_handler() {
+void install_interrupt_handler(bool terminate_too) {
     install_signal_handlers();
-    g_requests = 1;
+    g_requests = terminate_too ? 2 : 1;
 }
 
 bool interrupted() { return g_request != 0; }

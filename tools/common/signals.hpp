@@ -23,9 +23,11 @@ struct Interrupted {
 };
 
 void install_signal_handlers();
-// Makes the next SIGINT, SIGTERM or SIGHUP a cancel request (see top). Safe to call more than
-// once.
-void install_interrupt_handler();
+// Makes the next SIGINT, SIGTERM or SIGHUP a cancel request (see top); with `terminate_too` false
+// only SIGINT — an MPI rank, whose launcher ends a failed job with SIGTERM and may be blocked in
+// MPI where no request is polled, dies of SIGTERM at once (temporaries removed). Safe to call more
+// than once.
+void install_interrupt_handler(bool terminate_too = true);
 // True once a signal arrived as a request.
 bool interrupted();
 // The signal that arrived as a request (SIGINT, SIGTERM, SIGHUP), or 0.
