@@ -20,7 +20,7 @@ constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 volatile std::sig_atomic_t g_request = 0;   // the signal that arrived as a request, or 0
 volatile std::sig_atomic_t g_requests = 0;  // which signals are requests: 1 SIGINT, 2 all
 pid_t g_main_pid = 0;                       // a forked child (the importer) dies quietly
-bool g_quiet = false;                       // an MPI rank other than 0: rank 0 speaks
+volatile std::sig_atomic_t g_quiet = 0;     // no line: an MPI rank other than 0, or after the error
 std::atomic<bool> g_installed{false};
 
 void write_all(const char* text) {
@@ -66,7 +66,7 @@ const char* signal_name(int signal) {
 void install_signal_handlers() {
     if (g_installed.exchange(true)) return;
     g_main_pid = ::getpid();
-    g_quiet = is_secondary_rank();
+    if (is_secondary_rank()) g_quiet = 1;
     for (const int signal : kSignals) {
         struct sigaction current {};
         if (::sigaction(signal, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
@@ -77,6 +77,8 @@ void install_signal_handlers() {
         ::sigaction(signal, &action, nullptr);
     }
 }
+
+void quiet_signals() { g_quiet = 1; }
 
 void install_interrupt_handler(bool terminate_too) {
     install_signal_handlers();

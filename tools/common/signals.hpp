@@ -34,6 +34,10 @@ bool interrupted();
 int interrupt_signal();
 // Back to the first mode; throws Interrupted if a request arrived.
 void end_interruptible();
+// After the process printed its one error line (print_error calls it): a later signal (mpirun
+// ending the other ranks of a failed job) still removes the temporaries and ends the process, but
+// prints nothing, so that the error stays the one and last line.
+void quiet_signals();
 // "SIGINT", "SIGTERM", "SIGHUP" (else "signal N").
 const char* signal_name(int signal);
 // The exit status for `signal`: 128 + signal.
