@@ -7,6 +7,7 @@
 #include "common/command.hpp"
 #include "common/progress_bar.hpp"
 #include "common/receiver_options.hpp"
+#include "common/resumable_bake.hpp"
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/config.hpp"
@@ -47,6 +48,7 @@ struct BakeArgs {
     bool mpi = false;
     std::size_t mpi_unit = 0;  // 0 = automatic
     ReceiverArgs receivers;    // --domain texel, --refine: common/receiver_options.hpp
+    ResumableArgs resumable;   // --checkpoint, --resume, --max-memory (common/resumable_bake.hpp)
 };
 
 // "I/N" with 0 ≤ I < N: shard I of N.
@@ -238,7 +240,7 @@ void run_mpi(const BakeArgs& args, BakeOptions options) {
             }
         });
         dist::check_same_scene(session, *mesh);
-        if (root) install_interrupt_handler();
+        if (root) install_interrupt_handler(false);  // SIGTERM: mpirun ending the job
         std::optional<Plan> p;
         std::unique_ptr<Output> output;
         session.agree([&] {
@@ -300,10 +302,15 @@ void run(const BakeArgs& args) {
                     "--stream: interreflected transfer keeps every vertex's rows in memory for "
                     "its bounces; bake it without --stream");
     }
+    const bool mpi = use_mpi(args);
+    check_resumable_args(args.resumable, options, args.output,
+                         mpi ? "an MPI bake cannot be checkpointed yet; bake without MPI"
+                         : args.receivers.requested()
+                             ? "texel and refined bakes cannot be checkpointed yet; bake "
+                               "without --checkpoint"
+                             : "");
 #if SHPRT_HAS_MPI
-    if (use_mpi(args)) return run_mpi(args, options);
-#else
-    use_mpi(args);
+    if (mpi) return run_mpi(args, options);
 #endif
     check_output_is_not_input(args.output, {args.scene});
     check_output_writable(args.output);
@@ -314,19 +321,28 @@ void run(const BakeArgs& args) {
     const double seconds_load = seconds_since(load_start);
 
     const Plan p = plan(args, mesh, seconds_load, 0);
-    if (args.receivers.requested())
+    if (args.receivers.requested()) {
+        install_interrupt_handler();
         return bake_other_receivers(args.receivers, mesh, options, args.output, args.half,
                                     p.write_options);
+    }
     install_interrupt_handler();
     Output output(args, mesh, p.receivers, options, p.write_options);
+    const BakeJob job{&mesh, p.receivers, &output.sink(), nullptr, nullptr, output.direct()};
+    check_bake_memory(args.resumable, job, options, !args.stream);
+    ResumableBake resumable(args.resumable, job, options);
     TransferInfo info;
     {
         ProgressBar bar("bake");
         options.progress = bar.callback();
-        info = bake(BakeJob{&mesh, p.receivers, &output.sink(), nullptr, nullptr, output.direct()},
-                    options);
+        test_stop_point("bake");
+        info = resumable.run();
     }
+    test_stop_point("write");
+    end_interruptible();  // a signal from here on: nothing written (common/signals.hpp)
+    test_stop_point("writing");
     const double seconds_write = output.write(info);
+    resumable.remove_checkpoint();
     print_summary(args, p, info, seconds_load, seconds_write);
 }
 
@@ -353,6 +369,7 @@ const bool registered = register_command(
          app.add_option("--mpi-unit", args->mpi_unit,
                         "Smallest share of receivers a rank claims at a time (default: automatic, "
                         "enough to keep its threads busy)");
+         add_resumable_options(app, args->resumable);
          app.callback([args] { run(*args); });
      }});
 

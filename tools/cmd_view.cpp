@@ -78,6 +78,7 @@ TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
     options.progress = bar.callback();
     const auto start = Clock::now();
     TransferSet t = bake(mesh, options);
+    end_interruptible();  // from here on a signal ends the viewer at once (common/signals.hpp)
     bar.finish();
     std::printf("baked %zu vertices, K=%d, S=%d in %.2f s (%s)\n", mesh.vertex_count(), t.layout.K,
                 t.samples, seconds_since(start), t.stats.device_name.c_str());

@@ -2,6 +2,7 @@
 // parses arguments, calls the library, reports. One-line errors, non-zero exit codes.
 #include "common/command.hpp"
 #include "common/number_options.hpp"
+#include "common/signals.hpp"
 
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
@@ -37,9 +38,18 @@ std::string value_error_message(const std::string& what) {
            ": out of range";
 }
 
+// "interrupted by SIGINT; nothing was written", exit status 128 + the signal (common/signals.hpp).
+int report_interrupted(int signal) {
+    const std::string what = std::string("interrupted by ") + shprt::tools::signal_name(signal) +
+                             "; nothing was written";
+    return report_error(what.c_str(), shprt::tools::interrupted_exit_code(signal));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    // First of all: from here on a signal never ends the process without its one line.
+    shprt::tools::install_signal_handlers();
     using shprt::tools::check_numeric_options;
     CLI::App app{"shprt — precomputed radiance transfer in a spherical-harmonics basis"};
     app.set_version_flag("--version", std::string("shprt ") + SHPRT_VERSION_STRING +
@@ -96,9 +106,14 @@ int main(int argc, char** argv) {
         return report_error(e.what(), 2, " (see --help)");
     } catch (const shprt::tools::ExitQuietly& e) {
         return e.exit_code;
+    } catch (const shprt::tools::Interrupted& e) {
+        return report_interrupted(e.signal);
     } catch (const std::bad_alloc&) {
         return report_error("out of memory (an allocation failed)", 1);
     } catch (const std::exception& e) {
+        // A computation the signal cancelled (Error(cancelled)) reports the signal.
+        if (shprt::tools::interrupted())
+            return report_interrupted(shprt::tools::interrupt_signal());
         return report_error(e.what(), 1);
     }
     return 0;

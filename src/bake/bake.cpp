@@ -155,6 +155,29 @@ TransferInfo bake_description(const BakeOptions& options) {
     return info;
 }
 
+std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receivers,
+                                       const BakeOptions& options, bool rows_in_memory) {
+    const std::uint64_t S = options.samples, K = std::uint64_t(std::max(options.K, 0));
+    const std::uint64_t V = receivers;
+    const std::uint64_t chunk = options.chunk_receivers > 0
+                                    ? options.chunk_receivers
+                                    : auto_chunk_receivers(std::max<std::size_t>(receivers, 1), S);
+    const std::uint64_t threads = static_cast<std::uint64_t>(
+        options.threads > 0 ? options.threads : std::max(1, tbb::info::default_concurrency()));
+    const std::uint64_t chunks = (V + chunk - 1) / std::max<std::uint64_t>(chunk, 1);
+    const std::uint64_t workers = std::max<std::uint64_t>(1, std::min(threads, chunks));
+    const std::uint64_t channels = options.transfer == TransferKind::interreflected ? 3 : 1;
+    std::uint64_t bytes = triangles * kBvhBytesPerTriangle;
+    bytes += S * K * sizeof(float);                                            // Y
+    bytes += S * (4 * sizeof(float) + 3 * sizeof(float));                      // direction table
+    bytes += workers * (chunk * S * sizeof(float) +                            // W
+                        S * (3 * sizeof(float) + sizeof(std::uint32_t) + 1) +  // rays
+                        chunk * K * sizeof(float));                            // C
+    if (rows_in_memory) bytes += V * channels * K * sizeof(float);
+    if (channels == 3) bytes += 3 * V * 3 * K * sizeof(float) + V * K * sizeof(float);
+    return bytes;
+}
+
 void validate(const BakeOptions& options) {
     SHPRT_CHECK(options.K >= 1 && options.K <= kMaxBakeCoeffs, invalid_argument,
                 "basis size K = {} is out of range (1 to {} coefficients, i.e. up to 32 bands)",

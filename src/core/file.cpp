@@ -1,7 +1,9 @@
 #include "shprt/core/file.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/log.hpp"
 
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -30,8 +32,7 @@ std::array<std::atomic<int>, kTempSlots> g_slot_state{};
 std::array<std::array<char, PATH_MAX>, kTempSlots> g_slot_path{};
 
 extern "C" void remove_temporaries_and_die(int signal) {
-    for (std::size_t i = 0; i < kTempSlots; ++i)
-        if (g_slot_state[i].load() == 2) ::unlink(g_slot_path[i].data());
+    remove_live_temporaries();
     std::signal(signal, SIG_DFL);
     std::raise(signal);
 }
@@ -70,10 +71,39 @@ void unregister_temporary(std::size_t slot) {
     if (slot < kTempSlots) g_slot_state[slot].store(0);
 }
 
+// Removes "<path>.tmp.<pid>.<n>" beside `path` whose process <pid> is not running here (kill(pid,
+// 0) fails with ESRCH): what a run killed while writing the same output left.
+void remove_stale_temporaries(const std::string& path) {
+    namespace fs = std::filesystem;
+    const fs::path target(path);
+    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    const std::string prefix = target.filename().string() + ".tmp.";
+    std::error_code ec;
+    fs::directory_iterator it(dir, ec), end;
+    for (; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+        const std::string rest = name.substr(prefix.size());  // "<pid>.<n>"
+        const std::size_t dot = rest.find('.');
+        if (dot == 0 || dot == std::string::npos || dot + 1 == rest.size() ||
+            rest.find_first_not_of("0123456789.") != std::string::npos ||
+            rest.find('.', dot + 1) != std::string::npos || dot > 9)
+            continue;
+        const long pid = std::stol(rest.substr(0, dot));
+        if (pid <= 0 || pid == ::getpid()) continue;
+        if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+        std::error_code removed;
+        if (fs::remove(it->path(), removed))
+            log_warn("removed {}, left by a run that was killed while writing {}",
+                     it->path().string(), path);
+    }
+}
+
 }  // namespace
 
 AtomicFile::AtomicFile(std::string path) : m_path(std::move(path)) {
     SHPRT_CHECK(!m_path.empty(), invalid_argument, "output path is empty");
+    remove_stale_temporaries(m_path);
     m_temp = fmt::format("{}.tmp.{}.{}", m_path, ::getpid(), g_counter++);
     m_slot = register_temporary(m_temp);
     m_file = std::fopen(m_temp.c_str(), "wb");
@@ -109,6 +139,11 @@ void AtomicFile::commit() {
     m_committed = true;
     unregister_temporary(m_slot);
     m_slot = std::size_t(-1);
+}
+
+void remove_live_temporaries() {
+    for (std::size_t i = 0; i < kTempSlots; ++i)
+        if (g_slot_state[i].load() == 2) ::unlink(g_slot_path[i].data());
 }
 
 bool same_file(const std::string& a, const std::string& b) {

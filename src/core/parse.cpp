@@ -3,6 +3,7 @@
 
 #include "shprt/core/error.hpp"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <string>
@@ -113,6 +114,32 @@ std::vector<double> parse_numbers(std::string_view text, std::size_t count, std:
 
 std::vector<double> parse_numbers(std::string_view text, std::string_view what) {
     return parse_list(text, 0, what);
+}
+
+bool parse_byte_size(std::string_view text, std::uint64_t& bytes) {
+    std::size_t end = text.size();
+    while (end > 0 && (text[end - 1] == ' ' || text[end - 1] == '\t')) --end;
+    std::size_t unit = end;
+    while (unit > 0 && std::isalpha(static_cast<unsigned char>(text[unit - 1]))) --unit;
+    std::string suffix(text.substr(unit, end - unit));
+    for (char& c : suffix) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (suffix.size() > 1 && suffix.back() == 'B') suffix.pop_back();   // "MB", "MIB"
+    if (suffix.size() == 2 && suffix.back() == 'I') suffix.pop_back();  // "MI" (from "MiB")
+    double scale = 1;
+    if (suffix.empty() || suffix == "B") {
+        scale = 1;
+    } else if (suffix.size() == 1 &&
+               std::string_view("KMGT").find(suffix[0]) != std::string_view::npos) {
+        scale = std::ldexp(1.0, 10 * (1 + int(std::string_view("KMGT").find(suffix[0]))));
+    } else {
+        return false;
+    }
+    double value = 0;
+    if (!parse_number(text.substr(0, unit), value) || value < 0) return false;
+    const double b = std::ceil(value * scale);
+    if (!(b < std::ldexp(1.0, 63))) return false;
+    bytes = static_cast<std::uint64_t>(b);
+    return true;
 }
 
 }  // namespace shprt

@@ -14,27 +14,6 @@ namespace shprt {
 static_assert(std::endian::native == std::endian::little,
               ".shprt I/O assumes a little-endian host");
 
-namespace {
-
-void put_u32(unsigned char* p, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
-}
-void put_u64(unsigned char* p, std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
-}
-std::uint32_t get_u32(const unsigned char* p) {
-    std::uint32_t v = 0;
-    for (int i = 3; i >= 0; --i) v = (v << 8) | p[i];
-    return v;
-}
-std::uint64_t get_u64(const unsigned char* p) {
-    std::uint64_t v = 0;
-    for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
-    return v;
-}
-
-}  // namespace
-
 std::uint32_t encode_shprt_header(const ShprtHeader& header, unsigned char out[kShprtHeaderSize]) {
     std::memcpy(out, kShprtMagic, sizeof kShprtMagic);
     put_u32(out + 12, header.version);

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -74,6 +75,23 @@ void DeviceSink::begin(const TransferLayout& layout, std::size_t first, std::siz
 void DeviceSink::write(std::size_t first, std::size_t count, const float*) {
     check_range(first, count, m_first, m_count);
     ++m_chunks;
+}
+
+std::vector<ReceiverSpan> remaining_spans(std::size_t first, std::size_t count,
+                                          std::vector<ReceiverSpan> done) {
+    std::sort(done.begin(), done.end(),
+              [](const ReceiverSpan& a, const ReceiverSpan& b) { return a.first < b.first; });
+    std::vector<ReceiverSpan> gaps;
+    std::size_t at = first;  // everything before `at` is covered or outside
+    const std::size_t end = first + count;
+    for (const ReceiverSpan& d : done) {
+        if (d.count == 0 || d.first + d.count <= at) continue;
+        if (d.first >= end) break;
+        if (d.first > at) gaps.push_back({at, d.first - at});
+        at = std::max(at, d.first + d.count);
+    }
+    if (at < end) gaps.push_back({at, end - at});
+    return gaps;
 }
 
 }  // namespace shprt

@@ -17,6 +17,7 @@
 #include <source_location>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace shprt::test_support {
 
@@ -86,6 +87,29 @@ inline void expect_usage_error(const RunResult& r, const std::string& needle,
                                std::source_location where = std::source_location::current()) {
     expect_error_line(r, needle, 2, where);
     EXPECT_THAT(r.err, ::testing::EndsWith(" (see --help)\n"));
+}
+
+// A failure after which progress or warning lines may stand before the error: exit code
+// `exit_code`, nothing on stdout, every stderr line prefixed "shprt: ", exactly one
+// "shprt: error: ..." line, the last, and it contains each of `needles`.
+inline void expect_failure(const RunResult& r, int exit_code,
+                           const std::vector<std::string>& needles,
+                           std::source_location where = std::source_location::current()) {
+    const ::testing::ScopedTrace trace(where.file_name(), int(where.line()), "expecting a failure");
+    EXPECT_EQ(r.exit_code, exit_code) << r.err;
+    EXPECT_EQ(r.out, "") << "stdout of a failed run";
+    std::istringstream lines(r.err);
+    std::string line, last;
+    int errors = 0;
+    while (std::getline(lines, line)) {
+        EXPECT_EQ(line.rfind("shprt: ", 0), 0u) << "unprefixed stderr line: " << line;
+        errors += line.rfind("shprt: error: ", 0) == 0;
+        last = line;
+    }
+    EXPECT_EQ(errors, 1) << r.err;
+    EXPECT_EQ(last.rfind("shprt: error: ", 0), 0u) << r.err;
+    for (const std::string& needle : needles)
+        EXPECT_NE(last.find(needle), std::string::npos) << "'" << needle << "' not in: " << last;
 }
 
 class CliTest : public ::testing::Test {

@@ -20,6 +20,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
 using shprt::test_support::expect_one_line_error;
 using shprt::test_support::expect_usage_error;
 using shprt::test_support::RunResult;
@@ -180,14 +186,19 @@ TEST_F(CliBadInput, HugeClaimedCountsAreCleanErrorsAtOnce) {
         const RunResult r = shprt("bake '" + f + "' --samples 16 -o '" + out("m.shprt") + "'");
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        expect_one_line_error(r, f + message);
+        // Under ASan the child has no address-space limit and ASan's operator new ends the child
+        // instead of throwing std::bad_alloc: still one clean line naming the file.
+        expect_one_line_error(r, kAddressSanitizer && message.find("importer") != std::string::npos
+                                     ? f + ": the importer"
+                                     : f + message);
         EXPECT_LT(seconds, 10.0) << f;
         EXPECT_TRUE(out_dir_empty());
     }
     // The limit is the user's to set.
-    expect_one_line_error(
-        shprt("scene info '" + file("list.ply") + "'", {.prefix = "SHPRT_IMPORT_MEMORY_GIB=0.5"}),
-        "needed more than 0.5 GiB");
+    if (!kAddressSanitizer)
+        expect_one_line_error(shprt("scene info '" + file("list.ply") + "'",
+                                    {.prefix = "SHPRT_IMPORT_MEMORY_GIB=0.5"}),
+                              "needed more than 0.5 GiB");
     expect_one_line_error(
         shprt("scene info '" + file("list.ply") + "'", {.prefix = "SHPRT_IMPORT_MEMORY_GIB=lots"}),
         "SHPRT_IMPORT_MEMORY_GIB='lots'");

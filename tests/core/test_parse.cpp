@@ -123,3 +123,27 @@ TEST(ParseInteger, PlainDecimalOnlyWithRangeAndSign) {
 
 }  // namespace
 }  // namespace shprt
+
+namespace shprt {
+namespace {
+
+TEST(ParseByteSize, ReadsBinaryUnitsAndRefusesTheRest) {
+    std::uint64_t b = 0;
+    EXPECT_TRUE(parse_byte_size("4096", b));
+    EXPECT_EQ(b, 4096u);
+    EXPECT_TRUE(parse_byte_size("512M", b));
+    EXPECT_EQ(b, 512ull << 20);
+    EXPECT_TRUE(parse_byte_size("1.5 GiB", b));
+    EXPECT_EQ(b, 3ull << 29);
+    EXPECT_TRUE(parse_byte_size("2kb", b));
+    EXPECT_EQ(b, 2048u);
+    EXPECT_TRUE(parse_byte_size("1T", b));
+    EXPECT_EQ(b, 1ull << 40);
+    EXPECT_TRUE(parse_byte_size("7B", b));
+    EXPECT_EQ(b, 7u);
+    for (const char* bad : {"", "M", "-1M", "1X", "1 MBB", "lots", "nan", "inf", "1e30T", "0x10"})
+        EXPECT_FALSE(parse_byte_size(bad, b)) << bad;
+}
+
+}  // namespace
+}  // namespace shprt

@@ -1,5 +1,7 @@
 #include "common/command.hpp"
 
+#include "common/signals.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -25,6 +27,7 @@ bool register_command(Command command) {
 const std::vector<Command>& commands() { return registry(); }
 
 void print_error(const char* what, const char* suffix) {
+    quiet_signals();  // this is the one error line: a later signal adds none
     std::string message = what;
     while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back())))
         message.pop_back();

@@ -7,23 +7,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <csignal>
-
-#include <signal.h>
 
 namespace shprt::tools {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-volatile std::sig_atomic_t g_interrupted = 0;
-std::atomic<bool> g_handler_installed{false};
-
-extern "C" void on_sigint(int) {
-    g_interrupted = 1;
-    // The next Ctrl-C is not intercepted: the user can always end a stuck process.
-    std::signal(SIGINT, SIG_DFL);
-}
 
 int terminal_width(std::FILE* out) {
     winsize ws{};
@@ -56,16 +44,6 @@ std::string format_duration(double seconds) {
     if (h > 0) return fmt::format("{}:{:02}:{:02}", h, m, s);
     return fmt::format("{}:{:02}", m, s);
 }
-
-void install_interrupt_handler() {
-    if (g_handler_installed.exchange(true)) return;
-    // A process started with SIGINT ignored (a background job of a script, nohup) keeps it so.
-    struct sigaction current {};
-    if (::sigaction(SIGINT, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) return;
-    std::signal(SIGINT, on_sigint);
-}
-
-bool interrupted() { return g_interrupted != 0; }
 
 ProgressBar::ProgressBar(std::string label, std::FILE* out)
     : m_label(std::move(label)),

@@ -9,10 +9,12 @@
 //     like every other line the tool writes to stderr, so a log read line by line tells the
 //     tool's lines apart, and a failure's "shprt: error: ..." line stays the last one.
 //
-// Ctrl-C: after install_interrupt_handler(), the first SIGINT makes the next update() return
-// false, so the library cancels cleanly (no half-written output); a second SIGINT ends the
-// process as usual.
+// Ctrl-C: after install_interrupt_handler() (common/signals.hpp), the first SIGINT (or SIGTERM,
+// SIGHUP) makes the next update() return false, so the library cancels cleanly (no half-written
+// output); a second one ends the process at once.
 #pragma once
+
+#include "common/signals.hpp"
 
 #include "shprt/core/progress.hpp"
 
@@ -68,10 +70,5 @@ private:
 // on, h:mm:ss from an hour on).
 std::string format_si(double value);
 std::string format_duration(double seconds);
-
-// Makes the first SIGINT a cancel request (see top). Safe to call more than once.
-void install_interrupt_handler();
-// True once SIGINT arrived after install_interrupt_handler().
-bool interrupted();
 
 }  // namespace shprt::tools

@@ -2,6 +2,8 @@
 // calls texel_receivers / bake / bake_refined and write_shprt, prints.
 #include "common/receiver_options.hpp"
 
+#include "common/signals.hpp"
+
 #include "common/progress_bar.hpp"
 
 #include "shprt/bake/refine.hpp"
@@ -95,6 +97,7 @@ void bake_texels(const ReceiverArgs& args, const Mesh& mesh, BakeOptions options
     transfer.stats.peak_bytes_host += transfer.coeffs.size() * sizeof(float);
     transfer.layout.encoding = args.float32 ? TransferEncoding::f32 : TransferEncoding::f16;
     const std::uint64_t covered = texels.count();
+    end_interruptible();  // a signal from here on: nothing written (common/signals.hpp)
     write_shprt(
         output, mesh, transfer,
         with_metadata(std::move(write_options), {{"texel_bake", {{"estimated_bytes", need}}}}));
@@ -143,6 +146,7 @@ void bake_refine(const ReceiverArgs& args, const Mesh& mesh, BakeOptions options
           {"budget_reached", r.budget_reached},
           {"depth_reached", r.depth_reached},
           {"largest_difference", r.largest_difference}}}};
+    end_interruptible();  // a signal from here on: nothing written (common/signals.hpp)
     write_shprt(output, r.mesh, r.transfer, with_metadata(std::move(write_options), meta));
     std::printf(
         "refined: %zu -> %zu vertices, %zu -> %zu triangles in %d pass%s; largest edge "

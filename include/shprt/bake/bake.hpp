@@ -174,6 +174,17 @@ TransferSet bake_with_tracer(const Mesh& mesh, const BakeOptions& options,
 TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
                            const DirectionSet& directions, const Tracer& tracer);
 
+// A bake's peak host memory, estimated before it runs (no BVH is built): the BVH at
+// kBvhBytesPerTriangle per triangle (Embree's measured peak on the builtin scenes, rounded up),
+// the basis and direction tables, every worker's W[chunk×S], ray and row buffers, and — when
+// `rows_in_memory` (a HostSink: the rows of every receiver) — the rows; interreflected transfer
+// adds its three receivers × 3K work arrays (its transport operator, which depends on what the
+// rays hit, is not estimated: the figure is then a lower bound). Used to refuse a bake that
+// cannot fit (`shprt bake --max-memory`, MemAvailable) before any work.
+inline constexpr std::uint64_t kBvhBytesPerTriangle = 160;
+std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receivers,
+                                       const BakeOptions& options, bool rows_in_memory);
+
 // The automatic chunk size for `receivers` receivers and S directions: about 1 MiB of W per
 // thread, at least 64 chunks when the count allows, rounded up to a multiple of 16 (the SGEMM
 // kernel's row blocking) when at least 16, at most 1024. Depends on its arguments only. Exposed

@@ -1,7 +1,13 @@
 // Output files are never left half-written: AtomicFile writes to a temporary file beside the
 // target and renames it into place on commit(); if commit() is never reached (an exception, a
 // cancel), the destructor removes the temporary file and the target is untouched. A process
-// terminated by SIGTERM or SIGHUP (default disposition) removes its live temporaries first.
+// terminated by SIGTERM or SIGHUP (default disposition) removes its live temporaries first; a
+// program with its own handlers calls remove_live_temporaries() from them.
+//
+// A run killed outright (SIGKILL, a crash, the machine) leaves its temporary behind: the next
+// AtomicFile for the same path removes every "<path>.tmp.<pid>.<n>" whose process no longer runs
+// on this machine, and warns once for each (log_warn: "removed ... left by a run that was
+// killed").
 #pragma once
 
 #include <cstdint>
@@ -34,6 +40,10 @@ private:
     bool m_committed = false;
     std::size_t m_slot = std::size_t(-1);  // the termination handler's record of m_temp
 };
+
+// Removes the temporary file of every AtomicFile alive in this process. Async-signal-safe (unlink
+// only): for a program's own signal handlers, before the process ends.
+void remove_live_temporaries();
 
 // Writes all `size` bytes at byte `offset` of the open file `fd` (pwrite, retried on EINTR and
 // short writes; thread-safe for disjoint regions). Throws Error(io) naming `what` on failure.

@@ -41,4 +41,9 @@ std::vector<double> parse_numbers(std::string_view text, std::size_t count, std:
 // 3, 4 or 7 numbers.
 std::vector<double> parse_numbers(std::string_view text, std::string_view what);
 
+// Parses a size in bytes: a number as parse_number reads it, ≥ 0, then optionally a unit — "K",
+// "M", "G", "T" (binary: 1024, 1024², …; "KiB", "MB", "GiB" and lower case are the same) or "B".
+// "512M", "1.5 GiB", "4096". Returns false for anything else and for sizes ≥ 2^63.
+bool parse_byte_size(std::string_view text, std::uint64_t& bytes);
+
 }  // namespace shprt

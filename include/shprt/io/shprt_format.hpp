@@ -8,6 +8,24 @@
 
 namespace shprt {
 
+// Little-endian fields of fixed headers (the .shprt header, the bake checkpoint's).
+inline void put_u32(unsigned char* p, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
+}
+inline void put_u64(unsigned char* p, std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
+}
+inline std::uint32_t get_u32(const unsigned char* p) {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
+}
+inline std::uint64_t get_u64(const unsigned char* p) {
+    std::uint64_t v = 0;
+    for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
+}
+
 // 12-byte magic. 0x89 (high bit set) catches 7-bit channels and marks the file as binary; "\r\n"
 // catches CRLF -> LF conversion, the lone "\n" LF -> CRLF conversion; 0x1a stops DOS `type`;
 // the NULs catch C-string handling.

@@ -24,6 +24,19 @@
 
 namespace shprt {
 
+// Receivers [first, first + count) of a domain's numbering: what a sink holds, or a checkpoint
+// (io/checkpoint.hpp) or a resumed bake (bake/remaining.hpp) has done.
+struct ReceiverSpan {
+    std::size_t first = 0;
+    std::size_t count = 0;
+    bool operator==(const ReceiverSpan&) const = default;
+};
+
+// The spans of [first, first + count) not covered by `done` (in any order, possibly overlapping,
+// possibly reaching outside), in increasing order.
+std::vector<ReceiverSpan> remaining_spans(std::size_t first, std::size_t count,
+                                          std::vector<ReceiverSpan> done);
+
 class TransferSink {
 public:
     virtual ~TransferSink() = default;

@@ -1,0 +1,73 @@
+#include "shprt/bake/remaining.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/trace/tracer.hpp"
+
+#include <algorithm>
+#include <memory>
+
+namespace shprt {
+
+std::optional<std::string> resume_unsupported(const BakeOptions& options) {
+    switch (options.transfer) {
+        case TransferKind::interreflected:
+            return std::string(
+                "interreflected transfer cannot be checkpointed or resumed (its bounces need "
+                "every vertex's rows at once); bake it without --checkpoint");
+        default:
+            return std::nullopt;
+    }
+}
+
+TransferInfo bake_remaining(const BakeJob& job, const BakeOptions& options,
+                            const std::vector<ReceiverSpan>& done) {
+    SHPRT_CHECK(job.sink != nullptr && job.occluders != nullptr, invalid_argument,
+                "bake: a job needs occluders and a sink");
+    if (const auto why = resume_unsupported(options)) fail(ErrorCode::unsupported, "{}", *why);
+    const Receivers& all = job.receivers;
+    const std::vector<ReceiverSpan> gaps = remaining_spans(all.first, all.count, done);
+    if (gaps.empty()) {
+        const TransferInfo description = bake_description(options);
+        job.sink->begin(description.layout, all.first, all.count);
+        job.sink->finish();
+        return description;
+    }
+    std::size_t left = 0;
+    for (const ReceiverSpan& g : gaps) left += g.count;
+
+    // One BVH for every gap (a CPU bake takes a caller's tracer).
+    BakeJob part = job;
+    std::unique_ptr<Tracer> tracer;
+    if (gaps.size() > 1 && job.tracer == nullptr &&
+        resolve_device(options.device, options.device_index) == Device::cpu) {
+        tracer = make_embree_tracer(*job.occluders);
+        part.tracer = tracer.get();
+    }
+
+    TransferInfo info;
+    BakeStats sum;
+    std::size_t receivers_before = all.count - left;  // done receivers, then the gaps baked
+    for (const ReceiverSpan& gap : gaps) {
+        BakeOptions o = options;
+        if (options.progress) {
+            // This gap's report, as one of the whole range: the rays of the receivers done before
+            // it are estimated at this gap's rate per receiver.
+            o.progress = [&, gap](const ProgressInfo& p) {
+                ProgressInfo whole = p;
+                const double per_receiver = double(p.total) / double(gap.count);
+                whole.total = static_cast<std::uint64_t>(per_receiver * double(all.count));
+                whole.done =
+                    p.done + static_cast<std::uint64_t>(per_receiver * double(receivers_before));
+                return options.progress(whole);
+            };
+        }
+        part.receivers = all.range(gap.first, gap.count);
+        info = bake(part, o);
+        receivers_before += gap.count;
+        add_stats(sum, info.stats);
+    }
+    info.stats = sum;
+    return info;
+}
+
+}  // namespace shprt

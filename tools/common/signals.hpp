@@ -1,0 +1,53 @@
+// How the `shprt` program meets SIGINT, SIGTERM and SIGHUP (README, "What is guaranteed").
+//
+//   * install_signal_handlers(), the first thing main() does: from then on such a signal ends the
+//     process with one line, "shprt: error: interrupted by SIGINT; nothing was written", after
+//     removing the temporary files of outputs being written (core/file.hpp) — exit status
+//     128 + the signal (130, 143, 129). No moment of the process's life dies silently.
+//   * install_interrupt_handler() (a bake or another long computation that polls interrupted()
+//     through its progress callback) makes the next signal a request instead: interrupted()
+//     turns true, the computation cancels cleanly (Error(cancelled)), and main() reports the
+//     signal as above. A second signal ends the process at once, as in the first mode.
+//   * end_interruptible() ends the request mode once the computation is over, before its result
+//     is written: a signal that arrived meanwhile throws Interrupted (nothing is written), and a
+//     later one ends the process with the temporaries removed, so a file is either complete and
+//     renamed into place or absent.
+// A signal the process was started with ignored (nohup, a script's background job) stays ignored.
+#pragma once
+
+namespace shprt::tools {
+
+// Thrown by end_interruptible(): the process was interrupted; main() reports it.
+struct Interrupted {
+    int signal = 0;
+};
+
+void install_signal_handlers();
+// Makes the next SIGINT, SIGTERM or SIGHUP a cancel request (see top); with `terminate_too` false
+// only SIGINT — an MPI rank, whose launcher ends a failed job with SIGTERM and may be blocked in
+// MPI where no request is polled, dies of SIGTERM at once (temporaries removed). Safe to call more
+// than once.
+void install_interrupt_handler(bool terminate_too = true);
+// True once a signal arrived as a request.
+bool interrupted();
+// The signal that arrived as a request (SIGINT, SIGTERM, SIGHUP), or 0.
+int interrupt_signal();
+// Back to the first mode; throws Interrupted if a request arrived.
+void end_interruptible();
+// After the process printed its one error line (print_error calls it): a later signal (mpirun
+// ending the other ranks of a failed job) still removes the temporaries and ends the process, but
+// prints nothing, so that the error stays the one and last line.
+void quiet_signals();
+// "SIGINT", "SIGTERM", "SIGHUP" (else "signal N").
+const char* signal_name(int signal);
+// The exit status for `signal`: 128 + signal.
+inline int interrupted_exit_code(int signal) { return 128 + signal; }
+
+// For the tests of the above (tests/cli/test_cli_signals.cpp): when the environment variable
+// SHPRT_TEST_STOP_AT is `point`, the process stops itself there (SIGSTOP), so that a test can send
+// a signal at a known moment and then continue it (SIGCONT). Points: "bake" (the bake is about to
+// start, signals are requests), "write" (the bake is over, signals are still requests), "writing"
+// (the output is about to be written, a signal ends the process).
+void test_stop_point(const char* point);
+
+}  // namespace shprt::tools
