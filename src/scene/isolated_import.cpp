@@ -99,6 +99,15 @@ void prepare_child(std::uint64_t address_space_limit) {
             }
         }
     }
+    // A crash in the importer ends the child by its signal, which the parent names: the default
+    // action, not a handler inherited from the parent (a sanitizer's, which would print a report
+    // and exit with status 1 instead).
+    for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) {
+        struct sigaction action {};
+        action.sa_handler = SIG_DFL;
+        ::sigemptyset(&action.sa_mask);
+        ::sigaction(sig, &action, nullptr);
+    }
     const int null = ::open("/dev/null", O_WRONLY);
     if (null >= 0) {
         ::dup2(null, STDOUT_FILENO);

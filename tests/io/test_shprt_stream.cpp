@@ -54,7 +54,8 @@ protected:
 };
 
 std::uint64_t transfer_crc(const ShprtFile& f) {
-    for (const auto& s : nlohmann::json::parse(f.metadata_json)["sections"])
+    const nlohmann::json metadata = nlohmann::json::parse(f.metadata_json);
+    for (const auto& s : metadata["sections"])
         if (s["name"] == "transfer") return s["crc32"].get<std::uint64_t>();
     return 0;
 }
