@@ -115,12 +115,29 @@ protected:
         return args;
     }
     // The uninterrupted bake's file, to compare resumed ones with.
-    std::string reference() const {
-        const std::string ref = (m_dir / "reference.shprt").string();
+    // `args` as one command line, with a space after each.
+    static std::string joined(const std::vector<std::string>& args) {
         std::string cmd;
-        for (const std::string& a : kBake) cmd += a + " ";
-        EXPECT_EQ(shprt(cmd + "-o '" + ref + "'").exit_code, 0);
+        for (const std::string& a : args) cmd += a + " ";
+        return cmd;
+    }
+    // The bytes of the uninterrupted bake `args`.
+    std::string reference(const std::vector<std::string>& args = kBake) const {
+        const std::string ref = (m_dir / "reference.shprt").string();
+        EXPECT_EQ(shprt(joined(args) + "-o '" + ref + "'").exit_code, 0);
         return slurp(ref);
+    }
+    // Runs `args --checkpoint ckpt -o output` until it stops after its bake (the test hook),
+    // kills it with SIGKILL and returns the checkpoint's bytes; nothing may be left in out/.
+    std::string kill_after_bake(const std::vector<std::string>& args, const std::string& ckpt,
+                                const std::string& output) {
+        const pid_t pid = start(with(args, {"--checkpoint", ckpt, "-o", output}), "write");
+        const bool stopped = wait_stopped(pid);
+        ::kill(pid, SIGKILL);
+        finish(pid);
+        EXPECT_TRUE(stopped);
+        EXPECT_TRUE(out_dir_empty());
+        return slurp(ckpt);
     }
 };
 
@@ -190,9 +207,7 @@ TEST_F(CliInterrupt, TheNextRunRemovesATemporaryThatAKilledRunLeft) {
     const std::string alive = output + ".tmp." + std::to_string(::getpid()) + ".0";
     std::ofstream(alive) << "x";
 
-    std::string cmd;
-    for (const std::string& a : kBake) cmd += a + " ";
-    const RunResult r = shprt(cmd + "-o '" + output + "'");
+    const RunResult r = shprt(joined(kBake) + "-o '" + output + "'");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.err.find("shprt: warning: removed " + (m_dir / "out" / left[0]).string() +
                          ", left by a run that was killed"),
@@ -208,16 +223,9 @@ TEST_F(CliInterrupt, TheNextRunRemovesATemporaryThatAKilledRunLeft) {
 TEST_F(CliInterrupt, KilledCheckpointedBakesResumeToTheSameBytes) {
     const std::string expected = reference();
     const std::string output = out("a.shprt"), ckpt = (m_dir / "a.ckpt").string();
-    const pid_t pid = start(with(kBake, {"--checkpoint", ckpt, "-o", output}), "write");
-    ASSERT_TRUE(wait_stopped(pid));
-    ::kill(pid, SIGKILL);
-    finish(pid);
-    EXPECT_TRUE(out_dir_empty());
-    const std::string whole = slurp(ckpt);
+    const std::string whole = kill_after_bake(kBake, ckpt, output);
     ASSERT_GT(whole.size(), 64u + 32u);
-    std::string resume_cmd;
-    for (const std::string& a : kBake) resume_cmd += a + " ";
-    resume_cmd += "--resume '" + ckpt + "' -o '" + output + "'";
+    const std::string resume_cmd = joined(kBake) + "--resume '" + ckpt + "' -o '" + output + "'";
     for (const std::size_t cut : {std::size_t(64), std::size_t(64 + 20), std::size_t(64 + 32 + 100),
                                   whole.size() / 2, whole.size() - 1, whole.size()}) {
         SCOPED_TRACE("checkpoint cut at " + std::to_string(cut) + " of " +
@@ -259,8 +267,7 @@ TEST_F(CliInterrupt, InterruptedCheckpointedBakeSaysHowToResume) {
         expect_interrupted(finish(pid), signal, "--resume " + ckpt);
         EXPECT_TRUE(out_dir_empty());
         ASSERT_TRUE(fs::exists(ckpt));
-        std::string cmd;
-        for (const std::string& a : kBake) cmd += a + " ";
+        const std::string cmd = joined(kBake);
         // A second --checkpoint to the same file would overwrite it: refused.
         expect_one_line_error(shprt(cmd + "--checkpoint '" + ckpt + "' -o '" + output + "'"),
                               "a checkpoint exists; continue its bake with --resume");
@@ -315,22 +322,14 @@ TEST_F(CliInterrupt, KilledGlossyBakeResumesToTheSameBytes) {
     const std::vector<std::string> glossy = {
         "bake",      "builtin:room", "--transfer", "glossy", "--bands",       "3",
         "--samples", "256",          "--threads",  "1",      "--reproducible"};
-    std::string cmd;
-    for (const std::string& a : glossy) cmd += a + " ";
-    const std::string reference = (m_dir / "reference.shprt").string();
-    ASSERT_EQ(shprt(cmd + "-o '" + reference + "'").exit_code, 0);
+    const std::string expected = reference(glossy);
     const std::string output = out("g.shprt"), ckpt = (m_dir / "g.ckpt").string();
-    const pid_t pid = start(with(glossy, {"--checkpoint", ckpt, "-o", output}), "write");
-    ASSERT_TRUE(wait_stopped(pid));
-    ::kill(pid, SIGKILL);
-    finish(pid);
-    EXPECT_TRUE(out_dir_empty());
-    const std::string whole = slurp(ckpt);
+    const std::string whole = kill_after_bake(glossy, ckpt, output);
     ASSERT_GT(whole.size(), 64u + 32u);
     std::ofstream(ckpt, std::ios::binary).write(whole.data(), std::streamsize(whole.size() / 2));
-    const RunResult r = shprt(cmd + "--resume '" + ckpt + "' -o '" + output + "'");
+    const RunResult r = shprt(joined(glossy) + "--resume '" + ckpt + "' -o '" + output + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_TRUE(slurp(output) == slurp(reference)) << "resumed glossy bake differs";
+    EXPECT_TRUE(slurp(output) == expected) << "resumed glossy bake differs";
 }
 
 TEST_F(CliInterrupt, BakeThatDoesNotFitInMemoryIsRefusedWithItsEstimate) {
