@@ -67,29 +67,12 @@ void run(const RenderArgs& a) {
     const float aspect = float(width) / float(height);
     settings.camera = camera_from(a.camera, file.mesh, aspect);
 
-    Image image;
-    if (plan.glossy && settings.view != ShadeView::transfer) {
-        // Transfer matrices are shaded per vertex on the CPU for the camera's eye
-        // (render/glossy.hpp); the GL renderer draws the colours.
-        SHPRT_CHECK(!a.background, unsupported,
-                    "--background is not drawn with glossy transfer matrices (--brdf)");
-        GlossyShadeOptions options = *plan.glossy;
-        options.eye = settings.camera.eye;
-        options.K_used = a.coeffs;
-        const ShadeResult shaded = shade_glossy(file.mesh, file.transfer, light, options);
-        DrawSettings colours = settings;
-        colours.view = ShadeView::irradiance;
-        colours.k = 1;
-        colours.K_used = 0;
-        image = render_image(
-            file.mesh,
-            colours_as_transfer(settings.view == ShadeView::irradiance ? shaded.irradiance
-                                                                       : shaded.radiance),
-            light_for_colours(), colours, width, height, a.samples);
-    } else {
-        if (plan.glossy) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
-        image = render_image(file.mesh, file.transfer, light, settings, width, height, a.samples);
+    if (plan.glossy) {  // transfer matrices, shaded on the GPU (render/renderer.hpp)
+        settings.brdf = plan.glossy->brdf;
+        settings.albedo = plan.glossy->albedo;
     }
+    const Image image =
+        render_image(file.mesh, file.transfer, light, settings, width, height, a.samples);
     save_image(a.output, image, static_cast<float>(a.exposure));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

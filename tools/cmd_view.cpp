@@ -46,6 +46,7 @@ namespace {
 struct ViewArgs {
     std::string input;
     LightArgs light;
+    GlossyArgs glossy;
     CameraArgs camera;
     BakeOptionArgs bake;
     bool do_bake = false;
@@ -94,6 +95,10 @@ void run(const ViewArgs& a) {
     int width = 0, height = 0;
     parse_size(a.size, width, height);
     check_camera_args(a.camera);
+    // Without --bake, --albedo (registered with the bake options) overrides glossy colours.
+    GlossyArgs glossy = a.glossy;
+    if (!a.do_bake) glossy.albedo = a.bake.albedo;
+    check_glossy_args(glossy);
     const LightSetup setup = light_setup_from(a.light);
     const ShadeView view = parse_view(a.view);
     const viewer::OffscreenBackend backend = viewer::parse_offscreen_backend(a.offscreen);
@@ -117,6 +122,9 @@ void run(const ViewArgs& a) {
     if (!a.do_bake && !a.bake_only_given.empty())
         fail(ErrorCode::invalid_argument, "{} is a bake option: add --bake (FILE is then a scene)",
              a.bake_only_given.front());
+    SHPRT_CHECK(!a.do_bake || a.glossy.brdf.empty(), invalid_argument,
+                "--brdf shades glossy transfer matrices, which --bake does not show live (bake "
+                "with `shprt bake --transfer glossy`, then view the file)");
     SHPRT_CHECK(!(a.direct && a.do_bake), invalid_argument,
                 "--direct shows a baked file's direct part; with --bake, bake with "
                 "--transfer shadowed instead");
@@ -138,6 +146,9 @@ void run(const ViewArgs& a) {
 
     // ---- The scene.
     Loaded scene;
+    double gloss = a.gloss;
+    Brdf brdf;
+    std::optional<Vec3f> albedo;
     if (a.do_bake) {
         scene.mesh = load_scene(a.input);
         if (windowed)
@@ -153,17 +164,18 @@ void run(const ViewArgs& a) {
             SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
                         "--direct: {} has no direct part (only interreflected bakes keep one)",
                         a.input);
+        // Glossy matrices are shaded with --brdf, or else with --gloss's Phong lobe (the panel
+        // changes the BRDF live); --glossy paper turns them into the paper's term.
+        if (file.transfer.layout.shape == TransferShape::symmetric_matrix && glossy.brdf.empty() &&
+            glossy.glossy == "matrix")
+            glossy.brdf = fmt::format("phong:{}", a.gloss);
+        const GlossyPlan plan = plan_glossy(glossy, a.input, file, a.k, gloss);
+        if (plan.glossy) {
+            brdf = plan.glossy->brdf;
+            albedo = plan.glossy->albedo;
+        }
         scene.mesh = std::move(file.mesh);
         scene.transfer = std::move(file.transfer);
-        // Glossy matrices: the viewer has no matrix shading yet (docs/glossy.md, "Not done");
-        // it shows them with the paper's term, as `render --glossy paper` does.
-        if (scene.transfer.layout.shape == TransferShape::symmetric_matrix) {
-            log_warn(
-                "{}: glossy transfer matrices are shown with the paper's zonal term (the "
-                "viewer does not shade matrices; use `shprt render --brdf`)",
-                a.input);
-            scene.transfer = glossy_to_diffuse(scene.mesh, scene.transfer);
-        }
     }
     viewer::LightRig rig(std::min(scene.transfer.layout.K, kMaxLightK));
     rig.set_source(setup);  // a missing light file fails here, before any window
@@ -175,7 +187,9 @@ void run(const ViewArgs& a) {
     config.exposure = static_cast<float>(a.exposure);
     config.draw.camera = camera_from(a.camera, scene.mesh, float(width) / float(height));
     config.draw.k = a.k;
-    config.draw.gloss = a.gloss;
+    config.draw.gloss = gloss;
+    config.draw.brdf = brdf;
+    config.draw.albedo = albedo;
     config.draw.K_used = K_used;
     config.draw.view = view;
     config.draw.background = a.background;
@@ -197,6 +211,9 @@ void run(const ViewArgs& a) {
         viewer::BenchmarkOptions options;
         options.frames = *a.benchmark;
         options.rotate_light = a.benchmark_light;
+        // Glossy matrices have at most 8 bands: measure the file's own K.
+        if (scene.transfer.layout.shape == TransferShape::symmetric_matrix)
+            options.K_values = {scene.transfer.layout.K};
         options.backend = backend;
         const viewer::BenchmarkReport report =
             viewer::run_benchmark(scene.mesh, scene.transfer, rig, config, options);
@@ -240,6 +257,7 @@ const bool registered = register_command(
              ->required();
          add_light_options(app, args->light);
          add_camera_options(app, args->camera);
+         add_glossy_options(app, args->glossy, /*with_albedo=*/false);
          app.add_option("--size", args->size, "Window or image size WxH (default 1280x720)");
          app.add_option("--exposure", args->exposure, "Exposure multiplier (default 1)");
          app.add_option("--k", args->k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");

@@ -48,6 +48,11 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
     Renderer renderer;
     renderer.set_scene(mesh, transfer);
     renderer.set_light(light.source(), light.rotation());
+    if (renderer.scene_has_matrices())
+        report.transfer =
+            fmt::format("glossy {}, brdf={}",
+                        describe_gpu_transfer(transfer, renderer.transfer_bytes_per_vertex()),
+                        to_string(config.draw.brdf));
     RenderTarget target(config.width, config.height, choose_samples(config.msaa, true));
     report.msaa = target.samples();
     report.msaa_auto = config.msaa == kAutoMsaa;
@@ -115,6 +120,7 @@ std::string format_benchmark(const BenchmarkReport& r) {
         "benchmark: {} vertices, {} triangles, K={}, {}x{}, {}x MSAA{}, k={}{}; {}\n", r.vertices,
         r.triangles, r.K, r.width, r.height, r.msaa, r.msaa_auto ? " (automatic)" : "", r.k,
         r.rotate_light ? ", light turned every frame" : "", r.context);
+    if (!r.transfer.empty()) out += r.transfer + "\n";
     for (const auto& row : r.rows) {
         if (row.skipped) {
             out += fmt::format("K'={:<4} skipped: larger than the file's K={}\n", row.K_used, r.K);

@@ -51,6 +51,7 @@ struct BenchmarkReport {
     int width = 0, height = 0, msaa = 0;
     bool msaa_auto = false;  // msaa chosen by choose_samples, not by --msaa
     double k = 1;            // diffuse share drawn
+    std::string transfer;    // glossy: describe_gpu_transfer and the BRDF ("" for vectors)
     bool rotate_light = false;
     std::vector<BenchmarkRow> rows;
     // Mean frame time at K' = 256 over that at K' = 32; 0 when either was skipped.
@@ -64,9 +65,9 @@ struct BenchmarkReport {
 BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, const LightRig& rig,
                               const FrameConfig& config, const BenchmarkOptions& options);
 
-// The report as text: a header line, one line per K' ("K'=256  frames=100  fps=41.2
-// mean_ms=24.27  min_ms=23.10  max_ms=27.91  cpu_ms=40.12" or "K'=256  skipped: ..."), and the
-// ratio line.
+// The report as text: a header line (a second one for glossy transfer), one line per K' ("K'=256
+// frames=100  fps=41.2 mean_ms=24.27  min_ms=23.10  max_ms=27.91  cpu_ms=40.12" or "K'=256 skipped:
+// ..."), and the ratio line.
 std::string format_benchmark(const BenchmarkReport& report);
 
 }  // namespace shprt::viewer

@@ -6,6 +6,7 @@
 #include "shprt/render/gl_context.hpp"
 
 #include <epoxy/gl.h>
+#include <fmt/format.h>
 
 #include <string>
 
@@ -14,6 +15,17 @@ namespace shprt::viewer {
 int choose_samples(int requested, bool continuous) {
     if (requested > 0) return requested;
     return continuous && is_software_renderer() ? 1 : 4;
+}
+
+std::string describe_gpu_transfer(const TransferSet& transfer, double bytes_per_vertex) {
+    if (transfer.layout.shape != TransferShape::symmetric_matrix) return {};
+    const int K = transfer.layout.K;
+    if (transfer.cpca.empty())
+        return fmt::format("{}x{} matrices: {:.0f} B/vertex on the GPU", K, K, bytes_per_vertex);
+    return fmt::format(
+        "CPCA {}x{} (clusters x vectors) of {}x{} matrices: {:.0f} B/vertex on "
+        "the GPU (float32)",
+        transfer.cpca.clusters, transfer.cpca.vectors, K, K, bytes_per_vertex);
 }
 
 void draw_frame(Renderer& renderer, RenderTarget& target, const DrawSettings& settings,

@@ -34,6 +34,11 @@ struct FrameConfig {
     int msaa = kAutoMsaa;  // samples of the float target; kAutoMsaa: see choose_samples
 };
 
+// What the GPU holds of glossy transfer, for the panel and the benchmark: "25x25 matrices:
+// 1300 B/vertex on the GPU", or the CPCA code's clusters, vectors and bytes per vertex
+// (`bytes_per_vertex`: Renderer::transfer_bytes_per_vertex). Empty for vector transfer.
+std::string describe_gpu_transfer(const TransferSet& transfer, double bytes_per_vertex);
+
 // Draws the scene into `target` (bind, Renderer::draw), then presents it (resolving) into
 // `framebuffer` (0 = the window's default framebuffer) with viewport (0, 0, width, height) of
 // the target's size.

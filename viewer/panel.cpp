@@ -13,6 +13,7 @@ namespace {
 
 const char* const kViewNames[] = {"radiance", "irradiance", "transfer (AO-like)"};
 const char* const kWindowNames[] = {"none", "hann", "lanczos", "sloan"};
+const char* const kBrdfNames[] = {"phong", "blinn-phong", "ggx"};
 
 bool choice_label(void* data, int index, const char** out) {
     const auto* choices = static_cast<const std::vector<LightChoice>*>(data);
@@ -61,13 +62,40 @@ void light_section(PanelState& s) {
         ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s", s.light_error.c_str());
 }
 
+// Glossy matrices: the BRDF's zonal lobe and the colour override, and what the GPU holds.
+void brdf_controls(PanelState& s) {
+    const int before = s.brdf_model;
+    ImGui::Combo("brdf", &s.brdf_model, kBrdfNames, IM_ARRAYSIZE(kBrdfNames));
+    const bool ggx = s.brdf_model == 2;
+    if (s.brdf_model != before)  // a sensible value for the new model's parameter
+        s.brdf_parameter = ggx ? 0.3f : 16.0f;
+    if (ggx)
+        ImGui::SliderFloat("roughness", &s.brdf_parameter, 0.05f, 1.0f, "%.2f",
+                           ImGuiSliderFlags_AlwaysClamp);
+    else
+        ImGui::SliderFloat("exponent", &s.brdf_parameter, 0.0f, 256.0f, "%.1f",
+                           ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+    help_marker(
+        "Glossy transfer matrices: exit radiance k·albedo/pi·E + (1-k)·<BRDF lobe rotated to "
+        "the reflected view, M·L>. The lobe is fitted with the file's bands (its error grows "
+        "as the lobe narrows).");
+    ImGui::Checkbox("albedo override", &s.override_albedo);
+    if (s.override_albedo) ImGui::ColorEdit3("albedo", s.albedo, ImGuiColorEditFlags_Float);
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("%s", s.transfer_label.c_str());
+    ImGui::PopStyleColor();
+}
+
 void shading_section(PanelState& s) {
     ImGui::Combo("view", &s.view, kViewNames, IM_ARRAYSIZE(kViewNames));
     ImGui::SliderFloat("exposure", &s.exposure, 0.01f, 100.0f, "%.3f",
                        ImGuiSliderFlags_Logarithmic);
     ImGui::SliderFloat("k (diffuse)", &s.k, 0.0f, 1.0f, "%.2f");
     help_marker("L = k·L_D + (1-k)·L_S: 1 = pure diffuse, 0 = pure glossy");
-    ImGui::SliderFloat("gloss", &s.gloss, 1.0f, 256.0f, "%.1f", ImGuiSliderFlags_Logarithmic);
+    if (s.matrices)
+        brdf_controls(s);
+    else
+        ImGui::SliderFloat("gloss", &s.gloss, 1.0f, 256.0f, "%.1f", ImGuiSliderFlags_Logarithmic);
     s.K_used = std::clamp(s.K_used, 1, std::max(s.K_max, 1));
     ImGui::SliderInt("K'", &s.K_used, 1, std::max(s.K_max, 1), "%d", ImGuiSliderFlags_AlwaysClamp);
     help_marker(

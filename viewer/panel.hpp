@@ -35,6 +35,13 @@ struct PanelState {
     bool background = false;
     bool has_direct = false;   // the transfer is interreflected and keeps its direct part
     bool direct_only = false;  // show the direct part (T_0) instead of T_0 + … + T_N
+    // Glossy transfer matrices (render/glossy.hpp): the BRDF replaces the Phong "gloss" slider.
+    bool matrices = false;
+    int brdf_model = 0;            // BrdfModel: 0 phong, 1 blinn, 2 ggx
+    float brdf_parameter = 16;     // exponent (phong, blinn) or roughness (ggx)
+    bool override_albedo = false;  // --albedo: one colour for the diffuse and specular parts
+    float albedo[3] = {1, 1, 1};
+    std::string transfer_label;  // what the GPU holds: bytes per vertex, the CPCA settings
 
     // Light.
     std::vector<LightChoice> choices;

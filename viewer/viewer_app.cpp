@@ -179,6 +179,16 @@ void App::init_state() {
     s.exposure = m_options.frame.exposure;
     s.k = static_cast<float>(m_options.frame.draw.k);
     s.gloss = static_cast<float>(m_options.frame.draw.gloss);
+    s.matrices = m_renderer.scene_has_matrices();
+    s.brdf_model = static_cast<int>(m_options.frame.draw.brdf.model);
+    s.brdf_parameter = static_cast<float>(m_options.frame.draw.brdf.parameter);
+    s.override_albedo = m_options.frame.draw.albedo.has_value();
+    if (const auto& a = m_options.frame.draw.albedo) {
+        s.albedo[0] = a->x;
+        s.albedo[1] = a->y;
+        s.albedo[2] = a->z;
+    }
+    s.transfer_label = describe_gpu_transfer(m_transfer, m_renderer.transfer_bytes_per_vertex());
     s.view = static_cast<int>(m_options.frame.draw.view);
     s.wireframe = m_options.frame.draw.wireframe;
     s.background = m_options.frame.draw.background;
@@ -360,6 +370,13 @@ DrawSettings App::draw_settings() const {
     s.camera = m_camera.camera();
     s.k = m_panel.k;
     s.gloss = m_panel.gloss;
+    if (m_panel.matrices) {
+        s.brdf.model = static_cast<BrdfModel>(m_panel.brdf_model);
+        s.brdf.parameter = m_panel.brdf_parameter;
+        s.albedo.reset();
+        if (m_panel.override_albedo)
+            s.albedo = Vec3f{m_panel.albedo[0], m_panel.albedo[1], m_panel.albedo[2]};
+    }
     s.K_used = m_panel.K_used;
     s.view = static_cast<ShadeView>(m_panel.view);
     s.wireframe = m_panel.wireframe;

@@ -1,6 +1,8 @@
 // Private helpers of the OpenGL renderer: error checks, shader compilation, the GLSL sources.
 #pragma once
 
+#include <string>
+
 namespace shprt::gl {
 
 // Throws Error(unsupported) "OpenGL error 0x… in <what>" if glGetError reports one (and drains
@@ -20,6 +22,13 @@ extern const char* const kSceneFragmentShader;       // writes the interpolated 
 extern const char* const kFullscreenVertexShader;    // one triangle covering the viewport
 extern const char* const kBackgroundFragmentShader;  // equirect light texture along view rays
 extern const char* const kPresentFragmentShader;     // resolve, exposure, ACES filmic, sRGB
+// Glossy transfer matrices (gl_glossy_shaders.cpp), for K' coefficients of matrices stored
+// K_stored wide: the per-cluster light products of a CPCA code with `vectors` basis matrices per
+// cluster, and the per-vertex shading (render/glossy.hpp) of raw matrices (vectors = 0) or of
+// such a code, which reads the products through a uniform block of `block_vec4s` vec4s (0: from
+// the storage buffer).
+std::string glossy_cluster_shader(int K, int K_stored, int vectors);
+std::string glossy_vertex_shader(int K, int K_stored, int vectors, int block_vec4s);
 
 // Uniform locations fixed with layout(location = N) in the shaders, shared with renderer.cpp.
 namespace loc {
@@ -30,15 +39,24 @@ inline constexpr int kFirstVertex = 0, kEye = 1, kK = 2, kStrideK = 3, kChannels
 inline constexpr int kViewProj = 0;  // scene program
 inline constexpr int kInvViewProj = 0, kBgEye = 1, kBgLightToTexture = 2;  // background
 inline constexpr int kExposure = 0, kSamples = 1;                          // present program
+// Glossy matrix passes: kFirstVertex, kEye, kLightStride, kDiffuseShare, kView and
+// kVertexCount as above (the cluster pass reads its product count at kVertexCount's location),
+// and these.
+inline constexpr int kClusterStride = 11, kAlbedoOverride = 12, kBrdfLobe = 16, kCosineLobe = 24;
 }  // namespace loc
 
 // Shader storage buffer bindings of the shading pass.
 inline constexpr unsigned kTransferBinding = 0, kPositionBinding = 2, kNormalBinding = 3,
                           kAlbedoBinding = 4, kColorBinding = 5;
-// Uniform block bindings of the shading pass, and the blocks' sizes in vec4s (the literal array
+// ... and of the glossy matrix passes (kTransferBinding holds the packed matrices).
+inline constexpr unsigned kClusterLightBinding = 1, kClusterBinding = 6, kWeightBinding = 7,
+                          kClusterVertexBinding = 8;
+// Uniform block bindings of the shading pass (and, at 2, of a CPCA dispatch's cluster products),
+// and the blocks' sizes in vec4s (the literal array
 // sizes of kShadeComputeShader): the light, 3 channels × kMaxLightK padded floats; the recurrence
 // table, two floats per (l, m) index of kMaxLightK.
-inline constexpr unsigned kLightBlockBinding = 0, kRecurrenceBlockBinding = 1;
+inline constexpr unsigned kLightBlockBinding = 0, kRecurrenceBlockBinding = 1,
+                          kClusterLightBlockBinding = 2;
 inline constexpr int kLightBlockVec4s = 768, kRecurrenceBlockVec4s = 512;
 
 // Invocations per work group of the shading pass (local_size_x in the shader).

@@ -12,6 +12,8 @@
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/sh/basis.hpp"
+#include "shprt/sh/zonal.hpp"
+#include "shprt/transfer/cpca.hpp"
 
 #include <epoxy/gl.h>
 #include <tbb/blocked_range.h>
@@ -19,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace shprt {
@@ -31,6 +34,9 @@ constexpr int kBackgroundWidth = 256, kBackgroundHeight = 128;
 // The light's uniform block (gl_util.hpp): per channel, K coefficients padded to a multiple of 4.
 int light_stride(int K) { return (K + 3) / 4 * 4; }
 constexpr int kLightBlockBytes = gl::kLightBlockVec4s * 16;
+// The glossy shaders keep K' coefficients per colour in a local array of this size (8 bands),
+// and their lobe uniforms hold this many bands.
+constexpr int kMaxMatrixK = 64;
 static_assert(gl::kLightBlockVec4s * 4 == 3 * kMaxLightK, "light block: 3 padded channels");
 static_assert(gl::kRecurrenceBlockVec4s * 2 == kMaxLightK, "recurrence block: (a, b) per index");
 
@@ -123,6 +129,8 @@ Renderer::Renderer() {
     glGenVertexArrays(1, &m_empty_vao);
     GLint max_block = 0;
     glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
+    m_max_ubo_bytes = max_block;
+    glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &m_ubo_alignment);
     SHPRT_CHECK(max_block >= kLightBlockBytes, unsupported,
                 "this OpenGL's uniform blocks hold {} bytes; the light needs {}", max_block,
                 kLightBlockBytes);
@@ -136,12 +144,7 @@ Renderer::Renderer() {
 }
 
 Renderer::~Renderer() {
-    delete_buffer(m_position_vbo);
-    delete_buffer(m_normal_vbo);
-    delete_buffer(m_albedo_vbo);
-    delete_buffer(m_index_buffer);
-    delete_buffer(m_color_buffer);
-    delete_buffer(m_transfer_ssbo);
+    release_scene_buffers();
     delete_buffer(m_light_ubo);
     delete_buffer(m_recurrence_ubo);
     if (m_background_texture) glDeleteTextures(1, &m_background_texture);
@@ -149,27 +152,88 @@ Renderer::~Renderer() {
     if (m_empty_vao) glDeleteVertexArrays(1, &m_empty_vao);
     for (unsigned p : {m_shade_program, m_scene_program, m_background_program, m_present_program})
         if (p) glDeleteProgram(p);
+    for (const auto& entry : m_glossy_programs) glDeleteProgram(entry.second);
+}
+
+Renderer::ClusterLayout Renderer::cluster_layout(int K) const {
+    ClusterLayout l;
+    const int align = std::max(1, m_ubo_alignment / 16);  // in vec4s
+    l.stride = ((1 + m_cpca_vectors) * K + align - 1) / align * align;
+    l.clusters_per_dispatch = m_max_ubo_bytes / (16 * l.stride);
+    l.block_vec4s = l.clusters_per_dispatch * l.stride;
+    if (l.clusters_per_dispatch == 0) l.clusters_per_dispatch = 65535;  // storage buffer reads
+    l.clusters_per_dispatch = std::min(l.clusters_per_dispatch, 65535);
+    return l;
+}
+
+unsigned Renderer::glossy_program(int K, int vectors, bool cluster_pass) {
+    const int block = vectors > 0 && !cluster_pass ? cluster_layout(K).block_vec4s : 0;
+    const auto key = std::make_tuple(K, m_K, vectors, block, cluster_pass);
+    if (auto it = m_glossy_programs.find(key); it != m_glossy_programs.end()) return it->second;
+    const unsigned program =
+        cluster_pass
+            ? gl::compile_compute_program(gl::glossy_cluster_shader(K, m_K, vectors).c_str(),
+                                          "glossy cluster")
+            : gl::compile_compute_program(gl::glossy_vertex_shader(K, m_K, vectors, block).c_str(),
+                                          "glossy shading");
+    m_glossy_programs.emplace(key, program);
+    return program;
+}
+
+void Renderer::release_scene_buffers() {
+    for (unsigned* b : {&m_position_vbo, &m_normal_vbo, &m_albedo_vbo, &m_index_buffer,
+                        &m_color_buffer, &m_transfer_ssbo, &m_cluster_ssbo, &m_weight_ssbo,
+                        &m_cluster_light_ssbo, &m_cluster_vertex_ssbo})
+        delete_buffer(*b);
 }
 
 void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(V > 0 && mesh.triangle_count() > 0, invalid_argument,
                 "mesh {} has no triangles to draw", mesh.source);
-    check_shadable(mesh, transfer);
+    const bool matrices = transfer.layout.shape == TransferShape::symmetric_matrix;
+    if (matrices) {
+        check_glossy_shadable(mesh, transfer);
+        SHPRT_CHECK(transfer.layout.K <= kMaxMatrixK, unsupported,
+                    "glossy matrices of K = {} are not drawn (at most {}: 8 bands)",
+                    transfer.layout.K, kMaxMatrixK);
+    } else {
+        check_shadable(mesh, transfer);
+    }
     for (const auto& t : mesh.triangles)
         SHPRT_CHECK(t[0] < V && t[1] < V && t[2] < V, invalid_argument,
                     "mesh {}: triangle index out of range ({} vertices)", mesh.source, V);
+    // A glossy CPCA code is drawn from the code: each cluster's mean and basis, packed.
+    const CpcaCode& code = transfer.cpca;
+    const bool cpca = matrices && !code.empty();
+    const std::size_t D = transfer.layout.floats_per_receiver();
+    std::vector<float> cluster_matrices;
+    if (cpca) {
+        const std::size_t C = std::size_t(code.clusters), N = std::size_t(code.vectors);
+        SHPRT_CHECK(code.means.size() == C * D && code.basis.size() == C * N * D &&
+                        code.weights.size() == V * N && code.cluster.size() == V,
+                    invalid_argument, "the transfer's CPCA code does not fit its {} receivers", V);
+        for (std::uint32_t c : code.cluster)
+            SHPRT_CHECK(c < C, invalid_argument, "CPCA cluster index {} out of range ({})", c, C);
+        cluster_matrices.resize(C * (1 + N) * D);
+        for (std::size_t c = 0; c < C; ++c) {
+            float* out = cluster_matrices.data() + c * (1 + N) * D;
+            std::copy_n(code.means.data() + c * D, D, out);
+            std::copy_n(code.basis.data() + c * N * D, N * D, out + D);
+        }
+    }
+    const float* transfer_data = cpca ? cluster_matrices.data() : transfer.coeffs.data();
+    const std::size_t transfer_bytes =
+        (cpca ? cluster_matrices.size() : transfer.coeffs.size()) * sizeof(float);
     GLint64 max_block = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
-    const std::size_t transfer_bytes = transfer.coeffs.size() * sizeof(float);
     SHPRT_CHECK(transfer_bytes <= static_cast<std::size_t>(max_block), unsupported,
                 "transfer of {} MiB exceeds this OpenGL's shader storage block limit of {} MiB "
-                "(use fewer coefficients)",
-                transfer_bytes >> 20, max_block >> 20);
+                "(use fewer coefficients{})",
+                transfer_bytes >> 20, max_block >> 20,
+                matrices && !cpca ? ", or compress it: shprt compress --cpca" : "");
 
-    for (unsigned* b : {&m_position_vbo, &m_normal_vbo, &m_albedo_vbo, &m_index_buffer,
-                        &m_color_buffer, &m_transfer_ssbo})
-        delete_buffer(*b);
+    release_scene_buffers();
     glBindVertexArray(m_vao);
     const std::size_t vec_bytes = V * sizeof(Vec3f);
     m_position_vbo = make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.positions.data(), GL_STATIC_DRAW);
@@ -187,9 +251,36 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
                     mesh.triangles.data(), GL_STATIC_DRAW);
     glBindVertexArray(0);
     // Dynamic: a progressive bake rewrites it chunk by chunk (update_transfer).
-    m_transfer_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, transfer_bytes, transfer.coeffs.data(),
-                                  GL_DYNAMIC_DRAW);
+    m_transfer_ssbo =
+        make_buffer(GL_SHADER_STORAGE_BUFFER, transfer_bytes, transfer_data, GL_DYNAMIC_DRAW);
+    m_cpca_clusters = cpca ? code.clusters : 0;
+    m_cpca_vectors = cpca ? code.vectors : 0;
+    if (cpca) {
+        // The vertices grouped by cluster (the vertex pass runs a work group per cluster).
+        std::vector<std::uint32_t> start(std::size_t(code.clusters) + 1, 0), order(V);
+        for (std::uint32_t c : code.cluster) ++start[c + 1];
+        for (std::size_t c = 0; c < std::size_t(code.clusters); ++c) start[c + 1] += start[c];
+        std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+        for (std::size_t v = 0; v < V; ++v) order[next[code.cluster[v]]++] = std::uint32_t(v);
+        m_cluster_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, start.size() * sizeof(std::uint32_t),
+                                     start.data(), GL_STATIC_DRAW);
+        m_cluster_vertex_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, V * sizeof(std::uint32_t),
+                                            order.data(), GL_STATIC_DRAW);
+        // At least one float: a CPCA code always has vectors ≥ 1, but keep the buffer valid.
+        m_weight_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER,
+                                    std::max<std::size_t>(1, code.weights.size()) * sizeof(float),
+                                    code.weights.data(), GL_STATIC_DRAW);
+        m_cluster_light_ssbo =
+            make_buffer(GL_SHADER_STORAGE_BUFFER,
+                        std::size_t(code.clusters) * cluster_layout(transfer.layout.K).stride * 16,
+                        nullptr, GL_DYNAMIC_COPY);
+        m_bytes_per_vertex = cpca_bytes_per_receiver(code, D, V, sizeof(float));
+    } else {
+        m_bytes_per_vertex = double(D) * sizeof(float);
+    }
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    m_matrices = matrices;
+    m_cluster_key = ClusterKey{};
     m_vertex_count = V;
     m_index_count = mesh.triangles.size() * 3;
     m_layout = transfer.layout;
@@ -203,6 +294,8 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
 void Renderer::update_transfer(std::size_t first_vertex, std::size_t vertex_count,
                                const float* coeffs) {
     SHPRT_CHECK(m_transfer_ssbo != 0, invalid_argument, "update_transfer before set_scene");
+    SHPRT_CHECK(m_cpca_clusters == 0, invalid_argument,
+                "update_transfer: the scene's transfer is a CPCA code, not rows");
     SHPRT_CHECK(first_vertex <= m_vertex_count && vertex_count <= m_vertex_count - first_vertex,
                 invalid_argument, "transfer update of vertices [{}, {}) outside the scene's {}",
                 first_vertex, first_vertex + vertex_count, m_vertex_count);
@@ -321,6 +414,105 @@ void Renderer::run_shading(const ShadingKey& key) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, m_color_buffer);
     glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_light_ubo);
     glBindBufferBase(GL_UNIFORM_BUFFER, gl::kRecurrenceBlockBinding, m_recurrence_ubo);
+    dispatch_per_vertex();
+    for (unsigned b = 0; b <= gl::kColorBinding; ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+    for (unsigned b : {gl::kLightBlockBinding, gl::kRecurrenceBlockBinding})
+        glBindBufferBase(GL_UNIFORM_BUFFER, b, 0);
+    glUseProgram(0);
+    m_shading_key = key;
+    m_shading_valid = true;
+    ++m_shading_passes;
+    gl::check("Renderer::run_shading");
+}
+
+double Renderer::transfer_bytes_per_vertex() const { return m_bytes_per_vertex; }
+
+void Renderer::update_cluster_light(int K, bool white_sky) {
+    const ClusterKey key{K, white_sky, white_sky ? 0 : m_light_generation};
+    if (m_cluster_key == key) return;
+    const std::size_t count = std::size_t(m_cpca_clusters) * (1 + std::size_t(m_cpca_vectors));
+    glUseProgram(glossy_program(K, m_cpca_vectors, true));
+    glUniform1ui(gl::loc::kClusterStride, static_cast<GLuint>(cluster_layout(K).stride));
+    glUniform1i(gl::loc::kLightStride, light_stride(m_light.K));
+    glUniform1i(gl::loc::kView, white_sky ? static_cast<int>(ShadeView::transfer) : 0);
+    glUniform1ui(gl::loc::kVertexCount, static_cast<GLuint>(count));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kClusterLightBinding, m_cluster_light_ssbo);
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_light_ubo);
+    glDispatchCompute(static_cast<GLuint>((count + gl::kShadeGroupSize - 1) / gl::kShadeGroupSize),
+                      1, 1);
+    // The vertex pass reads the products (from a uniform block or the storage buffer).
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
+    m_cluster_key = key;
+    ++m_cluster_passes;
+    gl::check("Renderer::update_cluster_light");
+}
+
+void Renderer::run_glossy_shading(const ShadingKey& key) {
+    const int bands = sh_bands_for(key.K);
+    const bool white_sky = key.view == static_cast<int>(ShadeView::transfer);
+    if (m_cpca_clusters > 0) update_cluster_light(key.K, white_sky);
+    if (m_lobe_factors.size() != std::size_t(bands) || !(m_lobe_brdf == key.brdf)) {
+        m_lobe_factors = zonal_band_factors(brdf_lobe(key.brdf, bands).zonal);
+        m_lobe_brdf = key.brdf;
+    }
+    const std::vector<float> cosine = zonal_band_factors(clamped_cosine_zonal(bands));
+    glUseProgram(glossy_program(key.K, m_cpca_clusters > 0 ? m_cpca_vectors : 0, false));
+    glUniform3f(gl::loc::kEye, key.eye.x, key.eye.y, key.eye.z);
+    glUniform1i(gl::loc::kLightStride, light_stride(m_light.K));
+    glUniform1f(gl::loc::kDiffuseShare, static_cast<float>(key.k));
+    glUniform1i(gl::loc::kView, key.view);
+    glUniform1ui(gl::loc::kVertexCount, static_cast<GLuint>(m_vertex_count));
+    glUniform4f(gl::loc::kAlbedoOverride, key.albedo.x, key.albedo.y, key.albedo.z,
+                key.override_albedo ? 1.0f : 0.0f);
+    glUniform1fv(gl::loc::kBrdfLobe, bands, m_lobe_factors.data());
+    glUniform1fv(gl::loc::kCosineLobe, bands, cosine.data());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kPositionBinding, m_position_vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kNormalBinding, m_normal_vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kAlbedoBinding, m_albedo_vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, m_color_buffer);
+    if (m_cpca_clusters > 0) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kClusterLightBinding, m_cluster_light_ssbo);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kClusterBinding, m_cluster_ssbo);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kWeightBinding, m_weight_ssbo);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kClusterVertexBinding,
+                         m_cluster_vertex_ssbo);
+    }
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_light_ubo);
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kRecurrenceBlockBinding, m_recurrence_ubo);
+    if (m_cpca_clusters > 0) {
+        // A work group per cluster; per dispatch, the clusters whose products fit a uniform block
+        // (or 65535 groups when they are read from the storage buffer).
+        const ClusterLayout l = cluster_layout(key.K);
+        glUniform1ui(gl::loc::kClusterStride, static_cast<GLuint>(l.stride));
+        for (int first = 0; first < m_cpca_clusters; first += l.clusters_per_dispatch) {
+            const int count = std::min(l.clusters_per_dispatch, m_cpca_clusters - first);
+            if (l.block_vec4s > 0)
+                glBindBufferRange(GL_UNIFORM_BUFFER, gl::kClusterLightBlockBinding,
+                                  m_cluster_light_ssbo, GLintptr(first) * l.stride * 16,
+                                  GLsizeiptr(count) * l.stride * 16);
+            glUniform1ui(gl::loc::kFirstVertex, static_cast<GLuint>(first));
+            glDispatchCompute(static_cast<GLuint>(count), 1, 1);
+        }
+        glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
+    } else {
+        dispatch_per_vertex();
+    }
+    for (unsigned b = 0; b <= gl::kClusterVertexBinding; ++b)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+    for (unsigned b :
+         {gl::kLightBlockBinding, gl::kRecurrenceBlockBinding, gl::kClusterLightBlockBinding})
+        glBindBufferBase(GL_UNIFORM_BUFFER, b, 0);
+    glUseProgram(0);
+    m_shading_key = key;
+    m_shading_valid = true;
+    ++m_shading_passes;
+    gl::check("Renderer::run_glossy_shading");
+}
+
+void Renderer::dispatch_per_vertex() {
     // One invocation per vertex, in dispatches of at most 65535 groups (the guaranteed minimum
     // of GL_MAX_COMPUTE_WORK_GROUP_COUNT).
     const std::size_t per_dispatch = std::size_t(65535) * gl::kShadeGroupSize;
@@ -332,15 +524,6 @@ void Renderer::run_shading(const ShadingKey& key) {
     }
     // The draw reads the colours as a vertex attribute.
     glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT);
-    for (unsigned b = 0; b <= gl::kColorBinding; ++b)
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
-    for (unsigned b : {gl::kLightBlockBinding, gl::kRecurrenceBlockBinding})
-        glBindBufferBase(GL_UNIFORM_BUFFER, b, 0);
-    glUseProgram(0);
-    m_shading_key = key;
-    m_shading_valid = true;
-    ++m_shading_passes;
-    gl::check("Renderer::run_shading");
 }
 
 void Renderer::draw(const DrawSettings& s, int width, int height) {
@@ -369,11 +552,32 @@ void Renderer::draw(const DrawSettings& s, int width, int height) {
     key.view = static_cast<int>(s.view);
     key.glossy = glossy;
     key.k = s.view == ShadeView::radiance ? s.k : 1.0;
-    key.gloss = glossy ? s.gloss : 0.0;
+    key.gloss = glossy && !m_matrices ? s.gloss : 0.0;
     key.eye = glossy ? s.camera.eye : Vec3f{0, 0, 0};
+    if (m_matrices) {
+        // The transfer-only view is E under a white sky (no light, hence no K'): all of M, as
+        // the vector path's T_0 and glossy_to_diffuse.
+        if (s.view == ShadeView::transfer) key.K = m_K;
+        SHPRT_CHECK(key.K <= kMaxMatrixK, invalid_argument, "K' = {} above {}", key.K, kMaxMatrixK);
+        if (s.view == ShadeView::radiance) {
+            key.brdf = s.brdf;
+            key.override_albedo = s.albedo.has_value();
+            key.albedo = s.albedo.value_or(Vec3f{0, 0, 0});
+            if (key.override_albedo)
+                SHPRT_CHECK(key.albedo.x >= 0 && key.albedo.x <= 1 && key.albedo.y >= 0 &&
+                                key.albedo.y <= 1 && key.albedo.z >= 0 && key.albedo.z <= 1,
+                            invalid_argument, "albedo ({}, {}, {}) must be in [0, 1]", key.albedo.x,
+                            key.albedo.y, key.albedo.z);
+        }
+    }
     key.light_generation = m_light_generation;
     key.transfer_generation = m_transfer_generation;
-    if (s.reshade || !m_shading_valid || !(key == m_shading_key)) run_shading(key);
+    if (s.reshade || !m_shading_valid || !(key == m_shading_key)) {
+        if (m_matrices)
+            run_glossy_shading(key);
+        else
+            run_shading(key);
+    }
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);

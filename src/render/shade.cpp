@@ -56,10 +56,13 @@ std::vector<float> lobe_band_factors(int bands, double gloss) {
                 bands, kMaxBands);
     SHPRT_CHECK(gloss >= 0 && std::isfinite(gloss), invalid_argument,
                 "gloss exponent {} must be finite and ≥ 0", gloss);
-    const std::vector<double> z = phong_lobe_zonal(bands, gloss);
-    std::vector<float> g(bands);
-    for (int l = 0; l < bands; ++l)
-        g[l] = static_cast<float>(std::sqrt(4 * kPi / (2 * l + 1)) * z[l]);
+    return zonal_band_factors(phong_lobe_zonal(bands, gloss));
+}
+
+std::vector<float> zonal_band_factors(const std::vector<double>& zonal) {
+    std::vector<float> g(zonal.size());
+    for (std::size_t l = 0; l < zonal.size(); ++l)
+        g[l] = static_cast<float>(std::sqrt(4 * kPi / (2 * double(l) + 1)) * zonal[l]);
     return g;
 }
 

@@ -318,6 +318,39 @@ TEST_F(CliViewWindow, StartsWithTheDirectPartWithDirect) {
     }
 }
 
+// Glossy matrices and their CPCA code in the window: the glossy term drawn live, as --screenshot
+// draws it (and clearly not the diffuse part alone).
+TEST_F(CliViewWindow, ShadesGlossyMatricesAndCpcaCodes) {
+    const std::string glossy = out("glossy.shprt"), cpca = out("cpca.shprt");
+    ASSERT_EQ(shprt("bake builtin:box_on_plane --transfer glossy --bands 4 --samples 256 -o '" +
+                    glossy + "'")
+                  .exit_code,
+              0);
+    ASSERT_EQ(shprt("compress '" + glossy + "' -o '" + cpca + "' --cpca 8,4").exit_code, 0);
+    const std::string size = " --size 800x500 --light sun:1,2,1,6";
+    for (const std::string& file : {glossy, cpca}) {
+        const std::string shading = " --brdf phong:24 --k 0.2";
+        const RunResult w = shprt("view '" + file + "' --frames 2 --window-screenshot '" +
+                                      out("window.png") + "'" + size + shading,
+                                  xvfb());
+        ASSERT_EQ(w.exit_code, 0) << w.err;
+        ASSERT_EQ(
+            shprt("view '" + file + "' --screenshot '" + out("shot.png") + "'" + size + shading)
+                .exit_code,
+            0);
+        ASSERT_EQ(
+            shprt("view '" + file + "' --screenshot '" + out("diffuse.png") + "'" + size + " --k 1")
+                .exit_code,
+            0);
+        const Png win = read_png(out("window.png")), shot = read_png(out("shot.png")),
+                  diffuse = read_png(out("diffuse.png"));
+        EXPECT_LE(compare(win, shot, 400, 0, 800, 500).mean, kMaxMeanWindowDifference) << file;
+        EXPECT_GT(compare(win, diffuse, 400, 0, 800, 500).mean,
+                  compare(win, shot, 400, 0, 800, 500).mean + 0.5)
+            << file;
+    }
+}
+
 TEST_F(CliViewWindow, ShowsABakeWhileItRefinesAndFinishesIt) {
     const RunResult r = shprt(
         "view builtin:box_on_plane --bake --coeffs 16 --samples 64 --frames 2 "

@@ -9,10 +9,12 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/rotation3.hpp"
 #include "shprt/render/gl_context.hpp"
+#include "shprt/render/glossy.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/render/tonemap.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/room.hpp"
+#include "shprt/transfer/cpca.hpp"
 
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
@@ -20,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 namespace shprt {
 namespace {
@@ -383,6 +386,135 @@ TEST(GlRender, ShadingPassRunsOnlyWhenTheColoursCanChange) {
     fresh.draw(settings, 32, 32);
     target.resolve();
     EXPECT_EQ(cached.rgb, target.read_pixels().rgb);
+}
+
+// Glossy transfer matrices (a real bake of a box on a plane, so shadows are in the matrices) and
+// their CPCA code, shaded on the GPU, against shade_glossy on the CPU (render/glossy.hpp): every
+// pixel equals the CPU radiance interpolated where its ray hits, for the three BRDF models, the
+// colour override, truncated K', and the irradiance and transfer views.
+TEST(GlRender, GlossyMatricesAndTheirCpcaCodeMatchShadeGlossy) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("box_on_plane");
+    BakeOptions bake_options;
+    bake_options.transfer = TransferKind::glossy;
+    bake_options.K = 25;
+    bake_options.samples = 256;
+    const TransferSet raw = bake(mesh, bake_options);
+    CpcaOptions cpca;
+    cpca.clusters = 6;
+    cpca.vectors = 5;
+    TransferSet coded = raw;
+    coded.cpca = compress_cpca(raw, cpca);
+    reconstruct_cpca(coded.cpca, raw.layout.floats_per_receiver(), coded.coeffs);
+    const ShLight light = test::smooth_light(25, 25, 5);
+    Camera camera;
+    camera.eye = {1.8f, 1.6f, 2.3f};
+    camera.target = {0, 0.1f, 0};
+    camera.near_plane = 0.1f;
+    camera.far_plane = 20;
+    const Vec3f background{-1, -1, -1};
+    struct Case {
+        const char* brdf;
+        double k;
+        int K_used;
+        std::optional<Vec3f> albedo;
+        ShadeView view;
+    };
+    const Case cases[] = {
+        {"phong:16", 0.4, 0, std::nullopt, ShadeView::radiance},
+        {"blinn:40", 0.0, 0, Vec3f{0.9f, 0.5f, 0.2f}, ShadeView::radiance},
+        {"ggx:0.3", 0.7, 16, std::nullopt, ShadeView::radiance},  // K' a full band below K
+        {"phong:8", 0.5, 0, std::nullopt, ShadeView::irradiance},
+        {"phong:8", 0.5, 20, std::nullopt, ShadeView::transfer},  // K' not a full band
+    };
+    for (const TransferSet* transfer : {&raw, static_cast<const TransferSet*>(&coded)}) {
+        for (const Case& cs : cases) {
+            SCOPED_TRACE(::testing::Message()
+                         << (transfer == &raw ? "raw" : "cpca") << " " << cs.brdf << " k=" << cs.k
+                         << " K'=" << cs.K_used << " view=" << int(cs.view));
+            GlossyShadeOptions shade;
+            shade.brdf = parse_brdf(cs.brdf);
+            shade.k = cs.k;
+            shade.albedo = cs.albedo;
+            shade.eye = camera.eye;
+            shade.K_used = cs.K_used;
+            std::vector<Vec3f> reference;
+            if (cs.view == ShadeView::transfer) {
+                // E under a white sky of radiance 1, over π: the diffuse transfer's T_0·2/√π.
+                const TransferSet diffuse = glossy_to_diffuse(mesh, *transfer);
+                for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+                    const float ao = float(diffuse.receiver(v)[0] * 2 / std::sqrt(kPi));
+                    reference.push_back({ao, ao, ao});
+                }
+            } else {
+                const ShadeResult cpu = shade_glossy(mesh, *transfer, light, shade);
+                reference = cs.view == ShadeView::irradiance ? cpu.irradiance : cpu.radiance;
+            }
+            DrawSettings settings;
+            settings.camera = camera;
+            settings.k = cs.k;
+            settings.brdf = shade.brdf;
+            settings.albedo = cs.albedo;
+            settings.K_used = cs.K_used;
+            settings.view = cs.view;
+            settings.clear_color = background;
+            const int w = 96, h = 72;
+            const Image image = render_image(mesh, *transfer, light, settings, w, h, 1);
+            const Comparison c = compare_with_reference(image, mesh, reference, camera, background);
+            EXPECT_GT(c.compared, std::size_t(w * h / 4));
+            EXPECT_LE(double(c.mismatched_hits), kMaxSilhouetteMismatch * w * h);
+            EXPECT_EQ(c.bad, 0u) << "worst error " << c.worst << " tolerances";
+        }
+    }
+}
+
+// A CPCA code on the GPU: the light is multiplied by the cluster matrices once per light and K',
+// not per frame, and only the code is uploaded.
+TEST(GlRender, CpcaClusterPassRunsWhenTheLightChangesOnly) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("box_on_plane");
+    BakeOptions bake_options;
+    bake_options.transfer = TransferKind::glossy;
+    bake_options.K = 16;
+    bake_options.samples = 64;
+    TransferSet transfer = bake(mesh, bake_options);
+    CpcaOptions cpca;
+    cpca.clusters = 4;
+    cpca.vectors = 3;
+    transfer.cpca = compress_cpca(transfer, cpca);
+    Renderer renderer;
+    renderer.set_scene(mesh, transfer);
+    EXPECT_TRUE(renderer.scene_has_matrices());
+    const std::size_t D = transfer.layout.floats_per_receiver();
+    EXPECT_DOUBLE_EQ(renderer.transfer_bytes_per_vertex(),
+                     cpca_bytes_per_receiver(transfer.cpca, D, mesh.vertex_count(), 4));
+    EXPECT_LT(renderer.transfer_bytes_per_vertex(), double(D) * 4);
+    renderer.set_light(test::smooth_light(16, 16, 3));
+    RenderTarget target(32, 32, 1);
+    target.bind();
+    DrawSettings settings;
+    settings.camera = default_camera(mesh, 1.0f);
+    settings.k = 0.5;
+    settings.brdf = parse_brdf("phong:12");
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.cluster_passes(), 1u);
+    EXPECT_EQ(renderer.shading_passes(), 1u);
+    settings.camera.eye = settings.camera.eye * 1.2f;  // the eye: the vertex pass only
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.cluster_passes(), 1u);
+    EXPECT_EQ(renderer.shading_passes(), 2u);
+    settings.brdf = parse_brdf("ggx:0.4");  // the BRDF: the vertex pass only
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.cluster_passes(), 1u);
+    EXPECT_EQ(renderer.shading_passes(), 3u);
+    renderer.set_light(test::smooth_light(16, 16, 4));  // the light: both
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.cluster_passes(), 2u);
+    settings.K_used = 9;  // K': both
+    renderer.draw(settings, 32, 32);
+    EXPECT_EQ(renderer.cluster_passes(), 3u);
+    EXPECT_EQ(renderer.shading_passes(), 5u);
+    EXPECT_THROW(renderer.update_transfer(0, 1, transfer.coeffs.data()), Error);
 }
 
 TEST(GlRender, BadUseThrows) {

@@ -101,16 +101,17 @@ ShprtFile read_for_shading(const std::string& path, bool direct) {
     return file;
 }
 
-void add_glossy_options(CLI::App& app, GlossyArgs& args) {
+void add_glossy_options(CLI::App& app, GlossyArgs& args, bool with_albedo) {
     app.add_option("--brdf", args.brdf,
                    "Glossy bakes: the BRDF lobe phong:E (normalised Phong), blinn:E (Blinn-Phong) "
                    "or ggx:R (roughness); with --k the diffuse share");
     app.add_option("--glossy", args.glossy,
                    "matrix (default: transfer matrices, needs a glossy bake) or paper (the "
                    "paper's zonal term; a glossy bake is turned into diffuse transfer)");
-    app.add_option("--albedo", args.albedo,
-                   "Glossy shading: R,G,B (linear, 0 to 1) overriding the diffuse and specular "
-                   "colours");
+    if (with_albedo)
+        app.add_option("--albedo", args.albedo,
+                       "Glossy shading: R,G,B (linear, 0 to 1) overriding the diffuse and "
+                       "specular colours");
 }
 
 void check_glossy_args(const GlossyArgs& args) {

@@ -71,7 +71,9 @@ struct GlossyArgs {
     std::string glossy = "matrix";  // "matrix" (transfer matrices) or "paper" (the zonal term)
     std::string albedo;             // "R,G,B" or empty
 };
-void add_glossy_options(CLI::App& app, GlossyArgs& args);
+// Without `with_albedo` the command has its own --albedo (`view`, whose bake options have one) and
+// fills args.albedo itself.
+void add_glossy_options(CLI::App& app, GlossyArgs& args, bool with_albedo = true);
 // Checks --brdf, --glossy and --albedo before any file is read (one-line Error).
 void check_glossy_args(const GlossyArgs& args);
 

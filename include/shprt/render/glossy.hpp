@@ -47,6 +47,7 @@ enum class BrdfModel { phong, blinn_phong, ggx };
 struct Brdf {
     BrdfModel model = BrdfModel::phong;
     double parameter = kDefaultGloss;  // Phong/Blinn exponent E ≥ 0, or GGX roughness R in (0, 1]
+    bool operator==(const Brdf&) const = default;
 };
 
 // "phong:E", "blinn:E" or "ggx:R"; throws Error(invalid_argument) naming `spec` and the problem.

@@ -6,13 +6,17 @@
 // vertex, the TransferSet layout), the light (3 × K floats) in a uniform block; a compute pass
 // evaluates the paper's shading once per vertex (render/shade.hpp: E, L_D, and the glossy term with
 // the Phong lobe rotated to the reflection direction by the SH recurrence of sh/basis.hpp ported to
-// GLSL) into a colour buffer, and the draw interpolates it. The pass is skipped when nothing the
-// colours depend on changed since the last draw (diffuse shading does not depend on the camera;
-// glossy shading depends on the eye position only). Depth test on, back-face culling off (rooms are
-// seen from inside). The output is linear radiance in a float target; tone mapping happens after
-// the multisample resolve (save_image for files; `present`, which resolves as it tone-maps, for a
-// window). The one path from a scene to a picture file is render_image, then save_image
-// (render/save_image.hpp): `shprt render` and the viewer's --screenshot both take it.
+// GLSL) into a colour buffer, and the draw interpolates it. Glossy transfer matrices (a glossy
+// bake, TransferShape::symmetric_matrix) are shaded by their own pass, the twin of shade_glossy
+// (render/glossy.hpp): M_v·L per vertex, or, for a CPCA file, the light transformed once per
+// cluster matrix by a cluster pass and T = mean·L + Σ w_i (B_i·L) per vertex (only the code is
+// uploaded). The passes are skipped when nothing the colours depend on changed since the last draw
+// (diffuse shading does not depend on the camera; glossy shading depends on the eye position
+// only; the cluster pass depends on the light and K' only). Depth test on, back-face culling off
+// (rooms are seen from inside). The output is linear radiance in a float target; tone mapping
+// happens after the multisample resolve (save_image for files; `present`, which resolves as it
+// tone-maps, for a window). The one path from a scene to a picture file is render_image, then
+// save_image (render/save_image.hpp): `shprt render` and the viewer's --screenshot both take it.
 //
 // Typical use:
 //     HeadlessGlContext context;              // or a GLFW window's context
@@ -29,6 +33,7 @@
 #include "shprt/light/image.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/render/camera.hpp"
+#include "shprt/render/glossy.hpp"
 #include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/scene/mesh.hpp"
@@ -36,6 +41,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <optional>
+#include <tuple>
 #include <vector>
 
 namespace shprt {
@@ -45,13 +53,18 @@ enum class ShadeView {
     radiance,    // L = k·L_D + (1−k)·L_S (the picture)
     irradiance,  // E
     transfer,    // transfer only, AO-like: E under a uniform white sky of radiance 1, divided by
-                 // π (1 = unoccluded, 0 = fully blocked), grey; ignores light, albedo, k
+                 // π (1 = unoccluded, 0 = fully blocked), grey; ignores light, albedo, k, K'
 };
 
 struct DrawSettings {
     Camera camera;
     double k = 1.0;                // diffuse share, as ShadeOptions::k
     double gloss = kDefaultGloss;  // Phong exponent, as ShadeOptions::gloss
+    // Glossy transfer matrices only (render/glossy.hpp, GlossyShadeOptions: k, K_used and the
+    // camera's eye are the fields above): the BRDF's zonal lobe, and the colour that replaces
+    // both the diffuse (vertex albedo) and the specular (white) colour.
+    Brdf brdf;
+    std::optional<Vec3f> albedo;
     int K_used = 0;  // first K' coefficients; 0 = all (clamped to the scene's and light's K)
     ShadeView view = ShadeView::radiance;
     bool wireframe = false;      // triangle edges only (glPolygonMode GL_LINE), same colours
@@ -109,11 +122,14 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Uploads positions, normals, albedo, triangles and the transfer. Checks (Error) as
-    // shade_vertices does, and that the transfer fits GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
+    // Uploads positions, normals, albedo, triangles and the transfer: vectors (checked as
+    // shade_vertices does) or glossy matrices (checked as shade_glossy does; K ≤ 64), and of a
+    // matrix set with a CPCA code only the code. Checks that the buffers fit
+    // GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
     void set_scene(const Mesh& mesh, const TransferSet& transfer);
-    // Replaces the transfer of vertices [first, first + count) (channels × K floats each, the
-    // TransferSet layout) without touching the rest: for a bake shown while it refines.
+    // Replaces the transfer of vertices [first, first + count) (the TransferSet layout's floats
+    // per receiver each) without touching the rest: for a bake shown while it refines. Not for a
+    // CPCA code (Error(invalid_argument)).
     void update_transfer(std::size_t first_vertex, std::size_t vertex_count, const float* coeffs);
     // The shader storage buffer holding the transfer (GL buffer name, channels × K float32 per
     // vertex, vertex-major), for CUDA–OpenGL interop. Valid after set_scene.
@@ -129,11 +145,18 @@ public:
 
     int scene_K() const { return m_K; }
     int scene_channels() const { return m_channels; }
+    // The scene's transfer is glossy matrices (drawn with DrawSettings::brdf and albedo).
+    bool scene_has_matrices() const { return m_matrices; }
+    // Bytes of transfer the GPU holds per vertex: the rows, or a CPCA code's share (its cluster
+    // index and weights, and its part of the means and bases), as uploaded (float32).
+    double transfer_bytes_per_vertex() const;
     std::size_t vertex_count() const { return m_vertex_count; }
     // The K' a draw with `K_used` uses: min(scene K, light K, K_used if > 0).
     int effective_K(int K_used) const;
     // How many times draw() has run the per-vertex shading pass (for tests and statistics).
     std::uint64_t shading_passes() const { return m_shading_passes; }
+    // How many times draw() has run the cluster pass of a CPCA code (light × cluster matrices).
+    std::uint64_t cluster_passes() const { return m_cluster_passes; }
     // How many times draw() has rebuilt the background texture.
     std::uint64_t background_builds() const { return m_background_builds; }
 
@@ -154,6 +177,9 @@ private:
         int K = 0, view = 0;
         bool glossy = false;
         double k = 0, gloss = 0;
+        Brdf brdf;
+        bool override_albedo = false;
+        Vec3f albedo{0, 0, 0};
         Vec3f eye{0, 0, 0};
         std::uint64_t light_generation = 0, transfer_generation = 0;
         bool operator==(const ShadingKey&) const = default;
@@ -161,6 +187,12 @@ private:
     // Makes the background texture for K' (if stale); returns the rotation to look it up with.
     Mat3d upload_background(int K);
     void run_shading(const ShadingKey& key);
+    void run_glossy_shading(const ShadingKey& key);
+    // The cluster pass of a CPCA code, if its light or K' changed since it last ran.
+    void update_cluster_light(int K, bool white_sky);
+    void release_scene_buffers();
+    // Dispatches the bound compute program once per vertex, then the barrier the draw needs.
+    void dispatch_per_vertex();
 
     unsigned m_shade_program = 0, m_scene_program = 0, m_background_program = 0,
              m_present_program = 0;
@@ -168,6 +200,35 @@ private:
     unsigned m_position_vbo = 0, m_normal_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
     unsigned m_color_buffer = 0;  // V × vec4: the shading pass's output
     unsigned m_transfer_ssbo = 0, m_light_ubo = 0, m_recurrence_ubo = 0, m_background_texture = 0;
+    // Glossy matrices: their programs, compiled per (K', stored K, vectors, uniform block size,
+    // cluster pass) when first drawn with; a CPCA code's cluster indices, weights and the cluster
+    // pass's output (m_transfer_ssbo then holds each cluster's mean and basis, packed).
+    unsigned glossy_program(int K, int vectors, bool cluster_pass);
+    std::map<std::tuple<int, int, int, int, bool>, unsigned> m_glossy_programs;
+    // Where the cluster pass puts a cluster's products for K': `stride` vec4s per cluster (a
+    // multiple of the uniform buffer offset alignment), and how many clusters a dispatch of the
+    // vertex pass reads through one uniform block (block_vec4s = 0: through the storage buffer).
+    struct ClusterLayout {
+        int stride = 0, clusters_per_dispatch = 0, block_vec4s = 0;
+    };
+    ClusterLayout cluster_layout(int K) const;
+    int m_max_ubo_bytes = 0, m_ubo_alignment = 16;
+    unsigned m_cluster_ssbo = 0, m_weight_ssbo = 0, m_cluster_light_ssbo = 0,
+             m_cluster_vertex_ssbo = 0;
+    bool m_matrices = false;
+    int m_cpca_clusters = 0, m_cpca_vectors = 0;  // 0 clusters: raw matrices
+    double m_bytes_per_vertex = 0;
+    struct ClusterKey {
+        int K = -1;
+        bool white_sky = false;
+        std::uint64_t light_generation = 0;
+        bool operator==(const ClusterKey&) const = default;
+    };
+    ClusterKey m_cluster_key{};
+    // The BRDF lobe's band factors, kept while the BRDF and band count stay (Blinn and GGX are
+    // fitted by quadrature).
+    Brdf m_lobe_brdf;
+    std::vector<float> m_lobe_factors;
     std::size_t m_vertex_count = 0, m_index_count = 0;
     TransferLayout m_layout;  // of the scene's transfer
     int m_K = 0, m_channels = 0;
@@ -185,7 +246,7 @@ private:
     };
     BackgroundKey m_background_key{};
     std::uint64_t m_light_generation = 0, m_source_generation = 0, m_transfer_generation = 0,
-                  m_shading_passes = 0, m_background_builds = 0;
+                  m_shading_passes = 0, m_background_builds = 0, m_cluster_passes = 0;
     ShadingKey m_shading_key;
     bool m_shading_valid = false;
 };

@@ -55,6 +55,8 @@ int effective_basis_size(const TransferSet& transfer, const ShLight& light, int 
 // l < bands, so that the lobe rotated to direction d has coefficients g_l · y_lm(d). The GL
 // renderer uploads these; `shade_vertices` uses rotate_zonal directly.
 std::vector<float> lobe_band_factors(int bands, double gloss);
+// The same factors g_l = sqrt(4π/(2l+1)) · z_l of any zonal lobe z (sh/zonal.hpp convention).
+std::vector<float> zonal_band_factors(const std::vector<double>& zonal);
 
 struct ShadeResult {
     std::vector<Vec3f> irradiance;  // E, per vertex, input order
