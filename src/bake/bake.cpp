@@ -241,15 +241,7 @@ TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
     validate(checked);
     detail::validate_job(job, checked);
     SHPRT_CHECK(job.sink != nullptr, invalid_argument, "a bake needs a sink for its rows");
-    // Glossy transfer has no GPU path yet: `auto` picks the CPU, `cuda` is refused.
-    const bool cpu_only = checked.transfer == TransferKind::glossy;
-    SHPRT_CHECK(!cpu_only || checked.device != Device::cuda, unsupported,
-                "{} transfer runs on the CPU only so far (its GPU path is not written): use "
-                "--device cpu or auto",
-                to_string(checked.transfer));
-    const Device backend = cpu_only && checked.device == Device::automatic
-                               ? Device::cpu
-                               : resolve_device(checked.device, checked.device_index);
+    const Device backend = resolve_device(checked.device, checked.device_index);
     if (job.directions) return run_bake(job, checked, backend, *job.directions);
     const DirectionSet directions =
         make_direction_set(checked.sampler, checked.seed, checked.samples);

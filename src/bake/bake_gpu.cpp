@@ -10,6 +10,7 @@
 
 #include "bake/bake_internal.hpp"
 #include "bake/progress.hpp"
+#include "bake/stages.hpp"
 #include "cuda/gpu_bake_device.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
@@ -66,9 +67,13 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     const cuda::DeviceState device = cuda::prepare_device(options.device_index);
 
     const Receivers& rx = job.receivers;
-    const bool shadowed = options.transfer == TransferKind::shadowed;
+    // Glossy matrices: W without the cosine, projected on the pair-product table (the CPU
+    // bake's two changes, bake.hpp); the SGEMM then has K(K+1)/2 columns.
+    const bool glossy = options.transfer == TransferKind::glossy;
+    const bool shadowed = options.transfer == TransferKind::shadowed || glossy;
     const std::size_t S = directions.size();
     const int K = options.K;
+    const int F = glossy ? K * (K + 1) / 2 : K;
     FlatBvh bvh;
     double seconds_bvh = 0;
     if (shadowed) {  // unshadowed transfer casts no rays: no BVH
@@ -76,7 +81,8 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
         bvh = build_bvh(*job.occluders, options.threads);
         seconds_bvh = seconds_since(bvh_start);
     }
-    const std::vector<float> Y = basis_table(K, directions);
+    std::vector<float> Y = basis_table(K, directions);
+    if (glossy) Y = pair_product_table(Y, S, K);
 
     TransferInfo info = bake_info(options, rx, S);
     TransferSink& sink = *job.sink;
@@ -86,9 +92,9 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     ChunkPlanRequest request;
     request.vertices = rx.count;
     request.samples = S;
-    request.K = K;
+    request.K = F;
     request.free_device_bytes = device.free_bytes;
-    request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, K, shadowed ? bvh.bytes() : 0);
+    request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, F, shadowed ? bvh.bytes() : 0);
     request.device_output = device_output != nullptr;
     request.requested_chunk = options.chunk_receivers;
     const ChunkPlan plan = plan_chunks(request);
@@ -97,8 +103,9 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     cuda::DeviceBakeInput input;
     input.device = options.device_index;
     input.scene = device_scene(rx, shadowed ? &bvh : nullptr, directions);
+    input.scene.hemisphere = glossy;
     input.basis = Y.data();
-    input.K = K;
+    input.K = F;
     input.first = rx.first;
     input.count = rx.count;
     input.plan = plan;

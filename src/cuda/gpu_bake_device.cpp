@@ -36,7 +36,7 @@ struct SceneBuffers {
     DeviceBuffer<Vec3f> positions, normals;
     DeviceBuffer<float> dirs, weights;
     std::uint32_t node_count = 0, tri_count = 0, samples = 0;
-    bool shadowed = true;
+    bool shadowed = true, hemisphere = false;
 
     SceneBuffers(const DeviceScene& s, MemoryTally* tally)
         : nodes(s.bvh.node_count, tally),
@@ -49,7 +49,8 @@ struct SceneBuffers {
           node_count(s.bvh.node_count),
           tri_count(s.bvh.tri_count),
           samples(static_cast<std::uint32_t>(s.samples)),
-          shadowed(s.shadowed) {
+          shadowed(s.shadowed),
+          hemisphere(s.hemisphere) {
         nodes.upload(s.bvh.nodes, nodes.size());
         tri_verts.upload(s.bvh.tri_verts, tri_verts.size());
         tri_ids.upload(s.bvh.tri_ids, tri_ids.size());
@@ -70,6 +71,7 @@ struct SceneBuffers {
         l.count = static_cast<std::uint32_t>(count);
         l.samples = samples;
         l.shadowed = shadowed;
+        l.hemisphere = hemisphere;
         return l;
     }
 };

@@ -40,12 +40,15 @@ struct DeviceScene {
     const float* weights = nullptr;  // S
     std::size_t samples = 0;
     bool shadowed = true;
+    bool hemisphere = false;  // glossy transfer matrices: W without the cosine
 };
 
 struct DeviceBakeInput {
     int device = 0;  // the CUDA device
     DeviceScene scene;
-    const float* basis = nullptr;  // Y[S×K], row-major
+    // The projection table, S × K row-major: the basis Y, or for glossy transfer the pair
+    // products (pair_product_table), K then being the packed matrix's K(K+1)/2 columns.
+    const float* basis = nullptr;
     int K = 0;
     // The receivers baked: [first, first + count) of the scene's vertices, in the plan's chunks.
     std::size_t first = 0, count = 0;

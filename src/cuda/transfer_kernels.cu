@@ -31,7 +31,8 @@ __global__ void __launch_bounds__(kBlock) transfer_kernel(TransferLaunch p) {
         const std::uint32_t s = i / p.count;
         const std::uint32_t vertex = p.first + (i - s * p.count);
         p.w_t[i] = transfer_sample(p.bvh, p.positions[vertex], p.normals[vertex],
-                                   load_direction(p.dirs, s), p.weights[s], p.shadowed, cast);
+                                   load_direction(p.dirs, s), p.weights[s], p.shadowed, cast,
+                                   p.hemisphere);
     }
     count_lanes(cast, p.rays);
 }

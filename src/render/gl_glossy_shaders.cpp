@@ -18,7 +18,7 @@
 // K' (KP) and the CPCA code's vector count (NV; 0 = raw matrices) are compile-time constants: a
 // program is compiled per (K', N) the first time it is drawn with. With constant trip counts the
 // compiler unrolls the coefficient loops, and T[] lives in registers instead of memory indexed
-// per lane (on llvmpipe that more than halves the vertex pass).
+// per lane.
 #include "gl_util.hpp"
 
 #include <string>
@@ -107,7 +107,8 @@ vec2 recurrence(int i) {
 // CPCA: the work group's cluster's products (mean·L, then B_i·L). Read through a uniform block
 // bound to this dispatch's clusters when they fit one (CL_BLOCK_VEC4S > 0): every invocation of
 // a group reads the same addresses, and llvmpipe then loads once per group where a storage
-// buffer load is a loop over the lanes (3.5× faster on the room's CPCA 256×8).
+// buffer load is a loop over the lanes (the room's CPCA 256×8: the vertex pass took ~17 instead
+// of ~30 ms of CPU per frame on llvmpipe, bench/RESULTS.md "Glossy in the viewer").
 #if CL_BLOCK_VEC4S > 0
 layout(std140, binding = 2) uniform ClusterLightBlock { vec4 cl_block[CL_BLOCK_VEC4S]; };
 #define CLUSTER_LIGHT(i) cl_block[i]
@@ -174,7 +175,7 @@ void main() {
 // sh_eval_k's recurrence (q_mm = K_m^m P_m^m / sin^m θ, (c_m + i s_m) = (x + iy)^m; constants from
 // the recurrence block), written out straight for this K': every T index is a constant, so T
 // stays in registers (a loop over (m, l ≥ m) is not unrolled by the compiler, and T indexed per
-// lane lives in memory: 3× slower on llvmpipe).
+// lane lives in memory: the room's CPCA vertex pass took ~2.5× longer so on llvmpipe).
 std::string zonal_dot_source(int K) {
     int bands = 0;
     while (bands * bands < K) ++bands;

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace shprt {
@@ -125,16 +126,14 @@ TEST(GlossyBake, SameBitsWithAnyThreadCount) {
     EXPECT_EQ(bake(scene, one).coeffs, bake(scene, two).coeffs);
 }
 
-TEST(GlossyBake, RefusesTooManyBandsAndTheGpu) {
+TEST(GlossyBake, RefusesTooManyBands) {
     const Mesh plane = make_builtin("plane");
-    EXPECT_THROW(bake(plane, glossy_options(81, 16)), Error);
-    BakeOptions cuda = glossy_options(16, 16);
-    cuda.device = Device::cuda;
     try {
-        bake(plane, cuda);
-        FAIL() << "a glossy bake on the GPU should be refused";
+        bake(plane, glossy_options(81, 16));
+        FAIL() << "81 coefficients (9 bands) should be refused";
     } catch (const Error& e) {
-        EXPECT_EQ(e.code(), ErrorCode::unsupported);
+        EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+        EXPECT_NE(std::string(e.what()).find("too large"), std::string::npos) << e.what();
     }
 }
 

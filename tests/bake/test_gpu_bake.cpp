@@ -301,6 +301,34 @@ TEST(GpuBake, InterreflectedAgreesWithTheCpuBake) {
     EXPECT_EQ(gpu_converged.interreflection.bounces, cpu_converged.interreflection.bounces);
 }
 
+// Glossy matrices on the GPU: the hemisphere weight and the pair-product SGEMM, against the CPU.
+TEST(GpuBake, GlossyAgreesWithTheCpuBake) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("box_on_plane");
+    const DirectionSet set = make_direction_set(SamplerKind::sobol, 3, 512);
+    BakeOptions o;
+    o.K = 16;
+    o.transfer = TransferKind::glossy;
+    const TransferSet gpu = test::bake_gpu(mesh, o, set);
+    const TransferSet cpu = bake(mesh, o, set);
+    EXPECT_EQ(gpu.layout, cpu.layout);
+    EXPECT_EQ(gpu.stats.rays_cast, cpu.stats.rays_cast) << "the same rays are cast";
+    ASSERT_EQ(gpu.coeffs.size(), cpu.coeffs.size());
+    // Relative to each receiver's largest entry (the diagonal), as the diffuse comparisons.
+    const std::size_t F = cpu.layout.floats_per_receiver();
+    double max_rel = 0;
+    for (std::size_t v = 0; v < cpu.receiver_count(); ++v) {
+        double diff = 0, scale = 0;
+        for (std::size_t i = 0; i < F; ++i) {
+            diff = std::max(diff, std::fabs(double(gpu.coeffs[v * F + i]) - cpu.coeffs[v * F + i]));
+            scale = std::max(scale, std::fabs(double(cpu.coeffs[v * F + i])));
+        }
+        max_rel = std::max(max_rel, scale > 0 ? diff / scale : diff);
+    }
+    std::printf("[ GPU vs CPU bake ] glossy box_on_plane: max relative difference %.3e\n", max_rel);
+    EXPECT_LE(max_rel, 1e-5);
+}
+
 TEST(GpuBake, UnshadowedAgreesWithTheCpuBake) {
     SKIP_WITHOUT_GPU();
     const Mesh mesh = make_builtin("sphere");

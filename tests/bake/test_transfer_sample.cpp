@@ -44,7 +44,8 @@ struct Emulation {
 
 // W for every vertex and sample, as the kernel computes it, and as the CPU bake would with
 // Embree's visibility (same cosine and weight, Embree's occluded()).
-Emulation emulate(const Mesh& mesh, const DirectionSet& set, bool shadowed) {
+Emulation emulate(const Mesh& mesh, const DirectionSet& set, bool shadowed,
+                  bool hemisphere = false) {
     const std::size_t V = mesh.vertex_count(), S = set.size();
     FlatBvh bvh;
     std::unique_ptr<Tracer> embree;
@@ -63,13 +64,15 @@ Emulation emulate(const Mesh& mesh, const DirectionSet& set, bool shadowed) {
         for (std::size_t s = 0; s < S; ++s) {
             const Vec3f w = direction(set, s);
             bool ray_cast = false;
-            const float value = transfer_sample(view, p, n, w, set.weights[s], shadowed, ray_cast);
+            const float value =
+                transfer_sample(view, p, n, w, set.weights[s], shadowed, ray_cast, hemisphere);
             e.w[v * S + s] = value;
             e.w_embree[v * S + s] = value;
             if (!ray_cast) continue;
             ++e.rays;
             bool unused = false;
-            const float unoccluded = transfer_sample(view, p, n, w, set.weights[s], false, unused);
+            const float unoccluded =
+                transfer_sample(view, p, n, w, set.weights[s], false, unused, hemisphere);
             std::uint8_t occluded = 0;
             embree->occluded(origin, &w, 1, 0.0f, kInf, &occluded);
             e.w_embree[v * S + s] = occluded ? 0.0f : unoccluded;
@@ -97,16 +100,37 @@ std::vector<double> project_naive(const std::vector<float>& w, const std::vector
 
 // Compares the emulated kernel + naive projection with the CPU bake, vertex by vertex, with the
 // bound stated at the top; prints the maximum relative difference (max_i |ΔC_i| / max_i |C_i|).
-void compare_with_cpu_bake(const Mesh& mesh, const DirectionSet& set, int K, bool shadowed) {
+// The emulated kernel's W projected in double against the CPU bake of `kind` (shadowed,
+// unshadowed, or glossy: W without the cosine, projected on the pair-product table, F = K(K+1)/2
+// columns), within the float bound of each column plus the exact effect of the rays on which
+// the flat BVH and Embree disagree.
+void compare_with_cpu_bake(const Mesh& mesh, const DirectionSet& set, int K_basis,
+                           TransferKind kind) {
+    const bool glossy = kind == TransferKind::glossy;
     const std::size_t V = mesh.vertex_count(), S = set.size();
-    const Emulation e = emulate(mesh, set, shadowed);
-    const std::vector<float> Y = basis_table(K, set);
+    const Emulation e = emulate(mesh, set, kind != TransferKind::unshadowed, glossy);
+    const std::vector<float> basis = basis_table(K_basis, set);
+    const int K = glossy ? K_basis * (K_basis + 1) / 2 : K_basis;  // columns
+    std::vector<float> Y = basis;
+    if (glossy) {  // y_i·y_j for i ≤ j, packed row by row (docs/glossy.md), in float
+        Y.assign(S * K, 0.0f);
+        for (std::size_t s = 0; s < S; ++s) {
+            int p = 0;
+            for (int i = 0; i < K_basis; ++i)
+                for (int j = i; j < K_basis; ++j, ++p)
+                    Y[s * K + p] = basis[s * K_basis + i] * basis[s * K_basis + j];
+        }
+    }
     const std::vector<double> c = project_naive(e.w, Y, V, S, K);
-    const std::vector<double> bound = test::float_dot_bounds(K, set);
+    std::vector<double> bound(K, 0.0);  // test::float_dot_bounds for the table's columns
+    for (std::size_t s = 0; s < S; ++s)
+        for (int i = 0; i < K; ++i)
+            bound[i] += double(set.weights[s]) * std::fabs(double(Y[s * K + i]));
+    for (double& b : bound) b *= double(S + 8) * test::kFloatEps;
 
     BakeOptions options;
-    options.K = K;
-    options.transfer = shadowed ? TransferKind::shadowed : TransferKind::unshadowed;
+    options.K = K_basis;
+    options.transfer = kind;
     const TransferSet cpu = bake(mesh, options, set);
     ASSERT_EQ(cpu.coeffs.size(), V * K);
     EXPECT_EQ(cpu.stats.rays_cast, e.rays) << "the kernel casts exactly the CPU bake's rays";
@@ -139,10 +163,10 @@ void compare_with_cpu_bake(const Mesh& mesh, const DirectionSet& set, int K, boo
     }
     const double rate = e.rays > 0 ? double(e.disagreements) / double(e.rays) : 0.0;
     std::printf(
-        "[ emulated kernel vs CPU bake ] %s, V=%zu S=%zu K=%d: %llu rays, %llu disagree "
+        "[ emulated kernel vs CPU bake ] %s %s, V=%zu S=%zu columns=%d: %llu rays, %llu disagree "
         "with Embree (%.2e), %zu vertices affected; max relative coefficient difference "
         "%.3e (%.3e where visibility agrees)\n",
-        mesh.source.c_str(), V, S, K, static_cast<unsigned long long>(e.rays),
+        to_string(kind), mesh.source.c_str(), V, S, K, static_cast<unsigned long long>(e.rays),
         static_cast<unsigned long long>(e.disagreements), rate, vertices_with_disagreement, max_rel,
         max_rel_agreeing);
     EXPECT_LE(rate, kMaxDisagreementRate);
@@ -192,23 +216,51 @@ TEST(TransferSample, OpenSkyPlaneIsNeverOccluded) {
 
 TEST(TransferSample, EmulatedKernelMatchesTheCpuBakeOnBoxOnPlane) {
     compare_with_cpu_bake(make_builtin("box_on_plane"),
-                          make_direction_set(SamplerKind::uniform, 7, 256), 16, true);
+                          make_direction_set(SamplerKind::uniform, 7, 256), 16,
+                          TransferKind::shadowed);
 }
 
 TEST(TransferSample, EmulatedKernelMatchesTheCpuBakeInTheCorner) {
     compare_with_cpu_bake(make_builtin("corner"),
-                          make_direction_set(SamplerKind::stratified, 5, 300), 25, true);
+                          make_direction_set(SamplerKind::stratified, 5, 300), 25,
+                          TransferKind::shadowed);
 }
 
 TEST(TransferSample, EmulatedKernelMatchesTheCpuBakeInTheRoom) {
     // The benchmark's scene: ~20 000 triangles of furniture, many grazing rays.
     compare_with_cpu_bake(make_builtin("room"), make_direction_set(SamplerKind::uniform, 1, 128),
-                          16, true);
+                          16, TransferKind::shadowed);
 }
 
 TEST(TransferSample, EmulatedKernelMatchesTheCpuBakeUnshadowed) {
     compare_with_cpu_bake(make_builtin("sphere"), make_direction_set(SamplerKind::sobol, 2, 128), 9,
-                          false);
+                          TransferKind::unshadowed);
+}
+
+// The GPU glossy bake's kernel (transfer_sample with `hemisphere`) and its pair-product SGEMM
+// against the CPU glossy bake (weight_row with `hemisphere`).
+TEST(TransferSample, EmulatedKernelMatchesTheCpuGlossyBake) {
+    compare_with_cpu_bake(make_builtin("box_on_plane"),
+                          make_direction_set(SamplerKind::sobol, 4, 256), 9, TransferKind::glossy);
+}
+
+TEST(TransferSample, HemisphereValueIsTheWeightAboveTheHorizon) {
+    const DirectionSet set = make_direction_set(SamplerKind::uniform, 5, 2000);
+    const FlatBvhView empty{nullptr, nullptr, nullptr, 0, 0};
+    const Vec3f n = normalize(Vec3f{-0.4f, 0.7f, 0.5f});
+    int above = 0;
+    for (std::size_t s = 0; s < set.size(); ++s) {
+        const Vec3f w = direction(set, s);
+        bool ray_cast = true;
+        const float value =
+            transfer_sample(empty, {0, 0, 0}, n, w, set.weights[s], false, ray_cast, true);
+        EXPECT_FALSE(ray_cast);
+        const float cosine = n.x * w.x + n.y * w.y + n.z * w.z;
+        EXPECT_EQ(value, cosine > 0.0f ? set.weights[s] : 0.0f) << "sample " << s;
+        above += value > 0.0f;
+    }
+    EXPECT_GT(above, 900);
+    EXPECT_LT(above, 1100);
 }
 
 }  // namespace

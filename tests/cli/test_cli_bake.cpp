@@ -103,7 +103,6 @@ TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
         {"--sampler bogus", "unknown sampler 'bogus'"},
         {"--transfer specular", "unknown transfer kind 'specular'"},
         {"--transfer glossy --bands 9", "glossy transfer: K = 81 is too large"},
-        {"--transfer glossy --device cuda", "glossy transfer runs on the CPU only"},
         {"--transfer glossy --bounces 2", "--bounces: interreflected glossy transfer"},
         {"--device quantum", "unknown device 'quantum'"},
         {"--threads -1", "--threads -1"},

@@ -139,8 +139,9 @@ struct BakeJob {
 // P[s][(i,j)] = y_i(w_s)·y_j(w_s) for i ≤ j (packed upper triangle, row by row), so that a chunk's
 // matrices are again one SGEMM, C[chunk×K(K+1)/2] = W[chunk×S]·P[S×K(K+1)/2] — row v of C is the
 // packed upper triangle of M_v = Yᵀ·diag(W[v])·Y, with the same determinism as the diffuse
-// product. CPU only (Device::cuda: Error(unsupported); automatic picks the CPU); K ≤
-// kMaxGlossyCoeffs; no bounces (interreflected glossy transfer is not written).
+// product. On the GPU the same two changes: transfer_sample with `hemisphere`, and cuBLAS SGEMM on
+// the same table (unverified on hardware so far). K ≤ kMaxGlossyCoeffs; no bounces
+// (interreflected glossy transfer is not written).
 //
 // Bakes diffuse transfer (one channel of K coefficients per receiver, see the top of this file)
 // for job.receivers' range into job.sink, on resolve_device(options.device, ...). Returns the

@@ -40,14 +40,24 @@ SHPRT_HD_INLINE float transfer_unoccluded(Vec3f n, Vec3f w, float weight) {
 #endif
 }
 
+// The unoccluded value of a glossy (matrix) sample: `weight` above the horizon (n·w > 0, the same
+// test as transfer_unoccluded), else 0 — the hemisphere without the cosine, as the CPU bake's
+// weight_row with `hemisphere`.
+SHPRT_HD_INLINE float transfer_hemisphere(Vec3f n, Vec3f w, float weight) {
+    return transfer_cosine(n, w) > 0.0f ? weight : 0.0f;
+}
+
 // W = V·max(0, n·w)·weight for the vertex at `p` with unit normal `n` and the unit direction `w`
 // of integration weight `weight`. V (visibility: 1 when the ray from offset_ray_origin(p, n) along
 // w hits nothing in (0, ∞) of `bvh`) is evaluated only when `shadowed` and the unoccluded value is
 // non-zero; `ray_cast` tells whether a ray was traced (the bake's ray count). Below the horizon
-// (n·w ≤ 0) the result is 0 and no ray is cast. `bvh` may be empty when !shadowed.
+// (n·w ≤ 0) the result is 0 and no ray is cast. `bvh` may be empty when !shadowed. With
+// `hemisphere` (glossy transfer matrices) the cosine is left out: W = V·weight above the horizon.
 SHPRT_HD_INLINE float transfer_sample(const FlatBvhView& bvh, Vec3f p, Vec3f n, Vec3f w,
-                                      float weight, bool shadowed, bool& ray_cast) {
-    const float unoccluded = transfer_unoccluded(n, w, weight);
+                                      float weight, bool shadowed, bool& ray_cast,
+                                      bool hemisphere = false) {
+    const float unoccluded =
+        hemisphere ? transfer_hemisphere(n, w, weight) : transfer_unoccluded(n, w, weight);
     ray_cast = false;
     if (!shadowed || unoccluded == 0.0f) return unoccluded;
     ray_cast = true;
