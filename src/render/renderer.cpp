@@ -415,15 +415,20 @@ void Renderer::run_shading(const ShadingKey& key) {
     glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_light_ubo);
     glBindBufferBase(GL_UNIFORM_BUFFER, gl::kRecurrenceBlockBinding, m_recurrence_ubo);
     dispatch_per_vertex();
-    for (unsigned b = 0; b <= gl::kColorBinding; ++b)
+    finish_shading_pass(key, "Renderer::run_shading");
+}
+
+void Renderer::finish_shading_pass(const ShadingKey& key, const char* what) {
+    for (unsigned b = 0; b <= gl::kClusterVertexBinding; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
-    for (unsigned b : {gl::kLightBlockBinding, gl::kRecurrenceBlockBinding})
+    for (unsigned b :
+         {gl::kLightBlockBinding, gl::kRecurrenceBlockBinding, gl::kClusterLightBlockBinding})
         glBindBufferBase(GL_UNIFORM_BUFFER, b, 0);
     glUseProgram(0);
     m_shading_key = key;
     m_shading_valid = true;
     ++m_shading_passes;
-    gl::check("Renderer::run_shading");
+    gl::check(what);
 }
 
 double Renderer::transfer_bytes_per_vertex() const { return m_bytes_per_vertex; }
@@ -500,16 +505,7 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
     } else {
         dispatch_per_vertex();
     }
-    for (unsigned b = 0; b <= gl::kClusterVertexBinding; ++b)
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
-    for (unsigned b :
-         {gl::kLightBlockBinding, gl::kRecurrenceBlockBinding, gl::kClusterLightBlockBinding})
-        glBindBufferBase(GL_UNIFORM_BUFFER, b, 0);
-    glUseProgram(0);
-    m_shading_key = key;
-    m_shading_valid = true;
-    ++m_shading_passes;
-    gl::check("Renderer::run_glossy_shading");
+    finish_shading_pass(key, "Renderer::run_glossy_shading");
 }
 
 void Renderer::dispatch_per_vertex() {

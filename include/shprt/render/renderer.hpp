@@ -193,6 +193,8 @@ private:
     void release_scene_buffers();
     // Dispatches the bound compute program once per vertex, then the barrier the draw needs.
     void dispatch_per_vertex();
+    // After a shading pass: unbinds its buffers and program, records `key`, checks for errors.
+    void finish_shading_pass(const ShadingKey& key, const char* what);
 
     unsigned m_shade_program = 0, m_scene_program = 0, m_background_program = 0,
              m_present_program = 0;
