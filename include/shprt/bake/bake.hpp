@@ -177,10 +177,13 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
 // A bake's peak host memory, estimated before it runs (no BVH is built): the BVH at
 // kBvhBytesPerTriangle per triangle (Embree's measured peak on the builtin scenes, rounded up),
 // the basis and direction tables, every worker's W[chunk×S], ray and row buffers, and — when
-// `rows_in_memory` (a HostSink: the rows of every receiver) — the rows; interreflected transfer
-// adds its three receivers × 3K work arrays (its transport operator, which depends on what the
-// rays hit, is not estimated: the figure is then a lower bound). Used to refuse a bake that
-// cannot fit (`shprt bake --max-memory`, MemAvailable) before any work.
+// `rows_in_memory` (a HostSink: the rows of every receiver) — the rows. Every kind is counted by
+// one rule from its layout (bake_description(options).layout): floats_per_receiver() floats per
+// row and floats_per_channel() columns in the product's table and buffers (K for vectors,
+// K(K+1)/2 for glossy's packed matrices, whose table is built from the K-column one);
+// interreflected transfer adds its three receivers × 3K work arrays (its transport operator, which
+// depends on what the rays hit, is not estimated: the figure is then a lower bound). Used to refuse
+// a bake that cannot fit (`shprt bake --max-memory`, MemAvailable) before any work.
 inline constexpr std::uint64_t kBvhBytesPerTriangle = 160;
 std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receivers,
                                        const BakeOptions& options, bool rows_in_memory);
