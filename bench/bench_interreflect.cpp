@@ -90,11 +90,10 @@ struct FlatCsr {
     explicit FlatCsr(const TransportOperator& A) {
         for (const TransportOperator::Block& b : A.blocks) {
             const std::int32_t base = row_start.back();
-            for (std::size_t r = 1; r < b.row_start.size(); ++r)
-                row_start.push_back(base + b.row_start[r]);
-            column.insert(column.end(), b.column.begin(), b.column.end());
+            for (std::size_t r = 1; r <= b.rows(); ++r) row_start.push_back(base + b.starts()[r]);
+            column.insert(column.end(), b.columns(), b.columns() + b.nnz());
             for (int c = 0; c < 3; ++c)
-                values[c].insert(values[c].end(), b.values[c].begin(), b.values[c].end());
+                values[c].insert(values[c].end(), b.channel(c), b.channel(c) + b.nnz());
         }
     }
 };
