@@ -41,6 +41,8 @@
 #include <mutex>
 #include <numbers>
 #include <optional>
+#include <string>
+#include <string_view>
 
 namespace shprt {
 namespace detail {
@@ -247,9 +249,11 @@ struct DirectRows {
 };
 
 // The rows of A (and, given `direct`, of T_0) for every vertex, in blocks of `rows_per_block`.
+// `then`: the bounces that follow (ProgressInfo::then), empty for A alone.
 TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable& table,
                                   const Tracer& tracer, const TransportOptions& options,
-                                  const DirectRows* direct, RowScratch* totals) {
+                                  const DirectRows* direct, RowScratch* totals,
+                                  std::string_view then = {}) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(mesh.albedo.size() == V && mesh.normals.size() == V, invalid_argument,
                 "interreflected transfer needs a normal and an albedo per vertex ({} vertices, {} "
@@ -266,6 +270,7 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
     A.blocks.resize(block_count);
     tbb::enumerable_thread_specific<RowScratch> scratch;
     detail::BakeProgress progress(options.progress, true, V, S);
+    progress.set_then(then);
     // A finished block stays in memory while the finished blocks fit the budget, else it goes
     // to the spill file. Its vectors grew by doubling: trimmed to their size first, so that the
     // memory A holds is A.bytes() (the slack was ~10 % of A, seen in the process's RSS).
@@ -623,7 +628,12 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
             to.spill_directory = options.spill_directory;
         }
         RowScratch totals;
-        A = trace_transport(mesh, table, *tracer, to, &direct, &totals);
+        // The tracing stage's ETA cannot include the bounces (their cost is known once A is):
+        // the bar names them after it, and the bounces' own stage then has the whole rest.
+        const std::string then = options.converge
+                                     ? std::string("bounces")
+                                     : fmt::format("{} bounce{}", wanted, wanted == 1 ? "" : "s");
+        A = trace_transport(mesh, table, *tracer, to, &direct, &totals, then);
         const double wall = seconds_since(pass_start);
         BakeOptions direct_options = options;
         direct_options.transfer = TransferKind::shadowed;

@@ -163,6 +163,35 @@ TEST(Interreflect, SpilledOperatorGivesTheSameBits) {
     std::filesystem::remove_all(dir);
 }
 
+// The progress of an interreflected bake: the tracing stage's reports name the bounces that
+// follow outside its total (ProgressInfo::then), the bounces' stage names nothing after it.
+TEST(Interreflect, TracingProgressNamesTheBouncesThatFollow) {
+    const Mesh mesh = make_builtin("box_on_plane");
+    for (const bool converge : {false, true}) {
+        BakeOptions o = ir_options(4, 64, 3);
+        o.converge = converge;
+        std::vector<std::pair<std::string, std::string>> seen;  // stage, then
+        o.progress = [&](const ProgressInfo& p) {
+            seen.emplace_back(std::string(p.stage), std::string(p.then));
+            return true;
+        };
+        bake(mesh, o);
+        bool tracing = false, bounces = false;
+        for (const auto& [stage, then] : seen) {
+            if (stage == "bake") {
+                tracing = true;
+                EXPECT_EQ(then, converge ? "bounces" : "3 bounces");
+            } else {
+                bounces = true;
+                EXPECT_EQ(stage, "bounces");
+                EXPECT_EQ(then, "");
+            }
+        }
+        EXPECT_TRUE(tracing);
+        EXPECT_TRUE(bounces);
+    }
+}
+
 TEST(Interreflect, ClosestHitsAreIntersect) {
     const Mesh mesh = make_builtin("box_on_plane");
     const auto tracer = make_embree_tracer(mesh);
