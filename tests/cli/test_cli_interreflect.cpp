@@ -109,6 +109,16 @@ TEST_F(CliInterreflect, SpilledOperatorWritesTheSameFile) {
         EXPECT_EQ(e.path().filename(), "spilled.shprt") << "left behind: " << e.path();
     }
     EXPECT_EQ(files, 1u);
+
+    // Without --reproducible the file's stats keep the bytes spilled, and `info` says so.
+    const std::string with_stats = (spill_dir / "stats.shprt").string();
+    std::string command = base;
+    command.replace(command.find("--reproducible"), 14, "");
+    r = shprt(command + "--max-memory " + std::to_string(rest + 1024) + " -o '" + with_stats + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_GT(read_shprt(with_stats).transfer.stats.operator_bytes_spilled, 0u);
+    r = shprt("info '" + with_stats + "'");
+    EXPECT_THAT(r.out, ::testing::HasSubstr("operator spilled"));
 }
 
 TEST_F(CliInterreflect, RefusalsAreOneLine) {
