@@ -123,9 +123,10 @@ public:
         put(b.column.data(), b.column.size() * sizeof(std::int32_t));
         for (const auto& v : b.values) put(v.data(), v.size() * sizeof(float));
         m_spilled.fetch_add(length);
-        b.row_start = {};
-        b.column = {};
-        for (auto& v : b.values) v = {};
+        // Freed, not cleared: `v = {}` would keep the capacity (initializer-list assignment).
+        std::vector<std::int32_t>().swap(b.row_start);
+        std::vector<std::int32_t>().swap(b.column);
+        for (auto& v : b.values) std::vector<float>().swap(v);
         return r;
     }
 

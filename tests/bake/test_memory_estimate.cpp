@@ -137,5 +137,42 @@ TEST(BakeMemoryEstimate, CountedPeakGrowsWithTheGlossyMatrices) {
     EXPECT_GE(large.peak, small.peak + extra_rows);
 }
 
+// An interreflected bake whose operator A does not fit its memory budget spills A's blocks past it
+// to a mapped file: the heap it counts then stays within the budget (give or take the blocks the
+// workers are building), well under the same bake with A in memory, and the rows are the same.
+TEST(BakeMemoryEstimate, SpillingInterreflectedBakeStaysInItsBudget) {
+    BakeOptions o;
+    o.transfer = TransferKind::interreflected;
+    o.K = 4;
+    o.samples = 256;
+    o.threads = 2;
+    o.bounces = 2;
+    o.chunk_receivers = 128;
+    const Mesh mesh = make_builtin("room");
+    const DirectionSet dirs = make_direction_set(o.sampler, o.seed, o.samples);
+    const auto tracer = make_embree_tracer(mesh);
+    const auto counted = [&](const BakeOptions& options, TransferSet& out) {
+        const std::int64_t before = g_live.load();
+        g_peak.store(before);
+        out = bake_with_tracer(mesh, options, dirs, *tracer);
+        return std::uint64_t(g_peak.load() - before) + tracer->memory_bytes();
+    };
+    TransferSet in_memory, spilled;
+    const std::uint64_t whole = counted(o, in_memory);
+    const std::uint64_t A = in_memory.interreflection.operator_bytes;
+    const std::uint64_t rest =
+        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), o, true);
+    BakeOptions tight = o;
+    tight.memory_budget = rest + A / 4;
+    const std::uint64_t peak = counted(tight, spilled);
+    std::printf("A %llu bytes, budget %llu: counted peak %llu spilled, %llu in memory\n",
+                (unsigned long long)A, (unsigned long long)tight.memory_budget,
+                (unsigned long long)peak, (unsigned long long)whole);
+    EXPECT_GT(spilled.stats.operator_bytes_spilled, A / 2);
+    EXPECT_LE(peak, tight.memory_budget + A / 8);
+    EXPECT_LE(peak + A / 2, whole);
+    EXPECT_EQ(spilled.coeffs, in_memory.coeffs);
+}
+
 }  // namespace
 }  // namespace shprt
