@@ -69,6 +69,7 @@ namespace {
 struct Measured {
     std::uint64_t peak = 0;      // heap high-water mark during the bake + the tracer's bytes
     std::uint64_t estimate = 0;  // estimate_bake_peak_bytes, rows in memory
+    TransferSet result;
 };
 
 // Bakes every vertex of `scene` into host memory with a tracer built beforehand, counting the
@@ -79,12 +80,12 @@ Measured measure(const char* scene, const BakeOptions& options) {
     const auto tracer = make_embree_tracer(mesh);
     const std::int64_t before = g_live.load();
     g_peak.store(before);
-    const TransferSet t = bake_with_tracer(mesh, options, dirs, *tracer);
     Measured m;
+    m.result = bake_with_tracer(mesh, options, dirs, *tracer);
     m.peak = std::uint64_t(g_peak.load() - before) + tracer->memory_bytes();
     m.estimate =
         estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), options, true);
-    EXPECT_EQ(t.coeffs.size(), t.layout.floats(mesh.vertex_count()));
+    EXPECT_EQ(m.result.coeffs.size(), m.result.layout.floats(mesh.vertex_count()));
     return m;
 }
 
@@ -148,30 +149,18 @@ TEST(BakeMemoryEstimate, SpillingInterreflectedBakeStaysInItsBudget) {
     o.threads = 2;
     o.bounces = 2;
     o.chunk_receivers = 128;
-    const Mesh mesh = make_builtin("room");
-    const DirectionSet dirs = make_direction_set(o.sampler, o.seed, o.samples);
-    const auto tracer = make_embree_tracer(mesh);
-    const auto counted = [&](const BakeOptions& options, TransferSet& out) {
-        const std::int64_t before = g_live.load();
-        g_peak.store(before);
-        out = bake_with_tracer(mesh, options, dirs, *tracer);
-        return std::uint64_t(g_peak.load() - before) + tracer->memory_bytes();
-    };
-    TransferSet in_memory, spilled;
-    const std::uint64_t whole = counted(o, in_memory);
-    const std::uint64_t A = in_memory.interreflection.operator_bytes;
-    const std::uint64_t rest =
-        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), o, true);
+    const Measured whole = measure("room", o);
+    const std::uint64_t A = whole.result.interreflection.operator_bytes;
     BakeOptions tight = o;
-    tight.memory_budget = rest + A / 4;
-    const std::uint64_t peak = counted(tight, spilled);
+    tight.memory_budget = whole.estimate + A / 4;  // the rest's estimate, and a quarter of A
+    const Measured spilled = measure("room", tight);
     std::printf("A %llu bytes, budget %llu: counted peak %llu spilled, %llu in memory\n",
                 (unsigned long long)A, (unsigned long long)tight.memory_budget,
-                (unsigned long long)peak, (unsigned long long)whole);
-    EXPECT_GT(spilled.stats.operator_bytes_spilled, A / 2);
-    EXPECT_LE(peak, tight.memory_budget + A / 8);
-    EXPECT_LE(peak + A / 2, whole);
-    EXPECT_EQ(spilled.coeffs, in_memory.coeffs);
+                (unsigned long long)spilled.peak, (unsigned long long)whole.peak);
+    EXPECT_GT(spilled.result.stats.operator_bytes_spilled, A / 2);
+    EXPECT_LE(spilled.peak, tight.memory_budget + A / 8);
+    EXPECT_LE(spilled.peak + A / 2, whole.peak);
+    EXPECT_EQ(spilled.result.coeffs, whole.result.coeffs);
 }
 
 }  // namespace
