@@ -16,6 +16,7 @@
 // Usage: bench_bake [--threads N] [--reps N] [--quick] [--no-scaling] [--only-scaling]
 //                   [--chunk N] [--K K]...
 // (--chunk overrides the automatic chunk size, --K (repeatable) the list of K.)
+#include "bench_cli.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
@@ -325,29 +326,14 @@ void print_table(const std::vector<Row>& rows, bool cpu_basis) {
 
 Args parse_args(int argc, char** argv) {
     Args a;
-    for (int i = 1; i < argc; ++i) {
-        const std::string s = argv[i];
-        if (s == "--threads" && i + 1 < argc)
-            a.threads = std::atoi(argv[++i]);
-        else if (s == "--reps" && i + 1 < argc)
-            a.reps = std::max(1, std::atoi(argv[++i]));
-        else if (s == "--quick")
-            a.quick = true;
-        else if (s == "--no-scaling")
-            a.scaling = false;
-        else if (s == "--only-scaling")
-            a.only_scaling = true;
-        else if (s == "--chunk" && i + 1 < argc)
-            a.chunk = std::size_t(std::atol(argv[++i]));
-        else if (s == "--K" && i + 1 < argc)
-            a.Ks.push_back(std::atoi(argv[++i]));
-        else {
-            std::fprintf(stderr,
-                         "usage: bench_bake [--threads N] [--reps N] [--quick] [--no-scaling] "
-                         "[--chunk N] [--K K]...\n");
-            std::exit(2);
-        }
-    }
+    bench::BenchCli cli("bench_bake",
+                        "The diffuse bake against a plain Embree loop and bare SGEMM");
+    cli.threads(a.threads).reps(a.reps).Ks(a.Ks);
+    cli.flag("--quick", a.quick, true, "Fewer configurations");
+    cli.flag("--no-scaling", a.scaling, false, "Skip the thread-scaling table");
+    cli.flag("--only-scaling", a.only_scaling, true, "Only the thread-scaling table");
+    cli.option("--chunk", a.chunk, "Receivers per chunk (0 = the bake's automatic size)");
+    cli.parse(argc, argv);
     if (a.threads <= 0) a.threads = tbb::info::default_concurrency();
     return a;
 }

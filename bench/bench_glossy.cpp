@@ -10,6 +10,7 @@
 // shared; the minimum is the least disturbed).
 //
 // Usage: bench_glossy [--K K] [--samples S] [--reps R] [--threads T] [--no-table]
+#include "bench_cli.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/scene/load.hpp"
@@ -36,24 +37,10 @@ struct Args {
 
 Args parse(int argc, char** argv) {
     Args a;
-    for (int i = 1; i < argc; ++i) {
-        const std::string s = argv[i];
-        const auto next = [&] { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
-        if (s == "--K")
-            a.K = next();
-        else if (s == "--samples")
-            a.samples = next();
-        else if (s == "--reps")
-            a.reps = std::max(1, next());
-        else if (s == "--threads")
-            a.threads = next();
-        else if (s == "--no-table")
-            a.table = false;
-        else {
-            std::fprintf(stderr, "bench_glossy: unknown argument %s\n", s.c_str());
-            std::exit(2);
-        }
-    }
+    bench::BenchCli cli("bench_glossy", "The glossy bake of the room against its limits");
+    cli.K(a.K, kMaxGlossyCoeffs).samples(a.samples).reps(a.reps).threads(a.threads);
+    cli.flag("--no-table", a.table, false, "Skip the table over K");
+    cli.parse(argc, argv);
     return a;
 }
 

@@ -19,6 +19,7 @@
 // configuration is a multi-second job on the CPU.
 //
 // Usage: bench_gpu_bake [--reps N] [--threads N] [--quick] [--no-cpu] [--no-scaling]
+#include "bench_cli.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/scene/load.hpp"
@@ -52,25 +53,12 @@ struct Args {
 
 Args parse_args(int argc, char** argv) {
     Args a;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (arg == "--reps" && i + 1 < argc) {
-            a.reps = std::max(1, std::atoi(argv[++i]));
-        } else if (arg == "--threads" && i + 1 < argc) {
-            a.threads = std::max(0, std::atoi(argv[++i]));
-        } else if (arg == "--quick") {
-            a.quick = true;
-        } else if (arg == "--no-cpu") {
-            a.cpu = false;
-        } else if (arg == "--no-scaling") {
-            a.scaling = false;
-        } else {
-            std::fprintf(stderr,
-                         "usage: bench_gpu_bake [--reps N] [--threads N] [--quick] [--no-cpu] "
-                         "[--no-scaling]\n");
-            std::exit(2);
-        }
-    }
+    bench::BenchCli cli("bench_gpu_bake", "The GPU bake against the CPU bake");
+    cli.reps(a.reps).threads(a.threads);
+    cli.flag("--quick", a.quick, true, "Fewer configurations");
+    cli.flag("--no-cpu", a.cpu, false, "Skip the CPU bakes");
+    cli.flag("--no-scaling", a.scaling, false, "Skip the scaling table");
+    cli.parse(argc, argv);
     return a;
 }
 

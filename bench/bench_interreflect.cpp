@@ -15,6 +15,7 @@
 //
 // Usage: bench_interreflect [--K K] [--samples S] [--bounces N] [--reps R] [--threads T]
 //                           [--no-converged] [--only-product]
+#include "bench_cli.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/interreflect.hpp"
 #include "shprt/core/timer.hpp"
@@ -51,28 +52,15 @@ struct Args {
 
 Args parse(int argc, char** argv) {
     Args a;
-    for (int i = 1; i < argc; ++i) {
-        const std::string s = argv[i];
-        const auto next = [&] { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
-        if (s == "--K")
-            a.K = next();
-        else if (s == "--samples")
-            a.samples = next();
-        else if (s == "--bounces")
-            a.bounces = next();
-        else if (s == "--reps")
-            a.reps = std::max(1, next());
-        else if (s == "--threads")
-            a.threads = next();
-        else if (s == "--no-converged")
-            a.converged = false;
-        else if (s == "--only-product")
-            a.bakes = a.converged = false;
-        else {
-            std::fprintf(stderr, "bench_interreflect: unknown argument %s\n", s.c_str());
-            std::exit(2);
-        }
-    }
+    bench::BenchCli cli("bench_interreflect",
+                        "The interreflected bake against the direct bake and a bare Eigen product");
+    cli.K(a.K).samples(a.samples).reps(a.reps).threads(a.threads);
+    cli.option("--bounces", a.bounces, "Bounces N")->check(CLI::Range(0, 1000));
+    cli.flag("--no-converged", a.converged, false, "Skip --bounces converged");
+    cli.flag(
+        "--only-product", [&a] { a.bakes = a.converged = false; },
+        "Only the bounce product against the bare Eigen call");
+    cli.parse(argc, argv);
     return a;
 }
 
@@ -90,11 +78,10 @@ struct FlatCsr {
     explicit FlatCsr(const TransportOperator& A) {
         for (const TransportOperator::Block& b : A.blocks) {
             const std::int32_t base = row_start.back();
-            for (std::size_t r = 1; r < b.row_start.size(); ++r)
-                row_start.push_back(base + b.row_start[r]);
-            column.insert(column.end(), b.column.begin(), b.column.end());
+            for (std::size_t r = 1; r <= b.rows(); ++r) row_start.push_back(base + b.starts()[r]);
+            column.insert(column.end(), b.columns(), b.columns() + b.nnz());
             for (int c = 0; c < 3; ++c)
-                values[c].insert(values[c].end(), b.values[c].begin(), b.values[c].end());
+                values[c].insert(values[c].end(), b.channel(c), b.channel(c) + b.nnz());
         }
     }
 };

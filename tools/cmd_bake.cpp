@@ -179,6 +179,11 @@ void print_summary(const BakeArgs& args, const Plan& plan, const TransferInfo& t
             s.seconds_operator, static_cast<unsigned long long>(ir.operator_nnz),
             double(ir.operator_bytes) / (1024.0 * 1024.0), s.seconds_bounces,
             ir.albedo_source.c_str());
+        if (s.operator_bytes_spilled > 0)
+            std::printf(
+                "operator: %.1f MiB of A past the memory budget, read memory-mapped from a "
+                "temporary file beside the output\n",
+                double(s.operator_bytes_spilled) / (1024.0 * 1024.0));
     }
     const double rays_per_second = s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace : 0;
     std::printf(
@@ -329,7 +334,10 @@ void run(const BakeArgs& args) {
     install_interrupt_handler();
     Output output(args, mesh, p.receivers, options, p.write_options);
     const BakeJob job{&mesh, p.receivers, &output.sink(), nullptr, nullptr, output.direct()};
-    check_bake_memory(args.resumable, job, options, !args.stream);
+    // An interreflected bake spills the part of its operator past the budget next to the output.
+    options.memory_budget = check_bake_memory(args.resumable, job, options, !args.stream);
+    const std::string folder = std::filesystem::path(args.output).parent_path().string();
+    options.spill_directory = folder.empty() ? "." : folder;
     ResumableBake resumable(args.resumable, job, options);
     TransferInfo info;
     {

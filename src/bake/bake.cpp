@@ -166,15 +166,22 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
         options.threads > 0 ? options.threads : std::max(1, tbb::info::default_concurrency()));
     const std::uint64_t chunks = (V + chunk - 1) / std::max<std::uint64_t>(chunk, 1);
     const std::uint64_t workers = std::max<std::uint64_t>(1, std::min(threads, chunks));
-    const std::uint64_t channels = options.transfer == TransferKind::interreflected ? 3 : 1;
+    // Every kind by one rule, from its layout: a receiver's row is channels × F floats, and the
+    // product's table has F columns (F = K for vectors, K(K+1)/2 for glossy's packed matrices:
+    // its pair-product table, built from the K-column basis table, which lives beside it then).
+    const TransferLayout layout = bake_description(options).layout;
+    const std::uint64_t F = layout.floats_per_channel(), row = layout.floats_per_receiver();
     std::uint64_t bytes = triangles * kBvhBytesPerTriangle;
-    bytes += S * K * sizeof(float);                                            // Y
+    bytes += S * F * sizeof(float);                                            // Y (or P)
+    if (F != K) bytes += S * K * sizeof(float);                                // Y for P
     bytes += S * (4 * sizeof(float) + 3 * sizeof(float));                      // direction table
     bytes += workers * (chunk * S * sizeof(float) +                            // W
                         S * (3 * sizeof(float) + sizeof(std::uint32_t) + 1) +  // rays
-                        chunk * K * sizeof(float));                            // C
-    if (rows_in_memory) bytes += V * channels * K * sizeof(float);
-    if (channels == 3) bytes += 3 * V * 3 * K * sizeof(float) + V * K * sizeof(float);
+                        chunk * F * sizeof(float));                            // C
+    if (rows_in_memory) bytes += V * row * sizeof(float);
+    // Interreflected: the sum and two bounce buffers of V rows, and T_0 (V × K).
+    if (options.transfer == TransferKind::interreflected)
+        bytes += 3 * V * row * sizeof(float) + V * K * sizeof(float);
     return bytes;
 }
 

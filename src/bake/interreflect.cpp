@@ -12,6 +12,7 @@
 #include "bake/progress.hpp"
 #include "bake/stages.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
@@ -24,14 +25,24 @@
 #include <oneapi/tbb/task_arena.h>
 #include <Eigen/SparseCore>
 
+#include <fcntl.h>
 #include <immintrin.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
+#include <mutex>
 #include <numbers>
 #include <optional>
+#include <string>
+#include <string_view>
 
 namespace shprt {
 namespace detail {
@@ -68,6 +79,98 @@ int thread_count(int threads) {
     return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
 }
 
+// The blocks of A that do not fit the memory budget: appended to one temporary file as they
+// finish (any thread; each block's bytes at an offset reserved under a lock, written with pwrite
+// outside it), then mapped read-only. The file is an AtomicFile's temporary, never committed: it
+// is removed when this object goes (an error, a cancel) and by the CLI's signal handlers, and
+// unlinked as soon as it is mapped, so that only the mapping keeps its pages.
+class SpillFile {
+public:
+    explicit SpillFile(std::string directory) : m_directory(std::move(directory)) {
+        if (m_directory.empty()) {
+            const char* tmp = std::getenv("TMPDIR");
+            m_directory = tmp && *tmp ? tmp : "/tmp";
+        }
+    }
+
+    // Where a spilled block's arrays are in the file.
+    struct Record {
+        std::uint64_t offset = 0;  // row starts, then columns, then the three channels' values
+        std::size_t rows = 0, nnz = 0;
+    };
+
+    // Writes the block's arrays and frees its vectors.
+    Record append(TransportOperator::Block& b) {
+        Record r;
+        r.rows = b.rows();
+        r.nnz = b.nnz();
+        const std::uint64_t length = b.bytes();
+        int fd = -1;
+        {
+            const std::lock_guard lock(m_mutex);
+            if (!m_file) m_file.emplace(m_directory + "/shprt-transport-operator");
+            fd = ::fileno(m_file->handle());
+            r.offset = m_size;
+            m_size += length;
+        }
+        const std::string what = "the transport operator's spill file in " + m_directory;
+        std::uint64_t at = r.offset;
+        const auto put = [&](const void* data, std::size_t bytes) {
+            if (bytes) pwrite_all(fd, data, bytes, at, what);
+            at += bytes;
+        };
+        put(b.row_start.data(), b.row_start.size() * sizeof(std::int32_t));
+        put(b.column.data(), b.column.size() * sizeof(std::int32_t));
+        for (const auto& v : b.values) put(v.data(), v.size() * sizeof(float));
+        m_spilled.fetch_add(length);
+        // Freed, not cleared: `v = {}` would keep the capacity (initializer-list assignment).
+        std::vector<std::int32_t>().swap(b.row_start);
+        std::vector<std::int32_t>().swap(b.column);
+        for (auto& v : b.values) std::vector<float>().swap(v);
+        return r;
+    }
+
+    std::uint64_t spilled() const { return m_spilled.load(); }
+
+    // After the last append: maps the file read-only, unlinks it, and points the spilled blocks
+    // (records[i].rows > 0) into the mapping, which the returned owner keeps.
+    std::shared_ptr<const void> map(TransportOperator& A, const std::vector<Record>& records) {
+        if (!m_file) return nullptr;
+        const std::string& temp = m_file->temp_path();
+        const int fd = ::open(temp.c_str(), O_RDONLY | O_CLOEXEC);
+        SHPRT_CHECK(fd >= 0, io, "cannot read back {}: {}", temp, std::strerror(errno));
+        void* base = ::mmap(nullptr, m_size, PROT_READ, MAP_SHARED, fd, 0);
+        const int err = errno;
+        ::close(fd);
+        SHPRT_CHECK(base != MAP_FAILED, io, "cannot map {}: {}", temp, std::strerror(err));
+        m_file.reset();  // unlinks the file; the mapping keeps its pages
+        const std::size_t length = m_size;
+        std::shared_ptr<const void> owner(
+            base, [length](const void* p) { ::munmap(const_cast<void*>(p), length); });
+        const auto* bytes = static_cast<const unsigned char*>(base);
+        for (std::size_t i = 0; i < records.size(); ++i) {
+            const Record& r = records[i];
+            if (r.rows == 0) continue;
+            TransportOperator::Block::Mapped& m = A.blocks[i].mapped;
+            const unsigned char* p = bytes + r.offset;
+            m.rows = r.rows;
+            m.nnz = r.nnz;
+            m.row_start = reinterpret_cast<const std::int32_t*>(p);
+            m.column = m.row_start + (r.rows + 1);
+            const auto* values = reinterpret_cast<const float*>(m.column + r.nnz);
+            for (std::size_t c = 0; c < 3; ++c) m.values[c] = values + c * r.nnz;
+        }
+        return owner;
+    }
+
+private:
+    std::string m_directory;
+    std::mutex m_mutex;
+    std::optional<AtomicFile> m_file;
+    std::uint64_t m_size = 0;
+    std::atomic<std::uint64_t> m_spilled{0};
+};
+
 // One worker's buffers.
 struct RowScratch {
     std::vector<float> weight;  // T_0's weight row when none is given (A alone)
@@ -101,13 +204,15 @@ __attribute__((target("avx2"))) void transport_rows_avx2(const TransportOperator
                                                          float* acc) {
     const std::size_t stride = 3 * std::size_t(K);
     const int vec_end = K / 8 * 8;
-    const float* v0 = A.values[0].data();
-    const float* v1 = A.values[1].data();
-    const float* v2 = A.values[2].data();
+    const float* v0 = A.channel(0);
+    const float* v1 = A.channel(1);
+    const float* v2 = A.channel(2);
+    const std::int32_t* starts = A.starts();
+    const std::int32_t* columns = A.columns();
     for (std::size_t r = 0; r < A.rows(); ++r) {
         for (std::size_t i = 0; i < stride; ++i) acc[i] = 0.0f;
-        for (std::int32_t p = A.row_start[r]; p < A.row_start[r + 1]; ++p) {
-            const float* x = in + std::size_t(A.column[std::size_t(p)]) * stride;
+        for (std::int32_t p = starts[r]; p < starts[r + 1]; ++p) {
+            const float* x = in + std::size_t(columns[std::size_t(p)]) * stride;
             const float a[3] = {v0[p], v1[p], v2[p]};
             for (int c = 0; c < 3; ++c) {
                 const float* xc = x + std::size_t(c) * K;
@@ -145,9 +250,11 @@ struct DirectRows {
 };
 
 // The rows of A (and, given `direct`, of T_0) for every vertex, in blocks of `rows_per_block`.
+// `then`: the bounces that follow (ProgressInfo::then), empty for A alone.
 TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable& table,
                                   const Tracer& tracer, const TransportOptions& options,
-                                  const DirectRows* direct, RowScratch* totals) {
+                                  const DirectRows* direct, RowScratch* totals,
+                                  std::string_view then = {}) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(mesh.albedo.size() == V && mesh.normals.size() == V, invalid_argument,
                 "interreflected transfer needs a normal and an albedo per vertex ({} vertices, {} "
@@ -164,6 +271,25 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
     A.blocks.resize(block_count);
     tbb::enumerable_thread_specific<RowScratch> scratch;
     detail::BakeProgress progress(options.progress, true, V, S);
+    progress.set_then(then);
+    // A finished block stays in memory while the finished blocks fit the budget, else it goes
+    // to the spill file. Its vectors grew by doubling: trimmed to their size first, so that the
+    // memory A holds is A.bytes() (the slack was ~10 % of A, seen in the process's RSS).
+    SpillFile spill(options.spill_directory);
+    std::vector<SpillFile::Record> spilled(options.memory_budget > 0 ? block_count : 0);
+    std::atomic<std::uint64_t> resident{0};
+    const auto keep_or_spill = [&](std::size_t c, TransportOperator::Block& out) {
+        const std::uint64_t bytes = out.bytes();
+        if (options.memory_budget == 0 ||
+            resident.fetch_add(bytes) + bytes <= options.memory_budget) {
+            out.row_start.shrink_to_fit();
+            out.column.shrink_to_fit();
+            for (auto& v : out.values) v.shrink_to_fit();
+            return;
+        }
+        resident.fetch_sub(bytes);
+        spilled[c] = spill.append(out);
+    };
     constexpr float kInf = std::numeric_limits<float>::infinity();
     constexpr float kKeep[2] = {1.0f, 0.0f};  // visible, occluded: as trace_row, branch-free
 
@@ -233,6 +359,7 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
                                  direct->rows + out.first * std::size_t(direct->K));
             sc.project_seconds += thread_cpu_seconds() - project_start;
         }
+        keep_or_spill(c, out);
     };
 
     {
@@ -250,6 +377,8 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
     SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} of {} vertices",
                 progress.receivers_done(), V);
     A.rays_cast = progress.rays();
+    A.spill = spill.map(A, spilled);
+    A.spilled_bytes = spill.spilled();
     if (totals)
         for (const RowScratch& sc : scratch) {
             totals->trace_seconds += sc.trace_seconds;
@@ -365,8 +494,8 @@ void apply_transport_blocks(const TransportOperator& A, const float* in, float* 
     const auto eigen_block = [&](const TransportOperator::Block& b) {
         const auto rows = static_cast<Eigen::Index>(b.rows());
         for (int c = 0; c < 3; ++c) {
-            const SparseMap a(rows, V, Eigen::Index(b.column.size()), b.row_start.data(),
-                              b.column.data(), b.values[c].data());
+            const SparseMap a(rows, V, Eigen::Index(b.nnz()), b.starts(), b.columns(),
+                              b.channel(c));
             const DenseMap x(in + c * K, V, K, Eigen::OuterStride<>(stride));
             DenseOut y(out + Eigen::Index(b.first) * stride + c * K, rows, K,
                        Eigen::OuterStride<>(stride));
@@ -490,8 +619,22 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
         to.threads = options.threads;
         to.rows_per_block = options.chunk_receivers;  // 0: the CPU bake's chunks
         to.progress = options.progress;
+        // What the budget leaves for A once the rest of the bake (estimated before it: tables,
+        // buffers, T_0, the bounce arrays and the rows) has its share; nothing left → every
+        // block spills.
+        if (options.memory_budget > 0) {
+            const std::uint64_t rest =
+                estimate_bake_peak_bytes(mesh.triangle_count(), V, options, true);
+            to.memory_budget = options.memory_budget > rest ? options.memory_budget - rest : 1;
+            to.spill_directory = options.spill_directory;
+        }
         RowScratch totals;
-        A = trace_transport(mesh, table, *tracer, to, &direct, &totals);
+        // The tracing stage's ETA cannot include the bounces (their cost is known once A is):
+        // the bar names them after it, and the bounces' own stage then has the whole rest.
+        const std::string then = options.converge
+                                     ? std::string("bounces")
+                                     : fmt::format("{} bounce{}", wanted, wanted == 1 ? "" : "s");
+        A = trace_transport(mesh, table, *tracer, to, &direct, &totals, then);
         const double wall = seconds_since(pass_start);
         BakeOptions direct_options = options;
         direct_options.transfer = TransferKind::shadowed;
@@ -541,6 +684,7 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
     ir.operator_nnz = A.nnz();
     ir.operator_bytes = A.bytes();
     ir.operator_rays = A.rays_cast;
+    info.stats.operator_bytes_spilled = A.spilled_bytes;
 
     const std::size_t row = 3 * std::size_t(K);
     std::vector<float> sum(V * row);
@@ -596,9 +740,9 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
 
     BakeStats& st = info.stats;
     st.seconds_total = seconds_so_far + seconds_since(start);
-    st.peak_bytes_host =
-        std::max<std::uint64_t>(st.peak_bytes_host, V * std::size_t(K) * sizeof(float) + A.bytes() +
-                                                        buffers_bytes + other_bytes);
+    st.peak_bytes_host = std::max<std::uint64_t>(
+        st.peak_bytes_host, V * std::size_t(K) * sizeof(float) + (A.bytes() - A.spilled_bytes) +
+                                buffers_bytes + other_bytes);
     return info;
 }
 

@@ -35,6 +35,10 @@ public:
     // The final report (on the calling thread): returns false when the callback asks to stop.
     bool finish();
 
+    // What follows this stage outside its total (ProgressInfo::then); `then` must outlive the
+    // reporter.
+    void set_then(std::string_view then) { m_then = then; }
+
     bool stopped() const { return m_stop.load(std::memory_order_relaxed); }
     void stop() { m_stop.store(true, std::memory_order_relaxed); }
     std::uint64_t rays() const { return m_rays.load(); }
@@ -46,6 +50,7 @@ private:
     const ProgressFn& m_callback;
     bool m_shadowed;
     std::string_view m_stage = "bake", m_unit;  // m_unit empty: a bake (rays or samples)
+    std::string_view m_then;
     std::uint64_t m_total, m_samples;
     std::atomic<std::uint64_t> m_rays{0}, m_receivers{0};
     std::atomic<bool> m_stop{false};

@@ -76,14 +76,14 @@ DeviceTransport::DeviceTransport(int device, const TransportOperator& A, int K)
         auto d = std::make_unique<Impl::Block>();
         d->first = b.first;
         d->rows = b.rows();
-        d->row_start = DeviceBuffer<std::int32_t>(b.row_start.size(), &m.tally);
-        d->row_start.upload(b.row_start.data(), b.row_start.size());
-        const std::size_t nnz = b.column.size();
+        d->row_start = DeviceBuffer<std::int32_t>(b.rows() + 1, &m.tally);
+        d->row_start.upload(b.starts(), b.rows() + 1);
+        const std::size_t nnz = b.nnz();
         d->column = DeviceBuffer<std::int32_t>(std::max<std::size_t>(nnz, 1), &m.tally);
-        if (nnz) d->column.upload(b.column.data(), nnz);
+        if (nnz) d->column.upload(b.columns(), nnz);
         for (int c = 0; c < 3; ++c) {
             d->values[c] = DeviceBuffer<float>(std::max<std::size_t>(nnz, 1), &m.tally);
-            if (nnz) d->values[c].upload(b.values[c].data(), nnz);
+            if (nnz) d->values[c].upload(b.channel(c), nnz);
             SHPRT_CUDA_CHECK(api.create_csr(
                 &d->matrix[c], std::int64_t(d->rows), std::int64_t(m.V), std::int64_t(nnz),
                 d->row_start.data(), d->column.data(), d->values[c].data(), CUSPARSE_INDEX_32I,

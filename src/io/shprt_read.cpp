@@ -423,6 +423,8 @@ ShprtFile Reader::read(bool allow_part) {
         if (s.obj.contains("device")) st.device_name = s.string("device");
         st.seconds_operator = s.number_or_zero("seconds_operator");
         st.seconds_bounces = s.number_or_zero("seconds_bounces");
+        if (s.obj.contains("operator_bytes_spilled"))
+            st.operator_bytes_spilled = s.u64("operator_bytes_spilled");
     }
     if (meta.contains("interreflection")) {
         const Fields f = m.object("interreflection");

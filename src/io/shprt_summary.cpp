@@ -142,6 +142,10 @@ std::string shprt_summary(const ShprtFile& file) {
         line("rays", rays);
         line("peak memory", fmt::format("{} host, {} device", bytes_text(double(s.peak_bytes_host)),
                                         bytes_text(double(s.peak_bytes_device))));
+        if (s.operator_bytes_spilled > 0)
+            line("operator spilled",
+                 fmt::format("{} of A read memory-mapped from a temporary file (memory budget)",
+                             bytes_text(double(s.operator_bytes_spilled))));
         if (!s.device_name.empty()) line("device", s.device_name);
     } else {
         line("time", "not recorded (reproducible file)");

@@ -65,6 +65,7 @@ Json stats_json(const BakeStats& s) {
         j["seconds_operator"] = s.seconds_operator;
         j["seconds_bounces"] = s.seconds_bounces;
     }
+    if (s.operator_bytes_spilled > 0) j["operator_bytes_spilled"] = s.operator_bytes_spilled;
     return j;
 }
 

@@ -18,6 +18,7 @@ void add_stats(BakeStats& total, const BakeStats& part) {
     total.peak_bytes_device = std::max(total.peak_bytes_device, part.peak_bytes_device);
     total.seconds_operator += part.seconds_operator;
     total.seconds_bounces += part.seconds_bounces;
+    total.operator_bytes_spilled += part.operator_bytes_spilled;
     const std::string& name = part.device_name;
     std::size_t at = 0;
     while ((at = total.device_name.find(name, at)) != std::string::npos) {

@@ -24,12 +24,15 @@
 #include "shprt/trace/tracer.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace shprt {
@@ -116,6 +119,77 @@ TEST(Interreflect, SameBitsForAnyThreadCount) {
     ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
     EXPECT_EQ(std::memcmp(a.coeffs.data(), b.coeffs.data(), a.coeffs.size() * 4), 0);
     EXPECT_EQ(a.interreflection.operator_nnz, b.interreflection.operator_nnz);
+}
+
+// A memory budget that A does not fit: its blocks past the budget are spilled to a temporary file
+// and read back memory-mapped; the result is the in-memory bake's, bit for bit, whether every block
+// spills (a budget of 1 byte) or some do, and nothing is left in the spill directory.
+TEST(Interreflect, SpilledOperatorGivesTheSameBits) {
+    Mesh mesh = make_builtin("box_on_plane");
+    for (Vec3f& rho : mesh.albedo) rho = Vec3f{0.9f, 0.5f, 0.2f};  // three different channels
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("shprt_spill_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    BakeOptions o = ir_options(9, 256, 3);
+    o.threads = 2;
+    o.chunk_receivers = 32;  // several blocks, so that a budget can keep some
+    const TransferSet whole = bake(mesh, o);
+    EXPECT_EQ(whole.stats.operator_bytes_spilled, 0u);
+    const std::uint64_t A = whole.interreflection.operator_bytes;
+    const std::uint64_t rest =
+        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), o, true);
+    for (const std::uint64_t budget : {std::uint64_t(1), rest + A / 2}) {
+        SCOPED_TRACE("budget " + std::to_string(budget));
+        BakeOptions spilling = o;
+        spilling.memory_budget = budget;
+        spilling.spill_directory = dir.string();
+        const TransferSet t = bake(mesh, spilling);
+        ASSERT_EQ(t.coeffs.size(), whole.coeffs.size());
+        EXPECT_EQ(std::memcmp(t.coeffs.data(), whole.coeffs.data(), t.coeffs.size() * 4), 0);
+        EXPECT_EQ(t.direct, whole.direct);
+        EXPECT_EQ(t.interreflection.operator_nnz, whole.interreflection.operator_nnz);
+        EXPECT_GT(t.stats.operator_bytes_spilled, 0u);
+        if (budget == 1)
+            EXPECT_EQ(t.stats.operator_bytes_spilled, A);
+        else
+            EXPECT_LT(t.stats.operator_bytes_spilled, A);
+        EXPECT_TRUE(std::filesystem::is_empty(dir)) << "the spill file was left behind";
+    }
+    // A budget A fits: nothing spills.
+    BakeOptions roomy = o;
+    roomy.memory_budget = rest + 2 * A;
+    roomy.spill_directory = dir.string();
+    EXPECT_EQ(bake(mesh, roomy).stats.operator_bytes_spilled, 0u);
+    std::filesystem::remove_all(dir);
+}
+
+// The progress of an interreflected bake: the tracing stage's reports name the bounces that
+// follow outside its total (ProgressInfo::then), the bounces' stage names nothing after it.
+TEST(Interreflect, TracingProgressNamesTheBouncesThatFollow) {
+    const Mesh mesh = make_builtin("box_on_plane");
+    for (const bool converge : {false, true}) {
+        BakeOptions o = ir_options(4, 64, 3);
+        o.converge = converge;
+        std::vector<std::pair<std::string, std::string>> seen;  // stage, then
+        o.progress = [&](const ProgressInfo& p) {
+            seen.emplace_back(std::string(p.stage), std::string(p.then));
+            return true;
+        };
+        bake(mesh, o);
+        bool tracing = false, bounces = false;
+        for (const auto& [stage, then] : seen) {
+            if (stage == "bake") {
+                tracing = true;
+                EXPECT_EQ(then, converge ? "bounces" : "3 bounces");
+            } else {
+                bounces = true;
+                EXPECT_EQ(stage, "bounces");
+                EXPECT_EQ(then, "");
+            }
+        }
+        EXPECT_TRUE(tracing);
+        EXPECT_TRUE(bounces);
+    }
 }
 
 TEST(Interreflect, ClosestHitsAreIntersect) {

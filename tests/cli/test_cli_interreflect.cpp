@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
 #include <string>
 
 namespace shprt {
@@ -73,6 +74,51 @@ TEST_F(CliInterreflect, BakeInfoShadeDirect) {
     r = shprt("info '" + file + "'");
     EXPECT_THAT(r.out, ::testing::HasSubstr("albedo       builtin scene colours"));
     EXPECT_THAT(r.out, ::testing::HasSubstr("converged"));
+}
+
+// --max-memory just above the estimate of everything but the operator: A does not fit, its blocks
+// are spilled beside the output and read back memory-mapped, and the file is byte for byte the
+// one baked with A in memory; no temporary file is left.
+TEST_F(CliInterreflect, SpilledOperatorWritesTheSameFile) {
+    const std::string base =
+        "bake builtin:box_on_plane --transfer interreflected --bounces 2 --coeffs 9 --samples 128 "
+        "--albedo 0.9,0.5,0.25 --threads 2 --reproducible ";
+    const std::string in_memory = (m_dir / "in_memory.shprt").string();
+    auto r = shprt(base + "-o '" + in_memory + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("past the memory budget")));
+
+    BakeOptions o;
+    o.transfer = TransferKind::interreflected;
+    o.K = 9;
+    o.samples = 128;
+    o.threads = 2;
+    const Mesh mesh = load_scene("builtin:box_on_plane");
+    const std::uint64_t rest =
+        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), o, true);
+    const std::filesystem::path spill_dir = m_dir / "spill";
+    std::filesystem::create_directories(spill_dir);
+    const std::string spilled = (spill_dir / "spilled.shprt").string();
+    r = shprt(base + "--max-memory " + std::to_string(rest + 1024) + " -o '" + spilled + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("past the memory budget"));
+    EXPECT_EQ(test_support::slurp(spilled), test_support::slurp(in_memory));
+    std::size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(spill_dir)) {
+        ++files;
+        EXPECT_EQ(e.path().filename(), "spilled.shprt") << "left behind: " << e.path();
+    }
+    EXPECT_EQ(files, 1u);
+
+    // Without --reproducible the file's stats keep the bytes spilled, and `info` says so.
+    const std::string with_stats = (spill_dir / "stats.shprt").string();
+    std::string command = base;
+    command.replace(command.find("--reproducible"), 14, "");
+    r = shprt(command + "--max-memory " + std::to_string(rest + 1024) + " -o '" + with_stats + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_GT(read_shprt(with_stats).transfer.stats.operator_bytes_spilled, 0u);
+    r = shprt("info '" + with_stats + "'");
+    EXPECT_THAT(r.out, ::testing::HasSubstr("operator spilled"));
 }
 
 TEST_F(CliInterreflect, RefusalsAreOneLine) {

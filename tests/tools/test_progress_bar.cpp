@@ -216,6 +216,31 @@ TEST(ProgressBarTest, ShowsRateAndEtaWhileRunning) {
     EXPECT_NE(text.find("ETA "), std::string::npos) << text;
 }
 
+// Work that follows a stage outside its total (an interreflected bake's bounces while it traces)
+// is named after the ETA instead of being guessed into it; a stage without it shows its ETA alone.
+TEST(ProgressBarTest, NamesTheWorkThatFollowsAfterTheEta) {
+    Pty pty(100);
+    if (!pty.file()) GTEST_SKIP() << "no pseudo-terminal here (openpty failed)";
+    ProgressBar bar("bake", pty.file());
+    ::usleep(20000);  // some elapsed time, so that a rate exists
+    ProgressInfo tracing = report(400, 1000);
+    tracing.then = "3 bounces";
+    bar.update(tracing);
+    std::string text = pty.read_until("\x1b[K");
+    EXPECT_NE(text.find(" 40%"), std::string::npos) << text;
+    const std::size_t eta = text.find("ETA ");
+    ASSERT_NE(eta, std::string::npos) << text;
+    EXPECT_NE(text.find(" + 3 bounces\x1b[K", eta), std::string::npos) << text;
+    // The bounces' stage: its ETA is the rest of the bake, nothing named after it.
+    ::usleep(120000);  // past the bar's 100 ms between redraws
+    bar.update(ProgressInfo{"bounces", 10, 30, "rows"});
+    text = pty.read_until("\x1b[K");
+    const std::size_t bounces = text.find("bake: bounces [");
+    ASSERT_NE(bounces, std::string::npos) << text;
+    EXPECT_NE(text.find("ETA ", bounces), std::string::npos) << text;
+    EXPECT_EQ(text.find(" + ", bounces), std::string::npos) << text;
+}
+
 TEST(ProgressBarTest, FirstCtrlCBecomesACancelRequest) {
     // In a child process: the flag it sets lasts for the rest of the process.
     EXPECT_EXIT(

@@ -104,9 +104,10 @@ void ProgressBar::draw_terminal(const ProgressInfo& info, double elapsed) {
     const double rate = elapsed > 0 ? double(info.done) / elapsed : 0.0;
     std::string tail = fmt::format(" {:3d}%", static_cast<int>(fraction * 100));
     if (rate > 0) tail += fmt::format("  {}{}/s", format_si(rate), info.unit);
-    if (info.total > 0 && rate > 0 && info.done < info.total)
+    if (info.total > 0 && rate > 0 && info.done < info.total) {
         tail += "  ETA " + format_duration(double(info.total - info.done) / rate);
-    else if (info.done >= info.total && info.total > 0)
+        if (!info.then.empty()) tail += " + " + std::string(info.then);
+    } else if (info.done >= info.total && info.total > 0)
         tail += "  " + format_duration(elapsed);
     const int width = terminal_width(m_out);
     // "label [" + bar + "]" + tail, fitted to the terminal (one column spare: no auto-wrap).

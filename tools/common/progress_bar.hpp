@@ -4,6 +4,9 @@
 //   * On a terminal (isatty on the output stream): one line redrawn in place, at most 10 times a
 //     second, e.g.
 //       bake [##############..............]  48%  51.2 Mrays/s  ETA 3.1 s
+//     and where work follows that the stage cannot time yet (ProgressInfo::then), it is named
+//     after the ETA: "ETA 3.1 s + 3 bounces" (an interreflected bake's tracing; its bounces'
+//     stage then shows the ETA of the whole rest).
 //   * Otherwise (a log file, a pipe, CI): one plain line each time 25, 50, 75 and 100 % are
 //     passed, e.g. "shprt: bake: 50% (2.41 M of 4.82 M rays, 51.2 Mrays/s, 0.05 s)": prefixed
 //     like every other line the tool writes to stderr, so a log read line by line tells the

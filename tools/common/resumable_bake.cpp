@@ -67,8 +67,8 @@ void check_resumable_args(const ResumableArgs& args, const BakeOptions& options,
                 "{} {}: the checkpoint cannot be the output file", option, path);
 }
 
-void check_bake_memory(const ResumableArgs& args, const BakeJob& job, const BakeOptions& options,
-                       bool rows_in_memory) {
+std::uint64_t check_bake_memory(const ResumableArgs& args, const BakeJob& job,
+                                const BakeOptions& options, bool rows_in_memory) {
     const std::uint64_t need = estimate_bake_peak_bytes(
         job.occluders->triangle_count(), job.receivers.count, options, rows_in_memory);
     std::uint64_t limit = 0;
@@ -78,7 +78,7 @@ void check_bake_memory(const ResumableArgs& args, const BakeJob& job, const Bake
                     "buffers), more than --max-memory {}; lower --samples or --coeffs, bake with "
                     "--stream or in --shard parts",
                     format_bytes(need), args.max_memory);
-        return;
+        return limit;
     }
     limit = available_memory_bytes();
     SHPRT_CHECK(limit == 0 || need <= limit, out_of_memory,
@@ -86,6 +86,7 @@ void check_bake_memory(const ResumableArgs& args, const BakeJob& job, const Bake
                 "buffers), more than the {} this machine has available; lower --samples or "
                 "--coeffs, bake with --stream or in --shard parts",
                 format_bytes(need), format_bytes(limit));
+    return limit;
 }
 
 ResumableBake::ResumableBake(const ResumableArgs& args, const BakeJob& job,

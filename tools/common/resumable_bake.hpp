@@ -33,8 +33,10 @@ void check_resumable_args(const ResumableArgs& args, const BakeOptions& options,
 
 // Refuses (Error(out_of_memory), one line with the estimate) a bake whose estimated peak memory
 // (estimate_bake_peak_bytes) exceeds --max-memory, or else the memory the machine has available.
-void check_bake_memory(const ResumableArgs& args, const BakeJob& job, const BakeOptions& options,
-                       bool rows_in_memory);
+// Returns that budget (0 when the available memory cannot be read): the bake's
+// BakeOptions::memory_budget, against which an interreflected bake counts its operator.
+std::uint64_t check_bake_memory(const ResumableArgs& args, const BakeJob& job,
+                                const BakeOptions& options, bool rows_in_memory);
 
 // bake(job, options), with the checkpoint when one was asked for: a new one, or the one
 // --resume names (whose rows are not baked again). On success the checkpoint file is removed by

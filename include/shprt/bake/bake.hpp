@@ -93,6 +93,13 @@ struct BakeOptions {
     double tolerance = 1e-4;
     int max_bounces = 1000;
     bool two_sided = false;
+    // Interreflected transfer on the CPU: the bytes the whole bake may use (0 = no limit). The
+    // transport operator A, whose size is known only once traced, gets what the estimate of the
+    // rest (estimate_bake_peak_bytes) leaves; its blocks past that are spilled, as they are
+    // built, to a temporary file in `spill_directory` ("" = $TMPDIR, else /tmp) and read back
+    // memory-mapped: same bits, BakeStats::operator_bytes_spilled says how much.
+    std::uint64_t memory_budget = 0;
+    std::string spill_directory;
     // Called with ProgressInfo{"bake", rays done, rays total (estimate), "rays"} ("samples" for
     // unshadowed transfer) from the thread that called bake(), at most ~20 times a second, and
     // once at the end. Returning false stops the bake promptly; bake() then throws
@@ -178,9 +185,13 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
 // A bake's peak host memory, estimated before it runs (no BVH is built): the BVH at
 // kBvhBytesPerTriangle per triangle (Embree's measured peak on the builtin scenes, rounded up),
 // the basis and direction tables, every worker's W[chunk×S], ray and row buffers, and — when
-// `rows_in_memory` (a HostSink: the rows of every receiver) — the rows; interreflected transfer
-// adds its three receivers × 3K work arrays (its transport operator, which depends on what the
-// rays hit, is not estimated: the figure is then a lower bound). Used to refuse a bake that
+// `rows_in_memory` (a HostSink: the rows of every receiver) — the rows. Every kind is counted by
+// one rule from its layout (bake_description(options).layout): floats_per_receiver() floats per
+// row and floats_per_channel() columns in the product's table and buffers (K for vectors,
+// K(K+1)/2 for glossy's packed matrices, whose table is built from the K-column one);
+// interreflected transfer adds its three receivers × 3K work arrays (its transport operator, which
+// depends on what the rays hit, is not estimated: it is counted against BakeOptions::memory_budget
+// as it is built, and what does not fit is spilled to a mapped file). Used to refuse a bake that
 // cannot fit (`shprt bake --max-memory`, MemAvailable) before any work.
 inline constexpr std::uint64_t kBvhBytesPerTriangle = 160;
 std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receivers,

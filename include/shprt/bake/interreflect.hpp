@@ -32,6 +32,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 namespace shprt {
@@ -43,27 +45,59 @@ class Tracer;
 // CSR of its own rows, built by one worker and kept as it was built. Nothing is ever concatenated,
 // so building A needs no second copy of it (the peak is A itself), and a block's int32 offsets
 // bound only its own non-zeros: the whole operator may hold more than 2^31 − 1.
+//
+// A block is either in memory (its vectors) or spilled: when a memory budget is given
+// (TransportOptions::memory_budget) and the finished blocks would pass it, further finished
+// blocks are written to a temporary file and their vectors freed; once every block is built the
+// file is mapped read-only and the spilled blocks' arrays point into the mapping (`mapped`), which
+// the operator owns (`spill`). The file is unlinked as soon as it is mapped, and removed on an
+// error or a signal before that (core/file.hpp's AtomicFile). Readers use the accessors, which
+// serve both kinds; the bits of every product are the same.
 struct TransportOperator {
     struct Block {
         std::size_t first = 0;                     // the block's first row (vertex)
         std::vector<std::int32_t> row_start;       // rows() + 1 offsets into column/values
         std::vector<std::int32_t> column;          // columns, increasing within a row
         std::array<std::vector<float>, 3> values;  // per channel, one per column entry
-        std::size_t rows() const { return row_start.empty() ? 0 : row_start.size() - 1; }
+        // A spilled block's arrays in the operator's mapping (the vectors are then empty).
+        struct Mapped {
+            const std::int32_t* row_start = nullptr;
+            const std::int32_t* column = nullptr;
+            std::array<const float*, 3> values{};
+            std::size_t rows = 0, nnz = 0;
+        } mapped;
+
+        bool spilled() const { return mapped.row_start != nullptr; }
+        std::size_t rows() const {
+            if (spilled()) return mapped.rows;
+            return row_start.empty() ? 0 : row_start.size() - 1;
+        }
+        std::size_t nnz() const { return spilled() ? mapped.nnz : column.size(); }
+        const std::int32_t* starts() const {
+            return spilled() ? mapped.row_start : row_start.data();
+        }
+        const std::int32_t* columns() const { return spilled() ? mapped.column : column.data(); }
+        const float* channel(int c) const {
+            return spilled() ? mapped.values[std::size_t(c)] : values[std::size_t(c)].data();
+        }
+        // Bytes of its arrays: row starts, columns, three channels of values.
+        std::uint64_t bytes() const { return (rows() + 1) * 4 + std::uint64_t(nnz()) * 16; }
     };
     std::size_t vertices = 0;
-    std::vector<Block> blocks;    // rows [0, vertices) in order, each row in exactly one block
-    std::uint64_t rays_cast = 0;  // closest-hit rays traced to build it
+    std::vector<Block> blocks;        // rows [0, vertices) in order, each row in exactly one block
+    std::uint64_t rays_cast = 0;      // closest-hit rays traced to build it
+    std::uint64_t spilled_bytes = 0;  // bytes of the blocks that live in the mapping
+    std::shared_ptr<const void> spill;  // owns the mapping of the spilled blocks (or null)
 
     std::uint64_t nnz() const {
         std::uint64_t n = 0;
-        for (const Block& b : blocks) n += b.column.size();
+        for (const Block& b : blocks) n += b.nnz();
         return n;
     }
-    // Bytes of the arrays: row starts, columns, three channels of values.
+    // Bytes of the arrays: row starts, columns, three channels of values (spilled or not).
     std::uint64_t bytes() const {
         std::uint64_t n = 0;
-        for (const Block& b : blocks) n += b.row_start.size() * 4 + b.column.size() * 16;
+        for (const Block& b : blocks) n += b.bytes();
         return n;
     }
 };
@@ -75,6 +109,12 @@ struct TransportOptions {
     // Fixed by the caller, never by the threads, so A's blocks do not depend on them.
     std::size_t rows_per_block = 0;
     ProgressFn progress;  // ProgressInfo{"bake", rays done, rays (estimate), "rays"}
+    // Bytes the finished blocks may keep in memory (0 = no limit): a finished block that would
+    // take them past it is spilled to a temporary file in `spill_directory` ("" = $TMPDIR, else
+    // /tmp) and mapped back read-only (see TransportOperator). Which blocks spill depends on the
+    // order the workers finish them, never the bits.
+    std::uint64_t memory_budget = 0;
+    std::string spill_directory;
 };
 
 // Builds A for every vertex of `mesh` (positions, unit normals, albedo per vertex) with the

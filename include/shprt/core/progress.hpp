@@ -14,6 +14,11 @@ struct ProgressInfo {
     std::uint64_t done;      // units of work finished in this stage
     std::uint64_t total;     // units of work in this stage (0 if unknown)
     std::string_view unit;   // what a unit is, e.g. "rays", "vertices"
+    // Work that follows this stage and is not in its total, when it cannot be timed yet (the
+    // bounces of an interreflected bake, whose cost is known only once the operator exists):
+    // e.g. "3 bounces". Empty: this stage's ETA is the operation's. A display says so after the
+    // ETA ("ETA 3.1 s + 3 bounces") instead of predicting what it has not measured.
+    std::string_view then = {};
 };
 
 // Called from one thread at a time, at most a few dozen times per second.

@@ -98,6 +98,9 @@ struct BakeStats {
     // hits themselves are traced once, for T_0 and A together: seconds_trace) and the bounces'
     // sparse products with their sums.
     double seconds_operator = 0, seconds_bounces = 0;
+    // Interreflected transfer only: bytes of A that did not fit the memory budget and were read
+    // from a memory-mapped temporary file instead (BakeOptions::memory_budget); 0 = none.
+    std::uint64_t operator_bytes_spilled = 0;
 };
 
 // How an interreflected transfer was made (TransferKind::interreflected; empty otherwise).
