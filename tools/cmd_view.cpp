@@ -153,6 +153,7 @@ void run(const ViewArgs& a) {
             SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
                         "--direct: {} has no direct part (only interreflected bakes keep one)",
                         a.input);
+        check_texel_view(a.input, file.transfer, a.k, view);
         scene.mesh = std::move(file.mesh);
         scene.transfer = std::move(file.transfer);
         // Glossy matrices: the viewer has no matrix shading yet (docs/glossy.md, "Not done");

@@ -159,6 +159,27 @@ TEST_F(CliView, DirectShowsTheDirectPartAsRenderDoes) {
     EXPECT_FALSE(fs::exists(out("x.png")));
 }
 
+// A texel file (per-fragment shading): --screenshot is `render`'s picture; the glossy term is
+// refused with one line, as in `render`.
+TEST_F(CliView, ATexelFileShowsAsRenderDrawsIt) {
+    const std::string texel = out("t.shprt");
+    ASSERT_EQ(shprt("bake builtin:quad_box --domain texel --resolution 32 --samples 64 --coeffs 9 "
+                    "-o '" +
+                    texel + "'")
+                  .exit_code,
+              0);
+    const std::string options = " --size 96x64 --light sun:1,2,1,6 --coeffs 7";
+    const RunResult v = shprt("view '" + texel + "' --screenshot '" + out("v.png") + "'" + options);
+    ASSERT_EQ(v.exit_code, 0) << v.err;
+    const RunResult r = shprt("render '" + texel + "' -o '" + out("r.png") + "'" + options);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(slurp(out("v.png")), slurp(out("r.png")));
+    expect_one_line_error(
+        shprt("view '" + texel + "' --k 0.5 --screenshot '" + out("g.png") + "'" + options),
+        "the glossy term is not drawn per texel");
+    EXPECT_FALSE(fs::exists(out("g.png")));
+}
+
 TEST_F(CliView, BenchmarkPrintsALinePerBasisSize) {
     const RunResult r = shprt("view '" + s_file + "' --benchmark 3 --size 64x48 --msaa 1");
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -289,6 +310,26 @@ TEST_F(CliViewWindow, OpensUnderXvfbDrawsThePanelAndTheSamePicture) {
         if (key < int(seen.size()) && !seen[key]) seen[key] = true, ++colours;
     }
     EXPECT_GT(colours, 50) << "the window is not blank";
+}
+
+// A texel file in the window: the panel without the glossy sliders, the same picture.
+TEST_F(CliViewWindow, ShowsATexelFile) {
+    const std::string texel = out("t.shprt");
+    ASSERT_EQ(shprt("bake builtin:quad_box --domain texel --resolution 32 --samples 64 --coeffs 9 "
+                    "-o '" +
+                    texel + "'")
+                  .exit_code,
+              0);
+    const std::string size = " --size 800x500";
+    const RunResult w = shprt(
+        "view '" + texel + "' --frames 2 --window-screenshot '" + out("window.png") + "'" + size,
+        xvfb());
+    ASSERT_EQ(w.exit_code, 0) << w.err;
+    const RunResult s = shprt("view '" + texel + "' --screenshot '" + out("shot.png") + "'" + size);
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    const Diff right =
+        compare(read_png(out("window.png")), read_png(out("shot.png")), 400, 0, 800, 500);
+    EXPECT_LE(right.mean, kMaxMeanWindowDifference);
 }
 
 // The window starts with --direct's picture (the panel's toggle uploads the same way).
