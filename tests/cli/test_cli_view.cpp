@@ -99,6 +99,16 @@ protected:
     }
     static void TearDownTestSuite() { fs::remove_all(s_dir); }
 
+    // quad_box baked per texel (32², K = 9) into the test's directory: what the texel tests show.
+    std::string bake_texel_file() const {
+        const std::string texel = out("t.shprt");
+        const RunResult r = shprt(
+            "bake builtin:quad_box --domain texel --resolution 32 --samples 64 --coeffs 9 -o '" +
+            texel + "'");
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return texel;
+    }
+
     static fs::path s_dir;
     static std::string s_file;
 };
@@ -162,12 +172,7 @@ TEST_F(CliView, DirectShowsTheDirectPartAsRenderDoes) {
 // A texel file (per-fragment shading): --screenshot is `render`'s picture; the glossy term is
 // refused with one line, as in `render`.
 TEST_F(CliView, ATexelFileShowsAsRenderDrawsIt) {
-    const std::string texel = out("t.shprt");
-    ASSERT_EQ(shprt("bake builtin:quad_box --domain texel --resolution 32 --samples 64 --coeffs 9 "
-                    "-o '" +
-                    texel + "'")
-                  .exit_code,
-              0);
+    const std::string texel = bake_texel_file();
     const std::string options = " --size 96x64 --light sun:1,2,1,6 --coeffs 7";
     const RunResult v = shprt("view '" + texel + "' --screenshot '" + out("v.png") + "'" + options);
     ASSERT_EQ(v.exit_code, 0) << v.err;
@@ -314,12 +319,7 @@ TEST_F(CliViewWindow, OpensUnderXvfbDrawsThePanelAndTheSamePicture) {
 
 // A texel file in the window: the panel without the glossy sliders, the same picture.
 TEST_F(CliViewWindow, ShowsATexelFile) {
-    const std::string texel = out("t.shprt");
-    ASSERT_EQ(shprt("bake builtin:quad_box --domain texel --resolution 32 --samples 64 --coeffs 9 "
-                    "-o '" +
-                    texel + "'")
-                  .exit_code,
-              0);
+    const std::string texel = bake_texel_file();
     const std::string size = " --size 800x500";
     const RunResult w = shprt(
         "view '" + texel + "' --frames 2 --window-screenshot '" + out("window.png") + "'" + size,

@@ -23,14 +23,6 @@
 namespace shprt {
 namespace {
 
-#define REQUIRE_GL(context)                                                        \
-    std::unique_ptr<HeadlessGlContext> context;                                    \
-    try {                                                                          \
-        context = std::make_unique<HeadlessGlContext>();                           \
-    } catch (const Error& e) {                                                     \
-        GTEST_SKIP() << "no headless OpenGL 4.3 core context (EGL): " << e.what(); \
-    }
-
 // GL sums in float; the CPU in double. The filter's weights have a fixed-point fraction on real
 // hardware (8 bits) and the fragment's UV is interpolated in float: a pixel may differ from the
 // exact bilinear value by a small share of the spread of the four texels it filters.
@@ -87,6 +79,16 @@ Image draw(const TransferSet& transfer, const ShLight& light, const DrawSettings
     return target.read_pixels();
 }
 
+// What per-vertex `values` of quad_box interpolate to where the ray through pixel (x, y)'s
+// centre first hits it; false when it hits nothing.
+bool value_at_pixel(const Image& image, const Camera& camera, int x, int y,
+                    const std::vector<Vec3f>& values, Vec3d& value) {
+    Vec3f o, d;
+    pixel_ray(camera, image.width, image.height, float(x) + 0.5f, float(y) + 0.5f, o, d);
+    double t;
+    return test::trace_interpolate(quad_box(), values, o, d, value, t);
+}
+
 struct Comparison {
     std::size_t compared = 0, bad = 0;
     double worst = 0;  // largest |gl − ref| / tolerance
@@ -108,12 +110,9 @@ Comparison compare(const Image& image, const TransferSet& transfer,
     Comparison c;
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x) {
-            Vec3f o, d;
-            pixel_ray(camera, image.width, image.height, float(x) + 0.5f, float(y) + 0.5f, o, d);
             Vec3d uv;
-            double t;
             const float* px = image.pixel(x, y);
-            if (!test::trace_interpolate(quad_box(), uvs, o, d, uv, t)) {
+            if (!value_at_pixel(image, camera, x, y, uvs, uv)) {
                 EXPECT_EQ(px[0], kNoHit) << "pixel " << x << "," << y;
                 continue;
             }
@@ -201,12 +200,8 @@ std::pair<double, double> floor_range(const Image& image, const Camera& camera) 
     double lo = 1e30, hi = 0;
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x) {
-            Vec3f o, d;
-            pixel_ray(camera, image.width, image.height, float(x) + 0.5f, float(y) + 0.5f, o, d);
             Vec3d f;
-            double t;
-            if (!test::trace_interpolate(quad_box(), is_floor, o, d, f, t) || f.x < 1 - 1e-9)
-                continue;
+            if (!value_at_pixel(image, camera, x, y, is_floor, f) || f.x < 1 - 1e-9) continue;
             const double g = image.pixel(x, y)[1];
             lo = std::min(lo, g), hi = std::max(hi, g);
         }
