@@ -8,16 +8,21 @@
 //     surfaces by area, with the no-SH ground truth of `shprt bench paper` (its two lights:
 //     bench/paper/lights.hpp; its integrator: bake/ground_truth.hpp): relative RMSE of luminance.
 //     The target: refinement reaches the uniform mesh's error with ≤ 1/4 of its vertices.
-//  2. per-receiver cost: a texel bake of the same room (its triangles laid out one per cell of a
-//     UV grid, a layout made here for the measurement only) against the vertex bake of a mesh
-//     with about as many vertices, in the same run: the limit is 10 % per receiver.
+//     With each: the shadow-edge width of the paper table (`shprt bench paper`'s crop and
+//     measure, bench/paper/renders.hpp), also for the texel bake of the coarse room and for the
+//     dense room (the paper's 20 000 triangles): the coarse room's should approach the dense's.
+//  2. per-receiver cost: a texel bake of the same room (its own UV atlas, scene/uv_atlas.hpp)
+//     against the vertex bake of a mesh with about as many vertices, in the same run: the limit
+//     is 10 % per receiver.
 //
 // Usage: bench_refine [--quick] (quick: fewer probes and samples, levels 0..2).
 #include "paper/lights.hpp"
+#include "paper/renders.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/ground_truth.hpp"
 #include "shprt/bake/refine.hpp"
 #include "shprt/bake/texels.hpp"
+#include "shprt/core/error.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/mesh_ops.hpp"
@@ -28,6 +33,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -130,48 +137,6 @@ double relative_rmse(const std::vector<double>& a, const std::vector<double>& tr
     return std::sqrt(num / den);
 }
 
-// Each triangle on its own (unwelded) vertices, laid out in its own cell of a square UV grid at
-// one world-to-UV scale: a UV atlas without overlaps, for measuring texel bakes only.
-Mesh grid_atlas(const Mesh& in) {
-    Mesh m;
-    m.source = in.source + " (one UV cell per triangle)";
-    const std::size_t T = in.triangle_count();
-    const auto n = std::size_t(std::ceil(std::sqrt(double(T))));
-    std::vector<std::array<Vec3d, 3>> local(T);
-    double extent = 0;
-    for (std::size_t t = 0; t < T; ++t) {
-        const auto& tri = in.triangles[t];
-        const Vec3d a = cast<double>(in.positions[tri[0]]), b = cast<double>(in.positions[tri[1]]),
-                    c = cast<double>(in.positions[tri[2]]);
-        const Vec3d e1 = normalize(b - a),
-                    e2 = normalize(cross(normalize(cross(b - a, c - a)), e1));
-        double lo_x = 0, lo_y = 0;
-        for (int k = 0; k < 3; ++k) {
-            const Vec3d p = (k == 0 ? a : k == 1 ? b : c) - a;
-            local[t][k] = {dot(p, e1), dot(p, e2), 0};
-            lo_x = std::min(lo_x, local[t][k].x), lo_y = std::min(lo_y, local[t][k].y);
-        }
-        for (auto& q : local[t]) {
-            q.x -= lo_x, q.y -= lo_y;
-            extent = std::max({extent, q.x, q.y});
-        }
-    }
-    const double cell = 1.0 / double(n), pad = 0.1 * cell, scale = (cell - 2 * pad) / extent;
-    for (std::size_t t = 0; t < T; ++t) {
-        const double u0 = double(t % n) * cell + pad, v0 = double(t / n) * cell + pad;
-        const auto base = std::uint32_t(m.positions.size());
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t v = in.triangles[t][k];
-            m.positions.push_back(in.positions[v]);
-            m.normals.push_back(in.normals[v]);
-            m.albedo.push_back(in.albedo[v]);
-            m.uvs.push_back({float(u0 + local[t][k].x * scale), float(v0 + local[t][k].y * scale)});
-        }
-        m.triangles.push_back({base, base + 1, base + 2});
-    }
-    return m;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -193,6 +158,19 @@ int main(int argc, char** argv) {
     const paper::Lights lights = paper::make_lights();
     const ShLight sky = make_light(lights.sky_specs, options.K);
     const ShLight sun = make_light(lights.sun_specs, options.K);
+    // The paper table's shadow-edge width (10-90 %, cm) under the sun, when OpenGL works here.
+    paper::Results gl_results;
+    std::optional<paper::Renders> renders;
+    try {
+        renders.emplace(room, lights.sun_dir, quick, gl_results);
+    } catch (const Error& e) {
+        std::printf("shadow-edge widths not measured: %s\n", e.what());
+    }
+    const auto edge_cm = [&](const Mesh& mesh, const TransferSet& t) {
+        if (!renders) return std::numeric_limits<double>::quiet_NaN();
+        const paper::EdgeMeasure edge = renders->sun_edge(mesh, t, sun);
+        return edge.valid ? 100 * edge.width : std::numeric_limits<double>::quiet_NaN();
+    };
 
     // Ground truth at the probes: the probes as unconnected extra vertices of the room.
     const std::vector<Probe> probes = make_probes(room, probe_count);
@@ -214,6 +192,28 @@ int main(int argc, char** argv) {
         truth_sky.push_back(luminance(s));
         truth_sun.push_back(luminance(all - s + s * paper::kSunSkyScale));
     }
+    // The edge the mesh itself allows: the ground truth at its receivers (vertices, or extra
+    // points appended after them), shown through the same renderer (no SH; irradiance_as_transfer
+    // under a white light of K = 1).
+    const ShLight white = constant_light({1, 1, 1}, 1);
+    const auto truth_edge_cm = [&](const Mesh& mesh, const Mesh& receivers, std::size_t first,
+                                   TransferSet as) {
+        if (!renders) return std::numeric_limits<double>::quiet_NaN();
+        const GroundTruth g = ground_truth_irradiance(receivers, lights.truth, gt);
+        std::vector<Vec3d> e;
+        for (std::size_t v = first; v < g.irradiance.size(); ++v)
+            e.push_back(g.irradiance[v] - g.sky_irradiance[v] +
+                        g.sky_irradiance[v] * paper::kSunSkyScale);
+        const TransferSet t = paper::irradiance_as_transfer(e);
+        as.coeffs = t.coeffs;
+        as.layout.K = t.layout.K;
+        as.layout.channels = t.layout.channels;
+        const paper::EdgeMeasure edge = renders->sun_edge(mesh, as, white);
+        return edge.valid ? 100 * edge.width : std::numeric_limits<double>::quiet_NaN();
+    };
+    const auto vertex_truth_edge_cm = [&](const Mesh& mesh) {
+        return truth_edge_cm(mesh, mesh, 0, TransferSet{});
+    };
     std::printf("ground truth: %zu probes, %u sky + %u sun directions each, %.1f s\n\n",
                 probes.size(), gt.sky_samples, gt.disc_samples, seconds_since(gt_start));
 
@@ -226,7 +226,9 @@ int main(int argc, char** argv) {
     };
 
     std::printf(
-        "| mesh | vertices | sky error | sun error | bake s |\n|---|---:|---:|---:|---:|\n");
+        "| mesh | vertices | sky error | sun error | sun edge, cm | truth's edge on it, cm | bake "
+        "s "
+        "|\n|---|---:|---:|---:|---:|---:|---:|\n");
     struct Row {
         std::size_t vertices;
         double sky, sun;
@@ -250,8 +252,9 @@ int main(int argc, char** argv) {
         Row row{mesh.vertex_count(), 0, 0};
         score(mesh, origin, t, row.sky, row.sun);
         uniform.push_back(row);
-        std::printf("| uniform level %d | %zu | %.4f | %.4f | %.2f |\n", level, row.vertices,
-                    row.sky, row.sun, seconds);
+        std::printf("| uniform level %d | %zu | %.4f | %.4f | %.1f | %.1f | %.2f |\n", level,
+                    row.vertices, row.sky, row.sun, edge_cm(mesh, t), vertex_truth_edge_cm(mesh),
+                    seconds);
     }
     // A quarter of level 1 is fewer vertices than the room has: budgets from level 2 on.
     for (int level = 2; level <= levels; ++level) {
@@ -267,19 +270,49 @@ int main(int argc, char** argv) {
         const Row& u = uniform[std::size_t(level)];
         std::printf(
             "| refined, budget 1/4 of level %d | %zu | %.4f (%.2fx uniform's) | %.4f (%.2fx) | "
-            "%.2f |\n",
+            "%.1f | %.1f | %.2f |\n",
             level, r.mesh.vertex_count(), sky_err, sky_err / u.sky, sun_err, sun_err / u.sun,
-            seconds);
+            edge_cm(r.mesh, r.transfer), vertex_truth_edge_cm(r.mesh), seconds);
+    }
+    // The same room per texel, and the dense room per vertex: their edges only.
+    {
+        const int side = quick ? 512 : 1024;
+        const TexelSamples texels = rasterize_texels(room, side, side);
+        HostSink sink;
+        const auto start = Clock::now();
+        TransferSet t;
+        static_cast<TransferInfo&>(t) = bake(
+            BakeJob{&room, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, options);
+        t.texels = texel_atlas(texels, 0);
+        t.coeffs = sink.take_rows();
+        const double texel_seconds = seconds_since(start);
+        Mesh with_texels = room;  // the texel centres as extra, unconnected vertices
+        with_texels.positions.insert(with_texels.positions.end(), texels.positions.begin(),
+                                     texels.positions.end());
+        with_texels.normals.insert(with_texels.normals.end(), texels.normals.begin(),
+                                   texels.normals.end());
+        with_texels.albedo.insert(with_texels.albedo.end(), texels.albedo.begin(),
+                                  texels.albedo.end());
+        with_texels.uvs.clear();
+        std::printf("| texels %dx%d | %zu texels | | | %.1f | %.1f | %.2f |\n", side, side,
+                    texels.count(), edge_cm(room, t),
+                    truth_edge_cm(room, with_texels, room.vertex_count(), t), texel_seconds);
+        const Mesh dense = generate_room(RoomOptions{});
+        const auto dense_start = Clock::now();
+        const TransferSet d = bake(dense, options);
+        const double dense_seconds = seconds_since(dense_start);
+        std::printf("| the dense room (%zu triangles) | %zu | | | %.1f | %.1f | %.2f |\n",
+                    dense.triangle_count(), dense.vertex_count(), edge_cm(dense, d),
+                    vertex_truth_edge_cm(dense), dense_seconds);
     }
 
     // Per-receiver cost: texels of the room against vertices of a mesh with about as many.
-    const Mesh atlas = grid_atlas(room);
-    const int side = quick ? 512 : 1024;
-    const TexelSamples texels = rasterize_texels(atlas, side, side);
+    const int side = quick ? 128 : 256;
+    const TexelSamples texels = rasterize_texels(room, side, side);
     HostSink sink;
     const auto t0 = Clock::now();
     const TransferInfo info =
-        bake(BakeJob{&atlas, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, options);
+        bake(BakeJob{&room, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, options);
     const double texel_seconds = seconds_since(t0);
     // The vertex bake with about as many receivers: uniform subdivision of the room.
     Mesh dense = room;

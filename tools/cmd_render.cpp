@@ -60,6 +60,7 @@ void run(const RenderArgs& a) {
     settings.wireframe = a.wireframe;
 
     ShprtFile file = read_for_shading(a.input, a.direct);
+    check_texel_view(a.input, file.transfer, a.k, settings.view);
     double gloss = a.gloss;
     const GlossyPlan plan = plan_glossy(a.glossy, a.input, file, a.k, gloss);
     settings.gloss = gloss;

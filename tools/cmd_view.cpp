@@ -164,6 +164,7 @@ void run(const ViewArgs& a) {
             SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
                         "--direct: {} has no direct part (only interreflected bakes keep one)",
                         a.input);
+        check_texel_view(a.input, file.transfer, a.k, view);
         // Glossy matrices are shaded with --brdf, or else with --gloss's Phong lobe (the panel
         // changes the BRDF live); --glossy paper turns them into the paper's term.
         if (file.transfer.layout.shape == TransferShape::symmetric_matrix && glossy.brdf.empty() &&

@@ -90,12 +90,18 @@ void shading_section(PanelState& s) {
     ImGui::Combo("view", &s.view, kViewNames, IM_ARRAYSIZE(kViewNames));
     ImGui::SliderFloat("exposure", &s.exposure, 0.01f, 100.0f, "%.3f",
                        ImGuiSliderFlags_Logarithmic);
-    ImGui::SliderFloat("k (diffuse)", &s.k, 0.0f, 1.0f, "%.2f");
-    help_marker("L = k·L_D + (1-k)·L_S: 1 = pure diffuse, 0 = pure glossy");
-    if (s.matrices)
-        brdf_controls(s);
-    else
-        ImGui::SliderFloat("gloss", &s.gloss, 1.0f, 256.0f, "%.1f", ImGuiSliderFlags_Logarithmic);
+    if (s.diffuse_only) {
+        ImGui::TextDisabled("k = 1 (diffuse)");
+        help_marker("Texel transfer is shaded per fragment without the glossy term.");
+    } else {
+        ImGui::SliderFloat("k (diffuse)", &s.k, 0.0f, 1.0f, "%.2f");
+        help_marker("L = k·L_D + (1-k)·L_S: 1 = pure diffuse, 0 = pure glossy");
+        if (s.matrices)
+            brdf_controls(s);
+        else
+            ImGui::SliderFloat("gloss", &s.gloss, 1.0f, 256.0f, "%.1f",
+                               ImGuiSliderFlags_Logarithmic);
+    }
     s.K_used = std::clamp(s.K_used, 1, std::max(s.K_max, 1));
     ImGui::SliderInt("K'", &s.K_used, 1, std::max(s.K_max, 1), "%d", ImGuiSliderFlags_AlwaysClamp);
     help_marker(

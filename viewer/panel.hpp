@@ -33,8 +33,9 @@ struct PanelState {
     int view = 0;      // ShadeView: 0 radiance, 1 irradiance, 2 transfer (AO-like)
     bool wireframe = false;
     bool background = false;
-    bool has_direct = false;   // the transfer is interreflected and keeps its direct part
-    bool direct_only = false;  // show the direct part (T_0) instead of T_0 + … + T_N
+    bool has_direct = false;    // the transfer is interreflected and keeps its direct part
+    bool direct_only = false;   // show the direct part (T_0) instead of T_0 + … + T_N
+    bool diffuse_only = false;  // texel transfer: drawn per fragment without the glossy term
     // Glossy transfer matrices (render/glossy.hpp): the BRDF replaces the Phong "gloss" slider.
     bool matrices = false;
     int brdf_model = 0;            // BrdfModel: 0 phong, 1 blinn, 2 ggx

@@ -105,6 +105,12 @@ void Renders::render_row(KRow& row, const TransferSet& t, const TransferSet& ti,
     }
 }
 
+EdgeMeasure Renders::sun_edge(const Mesh& mesh, const TransferSet& t, const ShLight& sun) {
+    m_renderer->set_scene(mesh, t);
+    m_renderer->set_light(sun);
+    return measure_edge(edge_profile(draw(*m_edge_target, m_edge_camera, ShadeView::irradiance)));
+}
+
 void Renders::finish(const Truth& truth, Results& res, const std::string& out_dir) {
     // The ground truth's own images, then the grids: rows sky, sun, sun improved (room) and
     // sun, sun improved (edge crops); the truth in the last column.

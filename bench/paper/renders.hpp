@@ -5,6 +5,7 @@
 #pragma once
 
 #include "paper/ground_truth.hpp"
+#include "paper/paper_metrics.hpp"
 #include "paper/paper_study.hpp"
 
 #include "shprt/light/image.hpp"
@@ -35,6 +36,11 @@ public:
     // when the driver refuses (a transfer buffer too large, say): the row is then left unchanged.
     void render_row(KRow& row, const TransferSet& paper, const TransferSet& improved,
                     const ShLight& sky, const ShLight& sun);
+
+    // The edge of render_row's crop for any mesh of the room (a refined or texel bake, another
+    // tessellation) with its transfer under `sun`: the same camera, profiles and measure_edge.
+    // Leaves that scene set: the next render_row sets its own.
+    EdgeMeasure sun_edge(const Mesh& mesh, const TransferSet& transfer, const ShLight& sun);
 
     // Renders the ground truth the same way (irradiance_as_transfer under a white light) and
     // measures its edge (results.gt_profile, gt_edge, gt_has_edge); then writes grid_room.png and

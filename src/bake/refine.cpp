@@ -207,7 +207,13 @@ RefineResult bake_refined(const Mesh& input, const BakeOptions& options,
                 ++blocked;
                 continue;
             }
-            over.push_back({d, e});
+            // Priority when the budget binds: the difference times the edge's length. The error
+            // linear interpolation leaves beside an edge spreads over triangles as wide as the
+            // edge is long, so a long edge with a moderate step costs more picture than a short
+            // one with a large step (a contact line, which no split makes smooth).
+            const double len =
+                length(cast<double>(mesh.positions[e[0]]) - cast<double>(mesh.positions[e[1]]));
+            over.push_back({d * len, e});
         }
         r.edges_over = over.size() + blocked;
         if (over.empty()) break;
@@ -217,7 +223,7 @@ RefineResult bake_refined(const Mesh& input, const BakeOptions& options,
             break;
         }
         if (over.size() > room) {
-            // Not every edge fits: the largest differences first, and only half of what is
+            // Not every edge fits: the largest priorities first, and only half of what is
             // left per pass, so that later passes can split the worst places again (deeper)
             // instead of spending the whole budget one level deep.
             std::stable_sort(over.begin(), over.end(),

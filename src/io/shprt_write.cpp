@@ -147,6 +147,7 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
                        {"origin",
                         "row 0 at v = 1 (top); texel (x, y) centre u = (x + 0.5) / "
                         "width, v = 1 - (y + 0.5) / height"}};
+    merge_extra(m, parse_extra(options.kept_metadata_json), "");
     if (!options.reproducible) {
         m["stats"] = stats_json(t.stats);
         merge_extra(m, extra, "");
@@ -211,11 +212,13 @@ void check_coefficients(const std::string& path, const float* coeffs, std::size_
     }
 }
 
-Json parse_extra(const WriteOptions& options) {
+Json parse_extra(const WriteOptions& options) { return parse_extra(options.extra_metadata_json); }
+
+Json parse_extra(const std::string& text) {
     Json extra = Json::object();
-    if (options.extra_metadata_json.empty()) return extra;
+    if (text.empty()) return extra;
     try {
-        extra = Json::parse(options.extra_metadata_json);
+        extra = Json::parse(text);
     } catch (const Json::exception& e) {
         fail(ErrorCode::invalid_argument, "extra metadata is not valid JSON: {}", e.what());
     }

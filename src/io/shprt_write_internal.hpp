@@ -46,6 +46,8 @@ void check_coefficients(const std::string& path, const float* coeffs, std::size_
                         const TransferLayout& layout, std::size_t first_receiver);
 // options.extra_metadata_json as a JSON object (Error(invalid_argument) otherwise).
 Json parse_extra(const WriteOptions& options);
+// The same for any JSON text (WriteOptions::kept_metadata_json); empty text is {}.
+Json parse_extra(const std::string& text);
 // The sections of the table for `mesh` and `rows` transfer rows of `info`'s layout, with their
 // CRCs computed; the transfer's data is `coeffs` (null for a streamed file: no CRC yet); the
 // optional transfer sections (the direct part) come from `transfer` (null: none).

@@ -14,6 +14,7 @@
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 #include "shprt/transfer/cpca.hpp"
+#include "texel_pass.hpp"
 
 #include <epoxy/gl.h>
 #include <tbb/blocked_range.h>
@@ -188,6 +189,8 @@ void Renderer::release_scene_buffers() {
 }
 
 void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
+    if (transfer.layout.domain == ReceiverDomain::texel) return set_texel_scene(mesh, transfer);
+    m_texel.reset();
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(V > 0 && mesh.triangle_count() > 0, invalid_argument,
                 "mesh {} has no triangles to draw", mesh.source);
@@ -291,8 +294,23 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     gl::check("Renderer::set_scene");
 }
 
+void Renderer::set_texel_scene(const Mesh& mesh, const TransferSet& transfer) {
+    if (!m_texel) m_texel = std::make_unique<TexelPass>();
+    m_texel->set_scene(mesh, transfer);
+    m_matrices = false;
+    m_cpca_clusters = m_cpca_vectors = 0;
+    m_bytes_per_vertex = 0;
+    m_vertex_count = mesh.vertex_count();
+    m_layout = transfer.layout;
+    m_K = transfer.layout.K;
+    m_channels = transfer.layout.channels;
+    ++m_transfer_generation;
+    m_shading_valid = false;
+}
+
 void Renderer::update_transfer(std::size_t first_vertex, std::size_t vertex_count,
                                const float* coeffs) {
+    SHPRT_CHECK(!m_texel, unsupported, "texel transfer is not updated in place");
     SHPRT_CHECK(m_transfer_ssbo != 0, invalid_argument, "update_transfer before set_scene");
     SHPRT_CHECK(m_cpca_clusters == 0, invalid_argument,
                 "update_transfer: the scene's transfer is a CPCA code, not rows");
@@ -523,7 +541,7 @@ void Renderer::dispatch_per_vertex() {
 }
 
 void Renderer::draw(const DrawSettings& s, int width, int height) {
-    SHPRT_CHECK(m_transfer_ssbo && m_has_light, invalid_argument,
+    SHPRT_CHECK((m_transfer_ssbo || m_texel) && m_has_light, invalid_argument,
                 "Renderer::draw before set_scene and set_light");
     SHPRT_CHECK(width >= 1 && height >= 1, invalid_argument, "viewport {}x{} is empty", width,
                 height);
@@ -568,7 +586,7 @@ void Renderer::draw(const DrawSettings& s, int width, int height) {
     }
     key.light_generation = m_light_generation;
     key.transfer_generation = m_transfer_generation;
-    if (s.reshade || !m_shading_valid || !(key == m_shading_key)) {
+    if (!m_texel && (s.reshade || !m_shading_valid || !(key == m_shading_key))) {
         if (m_matrices)
             run_glossy_shading(key);
         else
@@ -581,7 +599,10 @@ void Renderer::draw(const DrawSettings& s, int width, int height) {
     glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
     glBindVertexArray(m_vao);
     glPolygonMode(GL_FRONT_AND_BACK, s.wireframe ? GL_LINE : GL_FILL);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
+    if (m_texel)  // per fragment, from the coefficient planes
+        m_texel->draw(view_proj, s, K, m_light_ubo, light_stride(m_light.K));
+    else
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glBindVertexArray(0);
 

@@ -45,6 +45,7 @@ void write_ply(const Mesh& mesh, const std::string& path,
                 "{}: {} colours for {} vertices", path, colours ? colours->size() : 0, nv);
     const bool has_normals = !mesh.normals.empty();
     const bool has_colours = colours || !mesh.albedo.empty();
+    const bool has_uvs = mesh.uvs.size() == nv && nv > 0;
 
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment written by shprt";
     if (!mesh.source.empty()) header += "\ncomment source " + one_line(mesh.source);
@@ -53,6 +54,7 @@ void write_ply(const Mesh& mesh, const std::string& path,
         "\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n", nv);
     if (has_normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
     if (has_colours) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    if (has_uvs) header += "property float s\nproperty float t\n";  // Assimp reads them as UV set 0
     header += fmt::format("element face {}\nproperty list uchar uint vertex_indices\nend_header\n",
                           mesh.triangles.size());
 
@@ -86,6 +88,10 @@ void write_ply(const Mesh& mesh, const std::string& path,
                 c = {linear_to_srgb8(a.x), linear_to_srgb8(a.y), linear_to_srgb8(a.z)};
             }
             buffer.append(reinterpret_cast<const char*>(c.data()), 3);
+        }
+        if (has_uvs) {
+            put32(buffer, mesh.uvs[v][0]);
+            put32(buffer, mesh.uvs[v][1]);
         }
         flush_if_full();
     }

@@ -6,6 +6,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/scene/builder.hpp"
+#include "shprt/scene/uv_atlas.hpp"
 
 #include <algorithm>
 #include <array>
@@ -293,7 +294,9 @@ Mesh generate_room(const RoomOptions& options) {
     const double h = room_cell_size(options);
     MeshBuilder b;
     build_room(b, h, options.ceiling, books_per_shelf(options.triangles));
-    return b.take_mesh("builtin:room");
+    Mesh room = b.take_mesh("builtin:room");
+    make_uv_atlas(room);  // for per-texel transfer: copies of the vertices where charts meet
+    return room;
 }
 
 }  // namespace shprt

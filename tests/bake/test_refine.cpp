@@ -175,5 +175,46 @@ TEST(Refine, TheVertexBudgetStopsIt) {
     EXPECT_THROW(bake_refined(input, options, refine), Error);
 }
 
+// With the budget binding, the first pass splits the edges with the largest difference × length
+// (refine.hpp): its parents are exactly the top edges of that order, computed here from the input
+// bake (bake_refined's first pass bakes the same vertices with the same options).
+TEST(Refine, ABindingBudgetSplitsTheLargestDifferenceTimesLengthFirst) {
+    // Long floor edges (2 m cells) around a finely cut box (0.25 m cells): the two orders differ.
+    MeshBuilder b;
+    const Vec3f grey{0.8f, 0.8f, 0.8f};
+    b.add_rect(Axis::y, 0.0, +1, {-2, 2, -2, 2}, 2.0, grey);
+    b.add_box({0.4, 0.0, 0.4}, {1.2, 0.8, 1.2}, 0.25, grey, kBoxNoBottom);
+    const Mesh input = b.take_mesh("test:long_and_short_edges");
+    BakeOptions options;
+    options.K = 9;
+    options.samples = 256;
+    const TransferSet t = bake(input, options);
+    const auto lights = refine_test_lights(options.K);
+    std::map<std::pair<std::uint32_t, std::uint32_t>, double> priority;
+    for (const auto& tri : input.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const auto e = std::minmax(tri[k], tri[(k + 1) % 3]);
+            const double d =
+                transfer_difference(t.receiver(e.first), t.receiver(e.second), options.K, lights);
+            const double len = length(cast<double>(input.positions[e.first]) -
+                                      cast<double>(input.positions[e.second]));
+            priority[e] = d * len;
+        }
+    std::vector<double> sorted;
+    for (const auto& [e, p] : priority) sorted.push_back(p);
+    std::sort(sorted.rbegin(), sorted.rend());
+    RefineOptions refine;
+    refine.tolerance = 0.001;
+    refine.max_vertices = input.vertex_count() + 8;  // the first pass takes half: 4 edges
+    const RefineResult r = bake_refined(input, options, refine);
+    ASSERT_GE(r.mesh.vertex_count(), input.vertex_count() + 4);
+    for (std::size_t v = input.vertex_count(); v < input.vertex_count() + 4; ++v) {
+        const auto e = std::minmax(r.mesh.parents[v][0], r.mesh.parents[v][1]);
+        ASSERT_TRUE(priority.count(e));
+        EXPECT_GE(priority[e], sorted[3]) << "vertex " << v;
+    }
+    EXPECT_GT(sorted[3], sorted[8]);  // the order separates the first four from the rest
+}
+
 }  // namespace
 }  // namespace shprt

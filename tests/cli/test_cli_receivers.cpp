@@ -7,6 +7,7 @@
 
 #include "cli/cli_test.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -78,6 +79,33 @@ TEST_F(CliReceivers, RefineWritesTheRefinedMeshAndWarnsAtTheBudget) {
     r = shprt("scene mesh '" + file + "' -o '" + ply + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_THAT(r.out, ::testing::HasSubstr("1300 vertices"));
+}
+
+// --reproducible keeps the refinement's and the texel bake's metadata (deterministic facts) and
+// drops the run's (the memory estimate depends on the thread count): the same bytes whatever
+// --threads.
+TEST_F(CliReceivers, ReproducibleKeepsRefinementAndTexelMetadata) {
+    const std::string refine = (m_dir / "r.shprt").string();
+    ASSERT_EQ(shprt("bake builtin:box_on_plane --refine 0.01 --max-vertices 1300 --samples 32 "
+                    "--coeffs 4 --reproducible -o '" +
+                    refine + "'")
+                  .exit_code,
+              0);
+    EXPECT_NE(read_shprt(refine).metadata_json.find("\"refinement\""), std::string::npos);
+    std::string bytes[2];
+    for (int threads : {1, 2}) {
+        const std::string file = (m_dir / fmt::format("t{}.shprt", threads)).string();
+        ASSERT_EQ(shprt(fmt::format("bake builtin:quad_box --domain texel --resolution 16 "
+                                    "--samples 32 --coeffs 4 --reproducible --threads {} -o '{}'",
+                                    threads, file))
+                      .exit_code,
+                  0);
+        const std::string meta = read_shprt(file).metadata_json;
+        EXPECT_NE(meta.find("\"covered_texels\""), std::string::npos) << meta;
+        EXPECT_EQ(meta.find("estimated_bytes"), std::string::npos) << meta;
+        bytes[threads - 1] = test_support::slurp(file);
+    }
+    EXPECT_EQ(bytes[0], bytes[1]);
 }
 
 TEST_F(CliReceivers, RefusalsAreOneLine) {

@@ -156,6 +156,18 @@ TEST_F(CliRender, ShadeDefaultLightIsBuiltin) {
     EXPECT_EQ(read_file(out("a.csv")), read_file(out("b.csv")));
 }
 
+// The CLI's linear picture against the library's: the same code on the same GL, and not black.
+void expect_same_picture(const Image& got, const Image& want) {
+    ASSERT_EQ(got.rgb.size(), want.rgb.size());
+    double worst = 0, sum = 0;
+    for (std::size_t i = 0; i < want.rgb.size(); ++i) {
+        worst = std::max(worst, double(std::abs(got.rgb[i] - want.rgb[i])));
+        sum += got.rgb[i];
+    }
+    EXPECT_LT(worst, 1e-5);
+    EXPECT_GT(sum, 0.0);
+}
+
 TEST_F(CliRender, RenderWritesPngAndExrThatMatchTheLibrary) {
     if (!have_gl()) GTEST_SKIP() << "no headless OpenGL 4.3 (EGL) on this machine";
     const std::string cam = " --camera 2.5,1.5,2,0,0,0 --fov 40 --size 96x64 --k 0.7";
@@ -181,13 +193,7 @@ TEST_F(CliRender, RenderWritesPngAndExrThatMatchTheLibrary) {
     settings.k = 0.7;
     const Image want =
         render_image(file.mesh, file.transfer, prepare_light({}, 16), settings, 96, 64);
-    double worst = 0, sum = 0;
-    for (std::size_t i = 0; i < want.rgb.size(); ++i) {
-        worst = std::max(worst, double(std::abs(exr.rgb[i] - want.rgb[i])));
-        sum += exr.rgb[i];
-    }
-    EXPECT_LT(worst, 1e-5);  // the same code on the same GL
-    EXPECT_GT(sum, 0.0);     // not black
+    expect_same_picture(exr, want);
 }
 
 TEST_F(CliRender, RenderDefaultCameraAndOptions) {
@@ -200,6 +206,33 @@ TEST_F(CliRender, RenderDefaultCameraAndOptions) {
     const Image img = load_image(out("d.png"));
     EXPECT_EQ(img.width, 64);
     EXPECT_EQ(img.height, 48);
+}
+
+TEST_F(CliRender, RenderOfATexelFileIsTheLibrarysPerFragmentPicture) {
+    if (!have_gl()) GTEST_SKIP() << "no headless OpenGL 4.3 (EGL) on this machine";
+    const std::string file = out("t.shprt");
+    RunResult r =
+        shprt("bake builtin:quad_box --domain texel --resolution 32 --samples 64 --coeffs 9 -o '" +
+              file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string cam = " --camera 0,5,3,0,0,0 --fov 40 --size 64x48 --light builtin";
+    r = shprt("render '" + file + "'" + cam + " -o '" + out("t.exr") + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("rendered 64x48 (K'=9"), std::string::npos) << r.out;
+    const Image exr = load_image(out("t.exr"));
+    const ShprtFile f = read_shprt(file);
+    DrawSettings settings;
+    settings.camera.eye = {0, 5, 3};
+    settings.camera.target = {0, 0, 0};
+    settings.camera.fov_y_deg = 40;
+    fit_clip_planes(settings.camera, mesh_bounds(f.mesh));
+    const Image want = render_image(f.mesh, f.transfer, prepare_light({}, 9), settings, 64, 48);
+    expect_same_picture(exr, want);
+    // The glossy term is not drawn per texel: one line, no picture.
+    expect_one_line_error(
+        shprt("render '" + file + "'" + cam + " --k 0.5 -o '" + out("g.png") + "'"),
+        "the glossy term is not drawn per texel");
+    EXPECT_FALSE(fs::exists(out("g.png")));
 }
 
 TEST_F(CliRender, BadInputGivesOneLineErrorsAndNoOutput) {

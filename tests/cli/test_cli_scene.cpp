@@ -47,6 +47,8 @@ TEST_F(CliScene, RoomPlyLoadsBackToTheGeneratedMesh) {
     EXPECT_TRUE(same_bits(loaded.positions, expected.positions));
     EXPECT_TRUE(same_bits(loaded.normals, expected.normals));
     EXPECT_TRUE(same_bits(loaded.triangles, expected.triangles));
+    ASSERT_EQ(loaded.uvs.size(), expected.vertex_count());  // the atlas travels as s, t
+    EXPECT_EQ(loaded.uvs, expected.uvs);
     ASSERT_EQ(loaded.albedo.size(), expected.albedo.size());
     constexpr float kSrgbByteTol = 0.01f;  // albedo travels as 8-bit sRGB
     for (std::size_t v = 0; v < loaded.vertex_count(); ++v)

@@ -99,6 +99,16 @@ protected:
     }
     static void TearDownTestSuite() { fs::remove_all(s_dir); }
 
+    // quad_box baked per texel (32², K = 9) into the test's directory: what the texel tests show.
+    std::string bake_texel_file() const {
+        const std::string texel = out("t.shprt");
+        const RunResult r = shprt(
+            "bake builtin:quad_box --domain texel --resolution 32 --samples 64 --coeffs 9 -o '" +
+            texel + "'");
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return texel;
+    }
+
     static fs::path s_dir;
     static std::string s_file;
 };
@@ -157,6 +167,22 @@ TEST_F(CliView, DirectShowsTheDirectPartAsRenderDoes) {
         shprt("view '" + s_file + "' --direct --screenshot '" + out("x.png") + "'"),
         "has no direct part");
     EXPECT_FALSE(fs::exists(out("x.png")));
+}
+
+// A texel file (per-fragment shading): --screenshot is `render`'s picture; the glossy term is
+// refused with one line, as in `render`.
+TEST_F(CliView, ATexelFileShowsAsRenderDrawsIt) {
+    const std::string texel = bake_texel_file();
+    const std::string options = " --size 96x64 --light sun:1,2,1,6 --coeffs 7";
+    const RunResult v = shprt("view '" + texel + "' --screenshot '" + out("v.png") + "'" + options);
+    ASSERT_EQ(v.exit_code, 0) << v.err;
+    const RunResult r = shprt("render '" + texel + "' -o '" + out("r.png") + "'" + options);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(slurp(out("v.png")), slurp(out("r.png")));
+    expect_one_line_error(
+        shprt("view '" + texel + "' --k 0.5 --screenshot '" + out("g.png") + "'" + options),
+        "the glossy term is not drawn per texel");
+    EXPECT_FALSE(fs::exists(out("g.png")));
 }
 
 TEST_F(CliView, BenchmarkPrintsALinePerBasisSize) {
@@ -289,6 +315,21 @@ TEST_F(CliViewWindow, OpensUnderXvfbDrawsThePanelAndTheSamePicture) {
         if (key < int(seen.size()) && !seen[key]) seen[key] = true, ++colours;
     }
     EXPECT_GT(colours, 50) << "the window is not blank";
+}
+
+// A texel file in the window: the panel without the glossy sliders, the same picture.
+TEST_F(CliViewWindow, ShowsATexelFile) {
+    const std::string texel = bake_texel_file();
+    const std::string size = " --size 800x500";
+    const RunResult w = shprt(
+        "view '" + texel + "' --frames 2 --window-screenshot '" + out("window.png") + "'" + size,
+        xvfb());
+    ASSERT_EQ(w.exit_code, 0) << w.err;
+    const RunResult s = shprt("view '" + texel + "' --screenshot '" + out("shot.png") + "'" + size);
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    const Diff right =
+        compare(read_png(out("window.png")), read_png(out("shot.png")), 400, 0, 800, 500);
+    EXPECT_LE(right.mean, kMaxMeanWindowDifference);
 }
 
 // The window starts with --direct's picture (the panel's toggle uploads the same way).

@@ -295,6 +295,27 @@ TEST_F(IoShprtFile, ReproducibleOutputIgnoresTimings) {
     EXPECT_NE(read_file(path("a.shprt")), read_file(path("b.shprt")));
 }
 
+// Kept metadata (a refinement's or texel bake's facts) stays in reproducible files; the extra
+// metadata of the run does not; both merge into one object where they share a key.
+TEST_F(IoShprtFile, ReproducibleOutputKeepsTheKeptMetadata) {
+    const Scene a = make_scene(6, 9, 1, false);
+    WriteOptions options;
+    options.kept_metadata_json = R"({"refinement": {"passes": 3}})";
+    options.extra_metadata_json = R"({"refinement": {"seconds": 1.5}, "command_line": "x"})";
+    write_shprt(path("a.shprt"), a.mesh, a.transfer, options);
+    Json m = Json::parse(read_shprt(path("a.shprt")).metadata_json);
+    EXPECT_EQ(m["refinement"]["passes"], 3);
+    EXPECT_EQ(m["refinement"]["seconds"], 1.5);
+    options.reproducible = true;
+    write_shprt(path("a.shprt"), a.mesh, a.transfer, options);
+    m = Json::parse(read_shprt(path("a.shprt")).metadata_json);
+    EXPECT_EQ(m["refinement"]["passes"], 3);
+    EXPECT_FALSE(m["refinement"].contains("seconds"));
+    EXPECT_FALSE(m.contains("command_line"));
+    options.kept_metadata_json = "[1]";
+    EXPECT_THROW(write_shprt(path("c.shprt"), a.mesh, a.transfer, options), Error);
+}
+
 // The scene hash is FNV-1a 64 over the documented byte sequence; recompute it independently.
 TEST_F(IoShprtFile, MeshHashFollowsItsDefinition) {
     const Scene s = make_scene(4, 1, 1, true);

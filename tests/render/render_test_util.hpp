@@ -4,8 +4,10 @@
 #pragma once
 
 #include "common/ray_triangle.hpp"
+#include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/light/light.hpp"
+#include "shprt/render/gl_context.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
@@ -16,8 +18,19 @@
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
+
+// Opens a headless OpenGL 4.3 context named `context` for the rest of the test, or SKIPs it with
+// the reason (no EGL, an older OpenGL).
+#define REQUIRE_GL(context)                                                        \
+    std::unique_ptr<HeadlessGlContext> context;                                    \
+    try {                                                                          \
+        context = std::make_unique<HeadlessGlContext>();                           \
+    } catch (const Error& e) {                                                     \
+        GTEST_SKIP() << "no headless OpenGL 4.3 core context (EGL): " << e.what(); \
+    }
 
 namespace shprt::test {
 

@@ -35,14 +35,6 @@ constexpr double kGlAbsTolerance = 1e-4;
 // Pixels whose centre the rasteriser and the ray caster see on different sides of a silhouette.
 constexpr double kMaxSilhouetteMismatch = 0.01;
 
-#define REQUIRE_GL(context)                                                        \
-    std::unique_ptr<HeadlessGlContext> context;                                    \
-    try {                                                                          \
-        context = std::make_unique<HeadlessGlContext>();                           \
-    } catch (const Error& e) {                                                     \
-        GTEST_SKIP() << "no headless OpenGL 4.3 core context (EGL): " << e.what(); \
-    }
-
 struct Comparison {
     std::size_t compared = 0, mismatched_hits = 0, bad = 0;
     double worst = 0;  // largest |gl − ref| / (rel·|ref| + abs)

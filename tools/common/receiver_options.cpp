@@ -36,13 +36,16 @@ std::pair<int, int> parse_resolution(const std::string& text) {
     return {int(w), int(h)};
 }
 
-// The extra metadata with `what` merged into it.
-WriteOptions with_metadata(WriteOptions options, const nlohmann::json& what) {
-    nlohmann::json extra = options.extra_metadata_json.empty()
-                               ? nlohmann::json::object()
-                               : nlohmann::json::parse(options.extra_metadata_json);
-    extra.update(what);
-    options.extra_metadata_json = extra.dump();
+// `kept` as the metadata kept in reproducible files, `extra` merged into the extra metadata.
+WriteOptions with_metadata(WriteOptions options, const nlohmann::json& kept,
+                           const nlohmann::json& extra = nlohmann::json::object()) {
+    // Deterministic facts stay in --reproducible files; the rest joins the run's extra metadata.
+    options.kept_metadata_json = kept.dump();
+    nlohmann::json all = options.extra_metadata_json.empty()
+                             ? nlohmann::json::object()
+                             : nlohmann::json::parse(options.extra_metadata_json);
+    all.update(extra);
+    options.extra_metadata_json = all.dump();
     return options;
 }
 
@@ -100,7 +103,10 @@ void bake_texels(const ReceiverArgs& args, const Mesh& mesh, BakeOptions options
     end_interruptible();  // a signal from here on: nothing written (common/signals.hpp)
     write_shprt(
         output, mesh, transfer,
-        with_metadata(std::move(write_options), {{"texel_bake", {{"estimated_bytes", need}}}}));
+        with_metadata(
+            std::move(write_options),
+            {{"texel_bake", {{"resolution", {width, height}}, {"covered_texels", texels.count()}}}},
+            {{"texel_bake", {{"estimated_bytes", need}}}}));
     std::printf("texels: %dx%d, %llu covered (%.1f%%), UV set %d, %s\n", width, height,
                 static_cast<unsigned long long>(covered),
                 100.0 * double(covered) / (double(width) * double(height)), args.uv_set,

@@ -85,6 +85,16 @@ void check_shading_args(double k, double gloss, double exposure) {
                 "--exposure {}: must be positive", exposure);
 }
 
+void check_texel_view(const std::string& path, const TransferSet& transfer, double k,
+                      ShadeView view) {
+    SHPRT_CHECK(
+        transfer.layout.domain != ReceiverDomain::texel || k >= 1 || view != ShadeView::radiance,
+        unsupported,
+        "{}: --k {}: texel transfer is drawn diffuse (k = 1); the glossy term is not "
+        "drawn per texel",
+        path, k);
+}
+
 void check_image_extension(const std::string& path) {
     const std::string ext = lower_extension(path);
     SHPRT_CHECK(ext == ".png" || ext == ".exr" || ext == ".hdr", invalid_argument,

@@ -46,6 +46,9 @@ struct WriteOptions {
     // empty = none. Objects merge recursively ({"stats": {"seconds_load": 0.1}} adds to the
     // stats); a key that would replace a value the writer sets is an Error(invalid_argument).
     std::string extra_metadata_json;
+    // As extra_metadata_json, but facts that the same inputs always reproduce (a refinement's
+    // passes and budget, a texel bake's coverage): kept in reproducible files too.
+    std::string kept_metadata_json;
     // Leave out everything that differs between two runs of the same bake (the stats: timings,
     // rays, peak memory, device; and extra_metadata_json), so that the same inputs give the same
     // bytes.

@@ -42,11 +42,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <tuple>
 #include <vector>
 
 namespace shprt {
+
+class TexelPass;  // src/render/texel_pass.hpp
 
 // What the vertex shader outputs per vertex.
 enum class ShadeView {
@@ -125,7 +128,10 @@ public:
     // Uploads positions, normals, albedo, triangles and the transfer: vectors (checked as
     // shade_vertices does) or glossy matrices (checked as shade_glossy does; K ≤ 64), and of a
     // matrix set with a CPCA code only the code. Checks that the buffers fit
-    // GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
+    // GL_MAX_SHADER_STORAGE_BLOCK_SIZE. A texel-domain transfer (docs/texels.md) is drawn per
+    // fragment instead: its coefficient planes go into a texture array sampled at the mesh's UVs
+    // (the radiance view diffuse only: draw throws Error(unsupported) for k < 1); update_transfer
+    // is refused for it.
     void set_scene(const Mesh& mesh, const TransferSet& transfer);
     // Replaces the transfer of vertices [first, first + count) (the TransferSet layout's floats
     // per receiver each) without touching the rest: for a bake shown while it refines. Not for a
@@ -184,6 +190,7 @@ private:
         std::uint64_t light_generation = 0, transfer_generation = 0;
         bool operator==(const ShadingKey&) const = default;
     };
+    void set_texel_scene(const Mesh& mesh, const TransferSet& transfer);
     // Makes the background texture for K' (if stale); returns the rotation to look it up with.
     Mat3d upload_background(int K);
     void run_shading(const ShadingKey& key);
@@ -251,6 +258,7 @@ private:
                   m_shading_passes = 0, m_background_builds = 0, m_cluster_passes = 0;
     ShadingKey m_shading_key;
     bool m_shading_valid = false;
+    std::unique_ptr<TexelPass> m_texel;  // a texel-domain scene: drawn per fragment
 };
 
 // One frame, headless: creates a HeadlessGlContext and calls render_image_in_current_context.

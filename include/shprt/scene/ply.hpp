@@ -15,7 +15,8 @@ namespace shprt {
 // Writes `mesh` to `path` as binary little-endian PLY through AtomicFile (the target appears
 // complete or not at all). Vertex properties: float x, y, z; float nx, ny, nz when the mesh has
 // normals; uchar red, green, blue: `colours` when given (one per vertex, written as given), else
-// the albedo encoded as 8-bit sRGB when the mesh has albedo. Faces: "list uchar uint
+// the albedo encoded as 8-bit sRGB when the mesh has albedo; float s, t when the mesh has one UV
+// per vertex (load_scene reads them back as UV set 0). Faces: "list uchar uint
 // vertex_indices" — uint because Mesh indices are uint32 (no cast, no 2³¹ limit); PLY readers
 // (Assimp, MeshLab, Blender, load_scene's header check) accept uint and int alike. Vertex i of the
 // file is vertex i of the mesh, so load_scene gives the same vertices back in the same order.

@@ -13,6 +13,11 @@
 // to `triangles` (within 10 % from 5 000 up). Below about 2 000 triangles the furniture alone sets
 // the count: a 1 000 request gives roughly 1 400. Boxes have split vertices at their edges, so
 // normals are flat per face; cylinders and the plant are smooth.
+//
+// UVs: a packed atlas (scene/uv_atlas.hpp, default options: gutters of 4 texels at 1024²), so
+// `--domain texel` bakes the room. Planar faces are one chart each; the smooth cylinders and the
+// plant's spheres are cut into charts, their vertices copied along the cuts (appended after the
+// builder's vertices).
 #pragma once
 
 #include "shprt/scene/mesh.hpp"

@@ -1,0 +1,147 @@
+// Per-fragment shading of texel-domain transfer (texel_pass.hpp): the coefficient planes as a
+// texture array, sampled at each fragment's UV.
+#include "texel_pass.hpp"
+
+#include "gl_util.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/render/texel_shade.hpp"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+GLuint upload(GLenum target, std::size_t bytes, const void* data) {
+    GLuint buffer = 0;
+    glGenBuffers(1, &buffer);
+    glBindBuffer(target, buffer);
+    glBufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_STATIC_DRAW);
+    return buffer;
+}
+
+}  // namespace
+
+TexelPass::TexelPass() {
+    m_program = gl::compile_program(gl::kTexelVertexShader, gl::kTexelFragmentShader, "texel");
+    glGenVertexArrays(1, &m_vao);
+    gl::check("TexelPass");
+}
+
+TexelPass::~TexelPass() {
+    for (unsigned* b : {&m_position_vbo, &m_uv_vbo, &m_albedo_vbo, &m_index_buffer})
+        if (*b) glDeleteBuffers(1, b);
+    if (m_planes) glDeleteTextures(1, &m_planes);
+    if (m_vao) glDeleteVertexArrays(1, &m_vao);
+    if (m_program) glDeleteProgram(m_program);
+}
+
+void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
+    transfer.check(mesh);
+    const TexelAtlas& atlas = transfer.texels;
+    SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::texel && !atlas.empty(), invalid_argument,
+                "{}: not a texel transfer", mesh.source);
+    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, unsupported,
+                "{}: {} texel transfer cannot be drawn (it needs a vector per texel)", mesh.source,
+                to_string(transfer.layout.shape));
+    const std::size_t V = mesh.vertex_count();
+    SHPRT_CHECK(mesh.uvs.size() == V, invalid_argument,
+                "{}: a texel transfer needs the mesh's UVs ({} for {} vertices)", mesh.source,
+                mesh.uvs.size(), V);
+    SHPRT_CHECK(V > 0 && mesh.triangle_count() > 0, invalid_argument,
+                "mesh {} has no triangles to draw", mesh.source);
+    for (const auto& t : mesh.triangles)
+        SHPRT_CHECK(t[0] < V && t[1] < V && t[2] < V, invalid_argument,
+                    "mesh {}: triangle index out of range ({} vertices)", mesh.source, V);
+    const int K = transfer.layout.K, C = transfer.layout.channels;
+    const int per_channel = (K + 3) / 4;
+    GLint max_size = 0, max_layers = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+    SHPRT_CHECK(
+        atlas.width <= max_size && atlas.height <= max_size && C * per_channel <= max_layers,
+        unsupported,
+        "{}: a {}x{} atlas with {} layers of 4 coefficients exceeds this OpenGL's "
+        "textures ({} texels a side, {} layers)",
+        mesh.source, atlas.width, atlas.height, C * per_channel, max_size, max_layers);
+
+    for (unsigned* b : {&m_position_vbo, &m_uv_vbo, &m_albedo_vbo, &m_index_buffer})
+        if (*b) glDeleteBuffers(1, b), *b = 0;
+    if (m_planes) glDeleteTextures(1, &m_planes), m_planes = 0;
+
+    glBindVertexArray(m_vao);
+    m_position_vbo = upload(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.positions.data());
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
+    glEnableVertexAttribArray(0);
+    m_uv_vbo = upload(GL_ARRAY_BUFFER, V * sizeof(mesh.uvs[0]), mesh.uvs.data());
+    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(mesh.uvs[0]), nullptr);
+    glEnableVertexAttribArray(1);
+    m_albedo_vbo = upload(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.albedo.data());
+    glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
+    glEnableVertexAttribArray(2);
+    m_index_buffer =
+        upload(GL_ELEMENT_ARRAY_BUFFER, mesh.triangles.size() * 3 * sizeof(std::uint32_t),
+               mesh.triangles.data());
+    glBindVertexArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+
+    // The planes, one layer at a time (a layer's staging image is W × H × 4 floats).
+    const std::vector<std::int64_t> source = dilate_texels(atlas, kTexelGutter);
+    glGenTextures(1, &m_planes);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, m_planes);
+    const GLenum format =
+        transfer.layout.encoding == TransferEncoding::f16 ? GL_RGBA16F : GL_RGBA32F;
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, format, atlas.width, atlas.height, C * per_channel);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    std::vector<float> layer(source.size() * 4);
+    for (int c = 0; c < C; ++c)
+        for (int j = 0; j < per_channel; ++j) {
+            std::fill(layer.begin(), layer.end(), 0.0f);
+            const int first = 4 * j, count = std::min(4, K - first);
+            for (std::size_t p = 0; p < source.size(); ++p)
+                if (source[p] >= 0)
+                    std::copy_n(transfer.receiver(std::size_t(source[p]), c) + first, count,
+                                layer.begin() + std::ptrdiff_t(4 * p));
+            glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, c * per_channel + j, atlas.width,
+                            atlas.height, 1, GL_RGBA, GL_FLOAT, layer.data());
+        }
+    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+    m_index_count = mesh.triangles.size() * 3;
+    m_channels = C;
+    m_layers_per_channel = per_channel;
+    gl::check("TexelPass::set_scene");
+}
+
+void TexelPass::draw(const Mat4f& view_proj, const DrawSettings& s, int K, unsigned light_ubo,
+                     int light_stride) {
+    SHPRT_CHECK(m_planes != 0, invalid_argument, "TexelPass::draw before set_scene");
+    SHPRT_CHECK(s.k >= 1 || s.view != ShadeView::radiance, unsupported,
+                "the glossy term (k = {} < 1) is not drawn per texel: texel transfer is shown "
+                "diffuse (k = 1), or as irradiance or transfer",
+                s.k);
+    glUseProgram(m_program);
+    glUniformMatrix4fv(gl::texel_loc::kViewProj, 1, GL_FALSE, view_proj.m);
+    glUniform1i(gl::texel_loc::kK, K);
+    glUniform1i(gl::texel_loc::kChannels, m_channels);
+    glUniform1i(gl::texel_loc::kLayersPerChannel, m_layers_per_channel);
+    glUniform1i(gl::texel_loc::kLightStride, light_stride);
+    glUniform1i(gl::texel_loc::kView, static_cast<int>(s.view));
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, light_ubo);
+    glActiveTexture(GL_TEXTURE0 + gl::kTexelPlanesUnit);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, m_planes);
+    glBindVertexArray(m_vao);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, 0);
+    glUseProgram(0);
+    gl::check("TexelPass::draw");
+}
+
+}  // namespace shprt

@@ -1,0 +1,67 @@
+// Per-fragment shading of texel-domain transfer (docs/texels.md) inside the Renderer: the
+// coefficient planes of a texel bake in a 2D texture array, sampled at each fragment's UV and
+// dotted with the light. Private to render/: Renderer::set_scene makes one for a texel-domain
+// transfer and Renderer::draw calls it in place of the per-vertex colours, so the camera, the
+// light (its uniform block), the background, wireframe and presentation stay the Renderer's.
+#pragma once
+
+#include "shprt/render/camera.hpp"
+#include "shprt/render/renderer.hpp"
+#include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/transfer.hpp"
+
+#include <cstddef>
+
+namespace shprt {
+
+namespace gl {
+// GLSL 4.30 sources of the texel pass (gl_texel_shaders.cpp).
+extern const char* const kTexelVertexShader;    // transforms; passes UV and albedo on
+extern const char* const kTexelFragmentShader;  // samples the planes, dots with the light
+// Uniform locations fixed with layout(location = N) in those shaders.
+namespace texel_loc {
+inline constexpr int kViewProj = 0, kK = 1, kChannels = 2, kLayersPerChannel = 3, kLightStride = 4,
+                     kView = 5;
+}
+// Texture unit of the planes (the light block is bound at gl::kLightBlockBinding).
+inline constexpr unsigned kTexelPlanesUnit = 0;
+}  // namespace gl
+
+class TexelPass {
+public:
+    // Compiles the program (Error(unsupported) with the driver's log if it fails). Needs a
+    // current OpenGL 4.3 core context, as Renderer.
+    TexelPass();
+    ~TexelPass();
+    TexelPass(const TexelPass&) = delete;
+    TexelPass& operator=(const TexelPass&) = delete;
+
+    // Uploads the mesh (positions, UVs, albedo, triangles) and the coefficient planes: for each
+    // channel c and each group j of four coefficients (4j … 4j+3, zero past K), one RGBA layer of
+    // the atlas's width × height, layer c·⌈K/4⌉ + j; RGBA16F when the transfer's encoding is f16
+    // (the file's values are exact in it), else RGBA32F. Texel (x, y) (row 0 at the top) is GL
+    // texel (x, y), so a fragment samples at (u, 1 − v). Empty texels take the nearest chart
+    // texel's row up to kTexelGutter rings away (dilate_texels), 0 beyond, so linear filtering
+    // does not bleed black into the charts. Throws Error(invalid_argument) for a transfer that is
+    // not texel-domain vectors or a mesh without one UV per vertex (transfer.check(mesh) first),
+    // Error(unsupported) when the atlas or its layers exceed this OpenGL's texture limits.
+    void set_scene(const Mesh& mesh, const TransferSet& transfer);
+
+    // Draws the triangles into the current framebuffer with the current depth and polygon state:
+    // per fragment E = Σ_i T_i(uv) L_i over the first K coefficients (per colour channel, grey
+    // transfer shared), then radiance = albedo/π · E (albedo interpolated from the vertices),
+    // irradiance E, or transfer T_0 · 2/√π (as the per-vertex pass's views). `light_ubo` is the
+    // Renderer's light block (3 channels of `light_stride` floats, vec4-aligned). Throws
+    // Error(unsupported) for the glossy term (k < 1 in the radiance view): it is not drawn per
+    // texel.
+    void draw(const Mat4f& view_proj, const DrawSettings& settings, int K, unsigned light_ubo,
+              int light_stride);
+
+private:
+    unsigned m_program = 0, m_vao = 0, m_planes = 0;
+    unsigned m_position_vbo = 0, m_uv_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
+    std::size_t m_index_count = 0;
+    int m_channels = 0, m_layers_per_channel = 0;
+};
+
+}  // namespace shprt
