@@ -381,6 +381,25 @@ TEST(GlRender, ShadingPassRunsOnlyWhenTheColoursCanChange) {
     EXPECT_EQ(cached.rgb, target.read_pixels().rgb);
 }
 
+// A glossy bake of builtin:box_on_plane (K, S samples), with a CPCA code of `clusters` × `vectors`
+// and the rows rebuilt from it when clusters > 0.
+TransferSet glossy_box_on_plane(const Mesh& mesh, int K, std::uint32_t samples, int clusters = 0,
+                                int vectors = 0) {
+    BakeOptions options;
+    options.transfer = TransferKind::glossy;
+    options.K = K;
+    options.samples = samples;
+    TransferSet transfer = bake(mesh, options);
+    if (clusters > 0) {
+        CpcaOptions cpca;
+        cpca.clusters = clusters;
+        cpca.vectors = vectors;
+        transfer.cpca = compress_cpca(transfer, cpca);
+        reconstruct_cpca(transfer.cpca, transfer.layout.floats_per_receiver(), transfer.coeffs);
+    }
+    return transfer;
+}
+
 // Glossy transfer matrices (a real bake of a box on a plane, so shadows are in the matrices) and
 // their CPCA code, shaded on the GPU, against shade_glossy on the CPU (render/glossy.hpp): every
 // pixel equals the CPU radiance interpolated where its ray hits, for the three BRDF models, the
@@ -388,17 +407,8 @@ TEST(GlRender, ShadingPassRunsOnlyWhenTheColoursCanChange) {
 TEST(GlRender, GlossyMatricesAndTheirCpcaCodeMatchShadeGlossy) {
     REQUIRE_GL(context);
     const Mesh mesh = make_builtin("box_on_plane");
-    BakeOptions bake_options;
-    bake_options.transfer = TransferKind::glossy;
-    bake_options.K = 25;
-    bake_options.samples = 256;
-    const TransferSet raw = bake(mesh, bake_options);
-    CpcaOptions cpca;
-    cpca.clusters = 6;
-    cpca.vectors = 5;
-    TransferSet coded = raw;
-    coded.cpca = compress_cpca(raw, cpca);
-    reconstruct_cpca(coded.cpca, raw.layout.floats_per_receiver(), coded.coeffs);
+    const TransferSet raw = glossy_box_on_plane(mesh, 25, 256);
+    const TransferSet coded = glossy_box_on_plane(mesh, 25, 256, 6, 5);
     const ShLight light = test::smooth_light(25, 25, 5);
     Camera camera;
     camera.eye = {1.8f, 1.6f, 2.3f};
@@ -466,19 +476,11 @@ TEST(GlRender, GlossyMatricesAndTheirCpcaCodeMatchShadeGlossy) {
 TEST(GlRender, WideCpcaCodesShadeFromTheStorageBuffer) {
     REQUIRE_GL(context);
     const Mesh mesh = make_builtin("box_on_plane");
-    BakeOptions bake_options;
-    bake_options.transfer = TransferKind::glossy;
-    bake_options.K = 25;
-    bake_options.samples = 128;
-    TransferSet transfer = bake(mesh, bake_options);
-    CpcaOptions cpca;
-    cpca.clusters = 2;
-    cpca.vectors = 170;
-    transfer.cpca = compress_cpca(transfer, cpca);
-    reconstruct_cpca(transfer.cpca, transfer.layout.floats_per_receiver(), transfer.coeffs);
+    const int K = 25, vectors = 170;
+    const TransferSet transfer = glossy_box_on_plane(mesh, K, 128, 2, vectors);
     GLint max_block = 0;
     glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
-    ASSERT_GT((1 + cpca.vectors) * bake_options.K * 16, max_block)
+    ASSERT_GT((1 + vectors) * K * 16, max_block)
         << "the code fits a uniform block here: this test would not reach the storage buffer path";
     const ShLight light = test::smooth_light(25, 25, 8);
     Camera camera;
@@ -510,15 +512,7 @@ TEST(GlRender, WideCpcaCodesShadeFromTheStorageBuffer) {
 TEST(GlRender, CpcaClusterPassRunsWhenTheLightChangesOnly) {
     REQUIRE_GL(context);
     const Mesh mesh = make_builtin("box_on_plane");
-    BakeOptions bake_options;
-    bake_options.transfer = TransferKind::glossy;
-    bake_options.K = 16;
-    bake_options.samples = 64;
-    TransferSet transfer = bake(mesh, bake_options);
-    CpcaOptions cpca;
-    cpca.clusters = 4;
-    cpca.vectors = 3;
-    transfer.cpca = compress_cpca(transfer, cpca);
+    const TransferSet transfer = glossy_box_on_plane(mesh, 16, 64, 4, 3);
     Renderer renderer;
     renderer.set_scene(mesh, transfer);
     EXPECT_TRUE(renderer.scene_has_matrices());
