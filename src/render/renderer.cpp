@@ -273,9 +273,13 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
         m_weight_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER,
                                     std::max<std::size_t>(1, code.weights.size()) * sizeof(float),
                                     code.weights.data(), GL_STATIC_DRAW);
+        // A uniform block's worth more than the clusters need: the last dispatch of the vertex
+        // pass binds a whole block too (a range shorter than the block is undefined in GL),
+        // whatever K' (a smaller K' has a smaller stride and more clusters per block).
         m_cluster_light_ssbo =
             make_buffer(GL_SHADER_STORAGE_BUFFER,
-                        std::size_t(code.clusters) * cluster_layout(transfer.layout.K).stride * 16,
+                        std::size_t(code.clusters) * cluster_layout(transfer.layout.K).stride * 16 +
+                            std::size_t(m_max_ubo_bytes),
                         nullptr, GL_DYNAMIC_COPY);
         m_bytes_per_vertex = cpca_bytes_per_receiver(code, D, V, sizeof(float));
     } else {
@@ -515,7 +519,7 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
             if (l.block_vec4s > 0)
                 glBindBufferRange(GL_UNIFORM_BUFFER, gl::kClusterLightBlockBinding,
                                   m_cluster_light_ssbo, GLintptr(first) * l.stride * 16,
-                                  GLsizeiptr(count) * l.stride * 16);
+                                  GLsizeiptr(l.block_vec4s) * 16);
             glUniform1ui(gl::loc::kFirstVertex, static_cast<GLuint>(first));
             glDispatchCompute(static_cast<GLuint>(count), 1, 1);
         }
