@@ -64,9 +64,19 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     const int K = options.K;
     const int threads =
         options.threads > 0 ? options.threads : std::max(1, tbb::info::default_concurrency());
+    // The chunks are a grid over the whole receiver set, from receiver 0, with a size set by the
+    // set (not by the range baked): a receiver is always projected at the same row of an SGEMM
+    // of the same height, whatever range it is baked in. OpenBLAS's Haswell and Zen SGEMM
+    // kernels give a row other bits at another row of the call or in a call of another height
+    // (a Zen 3 EPYC, Debian's OpenBLAS 0.3.21: a third to a half of the coefficients differ in
+    // the last bits), and a shard, a resumed gap or a sub-range must give the whole bake's bytes.
+    // A chunk that the range only partly covers is projected whole, the rows outside the range
+    // with zero weights (a row's bits do not depend on the other rows' values), and only the
+    // range's rows are kept.
     const std::size_t chunk =
-        options.chunk_receivers > 0 ? options.chunk_receivers : auto_chunk_receivers(rx.count, S);
-    const std::size_t chunk_count = (rx.count + chunk - 1) / chunk;
+        options.chunk_receivers > 0 ? options.chunk_receivers : auto_chunk_receivers(rx.total, S);
+    const std::size_t first_chunk = rx.first / chunk;
+    const std::size_t chunk_count = (rx.end() + chunk - 1) / chunk - first_chunk;
 
     const DirectionTable table = make_direction_table(directions);
     // The basis table, once for all receivers: Y[s*K + i] = y_i(w_s).
@@ -87,13 +97,19 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
         if (progress.stopped()) return;
         Scratch& sc = scratch.local();
         if (sc.w.empty()) sc.w.resize(chunk * S);
-        const std::size_t first = rx.first + c * chunk;
-        const std::size_t count = std::min(chunk, rx.end() - first);
+        // The grid's chunk [grid_first, grid_first + height) and the range's part of it.
+        const std::size_t grid_first = (first_chunk + c) * chunk;
+        const std::size_t height = std::min(chunk, rx.total - grid_first);
+        const std::size_t first = std::max(grid_first, rx.first);
+        const std::size_t count = std::min(grid_first + height, rx.end()) - first;
+        const std::size_t lead = first - grid_first;  // rows of the chunk before the range
+        const bool whole = count == height;
+        if (!whole) std::fill(sc.w.begin(), sc.w.begin() + std::ptrdiff_t(height * S), 0.0f);
         const double trace_start = thread_cpu_seconds();
         std::uint64_t local_rays = 0;
         for (std::size_t j = 0; j < count; ++j) {
             const std::size_t r = first + j;
-            float* row = sc.w.data() + j * S;
+            float* row = sc.w.data() + (lead + j) * S;
             weight_row(rx.normals[r], table, row, glossy);
             if (shadowed)
                 local_rays +=
@@ -107,16 +123,16 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
             if (!progress.poll()) return;
         }
         const double project_start = thread_cpu_seconds();
-        float* C = sink.host_rows(first, count);
+        float* C = whole ? sink.host_rows(first, count) : nullptr;
         if (C == nullptr) {
             if (sc.c.empty()) sc.c.resize(chunk * std::size_t(F));
             C = sc.c.data();
         }
-        project_rows(sc.w.data(), count, S, Y.data(), F, C);
+        project_rows(sc.w.data(), height, S, Y.data(), F, C);
         const double project_end = thread_cpu_seconds();
         sc.trace_seconds += project_start - trace_start;
         sc.project_seconds += project_end - project_start;
-        sink.write(first, count, C);
+        sink.write(first, count, C + lead * std::size_t(F));
     };
 
     const auto parallel_start = Clock::now();

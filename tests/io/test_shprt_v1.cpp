@@ -13,6 +13,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -44,8 +46,18 @@ TEST(IoShprtV1, ABakedFileReadsWithItsLayoutAndTheSameBitsAsTodaysBake) {
     o.samples = 256;
     o.seed = 7;
     o.sampler = SamplerKind::uniform;
+    // The same rows to the last bits of float32, not the same bits: the file was baked on
+    // another CPU, and OpenBLAS's SGEMM kernel (chosen by CPU) rounds differently on each
+    // (include/shprt/bake/bake.hpp, "Determinism").
     const TransferSet today = bake(make_builtin("box_on_plane"), o);
-    EXPECT_TRUE(today.coeffs == t.coeffs) << "a bake with the same options gives the same bits";
+    ASSERT_EQ(today.coeffs.size(), t.coeffs.size());
+    float largest = 0, worst = 0;
+    for (std::size_t i = 0; i < t.coeffs.size(); ++i) {
+        largest = std::max(largest, std::abs(t.coeffs[i]));
+        worst = std::max(worst, std::abs(today.coeffs[i] - t.coeffs[i]));
+    }
+    EXPECT_GT(largest, 0.1f);
+    EXPECT_LE(worst, 1e-6f * largest) << "a bake with the same options gives the same rows";
 }
 
 TEST(IoShprtV1, OptionalSectionAndFloat16ReadAndRewriteAsVersion2) {

@@ -27,12 +27,15 @@
 // stages weight → trace → project → sink (src/bake/stages.hpp), the places where closest hits
 // for bounces and Yᵀ·diag(w)·Y for glossy matrices plug in.
 //
-// Determinism: chunks are cut from the first receiver of the range, every chunk_receivers (a
-// count that depends on the range's size and S only, never on the thread count), and each
-// chunk's product is computed by one thread. Each row of the product depends only on its own W
-// row and Y (the SGEMM accumulates every element over the S directions in the same order,
-// whatever the chunk's row count), so the same inputs and seed give bit-identical rows with any
-// number of threads, and a sub-range gives exactly the rows of the whole bake (both tested).
+// Determinism: the chunks are a grid over the whole receiver set, cut from receiver 0 every
+// chunk_receivers (a count set by the set's size and S only, never by the range baked or the
+// thread count), and each chunk's product is one SGEMM on one thread. A row's bits depend on its
+// W row, Y, and where it sits in an SGEMM of which height: OpenBLAS's Haswell and Zen kernels
+// give a row other last bits at another row of the call or in a call of another height. So a
+// range projects each chunk it touches whole (the rows outside it with zero weights) and keeps
+// its own rows: the same inputs and seed give bit-identical rows with any number of threads, and
+// a sub-range (a shard, a resumed gap) gives exactly the rows of the whole bake (both tested).
+// A different chunk_receivers is a different grid, which may change the last bits.
 #pragma once
 
 #include "shprt/bake/receivers.hpp"
@@ -80,8 +83,8 @@ struct BakeOptions {
     // automatic (the GPU where one is usable, else the CPU): resolve_device().
     Device device = Device::cpu;
     int device_index = 0;  // the CUDA device (0-based, after CUDA_VISIBLE_DEVICES); ≥ 0
-    // Receivers per chunk (one W[chunk×S] buffer and one SGEMM each); 0 = automatic, from the
-    // receiver count and S only. The partition never depends on the thread count.
+    // Receivers per chunk of the grid (one W[chunk×S] buffer and one SGEMM each); 0 = automatic,
+    // from the whole receiver set's size and S only (see "Determinism" above).
     std::size_t chunk_receivers = 0;
     // Interreflected transfer only (TransferKind::interreflected, bake/interreflect.hpp): the
     // bounces N ≥ 0 (0 = the shadowed transfer in three channels), or with `converge` as many as
