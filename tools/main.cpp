@@ -47,9 +47,14 @@ int report_interrupted(int signal) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    // First of all: from here on a signal never ends the process without its one line.
+// The command line's entry, called by the `shprt` program (launcher.cpp) once the libraries are
+// loaded; `early_signal` says which signal arrived while they loaded (0: none).
+extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char** argv,
+                                                                 int (*early_signal)()) {
+    // First of all: from here on a signal never ends the process without its one line, and one
+    // that arrived before (held by the launcher) ends it now, before anything is read or written.
     shprt::tools::install_signal_handlers();
+    if (const int signal = early_signal()) return report_interrupted(signal);
     using shprt::tools::check_numeric_options;
     CLI::App app{"shprt — precomputed radiance transfer in a spherical-harmonics basis"};
     app.set_version_flag("--version", std::string("shprt ") + SHPRT_VERSION_STRING +

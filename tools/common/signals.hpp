@@ -1,6 +1,8 @@
 // How the `shprt` program meets SIGINT, SIGTERM and SIGHUP (README, "What is guaranteed").
 //
-//   * install_signal_handlers(), the first thing main() does: from then on such a signal ends the
+//   * The `shprt` program (tools/launcher.cpp) holds such a signal while the command line's
+//     libraries load; shprt_main() reports it right after install_signal_handlers().
+//   * install_signal_handlers(), the first thing shprt_main() does: from then on such a signal ends the
 //     process with one line, "shprt: error: interrupted by SIGINT; nothing was written", after
 //     removing the temporary files of outputs being written (core/file.hpp) — exit status
 //     128 + the signal (130, 143, 129). No moment of the process's life dies silently.
@@ -45,7 +47,8 @@ inline int interrupted_exit_code(int signal) { return 128 + signal; }
 
 // For the tests of the above (tests/cli/test_cli_signals.cpp): when the environment variable
 // SHPRT_TEST_STOP_AT is `point`, the process stops itself there (SIGSTOP), so that a test can send
-// a signal at a known moment and then continue it (SIGCONT). Points: "bake" (the bake is about to
+// a signal at a known moment and then continue it (SIGCONT). Points: "load" (in the launcher,
+// tools/launcher.cpp: the command line's libraries are about to load), "bake" (the bake is about to
 // start, signals are requests), "write" (the bake is over, signals are still requests), "writing"
 // (the output is about to be written, a signal ends the process).
 void test_stop_point(const char* point);

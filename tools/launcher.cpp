@@ -1,0 +1,72 @@
+// The `shprt` program: a small executable that puts its signal handlers in place before anything
+// else loads, then loads the command line (libshprt_cli.so, beside it) and runs it.
+//
+// The command line links Assimp, Embree, oneTBB, OpenBLAS, OpenGL, GLFW and MPI; the dynamic
+// loader's work on them and their initialisers take 20 to 60 ms on a busy machine, and a signal in
+// that time used to end the process by its default action, without the one line every other
+// moment gets (README, "What is guaranteed"). This program needs only the C library, so its
+// handlers are in place within a millisecond of exec. A SIGINT, SIGTERM or SIGHUP that arrives
+// while the libraries load is held here, and the command line, once its own handlers are in place,
+// reports it like any other interruption: one line, exit status 128 + the signal, nothing written.
+#include <dlfcn.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace {
+
+volatile sig_atomic_t g_early_signal = 0;  // the first signal that arrived while loading, or 0
+
+extern "C" void hold_signal(int signal) {
+    if (g_early_signal == 0) g_early_signal = signal;
+}
+
+// Called by the command line once its own handlers are in place (tools/main.cpp).
+extern "C" int early_signal() { return g_early_signal; }
+
+// `name` in the folder of this executable (/proc/self/exe), into `path`; `name` alone if unknown.
+// Plain C: the program must not need the C++ library, which would cost loading time.
+void beside_this_program(const char* name, char (&path)[PATH_MAX]) {
+    const ssize_t n = ::readlink("/proc/self/exe", path, sizeof path - 1);
+    path[n > 0 ? n : 0] = '\0';
+    char* slash = std::strrchr(path, '/');
+    const std::size_t folder = slash != nullptr ? static_cast<std::size_t>(slash - path) + 1 : 0;
+    std::snprintf(path + folder, sizeof path - folder, "%s", name);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+    for (const int signal : kSignals) {
+        struct sigaction current {};
+        // A signal the process was started with ignored (nohup) stays ignored.
+        if (::sigaction(signal, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
+        struct sigaction action {};
+        action.sa_handler = hold_signal;
+        sigemptyset(&action.sa_mask);
+        ::sigaction(signal, &action, nullptr);
+    }
+    // The tests' stop point "load" (common/signals.hpp): the libraries are about to load.
+    if (const char* point = std::getenv("SHPRT_TEST_STOP_AT");
+        point != nullptr && std::strcmp(point, "load") == 0)
+        ::raise(SIGSTOP);
+
+    char library[PATH_MAX];
+    beside_this_program("libshprt_cli.so", library);
+    // RTLD_GLOBAL: Open MPI's components, which it loads itself, look for libmpi's symbols there.
+    void* handle = ::dlopen(library, RTLD_NOW | RTLD_GLOBAL);
+    using Main = int (*)(int, char**, int (*)());
+    Main shprt_main =
+        handle != nullptr ? reinterpret_cast<Main>(::dlsym(handle, "shprt_main")) : nullptr;
+    if (shprt_main == nullptr) {
+        std::fprintf(stderr, "shprt: error: %s: cannot load the command line: %s\n", library,
+                     ::dlerror());
+        return 1;
+    }
+    return shprt_main(argc, argv, early_signal);
+}
