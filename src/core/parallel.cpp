@@ -15,33 +15,6 @@
 
 namespace shprt {
 
-namespace {
-
-// fork() now, join() when the scope ends, also by an exception from a task.
-class ForkJoinScope {
-public:
-    explicit ForkJoinScope(const tsan::ForkJoin& fj) : m_fj(fj) { m_fj.fork(); }
-    ~ForkJoinScope() { m_fj.join(); }
-    ForkJoinScope(const ForkJoinScope&) = delete;
-    ForkJoinScope& operator=(const ForkJoinScope&) = delete;
-
-private:
-    const tsan::ForkJoin& m_fj;
-};
-
-class TaskScope {
-public:
-    explicit TaskScope(const tsan::ForkJoin& fj) : m_fj(fj) { m_fj.task_begin(); }
-    ~TaskScope() { m_fj.task_end(); }
-    TaskScope(const TaskScope&) = delete;
-    TaskScope& operator=(const TaskScope&) = delete;
-
-private:
-    const tsan::ForkJoin& m_fj;
-};
-
-}  // namespace
-
 int thread_count(int threads) {
     return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
 }
@@ -51,10 +24,10 @@ namespace parallel_detail {
 void run_for(std::size_t begin, std::size_t end, std::size_t grain, Split split, RangeFn call,
              void* body) {
     const tsan::ForkJoin fj;
-    const ForkJoinScope scope(fj);
+    const tsan::ForkJoinScope scope(fj);
     const tbb::blocked_range<std::size_t> range(begin, end, std::max<std::size_t>(grain, 1));
     const auto task = [&](const tbb::blocked_range<std::size_t>& r) {
-        const TaskScope task_scope(fj);
+        const tsan::TaskScope task_scope(fj);
         call(body, r.begin(), r.end());
     };
     if (split == Split::fixed)
@@ -76,9 +49,9 @@ Arena::~Arena() = default;
 void Arena::run(parallel_detail::CallFn call, void* fn) {
     // TBB may run fn on a worker when the caller cannot take a slot in the arena.
     const tsan::ForkJoin fj;
-    const ForkJoinScope scope(fj);
+    const tsan::ForkJoinScope scope(fj);
     m_impl->arena.execute([&] {
-        const TaskScope task_scope(fj);
+        const tsan::TaskScope task_scope(fj);
         call(fn);
     });
 }

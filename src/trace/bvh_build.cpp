@@ -304,7 +304,8 @@ FlatBvh build_flat_bvh(const Mesh& mesh, const FlatBvhBuildOptions& options) {
     const BuildNode* root;
     {
         trace_detail::FtzDazScope ftz;
-        const tsan::LibraryCall device_call(device.callbacks()), node_call(build_context.callbacks);
+        const tsan::ForkJoinScope monitor(device.monitor());
+        const tsan::LibraryCall call(build_context.callbacks);
         root = static_cast<const BuildNode*>(rtcBuildBVH(&args));
     }
     device.check("flat BVH: Embree's rtcBuildBVH");

@@ -62,7 +62,7 @@ bool EmbreeDevice::on_memory(void* user, ssize_t bytes, bool /*post*/) {
     // Called from Embree's build threads before each allocation (bytes > 0) and after each free
     // (bytes < 0). Returning true lets the allocation go ahead.
     auto* self = static_cast<EmbreeDevice*>(user);
-    const tsan::CallbackScope scope(self->m_callbacks);
+    const tsan::TaskScope task(self->m_monitor);
     const long long now = self->m_bytes.fetch_add(bytes) + bytes;
     long long peak = self->m_peak_bytes.load();
     while (now > peak && !self->m_peak_bytes.compare_exchange_weak(peak, now)) {

@@ -46,10 +46,10 @@ public:
     // unsupported), and clears it.
     void check(const char* what);
 
-    // Embree calls the memory monitor (and rtcBuildBVH its node callbacks) on its build threads,
-    // TBB workers whose hand-offs ThreadSanitizer cannot see: the callbacks run inside a
-    // tsan::CallbackScope of these, and the calls that may run them inside a tsan::LibraryCall.
-    const tsan::Callbacks& callbacks() const { return m_callbacks; }
+    // Embree calls the memory monitor on its build threads, TBB workers whose hand-offs
+    // ThreadSanitizer cannot see: each call is a task of this (tsan::TaskScope), and the calls
+    // into Embree that may build (commits, rtcBuildBVH) fork and join it (tsan::ForkJoinScope).
+    const tsan::ForkJoin& monitor() const { return m_monitor; }
 
 private:
     static void on_error(void* user, RTCError code, const char* message);
@@ -60,7 +60,7 @@ private:
     RTCError m_code = RTC_ERROR_NONE;
     std::string m_message;
     std::atomic<long long> m_bytes{0}, m_peak_bytes{0};
-    [[no_unique_address]] tsan::Callbacks m_callbacks;
+    [[no_unique_address]] tsan::ForkJoin m_monitor;
 };
 
 // The device option string; exposed for the benchmark's record.

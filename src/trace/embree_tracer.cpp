@@ -74,7 +74,7 @@ public:
             for (int k = 0; k < 3; ++k) indices[3 * t + k] = mesh.triangles[t][k];
         rtcSetGeometryBuildQuality(geometry.get(), quality);
         {
-            const tsan::LibraryCall call(m_device.callbacks());
+            const tsan::ForkJoinScope build(m_device.monitor());
             rtcCommitGeometry(geometry.get());
         }
 
@@ -86,7 +86,7 @@ public:
         m_device.check("attaching the mesh to the Embree scene");
         {
             FtzDazScope ftz;
-            const tsan::LibraryCall call(m_device.callbacks());
+            const tsan::ForkJoinScope build(m_device.monitor());
             rtcCommitScene(m_scene.get());
         }
         m_device.check("building the Embree scene");

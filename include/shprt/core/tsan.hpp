@@ -61,6 +61,36 @@ private:
 #endif
 };
 
+// fork() now, join() at the end of the scope (also when an exception leaves it).
+class ForkJoinScope {
+public:
+    explicit ForkJoinScope(const ForkJoin& fork_join) : m_fork_join(fork_join) {
+        m_fork_join.fork();
+    }
+    ~ForkJoinScope() { m_fork_join.join(); }
+    ForkJoinScope(const ForkJoinScope&) = delete;
+    ForkJoinScope& operator=(const ForkJoinScope&) = delete;
+
+private:
+    const ForkJoin& m_fork_join;
+};
+
+// A task of a ForkJoin: task_begin() now, task_end() at the end of the scope. The ForkJoin must
+// be reached without reading memory the forker wrote (e.g. an address computed from a callback's
+// user pointer), since that read would come before task_begin().
+class TaskScope {
+public:
+    explicit TaskScope(const ForkJoin& fork_join) : m_fork_join(fork_join) {
+        m_fork_join.task_begin();
+    }
+    ~TaskScope() { m_fork_join.task_end(); }
+    TaskScope(const TaskScope&) = delete;
+    TaskScope& operator=(const TaskScope&) = delete;
+
+private:
+    const ForkJoin& m_fork_join;
+};
+
 // Callbacks a library makes from its own threads, ordered by that library's synchronisation
 // (Embree's builder creates a node on one thread and sets its children on another): each callback
 // runs between enter() and leave(), and the thread that started the library call leave()s before
