@@ -61,36 +61,6 @@ private:
 #endif
 };
 
-// fork() now, join() at the end of the scope (also when an exception leaves it).
-class ForkJoinScope {
-public:
-    explicit ForkJoinScope(const ForkJoin& fork_join) : m_fork_join(fork_join) {
-        m_fork_join.fork();
-    }
-    ~ForkJoinScope() { m_fork_join.join(); }
-    ForkJoinScope(const ForkJoinScope&) = delete;
-    ForkJoinScope& operator=(const ForkJoinScope&) = delete;
-
-private:
-    const ForkJoin& m_fork_join;
-};
-
-// A task of a ForkJoin: task_begin() now, task_end() at the end of the scope. The ForkJoin must
-// be reached without reading memory the forker wrote (e.g. an address computed from a callback's
-// user pointer), since that read would come before task_begin().
-class TaskScope {
-public:
-    explicit TaskScope(const ForkJoin& fork_join) : m_fork_join(fork_join) {
-        m_fork_join.task_begin();
-    }
-    ~TaskScope() { m_fork_join.task_end(); }
-    TaskScope(const TaskScope&) = delete;
-    TaskScope& operator=(const TaskScope&) = delete;
-
-private:
-    const ForkJoin& m_fork_join;
-};
-
 // Callbacks a library makes from its own threads, ordered by that library's synchronisation
 // (Embree's builder creates a node on one thread and sets its children on another): each callback
 // runs between enter() and leave(), and the thread that started the library call leave()s before
@@ -110,36 +80,32 @@ private:
 #endif
 };
 
-// Inside a callback: enter() now, leave() at the end of the scope (also on an exception). The
-// Callbacks object must be reached without reading memory the caller wrote (an address computed
-// from the callback's user pointer), since that read would come before enter().
-class CallbackScope {
+// Calls (object.*Begin)() now and (object.*End)() at the end of the scope, also when an
+// exception leaves it.
+template <class T, void (T::*Begin)() const, void (T::*End)() const>
+class Scope {
 public:
-    explicit CallbackScope(const Callbacks& callbacks) : m_callbacks(callbacks) {
-        m_callbacks.enter();
-    }
-    ~CallbackScope() { m_callbacks.leave(); }
-    CallbackScope(const CallbackScope&) = delete;
-    CallbackScope& operator=(const CallbackScope&) = delete;
+    explicit Scope(const T& object) : m_object(object) { (m_object.*Begin)(); }
+    ~Scope() { (m_object.*End)(); }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
 
 private:
-    const Callbacks& m_callbacks;
+    const T& m_object;
 };
 
+// The forker: fork() now, join() at the end of the scope.
+using ForkJoinScope = Scope<ForkJoin, &ForkJoin::fork, &ForkJoin::join>;
+// A task of a ForkJoin: task_begin() now, task_end() at the end of the scope.
+using TaskScope = Scope<ForkJoin, &ForkJoin::task_begin, &ForkJoin::task_end>;
+// Inside a callback: enter() now, leave() at the end of the scope.
+using CallbackScope = Scope<Callbacks, &Callbacks::enter, &Callbacks::leave>;
 // Around a call into the library that may run the callbacks on its own threads: leave() now,
 // enter() when the call has returned.
-class LibraryCall {
-public:
-    explicit LibraryCall(const Callbacks& callbacks) : m_callbacks(callbacks) {
-        m_callbacks.leave();
-    }
-    ~LibraryCall() { m_callbacks.enter(); }
-    LibraryCall(const LibraryCall&) = delete;
-    LibraryCall& operator=(const LibraryCall&) = delete;
-
-private:
-    const Callbacks& m_callbacks;
-};
+using LibraryCall = Scope<Callbacks, &Callbacks::leave, &Callbacks::enter>;
+// A task or a callback must reach its ForkJoin or Callbacks without reading memory the forker or
+// caller wrote (an address computed from a callback's user pointer, not a pointer loaded from
+// it), since that read would come before the acquire.
 
 // For the scope's lifetime TSan records no memory access of the calling thread: for a call into
 // a library that runs none of shprt's code, when the library's own writes would otherwise be
