@@ -10,14 +10,12 @@
 #include "bake/bake_internal.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
-
-#include <oneapi/tbb/info.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -92,9 +90,8 @@ TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device bac
         return detail::bake_cpu(job, options, directions, job.tracer, 0.0);
     // Embree builds with TBB tasks in the caller's arena: limit it to the bake's threads.
     std::unique_ptr<Tracer> tracer;
-    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
     const auto start = Clock::now();
-    tbb::task_arena(threads).execute([&] { tracer = make_embree_tracer(*job.occluders); });
+    in_arena(options.threads, [&] { tracer = make_embree_tracer(*job.occluders); });
     if (interreflected)
         return detail::bake_interreflected(job, options, directions, tracer.get(),
                                            seconds_since(start));
@@ -162,8 +159,7 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
     const std::uint64_t chunk = options.chunk_receivers > 0
                                     ? options.chunk_receivers
                                     : auto_chunk_receivers(std::max<std::size_t>(receivers, 1), S);
-    const std::uint64_t threads = static_cast<std::uint64_t>(
-        options.threads > 0 ? options.threads : std::max(1, tbb::info::default_concurrency()));
+    const std::uint64_t threads = static_cast<std::uint64_t>(thread_count(options.threads));
     const std::uint64_t chunks = (V + chunk - 1) / std::max<std::uint64_t>(chunk, 1);
     const std::uint64_t workers = std::max<std::uint64_t>(1, std::min(threads, chunks));
     // Every kind by one rule, from its layout: a receiver's row is channels × F floats, and the

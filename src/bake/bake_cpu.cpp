@@ -16,14 +16,12 @@
 #include "bake/progress.hpp"
 #include "bake/stages.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/tracer.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
-#include <oneapi/tbb/info.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -62,8 +60,7 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     const Receivers& rx = job.receivers;
     const std::size_t S = directions.size();
     const int K = options.K;
-    const int threads =
-        options.threads > 0 ? options.threads : std::max(1, tbb::info::default_concurrency());
+    const int threads = thread_count(options.threads);
     // The chunks are a grid over the whole receiver set, from receiver 0, with a size set by the
     // set (not by the range baked): a receiver is always projected at the same row of an SGEMM
     // of the same height, whatever range it is baked in. OpenBLAS's Haswell and Zen SGEMM
@@ -138,17 +135,9 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     const auto parallel_start = Clock::now();
     {
         const SingleThreadedBlas single_threaded_blas;
-        tbb::task_arena arena(threads);
-        arena.execute([&] {
-            // One task per chunk (grain 1): the partition is fixed, the scheduler only decides
-            // which worker runs which chunk.
-            tbb::parallel_for(
-                tbb::blocked_range<std::size_t>(0, chunk_count, 1),
-                [&](const tbb::blocked_range<std::size_t>& r) {
-                    for (std::size_t c = r.begin(); c != r.end(); ++c) run_chunk(c);
-                },
-                tbb::simple_partitioner());
-        });
+        // One task per chunk: the partition is fixed, the scheduler only decides which worker
+        // runs which chunk.
+        parallel_each(threads, chunk_count, run_chunk);
     }
     const double parallel_seconds = seconds_between(parallel_start, Clock::now());
     SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} of {} receivers",

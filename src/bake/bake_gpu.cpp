@@ -14,12 +14,10 @@
 #include "cuda/gpu_bake_device.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/bvh_build.hpp"
-
-#include <oneapi/tbb/info.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -36,8 +34,7 @@ void require_gpu(int device) {
 // Builds the flat BVH with Embree's TBB tasks limited to `threads` (0 = all), as the CPU bake does.
 FlatBvh build_bvh(const Mesh& mesh, int threads) {
     FlatBvh bvh;
-    const int n = threads > 0 ? threads : tbb::info::default_concurrency();
-    tbb::task_arena(n).execute([&] { bvh = build_flat_bvh(mesh); });
+    in_arena(threads, [&] { bvh = build_flat_bvh(mesh); });
     return bvh;
 }
 

@@ -10,15 +10,13 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/sh/rng.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
-#include <oneapi/tbb/info.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -122,10 +120,8 @@ GroundTruth ground_truth_irradiance(const Mesh& mesh, const GroundTruthLight& li
                 "ground truth: mesh '{}' is empty", mesh.source);
     std::unique_ptr<Tracer> tracer;
     if (options.transfer == TransferKind::shadowed) {
-        const int threads =
-            options.threads > 0 ? options.threads : tbb::info::default_concurrency();
         // Embree builds with TBB tasks in the caller's arena: keep it to our thread count.
-        tbb::task_arena(threads).execute([&] { tracer = make_embree_tracer(mesh); });
+        in_arena(options.threads, [&] { tracer = make_embree_tracer(mesh); });
     } else {
         // Unshadowed transfer never traces; any tracer object satisfies the interface.
         tracer = make_embree_tracer(mesh);
@@ -258,23 +254,20 @@ GroundTruth ground_truth_irradiance(const Mesh& mesh, const GroundTruthLight& li
         rays.fetch_add(cast_here, std::memory_order_relaxed);
     };
 
-    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V, kGrain),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              if (stop.load(std::memory_order_relaxed)) return;
-                              Scratch& sc = scratch.local();
-                              for (std::size_t v = r.begin(); v != r.end(); ++v) run_vertex(v, sc);
-                              done.fetch_add(r.size(), std::memory_order_relaxed);
-                              if (options.progress && std::this_thread::get_id() == caller) {
-                                  const auto now = Clock::now();
-                                  if (now - last_report >= std::chrono::milliseconds(200)) {
-                                      last_report = now;
-                                      if (!report()) stop.store(true);
-                                  }
-                              }
-                          });
+    in_arena(options.threads, [&] {
+        parallel_for(0, V, kGrain, Split::automatic, [&](std::size_t first, std::size_t last) {
+            if (stop.load(std::memory_order_relaxed)) return;
+            Scratch& sc = scratch.local();
+            for (std::size_t v = first; v != last; ++v) run_vertex(v, sc);
+            done.fetch_add(last - first, std::memory_order_relaxed);
+            if (options.progress && std::this_thread::get_id() == caller) {
+                const auto now = Clock::now();
+                if (now - last_report >= std::chrono::milliseconds(200)) {
+                    last_report = now;
+                    if (!report()) stop.store(true);
+                }
+            }
+        });
     });
     if (!stop.load() && options.progress && !report()) stop.store(true);
     SHPRT_CHECK(!stop.load(), cancelled, "ground truth cancelled after {} of {} vertices",

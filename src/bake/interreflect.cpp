@@ -14,15 +14,13 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/math.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
-#include <oneapi/tbb/info.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 #include <Eigen/SparseCore>
 
 #include <fcntl.h>
@@ -74,10 +72,6 @@ private:
 }  // namespace detail
 
 namespace {
-
-int thread_count(int threads) {
-    return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
-}
 
 // The blocks of A that do not fit the memory budget: appended to one temporary file as they
 // finish (any thread; each block's bytes at an offset reserved under a lock, written with pwrite
@@ -364,15 +358,7 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
 
     {
         const detail::SingleThreadedBlas single_threaded_blas;
-        tbb::task_arena arena(thread_count(options.threads));
-        arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::size_t>(0, block_count, 1),
-                [&](const tbb::blocked_range<std::size_t>& range) {
-                    for (std::size_t c = range.begin(); c != range.end(); ++c) build_block(c);
-                },
-                tbb::simple_partitioner());
-        });
+        parallel_each(options.threads, block_count, build_block);
     }
     SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} of {} vertices",
                 progress.receivers_done(), V);
@@ -522,15 +508,7 @@ void apply_transport_blocks(const TransportOperator& A, const float* in, float* 
         for (const auto& b : A.blocks) run_block(b);
         return;
     }
-    tbb::task_arena arena(thread_count(threads));
-    arena.execute([&] {
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, blocks, 1),
-            [&](const tbb::blocked_range<std::size_t>& range) {
-                for (std::size_t b = range.begin(); b != range.end(); ++b) run_block(A.blocks[b]);
-            },
-            tbb::simple_partitioner());
-    });
+    parallel_each(threads, blocks, [&](std::size_t b) { run_block(A.blocks[b]); });
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/hash.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -15,8 +16,6 @@
 #include <mpi.h>
 
 #include <fmt/format.h>
-#include <oneapi/tbb/info.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -214,11 +213,8 @@ void prepare(const MpiSession& session, const BakeJob& job, const BakeOptions& o
     p.tracer = job.tracer;
     const bool rays = p.options.transfer != TransferKind::unshadowed;
     if (!p.tracer && rays && p.options.device == Device::cpu) {
-        const int threads =
-            p.options.threads > 0 ? p.options.threads : tbb::info::default_concurrency();
         const auto start = Clock::now();
-        tbb::task_arena(threads).execute(
-            [&] { p.own_tracer = make_embree_tracer(*job.occluders); });
+        in_arena(p.options.threads, [&] { p.own_tracer = make_embree_tracer(*job.occluders); });
         p.seconds_bvh = seconds_since(start);
         p.tracer = p.own_tracer.get();
     }
@@ -615,8 +611,7 @@ DistributedBake bake_distributed(const MpiSession& session, const BakeJob& job,
     const std::size_t max_unit = std::max<std::size_t>(1, kMaxUnitBytes / row_bytes);
     std::size_t min_unit = dist.min_unit;
     if (min_unit == 0) {
-        const int threads =
-            p.options.threads > 0 ? p.options.threads : tbb::info::default_concurrency();
+        const int threads = thread_count(p.options.threads);
         const std::size_t chunk = auto_chunk_receivers(job.receivers.count, p.directions->size());
         min_unit = std::max<std::size_t>(256, chunk * std::size_t(std::max(4, 2 * threads)));
     }

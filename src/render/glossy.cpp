@@ -9,12 +9,10 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -177,26 +175,28 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
                         code.weights.size() == V * N && code.cluster.size() == V,
                     invalid_argument, "the transfer's CPCA code does not fit its {} receivers", V);
         cluster_light.assign(std::size_t(code.clusters) * (1 + N) * 3 * K, 0.0);
-        tbb::parallel_for(tbb::blocked_range<int>(0, code.clusters), [&](const auto& range) {
-            std::vector<double> M(std::size_t(K) * K);
-            for (int c = range.begin(); c != range.end(); ++c)
-                for (std::size_t b = 0; b <= N; ++b) {
-                    const float* packed = b == 0 ? code.means.data() + std::size_t(c) * D
-                                                 : code.basis.data() + (c * N + b - 1) * D;
-                    unpack_symmetric(packed, Kt, K, M.data());
-                    for (int ch = 0; ch < 3; ++ch) {
-                        double* out = cluster_light.data() + ((c * (1 + N) + b) * 3 + ch) * K;
-                        const float* l = light.channel(ch);
-                        for (int i = 0; i < K; ++i)
-                            for (int j = 0; j < K; ++j)
-                                out[i] += M[std::size_t(i) * K + j] * double(l[j]);
+        parallel_for(
+            0, std::size_t(code.clusters), 1, Split::automatic,
+            [&](std::size_t first, std::size_t last) {
+                std::vector<double> M(std::size_t(K) * K);
+                for (int c = int(first); c != int(last); ++c)
+                    for (std::size_t b = 0; b <= N; ++b) {
+                        const float* packed = b == 0 ? code.means.data() + std::size_t(c) * D
+                                                     : code.basis.data() + (c * N + b - 1) * D;
+                        unpack_symmetric(packed, Kt, K, M.data());
+                        for (int ch = 0; ch < 3; ++ch) {
+                            double* out = cluster_light.data() + ((c * (1 + N) + b) * 3 + ch) * K;
+                            const float* l = light.channel(ch);
+                            for (int i = 0; i < K; ++i)
+                                for (int j = 0; j < K; ++j)
+                                    out[i] += M[std::size_t(i) * K + j] * double(l[j]);
+                        }
                     }
-                }
-        });
+            });
     }
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V, 128), [&](const auto& range) {
+    parallel_for(0, V, 128, Split::automatic, [&](std::size_t first, std::size_t last) {
         std::vector<double> M(std::size_t(K) * K), T(3 * std::size_t(K)), a(K), g(K);
-        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+        for (std::size_t v = first; v != last; ++v) {
             // T[colour][i]: the shadowed incident radiance M_v·L.
             std::fill(T.begin(), T.end(), 0.0);
             if (per_cluster) {
@@ -254,9 +254,9 @@ TransferSet glossy_to_diffuse(const Mesh& mesh, const TransferSet& transfer) {
     const std::size_t V = mesh.vertex_count();
     TransferSet out = TransferSet::zeros(info, V);
     const std::vector<double> cosine = clamped_cosine_zonal(sh_bands_for(K));
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V, 128), [&](const auto& range) {
+    parallel_for(0, V, 128, Split::automatic, [&](std::size_t first, std::size_t last) {
         std::vector<double> M(std::size_t(K) * K), a(K);
-        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+        for (std::size_t v = first; v != last; ++v) {
             unpack_symmetric(transfer.receiver(v), K, K, M.data());
             rotate_zonal(cosine.data(), K, normalize(cast<double>(mesh.normals[v])), a.data());
             float* t = out.receiver(v);

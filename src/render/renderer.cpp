@@ -7,6 +7,7 @@
 
 #include "gl_util.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/light/equirect.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/light/light_setup.hpp"
@@ -17,8 +18,6 @@
 #include "texel_pass.hpp"
 
 #include <epoxy/gl.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -375,22 +374,23 @@ Mat3d Renderer::upload_background(int K) {
     const ShLight& light = from_source ? m_light_source : m_light;
     // The light's SH reconstruction over the equirect grid, rows from the zenith down.
     std::vector<float> texels(std::size_t(kBackgroundWidth) * kBackgroundHeight * 3);
-    tbb::parallel_for(tbb::blocked_range<int>(0, kBackgroundHeight), [&](const auto& rows) {
-        std::vector<float> y(K);
-        for (int row = rows.begin(); row != rows.end(); ++row)
-            for (int x = 0; x < kBackgroundWidth; ++x) {
-                const Vec3f d =
-                    equirect_pixel_direction<float>(x, row, kBackgroundWidth, kBackgroundHeight);
-                sh_eval_k(K, d.x, d.y, d.z, y.data());
-                float* out = texels.data() + (std::size_t(row) * kBackgroundWidth + x) * 3;
-                for (int c = 0; c < 3; ++c) {
-                    const float* l = light.channel(c);
-                    double s = 0;
-                    for (int i = 0; i < K; ++i) s += double(l[i]) * y[i];
-                    out[c] = static_cast<float>(s);
+    parallel_for(
+        0, kBackgroundHeight, 1, Split::automatic, [&](std::size_t first, std::size_t last) {
+            std::vector<float> y(K);
+            for (int row = int(first); row != int(last); ++row)
+                for (int x = 0; x < kBackgroundWidth; ++x) {
+                    const Vec3f d = equirect_pixel_direction<float>(x, row, kBackgroundWidth,
+                                                                    kBackgroundHeight);
+                    sh_eval_k(K, d.x, d.y, d.z, y.data());
+                    float* out = texels.data() + (std::size_t(row) * kBackgroundWidth + x) * 3;
+                    for (int c = 0; c < 3; ++c) {
+                        const float* l = light.channel(c);
+                        double s = 0;
+                        for (int i = 0; i < K; ++i) s += double(l[i]) * y[i];
+                        out[c] = static_cast<float>(s);
+                    }
                 }
-            }
-    });
+        });
     if (!m_background_texture) {
         glGenTextures(1, &m_background_texture);
         glBindTexture(GL_TEXTURE_2D, m_background_texture);

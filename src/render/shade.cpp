@@ -9,11 +9,9 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -84,9 +82,9 @@ ShadeResult shade_vertices(const Mesh& mesh, const TransferSet& transfer, const 
     ShadeResult result;
     result.irradiance.resize(V);
     result.radiance.resize(V);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, V, 256), [&](const auto& range) {
+    parallel_for(0, V, 256, Split::automatic, [&](std::size_t first, std::size_t last) {
         std::vector<double> cs(glossy ? K : 0);
-        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+        for (std::size_t v = first; v != last; ++v) {
             double E[3], L_S[3] = {0, 0, 0};
             for (int c = 0; c < 3; ++c) {
                 const float* t = transfer.receiver(v, transfer.layout.channels == 3 ? c : 0);

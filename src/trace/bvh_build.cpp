@@ -39,10 +39,19 @@ struct BuildLeaf : BuildNode {
     std::uint32_t prims[1];  // `count` entries (over-allocated)
 };
 
+// What the node callbacks get as their user pointer.
+struct BuildContext {
+    tsan::Callbacks callbacks;  // Embree runs the callbacks on its build threads
+    const Mesh& mesh;
+};
+
+BuildContext& context(void* user) { return *static_cast<BuildContext*>(user); }
+
 // Embree's builder keeps this depth with margin under the traversal stack (depth ≤ stack size).
 constexpr unsigned kBuildMaxDepth = kFlatBvhStackSize - 8;
 
-void* create_node(RTCThreadLocalAllocator alloc, unsigned int /*child_count*/, void* /*user*/) {
+void* create_node(RTCThreadLocalAllocator alloc, unsigned int /*child_count*/, void* user) {
+    const tsan::CallbackScope scope(context(user).callbacks);
     void* mem = rtcThreadLocalAlloc(alloc, sizeof(BuildInner), 16);
     auto* node = new (mem) BuildInner;
     node->leaf = false;
@@ -50,13 +59,15 @@ void* create_node(RTCThreadLocalAllocator alloc, unsigned int /*child_count*/, v
     return node;
 }
 
-void set_children(void* node_ptr, void** children, unsigned int count, void* /*user*/) {
+void set_children(void* node_ptr, void** children, unsigned int count, void* user) {
+    const tsan::CallbackScope scope(context(user).callbacks);
     auto* node = static_cast<BuildInner*>(node_ptr);
     for (unsigned i = 0; i < count && i < 2; ++i)
         node->child[i] = static_cast<BuildNode*>(children[i]);
 }
 
-void set_bounds(void* node_ptr, const RTCBounds** bounds, unsigned int count, void* /*user*/) {
+void set_bounds(void* node_ptr, const RTCBounds** bounds, unsigned int count, void* user) {
+    const tsan::CallbackScope scope(context(user).callbacks);
     auto* node = static_cast<BuildInner*>(node_ptr);
     for (unsigned i = 0; i < count && i < 2; ++i)
         node->box[i] = Aabb{{bounds[i]->lower_x, bounds[i]->lower_y, bounds[i]->lower_z},
@@ -64,7 +75,8 @@ void set_bounds(void* node_ptr, const RTCBounds** bounds, unsigned int count, vo
 }
 
 void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count,
-                  void* /*user*/) {
+                  void* user) {
+    const tsan::CallbackScope scope(context(user).callbacks);
     void* mem = rtcThreadLocalAlloc(
         alloc, sizeof(BuildLeaf) + (count > 0 ? count - 1 : 0) * sizeof(std::uint32_t), 16);
     auto* leaf = new (mem) BuildLeaf;
@@ -79,7 +91,8 @@ void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims,
 // plus the edge/plane crossings, intersected with the reference's current bounds.
 void split_primitive(const RTCBuildPrimitive* prim, unsigned int dim, float position,
                      RTCBounds* left, RTCBounds* right, void* user) {
-    const Mesh& mesh = *static_cast<const Mesh*>(user);
+    const tsan::CallbackScope scope(context(user).callbacks);
+    const Mesh& mesh = context(user).mesh;
     const auto& tri = mesh.triangles[prim->primID];
     const float inf = std::numeric_limits<float>::infinity();
     Vec3f llo{inf, inf, inf}, lhi{-inf, -inf, -inf}, rlo = llo, rhi = lhi;
@@ -285,11 +298,14 @@ FlatBvh build_flat_bvh(const Mesh& mesh, const FlatBvhBuildOptions& options) {
     args.createLeaf = create_leaf;
     args.splitPrimitive = options.high_quality ? split_primitive : nullptr;
     args.buildProgress = nullptr;
-    args.userPtr = const_cast<Mesh*>(&mesh);  // read only in split_primitive
+    BuildContext build_context{{}, mesh};
+    args.userPtr = &build_context;
 
     const BuildNode* root;
     {
         trace_detail::FtzDazScope ftz;
+        const tsan::ForkJoinScope monitor(device.monitor());
+        const tsan::LibraryCall call(build_context.callbacks);
         root = static_cast<const BuildNode*>(rtcBuildBVH(&args));
     }
     device.check("flat BVH: Embree's rtcBuildBVH");

@@ -42,7 +42,13 @@ const char* mesh_name(const Mesh& mesh) {
 const char* embree_device_config() { return "set_affinity=0,start_threads=0,verbose=0"; }
 
 EmbreeDevice::EmbreeDevice() {
-    m_device = rtcNewDevice(embree_device_config());
+    {
+        // The device's settings (strings, written here through libstdc++) are read by Embree's
+        // build tasks on TBB's workers, ordered by synchronisation TSan cannot see; only Embree's
+        // code runs in this call (docs/sanitizers.md).
+        const tsan::IgnoreScope ignore;
+        m_device = rtcNewDevice(embree_device_config());
+    }
     if (!m_device) {
         const RTCError code = rtcGetDeviceError(nullptr);
         fail(code == RTC_ERROR_OUT_OF_MEMORY ? ErrorCode::out_of_memory : ErrorCode::unsupported,
@@ -56,6 +62,7 @@ bool EmbreeDevice::on_memory(void* user, ssize_t bytes, bool /*post*/) {
     // Called from Embree's build threads before each allocation (bytes > 0) and after each free
     // (bytes < 0). Returning true lets the allocation go ahead.
     auto* self = static_cast<EmbreeDevice*>(user);
+    const tsan::TaskScope task(self->m_monitor);
     const long long now = self->m_bytes.fetch_add(bytes) + bytes;
     long long peak = self->m_peak_bytes.load();
     while (now > peak && !self->m_peak_bytes.compare_exchange_weak(peak, now)) {

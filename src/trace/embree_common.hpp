@@ -2,6 +2,7 @@
 // builder, input validation of meshes for tracing, and the FTZ/DAZ scope.
 #pragma once
 
+#include "shprt/core/tsan.hpp"
 #include "shprt/scene/mesh.hpp"
 
 #include <embree3/rtcore.h>
@@ -45,6 +46,11 @@ public:
     // unsupported), and clears it.
     void check(const char* what);
 
+    // Embree calls the memory monitor on its build threads, TBB workers whose hand-offs
+    // ThreadSanitizer cannot see: each call is a task of this (tsan::TaskScope), and the calls
+    // into Embree that may build (commits, rtcBuildBVH) fork and join it (tsan::ForkJoinScope).
+    const tsan::ForkJoin& monitor() const { return m_monitor; }
+
 private:
     static void on_error(void* user, RTCError code, const char* message);
     static bool on_memory(void* user, ssize_t bytes, bool post);
@@ -54,6 +60,7 @@ private:
     RTCError m_code = RTC_ERROR_NONE;
     std::string m_message;
     std::atomic<long long> m_bytes{0}, m_peak_bytes{0};
+    [[no_unique_address]] tsan::ForkJoin m_monitor;
 };
 
 // The device option string; exposed for the benchmark's record.

@@ -73,7 +73,10 @@ public:
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
             for (int k = 0; k < 3; ++k) indices[3 * t + k] = mesh.triangles[t][k];
         rtcSetGeometryBuildQuality(geometry.get(), quality);
-        rtcCommitGeometry(geometry.get());
+        {
+            const tsan::ForkJoinScope build(m_device.monitor());
+            rtcCommitGeometry(geometry.get());
+        }
 
         m_scene.reset(rtcNewScene(device));
         m_device.check("creating the Embree scene");
@@ -83,6 +86,7 @@ public:
         m_device.check("attaching the mesh to the Embree scene");
         {
             FtzDazScope ftz;
+            const tsan::ForkJoinScope build(m_device.monitor());
             rtcCommitScene(m_scene.get());
         }
         m_device.check("building the Embree scene");

@@ -8,6 +8,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 // Header-only float16 conversion (it sits in io/ because files are where float16 lives; no link
 // dependency on the io library).
@@ -15,10 +16,6 @@
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/info.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -67,9 +64,7 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
     SHPRT_CHECK(options.iterations >= 0, invalid_argument, "CPCA iterations = {} must be ≥ 0",
                 options.iterations);
     const int C = options.clusters, V = options.vectors;
-    const int threads =
-        options.threads > 0 ? options.threads : std::max(1, tbb::info::default_concurrency());
-    tbb::task_arena arena(threads);
+    Arena arena(options.threads);
 
     // The rows in the Frobenius metric.
     const std::vector<float> scale = metric_scale(transfer.layout);
@@ -88,8 +83,8 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
         used[pick] = 1;
         centres.row(c) = X.row(pick);
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 1024), [&](const auto& r) {
-                for (std::size_t i = r.begin(); i != r.end(); ++i)
+            parallel_for(0, N, 1024, Split::automatic, [&](std::size_t first, std::size_t last) {
+                for (std::size_t i = first; i != last; ++i)
                     nearest[i] =
                         std::min(nearest[i], double((X.row(i) - centres.row(c)).squaredNorm()));
             });
@@ -120,10 +115,9 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
         const Eigen::VectorXf cnorm = centres.rowwise().squaredNorm();
         std::vector<char> changed(blocks, 0);
         arena.execute([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<std::size_t>(0, blocks, 1),
-                [&](const auto& r) {
-                    for (std::size_t b = r.begin(); b != r.end(); ++b) {
+            parallel_for(
+                0, blocks, 1, Split::fixed, [&](std::size_t first_block, std::size_t last_block) {
+                    for (std::size_t b = first_block; b != last_block; ++b) {
                         const std::size_t first = b * kBlockRows;
                         const std::size_t count = std::min(kBlockRows, N - first);
                         const MatrixF dots = X.middleRows(first, count) * centres.transpose();
@@ -141,8 +135,7 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
                             assign[first + i] = best;
                         }
                     }
-                },
-                tbb::simple_partitioner());
+                });
         });
         const bool any = std::find(changed.begin(), changed.end(), 1) != changed.end();
         if (!any || it == options.iterations) break;
@@ -169,53 +162,55 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
     code.basis.assign(std::size_t(C) * V * D, 0.0f);
     code.weights.assign(N * std::size_t(V), 0.0f);
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<int>(0, C, 1), [&](const auto& range) {
-            for (int c = range.begin(); c != range.end(); ++c) {
-                const std::vector<std::size_t>& m = members[c];
-                if (m.empty()) continue;
-                Eigen::VectorXd mean = Eigen::VectorXd::Zero(D);
-                for (std::size_t i : m)
-                    for (std::size_t d = 0; d < D; ++d) mean[d] += transfer.coeffs[i * D + d];
-                mean /= double(m.size());
-                float* out_mean = code.means.data() + std::size_t(c) * D;
-                for (std::size_t d = 0; d < D; ++d) out_mean[d] = float(mean[d]);
-                MatrixD A(m.size(), D);  // centred members, Frobenius metric
-                for (std::size_t k = 0; k < m.size(); ++k)
-                    for (std::size_t d = 0; d < D; ++d)
-                        A(k, d) = (double(transfer.coeffs[m[k] * D + d]) - double(out_mean[d])) *
-                                  scale[d];
-                MatrixD B = MatrixD::Zero(V, D);  // rows: orthonormal directions
-                if (m.size() > 1) {
-                    const bool gram = m.size() <= D;
-                    const MatrixD S =
-                        gram ? MatrixD(A * A.transpose()) : MatrixD(A.transpose() * A);
-                    Eigen::SelfAdjointEigenSolver<MatrixD> eig(S);
-                    const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
-                    const double tiny = 1e-12 * std::max(1.0, lambda[lambda.size() - 1]);
-                    for (int v = 0; v < V && v < lambda.size(); ++v) {
-                        const Eigen::Index e = lambda.size() - 1 - v;
-                        if (lambda[e] <= tiny) break;
-                        Eigen::VectorXd dir =
-                            gram ? Eigen::VectorXd(A.transpose() * eig.eigenvectors().col(e))
-                                 : Eigen::VectorXd(eig.eigenvectors().col(e));
-                        dir.normalize();
-                        Eigen::Index at = 0;
-                        dir.cwiseAbs().maxCoeff(&at);
-                        if (dir[at] < 0) dir = -dir;
-                        B.row(v) = dir.transpose();
+        parallel_for(
+            0, std::size_t(C), 1, Split::automatic, [&](std::size_t first, std::size_t last) {
+                for (int c = int(first); c != int(last); ++c) {
+                    const std::vector<std::size_t>& m = members[c];
+                    if (m.empty()) continue;
+                    Eigen::VectorXd mean = Eigen::VectorXd::Zero(D);
+                    for (std::size_t i : m)
+                        for (std::size_t d = 0; d < D; ++d) mean[d] += transfer.coeffs[i * D + d];
+                    mean /= double(m.size());
+                    float* out_mean = code.means.data() + std::size_t(c) * D;
+                    for (std::size_t d = 0; d < D; ++d) out_mean[d] = float(mean[d]);
+                    MatrixD A(m.size(), D);  // centred members, Frobenius metric
+                    for (std::size_t k = 0; k < m.size(); ++k)
+                        for (std::size_t d = 0; d < D; ++d)
+                            A(k, d) =
+                                (double(transfer.coeffs[m[k] * D + d]) - double(out_mean[d])) *
+                                scale[d];
+                    MatrixD B = MatrixD::Zero(V, D);  // rows: orthonormal directions
+                    if (m.size() > 1) {
+                        const bool gram = m.size() <= D;
+                        const MatrixD S =
+                            gram ? MatrixD(A * A.transpose()) : MatrixD(A.transpose() * A);
+                        Eigen::SelfAdjointEigenSolver<MatrixD> eig(S);
+                        const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
+                        const double tiny = 1e-12 * std::max(1.0, lambda[lambda.size() - 1]);
+                        for (int v = 0; v < V && v < lambda.size(); ++v) {
+                            const Eigen::Index e = lambda.size() - 1 - v;
+                            if (lambda[e] <= tiny) break;
+                            Eigen::VectorXd dir =
+                                gram ? Eigen::VectorXd(A.transpose() * eig.eigenvectors().col(e))
+                                     : Eigen::VectorXd(eig.eigenvectors().col(e));
+                            dir.normalize();
+                            Eigen::Index at = 0;
+                            dir.cwiseAbs().maxCoeff(&at);
+                            if (dir[at] < 0) dir = -dir;
+                            B.row(v) = dir.transpose();
+                        }
                     }
+                    // 4. weights, and the directions stored in the original coordinates.
+                    for (std::size_t k = 0; k < m.size(); ++k) {
+                        const Eigen::VectorXd w = B * A.row(k).transpose();
+                        for (int v = 0; v < V; ++v) code.weights[m[k] * V + v] = float(w[v]);
+                    }
+                    float* out_basis = code.basis.data() + std::size_t(c) * V * D;
+                    for (int v = 0; v < V; ++v)
+                        for (std::size_t d = 0; d < D; ++d)
+                            out_basis[std::size_t(v) * D + d] = float(B(v, d) / scale[d]);
                 }
-                // 4. weights, and the directions stored in the original coordinates.
-                for (std::size_t k = 0; k < m.size(); ++k) {
-                    const Eigen::VectorXd w = B * A.row(k).transpose();
-                    for (int v = 0; v < V; ++v) code.weights[m[k] * V + v] = float(w[v]);
-                }
-                float* out_basis = code.basis.data() + std::size_t(c) * V * D;
-                for (int v = 0; v < V; ++v)
-                    for (std::size_t d = 0; d < D; ++d)
-                        out_basis[std::size_t(v) * D + d] = float(B(v, d) / scale[d]);
-            }
-        });
+            });
     });
     return code;
 }
@@ -282,10 +277,10 @@ TransferError transfer_error(const TransferSet& exact, const TransferSet& approx
 
     std::vector<double> err2(N, 0.0), ref2(N, 0.0);
     std::vector<int> values(N, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 256), [&](const auto& range) {
+    parallel_for(0, N, 256, Split::automatic, [&](std::size_t first, std::size_t last) {
         std::vector<double> Me(std::size_t(K) * K), Ma(std::size_t(K) * K), lobe(K);
         std::vector<std::vector<double>> lobes;
-        for (std::size_t r = range.begin(); r != range.end(); ++r) {
+        for (std::size_t r = first; r != last; ++r) {
             for (int c = 0; c < layout.channels; ++c) {
                 const float* e = exact.receiver(r, c);
                 const float* a = approx.receiver(r, c);

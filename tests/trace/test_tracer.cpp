@@ -2,6 +2,7 @@
 // self-intersection on flat planes, a box on a plane against brute force, barycentrics, bad
 // input, and thread safety.
 #include "shprt/core/error.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/trace/tracer.hpp"
 
 #include "trace/trace_test_util.hpp"
@@ -10,7 +11,6 @@
 #include "../src/trace/embree_common.hpp"
 
 #include <gtest/gtest.h>
-#include <tbb/parallel_for.h>
 
 #if defined(__x86_64__) || defined(__SSE__)
 #include <xmmintrin.h>
@@ -124,7 +124,7 @@ TEST(Tracer, BoxOnPlaneEqualsBruteForce) {
     };
     std::vector<Ray> rays(scene.positions.size());
     long total = 0, ambiguous = 0, occluded = 0;
-    tbb::parallel_for(std::size_t(0), rays.size(), [&](std::size_t v) {
+    parallel_each(0, rays.size(), [&](std::size_t v) {
         Ray& r = rays[v];
         const Vec3f n = scene.normals[v];
         r.origin = offset_ray_origin(scene.positions[v], n);
@@ -384,7 +384,7 @@ TEST(Tracer, ParallelCallsMatchSerial) {
         std::vector<Hit> serial_hits(vertices), parallel_hits(vertices);
         for (std::size_t v = 0; v < vertices; ++v)
             run(v, &serial[v * kDirections], &serial_hits[v]);
-        tbb::parallel_for(std::size_t(0), vertices, [&](std::size_t v) {
+        parallel_each(0, vertices, [&](std::size_t v) {
             run(v, &parallel[v * kDirections], &parallel_hits[v]);
         });
         long occluded = 0;

@@ -1,0 +1,59 @@
+// TBB behind shprt/core/parallel.hpp. Under SHPRT_TSAN this file is compiled without
+// -fsanitize=thread (CMakeLists.txt): TBB's task objects are built on one thread and run on
+// another through libtbb's scheduler, which TSan cannot see, so instrumenting the templates
+// instantiated here would report every task. The fork and join are marked instead (core/tsan.hpp).
+#include "shprt/core/parallel.hpp"
+
+#include "shprt/core/tsan.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+
+namespace shprt {
+
+int thread_count(int threads) {
+    return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
+}
+
+namespace parallel_detail {
+
+void run_for(std::size_t begin, std::size_t end, std::size_t grain, Split split, RangeFn call,
+             void* body) {
+    const tsan::ForkJoin fj;
+    const tsan::ForkJoinScope scope(fj);
+    const tbb::blocked_range<std::size_t> range(begin, end, std::max<std::size_t>(grain, 1));
+    const auto task = [&](const tbb::blocked_range<std::size_t>& r) {
+        const tsan::TaskScope task_scope(fj);
+        call(body, r.begin(), r.end());
+    };
+    if (split == Split::fixed)
+        tbb::parallel_for(range, task, tbb::simple_partitioner());
+    else
+        tbb::parallel_for(range, task, tbb::auto_partitioner());
+}
+
+}  // namespace parallel_detail
+
+struct Arena::Impl {
+    tbb::task_arena arena;
+};
+
+Arena::Arena(int threads) : m_impl(new Impl{tbb::task_arena(thread_count(threads))}) {}
+
+Arena::~Arena() = default;
+
+void Arena::run(parallel_detail::CallFn call, void* fn) {
+    // TBB may run fn on a worker when the caller cannot take a slot in the arena.
+    const tsan::ForkJoin fj;
+    const tsan::ForkJoinScope scope(fj);
+    m_impl->arena.execute([&] {
+        const tsan::TaskScope task_scope(fj);
+        call(fn);
+    });
+}
+
+}  // namespace shprt
