@@ -8,6 +8,8 @@
 // handlers are in place within a millisecond of exec. A SIGINT, SIGTERM or SIGHUP that arrives
 // while the libraries load is held here, and the command line, once its own handlers are in place,
 // reports it like any other interruption: one line, exit status 128 + the signal, nothing written.
+#include "common/signals.hpp"
+
 #include <dlfcn.h>
 #include <signal.h>
 #include <unistd.h>
@@ -41,16 +43,7 @@ void beside_this_program(const char* name, char (&path)[PATH_MAX]) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
-    for (const int signal : kSignals) {
-        struct sigaction current {};
-        // A signal the process was started with ignored (nohup) stays ignored.
-        if (::sigaction(signal, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
-        struct sigaction action {};
-        action.sa_handler = hold_signal;
-        sigemptyset(&action.sa_mask);
-        ::sigaction(signal, &action, nullptr);
-    }
+    shprt::tools::handle_interrupt_signals(hold_signal);
     // The tests' stop point "load" (common/signals.hpp): the libraries are about to load.
     if (const char* point = std::getenv("SHPRT_TEST_STOP_AT");
         point != nullptr && std::strcmp(point, "load") == 0)

@@ -15,8 +15,6 @@
 namespace shprt::tools {
 namespace {
 
-constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
-
 volatile std::sig_atomic_t g_request = 0;   // the signal that arrived as a request, or 0
 volatile std::sig_atomic_t g_requests = 0;  // which signals are requests: 1 SIGINT, 2 all
 pid_t g_main_pid = 0;                       // a forked child (the importer) dies quietly
@@ -67,15 +65,7 @@ void install_signal_handlers() {
     if (g_installed.exchange(true)) return;
     g_main_pid = ::getpid();
     if (is_secondary_rank()) g_quiet = 1;
-    for (const int signal : kSignals) {
-        struct sigaction current {};
-        if (::sigaction(signal, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
-        struct sigaction action {};
-        action.sa_handler = on_signal;
-        sigemptyset(&action.sa_mask);
-        for (const int other : kSignals) sigaddset(&action.sa_mask, other);
-        ::sigaction(signal, &action, nullptr);
-    }
+    handle_interrupt_signals(on_signal);
 }
 
 void quiet_signals() { g_quiet = 1; }

@@ -2,7 +2,8 @@
 //
 //   * The `shprt` program (tools/launcher.cpp) holds such a signal while the command line's
 //     libraries load; shprt_main() reports it right after install_signal_handlers().
-//   * install_signal_handlers(), the first thing shprt_main() does: from then on such a signal ends the
+//   * install_signal_handlers(), the first thing shprt_main() does: from then on such a signal ends
+//   the
 //     process with one line, "shprt: error: interrupted by SIGINT; nothing was written", after
 //     removing the temporary files of outputs being written (core/file.hpp) — exit status
 //     128 + the signal (130, 143, 129). No moment of the process's life dies silently.
@@ -17,7 +18,28 @@
 // A signal the process was started with ignored (nohup, a script's background job) stays ignored.
 #pragma once
 
+#include <signal.h>
+
 namespace shprt::tools {
+
+// The signals above: SIGINT, SIGTERM, SIGHUP.
+inline constexpr int kInterruptSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+// Makes `handler` the action of each of kInterruptSignals, the others blocked while it runs,
+// except a signal the process was started with ignored (nohup, a script's background job), which
+// stays ignored. Inline: the launcher (tools/launcher.cpp), which links nothing of shprt, uses
+// it too.
+inline void handle_interrupt_signals(void (*handler)(int)) {
+    for (const int signal : kInterruptSignals) {
+        struct sigaction current {};
+        if (::sigaction(signal, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
+        struct sigaction action {};
+        action.sa_handler = handler;
+        sigemptyset(&action.sa_mask);
+        for (const int other : kInterruptSignals) sigaddset(&action.sa_mask, other);
+        ::sigaction(signal, &action, nullptr);
+    }
+}
 
 // Thrown by end_interruptible(): the process was interrupted; main() reports it.
 struct Interrupted {
