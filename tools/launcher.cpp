@@ -57,8 +57,8 @@ int main(int argc, char** argv) {
     Main shprt_main =
         handle != nullptr ? reinterpret_cast<Main>(::dlsym(handle, "shprt_main")) : nullptr;
     if (shprt_main == nullptr) {
-        std::fprintf(stderr, "shprt: error: %s: cannot load the command line: %s\n", library,
-                     ::dlerror());
+        // dlerror() names the library: "PATH: cannot open shared object file: ...".
+        std::fprintf(stderr, "shprt: error: cannot load the command line: %s\n", ::dlerror());
         return 1;
     }
     return shprt_main(argc, argv, early_signal);

@@ -214,4 +214,19 @@ TEST_F(CliBadInput, WhatTheImporterPrintsNeverReachesTheTerminal) {
     EXPECT_EQ(r.err.find("DDLNode"), std::string::npos) << r.err;
 }
 
+// The `shprt` program copied away from the command line's library (tools/launcher.cpp loads
+// libshprt_cli.so from its own folder): one line naming the library, exit 1.
+TEST_F(CliBadInput, TheProgramWithoutItsLibraryIsOneLineNamingIt) {
+    const fs::path lonely = m_dir / "shprt";
+    fs::copy_file(SHPRT_CLI_PATH, lonely);
+    const fs::path out = m_dir / "stdout", err = m_dir / "stderr";
+    const std::string cmd = "'" + lonely.string() + "' --version >'" + out.string() + "' 2>'" +
+                            err.string() + "' </dev/null";
+    const int status = std::system(cmd.c_str());
+    const RunResult r{WIFEXITED(status) ? WEXITSTATUS(status) : 128, slurp(out), slurp(err)};
+    expect_one_line_error(r,
+                          "cannot load the command line: " + (m_dir / "libshprt_cli.so").string() +
+                              ": cannot open shared object file");
+}
+
 }  // namespace
