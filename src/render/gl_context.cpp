@@ -112,7 +112,7 @@ std::string summarise(const Reasons& why) {
     std::vector<std::pair<std::string, std::string>> grouped;  // (reason, platforms)
     for (const auto& [platform, reason] : why) {
         auto it = std::find_if(grouped.begin(), grouped.end(),
-                               [&](const auto& g) { return g.first == reason; });
+                               [&r = reason](const auto& g) { return g.first == r; });
         if (it == grouped.end())
             grouped.emplace_back(reason, platform);
         else

@@ -4,6 +4,7 @@
 #include "isolated_import.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/sanitizers.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -73,23 +74,10 @@ std::uint64_t mapped_bytes() {
     return ok ? pages * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE)) : 0;
 }
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
-    __has_feature(memory_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
-
 // In the child, before the work: the address-space limit, and stdout and stderr to /dev/null.
 // System calls only (async-signal-safe after fork in a threaded process).
 void prepare_child(std::uint64_t address_space_limit) {
-    if (!kSanitized && address_space_limit > 0) {
+    if (!kShadowMemorySanitizer && address_space_limit > 0) {
         rlimit limit{};
         if (::getrlimit(RLIMIT_AS, &limit) == 0) {
             const rlim_t wanted = static_cast<rlim_t>(address_space_limit);

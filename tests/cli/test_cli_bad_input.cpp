@@ -4,6 +4,7 @@
 // value or file, 2 only when the command line cannot be parsed), one line "shprt: error: ...",
 // and no output file.
 #include "cli/cli_test.hpp"
+#include "shprt/core/sanitizers.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -20,11 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
+using shprt::kAddressSanitizer;
 
 using shprt::test_support::expect_one_line_error;
 using shprt::test_support::expect_usage_error;

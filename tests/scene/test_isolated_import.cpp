@@ -4,6 +4,7 @@
 #include "../src/scene/isolated_import.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/sanitizers.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -113,9 +114,9 @@ TEST(IsolatedImport, ADyingChildIsAnErrorNamingTheFileAndTheSignal) {
 // The importer's memory is bounded: an allocation beyond the budget fails at once in the child
 // (instead of growing until the machine runs out) and becomes Error(out_of_memory) saying so.
 TEST(IsolatedImport, TheChildsMemoryIsBoundedByTheBudget) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-    GTEST_SKIP() << "no address-space limit under the sanitizers (their shadow memory needs it)";
-#endif
+    if (kShadowMemorySanitizer)
+        GTEST_SKIP()
+            << "no address-space limit under the sanitizers (their shadow memory needs it)";
     ErrorCode code = ErrorCode::io;
     const std::string message = error_of(
         []() -> ImportedMesh {
