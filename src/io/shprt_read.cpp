@@ -4,6 +4,7 @@
 // and length against the file size, the sizes against V, T, K and channels; only then are arrays
 // allocated (so a corrupt length cannot ask for more memory than the file holds) and read, each
 // against its CRC-32.
+#include "io/fuzzing.hpp"
 #include "io/shprt_sections.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/io/half.hpp"
@@ -20,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <climits>
 #include <cmath>
@@ -28,15 +30,16 @@
 #include <vector>
 
 namespace shprt {
-namespace {
 
-// Fuzzing builds (SHPRT_FUZZ=ON defines the OSS-Fuzz macro) read on past a checksum mismatch, so
-// that mutated inputs reach the checks behind the CRCs; every other check stays.
-#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
-constexpr bool kFuzzing = true;
-#else
-constexpr bool kFuzzing = false;
-#endif
+namespace io_fuzzing {
+namespace {
+std::atomic<bool> g_checksums_advisory{false};
+}
+void set_checksums_advisory(bool advisory) noexcept { g_checksums_advisory.store(advisory); }
+bool checksums_advisory() noexcept { return g_checksums_advisory.load(std::memory_order_relaxed); }
+}  // namespace io_fuzzing
+
+namespace {
 
 using Json = nlohmann::json;
 
@@ -246,7 +249,7 @@ void Reader::check_zero_gap(std::uint64_t from, std::uint64_t to, const char* be
 }
 
 void Reader::check_crc(const SectionSpec& spec, std::uint32_t crc) const {
-    if (crc != spec.crc && !kFuzzing)
+    if (crc != spec.crc && !io_fuzzing::checksums_advisory())
         corrupt(m_path, "corrupt: section '{}' fails its checksum (CRC-32 {:08x}, recorded {:08x})",
                 spec.name, crc, spec.crc);
 }
@@ -310,7 +313,7 @@ ShprtFile Reader::read(bool allow_part) {
     if (h.header_size != kShprtHeaderSize)
         corrupt(m_path, "header size {} (expected {})", h.header_size, kShprtHeaderSize);
     const std::uint32_t header_crc = crc32(head, 44);
-    if (header_crc != h.header_crc32 && !kFuzzing)
+    if (header_crc != h.header_crc32 && !io_fuzzing::checksums_advisory())
         corrupt(m_path, "corrupt: the header fails its checksum (CRC-32 {:08x}, recorded {:08x})",
                 header_crc, h.header_crc32);
     if (h.metadata_offset != kShprtHeaderSize)
@@ -326,7 +329,7 @@ ShprtFile Reader::read(bool allow_part) {
     std::string text(static_cast<std::size_t>(h.metadata_length), '\0');
     m_file.read(h.metadata_offset, text.data(), text.size(), "the metadata");
     const std::uint32_t meta_crc = crc32(text.data(), text.size());
-    if (meta_crc != h.metadata_crc32 && !kFuzzing)
+    if (meta_crc != h.metadata_crc32 && !io_fuzzing::checksums_advisory())
         corrupt(m_path, "corrupt: the metadata fails its checksum (CRC-32 {:08x}, recorded {:08x})",
                 meta_crc, h.metadata_crc32);
     const Json meta = parse_metadata(m_path, text);

@@ -1,13 +1,19 @@
 // Fuzz target: the .shprt reader (io/shprt_file.hpp). Any input either reads into a file whose
 // arrays agree with its metadata, or is refused with shprt::Error; anything else (a sanitizer
-// report, another exception) is a finding. In fuzzing builds the reader goes on past checksum
-// mismatches (src/io/shprt_read.cpp), so mutations reach the checks behind the CRCs.
+// report, another exception) is a finding. The target turns the reader's checksums advisory
+// (src/io/fuzzing.hpp), so mutations reach the checks behind the CRCs.
 #include "fuzz_util.hpp"
+#include "io/fuzzing.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/io/shprt_file.hpp"
 
 #include <cstdlib>
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    shprt::io_fuzzing::set_checksums_advisory(true);
+    return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string path = shprt::fuzz::write_input(data, size, ".shprt");
