@@ -7,6 +7,7 @@
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"
+#include "shprt/core/parallel.hpp"
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -55,6 +56,8 @@ extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char*
     // that arrived before (held by the launcher) ends it now, before anything is read or written.
     shprt::tools::install_signal_handlers();
     if (const int signal = early_signal()) return report_interrupted(signal);
+    // TBB's workers have exited when shprt_main returns (core/parallel.hpp).
+    const shprt::WorkerThreads workers;
     using shprt::tools::check_numeric_options;
     CLI::App app{"shprt — precomputed radiance transfer in a spherical-harmonics basis"};
     app.set_version_flag("--version", std::string("shprt ") + SHPRT_VERSION_STRING +

@@ -7,16 +7,29 @@
 #include "shprt/core/tsan.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <new>
 
 namespace shprt {
 
 int thread_count(int threads) {
     return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
+}
+
+struct WorkerThreads::Impl {
+    tbb::task_scheduler_handle handle{tbb::attach{}};
+};
+
+WorkerThreads::WorkerThreads() : m_impl(std::make_unique<Impl>()) {}
+
+WorkerThreads::~WorkerThreads() {
+    // false (the scheduler still in use elsewhere) leaves the workers as they are: nothing to do.
+    (void)tbb::finalize(m_impl->handle, std::nothrow);
 }
 
 namespace parallel_detail {

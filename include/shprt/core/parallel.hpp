@@ -64,6 +64,24 @@ private:
     std::unique_ptr<Impl> m_impl;
 };
 
+// TBB's worker threads, held for a program's run: when it ends, the destructor waits until the
+// workers have exited (tbb::finalize). A program that returns from main while TBB's workers are
+// still shutting down races LeakSanitizer's scan at exit, which read such a thread's freed
+// dynamic TLS and crashed ("Tracer caught signal 11", docs/sanitizers.md). The `shprt` program
+// holds one for its whole run. If something still uses the scheduler then (another thread's
+// arena), the destructor does not wait.
+class WorkerThreads {
+public:
+    WorkerThreads();
+    ~WorkerThreads();
+    WorkerThreads(const WorkerThreads&) = delete;
+    WorkerThreads& operator=(const WorkerThreads&) = delete;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
 // fn() in a new Arena(threads).
 template <class Fn>
 void in_arena(int threads, Fn&& fn) {
