@@ -45,7 +45,8 @@ protected:
 constexpr const char* kRoom = "bake builtin:room --coeffs 16 --samples 96 --seed 7 --reproducible";
 
 TEST_F(MpiBake, FourRanksWriteTheSingleProcessBytes) {
-    ASSERT_EQ(shprt(fmt::format("{} -o '{}'", kRoom, out("one.shprt"))).exit_code, 0);
+    const RunResult one = shprt(fmt::format("{} -o '{}'", kRoom, out("one.shprt")));
+    ASSERT_EQ(one.exit_code, 0) << one.err;
     const RunResult r =
         mpirun(4, fmt::format("{} --mpi-unit 512 -o '{}'", kRoom, out("four.shprt")));
     ASSERT_EQ(r.exit_code, 0) << r.err;
