@@ -3,11 +3,7 @@
 
 #include "shprt/bake/bake.hpp"
 
-#include <sys/resource.h>
-
 #include <algorithm>
-#include <fstream>
-#include <string>
 #include <thread>
 
 namespace shprt {
@@ -38,24 +34,6 @@ std::uint64_t texel_bake_bytes(std::size_t texels, int width, int height,
     // Per thread: W[chunk×S] and the ray buffers of one receiver (about 48 bytes a direction).
     const std::uint64_t per_thread = chunk * samples * sizeof(float) + samples * 48;
     return rows + receivers + image + t * per_thread;
-}
-
-std::uint64_t available_memory_bytes() {
-    std::uint64_t available = 0;
-    std::ifstream in("/proc/meminfo");
-    std::string key;
-    std::uint64_t kib = 0;
-    std::string unit;
-    while (in >> key >> kib >> unit)
-        if (key == "MemAvailable:") {
-            available = kib * 1024;
-            break;
-        }
-    rlimit limit{};
-    if (::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
-        available =
-            available == 0 ? limit.rlim_cur : std::min<std::uint64_t>(available, limit.rlim_cur);
-    return available;
 }
 
 }  // namespace shprt

@@ -93,7 +93,6 @@ TEST(TexelBake, MemoryEstimateGrowsWithTexelsAndK) {
     EXPECT_GE(big - small, std::uint64_t(999000) * 16 * 4);  // at least the coefficients
     layout.K = 64;
     EXPECT_GT(texel_bake_bytes(1000000, 1024, 1024, layout, 1024, 2), big);
-    EXPECT_GT(available_memory_bytes(), 0u);  // Linux: /proc/meminfo
 }
 
 TEST(TexelBake, DilationFillsTheGutterFromTheNearestChart) {

@@ -10,6 +10,7 @@
 #include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"
+#include "shprt/core/memory.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/core/timer.hpp"
 

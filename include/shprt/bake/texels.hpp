@@ -22,12 +22,8 @@ TexelAtlas texel_atlas(const TexelSamples& samples, int uv_set);
 // before it traces: the coefficients (float32 in memory), the receivers' arrays, the coverage
 // image, and the bake's per-thread buffers for `threads` threads (0 = all). The BVH is not
 // counted (the same as a vertex bake's). `shprt bake --domain texel` refuses a bake whose
-// estimate exceeds available_memory_bytes().
+// estimate exceeds available_memory_bytes() (shprt/core/memory.hpp).
 std::uint64_t texel_bake_bytes(std::size_t texels, int width, int height,
                                const TransferLayout& layout, std::size_t samples, int threads);
-
-// The memory available to this process now, in bytes (Linux: MemAvailable of /proc/meminfo,
-// lowered to the address-space limit if one is set); 0 when unknown.
-std::uint64_t available_memory_bytes();
 
 }  // namespace shprt
