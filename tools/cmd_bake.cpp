@@ -354,7 +354,7 @@ void run(const BakeArgs& args) {
     print_summary(args, p, info, seconds_load, seconds_write);
 }
 
-const bool registered = register_command(
+const bool bake_registered = register_command(
     {"bake", "Bake per-vertex SH transfer of a scene into a .shprt file", 30, [](CLI::App& app) {
          auto args = std::make_shared<BakeArgs>();
          app.add_option("scene", args->scene, "Scene file or builtin:NAME (room, plane, ...)")

@@ -80,7 +80,7 @@ void run_paper(PaperArgs a, const std::string& command_line) {
                 r.files.size(), o.out_dir.c_str(), r.seconds_total);
 }
 
-const bool registered = register_command(
+const bool bench_registered = register_command(
     {"bench", "Benchmarks: `bench paper` reproduces the paper's table with measurements", 80,
      [](CLI::App& app) {
          app.require_subcommand(1);

@@ -86,7 +86,7 @@ void run(const CompressArgs& a) {
     std::printf("wrote %s\n", a.output.c_str());
 }
 
-const bool registered = register_command(
+const bool compress_registered = register_command(
     {"compress", "Compress a .shprt file's transfer with clustered PCA (CPCA)", 36,
      [](CLI::App& app) {
          auto args = std::make_shared<CompressArgs>();

@@ -77,7 +77,7 @@ void run(const ExportArgs& a) {
                 static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
 }
 
-const bool registered = register_command(
+const bool export_registered = register_command(
     {"export", "Export a baked scene as glTF (.glb): mesh, baked colours, transfer attributes", 55,
      [](CLI::App& app) {
          auto args = std::make_shared<ExportArgs>();

@@ -24,7 +24,7 @@ void run(const InfoArgs& args) {
     std::fwrite(text.data(), 1, text.size(), stdout);
 }
 
-const bool registered = register_command(
+const bool info_registered = register_command(
     {"info", "Check a .shprt file and describe it (K, bands, sampler, timings, ...)", 40,
      [](CLI::App& app) {
          auto args = std::make_shared<InfoArgs>();

@@ -34,7 +34,7 @@ void run(const MergeArgs& args) {
                 to_string(whole.transfer.sampler), args.output.c_str());
 }
 
-const bool registered = register_command(
+const bool merge_registered = register_command(
     {"merge", "Join the parts of a sharded bake (shprt bake --shard I/N) into one .shprt file", 35,
      [](CLI::App& app) {
          auto args = std::make_shared<MergeArgs>();

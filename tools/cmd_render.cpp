@@ -84,7 +84,7 @@ void run(const RenderArgs& a) {
                 term.c_str(), seconds, a.output.c_str());
 }
 
-const bool registered = register_command(
+const bool render_registered = register_command(
     {"render", "Render a picture of a baked scene (PNG, EXR), headless OpenGL", 60,
      [](CLI::App& app) {
          auto args = std::make_shared<RenderArgs>();

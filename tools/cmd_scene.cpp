@@ -71,7 +71,7 @@ const char* summary(const std::string& name) {
     return "A built-in scene";
 }
 
-const bool registered = register_command(
+const bool scene_registered = register_command(
     {"scene", "Generate a built-in scene as PLY, list the built-ins, or describe a scene", 20,
      [](CLI::App& app) {
          app.require_subcommand(1);

@@ -142,7 +142,7 @@ void run_info() {
     std::fwrite(text.data(), 1, text.size(), stdout);
 }
 
-const bool registered = register_command(
+const bool sh_registered = register_command(
     {"sh", "Spherical-harmonics toolbox: evaluate, rotate, print the conventions", 10,
      [](CLI::App& app) {
          app.require_subcommand(1);

@@ -114,7 +114,7 @@ void run(const ShadeArgs& a) {
                 K_used, a.k, term.c_str(), seconds, a.output.c_str());
 }
 
-const bool registered = register_command(
+const bool shade_registered = register_command(
     {"shade", "Per-vertex irradiance and radiance under a light (CSV, PLY or NPY)", 50,
      [](CLI::App& app) {
          auto args = std::make_shared<ShadeArgs>();

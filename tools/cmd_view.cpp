@@ -250,7 +250,7 @@ void run(const ViewArgs& a) {
     SHPRT_CHECK(report.bake_error.empty(), unsupported, "bake failed: {}", report.bake_error);
 }
 
-const bool registered = register_command(
+const bool view_registered = register_command(
     {"view", "Interactive viewer (OpenGL window, ImGui panel); --screenshot, --benchmark, --bake",
      70, [](CLI::App& app) {
          auto args = std::make_shared<ViewArgs>();

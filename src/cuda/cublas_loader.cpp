@@ -12,19 +12,19 @@ namespace {
 
 #define SHPRT_STRINGIFY2(x) #x
 #define SHPRT_STRINGIFY(x) SHPRT_STRINGIFY2(x)
-constexpr const char* kLibrary = "libcublas.so." SHPRT_STRINGIFY(CUBLAS_VER_MAJOR);
+constexpr const char* kCublasLibrary = "libcublas.so." SHPRT_STRINGIFY(CUBLAS_VER_MAJOR);
 
 std::atomic<const CublasApi*> g_loaded{nullptr};
 
-const CublasApi* load() {
-    void* library = open_toolkit_library(kLibrary, "cuBLAS");
+const CublasApi* load_cublas() {
+    void* library = open_toolkit_library(kCublasLibrary, "cuBLAS");
     auto api = std::make_unique<CublasApi>();  // then lives as long as the process, as the library
-    resolve_symbol(library, kLibrary, "cublasCreate_v2", api->create);
-    resolve_symbol(library, kLibrary, "cublasSetStream_v2", api->set_stream);
-    resolve_symbol(library, kLibrary, "cublasSetMathMode", api->set_math_mode);
-    resolve_symbol(library, kLibrary, "cublasSetWorkspace_v2", api->set_workspace);
-    resolve_symbol(library, kLibrary, "cublasSgemm_v2", api->sgemm);
-    resolve_symbol(library, kLibrary, "cublasGetStatusString", api->status_string);
+    resolve_symbol(library, kCublasLibrary, "cublasCreate_v2", api->create);
+    resolve_symbol(library, kCublasLibrary, "cublasSetStream_v2", api->set_stream);
+    resolve_symbol(library, kCublasLibrary, "cublasSetMathMode", api->set_math_mode);
+    resolve_symbol(library, kCublasLibrary, "cublasSetWorkspace_v2", api->set_workspace);
+    resolve_symbol(library, kCublasLibrary, "cublasSgemm_v2", api->sgemm);
+    resolve_symbol(library, kCublasLibrary, "cublasGetStatusString", api->status_string);
     return api.release();
 }
 
@@ -35,7 +35,7 @@ const CublasApi& cublas() {
     static std::mutex mutex;
     const std::lock_guard<std::mutex> lock(mutex);
     if (const CublasApi* api = g_loaded.load(std::memory_order_acquire)) return *api;
-    const CublasApi* api = load();  // throws; the next call tries again
+    const CublasApi* api = load_cublas();  // throws; the next call tries again
     g_loaded.store(api, std::memory_order_release);
     return *api;
 }

@@ -9,7 +9,7 @@
 namespace shprt {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
 std::string bytes_text(double bytes) {
     const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
@@ -32,9 +32,9 @@ std::string rate_text(double per_second) {
 
 std::string shprt_summary(const ShprtFile& file) {
     // The metadata comes from read_shprt (already validated) or a writer; tolerate anything.
-    Json meta = Json::parse(file.metadata_json, nullptr, /*allow_exceptions=*/false);
-    if (!meta.is_object()) meta = Json::object();
-    const auto str = [](const Json& j, const char* key, const char* fallback) {
+    OrderedJson meta = OrderedJson::parse(file.metadata_json, nullptr, /*allow_exceptions=*/false);
+    if (!meta.is_object()) meta = OrderedJson::object();
+    const auto str = [](const OrderedJson& j, const char* key, const char* fallback) {
         auto it = j.find(key);
         return it != j.end() && it->is_string() ? it->get<std::string>() : std::string(fallback);
     };
@@ -155,9 +155,9 @@ std::string shprt_summary(const ShprtFile& file) {
     std::uint64_t size = 0;
     auto sections = meta.find("sections");
     if (sections != meta.end() && sections->is_array())
-        for (const Json& s : *sections)
-            if (s.is_object() && s.value("offset", Json()).is_number_unsigned() &&
-                s.value("length", Json()).is_number_unsigned())
+        for (const OrderedJson& s : *sections)
+            if (s.is_object() && s.value("offset", OrderedJson()).is_number_unsigned() &&
+                s.value("length", OrderedJson()).is_number_unsigned())
                 size = std::max(
                     size, s["offset"].get<std::uint64_t>() + s["length"].get<std::uint64_t>());
     line("file size", fmt::format("{} ({} bytes)", bytes_text(double(size)), size));

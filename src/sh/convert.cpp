@@ -36,19 +36,19 @@ std::array<double, 9> unity_normalisation() {
     return {c0, -c1, c1, -c1, c2, -c2, c3, -c2, c4};
 }
 
-void check_k(int K, const char* what) {
+void check_count(int K, const char* what) {
     SHPRT_CHECK(K >= 0, invalid_argument, "{}: negative basis size K={}", what, K);
 }
 
 }  // namespace
 
 void to_no_condon_shortley(const double* in, double* out, int K) {
-    check_k(K, "to_no_condon_shortley");
+    check_count(K, "to_no_condon_shortley");
     for (int i = 0; i < K; ++i) out[i] = cs_sign(i) * in[i];
 }
 
 void from_no_condon_shortley(const double* in, double* out, int K) {
-    check_k(K, "from_no_condon_shortley");
+    check_count(K, "from_no_condon_shortley");
     for (int i = 0; i < K; ++i) out[i] = cs_sign(i) * in[i];
 }
 

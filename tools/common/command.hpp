@@ -1,7 +1,7 @@
 // Subcommand registry of the `shprt` tool. Each tools/cmd_NAME.cpp registers itself at static
-// initialisation:
+// initialisation, under a name of its own (unity builds put several commands in one file):
 //
-//   static const bool registered = shprt::tools::register_command(
+//   static const bool bake_registered = shprt::tools::register_command(
 //       {"bake", "Bake per-vertex transfer", 20, [](CLI::App& app) { ...; app.callback(...); }});
 //
 // `setup` adds options to the subcommand and sets its callback. A callback reports failure by
