@@ -66,12 +66,6 @@ struct ViewArgs {
 
 bool has_png_extension(const std::string& path) { return lower_extension(path) == ".png"; }
 
-// The scene to show: a .shprt file, or (with --bake) a scene baked here.
-struct Loaded {
-    Mesh mesh;
-    TransferSet transfer;
-};
-
 // Bakes before a headless mode (no window to show the progress in): the usual progress bar.
 TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
     install_interrupt_handler();
@@ -95,9 +89,16 @@ void run(const ViewArgs& a) {
     int width = 0, height = 0;
     parse_size(a.size, width, height);
     check_camera_args(a.camera);
-    // Without --bake, --albedo (registered with the bake options) overrides glossy colours.
+    // --albedo is registered with the bake options (an interreflected bake's albedo). Without
+    // --bake, and with a glossy bake (which has no albedo), it overrides the glossy colours.
+    const bool bake_glossy =
+        a.do_bake && parse_transfer_kind(a.bake.transfer) == TransferKind::glossy;
     GlossyArgs glossy = a.glossy;
-    if (!a.do_bake) glossy.albedo = a.bake.albedo;
+    BakeOptionArgs bake_args = a.bake;
+    if (!a.do_bake || bake_glossy) {
+        glossy.albedo = a.bake.albedo;
+        bake_args.albedo.clear();
+    }
     check_glossy_args(glossy);
     const LightSetup setup = light_setup_from(a.light);
     const ShadeView view = parse_view(a.view);
@@ -122,19 +123,21 @@ void run(const ViewArgs& a) {
     if (!a.do_bake && !a.bake_only_given.empty())
         fail(ErrorCode::invalid_argument, "{} is a bake option: add --bake (FILE is then a scene)",
              a.bake_only_given.front());
-    SHPRT_CHECK(!a.do_bake || a.glossy.brdf.empty(), invalid_argument,
-                "--brdf shades glossy transfer matrices, which --bake does not show live (bake "
-                "with `shprt bake --transfer glossy`, then view the file)");
+    SHPRT_CHECK(!a.do_bake || bake_glossy || a.glossy.brdf.empty(), invalid_argument,
+                "--brdf shades glossy transfer matrices: with --bake, add --transfer glossy");
     SHPRT_CHECK(!(a.direct && a.do_bake), invalid_argument,
                 "--direct shows a baked file's direct part; with --bake, bake with "
                 "--transfer shadowed instead");
+    const bool windowed = a.screenshot.empty() && !a.benchmark;
+    // The window draws the matrices as their rows arrive; the paper's term replaces them with
+    // vectors, which a finished bake can give (--screenshot, --benchmark), not a refining one.
+    SHPRT_CHECK(!(bake_glossy && windowed && glossy.glossy == "paper"), unsupported,
+                "--glossy paper: the window shows a glossy bake's matrices while they refine "
+                "(use --brdf phong:E, or bake the file first and view it with --glossy paper)");
     std::optional<BakeOptions> bake_options;
     int K_used = 0;
     if (a.do_bake) {
-        bake_options = bake_options_from(a.bake);
-        SHPRT_CHECK(bake_options->transfer != TransferKind::glossy, unsupported,
-                    "view --bake: glossy transfer matrices are not shown live (bake them with "
-                    "`shprt bake --transfer glossy`, then `shprt render --brdf`)");
+        bake_options = bake_options_from(bake_args);
         resolve_device(bake_options->device, bake_options->device_index);  // fail before a window
     } else if (a.bake.coeffs) {
         // Without --bake, --coeffs is the K' shown first (as `shprt render --coeffs`).
@@ -142,43 +145,39 @@ void run(const ViewArgs& a) {
                     *a.bake.coeffs);
         K_used = static_cast<int>(std::min<long long>(*a.bake.coeffs, 1 << 20));
     }
-    const bool windowed = a.screenshot.empty() && !a.benchmark;
 
-    // ---- The scene.
-    Loaded scene;
-    double gloss = a.gloss;
-    Brdf brdf;
-    std::optional<Vec3f> albedo;
+    // ---- The scene: a file, or (with --bake) baked here. The window shows a bake from all-zero
+    // rows, refined as they arrive.
+    ShprtFile file;
     if (a.do_bake) {
-        scene.mesh = load_scene(a.input);
-        if (windowed)
-            scene.transfer =
-                TransferSet::zeros(bake_description(*bake_options), scene.mesh.vertex_count());
-        else
-            scene.transfer = bake_now(scene.mesh, *bake_options);
+        file.mesh = load_scene(a.input);
+        file.transfer =
+            windowed ? TransferSet::zeros(bake_description(*bake_options), file.mesh.vertex_count())
+                     : bake_now(file.mesh, *bake_options);
     } else {
         // The window keeps the whole transfer (its panel toggles the direct part); a screenshot
         // or a benchmark shows what --direct asks for.
-        ShprtFile file = read_for_shading(a.input, a.direct && !windowed);
+        file = read_for_shading(a.input, a.direct && !windowed);
         if (a.direct && windowed)
             SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
                         "--direct: {} has no direct part (only interreflected bakes keep one)",
                         a.input);
         check_texel_view(a.input, file.transfer, a.k, view);
-        // Glossy matrices are shaded with --brdf, or else with --gloss's Phong lobe (the panel
-        // changes the BRDF live); --glossy paper turns them into the paper's term.
-        if (file.transfer.layout.shape == TransferShape::symmetric_matrix && glossy.brdf.empty() &&
-            glossy.glossy == "matrix")
-            glossy.brdf = fmt::format("phong:{}", a.gloss);
-        const GlossyPlan plan = plan_glossy(glossy, a.input, file, a.k, gloss);
-        if (plan.glossy) {
-            brdf = plan.glossy->brdf;
-            albedo = plan.glossy->albedo;
-        }
-        scene.mesh = std::move(file.mesh);
-        scene.transfer = std::move(file.transfer);
     }
-    viewer::LightRig rig(std::min(scene.transfer.layout.K, kMaxLightK));
+    // Glossy matrices are shaded with --brdf, or else with --gloss's Phong lobe (the panel
+    // changes the BRDF live); --glossy paper turns them into the paper's term.
+    if (file.transfer.layout.shape == TransferShape::symmetric_matrix && glossy.brdf.empty() &&
+        glossy.glossy == "matrix")
+        glossy.brdf = fmt::format("phong:{}", a.gloss);
+    double gloss = a.gloss;
+    Brdf brdf;
+    std::optional<Vec3f> albedo;
+    const GlossyPlan plan = plan_glossy(glossy, a.input, file, a.k, gloss);
+    if (plan.glossy) {
+        brdf = plan.glossy->brdf;
+        albedo = plan.glossy->albedo;
+    }
+    viewer::LightRig rig(std::min(file.transfer.layout.K, kMaxLightK));
     rig.set_source(setup);  // a missing light file fails here, before any window
 
     viewer::FrameConfig config;
@@ -186,7 +185,7 @@ void run(const ViewArgs& a) {
     config.height = height;
     config.msaa = a.msaa;
     config.exposure = static_cast<float>(a.exposure);
-    config.draw.camera = camera_from(a.camera, scene.mesh, float(width) / float(height));
+    config.draw.camera = camera_from(a.camera, file.mesh, float(width) / float(height));
     config.draw.k = a.k;
     config.draw.gloss = gloss;
     config.draw.brdf = brdf;
@@ -201,10 +200,10 @@ void run(const ViewArgs& a) {
         const ShLight light = rig.light();
         std::string context;
         const Image image =
-            viewer::render_screenshot(scene.mesh, scene.transfer, light, config, backend, &context);
+            viewer::render_screenshot(file.mesh, file.transfer, light, config, backend, &context);
         save_image(a.screenshot, image, config.exposure);
         std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", width, height,
-                    effective_basis_size(scene.transfer, light, K_used), a.k, seconds_since(start),
+                    effective_basis_size(file.transfer, light, K_used), a.k, seconds_since(start),
                     a.screenshot.c_str());
         return;
     }
@@ -213,11 +212,11 @@ void run(const ViewArgs& a) {
         options.frames = *a.benchmark;
         options.rotate_light = a.benchmark_light;
         // Glossy matrices have at most 8 bands: measure the file's own K.
-        if (scene.transfer.layout.shape == TransferShape::symmetric_matrix)
-            options.K_values = {scene.transfer.layout.K};
+        if (file.transfer.layout.shape == TransferShape::symmetric_matrix)
+            options.K_values = {file.transfer.layout.K};
         options.backend = backend;
         const viewer::BenchmarkReport report =
-            viewer::run_benchmark(scene.mesh, scene.transfer, rig, config, options);
+            viewer::run_benchmark(file.mesh, file.transfer, rig, config, options);
         std::printf("%s: ", name.c_str());
         std::fputs(viewer::format_benchmark(report).c_str(), stdout);
         return;
@@ -234,7 +233,7 @@ void run(const ViewArgs& a) {
     options.direct_only = a.direct;
     viewer::WindowReport report;
     try {
-        report = viewer::run_window(scene.mesh, scene.transfer, options, bake_options);
+        report = viewer::run_window(file.mesh, file.transfer, options, bake_options);
     } catch (const Error& e) {
         const std::string what = e.what();
         if (what.rfind("cannot open a window", 0) == 0)
@@ -245,7 +244,7 @@ void run(const ViewArgs& a) {
     std::printf("view: %d frames in %.2f s (%.1f frames/s); %s\n", report.frames, report.seconds,
                 report.seconds > 0 ? report.frames / report.seconds : 0.0, report.context.c_str());
     if (a.do_bake && report.bake_finished)
-        std::printf("baked %zu vertices, K=%d in %.2f s\n", scene.mesh.vertex_count(),
+        std::printf("baked %zu vertices, K=%d in %.2f s\n", file.mesh.vertex_count(),
                     bake_options->K, report.bake_seconds);
     SHPRT_CHECK(report.bake_error.empty(), unsupported, "bake failed: {}", report.bake_error);
 }

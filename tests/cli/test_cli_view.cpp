@@ -392,6 +392,40 @@ TEST_F(CliViewWindow, ShadesGlossyMatricesAndCpcaCodes) {
     }
 }
 
+// A glossy bake shown while it refines: once it ends, the window draws what --screenshot draws
+// for the baked file (and clearly not its diffuse part alone).
+TEST_F(CliViewWindow, ShowsAGlossyBakeWhileItRefines) {
+    const std::string bake = " --transfer glossy --bands 4 --samples 128 --seed 3";
+    const std::string size = " --size 800x500 --light sun:1,2,1,6 --light constant:0.5";
+    const std::string shading = " --brdf phong:24 --k 0.3";
+    const RunResult w =
+        shprt("view builtin:box_on_plane --bake" + bake + " --frames 2 --window-screenshot '" +
+                  out("window.png") + "'" + size + shading,
+              xvfb());
+    ASSERT_EQ(w.exit_code, 0) << w.err;
+    EXPECT_NE(w.out.find("baked 1214 vertices, K=16"), std::string::npos) << w.out;
+    const std::string file = (m_dir / "glossy.shprt").string();
+    ASSERT_EQ(shprt("bake builtin:box_on_plane" + bake + " -o '" + file + "'").exit_code, 0);
+    ASSERT_EQ(shprt("view '" + file + "' --screenshot '" + out("shot.png") + "'" + size + shading)
+                  .exit_code,
+              0);
+    ASSERT_EQ(
+        shprt("view '" + file + "' --screenshot '" + out("diffuse.png") + "'" + size + " --k 1")
+            .exit_code,
+        0);
+    const Png win = read_png(out("window.png")), shot = read_png(out("shot.png")),
+              diffuse = read_png(out("diffuse.png"));
+    EXPECT_LE(compare(win, shot, 400, 0, 800, 500).mean, kMaxMeanWindowDifference);
+    EXPECT_GT(compare(win, diffuse, 400, 0, 800, 500).mean,
+              compare(win, shot, 400, 0, 800, 500).mean + 0.5);
+    // The plane and the box are lit: a tenth of the window's pixels right of the panel is bright.
+    int bright = 0;
+    for (int y = 0; y < win.height; ++y)
+        for (int x = 400; x < win.width; ++x)
+            bright += win.rgb[(std::size_t(y) * win.width + x) * 3 + 1] > 100;
+    EXPECT_GT(bright, (win.width - 400) * win.height / 10);
+}
+
 TEST_F(CliViewWindow, ShowsABakeWhileItRefinesAndFinishesIt) {
     const RunResult r = shprt(
         "view builtin:box_on_plane --bake --coeffs 16 --samples 64 --frames 2 "

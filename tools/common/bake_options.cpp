@@ -35,7 +35,8 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
                    "by more than this fraction (default 1e-4)");
     app.add_option("--albedo", args.albedo,
                    "Interreflected: albedo R,G,B (linear, 0 to 1) for every vertex (default: the "
-                   "scene's vertex colours, else its materials' diffuse colour, else 0.8 grey)");
+                   "scene's vertex colours, else its materials' diffuse colour, else 0.8 grey); "
+                   "in `view`, without --bake or with a glossy bake, the glossy colour override");
     app.add_flag("--two-sided", args.two_sided,
                  "Interreflected: a ray that hits a back face sees the front's light (default: "
                  "it brings nothing)");
