@@ -242,7 +242,10 @@ TEST(Tracer, IntersectBarycentricsReproduceHitPoint) {
         double max_across = 0.0, max_along = 0.0, max_bary = 0.0;
         for (int i = 0; i < 20000; ++i) {
             const Vec3f o{u(rng), u(rng), u(rng)};
-            const Vec3f d = test::random_direction(rng) * (0.5f + u(rng));  // not unit length
+            // Not unit length. Two statements: the operands of `*` may be evaluated in either
+            // order, and gcc and clang drew the two numbers in opposite orders (other rays).
+            const float scale = 0.5f + u(rng);
+            const Vec3f d = test::random_direction(rng) * scale;
             const Hit h = tracer->intersect(o, d, 0.0f, kInf);
             if (!h.hit) continue;
             ++hits;
