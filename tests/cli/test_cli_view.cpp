@@ -285,7 +285,38 @@ protected:
             GTEST_SKIP() << "xvfb-run is missing (apt-get install xvfb xauth): window not tested";
     }
     static RunOptions xvfb() { return {.prefix = "xvfb-run -a -s '-screen 0 1280x1024x24'"}; }
+
+    // The window's last frame, out("window.png") at 800×500, against --screenshot of `file` with
+    // the same options: the same picture right of the panel, and clearly not the diffuse part
+    // alone (k = 1, the same `size` and light). Returns the window's frame.
+    Png expect_window_shows_glossy(const std::string& file, const std::string& size,
+                                   const std::string& shading) {
+        EXPECT_EQ(
+            shprt("view '" + file + "' --screenshot '" + out("shot.png") + "'" + size + shading)
+                .exit_code,
+            0);
+        EXPECT_EQ(
+            shprt("view '" + file + "' --screenshot '" + out("diffuse.png") + "'" + size + " --k 1")
+                .exit_code,
+            0);
+        const Png win = read_png(out("window.png")), shot = read_png(out("shot.png")),
+                  diffuse = read_png(out("diffuse.png"));
+        EXPECT_LE(compare(win, shot, 400, 0, 800, 500).mean, kMaxMeanWindowDifference) << file;
+        EXPECT_GT(compare(win, diffuse, 400, 0, 800, 500).mean,
+                  compare(win, shot, 400, 0, 800, 500).mean + 0.5)
+            << file;
+        return win;
+    }
 };
+
+// Pixels right of the panel's column (x ≥ 400) whose green is over 100: a lit scene has some.
+int bright_pixels_right_of_the_panel(const Png& png) {
+    int bright = 0;
+    for (int y = 0; y < png.height; ++y)
+        for (int x = 400; x < png.width; ++x)
+            bright += png.rgb[(std::size_t(y) * png.width + x) * 3 + 1] > 100;
+    return bright;
+}
 
 TEST_F(CliViewWindow, OpensUnderXvfbDrawsThePanelAndTheSamePicture) {
     const std::string size = " --size 800x500";
@@ -375,20 +406,7 @@ TEST_F(CliViewWindow, ShadesGlossyMatricesAndCpcaCodes) {
                                       out("window.png") + "'" + size + shading,
                                   xvfb());
         ASSERT_EQ(w.exit_code, 0) << w.err;
-        ASSERT_EQ(
-            shprt("view '" + file + "' --screenshot '" + out("shot.png") + "'" + size + shading)
-                .exit_code,
-            0);
-        ASSERT_EQ(
-            shprt("view '" + file + "' --screenshot '" + out("diffuse.png") + "'" + size + " --k 1")
-                .exit_code,
-            0);
-        const Png win = read_png(out("window.png")), shot = read_png(out("shot.png")),
-                  diffuse = read_png(out("diffuse.png"));
-        EXPECT_LE(compare(win, shot, 400, 0, 800, 500).mean, kMaxMeanWindowDifference) << file;
-        EXPECT_GT(compare(win, diffuse, 400, 0, 800, 500).mean,
-                  compare(win, shot, 400, 0, 800, 500).mean + 0.5)
-            << file;
+        expect_window_shows_glossy(file, size, shading);
     }
 }
 
@@ -406,24 +424,9 @@ TEST_F(CliViewWindow, ShowsAGlossyBakeWhileItRefines) {
     EXPECT_NE(w.out.find("baked 1214 vertices, K=16"), std::string::npos) << w.out;
     const std::string file = (m_dir / "glossy.shprt").string();
     ASSERT_EQ(shprt("bake builtin:box_on_plane" + bake + " -o '" + file + "'").exit_code, 0);
-    ASSERT_EQ(shprt("view '" + file + "' --screenshot '" + out("shot.png") + "'" + size + shading)
-                  .exit_code,
-              0);
-    ASSERT_EQ(
-        shprt("view '" + file + "' --screenshot '" + out("diffuse.png") + "'" + size + " --k 1")
-            .exit_code,
-        0);
-    const Png win = read_png(out("window.png")), shot = read_png(out("shot.png")),
-              diffuse = read_png(out("diffuse.png"));
-    EXPECT_LE(compare(win, shot, 400, 0, 800, 500).mean, kMaxMeanWindowDifference);
-    EXPECT_GT(compare(win, diffuse, 400, 0, 800, 500).mean,
-              compare(win, shot, 400, 0, 800, 500).mean + 0.5);
+    const Png win = expect_window_shows_glossy(file, size, shading);
     // The plane and the box are lit: a tenth of the window's pixels right of the panel is bright.
-    int bright = 0;
-    for (int y = 0; y < win.height; ++y)
-        for (int x = 400; x < win.width; ++x)
-            bright += win.rgb[(std::size_t(y) * win.width + x) * 3 + 1] > 100;
-    EXPECT_GT(bright, (win.width - 400) * win.height / 10);
+    EXPECT_GT(bright_pixels_right_of_the_panel(win), (win.width - 400) * win.height / 10);
 }
 
 TEST_F(CliViewWindow, ShowsABakeWhileItRefinesAndFinishesIt) {
@@ -437,11 +440,7 @@ TEST_F(CliViewWindow, ShowsABakeWhileItRefinesAndFinishesIt) {
     const Png png = read_png(out("bake.png"));
     ASSERT_EQ(png.width, 640);
     // The baked scene is lit: some bright pixels outside the panel's column.
-    int bright = 0;
-    for (int y = 0; y < png.height; ++y)
-        for (int x = 400; x < png.width; ++x)
-            bright += png.rgb[(std::size_t(y) * png.width + x) * 3 + 1] > 100;
-    EXPECT_GT(bright, 0);
+    EXPECT_GT(bright_pixels_right_of_the_panel(png), 0);
 }
 
 TEST_F(CliViewWindow, TheWindowFallbackGivesTheSameScreenshotAsEgl) {
