@@ -91,7 +91,7 @@ std::uint64_t check_bake_memory(const ResumableArgs& args, const BakeJob& job,
 
 ResumableBake::ResumableBake(const ResumableArgs& args, const BakeJob& job,
                              const BakeOptions& options)
-    : m_args(args), m_job(job), m_options(options) {
+    : m_job(job), m_options(options) {
     const std::string& path = checkpoint_path(args);
     if (path.empty()) return;
     const TransferInfo description = bake_description(options);

@@ -51,7 +51,6 @@ public:
     void remove_checkpoint();
 
 private:
-    const ResumableArgs& m_args;
     BakeJob m_job;
     const BakeOptions& m_options;
     std::optional<CheckpointFile> m_file;

@@ -30,7 +30,8 @@ public:
     bool mapped() const { return m_mapped; }
 
 private:
-    void* m_resource = nullptr;  // cudaGraphicsResource_t
+    // cudaGraphicsResource_t; unused where CUDA is not built (src/cuda/gl_interop.cpp is)
+    [[maybe_unused]] void* m_resource = nullptr;
     bool m_mapped = false;
 };
 
