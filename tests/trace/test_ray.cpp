@@ -176,6 +176,13 @@ TEST(Ray, OffsetMovesToTheNormalSideByABoundedAmount) {
     EXPECT_EQ(q.x, 0.0f);
     EXPECT_EQ(q.y, 1.0f / 65536.0f);
     EXPECT_EQ(q.z, 0.0f);
+    // −0.0 (bits INT32_MIN) with a normal pointing to −x: the ulp step would overflow the
+    // integer, undefined behaviour that UBSan found on Assimp's corpus (LWO models); the absolute
+    // offset applies there.
+    const Vec3f z = offset_ray_origin({-0.0f, -0.0f, 1.0f}, {-0.6f, -0.8f, 0.0f});
+    EXPECT_EQ(z.x, -0.6f / 65536.0f);
+    EXPECT_EQ(z.y, -0.8f / 65536.0f);
+    EXPECT_EQ(z.z, 1.0f);
 }
 
 // Slab test: hits whenever the exact segment enters the box, including flat (zero-thickness)

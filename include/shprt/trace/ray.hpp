@@ -76,10 +76,14 @@ SHPRT_HD_INLINE Vec3f offset_ray_origin(Vec3f p, Vec3f n) {
     Vec3f out;
     for (int i = 0; i < 3; ++i) {
         const float pi = p[i], ni = n[i];
+        if (std::fabs(pi) < kOrigin) {
+            out[i] = pi + kFloatScale * ni;
+            continue;
+        }
+        // Only here: near zero the bits of −0.0 (INT32_MIN) plus a negative step would overflow.
         const std::int32_t step = static_cast<std::int32_t>(kIntScale * ni);
         // Adding to the bit pattern of a negative float moves it away from zero, hence the sign.
-        const float stepped = i32_as_float(float_as_i32(pi) + (pi < 0 ? -step : step));
-        out[i] = std::fabs(pi) < kOrigin ? pi + kFloatScale * ni : stepped;
+        out[i] = i32_as_float(float_as_i32(pi) + (pi < 0 ? -step : step));
     }
     return out;
 }
