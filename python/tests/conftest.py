@@ -18,8 +18,14 @@ def cli():
     if not os.path.exists(path):
         pytest.skip(f"the shprt command line is not built ({path})")
 
+    # Under the sanitizers CTest preloads ASan's shared runtime into this interpreter
+    # (python/CMakeLists.txt, SHPRT_ASAN_PRELOAD); the program carries its own and must not get it.
+    env = dict(os.environ)
+    if os.environ.get("SHPRT_ASAN_PRELOAD"):
+        env.pop("LD_PRELOAD", None)
+
     def run(*args):
-        done = subprocess.run([path, *map(str, args)], capture_output=True, text=True)
+        done = subprocess.run([path, *map(str, args)], capture_output=True, text=True, env=env)
         assert done.returncode == 0, f"shprt {' '.join(map(str, args))}: {done.stderr}"
         return done.stdout
 
