@@ -23,8 +23,14 @@ namespace {
 // bake's statistics): far more than their longest rendering.
 constexpr std::size_t kMetadataSlack = 4096;
 
+}  // namespace
+
+namespace detail {
+
 // Rows into the transfer section of the temporary file: converted to the layout's encoding,
-// checked, written with pwrite; each chunk's CRC-32 kept for the section's CRC.
+// checked, written with pwrite; each chunk's CRC-32 kept for the section's CRC. Not in the
+// anonymous namespace: ShprtStreamWriter::State, declared in the header, holds one (gcc's
+// -Wsubobject-linkage in a unity build, where this file is not the main file).
 class SectionSink final : public TransferSink {
 public:
     SectionSink(std::string path, int fd, std::uint64_t offset, const TransferLayout& layout,
@@ -105,7 +111,7 @@ private:
     std::vector<Chunk> m_chunks;
 };
 
-}  // namespace
+}  // namespace detail
 
 struct ShprtStreamWriter::State {
     std::string path;
@@ -117,7 +123,7 @@ struct ShprtStreamWriter::State {
     std::size_t reserve = 0;
     std::vector<detail::SectionOut> sections;
     AtomicFile file;
-    std::unique_ptr<SectionSink> sink;
+    std::unique_ptr<detail::SectionSink> sink;
 
     State(const std::string& p, const Mesh& m, const TransferInfo& i, std::size_t f, std::size_t c,
           WriteOptions o)
@@ -156,8 +162,8 @@ ShprtStreamWriter::ShprtStreamWriter(const std::string& path, const Mesh& mesh,
     SHPRT_CHECK(std::fflush(s.file.handle()) == 0, io, "cannot write {}: {}", path,
                 std::strerror(errno));
     const detail::SectionOut& transfer = s.sections.back();
-    s.sink = std::make_unique<SectionSink>(path, ::fileno(s.file.handle()), transfer.offset,
-                                           info.layout, first, count);
+    s.sink = std::make_unique<detail::SectionSink>(path, ::fileno(s.file.handle()), transfer.offset,
+                                                   info.layout, first, count);
 }
 
 ShprtStreamWriter::~ShprtStreamWriter() = default;
