@@ -29,7 +29,6 @@
 namespace shprt {
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
 using Clock = std::chrono::steady_clock;
 
 // Vertices per task: small enough to balance, large enough that scheduling is free.

@@ -18,8 +18,6 @@
 namespace shprt {
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
-
 using ZonalProfile = std::function<Vec3d(double)>;
 
 // z_l (l < bands, per channel, channel-major 3·bands) of g on the pieces [edges[k], edges[k+1]].

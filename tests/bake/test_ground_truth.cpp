@@ -15,8 +15,6 @@
 namespace shprt {
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
-
 // A plane y = 0, normal +Y, as an n×n grid of vertices over [−half, half]².
 Mesh grid_plane(int n, float half) {
     Mesh m;

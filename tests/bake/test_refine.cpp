@@ -151,8 +151,8 @@ TEST(Refine, RefinementOnAShadowEdgeLowersTheErrorAgainstTheGroundTruth) {
         err_coarse += std::pow(floor_value(input, e_coarse, xz[p].first, xz[p].second) - gt, 2);
         err_fine += std::pow(floor_value(r.mesh, e_fine, xz[p].first, xz[p].second) - gt, 2);
     }
-    err_coarse = std::sqrt(err_coarse / xz.size());
-    err_fine = std::sqrt(err_fine / xz.size());
+    err_coarse = std::sqrt(err_coarse / double(xz.size()));
+    err_fine = std::sqrt(err_fine / double(xz.size()));
     EXPECT_LT(err_fine, 0.5 * err_coarse) << "coarse " << err_coarse << ", refined " << err_fine;
 }
 

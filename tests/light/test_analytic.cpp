@@ -23,8 +23,6 @@ namespace {
 using test_support::cosine_weights;
 using test_support::irradiance;
 
-constexpr double kDeg = kPi / 180.0;
-
 // Legendre P_0..P_n at x.
 std::vector<double> legendre(int n, double x) {
     std::vector<double> p(n + 1);

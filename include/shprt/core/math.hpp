@@ -8,5 +8,7 @@ namespace shprt {
 inline constexpr double kPi = 3.14159265358979323846264338327950288;
 // π rounded to float (float(kPi), the float nearest to π): for float-only code.
 inline constexpr float kPiF = static_cast<float>(kPi);
+// Radians per degree.
+inline constexpr double kDeg = kPi / 180.0;
 
 }  // namespace shprt

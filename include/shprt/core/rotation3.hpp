@@ -49,7 +49,6 @@ SHPRT_HD_INLINE Mat3d matrix_from_zyz(double alpha, double beta, double gamma) {
 
 // R = Ry(yaw)·Rx(pitch)·Rz(roll), angles in degrees; +Y is up.
 SHPRT_HD_INLINE Mat3d matrix_from_yaw_pitch_roll_deg(double yaw, double pitch, double roll) {
-    constexpr double kDeg = kPi / 180.0;
     return rotation_y(yaw * kDeg) * rotation_x(pitch * kDeg) * rotation_z(roll * kDeg);
 }
 
