@@ -10,9 +10,8 @@
 namespace shprt::cuda {
 namespace {
 
-#define SHPRT_STRINGIFY2(x) #x
-#define SHPRT_STRINGIFY(x) SHPRT_STRINGIFY2(x)
-constexpr const char* kCublasLibrary = "libcublas.so." SHPRT_STRINGIFY(CUBLAS_VER_MAJOR);
+constexpr const char* kCublasLibrary =
+    "libcublas.so." SHPRT_TOOLKIT_SONAME_VERSION(CUBLAS_VER_MAJOR);
 
 std::atomic<const CublasApi*> g_loaded{nullptr};
 

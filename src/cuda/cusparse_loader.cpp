@@ -9,10 +9,8 @@
 namespace shprt::cuda {
 namespace {
 
-#define SHPRT_CUSPARSE_STRINGIFY2(x) #x
-#define SHPRT_CUSPARSE_STRINGIFY(x) SHPRT_CUSPARSE_STRINGIFY2(x)
 constexpr const char* kCusparseLibrary =
-    "libcusparse.so." SHPRT_CUSPARSE_STRINGIFY(CUSPARSE_VER_MAJOR);
+    "libcusparse.so." SHPRT_TOOLKIT_SONAME_VERSION(CUSPARSE_VER_MAJOR);
 
 const CusparseApi* load_cusparse() {
     void* library = open_toolkit_library(kCusparseLibrary, "cuSPARSE");

@@ -6,6 +6,11 @@
 
 #include <dlfcn.h>
 
+// A toolkit library's soname from its header's major version: "libcublas.so."
+// SHPRT_TOOLKIT_SONAME_VERSION(CUBLAS_VER_MAJOR) is "libcublas.so.13".
+#define SHPRT_TOOLKIT_SONAME_VERSION2(x) #x
+#define SHPRT_TOOLKIT_SONAME_VERSION(x) SHPRT_TOOLKIT_SONAME_VERSION2(x)
+
 namespace shprt::cuda {
 
 // dlopen(soname) on the dynamic linker's search path, then in the toolkit directory found at
