@@ -53,10 +53,12 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
             fmt::format("glossy {}, brdf={}",
                         describe_gpu_transfer(transfer, renderer.transfer_bytes_per_vertex()),
                         to_string(config.draw.brdf));
-    RenderTarget target(config.width, config.height, choose_samples(config.msaa, true));
+    DisplayTarget display(config.width, config.height);
+    FrameTarget target;
+    target.prepare(config.width, config.height, choose_samples(config.msaa, true),
+                   display.framebuffer());
     report.msaa = target.samples();
     report.msaa_auto = config.msaa == kAutoMsaa;
-    DisplayTarget display(config.width, config.height);
     const Bounds bounds = mesh_bounds(mesh);
 
     using Clock = std::chrono::steady_clock;
@@ -79,7 +81,8 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
             }
             camera.orbit_by(step);
             settings.camera = camera.camera();
-            draw_frame(renderer, target, settings, config.exposure, display.framebuffer());
+            draw_frame(renderer, target, settings, config.exposure, display.framebuffer(),
+                       config.width, config.height);
             glFinish();
         };
         for (int i = 0; i < options.warmup_frames; ++i) frame();

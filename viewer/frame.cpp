@@ -1,5 +1,5 @@
-// One displayed frame: draw, then present (which resolves); and reading the displayed bytes back
-// (frame.hpp).
+// One displayed frame: through a multisampled float target and present, or straight into the
+// framebuffer (frame.hpp).
 #include "frame.hpp"
 
 #include "shprt/core/error.hpp"
@@ -28,60 +28,46 @@ std::string describe_gpu_transfer(const TransferSet& transfer, double bytes_per_
         transfer.cpca.clusters, transfer.cpca.vectors, K, K, bytes_per_vertex);
 }
 
-void draw_frame(Renderer& renderer, RenderTarget& target, const DrawSettings& settings,
-                float exposure, unsigned framebuffer) {
-    target.bind();
-    renderer.draw(settings, target.width(), target.height());
+namespace {
+
+// Whether `framebuffer` (0 = the default framebuffer) has a depth buffer to draw into.
+bool has_depth_buffer(unsigned framebuffer) {
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    renderer.present(target, exposure);
-}
-
-DisplayTarget::DisplayTarget(int width, int height) : m_width(width), m_height(height) {
-    glGenFramebuffers(1, &m_fbo);
-    glGenRenderbuffers(1, &m_color_rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, m_color_rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m_color_rb);
-    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    GLint bits = 0;
+    glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER,
+                                          framebuffer == 0 ? GL_DEPTH : GL_DEPTH_ATTACHMENT,
+                                          GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &bits);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        glDeleteFramebuffers(1, &m_fbo);
-        glDeleteRenderbuffers(1, &m_color_rb);
-        m_fbo = m_color_rb = 0;
-        fail(ErrorCode::unsupported, "display framebuffer {}x{} is incomplete (0x{:x})", width,
-             height, status);
-    }
+    return glGetError() == GL_NO_ERROR && bits > 0;
 }
 
-DisplayTarget::~DisplayTarget() {
-    if (m_fbo) glDeleteFramebuffers(1, &m_fbo);
-    if (m_color_rb) glDeleteRenderbuffers(1, &m_color_rb);
+}  // namespace
+
+void FrameTarget::prepare(int width, int height, int samples, unsigned framebuffer) {
+    if (width == m_width && height == m_height && samples == m_requested &&
+        framebuffer == m_framebuffer)
+        return;
+    m_target.reset();  // its GL memory goes before a new one is taken
+    m_width = width;
+    m_height = height;
+    m_requested = samples;
+    m_framebuffer = framebuffer;
+    m_samples = RenderTarget::supported_samples(samples);
+    if (m_samples > 1 || !has_depth_buffer(framebuffer))
+        m_target = std::make_unique<RenderTarget>(width, height, m_samples);
 }
 
-Rgb8Image read_framebuffer(unsigned framebuffer, int width, int height) {
-    Rgb8Image image;
-    image.width = width;
-    image.height = height;
-    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * height * 4);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
-    if (framebuffer == 0) glReadBuffer(GL_BACK);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-    const GLenum error = glGetError();
-    SHPRT_CHECK(error == GL_NO_ERROR, unsupported, "reading the framebuffer failed (OpenGL 0x{:x})",
-                error);
-    image.rgb.resize(static_cast<std::size_t>(width) * height * 3);
-    // GL's row 0 is the bottom.
-    for (int y = 0; y < height; ++y) {
-        const std::uint8_t* src =
-            rgba.data() + static_cast<std::size_t>(height - 1 - y) * width * 4;
-        std::uint8_t* dst = image.rgb.data() + static_cast<std::size_t>(y) * width * 3;
-        for (int x = 0; x < width; ++x)
-            for (int c = 0; c < 3; ++c) dst[3 * x + c] = src[4 * x + c];
+void draw_frame(Renderer& renderer, FrameTarget& target, const DrawSettings& settings,
+                float exposure, unsigned framebuffer, int width, int height) {
+    if (RenderTarget* linear = target.float_target()) {
+        linear->bind();
+        renderer.draw(settings, width, height);
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        renderer.present(*linear, exposure);
+    } else {
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        renderer.draw_to_display(settings, width, height, exposure);
     }
-    return image;
 }
 
 std::vector<float> read_gl_buffer(unsigned buffer, std::size_t count) {

@@ -1,7 +1,9 @@
-// One displayed frame, the same in the window and in --benchmark: the scene is drawn by the shared
-// Renderer into a multisampled float target, then presented (the resolve, exposure, ACES filmic
-// tone map, sRGB: Renderer::present, the GPU twin of save_image's PNG encoding) into an 8-bit
-// framebuffer — the window's, or a DisplayTarget when headless. (--screenshot draws the same
+// One displayed frame, the same in the window and in --benchmark, drawn by the shared Renderer
+// into an 8-bit framebuffer — the window's, or a DisplayTarget when headless. With MSAA the scene
+// goes into a multisampled float target, then is presented (the resolve, exposure, ACES filmic
+// tone map, sRGB: Renderer::present, the GPU twin of save_image's PNG encoding); with one sample
+// (the default on a software rasteriser) it is drawn straight into the framebuffer with the same
+// encoding in its fragment shaders (Renderer::draw_to_display). (--screenshot draws the same
 // scene through render_image and save_image instead: screenshot.hpp.)
 // Every function needs a current OpenGL 4.3 core context.
 #pragma once
@@ -11,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,34 +42,30 @@ struct FrameConfig {
 // (`bytes_per_vertex`: Renderer::transfer_bytes_per_vertex). Empty for vector transfer.
 std::string describe_gpu_transfer(const TransferSet& transfer, double bytes_per_vertex);
 
-// Draws the scene into `target` (bind, Renderer::draw), then presents it (resolving) into
-// `framebuffer` (0 = the window's default framebuffer) with viewport (0, 0, width, height) of
-// the target's size.
-void draw_frame(Renderer& renderer, RenderTarget& target, const DrawSettings& settings,
-                float exposure, unsigned framebuffer);
-
-// An offscreen RGBA8 framebuffer standing in for a window's: the present pass writes display
-// values into it.
-class DisplayTarget {
+// Where a displayed frame is drawn before it reaches the framebuffer: a float target when
+// `samples` (asked for) resolves to more than one supported sample
+// (RenderTarget::supported_samples) or the framebuffer has no depth buffer; else nothing —
+// single-sample frames are drawn straight into the framebuffer. Reused while the size, the
+// samples asked for and the framebuffer stay.
+class FrameTarget {
 public:
-    // Throws Error(unsupported) if the framebuffer is incomplete.
-    DisplayTarget(int width, int height);
-    ~DisplayTarget();
-    DisplayTarget(const DisplayTarget&) = delete;
-    DisplayTarget& operator=(const DisplayTarget&) = delete;
-
-    unsigned framebuffer() const { return m_fbo; }
-    int width() const { return m_width; }
-    int height() const { return m_height; }
+    // Makes or keeps the target for a width × height frame of `framebuffer` (0 = the window's)
+    // with `samples` asked for.
+    void prepare(int width, int height, int samples, unsigned framebuffer);
+    int samples() const { return m_samples; }                // samples the frame has
+    RenderTarget* float_target() { return m_target.get(); }  // nullptr: drawn direct
 
 private:
-    int m_width, m_height;
-    unsigned m_fbo = 0, m_color_rb = 0;
+    std::unique_ptr<RenderTarget> m_target;
+    int m_width = 0, m_height = 0, m_requested = -1, m_samples = 1;
+    unsigned m_framebuffer = 0;
 };
 
-// Reads the colour buffer of `framebuffer` (0 = the default framebuffer's back buffer), rows top
-// first, for save_png (render/save_image.hpp). Waits for rendering to finish.
-Rgb8Image read_framebuffer(unsigned framebuffer, int width, int height);
+// Draws one frame of width × height (`target` prepared for it) into `framebuffer` (0 = the
+// window's default framebuffer): through `target`'s float target and Renderer::present when it
+// has one, else with Renderer::draw_to_display.
+void draw_frame(Renderer& renderer, FrameTarget& target, const DrawSettings& settings,
+                float exposure, unsigned framebuffer, int width, int height);
 
 // The first `count` floats of the OpenGL buffer object `buffer` (e.g. Renderer::transfer_buffer()),
 // read back to the host: for tests and diagnostics. Throws Error(invalid_argument) if the buffer

@@ -49,7 +49,8 @@ GLFWwindow* create_gl_window(int width, int height, const std::string& title, bo
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
     glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
-    glfwWindowHint(GLFW_SAMPLES, 0);  // the renderer has its own multisampled target
+    glfwWindowHint(GLFW_SAMPLES, 0);      // the renderer has its own multisampled target
+    glfwWindowHint(GLFW_DEPTH_BITS, 24);  // single-sample frames are drawn straight into it
     GLFWwindow* window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
     if (!window) {
         std::string why = take_glfw_error();

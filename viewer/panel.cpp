@@ -140,10 +140,7 @@ void display_section(PanelState& s) {
     int index = 0;
     for (int i = 0; i < IM_ARRAYSIZE(kSamples); ++i)
         if (kSamples[i] == s.msaa) index = i;
-    if (ImGui::Combo("MSAA", &index, names, IM_ARRAYSIZE(names))) {
-        s.msaa = kSamples[index];
-        s.msaa_changed = true;
-    }
+    if (ImGui::Combo("MSAA", &index, names, IM_ARRAYSIZE(names))) s.msaa = kSamples[index];
     if (s.msaa_samples != s.msaa) {
         ImGui::SameLine();
         ImGui::TextDisabled("(%d here)", s.msaa_samples);
@@ -170,7 +167,7 @@ std::vector<LightChoice> light_choices(const std::vector<std::string>& command_l
 
 void draw_panel(PanelState& s) {
     s.light_source_changed = s.reset_light_rotation = s.reset_camera = s.camera_mode_changed =
-        s.msaa_changed = s.direct_changed = false;
+        s.direct_changed = false;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowBgAlpha(0.85f);

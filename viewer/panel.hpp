@@ -72,7 +72,6 @@ struct PanelState {
     bool reset_light_rotation = false;
     bool reset_camera = false;
     bool camera_mode_changed = false;
-    bool msaa_changed = false;
     bool direct_changed = false;  // direct_only toggled
 };
 

@@ -112,7 +112,7 @@ private:
     Window m_window;
     ImGuiLayer m_imgui;
     Renderer m_renderer;
-    std::unique_ptr<RenderTarget> m_target;
+    FrameTarget m_target;
     CameraController m_camera;
     Camera m_start_camera;
     LightRig m_light;
@@ -413,17 +413,13 @@ WindowReport App::run() {
         glfwGetFramebufferSize(w, &width, &height);
         ImGui::Render();
         if (width > 0 && height > 0) {
-            if (!m_target || m_target->width() != width || m_target->height() != height ||
-                m_panel.msaa_changed) {
-                m_target.reset();  // its GL memory goes before the new one is taken
-                m_target = std::make_unique<RenderTarget>(width, height, m_panel.msaa);
-                m_panel.msaa_samples = m_target->samples();
-            }
+            m_target.prepare(width, height, m_panel.msaa, 0);
+            m_panel.msaa_samples = m_target.samples();
             const bool buffer_mapped = m_interop && m_interop->mapped();
             if (!buffer_mapped) {
                 DrawSettings settings = draw_settings();
                 settings.reshade = std::exchange(m_reshade_once, false);
-                draw_frame(m_renderer, *m_target, settings, m_panel.exposure, 0);
+                draw_frame(m_renderer, m_target, settings, m_panel.exposure, 0, width, height);
             } else {
                 // The GPU bake owns the transfer buffer until it ends: show the panel only.
                 glBindFramebuffer(GL_FRAMEBUFFER, 0);

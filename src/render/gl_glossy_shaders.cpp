@@ -242,12 +242,6 @@ std::string glossy_header(int K, int K_stored, int vectors, int block_vec4s) {
 
 }  // namespace
 
-// `source` with the line that holds `marker` replaced by `code`.
-std::string splice(const std::string& source, const char* marker, const std::string& code) {
-    const std::size_t at = source.find(marker);
-    return source.substr(0, at) + code + source.substr(source.find('\n', at) + 1);
-}
-
 std::string glossy_cluster_shader(int K, int K_stored, int vectors) {
     return glossy_header(K, K_stored, vectors, 0) +
            splice(kGlossyCommon, "// @transform_light", transform_light_source(K, K_stored)) +

@@ -7,6 +7,8 @@
 // line by line and fused with the two dot products so that no K-sized array is needed.
 #include "gl_util.hpp"
 
+#include <string>
+
 namespace shprt::gl {
 
 const char* const kShadeComputeShader = R"glsl(
@@ -184,7 +186,8 @@ const char* const kSceneFragmentShader = R"glsl(
 #version 430 core
 in vec3 v_color;
 layout(location = 0) out vec4 frag_color;
-void main() { frag_color = vec4(v_color, 1.0); }
+// @output
+void main() { frag_color = output_colour(v_color); }
 )glsl";
 
 const char* const kFullscreenVertexShader = R"glsl(
@@ -207,15 +210,18 @@ layout(location = 2) uniform mat3 u_to_texture;  // R^T of the light's rotation 
 layout(binding = 0) uniform sampler2D u_env;  // equirect, row 0 (v = 0) = zenith at t = 0
 layout(location = 0) out vec4 frag_color;
 const float kPi = 3.14159265358979324;
+// @output
 void main() {
     vec4 p = u_inv_view_proj * vec4(v_ndc, 1.0, 1.0);
     vec3 d = u_to_texture * normalize(p.xyz / p.w - u_eye);
     // light/equirect.hpp: u = 0.5 + atan2(d.x, −d.z)/(2π), v = acos(d.y)/π.
     float u = 0.5 + atan(d.x, -d.z) / (2.0 * kPi);
     float v = acos(clamp(d.y, -1.0, 1.0)) / kPi;
-    frag_color = vec4(texture(u_env, vec2(u, v)).rgb, 1.0);
+    frag_color = output_colour(texture(u_env, vec2(u, v)).rgb);
 }
 )glsl";
+
+namespace {
 
 const char* const kPresentFragmentShader = R"glsl(
 #version 430 core
@@ -224,16 +230,7 @@ layout(location = 1) uniform int u_samples;  // 1: read u_image; > 1: average u_
 layout(binding = 0) uniform sampler2D u_image;  // linear radiance, one sample per pixel
 layout(binding = 1) uniform sampler2DMS u_image_ms;  // linear radiance, u_samples per pixel
 layout(location = 0) out vec4 frag_color;
-// render/tonemap.hpp and core/colour.hpp: Narkowicz's ACES fit, then the exact sRGB curve.
-float tonemap_aces(float x) {
-    if (!(x > 0.0)) return 0.0;
-    return min((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 1.0);
-}
-float linear_to_srgb(float x) {
-    if (!(x > 0.0)) return 0.0;
-    if (x >= 1.0) return 1.0;
-    return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055;
-}
+// @display_encode
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec3 c;
@@ -245,10 +242,49 @@ void main() {
         for (int i = 0; i < u_samples; ++i) c += texelFetch(u_image_ms, p, i).rgb;
         c /= float(u_samples);
     }
-    c *= u_exposure;
-    frag_color = vec4(linear_to_srgb(tonemap_aces(c.r)), linear_to_srgb(tonemap_aces(c.g)),
-                      linear_to_srgb(tonemap_aces(c.b)), 1.0);
+    frag_color = display_encode(c * u_exposure);
 }
 )glsl";
+
+// render/tonemap.hpp and core/colour.hpp: Narkowicz's ACES fit, then the exact sRGB curve; the
+// display code of linear radiance already scaled by the exposure. The one GLSL copy: the present
+// pass and every fragment shader drawn straight to a display splice it in.
+const char* const kDisplayEncode = R"glsl(
+float tonemap_aces(float x) {
+    if (!(x > 0.0)) return 0.0;
+    return min((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 1.0);
+}
+float linear_to_srgb(float x) {
+    if (!(x > 0.0)) return 0.0;
+    if (x >= 1.0) return 1.0;
+    return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055;
+}
+vec4 display_encode(vec3 c) {
+    return vec4(linear_to_srgb(tonemap_aces(c.r)), linear_to_srgb(tonemap_aces(c.g)),
+                linear_to_srgb(tonemap_aces(c.b)), 1.0);
+}
+)glsl";
+
+}  // namespace
+
+std::string splice(const std::string& source, const char* marker, const std::string& code) {
+    const std::size_t at = source.find(marker);
+    return source.substr(0, at) + code + source.substr(source.find('\n', at) + 1);
+}
+
+std::string present_shader() {
+    return splice(kPresentFragmentShader, "// @display_encode", kDisplayEncode);
+}
+
+std::string fragment_shader(const char* source, bool display) {
+    const std::string output =
+        display
+            ? std::string(kDisplayEncode) +
+                  "layout(location = " + std::to_string(loc::kDisplayExposure) +
+                  ") uniform float u_display_exposure;\n"
+                  "vec4 output_colour(vec3 c) { return display_encode(c * u_display_exposure); }\n"
+            : std::string("vec4 output_colour(vec3 c) { return vec4(c, 1.0); }\n");
+    return splice(source, "// @output", output);
+}
 
 }  // namespace shprt::gl

@@ -36,6 +36,7 @@ layout(location = 4) uniform int u_light_stride;
 layout(location = 5) uniform int u_view;    // 0 radiance, 1 irradiance, 2 transfer only
 layout(location = 0) out vec4 frag_color;
 const float kPi = 3.14159265358979324;
+// @output
 
 vec4 plane(int layer, vec2 st) { return textureLod(u_planes, vec3(st, float(layer)), 0.0); }
 
@@ -45,7 +46,7 @@ void main() {
     vec2 st = vec2(v_uv.x, 1.0 - v_uv.y);
     if (u_view == 2) {
         // E under a uniform sky of radiance 1 (c_0 = sqrt(4π)), over π: T_0 · 2/sqrt(π).
-        frag_color = vec4(vec3(plane(0, st).x * 1.12837916709551257), 1.0);
+        frag_color = output_colour(vec3(plane(0, st).x * 1.12837916709551257));
         return;
     }
     int s = u_light_stride >> 2;
@@ -61,7 +62,7 @@ void main() {
             E += vec3(dot(t, r), dot(plane(u_layers + j, st), g),
                       dot(plane(2 * u_layers + j, st), b));
     }
-    frag_color = vec4(u_view == 1 ? E : v_albedo / kPi * E, 1.0);
+    frag_color = output_colour(u_view == 1 ? E : v_albedo / kPi * E);
 }
 )glsl";
 

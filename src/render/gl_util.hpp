@@ -15,13 +15,22 @@ unsigned compile_program(const char* vertex_source, const char* fragment_source,
 // Compiles and links a compute program; throws as above.
 unsigned compile_compute_program(const char* source, const char* name);
 
-// GLSL 4.30 sources (gl_shaders.cpp).
+// GLSL 4.30 sources (gl_shaders.cpp). The fragment shaders marked "// @output" write their
+// colour through output_colour(), which fragment_shader() supplies.
 extern const char* const kShadeComputeShader;        // per-vertex PRT shading (render/shade.hpp)
 extern const char* const kSceneVertexShader;         // transforms; passes the vertex colour on
-extern const char* const kSceneFragmentShader;       // writes the interpolated colour
+extern const char* const kSceneFragmentShader;       // @output: the interpolated colour
 extern const char* const kFullscreenVertexShader;    // one triangle covering the viewport
-extern const char* const kBackgroundFragmentShader;  // equirect light texture along view rays
-extern const char* const kPresentFragmentShader;     // resolve, exposure, ACES filmic, sRGB
+extern const char* const kBackgroundFragmentShader;  // @output: equirect light along view rays
+// The present pass's fragment shader: resolve, exposure, ACES filmic, sRGB.
+std::string present_shader();
+// `source` (a fragment shader with a "// @output" line) writing linear radiance (display =
+// false: into a float target), or (display = true) the code the present pass would write for it:
+// radiance × the uniform at loc::kDisplayExposure, tone mapped and sRGB-encoded by the same GLSL
+// as present_shader() — for drawing straight into an 8-bit display framebuffer.
+std::string fragment_shader(const char* source, bool display);
+// `source` with the line that holds `marker` replaced by `code`.
+std::string splice(const std::string& source, const char* marker, const std::string& code);
 // Glossy transfer matrices (gl_glossy_shaders.cpp), for K' coefficients of matrices stored
 // K_stored wide: the per-cluster light products of a CPCA code with `vectors` basis matrices per
 // cluster, and the per-vertex shading (render/glossy.hpp) of raw matrices (vectors = 0) or of
@@ -39,6 +48,9 @@ inline constexpr int kFirstVertex = 0, kEye = 1, kK = 2, kStrideK = 3, kChannels
 inline constexpr int kViewProj = 0;  // scene program
 inline constexpr int kInvViewProj = 0, kBgEye = 1, kBgLightToTexture = 2;  // background
 inline constexpr int kExposure = 0, kSamples = 1;                          // present program
+// Fragment programs drawn straight to a display (fragment_shader(…, true)): scene, background,
+// texel pass.
+inline constexpr int kDisplayExposure = 15;
 // Glossy matrix passes: kFirstVertex, kEye, kLightStride, kDiffuseShare, kView and
 // kVertexCount as above (the cluster pass reads its product count at kVertexCount's location),
 // and these.

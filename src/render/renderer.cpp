@@ -12,6 +12,7 @@
 #include "shprt/light/light.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
+#include "shprt/render/tonemap.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 #include "shprt/transfer/cpca.hpp"
@@ -119,12 +120,16 @@ std::vector<float> recurrence_table(int bands) {
 Renderer::Renderer() {
     require_gl43();
     m_shade_program = gl::compile_compute_program(gl::kShadeComputeShader, "shading");
-    m_scene_program =
-        gl::compile_program(gl::kSceneVertexShader, gl::kSceneFragmentShader, "scene");
-    m_background_program = gl::compile_program(gl::kFullscreenVertexShader,
-                                               gl::kBackgroundFragmentShader, "background");
+    for (int display = 0; display < 2; ++display) {
+        m_scene_program[display] = gl::compile_program(
+            gl::kSceneVertexShader,
+            gl::fragment_shader(gl::kSceneFragmentShader, display == 1).c_str(), "scene");
+        m_background_program[display] = gl::compile_program(
+            gl::kFullscreenVertexShader,
+            gl::fragment_shader(gl::kBackgroundFragmentShader, display == 1).c_str(), "background");
+    }
     m_present_program =
-        gl::compile_program(gl::kFullscreenVertexShader, gl::kPresentFragmentShader, "present");
+        gl::compile_program(gl::kFullscreenVertexShader, gl::present_shader().c_str(), "present");
     glGenVertexArrays(1, &m_vao);
     glGenVertexArrays(1, &m_empty_vao);
     GLint max_block = 0;
@@ -150,7 +155,8 @@ Renderer::~Renderer() {
     if (m_background_texture) glDeleteTextures(1, &m_background_texture);
     if (m_vao) glDeleteVertexArrays(1, &m_vao);
     if (m_empty_vao) glDeleteVertexArrays(1, &m_empty_vao);
-    for (unsigned p : {m_shade_program, m_scene_program, m_background_program, m_present_program})
+    for (unsigned p : {m_shade_program, m_scene_program[0], m_scene_program[1],
+                       m_background_program[0], m_background_program[1], m_present_program})
         if (p) glDeleteProgram(p);
     for (const auto& entry : m_glossy_programs) glDeleteProgram(entry.second);
 }
@@ -545,6 +551,16 @@ void Renderer::dispatch_per_vertex() {
 }
 
 void Renderer::draw(const DrawSettings& s, int width, int height) {
+    draw_scene(s, width, height, 0.0f);
+}
+
+void Renderer::draw_to_display(const DrawSettings& s, int width, int height, float exposure) {
+    SHPRT_CHECK(exposure > 0 && std::isfinite(exposure), invalid_argument,
+                "exposure {} must be positive", exposure);
+    draw_scene(s, width, height, exposure);
+}
+
+void Renderer::draw_scene(const DrawSettings& s, int width, int height, float exposure) {
     SHPRT_CHECK((m_transfer_ssbo || m_texel) && m_has_light, invalid_argument,
                 "Renderer::draw before set_scene and set_light");
     SHPRT_CHECK(width >= 1 && height >= 1, invalid_argument, "viewport {}x{} is empty", width,
@@ -560,7 +576,15 @@ void Renderer::draw(const DrawSettings& s, int width, int height) {
     glDisable(GL_CULL_FACE);  // rooms are seen from inside: both sides of every triangle
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
-    glClearColor(s.clear_color.x, s.clear_color.y, s.clear_color.z, 1.0f);
+    const int display = exposure > 0 ? 1 : 0;
+    if (display) {
+        glDisable(GL_FRAMEBUFFER_SRGB);  // the shaders encode sRGB themselves, as present does
+        // The code present would write for the clear colour (exactly k/255 in the 8-bit target).
+        auto code = [&](float c) { return float(display_encode8(c, exposure)) / 255.0f; };
+        glClearColor(code(s.clear_color.x), code(s.clear_color.y), code(s.clear_color.z), 1.0f);
+    } else {
+        glClearColor(s.clear_color.x, s.clear_color.y, s.clear_color.z, 1.0f);
+    }
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
@@ -599,12 +623,13 @@ void Renderer::draw(const DrawSettings& s, int width, int height) {
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glUseProgram(m_scene_program);
+    glUseProgram(m_scene_program[display]);
     glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
+    if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
     glBindVertexArray(m_vao);
     glPolygonMode(GL_FRONT_AND_BACK, s.wireframe ? GL_LINE : GL_FILL);
     if (m_texel)  // per fragment, from the coefficient planes
-        m_texel->draw(view_proj, s, K, m_light_ubo, light_stride(m_light.K));
+        m_texel->draw(view_proj, s, K, m_light_ubo, light_stride(m_light.K), exposure);
     else
         glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
@@ -617,7 +642,8 @@ void Renderer::draw(const DrawSettings& s, int width, int height) {
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LEQUAL);
         glDepthMask(GL_FALSE);
-        glUseProgram(m_background_program);
+        glUseProgram(m_background_program[display]);
+        if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
         const Mat4f inv = inverse(view_proj);
         glUniformMatrix4fv(gl::loc::kInvViewProj, 1, GL_FALSE, inv.m);
         glUniform3f(gl::loc::kBgEye, s.camera.eye.x, s.camera.eye.y, s.camera.eye.z);

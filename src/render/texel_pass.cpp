@@ -25,7 +25,10 @@ GLuint upload(GLenum target, std::size_t bytes, const void* data) {
 }  // namespace
 
 TexelPass::TexelPass() {
-    m_program = gl::compile_program(gl::kTexelVertexShader, gl::kTexelFragmentShader, "texel");
+    for (int display = 0; display < 2; ++display)
+        m_program[display] = gl::compile_program(
+            gl::kTexelVertexShader,
+            gl::fragment_shader(gl::kTexelFragmentShader, display == 1).c_str(), "texel");
     glGenVertexArrays(1, &m_vao);
     gl::check("TexelPass");
 }
@@ -35,7 +38,8 @@ TexelPass::~TexelPass() {
         if (*b) glDeleteBuffers(1, b);
     if (m_planes) glDeleteTextures(1, &m_planes);
     if (m_vao) glDeleteVertexArrays(1, &m_vao);
-    if (m_program) glDeleteProgram(m_program);
+    for (unsigned program : m_program)
+        if (program) glDeleteProgram(program);
 }
 
 void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
@@ -119,14 +123,15 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
 }
 
 void TexelPass::draw(const Mat4f& view_proj, const DrawSettings& s, int K, unsigned light_ubo,
-                     int light_stride) {
+                     int light_stride, float exposure) {
     SHPRT_CHECK(m_planes != 0, invalid_argument, "TexelPass::draw before set_scene");
     SHPRT_CHECK(s.k >= 1 || s.view != ShadeView::radiance, unsupported,
                 "the glossy term (k = {} < 1) is not drawn per texel: texel transfer is shown "
                 "diffuse (k = 1), or as irradiance or transfer",
                 s.k);
-    glUseProgram(m_program);
+    glUseProgram(m_program[exposure > 0 ? 1 : 0]);
     glUniformMatrix4fv(gl::texel_loc::kViewProj, 1, GL_FALSE, view_proj.m);
+    if (exposure > 0) glUniform1f(gl::loc::kDisplayExposure, exposure);
     glUniform1i(gl::texel_loc::kK, K);
     glUniform1i(gl::texel_loc::kChannels, m_channels);
     glUniform1i(gl::texel_loc::kLayersPerChannel, m_layers_per_channel);

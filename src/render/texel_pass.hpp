@@ -17,7 +17,7 @@ namespace shprt {
 namespace gl {
 // GLSL 4.30 sources of the texel pass (gl_texel_shaders.cpp).
 extern const char* const kTexelVertexShader;    // transforms; passes UV and albedo on
-extern const char* const kTexelFragmentShader;  // samples the planes, dots with the light
+extern const char* const kTexelFragmentShader;  // @output: the planes dotted with the light
 // Uniform locations fixed with layout(location = N) in those shaders.
 namespace texel_loc {
 inline constexpr int kViewProj = 0, kK = 1, kChannels = 2, kLayersPerChannel = 3, kLightStride = 4,
@@ -54,11 +54,13 @@ public:
     // Renderer's light block (3 channels of `light_stride` floats, vec4-aligned). Throws
     // Error(unsupported) for the glossy term (k < 1 in the radiance view): it is not drawn per
     // texel.
+    // `exposure` > 0: display codes instead of radiance, as Renderer::draw_to_display.
     void draw(const Mat4f& view_proj, const DrawSettings& settings, int K, unsigned light_ubo,
-              int light_stride);
+              int light_stride, float exposure);
 
 private:
-    unsigned m_program = 0, m_vao = 0, m_planes = 0;
+    unsigned m_program[2] = {0, 0};  // linear radiance, display codes (gl::fragment_shader)
+    unsigned m_vao = 0, m_planes = 0;
     unsigned m_position_vbo = 0, m_uv_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
     std::size_t m_index_count = 0;
     int m_channels = 0, m_layers_per_channel = 0;

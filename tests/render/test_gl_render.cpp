@@ -23,6 +23,8 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <utility>
+#include <vector>
 
 namespace shprt {
 namespace {
@@ -263,32 +265,54 @@ TEST(GlRender, PresentShowsWhatThePngEncoderWrites) {
         renderer.draw(settings, w, h);
         target.resolve();
         const Image linear = target.read_pixels();
-        // An 8-bit window stand-in.
-        GLuint fbo = 0, rb = 0;
-        glGenFramebuffers(1, &fbo);
-        glGenRenderbuffers(1, &rb);
-        glBindRenderbuffer(GL_RENDERBUFFER, rb);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb);
+        DisplayTarget display(w, h);  // an 8-bit window stand-in
+        glBindFramebuffer(GL_FRAMEBUFFER, display.framebuffer());
         const float exposure = 1.7f;
         renderer.present(target, exposure);
-        std::vector<unsigned char> rgba(std::size_t(w) * h * 4);
-        glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        glDeleteFramebuffers(1, &fbo);
-        glDeleteRenderbuffers(1, &rb);
+        const Rgb8Image shown = read_framebuffer(display.framebuffer(), w, h);
         int worst = 0;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
                 for (int k = 0; k < 3; ++k) {
-                    const int gl_code = rgba[(std::size_t(h - 1 - y) * w + x) * 4 + k];
+                    const int gl_code = shown.rgb[(std::size_t(y) * w + x) * 3 + k];
                     const int png_code = display_encode8(linear.pixel(x, y)[k], exposure);
                     worst = std::max(worst, std::abs(gl_code - png_code));
                 }
         EXPECT_LE(worst, 1) << "codes differ by more than the 8-bit rounding";
     }
+}
+
+// The single-sample frame drawn straight into an 8-bit framebuffer (tone mapped in the scene's
+// and the background's fragment shaders) shows what the float target and the present pass show:
+// the same GLSL on the same values. Each setting puts a different shader on screen: the
+// per-vertex colours with the glossy term, the background, the clear colour (host-encoded) around
+// a wireframe.
+TEST(GlRender, DrawToDisplayShowsWhatDrawAndPresentShow) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("box_on_plane");
+    const TransferSet transfer = test::analytic_transfer(mesh, 16);
+    const ShLight light = make_light({"builtin"}, 16);
+    const int w = 96, h = 64;
+    Renderer renderer;
+    renderer.set_scene(mesh, transfer);
+    renderer.set_light(light);
+    DrawSettings lit;
+    lit.camera = default_camera(mesh, 1.3f);
+    lit.k = 0.6;
+    lit.background = true;
+    DrawSettings wire = lit;
+    wire.background = false;
+    wire.wireframe = true;
+    wire.clear_color = {0.3f, 0.05f, 0.6f};
+    for (const auto& [settings, exposure] :
+         {std::pair{lit, 1.0f}, std::pair{lit, 2.3f}, std::pair{wire, 0.7f}}) {
+        SCOPED_TRACE(testing::Message()
+                     << "exposure " << exposure << ", wireframe " << settings.wireframe);
+        test::expect_display_draw_matches_present(renderer, settings, w, h, exposure);
+    }
+    RenderTarget target(w, h, 1);
+    target.bind();
+    EXPECT_THROW(renderer.draw_to_display(lit, w, h, 0.0f), Error);
 }
 
 TEST(GlRender, PartialTransferUpdateEqualsAFreshUpload) {

@@ -228,6 +228,17 @@ TEST(GlTexelRender, TheBoxShadowIsInTheTexelPictureNotInTheVertexOne) {
     EXPECT_GT(vertex_lo, 0.9 * vertex_hi);  // four floor vertices, all far from the box
 }
 
+// Drawn straight into an 8-bit framebuffer, the texel pass shows what draw and present show.
+TEST(GlTexelRender, DrawToDisplayShowsWhatDrawAndPresentShow) {
+    REQUIRE_GL(context);
+    Renderer renderer;
+    renderer.set_scene(quad_box(), texel_bake());
+    renderer.set_light(sun(36));
+    DrawSettings settings;
+    settings.camera = top_camera();
+    test::expect_display_draw_matches_present(renderer, settings, kImageSide, kImageSide, 1.4f);
+}
+
 TEST(GlTexelRender, GlossyAndInPlaceUpdatesAreRefused) {
     REQUIRE_GL(context);
     Renderer renderer;

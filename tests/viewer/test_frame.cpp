@@ -15,6 +15,7 @@
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -107,6 +108,69 @@ TEST(Frame, AutomaticMsaaDropsOnlyContinuousFramesOnASoftwareRasteriser) {
     const bool llvmpipe = renderer.find("llvmpipe") != std::string::npos;
     EXPECT_EQ(is_software_renderer(), llvmpipe) << renderer;
     EXPECT_EQ(choose_samples(kAutoMsaa, true), llvmpipe ? 1 : 4) << renderer;
+}
+
+// A single-sample frame goes straight into a framebuffer with a depth buffer, and through a float
+// target into one without (the depth test needs one); both show the same picture, and so does a
+// 4-sample frame up to its edge pixels.
+TEST(Frame, SingleSampleFramesAreDrawnDirectWhereTheFramebufferHasDepth) {
+    SKIP_WITHOUT_GL();
+    HeadlessGlContext context;
+    const Scene& s = box_scene(20);
+    const int w = 80, h = 60;
+    Renderer renderer;
+    renderer.set_scene(s.mesh, s.transfer);
+    renderer.set_light(make_light({"builtin"}, 20));
+    DrawSettings settings;
+    settings.camera = default_camera(s.mesh, float(w) / float(h));
+    settings.k = 0.5;
+
+    DisplayTarget with_depth(w, h);
+    FrameTarget direct;
+    direct.prepare(w, h, 1, with_depth.framebuffer());
+    EXPECT_EQ(direct.float_target(), nullptr);
+    EXPECT_EQ(direct.samples(), 1);
+    draw_frame(renderer, direct, settings, 1.3f, with_depth.framebuffer(), w, h);
+    const Rgb8Image a = read_framebuffer(with_depth.framebuffer(), w, h);
+
+    // A colour-only framebuffer.
+    GLuint fbo = 0, colour = 0;
+    glGenFramebuffers(1, &fbo);
+    glGenRenderbuffers(1, &colour);
+    glBindRenderbuffer(GL_RENDERBUFFER, colour);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
+    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    FrameTarget through_float;
+    through_float.prepare(w, h, 1, fbo);
+    ASSERT_NE(through_float.float_target(), nullptr);
+    EXPECT_EQ(through_float.float_target()->samples(), 1);
+    draw_frame(renderer, through_float, settings, 1.3f, fbo, w, h);
+    const Rgb8Image b = read_framebuffer(fbo, w, h);
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteRenderbuffers(1, &colour);
+    int worst = 0, lit = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+        worst = std::max(worst, std::abs(int(a.rgb[i]) - int(b.rgb[i])));
+        lit += a.rgb[i] > 10;
+    }
+    EXPECT_LE(worst, 1);
+    EXPECT_GT(lit, int(a.rgb.size() / 10)) << "the scene covers a good part of the picture";
+
+    FrameTarget multisampled;
+    multisampled.prepare(w, h, 4, with_depth.framebuffer());
+    if (multisampled.samples() > 1) {
+        ASSERT_NE(multisampled.float_target(), nullptr);
+        draw_frame(renderer, multisampled, settings, 1.3f, with_depth.framebuffer(), w, h);
+        const Rgb8Image m = read_framebuffer(with_depth.framebuffer(), w, h);
+        double sum = 0;
+        for (std::size_t i = 0; i < a.rgb.size(); ++i)
+            sum += std::abs(int(a.rgb[i]) - int(m.rgb[i]));
+        EXPECT_LT(sum / double(a.rgb.size()), 2.0) << "the same picture, antialiased";
+        EXPECT_GT(sum, 0.0) << "the edges are antialiased";
+    }
 }
 
 TEST(Benchmark, MeasuresEachBasisSizeTheFileHasAndSkipsTheRest) {

@@ -84,10 +84,14 @@ struct DrawSettings {
 // `read_pixels`. Without MSAA the colour is a plain texture and `resolve` does nothing.
 class RenderTarget {
 public:
-    // `samples` is clamped to what the implementation supports for RGBA32F (1 = no MSAA).
+    // `samples` is clamped to what the implementation supports for RGBA32F (1 = no MSAA):
+    // supported_samples(samples).
     // Throws Error(invalid_argument) for sizes outside [1, GL_MAX_RENDERBUFFER_SIZE] and
     // Error(unsupported) if the framebuffer is incomplete.
     RenderTarget(int width, int height, int samples = 4);
+    // The largest sample count ≤ `requested` this implementation supports for RGBA32F
+    // multisample textures (1 when requested ≤ 1 or none is supported).
+    static int supported_samples(int requested);
     ~RenderTarget();
     RenderTarget(const RenderTarget&) = delete;
     RenderTarget& operator=(const RenderTarget&) = delete;
@@ -114,6 +118,32 @@ private:
     unsigned m_fbo = 0, m_depth_rb = 0, m_color_texture = 0;
     unsigned m_resolve_fbo = 0, m_resolved_texture = 0;  // MSAA only
 };
+
+// An offscreen RGBA8 framebuffer with a 24-bit depth buffer, standing in for a window's default
+// framebuffer: what Renderer::present and Renderer::draw_to_display write display codes into
+// when there is no window (the viewer's --benchmark, tests).
+class DisplayTarget {
+public:
+    // Throws Error(invalid_argument) for sizes outside [1, GL_MAX_RENDERBUFFER_SIZE] and
+    // Error(unsupported) if the framebuffer is incomplete.
+    DisplayTarget(int width, int height);
+    ~DisplayTarget();
+    DisplayTarget(const DisplayTarget&) = delete;
+    DisplayTarget& operator=(const DisplayTarget&) = delete;
+
+    unsigned framebuffer() const { return m_fbo; }  // GL framebuffer name
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+private:
+    int m_width, m_height;
+    unsigned m_fbo = 0, m_color_rb = 0, m_depth_rb = 0;
+};
+
+// Reads the colour buffer of `framebuffer` (0 = the default framebuffer's back buffer) as 8-bit
+// RGB, rows top first, for save_png (render/save_image.hpp). Waits for rendering to finish.
+// Throws Error(unsupported) if OpenGL reports an error.
+Rgb8Image read_framebuffer(unsigned framebuffer, int width, int height);
 
 class Renderer {
 public:
@@ -177,6 +207,14 @@ public:
     // then shows what `shprt render` writes to a PNG. Needs no resolve() first.
     void present(const RenderTarget& target, float exposure);
 
+    // draw, then present, in one pass, for single-sample frames: draws the scene straight into
+    // the currently bound 8-bit framebuffer (the window's, or a DisplayTarget; it needs a depth
+    // buffer), each fragment scaled by `exposure`, tone mapped and sRGB-encoded by the same GLSL
+    // as present (the clear colour by display_encode8 on the host). No float target is drawn or
+    // read: on a software rasteriser the present pass is about a third of a simple frame
+    // (bench/RESULTS.md "Viewer"). Throws what draw and present throw.
+    void draw_to_display(const DrawSettings& settings, int width, int height, float exposure);
+
 private:
     // Everything the per-vertex colours depend on.
     struct ShadingKey {
@@ -203,8 +241,14 @@ private:
     // After a shading pass: unbinds its buffers and program, records `key`, checks for errors.
     void finish_shading_pass(const ShadingKey& key, const char* what);
 
-    unsigned m_shade_program = 0, m_scene_program = 0, m_background_program = 0,
-             m_present_program = 0;
+    // draw and draw_to_display: exposure 0 writes linear radiance (into a float target), > 0
+    // display codes.
+    void draw_scene(const DrawSettings& settings, int width, int height, float exposure);
+
+    unsigned m_shade_program = 0, m_present_program = 0;
+    // The scene and background programs writing linear radiance [0] or display codes [1]
+    // (gl::fragment_shader).
+    unsigned m_scene_program[2] = {0, 0}, m_background_program[2] = {0, 0};
     unsigned m_vao = 0, m_empty_vao = 0;
     unsigned m_position_vbo = 0, m_normal_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
     unsigned m_color_buffer = 0;  // V × vec4: the shading pass's output
