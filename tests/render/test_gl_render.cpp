@@ -282,6 +282,51 @@ TEST(GlRender, PresentShowsWhatThePngEncoderWrites) {
     }
 }
 
+// The GPU's display encoding (the present pass's GLSL, which draw_to_display shares) against the
+// PNG encoder's (render/tonemap.hpp) on 196 608 radiance values from 0 to past the tone map's
+// saturation: the same formulas in float, so a code may differ by one level only where the GPU's
+// pow() rounds a value across a rounding boundary — rarely (llvmpipe: 1 of the 196 608 codes).
+TEST(GlRender, PresentEncodesARampAsThePngEncoderDoes) {
+    REQUIRE_GL(context);
+    const int w = 256, h = 256;
+    std::vector<float> rgba(std::size_t(w) * h * 4);
+    std::vector<float> linear(std::size_t(w) * h * 3);
+    for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
+        const double t = double(i) / double(w * h - 1);
+        const float x = static_cast<float>(9.0 * t * t * t);  // dense at the dark end
+        const float rgb[3] = {x, 0.37f * x, 2.1f * x};
+        for (int c = 0; c < 3; ++c) rgba[4 * i + c] = linear[3 * i + c] = rgb[c];
+        rgba[4 * i + 3] = 1.0f;
+    }
+    RenderTarget target(w, h, 1);
+    glBindTexture(GL_TEXTURE_2D, target.color_texture());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, rgba.data());
+    glBindTexture(GL_TEXTURE_2D, 0);
+    Renderer renderer;
+    DisplayTarget display(w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, display.framebuffer());
+    const float exposure = 1.0f;
+    renderer.present(target, exposure);
+    const Rgb8Image shown = read_framebuffer(display.framebuffer(), w, h);
+    int worst = 0;
+    std::size_t differ = 0;
+    std::vector<bool> seen(256, false);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) {
+                // GL texel row y is the image's row h − 1 − y.
+                const std::size_t i = std::size_t(y) * w + x;
+                const int want = display_encode8(linear[3 * i + c], exposure);
+                const int got = shown.rgb[(std::size_t(h - 1 - y) * w + x) * 3 + c];
+                worst = std::max(worst, std::abs(got - want));
+                differ += got != want;
+                seen[std::size_t(got)] = true;
+            }
+    EXPECT_LE(worst, 1);
+    EXPECT_LE(differ, linear.size() / 1000) << "of " << linear.size() << " codes differ by one";
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), true), 256) << "every code is on the ramp";
+}
+
 // The single-sample frame drawn straight into an 8-bit framebuffer (tone mapped in the scene's
 // and the background's fragment shaders) shows what the float target and the present pass show:
 // the same GLSL on the same values. Each setting puts a different shader on screen: the
