@@ -59,6 +59,7 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
                    display.framebuffer());
     report.msaa = target.samples();
     report.msaa_auto = config.msaa == kAutoMsaa;
+    report.direct = target.float_target() == nullptr;
     const Bounds bounds = mesh_bounds(mesh);
 
     using Clock = std::chrono::steady_clock;
@@ -120,8 +121,9 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
 
 std::string format_benchmark(const BenchmarkReport& r) {
     std::string out = fmt::format(
-        "benchmark: {} vertices, {} triangles, K={}, {}x{}, {}x MSAA{}, k={}{}; {}\n", r.vertices,
-        r.triangles, r.K, r.width, r.height, r.msaa, r.msaa_auto ? " (automatic)" : "", r.k,
+        "benchmark: {} vertices, {} triangles, K={}, {}x{}, {}x MSAA{}, {}, k={}{}; {}\n",
+        r.vertices, r.triangles, r.K, r.width, r.height, r.msaa, r.msaa_auto ? " (automatic)" : "",
+        r.direct ? "drawn straight to 8 bits" : "float target + present", r.k,
         r.rotate_light ? ", light turned every frame" : "", r.context);
     if (!r.transfer.empty()) out += r.transfer + "\n";
     for (const auto& row : r.rows) {

@@ -50,8 +50,11 @@ struct BenchmarkReport {
     int K = 0;  // the file's (and the light's) K
     int width = 0, height = 0, msaa = 0;
     bool msaa_auto = false;  // msaa chosen by choose_samples, not by --msaa
-    double k = 1;            // diffuse share drawn
-    std::string transfer;    // glossy: describe_gpu_transfer and the BRDF ("" for vectors)
+    // Frames drawn straight into the 8-bit target (Renderer::draw_to_display), not through a
+    // float target and the present pass (FrameTarget).
+    bool direct = false;
+    double k = 1;          // diffuse share drawn
+    std::string transfer;  // glossy: describe_gpu_transfer and the BRDF ("" for vectors)
     bool rotate_light = false;
     std::vector<BenchmarkRow> rows;
     // Mean frame time at K' = 256 over that at K' = 32; 0 when either was skipped.
