@@ -212,7 +212,8 @@ public:
     // buffer), each fragment scaled by `exposure`, tone mapped and sRGB-encoded by the same GLSL
     // as present (the clear colour by display_encode8 on the host). No float target is drawn or
     // read: on a software rasteriser the present pass is about a third of a simple frame
-    // (bench/RESULTS.md "Viewer"). Throws what draw and present throw.
+    // (bench/RESULTS.md, "Single-sample frames without the present pass"). Throws what draw and
+    // present throw.
     void draw_to_display(const DrawSettings& settings, int width, int height, float exposure);
 
 private:
