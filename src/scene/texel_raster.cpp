@@ -15,31 +15,31 @@
 namespace shprt {
 namespace {
 
-struct P2 {
+struct UvPoint {
     double x, y;
 };
 
-double cross2(P2 a, P2 b) { return a.x * b.y - a.y * b.x; }
-P2 sub(P2 a, P2 b) { return {a.x - b.x, a.y - b.y}; }
+double cross2(UvPoint a, UvPoint b) { return a.x * b.y - a.y * b.x; }
+UvPoint sub(UvPoint a, UvPoint b) { return {a.x - b.x, a.y - b.y}; }
 
 // A triangle in texel space (x right, y down; texel (x, y) is the unit square at (x, y)).
 struct UvTriangle {
-    std::array<P2, 3> p;
+    std::array<UvPoint, 3> p;
     double area2 = 0;  // twice the signed area
     double sign = 1;   // of area2: edge functions are multiplied by it so inside is positive
 
     // Barycentrics of `q`: (λ_0, λ_1, λ_2), summing to 1.
-    std::array<double, 3> barycentric(P2 q) const {
+    std::array<double, 3> barycentric(UvPoint q) const {
         const double inv = 1.0 / std::abs(area2);
         return {sign * cross2(sub(p[2], p[1]), sub(q, p[1])) * inv,
                 sign * cross2(sub(p[0], p[2]), sub(q, p[2])) * inv,
                 sign * cross2(sub(p[1], p[0]), sub(q, p[0])) * inv};
     }
     // Whether the unit texel square centred at `c` overlaps the triangle (closed test).
-    bool overlaps_texel(P2 c) const {
+    bool overlaps_texel(UvPoint c) const {
         for (int e = 0; e < 3; ++e) {
-            const P2 a = p[e], b = p[(e + 1) % 3];
-            const P2 d = sub(b, a);
+            const UvPoint a = p[e], b = p[(e + 1) % 3];
+            const UvPoint d = sub(b, a);
             const double f = sign * cross2(d, sub(c, a)) + 0.5 * (std::abs(d.x) + std::abs(d.y));
             if (f < 0) return false;
         }
@@ -83,12 +83,12 @@ TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_se
 
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
         const UvTriangle tri = uv_triangle(t);
-        for (const P2& q : tri.p)
+        for (const UvPoint& q : tri.p)
             SHPRT_CHECK(std::isfinite(q.x) && std::isfinite(q.y), invalid_argument,
                         "{}: triangle {} has a non-finite texture coordinate", name, t);
         if (!(std::abs(tri.area2) > 1e-12)) continue;  // no area in UV space: no texel of its own
         double lo_x = tri.p[0].x, hi_x = lo_x, lo_y = tri.p[0].y, hi_y = lo_y;
-        for (const P2& q : tri.p) {
+        for (const UvPoint& q : tri.p) {
             lo_x = std::min(lo_x, q.x), hi_x = std::max(hi_x, q.x);
             lo_y = std::min(lo_y, q.y), hi_y = std::max(hi_y, q.y);
         }
@@ -98,7 +98,7 @@ TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_se
         const auto y1 = static_cast<long long>(std::min(double(H) - 1, std::ceil(hi_y) - 1));
         for (long long y = y0; y <= y1; ++y)
             for (long long x = x0; x <= x1; ++x) {
-                const P2 c{double(x) + 0.5, double(y) + 0.5};
+                const UvPoint c{double(x) + 0.5, double(y) + 0.5};
                 if (!tri.overlaps_texel(c)) continue;
                 const auto l = tri.barycentric(c);
                 const double least = std::min({l[0], l[1], l[2]});
