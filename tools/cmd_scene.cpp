@@ -68,6 +68,7 @@ const char* summary(const std::string& name) {
     if (name == "corner") return "An inner 90-degree corner: floor y = 0 and wall x = 0";
     if (name == "room") return "The paper's furnished room (open top; --ceiling closes it)";
     if (name == "quad_box") return "Low poly with UVs: a two-triangle floor and a box on it";
+    if (name == "gloss_spheres") return "Four spheres on a floor, each with its own glossy BRDF";
     return "A built-in scene";
 }
 

@@ -85,6 +85,9 @@ std::size_t split_edges(Mesh& mesh, std::vector<Edge> edges,
             mesh.uvs.push_back({(p[0] + q[0]) * 0.5f, (p[1] + q[1]) * 0.5f});
         }
         if (!mesh.source_vertex.empty()) mesh.source_vertex.push_back(Mesh::kNoParent);
+        // The two ends of an edge share a material (the loader never joins vertices across
+        // materials): the first end's BRDF.
+        if (!mesh.brdf_index.empty()) mesh.brdf_index.push_back(mesh.brdf_index[e[0]]);
         mesh.parents.push_back(e);
     }
     const auto dist2 = [&](std::uint32_t a, std::uint32_t b) {

@@ -10,7 +10,6 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/parallel.hpp"
-#include "shprt/core/parse.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 
@@ -20,23 +19,8 @@
 namespace shprt {
 namespace {
 
-// Lowest GGX roughness: narrower lobes need more quadrature nodes than the fit uses (and far
-// more bands than a transfer matrix has).
-constexpr double kMinGgxRoughness = 0.05;
 // Quadrature nodes per half of [−1, 1] for the numerically fitted lobes.
 constexpr int kLobeNodes = 1024;
-
-void check_brdf(const Brdf& b) {
-    if (b.model == BrdfModel::ggx) {
-        SHPRT_CHECK(
-            std::isfinite(b.parameter) && b.parameter >= kMinGgxRoughness && b.parameter <= 1,
-            invalid_argument, "ggx roughness {} must be in [{}, 1]", b.parameter, kMinGgxRoughness);
-    } else {
-        SHPRT_CHECK(std::isfinite(b.parameter) && b.parameter >= 0 && b.parameter <= 1e4,
-                    invalid_argument, "{} exponent {} must be in [0, 10000]",
-                    b.model == BrdfModel::phong ? "phong" : "blinn", b.parameter);
-    }
-}
 
 // The lobe profile before normalisation.
 double raw_profile(const Brdf& b, double x) {
@@ -71,33 +55,6 @@ Vec3d reflect_view(const Vec3d& n, const Vec3d& p, const Vec3d& eye) {
 
 }  // namespace
 
-Brdf parse_brdf(const std::string& spec) {
-    const std::size_t colon = spec.find(':');
-    SHPRT_CHECK(colon != std::string::npos, invalid_argument,
-                "--brdf '{}': expected phong:E, blinn:E or ggx:R", spec);
-    const std::string name = spec.substr(0, colon);
-    Brdf b;
-    if (name == "phong")
-        b.model = BrdfModel::phong;
-    else if (name == "blinn")
-        b.model = BrdfModel::blinn_phong;
-    else if (name == "ggx")
-        b.model = BrdfModel::ggx;
-    else
-        fail(ErrorCode::invalid_argument, "--brdf '{}': unknown model '{}' (phong, blinn or ggx)",
-             spec, name);
-    b.parameter = parse_numbers(spec.substr(colon + 1), 1, "--brdf " + spec)[0];
-    check_brdf(b);
-    return b;
-}
-
-std::string to_string(const Brdf& b) {
-    const char* name = b.model == BrdfModel::phong         ? "phong"
-                       : b.model == BrdfModel::blinn_phong ? "blinn"
-                                                           : "ggx";
-    return fmt::format("{}:{}", name, b.parameter);
-}
-
 double BrdfProfile::operator()(double x) const { return scale * raw_profile(brdf, x); }
 
 BrdfProfile brdf_profile(const Brdf& brdf) {
@@ -116,6 +73,20 @@ BrdfLobe brdf_lobe(const Brdf& brdf, int bands) {
     for (double z : lobe.zonal) kept += z * z;
     lobe.fit_error = norm2 > 0 ? std::sqrt(std::max(0.0, norm2 - kept) / norm2) : 0;
     return lobe;
+}
+
+std::vector<Brdf> brdf_table(const Mesh& mesh, bool material_brdfs, const Brdf& brdf) {
+    check_brdf(brdf);
+    std::vector<Brdf> table{brdf};
+    if (!material_brdfs || mesh.brdf_index.empty()) return table;
+    SHPRT_CHECK(mesh.brdf_index.size() == mesh.vertex_count(), invalid_argument,
+                "{} BRDF indices for {} vertices", mesh.brdf_index.size(), mesh.vertex_count());
+    for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
+        SHPRT_CHECK(mesh.brdf_index[v] == Mesh::kNoBrdf || mesh.brdf_index[v] < mesh.brdfs.size(),
+                    invalid_argument, "vertex {} has BRDF index {} but the mesh has {} BRDFs", v,
+                    mesh.brdf_index[v], mesh.brdfs.size());
+    table.insert(table.end(), mesh.brdfs.begin(), mesh.brdfs.end());
+    return table;
 }
 
 void check_glossy_shadable(const Mesh& mesh, const TransferSet& transfer) {
@@ -152,7 +123,9 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
     }
     const int K = effective_basis_size(transfer, light, options.K_used);
     const int bands = sh_bands_for(K);
-    const std::vector<double> lobe = brdf_lobe(options.brdf, bands).zonal;
+    std::vector<std::vector<double>> lobes;  // per brdf_table entry
+    for (const Brdf& b : brdf_table(mesh, options.material_brdfs, options.brdf))
+        lobes.push_back(brdf_lobe(b, bands).zonal);
     const std::vector<double> cosine = clamped_cosine_zonal(bands);
     const Vec3d eye = cast<double>(options.eye);
     const int Kt = transfer.layout.K;
@@ -221,6 +194,8 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
             const Vec3d p = cast<double>(mesh.positions[v]);
             const Vec3d n = normalize(cast<double>(mesh.normals[v]));
             rotate_zonal(cosine.data(), K, n, a.data());
+            const std::vector<double>& lobe =
+                lobes[brdf_table_index(mesh, options.material_brdfs, v)];
             rotate_zonal(lobe.data(), K, reflect_view(n, p, eye), g.data());
             const Vec3f albedo = mesh.albedo[v];
             const Vec3f diffuse_colour = options.albedo ? *options.albedo : albedo;

@@ -39,6 +39,31 @@ Mesh make_sphere() {
     return b.take_mesh("builtin:sphere");
 }
 
+// Four spheres on a floor, one glossy BRDF each (the floor has none): what per-material BRDFs
+// look like (docs/glossy.md).
+Mesh make_gloss_spheres() {
+    MeshBuilder b;
+    b.add_rect(Axis::y, 0.0, +1, {-1.75, 1.75, -3.5, 3.5}, 0.125, kGrey);  // (a, b) = (z, x)
+    const Brdf brdfs[] = {{BrdfModel::phong, 2},
+                          {BrdfModel::ggx, 0.8},
+                          {BrdfModel::blinn_phong, 32},
+                          {BrdfModel::ggx, 0.5}};
+    const Vec3f colours[] = {
+        {0.8f, 0.25f, 0.2f}, {0.85f, 0.6f, 0.15f}, {0.25f, 0.6f, 0.3f}, {0.2f, 0.35f, 0.8f}};
+    std::vector<std::size_t> first;  // each sphere's first vertex
+    for (int i = 0; i < 4; ++i) {
+        first.push_back(b.vertex_count());
+        b.add_icosphere({-2.4 + 1.6 * i, 0.65, 0}, 0.65, 3, colours[i]);
+    }
+    Mesh mesh = b.take_mesh("builtin:gloss_spheres");
+    mesh.brdfs.assign(std::begin(brdfs), std::end(brdfs));
+    mesh.brdf_index.assign(mesh.vertex_count(), Mesh::kNoBrdf);
+    first.push_back(mesh.vertex_count());
+    for (std::size_t i = 0; i < 4; ++i)
+        for (std::size_t v = first[i]; v < first[i + 1]; ++v) mesh.brdf_index[v] = std::uint32_t(i);
+    return mesh;
+}
+
 Mesh make_corner() {
     MeshBuilder b;
     const double s = kCornerSize;
@@ -87,7 +112,7 @@ Mesh make_quad_box() {
 }  // namespace
 
 std::vector<std::string> builtin_scene_names() {
-    return {"plane", "box_on_plane", "sphere", "corner", "room", "quad_box"};
+    return {"plane", "box_on_plane", "sphere", "corner", "room", "quad_box", "gloss_spheres"};
 }
 
 Mesh make_builtin(const std::string& name) {
@@ -97,6 +122,7 @@ Mesh make_builtin(const std::string& name) {
     if (name == "corner") return make_corner();
     if (name == "room") return generate_room(RoomOptions{});
     if (name == "quad_box") return make_quad_box();
+    if (name == "gloss_spheres") return make_gloss_spheres();
     std::string names;
     for (const auto& n : builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
     fail(ErrorCode::invalid_argument, "unknown built-in scene '{}' (choose from: {})", name, names);

@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -110,11 +111,15 @@ void prepare_child(std::uint64_t address_space_limit) {
         const ImportedMesh r = work();
         const Mesh& m = r.mesh;
         const std::uint8_t all_normals = r.all_normals ? 1 : 0;
+        // A Brdf has padding: its two fields go as two doubles.
+        std::vector<std::array<double, 2>> brdfs;
+        for (const Brdf& b : m.brdfs) brdfs.push_back({double(int(b.model)), b.parameter});
         (void)(write_value(fd, kResultTag) && write_value(fd, all_normals) &&
                write_value(fd, r.skipped_faces) && write_value(fd, r.albedo_sources) &&
                write_array(fd, m.positions) && write_array(fd, m.normals) &&
                write_array(fd, m.albedo) && write_array(fd, m.triangles) &&
-               write_array(fd, m.source_vertex) && write_array(fd, m.uvs));
+               write_array(fd, m.source_vertex) && write_array(fd, m.uvs) &&
+               write_array(fd, brdfs) && write_array(fd, m.brdf_index));
     } catch (const Error& e) {
         write_error(fd, e.code(), e.what());
     } catch (const std::bad_alloc&) {
@@ -215,10 +220,16 @@ ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_b
     if (in.value(tag) && tag == kResultTag) {
         std::uint8_t all_normals = 0;
         Mesh& m = r.mesh;
+        std::vector<std::array<double, 2>> brdfs;
         complete = in.value(all_normals) && in.value(r.skipped_faces) &&
                    in.value(r.albedo_sources) && in.array(m.positions) && in.array(m.normals) &&
                    in.array(m.albedo) && in.array(m.triangles) && in.array(m.source_vertex) &&
-                   in.array(m.uvs);
+                   in.array(m.uvs) && in.array(brdfs) && in.array(m.brdf_index);
+        for (const auto& [model, parameter] : brdfs) {
+            const bool known = model == 0 || model == 1 || model == 2;  // BrdfModel's values
+            complete = complete && known;
+            if (known) m.brdfs.push_back({static_cast<BrdfModel>(int(model)), parameter});
+        }
         r.all_normals = all_normals != 0;
     } else if (tag == kErrorTag) {
         std::uint32_t code = 0;

@@ -110,6 +110,32 @@ Vec3f material_albedo(const aiScene& scene, const aiMesh& mesh, bool& found) {
     return grey;
 }
 
+// The material's glossy lobe, or none: GGX with the material's roughness factor (glTF's
+// metallic-roughness, and other PBR materials Assimp reads), else a Phong lobe with its shininess
+// exponent (Blinn–Phong for a Blinn shading model) where the exponent is positive (OBJ's Ns,
+// Collada's and FBX's shininess). Parameters are clamped into check_brdf's ranges.
+std::optional<Brdf> material_brdf(const aiScene& scene, const aiMesh& mesh) {
+    if (!scene.mMaterials || mesh.mMaterialIndex >= scene.mNumMaterials) return std::nullopt;
+    const aiMaterial* material = scene.mMaterials[mesh.mMaterialIndex];
+    if (!material) return std::nullopt;
+    aiString name;
+    if (material->Get(AI_MATKEY_NAME, name) == AI_SUCCESS &&
+        std::strcmp(name.C_Str(), AI_DEFAULT_MATERIAL_NAME) == 0)
+        return std::nullopt;
+    float value = 0;
+    if (material->Get(AI_MATKEY_ROUGHNESS_FACTOR, value) == AI_SUCCESS && std::isfinite(value))
+        return Brdf{BrdfModel::ggx, std::clamp(double(value), kMinGgxRoughness, 1.0)};
+    if (material->Get(AI_MATKEY_SHININESS, value) == AI_SUCCESS && std::isfinite(value) &&
+        value > 0) {
+        int model = 0;
+        const bool blinn = material->Get(AI_MATKEY_SHADING_MODEL, model) == AI_SUCCESS &&
+                           model == aiShadingMode_Blinn;
+        return Brdf{blinn ? BrdfModel::blinn_phong : BrdfModel::phong,
+                    std::min(double(value), kMaxBrdfExponent)};
+    }
+    return std::nullopt;
+}
+
 bool usable_normal(const aiVector3D& n) {
     return std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z) &&
            (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f);
@@ -152,6 +178,14 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
         bool from_material = false;
         const Vec3f flat = use_material ? material_albedo(scene, *mesh, from_material)
                                         : Vec3f{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
+        // The material's BRDF, as an index into out.brdfs (each distinct BRDF once).
+        std::uint32_t brdf = Mesh::kNoBrdf;
+        if (const std::optional<Brdf> b =
+                use_material ? material_brdf(scene, *mesh) : std::nullopt) {
+            const auto found = std::find(out.brdfs.begin(), out.brdfs.end(), *b);
+            brdf = static_cast<std::uint32_t>(found - out.brdfs.begin());
+            if (found == out.brdfs.end()) out.brdfs.push_back(*b);
+        }
         const aiColor4D* colours = mesh->mColors[0];
         const aiVector3D* uvs = mesh->mTextureCoords[uv_set];
         all_uvs = all_uvs && uvs != nullptr;
@@ -164,8 +198,8 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
             mesh->mMaterialIndex < scene.mNumMaterials && scene.mMaterials[mesh->mMaterialIndex]) {
             unsigned texture_uv_set = 0;
             bool failed = false;
-            texture = textures.find(*scene.mMaterials[mesh->mMaterialIndex], texture_uv_set,
-                                    factor, failed);
+            texture = textures.find(*scene.mMaterials[mesh->mMaterialIndex], texture_uv_set, factor,
+                                    failed);
             if (failed) result.albedo_sources |= detail::kAlbedoTextureUnreadable;
             texture_uvs = texture_uv_set < AI_MAX_NUMBER_OF_TEXTURECOORDS
                               ? mesh->mTextureCoords[texture_uv_set]
@@ -202,6 +236,7 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
                 out.albedo.push_back(flat);
             }
             out.source_vertex.push_back(static_cast<std::uint32_t>(base[inst.mesh] + v));
+            out.brdf_index.push_back(brdf);
             if (all_uvs) out.uvs.push_back({uvs[v].x, uvs[v].y});
         }
         for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
@@ -227,6 +262,7 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
         }
     }
     if (!all_uvs) out.uvs.clear();
+    if (out.brdfs.empty()) out.brdf_index.clear();  // no material gives a BRDF
     return result;
 }
 

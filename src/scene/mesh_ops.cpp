@@ -79,6 +79,20 @@ void compute_vertex_normals_by_position(Mesh& mesh) {
     weighted_normals(mesh, &group, ids.size());
 }
 
+std::string describe_brdfs(const Mesh& mesh) {
+    if (mesh.brdf_index.empty()) return "none";
+    std::vector<std::size_t> count(mesh.brdfs.size() + 1, 0);  // the last: kNoBrdf
+    for (std::uint32_t i : mesh.brdf_index) ++count[std::min<std::size_t>(i, mesh.brdfs.size())];
+    std::string out;
+    for (std::size_t i = 0; i < count.size(); ++i) {
+        if (count[i] == 0) continue;
+        out += fmt::format("{}{} ({} vert{})", out.empty() ? "" : ", ",
+                           i < mesh.brdfs.size() ? to_string(mesh.brdfs[i]) : "none", count[i],
+                           count[i] == 1 ? "ex" : "ices");
+    }
+    return out;
+}
+
 void validate_mesh(Mesh& mesh, const std::string& name) {
     const std::size_t nv = mesh.positions.size();
     SHPRT_CHECK(nv > 0, format, "{}: empty mesh (no vertices)", name);
@@ -96,6 +110,12 @@ void validate_mesh(Mesh& mesh, const std::string& name) {
                 "{}: {} texture coordinates for {} vertices", name, mesh.uvs.size(), nv);
     SHPRT_CHECK(mesh.parents.empty() || mesh.parents.size() == nv, invalid_argument,
                 "{}: {} vertex parents for {} vertices", name, mesh.parents.size(), nv);
+    SHPRT_CHECK(mesh.brdf_index.empty() || mesh.brdf_index.size() == nv, invalid_argument,
+                "{}: {} BRDF indices for {} vertices", name, mesh.brdf_index.size(), nv);
+    for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
+        SHPRT_CHECK(mesh.brdf_index[v] == Mesh::kNoBrdf || mesh.brdf_index[v] < mesh.brdfs.size(),
+                    format, "{}: vertex {} has BRDF index {} but the scene has {} BRDFs", name, v,
+                    mesh.brdf_index[v], mesh.brdfs.size());
 
     for (std::size_t v = 0; v < nv; ++v) {
         const Vec3f p = mesh.positions[v];

@@ -107,6 +107,7 @@ UvAtlasInfo make_uv_atlas(Mesh& mesh, const UvAtlasOptions& options) {
         if (!mesh.albedo.empty()) mesh.albedo.push_back(mesh.albedo[v]);
         if (!mesh.source_vertex.empty()) mesh.source_vertex.push_back(mesh.source_vertex[v]);
         if (!mesh.parents.empty()) mesh.parents.push_back(mesh.parents[v]);
+        if (!mesh.brdf_index.empty()) mesh.brdf_index.push_back(mesh.brdf_index[v]);
         return n;
     };
     for (std::size_t t = 0; t < T; ++t) {

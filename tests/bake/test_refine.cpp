@@ -57,7 +57,10 @@ void expect_conforming(const Mesh& mesh, double area) {
 }
 
 TEST(Refine, SplitsStayConformingAndKeepIndices) {
-    const Mesh input = coarse_box_scene();
+    Mesh input = coarse_box_scene();
+    input.brdfs = {Brdf{BrdfModel::phong, 8}, Brdf{BrdfModel::ggx, 0.5}};
+    for (std::size_t v = 0; v < input.vertex_count(); ++v)
+        input.brdf_index.push_back(v % 3 == 2 ? Mesh::kNoBrdf : std::uint32_t(v % 3));
     const double area = mesh_surface_area(input);
     Mesh mesh = input;
     for (int round = 0; round < 4; ++round) {
@@ -83,7 +86,9 @@ TEST(Refine, SplitsStayConformingAndKeepIndices) {
         ASSERT_LT(b, v);
         const Vec3f mid = (mesh.positions[a] + mesh.positions[b]) * 0.5f;
         EXPECT_EQ(mesh.positions[v], mid);
+        EXPECT_EQ(mesh.brdf_index[v], mesh.brdf_index[a]);  // the material of its edge's first end
     }
+    EXPECT_EQ(mesh.brdf_index.size(), mesh.vertex_count());
     EXPECT_THROW(split_edges(mesh, {{0, std::uint32_t(mesh.vertex_count() - 1)}}), Error);
 }
 

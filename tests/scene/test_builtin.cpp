@@ -22,7 +22,7 @@ using test::expect_valid_generated;
 TEST(SceneBuiltin, NamesAndUnknownName) {
     const auto names = builtin_scene_names();
     EXPECT_EQ(names, (std::vector<std::string>{"plane", "box_on_plane", "sphere", "corner", "room",
-                                               "quad_box"}));
+                                               "quad_box", "gloss_spheres"}));
     try {
         make_builtin("nope");
         FAIL() << "no error";
@@ -56,6 +56,30 @@ TEST(SceneBuiltin, EachIsValidWithDocumentedCounts) {
         }
         for (const Vec3f& a : m.albedo)
             EXPECT_EQ(a, (Vec3f{kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo}));
+    }
+}
+
+TEST(SceneBuiltin, GlossSpheresGiveEachSphereItsBrdf) {
+    const Mesh m = make_builtin("gloss_spheres");
+    expect_valid_generated(m);
+    const std::size_t floor = 29 * 57;  // 28 × 56 cells of 0.125 m
+    ASSERT_EQ(m.vertex_count(), floor + 4 * 642u);
+    EXPECT_EQ(m.triangle_count(), 2 * 28 * 56 + 4 * 1280u);
+    ASSERT_EQ(m.brdfs.size(), 4u);
+    EXPECT_EQ(m.brdfs[3], (Brdf{BrdfModel::ggx, 0.5}));
+    ASSERT_EQ(m.brdf_index.size(), m.vertex_count());
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        SCOPED_TRACE(v);
+        if (v < floor) {
+            EXPECT_EQ(m.brdf_index[v], Mesh::kNoBrdf);
+            EXPECT_EQ(m.positions[v].y, 0.0f);
+            continue;
+        }
+        const std::uint32_t sphere = std::uint32_t((v - floor) / 642);
+        EXPECT_EQ(m.brdf_index[v], sphere);
+        // On sphere i, centred at x = -2.4 + 1.6 i.
+        const Vec3f c{-2.4f + 1.6f * float(sphere), 0.65f, 0};
+        EXPECT_NEAR(length(m.positions[v] - c), 0.65f, 1e-5f);
     }
 }
 

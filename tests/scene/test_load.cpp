@@ -206,6 +206,32 @@ TEST(SceneLoad, GltfNodeTransformsInstancesAndBaseColour) {
     for (std::size_t t = 0; t < 2; ++t) EXPECT_NEAR(face_normal(m, t).y, 1.0f, kNormalTol);
 }
 
+TEST(SceneLoad, MaterialsGiveGlossyBrdfsPerVertex) {
+    // OBJ: Ns is a Phong exponent (clamped to check_brdf's range); a material without Ns, none.
+    const Mesh obj = load_scene(kData + "glossy_materials.obj");
+    ASSERT_EQ(obj.vertex_count(), 9u);
+    ASSERT_EQ(obj.brdf_index.size(), 9u);
+    ASSERT_EQ(obj.brdfs.size(), 2u);
+    EXPECT_EQ(obj.brdfs[0], (Brdf{BrdfModel::phong, 64}));
+    EXPECT_EQ(obj.brdfs[1], (Brdf{BrdfModel::phong, kMaxBrdfExponent}));
+    for (int v = 0; v < 9; ++v) {
+        const std::uint32_t expected = v < 3 ? 0u : v < 6 ? Mesh::kNoBrdf : 1u;
+        EXPECT_EQ(obj.brdf_index[v], expected) << "vertex " << v;
+    }
+    EXPECT_EQ(describe_brdfs(obj),
+              "phong:64 (3 vertices), phong:10000 (3 vertices), none (3 vertices)");
+    // glTF: the metallic-roughness material's roughness, as GGX; both instances share it.
+    const Mesh gltf = load_scene(kData + "rough_instanced.gltf");
+    ASSERT_EQ(gltf.brdfs.size(), 1u);
+    EXPECT_EQ(gltf.brdfs[0].model, BrdfModel::ggx);
+    EXPECT_NEAR(gltf.brdfs[0].parameter, 0.4, 1e-6);
+    EXPECT_EQ(gltf.brdf_index, std::vector<std::uint32_t>(6, 0u));
+    // No material gives one: both empty (a PLY, and Assimp's placeholder material of an OBJ
+    // without a library).
+    EXPECT_TRUE(load_scene(kData + "square_no_normals.obj").brdf_index.empty());
+    EXPECT_TRUE(load_scene(kData + "order.ply").brdfs.empty());
+}
+
 TEST(SceneLoad, ColladaZUpBecomesYUp) {
     // The document's up axis (+Z) maps to +Y through the root node's transform: (x, y, z) in the
     // file lands at (x, z, -y).

@@ -102,6 +102,9 @@ TEST(UvAtlas, SplitsSharedVerticesKeepingTheOriginals) {
     MeshBuilder b;
     b.add_icosphere({0, 0, 0}, 1.0, 2, {0.5f, 0.5f, 0.5f});
     Mesh sphere = b.take_mesh("sphere");
+    sphere.brdfs = {Brdf{BrdfModel::ggx, 0.5}};
+    for (std::size_t v = 0; v < sphere.vertex_count(); ++v)
+        sphere.brdf_index.push_back(v % 2 == 0 ? 0u : Mesh::kNoBrdf);
     const Mesh before = sphere;
     const UvAtlasInfo info = make_uv_atlas(sphere);
     EXPECT_GT(info.charts, 2u);
@@ -109,10 +112,15 @@ TEST(UvAtlas, SplitsSharedVerticesKeepingTheOriginals) {
     ASSERT_EQ(sphere.vertex_count(), before.vertex_count() + info.added_vertices);
     for (std::size_t v = 0; v < before.vertex_count(); ++v)
         ASSERT_EQ(sphere.positions[v], before.positions[v]);
-    for (std::size_t t = 0; t < sphere.triangle_count(); ++t)
-        for (int k = 0; k < 3; ++k)
+    for (std::size_t t = 0; t < sphere.triangle_count(); ++t) {
+        for (int k = 0; k < 3; ++k) {
             ASSERT_EQ(sphere.positions[sphere.triangles[t][k]],
                       before.positions[before.triangles[t][k]]);
+            // A split vertex keeps its original's material BRDF.
+            ASSERT_EQ(sphere.brdf_index[sphere.triangles[t][k]],
+                      before.brdf_index[before.triangles[t][k]]);
+        }
+    }
     EXPECT_NO_THROW(rasterize_texels(sphere, 512, 512));
     // Deterministic.
     Mesh again = before;

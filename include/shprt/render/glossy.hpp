@@ -8,7 +8,8 @@
 //
 //   T_c   = M_v · L_c                     the shadowed incident radiance (SH, K' coefficients)
 //   a(n)  = the clamped cosine lobe rotated to n (rotate_zonal of clamped_cosine_zonal)
-//   g(r)  = the BRDF's zonal lobe (brdf_lobe) rotated to r
+//   g(r)  = the BRDF's zonal lobe (brdf_lobe) rotated to r: the vertex's material's BRDF
+//           (Mesh::brdfs) with material_brdfs, where it has one, else options.brdf
 //   E_c   = ⟨a(n), T_c⟩                   irradiance
 //   L_c   = ρ_d,c/π · E_c + ρ_s,c · ⟨g(r), T_c⟩
 //   ρ_d   = k · (albedo override, else the vertex albedo),  ρ_s = (1 − k) · (albedo override,
@@ -33,27 +34,16 @@
 #include "shprt/core/vec.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/render/shade.hpp"
+#include "shprt/scene/material.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/transfer/transfer.hpp"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace shprt {
-
-enum class BrdfModel { phong, blinn_phong, ggx };
-
-struct Brdf {
-    BrdfModel model = BrdfModel::phong;
-    double parameter = kDefaultGloss;  // Phong/Blinn exponent E ≥ 0, or GGX roughness R in (0, 1]
-    bool operator==(const Brdf&) const = default;
-};
-
-// "phong:E", "blinn:E" or "ggx:R"; throws Error(invalid_argument) naming `spec` and the problem.
-Brdf parse_brdf(const std::string& spec);
-// The spec parse_brdf reads, e.g. "ggx:0.3".
-std::string to_string(const Brdf& brdf);
 
 // The normalised lobe profile f(x) above (∫ f dω = 1 over the sphere), x = cos θ from the axis:
 // brdf_profile(b)(x). The normalisation is computed once, when the profile is made.
@@ -73,12 +63,24 @@ struct BrdfLobe {
 BrdfLobe brdf_lobe(const Brdf& brdf, int bands);
 
 struct GlossyShadeOptions {
+    // The lobe of every vertex; with material_brdfs, of the vertices whose material gives none.
     Brdf brdf;
+    // Vertices whose material gives a BRDF (Mesh::brdfs, brdf_index) are shaded with it.
+    bool material_brdfs = false;
     double k = 0.5;               // diffuse share in [0, 1]
     std::optional<Vec3f> albedo;  // override of both ρ colours (linear, 0..1)
     Vec3f eye{0, 0, 0};           // world-space eye position
     int K_used = 0;               // first K' coefficients; 0 = all available
 };
+
+// The BRDFs glossy shading uses: [0] is options.brdf, and with options.material_brdfs 1 + i is
+// the mesh's BRDF i; brdf_table_index(mesh, material_brdfs, v) is vertex v's entry. Throws
+// Error(invalid_argument) for a bad BRDF, or BRDF indices that do not fit the mesh.
+std::vector<Brdf> brdf_table(const Mesh& mesh, bool material_brdfs, const Brdf& brdf);
+inline std::uint32_t brdf_table_index(const Mesh& mesh, bool material_brdfs, std::size_t v) {
+    if (!material_brdfs || mesh.brdf_index.empty() || mesh.brdf_index[v] == Mesh::kNoBrdf) return 0;
+    return mesh.brdf_index[v] + 1;
+}
 
 // Checks that `transfer` is a glossy matrix set for `mesh`: transfer.check(mesh) and a symmetric
 // matrix per receiver, one channel; otherwise Error(invalid_argument) ("… is diffuse (vector)

@@ -37,8 +37,6 @@ namespace shprt {
 
 // Lower clamp of cos η in the glossy term's division (see above).
 inline constexpr double kMinCosEta = 0.1;
-// Default Phong exponent of the glossy lobe (`--gloss`).
-inline constexpr double kDefaultGloss = 16.0;
 
 struct ShadeOptions {
     double k = 1.0;                // diffuse share in [0, 1]; 1 = pure diffuse (L_S not computed)

@@ -19,6 +19,10 @@
 //                 triangles (24 vertices, 12 triangles); one UV atlas without overlaps (floor in
 //                 [0, 0.7]^2, the faces in 0.2-wide tiles). Per-vertex transfer shows no shadow
 //                 on its floor; per-texel transfer does (docs/texels.md).
+//   gloss_spheres four coloured spheres of radius 0.65 (icospheres of level 3) on a grey floor
+//                 x in [-3.5, 3.5], z in [-1.75, 1.75]; each sphere's material gives a glossy
+//                 BRDF (Mesh::brdfs: phong:2, ggx:0.8, blinn:32, ggx:0.5, left to right), the
+//                 floor none (docs/glossy.md, "Per-material BRDFs").
 #pragma once
 
 #include "shprt/core/vec.hpp"

@@ -33,6 +33,10 @@ namespace shprt {
 //     cannot be read gives one warning and the material's colour), else the material's base or
 //     diffuse colour, else kDefaultAlbedo grey (also for Assimp's placeholder material);
 //     Mesh::albedo_source says which;
+//   * glossy BRDFs from the materials (Mesh::brdfs, brdf_index): GGX with the material's
+//     roughness factor (glTF's metallic-roughness), else Phong with its shininess exponent
+//     (Blinn–Phong for a Blinn shading model) where that is positive (OBJ's Ns); a material with
+//     neither gives none (kNoBrdf), and so does Assimp's placeholder;
 //   * texture coordinates: UV set `uv_set` (Assimp's mTextureCoords[uv_set], its u and v) when
 //     every mesh of the file has that set, else none (Mesh::uvs empty);
 //   * the result passes validate_mesh (degenerate triangles dropped with a warning).

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "shprt/core/vec.hpp"
+#include "shprt/scene/material.hpp"
 
 #include <array>
 #include <cstdint>
@@ -29,6 +30,13 @@ struct Mesh {
     // file's vertex i is vertex i); for other formats, the index Assimp produced across the
     // scene's meshes in order. Empty for generated scenes (identity).
     std::vector<std::uint32_t> source_vertex;
+    // The glossy BRDFs the scene's materials give (load_scene reads them from the file), and per
+    // vertex the index of its material's BRDF in `brdfs`, or kNoBrdf where the material gives
+    // none; both empty when no material gives one. Glossy shading uses them unless a BRDF is
+    // given for the whole scene (`--brdf`). Not part of the scene hash.
+    std::vector<Brdf> brdfs;
+    std::vector<std::uint32_t> brdf_index;
+    static constexpr std::uint32_t kNoBrdf = 0xFFFFFFFFu;
     std::string source;  // file path or "builtin:NAME"
     // Where `albedo` came from, for people (`shprt info`): "vertex colours", "material diffuse
     // colour", "default 0.8 grey", "builtin scene colours", "--albedo R,G,B", a mix ("vertex
