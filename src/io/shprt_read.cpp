@@ -44,6 +44,7 @@ namespace {
 using Json = nlohmann::json;
 
 constexpr int kMaxJsonDepth = 16;
+constexpr std::size_t kMaxBrdfs = 1 << 16;  // materials' BRDFs in metadata scene.brdfs
 constexpr std::size_t kMaxSections = 16;
 constexpr std::size_t kReadChunk = std::size_t(1) << 20;
 
@@ -381,6 +382,22 @@ ShprtFile Reader::read(bool allow_part) {
     const std::string recorded_hash = scene.string("hash");
     const std::uint64_t V = scene.u64("vertices");
     const std::uint64_t T = scene.u64("triangles");
+    // The materials' BRDFs (with a brdf_index section only).
+    if (scene.obj.contains("brdfs")) {
+        const Json& brdfs = scene.get("brdfs");
+        if (!brdfs.is_array() || brdfs.size() > kMaxBrdfs)
+            corrupt(m_path, "metadata.scene: 'brdfs' must be an array of at most {} specs",
+                    kMaxBrdfs);
+        for (const Json& spec : brdfs) {
+            if (!spec.is_string())
+                corrupt(m_path, "metadata.scene.brdfs: {} is not a BRDF spec", spec.dump());
+            try {
+                out.mesh.brdfs.push_back(parse_brdf(spec.get<std::string>()));
+            } catch (const Error& e) {
+                corrupt(m_path, "metadata.scene.brdfs: {}", e.what());
+            }
+        }
+    }
     // The rows' receivers (version 2; absent in version 1 files: all vertices).
     std::uint64_t rows = V;
     // The texel domain's receivers are texels (docs/texels.md): their count is receivers.total,
@@ -575,6 +592,12 @@ ShprtFile Reader::read(bool allow_part) {
                         t.texels.texel[i], t.texels.width, t.texels.height);
         check_finite(reinterpret_cast<const float*>(mesh.uvs.data()), 2 * V, "uvs");
     }
+    if (mesh.brdf_index.empty() != mesh.brdfs.empty())
+        corrupt(m_path, "section 'brdf_index' and metadata scene.brdfs come together");
+    for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
+        if (mesh.brdf_index[v] != Mesh::kNoBrdf && mesh.brdf_index[v] >= mesh.brdfs.size())
+            corrupt(m_path, "brdf_index: vertex {} has BRDF {} but scene.brdfs lists {}", v,
+                    mesh.brdf_index[v], mesh.brdfs.size());
     for (std::size_t i = 0; i < mesh.parents.size(); ++i)
         for (std::uint32_t p : mesh.parents[i])
             if (p != Mesh::kNoParent && p >= i)

@@ -100,6 +100,8 @@ const std::array kRules = {
     // Adaptive refinement (bake/refine.hpp): the two ends of the edge each vertex split, or
     // 0xFFFFFFFF twice for a vertex of the scene as loaded.
     rule<MeshArray<&Mesh::parents>>("vertex_parents", S::u32, R::vertices, 2, kOptional),
+    // Per vertex, its material's BRDF in metadata scene.brdfs (or 0xFFFFFFFF: none).
+    rule<MeshArray<&Mesh::brdf_index>>("brdf_index", S::u32, R::vertices, 1, kOptional),
     // Texel domain (docs/texels.md): the mesh's UVs and each receiver's texel.
     rule<UvArray>("uvs", S::f32, R::vertices, 2, kOptional),
     rule<TexelIndexArray>("texel_index", S::u32, R::receivers, 1, kOptional),

@@ -1,6 +1,7 @@
 // Human-readable description of a .shprt file, for `shprt info`.
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include <fmt/format.h>
@@ -64,6 +65,7 @@ std::string shprt_summary(const ShprtFile& file) {
                                        (double(t.texels.width) * double(t.texels.height)),
                                    t.texels.uv_set));
     line("triangles", fmt::format("{}", mesh.triangle_count()));
+    if (!mesh.brdf_index.empty()) line("brdfs", describe_brdfs(mesh) + " (from the materials)");
     if (file.is_part())
         line("receivers",
              fmt::format("[{}, {}) of {}: one part of a sharded bake (join the parts with `shprt "

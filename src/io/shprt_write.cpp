@@ -132,6 +132,11 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
         {"vertices", mesh.positions.size()},
         {"triangles", mesh.triangles.size()},
     };
+    if (!mesh.brdf_index.empty()) {
+        Json brdfs = Json::array();
+        for (const Brdf& b : mesh.brdfs) brdfs.push_back(to_string(b));
+        m["scene"]["brdfs"] = brdfs;
+    }
     // The rows' receivers: all of them, or a shard's range (a part, see shprt_file.hpp).
     const bool texel = t.layout.domain == ReceiverDomain::texel;
     m["receivers"] = {
@@ -190,6 +195,16 @@ void check_mesh(const std::string& path, const Mesh& mesh) {
     SHPRT_CHECK(mesh.source_vertex.empty() || mesh.source_vertex.size() == V, invalid_argument,
                 "{}: mesh has {} positions but {} source_vertex entries", path, V,
                 mesh.source_vertex.size());
+    SHPRT_CHECK(mesh.brdf_index.empty() || mesh.brdf_index.size() == V, invalid_argument,
+                "{}: mesh has {} positions but {} BRDF indices", path, V, mesh.brdf_index.size());
+    for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
+        SHPRT_CHECK(mesh.brdf_index[v] == Mesh::kNoBrdf || mesh.brdf_index[v] < mesh.brdfs.size(),
+                    invalid_argument, "{}: vertex {} has BRDF index {} but the mesh has {} BRDFs",
+                    path, v, mesh.brdf_index[v], mesh.brdfs.size());
+    SHPRT_CHECK(mesh.brdf_index.empty() == mesh.brdfs.empty(), invalid_argument,
+                "{}: the mesh has {} BRDFs and {} BRDF indices (both or neither)", path,
+                mesh.brdfs.size(), mesh.brdf_index.size());
+    for (const Brdf& b : mesh.brdfs) check_brdf(b);
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
         for (std::uint32_t index : mesh.triangles[i])
             SHPRT_CHECK(index < V, invalid_argument,

@@ -27,7 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-// A small scene (16 vertices, 18 triangles, K = 9) with a source_vertex section.
+// A small scene (16 vertices, 18 triangles, K = 9) with source_vertex and brdf_index sections.
 void write_small_file(const std::string& path) {
     Mesh mesh;
     for (int j = 0; j < 4; ++j)
@@ -36,7 +36,9 @@ void write_small_file(const std::string& path) {
             mesh.normals.push_back({0.0f, 1.0f, 0.0f});
             mesh.albedo.push_back({0.5f, 0.25f, float(i + j) / 8.0f});
             mesh.source_vertex.push_back(std::uint32_t(j * 4 + i));
+            mesh.brdf_index.push_back(i == 3 ? Mesh::kNoBrdf : std::uint32_t(i % 2));
         }
+    mesh.brdfs = {Brdf{BrdfModel::phong, 32}, Brdf{BrdfModel::ggx, 0.25}};
     for (std::uint32_t j = 0; j < 3; ++j)
         for (std::uint32_t i = 0; i < 3; ++i) {
             const std::uint32_t v = j * 4 + i;
@@ -398,6 +400,24 @@ TEST_F(IoShprtCorrupt, ContentChecksBehindValidChecksums) {
                  "transfer: value 10 is not finite", "NaN coefficient");
     expect_error(with_section_patch("normals", [&](char* p) { put_f32(p, INFINITY); }),
                  "normals: value 0 is not finite", "inf normal");
+    expect_error(with_section_patch("brdf_index", [&](char* p) { put_u32(p + 8, 2); }),
+                 "brdf_index: vertex 2 has BRDF 2 but scene.brdfs lists 2", "BRDF out of range");
+}
+
+TEST_F(IoShprtCorrupt, MaterialBrdfsAreChecked) {
+    EXPECT_EQ(read_shprt(m_path).mesh.brdfs,
+              (std::vector<Brdf>{{BrdfModel::phong, 32}, {BrdfModel::ggx, 0.25}}));
+    Json meta = m_meta;
+    meta["scene"]["brdfs"][1] = "ggx:7";
+    expect_error(with_metadata(meta), "metadata.scene.brdfs: ggx roughness 7 must be in",
+                 "bad spec");
+    meta["scene"]["brdfs"][1] = 3;
+    expect_error(with_metadata(meta), "metadata.scene.brdfs: 3 is not a BRDF spec", "not text");
+    meta["scene"]["brdfs"] = "phong:3";
+    expect_error(with_metadata(meta), "'brdfs' must be an array", "not an array");
+    meta["scene"].erase("brdfs");
+    expect_error(with_metadata(meta), "section 'brdf_index' and metadata scene.brdfs come together",
+                 "no list");
     // Non-zero padding (triangles take 18·12 = 216 bytes, so 40 bytes of padding follow) and
     // trailing bytes.
     std::string bytes = m_good;

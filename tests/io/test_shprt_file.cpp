@@ -143,6 +143,37 @@ TEST_F(IoShprtFile, RoundTripFloat32IsBitExact) {
         }
 }
 
+TEST_F(IoShprtFile, MaterialBrdfsRoundTripAndAreDescribed) {
+    Scene s = make_scene(4, 9, 1, false);
+    s.mesh.brdfs = {Brdf{BrdfModel::blinn_phong, 0.1 + 0.2}, Brdf{BrdfModel::ggx, 0.05}};
+    for (std::size_t v = 0; v < s.mesh.vertex_count(); ++v)
+        s.mesh.brdf_index.push_back(v < 3 ? Mesh::kNoBrdf : std::uint32_t(v % 2));
+    const std::string file = path("m.shprt");
+    write_shprt(file, s.mesh, s.transfer);
+    const ShprtFile r = read_shprt(file);
+    EXPECT_EQ(r.mesh.brdfs, s.mesh.brdfs);  // 0.1 + 0.2 survives the text spec bit for bit
+    EXPECT_EQ(r.mesh.brdf_index, s.mesh.brdf_index);
+    EXPECT_EQ(format_mesh_hash(mesh_hash(r.mesh)),
+              format_mesh_hash(mesh_hash(make_scene(4, 9, 1, false).mesh)))
+        << "BRDFs are not part of the scene hash";
+    EXPECT_NE(shprt_summary(r).find("brdfs        blinn:0.30000000000000004 (6 vertices), ggx:0.05 "
+                                    "(7 vertices), none (3 vertices) (from the materials)"),
+              std::string::npos)
+        << shprt_summary(r);
+    // Without BRDFs the file has neither the section nor the list.
+    const std::string plain = path("p.shprt");
+    write_shprt(plain, make_scene(4, 9, 1, false).mesh, s.transfer);
+    EXPECT_EQ(read_file(plain).find("brdf"), std::string::npos);
+    // The writer refuses an index past the list, and an index without a list.
+    Mesh bad = s.mesh;
+    bad.brdf_index[5] = 2;
+    EXPECT_THROW(write_shprt(path("b.shprt"), bad, s.transfer), Error);
+    bad.brdfs.clear();
+    bad.brdf_index.assign(bad.vertex_count(), Mesh::kNoBrdf);
+    EXPECT_THROW(write_shprt(path("b.shprt"), bad, s.transfer), Error);
+    EXPECT_FALSE(fs::exists(path("b.shprt")));
+}
+
 TEST_F(IoShprtFile, RoundTripFloat16WithinHalfPrecision) {
     // Transfer coefficients are O(1); the largest here is 12345.678 (still within float16).
     constexpr float kHalfRelativeError = 1.0f / 2048.0f;   // 2^-11, round to nearest
