@@ -70,6 +70,7 @@ void run(const RenderArgs& a) {
 
     if (plan.glossy) {  // transfer matrices, shaded on the GPU (render/renderer.hpp)
         settings.brdf = plan.glossy->brdf;
+        settings.material_brdfs = plan.glossy->material_brdfs;
         settings.albedo = plan.glossy->albedo;
     }
     const Image image =
@@ -79,7 +80,7 @@ void run(const RenderArgs& a) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
     const std::string term =
-        plan.glossy ? ", " + describe_brdf(plan.glossy->brdf, K_used) : std::string();
+        plan.glossy ? ", " + describe_glossy(file.mesh, *plan.glossy, K_used) : std::string();
     std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used, a.k,
                 term.c_str(), seconds, a.output.c_str());
 }

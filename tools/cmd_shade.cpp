@@ -108,8 +108,8 @@ void run(const ShadeArgs& a) {
     write_shade(a.output, file.mesh, result, static_cast<float>(a.exposure));
     const double seconds = seconds_since(start);
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
-    const std::string term =
-        plan.glossy ? describe_brdf(plan.glossy->brdf, K_used) : fmt::format("gloss={}", gloss);
+    const std::string term = plan.glossy ? describe_glossy(file.mesh, *plan.glossy, K_used)
+                                         : fmt::format("gloss={}", gloss);
     std::printf("shaded %zu vertices (K'=%d, k=%g, %s) in %.3f s -> %s\n", file.mesh.vertex_count(),
                 K_used, a.k, term.c_str(), seconds, a.output.c_str());
 }

@@ -164,17 +164,20 @@ void run(const ViewArgs& a) {
                         a.input);
         check_texel_view(a.input, file.transfer, a.k, view);
     }
-    // Glossy matrices are shaded with --brdf, or else with --gloss's Phong lobe (the panel
-    // changes the BRDF live); --glossy paper turns them into the paper's term.
+    // Glossy matrices are shaded with --brdf, else with the materials' BRDFs, else with --gloss's
+    // Phong lobe (the panel changes the BRDF live); --glossy paper turns them into the paper's
+    // term.
     if (file.transfer.layout.shape == TransferShape::symmetric_matrix && glossy.brdf.empty() &&
-        glossy.glossy == "matrix")
+        glossy.glossy == "matrix" && file.mesh.brdf_index.empty())
         glossy.brdf = fmt::format("phong:{}", a.gloss);
     double gloss = a.gloss;
     Brdf brdf;
+    bool material_brdfs = false;
     std::optional<Vec3f> albedo;
     const GlossyPlan plan = plan_glossy(glossy, a.input, file, a.k, gloss);
     if (plan.glossy) {
         brdf = plan.glossy->brdf;
+        material_brdfs = plan.glossy->material_brdfs;
         albedo = plan.glossy->albedo;
     }
     viewer::LightRig rig(std::min(file.transfer.layout.K, kMaxLightK));
@@ -189,6 +192,7 @@ void run(const ViewArgs& a) {
     config.draw.k = a.k;
     config.draw.gloss = gloss;
     config.draw.brdf = brdf;
+    config.draw.material_brdfs = material_brdfs;
     config.draw.albedo = albedo;
     config.draw.K_used = K_used;
     config.draw.view = view;

@@ -52,7 +52,10 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
         report.transfer =
             fmt::format("glossy {}, brdf={}",
                         describe_gpu_transfer(transfer, renderer.transfer_bytes_per_vertex()),
-                        to_string(config.draw.brdf));
+                        config.draw.material_brdfs && renderer.scene_has_material_brdfs()
+                            ? "materials (" + describe_brdfs(mesh) +
+                                  "; none = " + to_string(config.draw.brdf) + ")"
+                            : to_string(config.draw.brdf));
     DisplayTarget display(config.width, config.height);
     FrameTarget target;
     target.prepare(config.width, config.height, choose_samples(config.msaa, true),

@@ -64,6 +64,15 @@ void light_section(PanelState& s) {
 
 // Glossy matrices: the BRDF's zonal lobe and the colour override, and what the GPU holds.
 void brdf_controls(PanelState& s) {
+    if (s.has_material_brdfs) {
+        ImGui::Checkbox("material BRDFs", &s.material_brdfs);
+        help_marker(
+            "The BRDFs the scene's materials give (shininess, roughness). The BRDF below is then "
+            "the one of the vertices whose material gives none.");
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("%s", s.material_label.c_str());
+        ImGui::PopStyleColor();
+    }
     const int before = s.brdf_model;
     ImGui::Combo("brdf", &s.brdf_model, kBrdfNames, IM_ARRAYSIZE(kBrdfNames));
     const bool ggx = s.brdf_model == 2;

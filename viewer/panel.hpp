@@ -38,6 +38,11 @@ struct PanelState {
     bool diffuse_only = false;  // texel transfer: drawn per fragment without the glossy term
     // Glossy transfer matrices (render/glossy.hpp): the BRDF replaces the Phong "gloss" slider.
     bool matrices = false;
+    // The scene's materials give BRDFs (Mesh::brdfs): `material_brdfs` shades their vertices
+    // with them, the combo below then sets the BRDF of the vertices whose material gives none.
+    bool has_material_brdfs = false;
+    bool material_brdfs = false;
+    std::string material_label;    // describe_brdfs: the materials' BRDFs and their vertices
     int brdf_model = 0;            // BrdfModel: 0 phong, 1 blinn, 2 ggx
     float brdf_parameter = 16;     // exponent (phong, blinn) or roughness (ggx)
     bool override_albedo = false;  // --albedo: one colour for the diffuse and specular parts

@@ -181,6 +181,9 @@ void App::init_state() {
     s.k = s.diffuse_only ? 1.0f : static_cast<float>(m_options.frame.draw.k);
     s.gloss = static_cast<float>(m_options.frame.draw.gloss);
     s.matrices = m_renderer.scene_has_matrices();
+    s.has_material_brdfs = m_renderer.scene_has_material_brdfs();
+    s.material_brdfs = m_options.frame.draw.material_brdfs;
+    s.material_label = describe_brdfs(m_mesh);
     s.brdf_model = static_cast<int>(m_options.frame.draw.brdf.model);
     s.brdf_parameter = static_cast<float>(m_options.frame.draw.brdf.parameter);
     s.override_albedo = m_options.frame.draw.albedo.has_value();
@@ -374,6 +377,7 @@ DrawSettings App::draw_settings() const {
     if (m_panel.matrices) {
         s.brdf.model = static_cast<BrdfModel>(m_panel.brdf_model);
         s.brdf.parameter = m_panel.brdf_parameter;
+        s.material_brdfs = m_panel.material_brdfs;
         s.albedo.reset();
         if (m_panel.override_albedo)
             s.albedo = Vec3f{m_panel.albedo[0], m_panel.albedo[1], m_panel.albedo[2]};

@@ -93,6 +93,15 @@ layout(location = 6) uniform float u_k;           // diffuse share
 layout(location = 10) uniform uint u_vertex_count;
 layout(location = 12) uniform vec4 u_albedo;      // w = 1: xyz replaces both colours
 layout(location = 16) uniform float u_lobe[8];    // g_l of the BRDF's zonal lobe
+#if MATERIALS
+// Per-material BRDFs: vertex v's lobe is lobe4[2·brdf_index[v] ..] (8 band factors).
+layout(std430, binding = 9) readonly buffer BrdfIndexBuffer { uint brdf_index[]; };
+layout(std140, binding = 3) uniform LobeBlock { vec4 lobe4[LOBE_BLOCK_VEC4S]; };
+uint g_lobe_base;
+#define LOBE(l) lobe4[g_lobe_base + uint((l) >> 2)][(l) & 3]
+#else
+#define LOBE(l) u_lobe[l]
+#endif
 layout(location = 24) uniform float u_cosine[8];  // g_l of the clamped cosine
 
 const float kSqrt2 = 1.41421356237309505;
@@ -144,6 +153,9 @@ void shade_vertex(uint v) {
             vec3 to_eye = u_eye - p;
             vec3 w = dot(to_eye, to_eye) > 0.0 ? normalize(to_eye) : n;
             vec3 r = 2.0 * dot(n, w) * n - w;
+#if MATERIALS
+            g_lobe_base = uint(LOBE_VEC4S_PER_BRDF) * brdf_index[v];
+#endif
             colour += (1.0 - u_k) * (override_albedo ? u_albedo.xyz : vec3(1.0)) *
                       zonal_dot(r, false);
         }
@@ -198,8 +210,8 @@ std::string zonal_dot_source(int K) {
             if (l > m)
                 src += "    next = recurrence(" + i + ").x * (a.z * q - recurrence(" + i +
                        ").y * q_prev); q_prev = q; q = next;\n";
-            const std::string g = "(cosine ? u_cosine[" + std::to_string(l) + "] : u_lobe[" +
-                                  std::to_string(l) + "]) * q";
+            const std::string g = "(cosine ? u_cosine[" + std::to_string(l) + "] : LOBE(" +
+                                  std::to_string(l) + ")) * q";
             if (ip < K) src += "    sum += " + g + " * wc * T[" + i + "];\n";
             if (m > 0 && im < K)
                 src += "    sum += " + g + " * ws * T[" + std::to_string(im) + "];\n";
@@ -231,27 +243,30 @@ std::string transform_light_source(int K, int K_stored) {
     return src + "}\n";
 }
 
-std::string glossy_header(int K, int K_stored, int vectors, int block_vec4s) {
+std::string glossy_header(int K, int K_stored, int vectors, int block_vec4s, bool materials) {
     int bands = 0;
     while (bands * bands < K) ++bands;
     return "#version 430 core\n#define KP " + std::to_string(K) + "\n#define KD " +
            std::to_string(K_stored * (K_stored + 1) / 2) + "\n#define KB " + std::to_string(bands) +
            "\n#define NV " + std::to_string(vectors) + "\n#define CL_BLOCK_VEC4S " +
-           std::to_string(block_vec4s) + "\n";
+           std::to_string(block_vec4s) + "\n#define MATERIALS " + (materials ? "1" : "0") +
+           "\n#define LOBE_BLOCK_VEC4S " + std::to_string(kLobeBlockVec4s) +
+           "\n#define LOBE_VEC4S_PER_BRDF " + std::to_string(kLobeVec4sPerBrdf) + "\n";
 }
 
 }  // namespace
 
 std::string glossy_cluster_shader(int K, int K_stored, int vectors) {
-    return glossy_header(K, K_stored, vectors, 0) +
+    return glossy_header(K, K_stored, vectors, 0, false) +
            splice(kGlossyCommon, "// @transform_light", transform_light_source(K, K_stored)) +
            kClusterMain;
 }
-std::string glossy_vertex_shader(int K, int K_stored, int vectors, int block_vec4s) {
+std::string glossy_vertex_shader(int K, int K_stored, int vectors, int block_vec4s,
+                                 bool materials) {
     // CPCA: the products come from the cluster pass; no matrix is read here.
     const std::string transform =
         vectors == 0 ? transform_light_source(K, K_stored) : "void transform_light(uint base) {}\n";
-    return glossy_header(K, K_stored, vectors, block_vec4s) +
+    return glossy_header(K, K_stored, vectors, block_vec4s, materials) +
            splice(kGlossyCommon, "// @transform_light", transform) +
            splice(kVertexMain, "// @zonal_dot", zonal_dot_source(K));
 }

@@ -37,7 +37,9 @@ std::string splice(const std::string& source, const char* marker, const std::str
 // such a code, which reads the products through a uniform block of `block_vec4s` vec4s (0: from
 // the storage buffer).
 std::string glossy_cluster_shader(int K, int K_stored, int vectors);
-std::string glossy_vertex_shader(int K, int K_stored, int vectors, int block_vec4s);
+// `materials`: the BRDF lobe per vertex from the lobe block (kBrdfIndexBinding,
+// kLobeBlockBinding), else the kBrdfLobe uniform for every vertex.
+std::string glossy_vertex_shader(int K, int K_stored, int vectors, int block_vec4s, bool materials);
 
 // Uniform locations fixed with layout(location = N) in the shaders, shared with renderer.cpp.
 namespace loc {
@@ -62,13 +64,17 @@ inline constexpr unsigned kTransferBinding = 0, kPositionBinding = 2, kNormalBin
                           kAlbedoBinding = 4, kColorBinding = 5;
 // ... and of the glossy matrix passes (kTransferBinding holds the packed matrices).
 inline constexpr unsigned kClusterLightBinding = 1, kClusterBinding = 6, kWeightBinding = 7,
-                          kClusterVertexBinding = 8;
+                          kClusterVertexBinding = 8,
+                          kBrdfIndexBinding = 9;  // per vertex, its BRDF's entry in the lobe block
 // Uniform block bindings of the shading pass (and, at 2, of a CPCA dispatch's cluster products),
 // and the blocks' sizes in vec4s (the literal array
 // sizes of kShadeComputeShader): the light, 3 channels × kMaxLightK padded floats; the recurrence
 // table, two floats per (l, m) index of kMaxLightK.
 inline constexpr unsigned kLightBlockBinding = 0, kRecurrenceBlockBinding = 1,
-                          kClusterLightBlockBinding = 2;
+                          kClusterLightBlockBinding = 2, kLobeBlockBinding = 3;
+// The glossy vertex pass's lobe block (per-material BRDFs): kLobeVec4sPerBrdf vec4s (8 band
+// factors) per BRDF, kLobeBlockVec4s in all (16 KiB, the smallest GL_MAX_UNIFORM_BLOCK_SIZE).
+inline constexpr int kLobeVec4sPerBrdf = 2, kLobeBlockVec4s = 1024;
 inline constexpr int kLightBlockVec4s = 768, kRecurrenceBlockVec4s = 512;
 
 // Invocations per work group of the shading pass (local_size_x in the shader).

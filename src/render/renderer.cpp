@@ -152,6 +152,7 @@ Renderer::~Renderer() {
     release_scene_buffers();
     delete_buffer(m_light_ubo);
     delete_buffer(m_recurrence_ubo);
+    delete_buffer(m_lobe_ubo);
     if (m_background_texture) glDeleteTextures(1, &m_background_texture);
     if (m_vao) glDeleteVertexArrays(1, &m_vao);
     if (m_empty_vao) glDeleteVertexArrays(1, &m_empty_vao);
@@ -172,16 +173,16 @@ Renderer::ClusterLayout Renderer::cluster_layout(int K) const {
     return l;
 }
 
-unsigned Renderer::glossy_program(int K, int vectors, bool cluster_pass) {
+unsigned Renderer::glossy_program(int K, int vectors, bool cluster_pass, bool materials) {
     const int block = vectors > 0 && !cluster_pass ? cluster_layout(K).block_vec4s : 0;
-    const auto key = std::make_tuple(K, m_K, vectors, block, cluster_pass);
+    const auto key = std::make_tuple(K, m_K, vectors, block, cluster_pass, materials);
     if (auto it = m_glossy_programs.find(key); it != m_glossy_programs.end()) return it->second;
     const unsigned program =
-        cluster_pass
-            ? gl::compile_compute_program(gl::glossy_cluster_shader(K, m_K, vectors).c_str(),
-                                          "glossy cluster")
-            : gl::compile_compute_program(gl::glossy_vertex_shader(K, m_K, vectors, block).c_str(),
-                                          "glossy shading");
+        cluster_pass ? gl::compile_compute_program(
+                           gl::glossy_cluster_shader(K, m_K, vectors).c_str(), "glossy cluster")
+                     : gl::compile_compute_program(
+                           gl::glossy_vertex_shader(K, m_K, vectors, block, materials).c_str(),
+                           "glossy shading");
     m_glossy_programs.emplace(key, program);
     return program;
 }
@@ -189,7 +190,7 @@ unsigned Renderer::glossy_program(int K, int vectors, bool cluster_pass) {
 void Renderer::release_scene_buffers() {
     for (unsigned* b : {&m_position_vbo, &m_normal_vbo, &m_albedo_vbo, &m_index_buffer,
                         &m_color_buffer, &m_transfer_ssbo, &m_cluster_ssbo, &m_weight_ssbo,
-                        &m_cluster_light_ssbo, &m_cluster_vertex_ssbo})
+                        &m_cluster_light_ssbo, &m_cluster_vertex_ssbo, &m_brdf_index_ssbo})
         delete_buffer(*b);
 }
 
@@ -290,6 +291,20 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     } else {
         m_bytes_per_vertex = double(D) * sizeof(float);
     }
+    // Per-material BRDFs: each vertex's entry in the lobe block (brdf_table order).
+    m_material_brdfs.clear();
+    if (matrices && !mesh.brdf_index.empty()) {
+        const std::vector<Brdf> table = brdf_table(mesh, true, Brdf{});
+        SHPRT_CHECK(table.size() <= std::size_t(gl::kLobeBlockVec4s / gl::kLobeVec4sPerBrdf),
+                    unsupported, "mesh {}: {} distinct material BRDFs (at most {} are drawn)",
+                    mesh.source, table.size() - 1, gl::kLobeBlockVec4s / gl::kLobeVec4sPerBrdf - 1);
+        m_material_brdfs.assign(table.begin() + 1, table.end());
+        std::vector<std::uint32_t> index(V);
+        for (std::size_t v = 0; v < V; ++v) index[v] = brdf_table_index(mesh, true, v);
+        m_brdf_index_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, V * sizeof(std::uint32_t),
+                                        index.data(), GL_STATIC_DRAW);
+    }
+    m_lobe_key = LobeKey{Brdf{}, -1, false};
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
     m_matrices = matrices;
     m_cluster_key = ClusterKey{};
@@ -447,10 +462,10 @@ void Renderer::run_shading(const ShadingKey& key) {
 }
 
 void Renderer::finish_shading_pass(const ShadingKey& key, const char* what) {
-    for (unsigned b = 0; b <= gl::kClusterVertexBinding; ++b)
+    for (unsigned b = 0; b <= gl::kBrdfIndexBinding; ++b)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
-    for (unsigned b :
-         {gl::kLightBlockBinding, gl::kRecurrenceBlockBinding, gl::kClusterLightBlockBinding})
+    for (unsigned b : {gl::kLightBlockBinding, gl::kRecurrenceBlockBinding,
+                       gl::kClusterLightBlockBinding, gl::kLobeBlockBinding})
         glBindBufferBase(GL_UNIFORM_BUFFER, b, 0);
     glUseProgram(0);
     m_shading_key = key;
@@ -486,12 +501,29 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
     const int bands = sh_bands_for(key.K);
     const bool white_sky = key.view == static_cast<int>(ShadeView::transfer);
     if (m_cpca_clusters > 0) update_cluster_light(key.K, white_sky);
-    if (m_lobe_factors.size() != std::size_t(bands) || !(m_lobe_brdf == key.brdf)) {
-        m_lobe_factors = zonal_band_factors(brdf_lobe(key.brdf, bands).zonal);
-        m_lobe_brdf = key.brdf;
+    const bool materials = key.material_brdfs && !m_material_brdfs.empty();
+    if (!(m_lobe_key == LobeKey{key.brdf, bands, materials})) {
+        std::vector<Brdf> table{key.brdf};
+        if (materials) table.insert(table.end(), m_material_brdfs.begin(), m_material_brdfs.end());
+        constexpr std::size_t kPerBrdf = 4 * gl::kLobeVec4sPerBrdf;
+        m_lobe_factors.assign(table.size() * kPerBrdf, 0.0f);
+        for (std::size_t b = 0; b < table.size(); ++b) {
+            const std::vector<float> g = zonal_band_factors(brdf_lobe(table[b], bands).zonal);
+            std::copy(g.begin(), g.end(), m_lobe_factors.begin() + std::ptrdiff_t(b * kPerBrdf));
+        }
+        if (materials) {
+            if (!m_lobe_ubo)
+                m_lobe_ubo = make_buffer(GL_UNIFORM_BUFFER, gl::kLobeBlockVec4s * 16, nullptr,
+                                         GL_DYNAMIC_DRAW);
+            glBindBuffer(GL_UNIFORM_BUFFER, m_lobe_ubo);
+            glBufferSubData(GL_UNIFORM_BUFFER, 0, GLsizeiptr(m_lobe_factors.size() * sizeof(float)),
+                            m_lobe_factors.data());
+            glBindBuffer(GL_UNIFORM_BUFFER, 0);
+        }
+        m_lobe_key = LobeKey{key.brdf, bands, materials};
     }
     const std::vector<float> cosine = zonal_band_factors(clamped_cosine_zonal(bands));
-    glUseProgram(glossy_program(key.K, m_cpca_clusters > 0 ? m_cpca_vectors : 0, false));
+    glUseProgram(glossy_program(key.K, m_cpca_clusters > 0 ? m_cpca_vectors : 0, false, materials));
     glUniform3f(gl::loc::kEye, key.eye.x, key.eye.y, key.eye.z);
     glUniform1i(gl::loc::kLightStride, light_stride(m_light.K));
     glUniform1f(gl::loc::kDiffuseShare, static_cast<float>(key.k));
@@ -499,7 +531,7 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
     glUniform1ui(gl::loc::kVertexCount, static_cast<GLuint>(m_vertex_count));
     glUniform4f(gl::loc::kAlbedoOverride, key.albedo.x, key.albedo.y, key.albedo.z,
                 key.override_albedo ? 1.0f : 0.0f);
-    glUniform1fv(gl::loc::kBrdfLobe, bands, m_lobe_factors.data());
+    if (!materials) glUniform1fv(gl::loc::kBrdfLobe, bands, m_lobe_factors.data());
     glUniform1fv(gl::loc::kCosineLobe, bands, cosine.data());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kPositionBinding, m_position_vbo);
@@ -515,6 +547,10 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
     }
     glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_light_ubo);
     glBindBufferBase(GL_UNIFORM_BUFFER, gl::kRecurrenceBlockBinding, m_recurrence_ubo);
+    if (materials) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kBrdfIndexBinding, m_brdf_index_ssbo);
+        glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLobeBlockBinding, m_lobe_ubo);
+    }
     if (m_cpca_clusters > 0) {
         // A work group per cluster; per dispatch, the clusters whose products fit a uniform block
         // (or 65535 groups when they are read from the storage buffer).
@@ -603,6 +639,7 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
         SHPRT_CHECK(key.K <= kMaxMatrixK, invalid_argument, "K' = {} above {}", key.K, kMaxMatrixK);
         if (s.view == ShadeView::radiance) {
             key.brdf = s.brdf;
+            key.material_brdfs = s.material_brdfs && !m_material_brdfs.empty();
             key.override_albedo = s.albedo.has_value();
             key.albedo = s.albedo.value_or(Vec3f{0, 0, 0});
             if (key.override_albedo)

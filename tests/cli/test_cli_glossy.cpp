@@ -152,6 +152,66 @@ TEST_F(CliGlossy, ShadeWhiteFurnaceCompressAndRender) {
         "with --bake, add --transfer glossy");
 }
 
+// The rows of a `shade` CSV (one per vertex, header skipped).
+std::vector<std::string> csv_rows(const std::string& csv) {
+    std::ifstream in(csv);
+    std::vector<std::string> rows;
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) rows.push_back(line);
+    return rows;
+}
+
+// A scene file whose materials give BRDFs (OBJ Ns: phong:64 on vertices 0-2, none on 3-5,
+// phong:10000 clamped from 50000 on 6-8): baked, described, and shaded without --brdf.
+TEST_F(CliGlossy, MaterialBrdfsFromTheSceneFileShadeWithoutBrdf) {
+    const std::string scene = std::string(SHPRT_TEST_DATA_DIR) + "/scene/glossy_materials.obj";
+    const std::string file = (m_dir / "m.shprt").string();
+    auto r =
+        shprt("bake '" + scene + "' --transfer glossy --bands 3 --samples 256 -o '" + file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = shprt("info '" + file + "'");
+    EXPECT_THAT(r.out, ::testing::HasSubstr("brdfs        phong:64 (3 vertices), phong:10000 (3 "
+                                            "vertices), none (3 vertices) (from the materials)"));
+    const std::string light = " --light sun:0.3,1,0.2,20 --light constant:0.1 --eye 0.5,2,1.5 ";
+    const std::string materials = (m_dir / "materials.csv").string(),
+                      phong64 = (m_dir / "phong64.csv").string(),
+                      gloss64 = (m_dir / "gloss64.csv").string();
+    r = shprt("shade '" + file + "' --k 0.2" + light + "-o '" + materials + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("brdf=materials: phong:64 (3 vertices), phong:10000 "
+                                            "(3 vertices), none (3 vertices); none = phong:16"));
+    ASSERT_EQ(shprt("shade '" + file + "' --k 0.2 --brdf phong:64" + light + "-o '" + phong64 + "'")
+                  .exit_code,
+              0);
+    // --gloss sets the lobe of the vertices whose material gives none.
+    ASSERT_EQ(
+        shprt("shade '" + file + "' --k 0.2 --gloss 64" + light + "-o '" + gloss64 + "'").exit_code,
+        0);
+    const auto m = csv_rows(materials), p = csv_rows(phong64), g = csv_rows(gloss64);
+    ASSERT_EQ(m.size(), 9u);
+    ASSERT_EQ(p.size(), 9u);
+    ASSERT_EQ(g.size(), 9u);
+    for (int v = 0; v < 9; ++v) {
+        SCOPED_TRACE(v);
+        if (v < 3) EXPECT_EQ(m[v], p[v]);  // the material's phong:64 = --brdf phong:64
+        if (v >= 3 && v < 6) {
+            EXPECT_NE(m[v], p[v]);  // none: phong:16, not 64
+            EXPECT_EQ(g[v], p[v]);  // ... unless --gloss 64
+        }
+        if (v >= 6) EXPECT_NE(m[v], p[v]);  // phong:10000
+    }
+    // render takes the materials too, and the viewer's screenshot is render's picture.
+    const std::string png = (m_dir / "m.png").string(), shot = (m_dir / "v.png").string();
+    const std::string options = " --k 0.3 --size 48x32 --camera 2.5,2,2,2.5,0,-0.5";
+    r = shprt("render '" + file + "' -o '" + png + "'" + options);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("brdf=materials: "));
+    r = shprt("view '" + file + "' --screenshot '" + shot + "'" + options);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(test_support::slurp(shot), test_support::slurp(png));
+}
+
 TEST_F(CliGlossy, DiffuseAndGlossyFilesRefuseTheOtherShading) {
     const std::string glossy = bake_plane("g.shprt");
     const std::string diffuse = (m_dir / "d.shprt").string();

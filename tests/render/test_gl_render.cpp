@@ -585,6 +585,59 @@ TEST(GlRender, CpcaCodesOverSeveralBlocksAndTooWideForOne) {
     }
 }
 
+// Per-material BRDFs (Mesh::brdfs) on the GPU against shade_glossy, raw matrices and a CPCA code:
+// each vertex's lobe comes from the lobe block; switching material_brdfs off gives the one BRDF.
+TEST(GlRender, MaterialBrdfsMatchShadeGlossy) {
+    REQUIRE_GL(context);
+    Mesh mesh = make_builtin("box_on_plane");
+    mesh.brdfs = {Brdf{BrdfModel::ggx, 0.2}, Brdf{BrdfModel::phong, 3}};
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        mesh.brdf_index.push_back(v % 3 == 2 ? Mesh::kNoBrdf : std::uint32_t(v % 3));
+    const TransferSet raw = glossy_box_on_plane(mesh, 25, 64);
+    const TransferSet coded = glossy_box_on_plane(mesh, 25, 64, 6, 5);
+    const ShLight light = test::smooth_light(25, 25, 6);
+    Camera camera;
+    camera.eye = {1.8f, 1.6f, 2.3f};
+    camera.target = {0, 0.1f, 0};
+    camera.near_plane = 0.1f;
+    camera.far_plane = 20;
+    for (const TransferSet* transfer : {&raw, static_cast<const TransferSet*>(&coded)})
+        for (const bool materials : {true, false}) {
+            SCOPED_TRACE(::testing::Message() << (transfer == &raw ? "raw" : "cpca")
+                                              << (materials ? " materials" : " one BRDF"));
+            GlossyShadeOptions shade;
+            shade.brdf = parse_brdf("blinn:30");
+            shade.material_brdfs = materials;
+            shade.k = 0.2;
+            shade.eye = camera.eye;
+            const ShadeResult cpu = shade_glossy(mesh, *transfer, light, shade);
+            DrawSettings settings;
+            settings.camera = camera;
+            settings.k = shade.k;
+            settings.brdf = shade.brdf;
+            settings.material_brdfs = materials;
+            settings.clear_color = {-1, -1, -1};
+            Renderer renderer;
+            renderer.set_scene(mesh, *transfer);
+            EXPECT_TRUE(renderer.scene_has_material_brdfs());
+            renderer.set_light(light);
+            RenderTarget target(96, 72, 1);
+            target.bind();
+            renderer.draw(settings, 96, 72);
+            const Image image = target.read_pixels();
+            const Comparison c =
+                compare_with_reference(image, mesh, cpu.radiance, camera, settings.clear_color);
+            EXPECT_GT(c.compared, std::size_t(96 * 72 / 4));
+            EXPECT_EQ(c.bad, 0u) << "worst error " << c.worst << " tolerances";
+            // The other setting's picture differs: the lobes reach the pixels.
+            shade.material_brdfs = !materials;
+            const Comparison other = compare_with_reference(
+                image, mesh, shade_glossy(mesh, *transfer, light, shade).radiance, camera,
+                settings.clear_color);
+            EXPECT_GT(other.bad, other.compared / 4);
+        }
+}
+
 // A CPCA code on the GPU: the light is multiplied by the cluster matrices once per light and K',
 // not per frame, and only the code is uploaded.
 TEST(GlRender, CpcaClusterPassRunsWhenTheLightChangesOnly) {

@@ -274,6 +274,52 @@ TEST(GlossyShade, ACpcaCodeIsShadedPerClusterLikeItsRebuiltRows) {
     }
 }
 
+TEST(GlossyShade, MaterialBrdfsShadeEachVertexWithItsOwnLobe) {
+    // Three material groups (two BRDFs and "none") over a baked scene: each vertex must get what
+    // shading the whole scene with its group's one BRDF gives, bit for bit.
+    Mesh scene = make_builtin("box_on_plane");
+    BakeOptions bo;
+    bo.transfer = TransferKind::glossy;
+    bo.K = 16;
+    bo.samples = 64;
+    const TransferSet transfer = bake(scene, bo);
+    scene.brdfs = {Brdf{BrdfModel::ggx, 0.3}, Brdf{BrdfModel::phong, 80}};
+    for (std::size_t v = 0; v < scene.vertex_count(); ++v)
+        scene.brdf_index.push_back(v % 3 == 2 ? Mesh::kNoBrdf : std::uint32_t(v % 3));
+    GlossyShadeOptions o;
+    o.brdf = {BrdfModel::blinn_phong, 40};
+    o.k = 0.25;
+    o.eye = Vec3f{2, 3, 4};
+    o.material_brdfs = true;
+    const ShLight light = random_light(16, 5);
+    const ShadeResult mixed = shade_glossy(scene, transfer, light, o);
+    std::vector<ShadeResult> single;
+    for (const Brdf& b : {scene.brdfs[0], scene.brdfs[1], o.brdf}) {
+        GlossyShadeOptions one = o;
+        one.material_brdfs = false;
+        one.brdf = b;
+        single.push_back(shade_glossy(scene, transfer, light, one));
+    }
+    std::size_t differing = 0;  // vertices whose groups' pictures differ (the test has teeth)
+    for (std::size_t v = 0; v < scene.vertex_count(); ++v) {
+        const ShadeResult& expected = single[v % 3];
+        EXPECT_EQ(mixed.radiance[v], expected.radiance[v]) << "vertex " << v;
+        differing += single[0].radiance[v] != single[1].radiance[v] ? 1 : 0;
+    }
+    EXPECT_GT(differing, scene.vertex_count() / 2);
+    // Without material_brdfs, o.brdf everywhere.
+    o.material_brdfs = false;
+    const ShadeResult plain = shade_glossy(scene, transfer, light, o);
+    for (std::size_t v = 0; v < scene.vertex_count(); ++v)
+        EXPECT_EQ(plain.radiance[v], single[2].radiance[v]) << "vertex " << v;
+    // Indices that do not fit the mesh are refused.
+    o.material_brdfs = true;
+    scene.brdf_index[4] = 2;
+    EXPECT_THROW(shade_glossy(scene, transfer, light, o), Error);
+    scene.brdf_index.pop_back();
+    EXPECT_THROW(shade_glossy(scene, transfer, light, o), Error);
+}
+
 TEST(GlossyShade, RefusesDiffuseTransfer) {
     const Mesh plane = make_builtin("plane");
     BakeOptions bo;

@@ -148,11 +148,13 @@ GlossyPlan plan_glossy(const GlossyArgs& args, const std::string& path, ShprtFil
         if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
         return plan;
     }
-    SHPRT_CHECK(!matrices || !args.brdf.empty(), invalid_argument,
+    // Without --brdf, a glossy file whose materials give BRDFs is shaded with them.
+    const bool materials = matrices && args.brdf.empty() && !file.mesh.brdf_index.empty();
+    SHPRT_CHECK(!matrices || !args.brdf.empty() || materials, invalid_argument,
                 "{}: glossy transfer matrices need --brdf phong:E|blinn:E|ggx:R (or --glossy "
-                "paper)",
+                "paper): the scene's materials give no BRDF",
                 path);
-    if (args.brdf.empty()) {
+    if (args.brdf.empty() && !materials) {
         SHPRT_CHECK(args.albedo.empty(), invalid_argument, "--albedo needs --brdf");
         return plan;
     }
@@ -161,7 +163,13 @@ GlossyPlan plan_glossy(const GlossyArgs& args, const std::string& path, ShprtFil
                 "(--transfer glossy), or use --gloss",
                 path, to_string(file.transfer.kind));
     GlossyShadeOptions o;
-    o.brdf = parse_brdf(args.brdf);
+    if (materials) {
+        o.material_brdfs = true;  // o.brdf (--gloss's Phong lobe) where a material gives none
+        o.brdf = Brdf{BrdfModel::phong, gloss};
+        check_brdf(o.brdf);
+    } else {
+        o.brdf = parse_brdf(args.brdf);
+    }
     o.k = k;
     if (!args.albedo.empty()) o.albedo = parse_albedo(args.albedo);
     plan.glossy = o;
@@ -172,6 +180,16 @@ std::string describe_brdf(const Brdf& brdf, int K) {
     const int bands = sh_bands_for(K);
     return fmt::format("brdf={}, zonal fit error {:.1f}% at {} bands", to_string(brdf),
                        100 * brdf_lobe(brdf, bands).fit_error, bands);
+}
+
+std::string describe_glossy(const Mesh& mesh, const GlossyShadeOptions& options, int K) {
+    if (!options.material_brdfs || mesh.brdf_index.empty()) return describe_brdf(options.brdf, K);
+    const int bands = sh_bands_for(K);
+    double worst = 0;
+    for (const Brdf& b : brdf_table(mesh, true, options.brdf))
+        worst = std::max(worst, brdf_lobe(b, bands).fit_error);
+    return fmt::format("brdf=materials: {}; none = {}; worst zonal fit error {:.1f}% at {} bands",
+                       describe_brdfs(mesh), to_string(options.brdf), 100 * worst, bands);
 }
 
 }  // namespace shprt::tools

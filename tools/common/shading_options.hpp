@@ -85,13 +85,18 @@ void check_glossy_args(const GlossyArgs& args);
 // How a file read with these options is shaded: `glossy` set = the matrix term (shade_glossy);
 // unset = the diffuse/paper path (shade_vertices, the GL renderer), with `file.transfer` turned
 // into diffuse transfer first when it is a glossy bake shaded with --glossy paper (whose Phong
-// exponent then replaces `gloss`). A diffuse file with --brdf (unless --glossy paper), or a glossy
-// file without --brdf or --glossy paper, is a one-line Error(invalid_argument) naming `path`.
+// exponent then replaces `gloss`). A glossy file without --brdf is shaded with its materials' BRDFs
+// (GlossyShadeOptions::material_brdfs; `gloss`'s Phong lobe where a material gives none). A
+// diffuse file with --brdf (unless --glossy paper), or a glossy file without --brdf, --glossy
+// paper or material BRDFs, is a one-line Error(invalid_argument) naming `path`.
 struct GlossyPlan {
     std::optional<GlossyShadeOptions> glossy;
 };
 // "brdf=phong:16, zonal fit error 47.5% at 5 bands": what `shade` and `render` print.
 std::string describe_brdf(const Brdf& brdf, int K);
+// describe_brdf of options.brdf, or with material BRDFs: "brdf=materials: phong:32 (1200 vertices),
+// none (8 vertices); none = phong:16; worst zonal fit error 12.0% at 5 bands".
+std::string describe_glossy(const Mesh& mesh, const GlossyShadeOptions& options, int K);
 
 GlossyPlan plan_glossy(const GlossyArgs& args, const std::string& path, ShprtFile& file, double k,
                        double& gloss);

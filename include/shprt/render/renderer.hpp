@@ -67,6 +67,9 @@ struct DrawSettings {
     // camera's eye are the fields above): the BRDF's zonal lobe, and the colour that replaces
     // both the diffuse (vertex albedo) and the specular (white) colour.
     Brdf brdf;
+    // ... where the scene's materials give a BRDF (Mesh::brdfs), it replaces `brdf` for their
+    // vertices (GlossyShadeOptions::material_brdfs).
+    bool material_brdfs = false;
     std::optional<Vec3f> albedo;
     int K_used = 0;  // first K' coefficients; 0 = all (clamped to the scene's and light's K)
     ShadeView view = ShadeView::radiance;
@@ -183,6 +186,8 @@ public:
     int scene_channels() const { return m_channels; }
     // The scene's transfer is glossy matrices (drawn with DrawSettings::brdf and albedo).
     bool scene_has_matrices() const { return m_matrices; }
+    // The scene's materials give BRDFs (Mesh::brdf_index not empty; DrawSettings::material_brdfs).
+    bool scene_has_material_brdfs() const { return !m_material_brdfs.empty(); }
     // Bytes of transfer the GPU holds per vertex: the rows, or a CPCA code's share (its cluster
     // index and weights, and its part of the means and bases), as uploaded (float32).
     double transfer_bytes_per_vertex() const;
@@ -223,6 +228,7 @@ private:
         bool glossy = false;
         double k = 0, gloss = 0;
         Brdf brdf;
+        bool material_brdfs = false;
         bool override_albedo = false;
         Vec3f albedo{0, 0, 0};
         Vec3f eye{0, 0, 0};
@@ -257,8 +263,8 @@ private:
     // Glossy matrices: their programs, compiled per (K', stored K, vectors, uniform block size,
     // cluster pass) when first drawn with; a CPCA code's cluster indices, weights and the cluster
     // pass's output (m_transfer_ssbo then holds each cluster's mean and basis, packed).
-    unsigned glossy_program(int K, int vectors, bool cluster_pass);
-    std::map<std::tuple<int, int, int, int, bool>, unsigned> m_glossy_programs;
+    unsigned glossy_program(int K, int vectors, bool cluster_pass, bool materials = false);
+    std::map<std::tuple<int, int, int, int, bool, bool>, unsigned> m_glossy_programs;
     // Where the cluster pass puts a cluster's products for K': `stride` vec4s per cluster (a
     // multiple of the uniform buffer offset alignment), and how many clusters a dispatch of the
     // vertex pass reads through one uniform block (block_vec4s = 0: through the storage buffer).
@@ -279,10 +285,20 @@ private:
         bool operator==(const ClusterKey&) const = default;
     };
     ClusterKey m_cluster_key{};
-    // The BRDF lobe's band factors, kept while the BRDF and band count stay (Blinn and GGX are
-    // fitted by quadrature).
-    Brdf m_lobe_brdf;
+    // The band factors of the BRDF lobes (brdf_table: DrawSettings::brdf, then with material
+    // BRDFs the scene's), 8 floats each, kept while the BRDF, band count and material switch
+    // stay (Blinn and GGX are fitted by quadrature); the lobe block holds them for the
+    // per-material program.
+    struct LobeKey {
+        Brdf brdf;
+        int bands = 0;
+        bool materials = false;
+        bool operator==(const LobeKey&) const = default;
+    };
+    LobeKey m_lobe_key{Brdf{}, -1, false};
     std::vector<float> m_lobe_factors;
+    std::vector<Brdf> m_material_brdfs;  // the scene's (Mesh::brdfs), empty when it has none
+    unsigned m_brdf_index_ssbo = 0, m_lobe_ubo = 0;
     std::size_t m_vertex_count = 0, m_index_count = 0;
     TransferLayout m_layout;  // of the scene's transfer
     int m_K = 0, m_channels = 0;
