@@ -5,6 +5,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/scene/mesh_ops.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -39,6 +40,11 @@ ShprtFile merge_shprt_parts(std::vector<ShprtFile> parts, const std::vector<std:
         SHPRT_CHECK(format_mesh_hash(mesh_hash(parts[i].mesh)) == hash, invalid_argument,
                     "{}: a different scene than {} (scene hash {} instead of {})", names[i],
                     names[0], format_mesh_hash(mesh_hash(parts[i].mesh)), hash);
+        // Not hashed, so compared here: the whole file gets one part's.
+        SHPRT_CHECK(parts[i].mesh.brdfs == parts[0].mesh.brdfs &&
+                        parts[i].mesh.brdf_index == parts[0].mesh.brdf_index,
+                    invalid_argument, "{}: other material BRDFs than {} ({} against {})", names[i],
+                    names[0], describe_brdfs(parts[i].mesh), describe_brdfs(parts[0].mesh));
         const std::string diff = difference(parts[0].transfer, parts[i].transfer);
         SHPRT_CHECK(diff.empty(), invalid_argument, "{}: not a part of the same bake as {}: {}",
                     names[i], names[0], diff);

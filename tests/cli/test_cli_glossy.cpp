@@ -173,6 +173,35 @@ TEST_F(CliGlossy, MaterialBrdfsFromTheSceneFileShadeWithoutBrdf) {
     r = shprt("info '" + file + "'");
     EXPECT_THAT(r.out, ::testing::HasSubstr("brdfs        phong:64 (3 vertices), phong:10000 (3 "
                                             "vertices), none (3 vertices) (from the materials)"));
+    // A streamed bake and a sharded one keep them too.
+    const Mesh whole = read_shprt(file).mesh;
+    const std::string streamed = (m_dir / "s.shprt").string(), a = (m_dir / "a.shprt").string(),
+                      b = (m_dir / "b.shprt").string(), merged = (m_dir / "ab.shprt").string();
+    const std::string bake = "bake '" + scene + "' --transfer glossy --bands 3 --samples 256 ";
+    ASSERT_EQ(shprt(bake + "--stream -o '" + streamed + "'").exit_code, 0);
+    ASSERT_EQ(shprt(bake + "--shard 0/2 -o '" + a + "'").exit_code, 0);
+    ASSERT_EQ(shprt(bake + "--shard 1/2 -o '" + b + "'").exit_code, 0);
+    ASSERT_EQ(shprt("merge '" + a + "' '" + b + "' -o '" + merged + "'").exit_code, 0);
+    for (const std::string& f : {streamed, merged}) {
+        EXPECT_EQ(read_shprt(f).mesh.brdfs, whole.brdfs) << f;
+        EXPECT_EQ(read_shprt(f).mesh.brdf_index, whole.brdf_index) << f;
+    }
+    // The same geometry with another shininess: its part is not merged with the first's.
+    const std::filesystem::path other = m_dir / "other";
+    std::filesystem::create_directories(other);
+    std::filesystem::copy_file(scene, other / "glossy_materials.obj");
+    {
+        std::ofstream mtl(other / "glossy_materials.mtl");
+        mtl << "newmtl shiny\nKd 0.5 0.5 0.5\nNs 32\nnewmtl matte\nKd 0.8 0.2 0.2\n"
+               "newmtl mirror\nKd 0.1 0.1 0.1\nNs 50000\n";
+    }
+    const std::string b2 = (m_dir / "b2.shprt").string();
+    ASSERT_EQ(shprt("bake '" + (other / "glossy_materials.obj").string() +
+                    "' --transfer glossy --bands 3 --samples 256 --shard 1/2 -o '" + b2 + "'")
+                  .exit_code,
+              0);
+    expect_one_line_error(shprt("merge '" + a + "' '" + b2 + "' -o '" + merged + "'"),
+                          "other material BRDFs than");
     const std::string light = " --light sun:0.3,1,0.2,20 --light constant:0.1 --eye 0.5,2,1.5 ";
     const std::string materials = (m_dir / "materials.csv").string(),
                       phong64 = (m_dir / "phong64.csv").string(),
