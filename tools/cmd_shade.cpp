@@ -64,26 +64,31 @@ void run(const ShadeArgs& a) {
     const bool texel = file.transfer.layout.domain == ReceiverDomain::texel;
     SHPRT_CHECK(texel || a.quantity.empty(), invalid_argument,
                 "--quantity is for texel files; {} holds vertex transfer", a.input);
+    // The glossy matrix term (plan.glossy) or the diffuse/paper one.
+    GlossyShadeOptions glossy_options = plan.glossy.value_or(GlossyShadeOptions{});
+    glossy_options.eye = eye_used;
+    glossy_options.K_used = a.coeffs;
+    ShadeOptions options;
+    options.k = a.k;
+    options.gloss = gloss;
+    options.K_used = a.coeffs;
+    options.eye = eye_used;
     if (texel) {
-        SHPRT_CHECK(!plan.glossy, unsupported,
-                    "{}: glossy shading of texel transfer is not written (shade it diffuse)",
-                    a.input);
-        ShadeOptions options;
-        options.k = a.k;
-        options.gloss = gloss;
-        options.K_used = a.coeffs;
-        options.eye = eye_used;
         // Per-texel values as an H x W x 3 image (NaN outside the charts).
-        const ShadeResult result = shade_texels(file.mesh, file.transfer, light, options);
+        const ShadeResult result =
+            plan.glossy ? shade_texels_glossy(file.mesh, file.transfer, light, glossy_options)
+                        : shade_texels(file.mesh, file.transfer, light, options);
         write_texel_image(a.output, file.transfer.texels,
                           a.quantity == "radiance" ? result.radiance : result.irradiance,
                           static_cast<float>(a.exposure));
-        std::printf("shaded %zu texels of %dx%d (%s, K'=%d) in %.3f s -> %s\n",
+        const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
+        const std::string term =
+            plan.glossy ? ", " + describe_glossy(file.mesh, *plan.glossy, K_used) : std::string();
+        std::printf("shaded %zu texels of %dx%d (%s, K'=%d%s) in %.3f s -> %s\n",
                     file.transfer.texels.texel.size(), file.transfer.texels.width,
                     file.transfer.texels.height,
-                    a.quantity.empty() ? "irradiance" : a.quantity.c_str(),
-                    effective_basis_size(file.transfer, light, a.coeffs), seconds_since(start),
-                    a.output.c_str());
+                    a.quantity.empty() ? "irradiance" : a.quantity.c_str(), K_used, term.c_str(),
+                    seconds_since(start), a.output.c_str());
         return;
     }
     SHPRT_CHECK(
@@ -91,20 +96,9 @@ void run(const ShadeArgs& a) {
         "{}: .exr and .png output are for texel files; {} holds vertex transfer (use .csv, .ply or "
         ".npy)",
         a.output, a.input);
-    ShadeResult result;
-    if (plan.glossy) {
-        GlossyShadeOptions options = *plan.glossy;
-        options.eye = eye_used;
-        options.K_used = a.coeffs;
-        result = shade_glossy(file.mesh, file.transfer, light, options);
-    } else {
-        ShadeOptions options;
-        options.k = a.k;
-        options.gloss = gloss;
-        options.K_used = a.coeffs;
-        options.eye = eye_used;
-        result = shade_vertices(file.mesh, file.transfer, light, options);
-    }
+    const ShadeResult result = plan.glossy
+                                   ? shade_glossy(file.mesh, file.transfer, light, glossy_options)
+                                   : shade_vertices(file.mesh, file.transfer, light, options);
     write_shade(a.output, file.mesh, result, static_cast<float>(a.exposure));
     const double seconds = seconds_since(start);
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);

@@ -3,6 +3,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/render/glossy.hpp"
 #include "shprt/render/save_image.hpp"
 #include "shprt/render/shade_export.hpp"
 #include "shprt/scene/texel_raster.hpp"
@@ -22,25 +23,48 @@ void require_texels(const TransferSet& transfer) {
 
 }  // namespace
 
-ShadeResult shade_texels(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
-                         const ShadeOptions& options) {
+// The texels of a texel-domain transfer as the vertices of a mesh without triangles (shading is
+// per point), with the transfer's rows as theirs: positions, normals and albedo from
+// rasterize_texels, and each texel's material BRDF that of its triangle's first corner.
+struct TexelPoints {
+    Mesh points;
+    TransferSet rows;
+};
+TexelPoints texel_points(const Mesh& mesh, const TransferSet& transfer) {
     require_texels(transfer);
     transfer.check(mesh);
     const TexelAtlas& atlas = transfer.texels;
-    const TexelSamples samples = rasterize_texels(mesh, atlas.width, atlas.height, atlas.uv_set);
+    TexelSamples samples = rasterize_texels(mesh, atlas.width, atlas.height, atlas.uv_set);
     SHPRT_CHECK(samples.texel == atlas.texel, format,
                 "{}: the texels of its UVs at {}x{} ({}) are not the file's ({})", mesh.source,
                 atlas.width, atlas.height, samples.count(), atlas.texel.size());
-    // The texels as the vertices of a mesh without triangles: shading is per point.
-    Mesh points;
+    TexelPoints out;
+    Mesh& points = out.points;
     points.source = mesh.source;
-    points.positions = samples.positions;
-    points.normals = samples.normals;
-    points.albedo = samples.albedo;
-    TransferSet rows = transfer;
-    rows.layout.domain = ReceiverDomain::vertex;
-    rows.texels = {};
-    return shade_vertices(points, rows, light, options);
+    points.positions = std::move(samples.positions);
+    points.normals = std::move(samples.normals);
+    points.albedo = std::move(samples.albedo);
+    if (!mesh.brdf_index.empty()) {
+        points.brdfs = mesh.brdfs;
+        for (std::uint32_t t : samples.triangle)
+            points.brdf_index.push_back(mesh.brdf_index[mesh.triangles[t][0]]);
+    }
+    out.rows = transfer;
+    out.rows.layout.domain = ReceiverDomain::vertex;
+    out.rows.texels = {};
+    return out;
+}
+
+ShadeResult shade_texels(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                         const ShadeOptions& options) {
+    const TexelPoints t = texel_points(mesh, transfer);
+    return shade_vertices(t.points, t.rows, light, options);
+}
+
+ShadeResult shade_texels_glossy(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                                const GlossyShadeOptions& options) {
+    const TexelPoints t = texel_points(mesh, transfer);
+    return shade_glossy(t.points, t.rows, light, options);
 }
 
 void write_texel_image(const std::string& path, const TexelAtlas& atlas,

@@ -4,10 +4,13 @@
 #include "shprt/render/glossy.hpp"
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/render/camera.hpp"
+#include "shprt/render/texel_shade.hpp"
 #include "shprt/scene/builtin.hpp"
+#include "shprt/scene/texel_raster.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 #include "shprt/trace/ray.hpp"
@@ -318,6 +321,65 @@ TEST(GlossyShade, MaterialBrdfsShadeEachVertexWithItsOwnLobe) {
     EXPECT_THROW(shade_glossy(scene, transfer, light, o), Error);
     scene.brdf_index.pop_back();
     EXPECT_THROW(shade_glossy(scene, transfer, light, o), Error);
+}
+
+// Glossy matrices per texel (a texel-domain glossy bake of quad_box): each texel is shaded as a
+// point with its raster position, normal and albedo, and its triangle's material BRDF; floor
+// texels far from the box reflect a white furnace as 1.
+TEST(GlossyShade, TexelMatricesAreShadedAtEachTexelsPoint) {
+    Mesh mesh = make_builtin("quad_box");
+    mesh.brdfs = {Brdf{BrdfModel::ggx, 0.4}};
+    mesh.brdf_index.assign(mesh.vertex_count(), Mesh::kNoBrdf);
+    for (int v = 0; v < 4; ++v) mesh.brdf_index[v] = 0;  // the floor is the first quad
+    const TexelSamples texels = rasterize_texels(mesh, 32, 32);
+    BakeOptions bo;
+    bo.transfer = TransferKind::glossy;
+    bo.K = 16;
+    bo.samples = 256;
+    HostSink sink;
+    TransferSet t;
+    static_cast<TransferInfo&>(t) =
+        bake(BakeJob{&mesh, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, bo);
+    t.texels = texel_atlas(texels, 0);
+    t.coeffs = sink.take_rows();
+    GlossyShadeOptions o;
+    o.brdf = {BrdfModel::phong, 8};
+    o.material_brdfs = true;
+    o.k = 0.3;
+    o.eye = Vec3f{0.5f, 3, 1};
+    const ShLight light = random_light(16, 9);
+    const ShadeResult all = shade_texels_glossy(mesh, t, light, o);
+    ASSERT_EQ(all.radiance.size(), texels.count());
+    std::size_t floor = 0;
+    for (std::size_t r = 0; r < texels.count(); r += 13) {
+        Mesh point;
+        point.positions = {texels.positions[r]};
+        point.normals = {texels.normals[r]};
+        point.albedo = {texels.albedo[r]};
+        TransferSet row = t;
+        row.layout.domain = ReceiverDomain::vertex;
+        row.texels = {};
+        row.coeffs.assign(t.receiver(r), t.receiver(r) + t.layout.floats_per_receiver());
+        GlossyShadeOptions one = o;
+        one.material_brdfs = false;
+        const bool on_floor = texels.triangle[r] < 2;
+        floor += on_floor ? 1 : 0;
+        if (on_floor) one.brdf = mesh.brdfs[0];
+        EXPECT_EQ(shade_glossy(point, row, light, one).radiance[0], all.radiance[r]) << r;
+    }
+    EXPECT_GT(floor, 10u);
+    // White furnace: a floor texel at the atlas's far corner, seen along its normal.
+    o.k = 0;
+    o.albedo = Vec3f{1, 1, 1};
+    o.material_brdfs = false;
+    std::size_t far = 0;  // the floor texel farthest from the box
+    float far_distance = -1;
+    for (std::size_t r = 0; r < texels.count(); ++r)
+        if (texels.triangle[r] < 2 && length(texels.positions[r]) > far_distance)
+            far = r, far_distance = length(texels.positions[r]);
+    o.eye = texels.positions[far] + Vec3f{0, 5, 0};
+    const ShadeResult furnace = shade_texels_glossy(mesh, t, constant_light(16, 1), o);
+    EXPECT_NEAR(furnace.radiance[far].y, 1.0, 0.12);  // phong:8 at 4 bands: ~0.10 truncation
 }
 
 TEST(GlossyShade, RefusesDiffuseTransfer) {

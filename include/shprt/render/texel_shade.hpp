@@ -2,6 +2,7 @@
 // as images, and the coefficients as EXR planes for engines.
 #pragma once
 
+#include "shprt/render/glossy.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/transfer/transfer.hpp"
@@ -22,6 +23,11 @@ inline constexpr int kTexelGutter = 4;
 // throws, Error(invalid_argument) for a transfer that is not texel-domain.
 ShadeResult shade_texels(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                          const ShadeOptions& options);
+
+// The same for glossy transfer matrices per texel: shade_glossy's formulas at each texel's
+// point (its material BRDF that of its triangle's first corner). Throws what shade_glossy throws.
+ShadeResult shade_texels_glossy(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                                const GlossyShadeOptions& options);
 
 // Writes one value per receiver as a width × height × 3 image, row 0 at the top, texels outside
 // every chart NaN: `.npy` (float32, shape (H, W, 3)) or `.exr` (float32 R, G, B); or a `.png`
