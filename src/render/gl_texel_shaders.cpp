@@ -66,4 +66,33 @@ void main() {
 }
 )glsl";
 
+const char* const kTexelColourFragmentShader = R"glsl(
+#version 430 core
+in vec2 v_uv;
+in vec3 v_albedo;
+// One colour per receiver (texel), as the Renderer's glossy vertex pass writes them.
+layout(std430, binding = 5) readonly buffer ColorBuffer { vec4 colors[]; };
+// Texel (x, y) (row 0 at the top) is GL texel (x, y): its receiver, or −1 (dilate_texels).
+layout(binding = 1) uniform isampler2D u_receiver;
+layout(location = 0) out vec4 frag_color;
+// @output
+
+vec3 texel_colour(ivec2 p, ivec2 size) {
+    int r = texelFetch(u_receiver, clamp(p, ivec2(0), size - 1), 0).x;
+    return r >= 0 ? colors[r].rgb : vec3(0.0);
+}
+
+void main() {
+    // The bilinear filter of the four texels around the fragment's UV (texel centres at
+    // ((x + ½)/W, 1 − (y + ½)/H)), as the planes are filtered for vector transfer.
+    ivec2 size = textureSize(u_receiver, 0);
+    vec2 f = vec2(v_uv.x, 1.0 - v_uv.y) * vec2(size) - 0.5;
+    ivec2 p = ivec2(floor(f));
+    vec2 a = f - vec2(p);
+    vec3 top = mix(texel_colour(p, size), texel_colour(p + ivec2(1, 0), size), a.x);
+    vec3 bottom = mix(texel_colour(p + ivec2(0, 1), size), texel_colour(p + ivec2(1, 1), size), a.x);
+    frag_color = output_colour(mix(top, bottom, a.y));
+}
+)glsl";
+
 }  // namespace shprt::gl

@@ -12,6 +12,7 @@
 #include "shprt/light/light.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
+#include "shprt/render/texel_shade.hpp"
 #include "shprt/render/tonemap.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
@@ -197,9 +198,14 @@ void Renderer::release_scene_buffers() {
 void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     if (transfer.layout.domain == ReceiverDomain::texel) return set_texel_scene(mesh, transfer);
     m_texel.reset();
+    SHPRT_CHECK(mesh.triangle_count() > 0, invalid_argument, "mesh {} has no triangles to draw",
+                mesh.source);
+    upload_receivers(mesh, transfer);
+}
+
+void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
     const std::size_t V = mesh.vertex_count();
-    SHPRT_CHECK(V > 0 && mesh.triangle_count() > 0, invalid_argument,
-                "mesh {} has no triangles to draw", mesh.source);
+    SHPRT_CHECK(V > 0, invalid_argument, "mesh {} has no vertices to shade", mesh.source);
     const bool matrices = transfer.layout.shape == TransferShape::symmetric_matrix;
     if (matrices) {
         check_glossy_shadable(mesh, transfer);
@@ -315,11 +321,19 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     m_channels = transfer.layout.channels;
     ++m_transfer_generation;
     m_shading_valid = false;
-    gl::check("Renderer::set_scene");
+    gl::check("Renderer::upload_receivers");
 }
 
 void Renderer::set_texel_scene(const Mesh& mesh, const TransferSet& transfer) {
     if (!m_texel) m_texel = std::make_unique<TexelPass>();
+    if (transfer.layout.shape == TransferShape::symmetric_matrix) {
+        // Glossy matrices: the texels are shaded as points by the glossy passes (one colour per
+        // texel), and the texel pass filters those colours at each fragment's UV.
+        m_texel->set_scene(mesh, transfer);
+        const TexelPoints points = texel_points(mesh, transfer);
+        upload_receivers(points.points, points.rows);
+        return;
+    }
     m_texel->set_scene(mesh, transfer);
     m_matrices = false;
     m_cpca_clusters = m_cpca_vectors = 0;
@@ -651,7 +665,7 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     }
     key.light_generation = m_light_generation;
     key.transfer_generation = m_transfer_generation;
-    if (!m_texel && (s.reshade || !m_shading_valid || !(key == m_shading_key))) {
+    if ((!m_texel || m_matrices) && (s.reshade || !m_shading_valid || !(key == m_shading_key))) {
         if (m_matrices)
             run_glossy_shading(key);
         else
@@ -666,7 +680,8 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     glBindVertexArray(m_vao);
     glPolygonMode(GL_FRONT_AND_BACK, s.wireframe ? GL_LINE : GL_FILL);
     if (m_texel)  // per fragment, from the coefficient planes
-        m_texel->draw(view_proj, s, K, m_light_ubo, light_stride(m_light.K), exposure);
+        m_texel->draw(view_proj, s, K, m_light_ubo, light_stride(m_light.K), exposure,
+                      m_color_buffer);
     else
         glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);

@@ -36,9 +36,10 @@ TexelPass::TexelPass() {
 TexelPass::~TexelPass() {
     for (unsigned* b : {&m_position_vbo, &m_uv_vbo, &m_albedo_vbo, &m_index_buffer})
         if (*b) glDeleteBuffers(1, b);
-    if (m_planes) glDeleteTextures(1, &m_planes);
+    for (unsigned* t : {&m_planes, &m_receivers})
+        if (*t) glDeleteTextures(1, t);
     if (m_vao) glDeleteVertexArrays(1, &m_vao);
-    for (unsigned program : m_program)
+    for (unsigned program : {m_program[0], m_program[1], m_colour_program[0], m_colour_program[1]})
         if (program) glDeleteProgram(program);
 }
 
@@ -47,9 +48,11 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     const TexelAtlas& atlas = transfer.texels;
     SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::texel && !atlas.empty(), invalid_argument,
                 "{}: not a texel transfer", mesh.source);
-    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, unsupported,
-                "{}: {} texel transfer cannot be drawn (it needs a vector per texel)", mesh.source,
-                to_string(transfer.layout.shape));
+    const bool colours = transfer.layout.shape == TransferShape::symmetric_matrix;
+    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector || colours, unsupported,
+                "{}: {} texel transfer cannot be drawn (it needs a vector or a glossy matrix per "
+                "texel)",
+                mesh.source, to_string(transfer.layout.shape));
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(mesh.uvs.size() == V, invalid_argument,
                 "{}: a texel transfer needs the mesh's UVs ({} for {} vertices)", mesh.source,
@@ -60,7 +63,7 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
         SHPRT_CHECK(t[0] < V && t[1] < V && t[2] < V, invalid_argument,
                     "mesh {}: triangle index out of range ({} vertices)", mesh.source, V);
     const int K = transfer.layout.K, C = transfer.layout.channels;
-    const int per_channel = (K + 3) / 4;
+    const int per_channel = colours ? 0 : (K + 3) / 4;
     GLint max_size = 0, max_layers = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
@@ -73,7 +76,8 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
 
     for (unsigned* b : {&m_position_vbo, &m_uv_vbo, &m_albedo_vbo, &m_index_buffer})
         if (*b) glDeleteBuffers(1, b), *b = 0;
-    if (m_planes) glDeleteTextures(1, &m_planes), m_planes = 0;
+    for (unsigned* t : {&m_planes, &m_receivers})
+        if (*t) glDeleteTextures(1, t), *t = 0;
 
     glBindVertexArray(m_vao);
     m_position_vbo = upload(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.positions.data());
@@ -91,8 +95,35 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
 
-    // The planes, one layer at a time (a layer's staging image is W × H × 4 floats).
     const std::vector<std::int64_t> source = dilate_texels(atlas, kTexelGutter);
+    m_index_count = mesh.triangles.size() * 3;
+    m_channels = C;
+    m_layers_per_channel = per_channel;
+    m_colours = colours;
+    if (colours) {
+        // Each texel's receiver (the colour it shows), −1 beyond the gutter.
+        std::vector<std::int32_t> receiver(source.size());
+        for (std::size_t p = 0; p < source.size(); ++p)
+            receiver[p] = static_cast<std::int32_t>(source[p]);
+        glGenTextures(1, &m_receivers);
+        glBindTexture(GL_TEXTURE_2D, m_receivers);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32I, atlas.width, atlas.height);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, atlas.width, atlas.height, GL_RED_INTEGER, GL_INT,
+                        receiver.data());
+        glBindTexture(GL_TEXTURE_2D, 0);
+        if (!m_colour_program[0])
+            for (int display = 0; display < 2; ++display)
+                m_colour_program[display] = gl::compile_program(
+                    gl::kTexelVertexShader,
+                    gl::fragment_shader(gl::kTexelColourFragmentShader, display == 1).c_str(),
+                    "texel colours");
+        gl::check("TexelPass::set_scene");
+        return;
+    }
+    // The planes, one layer at a time (a layer's staging image is W × H × 4 floats).
     glGenTextures(1, &m_planes);
     glBindTexture(GL_TEXTURE_2D_ARRAY, m_planes);
     const GLenum format =
@@ -116,15 +147,32 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
                             atlas.height, 1, GL_RGBA, GL_FLOAT, layer.data());
         }
     glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-    m_index_count = mesh.triangles.size() * 3;
-    m_channels = C;
-    m_layers_per_channel = per_channel;
     gl::check("TexelPass::set_scene");
 }
 
 void TexelPass::draw(const Mat4f& view_proj, const DrawSettings& s, int K, unsigned light_ubo,
-                     int light_stride, float exposure) {
-    SHPRT_CHECK(m_planes != 0, invalid_argument, "TexelPass::draw before set_scene");
+                     int light_stride, float exposure, unsigned colour_buffer) {
+    SHPRT_CHECK(m_planes != 0 || m_receivers != 0, invalid_argument,
+                "TexelPass::draw before set_scene");
+    if (m_colours) {
+        // The shading pass wrote the colours as a storage buffer: make them visible here.
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glUseProgram(m_colour_program[exposure > 0 ? 1 : 0]);
+        glUniformMatrix4fv(gl::texel_loc::kViewProj, 1, GL_FALSE, view_proj.m);
+        if (exposure > 0) glUniform1f(gl::loc::kDisplayExposure, exposure);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, colour_buffer);
+        glActiveTexture(GL_TEXTURE0 + gl::kTexelReceiverUnit);
+        glBindTexture(GL_TEXTURE_2D, m_receivers);
+        glBindVertexArray(m_vao);
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
+        glBindVertexArray(0);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glActiveTexture(GL_TEXTURE0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, 0);
+        glUseProgram(0);
+        gl::check("TexelPass::draw");
+        return;
+    }
     SHPRT_CHECK(s.k >= 1 || s.view != ShadeView::radiance, unsupported,
                 "the glossy term (k = {} < 1) is not drawn per texel: texel transfer is shown "
                 "diffuse (k = 1), or as irradiance or transfer",

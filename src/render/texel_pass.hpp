@@ -18,13 +18,16 @@ namespace gl {
 // GLSL 4.30 sources of the texel pass (gl_texel_shaders.cpp).
 extern const char* const kTexelVertexShader;    // transforms; passes UV and albedo on
 extern const char* const kTexelFragmentShader;  // @output: the planes dotted with the light
+// @output: per-texel colours (a storage buffer, one per receiver) filtered at the fragment's UV
+extern const char* const kTexelColourFragmentShader;
 // Uniform locations fixed with layout(location = N) in those shaders.
 namespace texel_loc {
 inline constexpr int kViewProj = 0, kK = 1, kChannels = 2, kLayersPerChannel = 3, kLightStride = 4,
                      kView = 5;
 }
-// Texture unit of the planes (the light block is bound at gl::kLightBlockBinding).
-inline constexpr unsigned kTexelPlanesUnit = 0;
+// Texture units of the planes (the light block is bound at gl::kLightBlockBinding) and of the
+// receiver index map (per-texel colours; the colours are bound at gl::kColorBinding).
+inline constexpr unsigned kTexelPlanesUnit = 0, kTexelReceiverUnit = 1;
 }  // namespace gl
 
 class TexelPass {
@@ -45,6 +48,11 @@ public:
     // does not bleed black into the charts. Throws Error(invalid_argument) for a transfer that is
     // not texel-domain vectors or a mesh without one UV per vertex (transfer.check(mesh) first),
     // Error(unsupported) when the atlas or its layers exceed this OpenGL's texture limits.
+    //
+    // Glossy matrices per texel (shape symmetric_matrix) are not drawn from planes: the Renderer
+    // shades each texel as a point in its glossy passes (one colour per receiver, texel_points),
+    // and set_scene uploads, instead of planes, each texel's receiver index (R32I; the dilated
+    // map of dilate_texels, −1 beyond the gutter), through which draw filters those colours.
     void set_scene(const Mesh& mesh, const TransferSet& transfer);
 
     // Draws the triangles into the current framebuffer with the current depth and polygon state:
@@ -52,15 +60,20 @@ public:
     // transfer shared), then radiance = albedo/π · E (albedo interpolated from the vertices),
     // irradiance E, or transfer T_0 · 2/√π (as the per-vertex pass's views). `light_ubo` is the
     // Renderer's light block (3 channels of `light_stride` floats, vec4-aligned). Throws
-    // Error(unsupported) for the glossy term (k < 1 in the radiance view): it is not drawn per
-    // texel.
+    // Error(unsupported) for the paper's glossy term of vector transfer (k < 1 in the radiance
+    // view): it is not drawn per texel. Glossy matrices instead take each fragment's colour as
+    // the bilinear filtering, at its UV, of the per-texel colours in `colour_buffer` (vec4 per
+    // receiver, as the Renderer's shading passes write them; texels outside the map are black).
     // `exposure` > 0: display codes instead of radiance, as Renderer::draw_to_display.
     void draw(const Mat4f& view_proj, const DrawSettings& settings, int K, unsigned light_ubo,
-              int light_stride, float exposure);
+              int light_stride, float exposure, unsigned colour_buffer);
 
 private:
     unsigned m_program[2] = {0, 0};  // linear radiance, display codes (gl::fragment_shader)
-    unsigned m_vao = 0, m_planes = 0;
+    // The same for per-texel colours (glossy matrices), compiled when first needed.
+    unsigned m_colour_program[2] = {0, 0};
+    unsigned m_vao = 0, m_planes = 0, m_receivers = 0;
+    bool m_colours = false;  // glossy matrices: draw filters per-texel colours
     unsigned m_position_vbo = 0, m_uv_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
     std::size_t m_index_count = 0;
     int m_channels = 0, m_layers_per_channel = 0;

@@ -23,13 +23,6 @@ void require_texels(const TransferSet& transfer) {
 
 }  // namespace
 
-// The texels of a texel-domain transfer as the vertices of a mesh without triangles (shading is
-// per point), with the transfer's rows as theirs: positions, normals and albedo from
-// rasterize_texels, and each texel's material BRDF that of its triangle's first corner.
-struct TexelPoints {
-    Mesh points;
-    TransferSet rows;
-};
 TexelPoints texel_points(const Mesh& mesh, const TransferSet& transfer) {
     require_texels(transfer);
     transfer.check(mesh);

@@ -241,6 +241,29 @@ TEST_F(CliGlossy, MaterialBrdfsFromTheSceneFileShadeWithoutBrdf) {
     EXPECT_EQ(test_support::slurp(shot), test_support::slurp(png));
 }
 
+// Glossy matrices per texel: shade writes the texel image, render and the viewer draw them with
+// the glossy term (the same picture).
+TEST_F(CliGlossy, TexelMatricesShadeRenderAndView) {
+    const std::string file = (m_dir / "t.shprt").string();
+    auto r = shprt(
+        "bake builtin:quad_box --domain texel --resolution 32 --transfer glossy --bands 3 "
+        "--samples 64 -o '" +
+        file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string npy = (m_dir / "t.npy").string();
+    r = shprt("shade '" + file + "' --brdf ggx:0.5 --k 0.3 --quantity radiance -o '" + npy + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("texels of 32x32 (radiance, K'=9, brdf=ggx:0.5"));
+    EXPECT_NE(test_support::slurp(npy).find("'shape': (32, 32, 3)"), std::string::npos);
+    const std::string png = (m_dir / "r.png").string(), shot = (m_dir / "v.png").string();
+    const std::string options = " --brdf ggx:0.5 --k 0.3 --size 48x32";
+    r = shprt("render '" + file + "' -o '" + png + "'" + options);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = shprt("view '" + file + "' --screenshot '" + shot + "'" + options);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(test_support::slurp(shot), test_support::slurp(png));
+}
+
 TEST_F(CliGlossy, DiffuseAndGlossyFilesRefuseTheOtherShading) {
     const std::string glossy = bake_plane("g.shprt");
     const std::string diffuse = (m_dir / "d.shprt").string();

@@ -228,10 +228,10 @@ TEST_F(CliRender, RenderOfATexelFileIsTheLibrarysPerFragmentPicture) {
     fit_clip_planes(settings.camera, mesh_bounds(f.mesh));
     const Image want = render_image(f.mesh, f.transfer, prepare_light({}, 9), settings, 64, 48);
     expect_same_picture(exr, want);
-    // The glossy term is not drawn per texel: one line, no picture.
+    // The paper's glossy term is not drawn per texel: one line, no picture.
     expect_one_line_error(
         shprt("render '" + file + "'" + cam + " --k 0.5 -o '" + out("g.png") + "'"),
-        "the glossy term is not drawn per texel");
+        "the paper's glossy term is not drawn per texel");
     EXPECT_FALSE(fs::exists(out("g.png")));
 }
 

@@ -182,7 +182,7 @@ TEST_F(CliView, ATexelFileShowsAsRenderDrawsIt) {
     EXPECT_EQ(slurp(out("v.png")), slurp(out("r.png")));
     expect_one_line_error(
         shprt("view '" + texel + "' --k 0.5 --screenshot '" + out("g.png") + "'" + options),
-        "the glossy term is not drawn per texel");
+        "the paper's glossy term is not drawn per texel");
     EXPECT_FALSE(fs::exists(out("g.png")));
 }
 

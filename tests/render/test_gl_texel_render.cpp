@@ -10,9 +10,11 @@
 #include "shprt/core/error.hpp"
 #include "shprt/io/half.hpp"
 #include "shprt/render/gl_context.hpp"
+#include "shprt/render/glossy.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/render/texel_shade.hpp"
 #include "shprt/scene/builtin.hpp"
+#include "shprt/transfer/cpca.hpp"
 
 #include <gtest/gtest.h>
 
@@ -191,6 +193,68 @@ TEST(GlTexelRender, PixelsAreTheCpuTexelShadingFilteredAtTheirUv) {
         EXPECT_GT(c.compared, std::size_t(kImageSide * kImageSide / 2));
         EXPECT_EQ(c.bad, 0u) << "worst error " << c.worst << " tolerances";
     }
+}
+
+// Glossy matrices per texel: the glossy passes shade each texel as a point, and every pixel is
+// the bilinear filtering of those colours at its UV — the CPU's shade_texels_glossy filtered the
+// same way (raw matrices with a material BRDF on the floor, and a CPCA code; radiance and
+// irradiance).
+TEST(GlTexelRender, GlossyTexelsAreTheCpuTexelShadingFilteredAtTheirUv) {
+    REQUIRE_GL(context);
+    Mesh mesh = quad_box();
+    mesh.brdfs = {Brdf{BrdfModel::ggx, 0.4}};
+    mesh.brdf_index.assign(mesh.vertex_count(), Mesh::kNoBrdf);
+    for (int v = 0; v < 4; ++v) mesh.brdf_index[v] = 0;  // the floor
+    const TexelSamples texels = rasterize_texels(mesh, kAtlasSide, kAtlasSide);
+    BakeOptions options;
+    options.transfer = TransferKind::glossy;
+    options.K = 16;
+    options.samples = 128;
+    options.threads = 2;
+    HostSink sink;
+    TransferSet raw;
+    static_cast<TransferInfo&>(raw) =
+        bake(BakeJob{&mesh, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, options);
+    raw.texels = texel_atlas(texels, 0);
+    raw.coeffs = sink.take_rows();
+    TransferSet coded = raw;
+    CpcaOptions cpca;
+    cpca.clusters = 8;
+    cpca.vectors = 4;
+    coded.cpca = compress_cpca(coded, cpca);
+    reconstruct_cpca(coded.cpca, coded.layout.floats_per_receiver(), coded.coeffs);
+    const ShLight light = sun(16);
+    for (const TransferSet* t :
+         {static_cast<const TransferSet*>(&raw), static_cast<const TransferSet*>(&coded)})
+        for (const ShadeView view : {ShadeView::radiance, ShadeView::irradiance}) {
+            SCOPED_TRACE(::testing::Message()
+                         << (t == &raw ? "raw" : "cpca") << " view=" << int(view));
+            GlossyShadeOptions shade;
+            shade.brdf = {BrdfModel::phong, 12};
+            shade.material_brdfs = true;
+            shade.k = 0.3;
+            shade.eye = top_camera().eye;
+            const ShadeResult cpu = shade_texels_glossy(mesh, *t, light, shade);
+            DrawSettings settings;
+            settings.camera = top_camera();
+            settings.k = shade.k;
+            settings.brdf = shade.brdf;
+            settings.material_brdfs = true;
+            settings.view = view;
+            settings.clear_color = {kNoHit, kNoHit, kNoHit};
+            Renderer renderer;
+            renderer.set_scene(mesh, *t);
+            renderer.set_light(light);
+            RenderTarget target(kImageSide, kImageSide, 1);
+            target.bind();
+            renderer.draw(settings, kImageSide, kImageSide);
+            const Image image = target.read_pixels();
+            const Comparison c =
+                compare(image, *t, view == ShadeView::radiance ? cpu.radiance : cpu.irradiance,
+                        settings.camera);
+            EXPECT_GT(c.compared, std::size_t(kImageSide * kImageSide / 2));
+            EXPECT_EQ(c.bad, 0u) << "worst error " << c.worst << " tolerances";
+        }
 }
 
 // The darkest and brightest floor pixel outside the box's silhouette.

@@ -87,12 +87,13 @@ void check_shading_args(double k, double gloss, double exposure) {
 
 void check_texel_view(const std::string& path, const TransferSet& transfer, double k,
                       ShadeView view) {
-    SHPRT_CHECK(
-        transfer.layout.domain != ReceiverDomain::texel || k >= 1 || view != ShadeView::radiance,
-        unsupported,
-        "{}: --k {}: texel transfer is drawn diffuse (k = 1); the glossy term is not "
-        "drawn per texel",
-        path, k);
+    SHPRT_CHECK(transfer.layout.domain != ReceiverDomain::texel ||
+                    transfer.layout.shape != TransferShape::vector || k >= 1 ||
+                    view != ShadeView::radiance,
+                unsupported,
+                "{}: --k {}: diffuse texel transfer is drawn diffuse (k = 1); the paper's glossy "
+                "term is not drawn per texel (a glossy bake's matrices are)",
+                path, k);
 }
 
 void check_image_extension(const std::string& path) {

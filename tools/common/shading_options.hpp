@@ -58,8 +58,9 @@ ShadeView parse_view(const std::string& name);
 // Checks --k ∈ [0, 1], --gloss ≥ 0 and --exposure > 0 (finite), naming the option.
 void check_shading_args(double k, double gloss, double exposure);
 
-// A texel file (docs/texels.md) is drawn per fragment without the glossy term: one-line
-// Error(unsupported) naming `path` for --k < 1 in the radiance view. `render` and `view`.
+// A diffuse texel file (docs/texels.md) is drawn per fragment without the paper's glossy term:
+// one-line Error(unsupported) naming `path` for --k < 1 in the radiance view (glossy matrices per
+// texel are drawn). `render` and `view`.
 void check_texel_view(const std::string& path, const TransferSet& transfer, double k,
                       ShadeView view);
 

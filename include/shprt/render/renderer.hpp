@@ -236,6 +236,9 @@ private:
         bool operator==(const ShadingKey&) const = default;
     };
     void set_texel_scene(const Mesh& mesh, const TransferSet& transfer);
+    // set_scene's buffers for per-vertex shading of `mesh`'s vertices (the triangles drawn from
+    // them, if any) with `transfer`; for glossy texels, the texels as points.
+    void upload_receivers(const Mesh& mesh, const TransferSet& transfer);
     // Makes the background texture for K' (if stale); returns the rotation to look it up with.
     Mat3d upload_background(int K);
     void run_shading(const ShadingKey& key);

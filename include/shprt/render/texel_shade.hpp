@@ -24,6 +24,16 @@ inline constexpr int kTexelGutter = 4;
 ShadeResult shade_texels(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                          const ShadeOptions& options);
 
+// The texels of a texel-domain transfer as the vertices of a mesh without triangles: positions,
+// normals and albedo from rasterize_texels (checked against the atlas as above), each texel's
+// material BRDF that of its triangle's first corner; and the transfer's rows as theirs (vertex
+// domain). What per-texel shading shades, on the CPU and on the GPU.
+struct TexelPoints {
+    Mesh points;
+    TransferSet rows;
+};
+TexelPoints texel_points(const Mesh& mesh, const TransferSet& transfer);
+
 // The same for glossy transfer matrices per texel: shade_glossy's formulas at each texel's
 // point (its material BRDF that of its triangle's first corner). Throws what shade_glossy throws.
 ShadeResult shade_texels_glossy(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
