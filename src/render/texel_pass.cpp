@@ -154,45 +154,41 @@ void TexelPass::draw(const Mat4f& view_proj, const DrawSettings& s, int K, unsig
                      int light_stride, float exposure, unsigned colour_buffer) {
     SHPRT_CHECK(m_planes != 0 || m_receivers != 0, invalid_argument,
                 "TexelPass::draw before set_scene");
+    SHPRT_CHECK(m_colours || s.k >= 1 || s.view != ShadeView::radiance, unsupported,
+                "the paper's glossy term (k = {} < 1) is not drawn per texel: diffuse texel "
+                "transfer is shown diffuse (k = 1), or as irradiance or transfer",
+                s.k);
+    const int display = exposure > 0 ? 1 : 0;
+    glUseProgram(m_colours ? m_colour_program[display] : m_program[display]);
+    glUniformMatrix4fv(gl::texel_loc::kViewProj, 1, GL_FALSE, view_proj.m);
+    if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
     if (m_colours) {
         // The shading pass wrote the colours as a storage buffer: make them visible here.
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        glUseProgram(m_colour_program[exposure > 0 ? 1 : 0]);
-        glUniformMatrix4fv(gl::texel_loc::kViewProj, 1, GL_FALSE, view_proj.m);
-        if (exposure > 0) glUniform1f(gl::loc::kDisplayExposure, exposure);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, colour_buffer);
         glActiveTexture(GL_TEXTURE0 + gl::kTexelReceiverUnit);
         glBindTexture(GL_TEXTURE_2D, m_receivers);
-        glBindVertexArray(m_vao);
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
-        glBindVertexArray(0);
-        glBindTexture(GL_TEXTURE_2D, 0);
-        glActiveTexture(GL_TEXTURE0);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, 0);
-        glUseProgram(0);
-        gl::check("TexelPass::draw");
-        return;
+    } else {
+        glUniform1i(gl::texel_loc::kK, K);
+        glUniform1i(gl::texel_loc::kChannels, m_channels);
+        glUniform1i(gl::texel_loc::kLayersPerChannel, m_layers_per_channel);
+        glUniform1i(gl::texel_loc::kLightStride, light_stride);
+        glUniform1i(gl::texel_loc::kView, static_cast<int>(s.view));
+        glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, light_ubo);
+        glActiveTexture(GL_TEXTURE0 + gl::kTexelPlanesUnit);
+        glBindTexture(GL_TEXTURE_2D_ARRAY, m_planes);
     }
-    SHPRT_CHECK(s.k >= 1 || s.view != ShadeView::radiance, unsupported,
-                "the glossy term (k = {} < 1) is not drawn per texel: texel transfer is shown "
-                "diffuse (k = 1), or as irradiance or transfer",
-                s.k);
-    glUseProgram(m_program[exposure > 0 ? 1 : 0]);
-    glUniformMatrix4fv(gl::texel_loc::kViewProj, 1, GL_FALSE, view_proj.m);
-    if (exposure > 0) glUniform1f(gl::loc::kDisplayExposure, exposure);
-    glUniform1i(gl::texel_loc::kK, K);
-    glUniform1i(gl::texel_loc::kChannels, m_channels);
-    glUniform1i(gl::texel_loc::kLayersPerChannel, m_layers_per_channel);
-    glUniform1i(gl::texel_loc::kLightStride, light_stride);
-    glUniform1i(gl::texel_loc::kView, static_cast<int>(s.view));
-    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, light_ubo);
-    glActiveTexture(GL_TEXTURE0 + gl::kTexelPlanesUnit);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, m_planes);
     glBindVertexArray(m_vao);
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, 0);
+    if (m_colours) {
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, 0);
+    } else {
+        glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+        glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, 0);
+    }
+    glActiveTexture(GL_TEXTURE0);
     glUseProgram(0);
     gl::check("TexelPass::draw");
 }

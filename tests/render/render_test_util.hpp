@@ -4,12 +4,16 @@
 #pragma once
 
 #include "common/ray_triangle.hpp"
+#include "shprt/bake/bake.hpp"
+#include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/render/renderer.hpp"
+#include "shprt/scene/builtin.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/scene/texel_raster.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 #include "shprt/transfer/transfer.hpp"
@@ -36,6 +40,29 @@
     }
 
 namespace shprt::test {
+
+// A texel-domain bake of `mesh` over its UV atlas at side × side texels, with `options` (the
+// transfer kind, K, samples, threads), as `shprt bake --domain texel` makes one.
+inline TransferSet texel_bake(const Mesh& mesh, int side, const BakeOptions& options) {
+    const TexelSamples texels = rasterize_texels(mesh, side, side);
+    HostSink sink;
+    TransferSet t;
+    static_cast<TransferInfo&>(t) =
+        bake(BakeJob{&mesh, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, options);
+    t.texels = texel_atlas(texels, 0);
+    t.coeffs = sink.take_rows();
+    return t;
+}
+
+// builtin:quad_box with a material BRDF, GGX of roughness 0.4, on its floor (the first quad) and
+// none on the box.
+inline Mesh quad_box_with_glossy_floor() {
+    Mesh mesh = make_builtin("quad_box");
+    mesh.brdfs = {Brdf{BrdfModel::ggx, 0.4}};
+    mesh.brdf_index.assign(mesh.vertex_count(), Mesh::kNoBrdf);
+    for (int v = 0; v < 4; ++v) mesh.brdf_index[v] = 0;
+    return mesh;
+}
 
 // Unshadowed transfer of every vertex computed analytically: the clamped cosine about the
 // vertex normal, c_i = rotate_zonal(clamped_cosine_zonal) (exact up to float rounding). With 3

@@ -468,6 +468,16 @@ TransferSet glossy_box_on_plane(const Mesh& mesh, int K, std::uint32_t samples, 
     return transfer;
 }
 
+// The glossy tests' view of box_on_plane: the box and its shadow from above one corner.
+Camera box_view() {
+    Camera camera;
+    camera.eye = {1.8f, 1.6f, 2.3f};
+    camera.target = {0, 0.1f, 0};
+    camera.near_plane = 0.1f;
+    camera.far_plane = 20;
+    return camera;
+}
+
 // Glossy transfer matrices (a real bake of a box on a plane, so shadows are in the matrices) and
 // their CPCA code, shaded on the GPU, against shade_glossy on the CPU (render/glossy.hpp): every
 // pixel equals the CPU radiance interpolated where its ray hits, for the three BRDF models, the
@@ -478,11 +488,7 @@ TEST(GlRender, GlossyMatricesAndTheirCpcaCodeMatchShadeGlossy) {
     const TransferSet raw = glossy_box_on_plane(mesh, 25, 256);
     const TransferSet coded = glossy_box_on_plane(mesh, 25, 256, 6, 5);
     const ShLight light = test::smooth_light(25, 25, 5);
-    Camera camera;
-    camera.eye = {1.8f, 1.6f, 2.3f};
-    camera.target = {0, 0.1f, 0};
-    camera.near_plane = 0.1f;
-    camera.far_plane = 20;
+    const Camera camera = box_view();
     const Vec3f background{-1, -1, -1};
     struct Case {
         const char* brdf;
@@ -562,11 +568,7 @@ TEST(GlRender, CpcaCodesOverSeveralBlocksAndTooWideForOne) {
         }
         const TransferSet transfer = glossy_box_on_plane(mesh, K, 128, cs.clusters, cs.vectors);
         const ShLight light = test::smooth_light(25, 25, 8);
-        Camera camera;
-        camera.eye = {1.8f, 1.6f, 2.3f};  // the view of the test above
-        camera.target = {0, 0.1f, 0};
-        camera.near_plane = 0.1f;
-        camera.far_plane = 20;
+        const Camera camera = box_view();
         GlossyShadeOptions shade;
         shade.brdf = parse_brdf("phong:20");
         shade.k = 0.3;
@@ -596,11 +598,7 @@ TEST(GlRender, MaterialBrdfsMatchShadeGlossy) {
     const TransferSet raw = glossy_box_on_plane(mesh, 25, 64);
     const TransferSet coded = glossy_box_on_plane(mesh, 25, 64, 6, 5);
     const ShLight light = test::smooth_light(25, 25, 6);
-    Camera camera;
-    camera.eye = {1.8f, 1.6f, 2.3f};
-    camera.target = {0, 0.1f, 0};
-    camera.near_plane = 0.1f;
-    camera.far_plane = 20;
+    const Camera camera = box_view();
     for (const TransferSet* transfer : {&raw, static_cast<const TransferSet*>(&coded)})
         for (const bool materials : {true, false}) {
             SCOPED_TRACE(::testing::Message() << (transfer == &raw ? "raw" : "cpca")

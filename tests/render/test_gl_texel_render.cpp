@@ -40,19 +40,11 @@ const Mesh& quad_box() {
 // The texel bake of quad_box (grey, K = 36, S = 512), float32 planes.
 const TransferSet& texel_bake() {
     static const TransferSet set = [] {
-        const TexelSamples texels = rasterize_texels(quad_box(), kAtlasSide, kAtlasSide);
         BakeOptions options;
         options.K = 36;
         options.samples = 512;
         options.threads = 2;
-        HostSink sink;
-        TransferSet t;
-        static_cast<TransferInfo&>(t) =
-            bake(BakeJob{&quad_box(), texel_receivers(texels), &sink, nullptr, nullptr, nullptr},
-                 options);
-        t.texels = texel_atlas(texels, 0);
-        t.coeffs = sink.take_rows();
-        return t;
+        return test::texel_bake(quad_box(), kAtlasSide, options);
     }();
     return set;
 }
@@ -201,22 +193,13 @@ TEST(GlTexelRender, PixelsAreTheCpuTexelShadingFilteredAtTheirUv) {
 // irradiance).
 TEST(GlTexelRender, GlossyTexelsAreTheCpuTexelShadingFilteredAtTheirUv) {
     REQUIRE_GL(context);
-    Mesh mesh = quad_box();
-    mesh.brdfs = {Brdf{BrdfModel::ggx, 0.4}};
-    mesh.brdf_index.assign(mesh.vertex_count(), Mesh::kNoBrdf);
-    for (int v = 0; v < 4; ++v) mesh.brdf_index[v] = 0;  // the floor
-    const TexelSamples texels = rasterize_texels(mesh, kAtlasSide, kAtlasSide);
+    const Mesh mesh = test::quad_box_with_glossy_floor();
     BakeOptions options;
     options.transfer = TransferKind::glossy;
     options.K = 16;
     options.samples = 128;
     options.threads = 2;
-    HostSink sink;
-    TransferSet raw;
-    static_cast<TransferInfo&>(raw) =
-        bake(BakeJob{&mesh, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, options);
-    raw.texels = texel_atlas(texels, 0);
-    raw.coeffs = sink.take_rows();
+    const TransferSet raw = test::texel_bake(mesh, kAtlasSide, options);
     TransferSet coded = raw;
     CpcaOptions cpca;
     cpca.clusters = 8;

@@ -3,6 +3,7 @@
 // integral of lobe × visibility × light at room vertices within the stated truncation bound.
 #include "shprt/render/glossy.hpp"
 
+#include "render_test_util.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
@@ -327,21 +328,13 @@ TEST(GlossyShade, MaterialBrdfsShadeEachVertexWithItsOwnLobe) {
 // point with its raster position, normal and albedo, and its triangle's material BRDF; floor
 // texels far from the box reflect a white furnace as 1.
 TEST(GlossyShade, TexelMatricesAreShadedAtEachTexelsPoint) {
-    Mesh mesh = make_builtin("quad_box");
-    mesh.brdfs = {Brdf{BrdfModel::ggx, 0.4}};
-    mesh.brdf_index.assign(mesh.vertex_count(), Mesh::kNoBrdf);
-    for (int v = 0; v < 4; ++v) mesh.brdf_index[v] = 0;  // the floor is the first quad
-    const TexelSamples texels = rasterize_texels(mesh, 32, 32);
+    const Mesh mesh = test::quad_box_with_glossy_floor();
     BakeOptions bo;
     bo.transfer = TransferKind::glossy;
     bo.K = 16;
     bo.samples = 256;
-    HostSink sink;
-    TransferSet t;
-    static_cast<TransferInfo&>(t) =
-        bake(BakeJob{&mesh, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, bo);
-    t.texels = texel_atlas(texels, 0);
-    t.coeffs = sink.take_rows();
+    const TransferSet t = test::texel_bake(mesh, 32, bo);
+    const TexelSamples texels = rasterize_texels(mesh, 32, 32);
     GlossyShadeOptions o;
     o.brdf = {BrdfModel::phong, 8};
     o.material_brdfs = true;
