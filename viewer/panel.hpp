@@ -35,7 +35,7 @@ struct PanelState {
     bool background = false;
     bool has_direct = false;    // the transfer is interreflected and keeps its direct part
     bool direct_only = false;   // show the direct part (T_0) instead of T_0 + … + T_N
-    bool diffuse_only = false;  // texel transfer: drawn per fragment without the glossy term
+    bool diffuse_only = false;  // diffuse texel transfer: drawn per fragment without glossy term
     // Glossy transfer matrices (render/glossy.hpp): the BRDF replaces the Phong "gloss" slider.
     bool matrices = false;
     // The scene's materials give BRDFs (Mesh::brdfs): `material_brdfs` shades their vertices

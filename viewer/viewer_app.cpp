@@ -177,7 +177,8 @@ void App::init_state() {
     s.K_used =
         m_options.frame.draw.K_used > 0 ? std::min(m_options.frame.draw.K_used, s.K_max) : s.K_max;
     s.exposure = m_options.frame.exposure;
-    s.diffuse_only = m_transfer.layout.domain == ReceiverDomain::texel;
+    s.diffuse_only = m_transfer.layout.domain == ReceiverDomain::texel &&
+                     m_transfer.layout.shape == TransferShape::vector;
     s.k = s.diffuse_only ? 1.0f : static_cast<float>(m_options.frame.draw.k);
     s.gloss = static_cast<float>(m_options.frame.draw.gloss);
     s.matrices = m_renderer.scene_has_matrices();

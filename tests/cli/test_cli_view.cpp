@@ -414,6 +414,40 @@ TEST_F(CliViewWindow, ShadesGlossyMatricesAndCpcaCodes) {
     }
 }
 
+// Glossy matrices per texel, and a scene whose materials give BRDFs, in the window: the panel
+// starts from the options (k below 1 for texels, the material BRDFs on), as --screenshot draws.
+TEST_F(CliViewWindow, ShadesGlossyTexelsAndMaterialBrdfs) {
+    const std::string texel = out("texel.shprt"), spheres = out("spheres.shprt");
+    ASSERT_EQ(shprt("bake builtin:quad_box --domain texel --resolution 64 --transfer glossy "
+                    "--bands 3 --samples 128 -o '" +
+                    texel + "'")
+                  .exit_code,
+              0);
+    ASSERT_EQ(shprt("bake builtin:gloss_spheres --transfer glossy --bands 3 --samples 128 -o '" +
+                    spheres + "'")
+                  .exit_code,
+              0);
+    const std::string size = " --size 800x500 --light sun:1,2,1,6";
+    for (const auto& [file, shading] :
+         {std::pair<std::string, std::string>{texel, " --brdf phong:24 --k 0.2"},
+          {spheres, " --k 0.2 --camera 0,1.6,4,0,0.55,0"}}) {
+        const RunResult w = shprt("view '" + file + "' --frames 2 --window-screenshot '" +
+                                      out("window.png") + "'" + size + shading,
+                                  xvfb());
+        ASSERT_EQ(w.exit_code, 0) << w.err;
+        expect_window_shows_glossy(file, size, shading);
+    }
+    // The spheres' window is not the one-BRDF picture either.
+    ASSERT_EQ(shprt("view '" + spheres + "' --screenshot '" + out("one.png") + "'" + size +
+                    " --k 0.2 --camera 0,1.6,4,0,0.55,0 --brdf phong:16")
+                  .exit_code,
+              0);
+    EXPECT_GT(
+        compare(read_png(out("window.png")), read_png(out("one.png")), 400, 0, 800, 500).mean,
+        compare(read_png(out("window.png")), read_png(out("shot.png")), 400, 0, 800, 500).mean +
+            0.2);
+}
+
 // A glossy bake shown while it refines: once it ends, the window draws what --screenshot draws
 // for the baked file (and clearly not its diffuse part alone).
 TEST_F(CliViewWindow, ShowsAGlossyBakeWhileItRefines) {
