@@ -326,15 +326,13 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
 
 void Renderer::set_texel_scene(const Mesh& mesh, const TransferSet& transfer) {
     if (!m_texel) m_texel = std::make_unique<TexelPass>();
+    m_texel->set_scene(mesh, transfer);
     if (transfer.layout.shape == TransferShape::symmetric_matrix) {
         // Glossy matrices: the texels are shaded as points by the glossy passes (one colour per
         // texel), and the texel pass filters those colours at each fragment's UV.
-        m_texel->set_scene(mesh, transfer);
         const TexelPoints points = texel_points(mesh, transfer);
-        upload_receivers(points.points, points.rows);
-        return;
+        return upload_receivers(points.points, points.rows);
     }
-    m_texel->set_scene(mesh, transfer);
     m_matrices = false;
     m_cpca_clusters = m_cpca_vectors = 0;
     m_bytes_per_vertex = 0;
