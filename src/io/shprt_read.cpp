@@ -11,6 +11,7 @@
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_format.hpp"
+#include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/transfer/cpca.hpp"
 
@@ -594,10 +595,9 @@ ShprtFile Reader::read(bool allow_part) {
     }
     if (mesh.brdf_index.empty() != mesh.brdfs.empty())
         corrupt(m_path, "section 'brdf_index' and metadata scene.brdfs come together");
-    for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
-        if (mesh.brdf_index[v] != Mesh::kNoBrdf && mesh.brdf_index[v] >= mesh.brdfs.size())
-            corrupt(m_path, "brdf_index: vertex {} has BRDF {} but scene.brdfs lists {}", v,
-                    mesh.brdf_index[v], mesh.brdfs.size());
+    if (const auto v = bad_brdf_index(mesh))
+        corrupt(m_path, "brdf_index: vertex {} has BRDF {} but scene.brdfs lists {}", *v,
+                mesh.brdf_index[*v], mesh.brdfs.size());
     for (std::size_t i = 0; i < mesh.parents.size(); ++i)
         for (std::uint32_t p : mesh.parents[i])
             if (p != Mesh::kNoParent && p >= i)

@@ -11,6 +11,7 @@
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_format.hpp"
+#include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include <algorithm>
@@ -197,10 +198,10 @@ void check_mesh(const std::string& path, const Mesh& mesh) {
                 mesh.source_vertex.size());
     SHPRT_CHECK(mesh.brdf_index.empty() || mesh.brdf_index.size() == V, invalid_argument,
                 "{}: mesh has {} positions but {} BRDF indices", path, V, mesh.brdf_index.size());
-    for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
-        SHPRT_CHECK(mesh.brdf_index[v] == Mesh::kNoBrdf || mesh.brdf_index[v] < mesh.brdfs.size(),
-                    invalid_argument, "{}: vertex {} has BRDF index {} but the mesh has {} BRDFs",
-                    path, v, mesh.brdf_index[v], mesh.brdfs.size());
+    if (const auto v = bad_brdf_index(mesh))
+        fail(ErrorCode::invalid_argument,
+             "{}: vertex {} has BRDF index {} but the mesh has {} BRDFs", path, *v,
+             mesh.brdf_index[*v], mesh.brdfs.size());
     SHPRT_CHECK(mesh.brdf_index.empty() == mesh.brdfs.empty(), invalid_argument,
                 "{}: the mesh has {} BRDFs and {} BRDF indices (both or neither)", path,
                 mesh.brdfs.size(), mesh.brdf_index.size());

@@ -10,6 +10,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/parallel.hpp"
+#include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 
@@ -81,10 +82,9 @@ std::vector<Brdf> brdf_table(const Mesh& mesh, bool material_brdfs, const Brdf& 
     if (!material_brdfs || mesh.brdf_index.empty()) return table;
     SHPRT_CHECK(mesh.brdf_index.size() == mesh.vertex_count(), invalid_argument,
                 "{} BRDF indices for {} vertices", mesh.brdf_index.size(), mesh.vertex_count());
-    for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
-        SHPRT_CHECK(mesh.brdf_index[v] == Mesh::kNoBrdf || mesh.brdf_index[v] < mesh.brdfs.size(),
-                    invalid_argument, "vertex {} has BRDF index {} but the mesh has {} BRDFs", v,
-                    mesh.brdf_index[v], mesh.brdfs.size());
+    if (const auto v = bad_brdf_index(mesh))
+        fail(ErrorCode::invalid_argument, "vertex {} has BRDF index {} but the mesh has {} BRDFs",
+             *v, mesh.brdf_index[*v], mesh.brdfs.size());
     table.insert(table.end(), mesh.brdfs.begin(), mesh.brdfs.end());
     return table;
 }

@@ -79,6 +79,13 @@ void compute_vertex_normals_by_position(Mesh& mesh) {
     weighted_normals(mesh, &group, ids.size());
 }
 
+std::optional<std::size_t> bad_brdf_index(const Mesh& mesh) {
+    for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
+        if (mesh.brdf_index[v] != Mesh::kNoBrdf && mesh.brdf_index[v] >= mesh.brdfs.size())
+            return v;
+    return std::nullopt;
+}
+
 std::string describe_brdfs(const Mesh& mesh) {
     if (mesh.brdf_index.empty()) return "none";
     std::vector<std::size_t> count(mesh.brdfs.size() + 1, 0);  // the last: kNoBrdf
@@ -112,10 +119,9 @@ void validate_mesh(Mesh& mesh, const std::string& name) {
                 "{}: {} vertex parents for {} vertices", name, mesh.parents.size(), nv);
     SHPRT_CHECK(mesh.brdf_index.empty() || mesh.brdf_index.size() == nv, invalid_argument,
                 "{}: {} BRDF indices for {} vertices", name, mesh.brdf_index.size(), nv);
-    for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
-        SHPRT_CHECK(mesh.brdf_index[v] == Mesh::kNoBrdf || mesh.brdf_index[v] < mesh.brdfs.size(),
-                    format, "{}: vertex {} has BRDF index {} but the scene has {} BRDFs", name, v,
-                    mesh.brdf_index[v], mesh.brdfs.size());
+    if (const auto v = bad_brdf_index(mesh))
+        fail(ErrorCode::format, "{}: vertex {} has BRDF index {} but the scene has {} BRDFs", name,
+             *v, mesh.brdf_index[*v], mesh.brdfs.size());
 
     for (std::size_t v = 0; v < nv; ++v) {
         const Vec3f p = mesh.positions[v];

@@ -4,6 +4,7 @@
 #include "shprt/core/vec.hpp"
 #include "shprt/scene/mesh.hpp"
 
+#include <optional>
 #include <string>
 
 namespace shprt {
@@ -35,6 +36,10 @@ void compute_vertex_normals_by_position(Mesh& mesh);
 //   clamps albedo to [0, 1].
 // `name` is the file path or "builtin:NAME" used in messages.
 void validate_mesh(Mesh& mesh, const std::string& name);
+
+// The first vertex whose BRDF index is neither Mesh::kNoBrdf nor below brdfs.size(), if any
+// (the check every reader of Mesh::brdf_index makes, each with its own error).
+std::optional<std::size_t> bad_brdf_index(const Mesh& mesh);
 
 // The materials' BRDFs with their vertex counts, for people: "phong:32 (1200 vertices), ggx:0.4
 // (300 vertices), none (50 vertices)"; "none" for a mesh without them.
