@@ -53,6 +53,72 @@ cuda::DeviceScene device_scene(const Receivers& receivers, const FlatBvh* bvh,
     return s;
 }
 
+// T_0's rows and A from one pass of closest hits on the device: W projected by cuBLAS, and from
+// the hits A's rows, one block per chunk, built on the device with the CPU builder's arithmetic
+// (transport_build.hpp), so the same bits. Receivers must be the mesh's vertices.
+struct DeviceTransportPass {
+    std::vector<float> T0;  // V × K
+    TransportOperator A;
+    cuda::DeviceBakeResult result;
+};
+
+DeviceTransportPass trace_transport_on_device(const Mesh& mesh, const Receivers& rx,
+                                              const FlatBvh& bvh, const DirectionSet& directions,
+                                              const std::vector<float>& Y, int K,
+                                              const cuda::DeviceState& device,
+                                              const BakeOptions& options,
+                                              detail::BakeProgress& progress) {
+    const std::size_t V = rx.count, S = directions.size();
+    ChunkPlanRequest request;
+    request.vertices = V;
+    request.samples = S;
+    request.K = K;
+    request.free_device_bytes = device.free_bytes;
+    // The occluder mesh for A's entries: positions and albedo per vertex, three indices per
+    // triangle.
+    const std::uint64_t mesh_bytes =
+        std::uint64_t(mesh.vertex_count()) * 2 * sizeof(Vec3f) +
+        std::uint64_t(mesh.triangle_count()) * 3 * sizeof(std::uint32_t);
+    request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, K, bvh.bytes()) + mesh_bytes;
+    request.closest_hits = true;
+    request.requested_chunk = options.chunk_receivers;
+    // A slot's build of A takes ~250 bytes per sample: chunks of the default 64 MiB would be ~250
+    // vertices, too few rays per launch to fill a GPU. A GiB is ~4 000 vertices at S = 1024.
+    request.max_slot_bytes = std::uint64_t(1) << 30;
+    const ChunkPlan plan = plan_chunks(request);
+
+    DeviceTransportPass pass;
+    pass.T0.resize(V * std::size_t(K));
+    pass.A.vertices = V;
+    cuda::DeviceBakeInput input;
+    input.device = options.device_index;
+    input.scene = device_scene(rx, &bvh, directions);
+    input.basis = Y.data();
+    input.K = K;
+    input.first = 0;
+    input.count = V;
+    input.plan = plan;
+    input.closest_hits = true;
+    input.mesh = transport_mesh_view(mesh);
+    input.mesh_vertices = mesh.vertex_count();
+    input.mesh_triangles = mesh.triangle_count();
+    input.two_sided = options.two_sided;
+    input.on_transport_block = [&](TransportOperator::Block&& block) {
+        pass.A.blocks.push_back(std::move(block));
+    };
+    input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* rows,
+                              std::uint64_t rays) {
+        std::copy_n(rows, count * std::size_t(K), pass.T0.data() + first * std::size_t(K));
+        progress.add(count, rays);
+        return progress.poll();
+    };
+    pass.result = cuda::run_device_bake(input);
+    SHPRT_CHECK(!pass.result.cancelled && progress.finish(), cancelled,
+                "bake cancelled after {} of {} receivers", progress.receivers_done(), V);
+    pass.A.rays_cast = pass.result.rays;
+    return pass;
+}
+
 }  // namespace
 
 namespace detail {
@@ -159,48 +225,12 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
     const double seconds_bvh = seconds_since(bvh_start);
     const std::vector<float> Y = basis_table(K, directions);
 
-    ChunkPlanRequest request;
-    request.vertices = V;
-    request.samples = S;
-    request.K = K;
-    request.free_device_bytes = device.free_bytes;
-    request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, K, bvh.bytes());
-    request.closest_hits = true;
-    request.requested_chunk = options.chunk_receivers;
-    const ChunkPlan plan = plan_chunks(request);
-
-    // One pass on the device: W from the closest hits (T_0, projected by cuBLAS) and the hits,
-    // merged into A's rows here, one block per chunk, by the CPU pass's row builder.
-    std::vector<float> T0(V * std::size_t(K));
-    TransportOperator A;
-    A.vertices = V;
     BakeProgress progress(options.progress, true, V, S);
-    double seconds_merge = 0;
-    cuda::DeviceBakeInput input;
-    input.device = options.device_index;
-    input.scene = device_scene(rx, &bvh, directions);
-    input.basis = Y.data();
-    input.K = K;
-    input.first = 0;
-    input.count = V;
-    input.plan = plan;
-    input.closest_hits = true;
-    input.on_hits = [&](std::size_t first, std::size_t count, const SampleHit* hits) {
-        const auto merge_start = Clock::now();
-        A.blocks.push_back(
-            transport_block_from_hits(mesh, directions, options.two_sided, first, count, hits));
-        seconds_merge += seconds_since(merge_start);
-    };
-    input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* rows,
-                              std::uint64_t rays) {
-        std::copy_n(rows, count * std::size_t(K), T0.data() + first * std::size_t(K));
-        progress.add(count, rays);
-        return progress.poll();
-    };
-    const cuda::DeviceBakeResult result = cuda::run_device_bake(input);
-    SHPRT_CHECK(!result.cancelled && progress.finish(), cancelled,
-                "bake cancelled after {} of {} receivers", progress.receivers_done(), V);
-    A.rays_cast = result.rays;
+    DeviceTransportPass pass =
+        trace_transport_on_device(mesh, rx, bvh, directions, Y, K, device, options, progress);
+    std::vector<float>& T0 = pass.T0;
+    const TransportOperator& A = pass.A;
+    const cuda::DeviceBakeResult& result = pass.result;
 
     BakeOptions direct_options = options;
     direct_options.transfer = TransferKind::shadowed;
@@ -209,7 +239,7 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
     st.seconds_bvh = seconds_bvh;
     st.seconds_trace = result.seconds_trace;
     st.seconds_project = result.seconds_project;
-    st.seconds_operator = seconds_merge;
+    st.seconds_operator = result.seconds_operator;
     st.rays_cast = result.rays;
     st.device_name = device.name;
 
@@ -240,6 +270,25 @@ std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
     return cuda::device_transfer_samples(
         device, device_scene(vertex_receivers(mesh), shadowed ? &bvh : nullptr, directions), first,
         count);
+}
+
+TransportOperator gpu_transport_operator(const Mesh& mesh, const DirectionSet& directions,
+                                         bool two_sided, std::size_t chunk, int device) {
+    detail::validate_whole_mesh(mesh, TransferKind::interreflected, directions);
+    SHPRT_CHECK(mesh.albedo.size() == mesh.vertex_count(), invalid_argument,
+                "interreflected transfer needs an albedo per vertex ({} vertices, {} values)",
+                mesh.vertex_count(), mesh.albedo.size());
+    require_gpu(device);
+    const cuda::DeviceState state = cuda::prepare_device(device);
+    const FlatBvh bvh = build_bvh(mesh, 0);
+    BakeOptions options;
+    options.device_index = device;
+    options.chunk_receivers = chunk;
+    options.two_sided = two_sided;
+    detail::BakeProgress progress({}, true, mesh.vertex_count(), directions.size());
+    return trace_transport_on_device(mesh, vertex_receivers(mesh), bvh, directions,
+                                     basis_table(1, directions), 1, state, options, progress)
+        .A;
 }
 
 GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions,

@@ -54,8 +54,8 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
                                    const TransportOperator& A, const BounceProduct& bounce,
                                    std::uint64_t other_bytes, double seconds_so_far);
 // The GPU backend of interreflected transfer (bake_gpu.cpp; gpu_fallback.cpp without CUDA):
-// closest hits and T_0 on the device, A merged on the host from the kernel's hit records
-// (transport_block_from_hits), the bounces by cuSPARSE.
+// closest hits, T_0 and A's blocks on the device (A's from the hit records with the CPU rows'
+// arithmetic, transport_build.hpp), the bounces by cuSPARSE.
 TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& options,
                                      const DirectionSet& directions);
 

@@ -31,7 +31,8 @@ std::uint64_t gpu_bake_bytes_per_vertex(std::size_t samples, int K, bool device_
                                         bool closest_hits) {
     const std::uint64_t k = K > 0 ? std::uint64_t(K) : 0;
     return (std::uint64_t(samples) + (device_output ? 0 : k)) * sizeof(float) +
-           (closest_hits ? std::uint64_t(samples) * sizeof(SampleHit) : 0);
+           (closest_hits ? std::uint64_t(samples) * kClosestHitBytesPerSample + sizeof(std::int32_t)
+                         : 0);
 }
 
 ChunkPlan plan_chunks(const ChunkPlanRequest& r) {
@@ -59,7 +60,9 @@ ChunkPlan plan_chunks(const ChunkPlanRequest& r) {
     }
     const std::uint64_t fit = (usable - r.fixed_device_bytes - slots * kCounterBytes) /
                               (slots * per_vertex);  // ≥ 1 by the check above
-    const std::uint64_t by_index = std::max<std::uint64_t>(1, kMaxThreadIndex / r.samples);
+    // Interreflected: three entries of A per (vertex, sample), each indexed in int32.
+    const std::uint64_t by_index =
+        std::max<std::uint64_t>(1, kMaxThreadIndex / (r.samples * (r.closest_hits ? 3 : 1)));
 
     std::uint64_t chunk = std::min<std::uint64_t>(r.vertices, std::min(fit, by_index));
     if (r.requested_chunk > 0) {

@@ -43,6 +43,12 @@ std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
     no_cuda();
 }
 
+TransportOperator gpu_transport_operator(const Mesh& mesh, const DirectionSet& directions, bool,
+                                         std::size_t, int) {
+    detail::validate_whole_mesh(mesh, TransferKind::interreflected, directions);
+    no_cuda();
+}
+
 GpuTraversalResult measure_gpu_traversal(const Mesh& mesh, const DirectionSet& directions, int,
                                          int) {
     detail::validate_whole_mesh(mesh, TransferKind::shadowed, directions);

@@ -37,7 +37,6 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -388,32 +387,22 @@ void TransportRowBuilder::add_row(const Vec3f* dirs, const float* weights, const
         m_seen.assign(V, 0);
     }
     m_touched.clear();
-    const float inv_pi = float(1.0 / std::numbers::pi);
+    const TransportMeshView view = transport_mesh_view(mesh);
+    TransportHitEntries entries;
     for (std::uint32_t r = 0; r < rays; ++r) {
-        const SampleHit& h = hits[r];
-        if (h.triangle == kNoTriangle) continue;
-        const auto& tri = mesh.triangles[h.triangle];
-        const Vec3f p0 = mesh.positions[tri[0]];
-        const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
-        // The ray meets the front (counter-clockwise) side when it runs against the face's
-        // normal; a back face is a one-sided surface's inside and sends nothing.
-        if (!m_two_sided && dot(face, dirs[r]) >= 0.0f) continue;
-        const float bary[3] = {1.0f - h.u - h.v, h.u, h.v};
-        Vec3f rho{0, 0, 0};
-        for (int k = 0; k < 3; ++k) rho += mesh.albedo[tri[k]] * bary[k];
-        const float a = weights[r] * inv_pi;
+        if (!transport_hit_entries(view, dirs[r], weights[r], hits[r], m_two_sided, entries))
+            continue;
         // Entries of the same column merge, summed in ray order: deterministic.
         for (int k = 0; k < 3; ++k) {
-            const std::uint32_t col = tri[k];
-            const float ab = a * bary[k];
+            const std::uint32_t col = entries.column[k];
             if (!m_seen[col]) {
                 m_seen[col] = 1;
                 m_touched.push_back(col);
             }
             double* sum = m_sums.data() + 3 * std::size_t(col);
-            sum[0] += ab * rho.x;
-            sum[1] += ab * rho.y;
-            sum[2] += ab * rho.z;
+            sum[0] += entries.value[k][0];
+            sum[1] += entries.value[k][1];
+            sum[2] += entries.value[k][2];
         }
     }
     std::sort(m_touched.begin(), m_touched.end());
@@ -433,34 +422,6 @@ void TransportRowBuilder::add_row(const Vec3f* dirs, const float* weights, const
                 "a block of the transport operator has more than 2^31 - 1 non-zeros (use fewer "
                 "samples)");
     out.row_start.push_back(static_cast<std::int32_t>(out.column.size()));
-}
-
-TransportOperator::Block transport_block_from_hits_impl(const Mesh& mesh,
-                                                        const DirectionTable& directions,
-                                                        std::size_t first, std::size_t count,
-                                                        const SampleHit* hits,
-                                                        TransportRowBuilder& builder) {
-    const std::size_t S = directions.size();
-    TransportOperator::Block block;
-    block.first = first;
-    block.row_start.reserve(count + 1);
-    block.row_start.push_back(0);
-    std::vector<float> weight(S), ray_weights(S);
-    std::vector<Vec3f> dirs(S);
-    std::vector<SampleHit> row_hits(S);
-    for (std::size_t j = 0; j < count; ++j) {
-        weight_row(mesh.normals[first + j], directions, weight.data());
-        std::uint32_t m = 0;
-        for (std::size_t s = 0; s < S; ++s) {
-            if (weight[s] == 0.0f) continue;  // below the horizon: no ray
-            dirs[m] = directions.dirs[s];
-            ray_weights[m] = weight[s];
-            row_hits[m] = hits[s * count + j];
-            ++m;
-        }
-        builder.add_row(dirs.data(), ray_weights.data(), row_hits.data(), m, block);
-    }
-    return block;
 }
 
 }  // namespace detail
@@ -513,17 +474,11 @@ void apply_transport_blocks(const TransportOperator& A, const float* in, float* 
 
 }  // namespace
 
-TransportOperator::Block transport_block_from_hits(const Mesh& mesh, const DirectionSet& directions,
-                                                   bool two_sided, std::size_t first,
-                                                   std::size_t count, const SampleHit* hits) {
-    const std::size_t V = mesh.vertex_count();
-    SHPRT_CHECK(mesh.albedo.size() == V && mesh.normals.size() == V, invalid_argument,
-                "interreflected transfer needs a normal and an albedo per vertex");
-    SHPRT_CHECK(first <= V && count <= V - first, invalid_argument,
-                "vertices [{}, {}) are outside the mesh's {}", first, first + count, V);
-    detail::TransportRowBuilder builder(mesh, two_sided);
-    return detail::transport_block_from_hits_impl(mesh, detail::make_direction_table(directions),
-                                                  first, count, hits, builder);
+TransportMeshView transport_mesh_view(const Mesh& mesh) {
+    static_assert(sizeof(mesh.triangles[0]) == 3 * sizeof(std::uint32_t));
+    return TransportMeshView{mesh.positions.data(),
+                             reinterpret_cast<const std::uint32_t*>(mesh.triangles.data()),
+                             mesh.albedo.data()};
 }
 
 TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,

@@ -16,6 +16,7 @@
 #include "cuda/device_buffer.hpp"
 #include "cuda/gpu_context.hpp"
 #include "cuda/transfer_kernels.hpp"
+#include "cuda/transport_kernels.hpp"
 #include "shprt/core/error.hpp"
 
 #include <algorithm>
@@ -76,6 +77,101 @@ struct SceneBuffers {
     }
 };
 
+// The occluder mesh as A's entries read it, on the device (interreflected transfer only).
+struct TransportMeshBuffers {
+    DeviceBuffer<Vec3f> positions, albedo;
+    DeviceBuffer<std::uint32_t> triangles;
+
+    TransportMeshBuffers(const DeviceBakeInput& in, MemoryTally* tally)
+        : positions(in.closest_hits ? in.mesh_vertices : 0, tally),
+          albedo(positions.size(), tally),
+          triangles(in.closest_hits ? 3 * in.mesh_triangles : 0, tally) {
+        if (!in.closest_hits) return;
+        positions.upload(in.mesh.positions, positions.size());
+        albedo.upload(in.mesh.albedo, albedo.size());
+        triangles.upload(in.mesh.triangles, triangles.size());
+    }
+    TransportMeshView view() const {
+        return TransportMeshView{positions.data(), triangles.data(), albedo.data()};
+    }
+};
+
+// One slot's buffers for the build of its chunk's block of A (transport_kernels.hpp): 80 bytes
+// per entry, three entries per sample, the row starts and cub's storage (gpu.hpp's
+// gpu_bake_bytes_per_vertex budgets them).
+struct TransportSlot {
+    DeviceBuffer<std::uint64_t> keys[2], out_keys;
+    DeviceBuffer<std::uint32_t> order[2], kept, slot, nnz;
+    DeviceBuffer<float> values, sums, value[3];
+    DeviceBuffer<std::int32_t> row_start, column;
+    DeviceBuffer<unsigned char> temp;
+    PinnedBuffer<std::uint32_t> host_nnz;
+
+    TransportSlot(std::size_t chunk, std::size_t samples, MemoryTally* tally) {
+        const std::size_t n = 3 * chunk * samples;
+        for (int b = 0; b < 2; ++b) {
+            keys[b] = DeviceBuffer<std::uint64_t>(n, tally);
+            order[b] = DeviceBuffer<std::uint32_t>(n, tally);
+        }
+        out_keys = DeviceBuffer<std::uint64_t>(n, tally);
+        kept = DeviceBuffer<std::uint32_t>(n, tally);
+        slot = DeviceBuffer<std::uint32_t>(n, tally);
+        nnz = DeviceBuffer<std::uint32_t>(1, tally);
+        values = DeviceBuffer<float>(3 * n, tally);
+        sums = DeviceBuffer<float>(3 * n, tally);
+        for (auto& v : value) v = DeviceBuffer<float>(n, tally);
+        row_start = DeviceBuffer<std::int32_t>(chunk + 1, tally);
+        column = DeviceBuffer<std::int32_t>(n, tally);
+        temp = DeviceBuffer<unsigned char>(std::max<std::size_t>(1, transport_build_temp_bytes(n)),
+                                           tally);
+        host_nnz = PinnedBuffer<std::uint32_t>(1);
+    }
+
+    TransportBuildLaunch launch(const TransportBuildView& view) {
+        TransportBuildLaunch l;
+        l.view = view;
+        for (int b = 0; b < 2; ++b) {
+            l.keys[b] = keys[b].data();
+            l.order[b] = order[b].data();
+        }
+        l.values = values.data();
+        l.sums = sums.data();
+        l.kept = kept.data();
+        l.slot = slot.data();
+        l.out_keys = out_keys.data();
+        l.row_start = row_start.data();
+        l.column = column.data();
+        for (int c = 0; c < 3; ++c) l.value[c] = value[c].data();
+        l.nnz = nnz.data();
+        l.temp = temp.data();
+        l.temp_bytes = temp.size();
+        return l;
+    }
+
+    // The block of rows [first, first + count) once the build has run: its arrays copied back on
+    // `stream` (waited for).
+    TransportOperator::Block download(std::size_t first, std::size_t count, cudaStream_t stream) {
+        const std::size_t n = host_nnz.data()[0];
+        TransportOperator::Block block;
+        block.first = first;
+        block.row_start.resize(count + 1);
+        block.column.resize(n);
+        const auto get = [&](void* host, const void* device, std::size_t bytes) {
+            if (bytes)
+                SHPRT_CUDA_CHECK(
+                    cudaMemcpyAsync(host, device, bytes, cudaMemcpyDeviceToHost, stream));
+        };
+        get(block.row_start.data(), row_start.data(), (count + 1) * sizeof(std::int32_t));
+        get(block.column.data(), column.data(), n * sizeof(std::int32_t));
+        for (int c = 0; c < 3; ++c) {
+            block.values[std::size_t(c)].resize(n);
+            get(block.values[std::size_t(c)].data(), value[c].data(), n * sizeof(float));
+        }
+        SHPRT_CUDA_CHECK(cudaStreamSynchronize(stream));
+        return block;
+    }
+};
+
 // Waits for the context's streams when the scope ends (normally or by an exception), so that no
 // buffer is freed while work that uses it may still run. Errors are ignored: it runs in unwinding.
 class StreamDrain {
@@ -93,14 +189,15 @@ private:
 
 // One chunk buffer of the pipeline with the events that time and fence its work.
 struct Slot {
-    DeviceBuffer<float> w;                  // Wt[S×chunk]
-    DeviceBuffer<float> c;                  // C[chunk×K] (empty with device output)
-    DeviceBuffer<unsigned long long> rays;  // rays cast by the chunk
-    DeviceBuffer<SampleHit> hits;           // closest hits: S × chunk (interreflected only)
-    PinnedBuffer<float> host_c;             // staging for the copy back
-    PinnedBuffer<SampleHit> host_hits;
+    DeviceBuffer<float> w;                     // Wt[S×chunk]
+    DeviceBuffer<float> c;                     // C[chunk×K] (empty with device output)
+    DeviceBuffer<unsigned long long> rays;     // rays cast by the chunk
+    DeviceBuffer<SampleHit> hits;              // closest hits: S × chunk (interreflected only)
+    std::unique_ptr<TransportSlot> transport;  // the build of A's block (interreflected only)
+    PinnedBuffer<float> host_c;                // staging for the copy back
     PinnedBuffer<unsigned long long> host_rays;
-    Event start, traced, projected, done;
+    Event start, traced, projected, merged, done;
+    cudaStream_t stream = nullptr;
     std::size_t first = 0, count = 0;
     bool busy = false;  // work enqueued and not yet finished on the host
 };
@@ -132,9 +229,18 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
                 invalid_argument, "GPU bake: receivers [{}, {}) outside the scene's {}", in.first,
                 range_end, in.scene.vertex_count);
     const bool device_output = in.device_output != nullptr;
+    SHPRT_CHECK(!in.closest_hits ||
+                    (in.mesh_vertices == in.scene.vertex_count &&
+                     in.mesh_vertices <= std::size_t(std::numeric_limits<std::int32_t>::max()) &&
+                     3 * std::uint64_t(plan.chunk_vertices) * S <= kMaxThreads),
+                invalid_argument,
+                "GPU bake: interreflected transfer needs the mesh's {} vertices as receivers ({} "
+                "given, at most 2^31 - 1) and chunks of under 2^31 / 3 entries ({} × {})",
+                in.mesh_vertices, in.scene.vertex_count, plan.chunk_vertices, S);
 
     MemoryTally tally;
     const SceneBuffers scene(in.scene, &tally);
+    const TransportMeshBuffers transport_mesh(in, &tally);
     DeviceBuffer<float> basis(S * K, &tally);
     basis.upload(in.basis, basis.size());
     std::vector<std::unique_ptr<Slot>> slots;
@@ -146,8 +252,8 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         slot->host_rays = PinnedBuffer<unsigned long long>(1);
         if (in.closest_hits) {
             slot->hits = DeviceBuffer<SampleHit>(plan.chunk_vertices * S, &tally);
-            slot->host_hits = PinnedBuffer<SampleHit>(plan.chunk_vertices * S);
-            result.pinned_bytes += slot->host_hits.bytes();
+            slot->transport = std::make_unique<TransportSlot>(plan.chunk_vertices, S, &tally);
+            result.pinned_bytes += slot->transport->host_nnz.bytes();
         }
         if (!device_output) {
             slot->c = DeviceBuffer<float>(plan.chunk_vertices * K, &tally);
@@ -163,6 +269,7 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         const int index = static_cast<int>(chunk % std::size_t(plan.slots));
         Slot& slot = *slots[std::size_t(index)];
         const cudaStream_t stream = context.streams[index];
+        slot.stream = stream;
         slot.first = in.first + chunk * plan.chunk_vertices;
         slot.count = std::min(plan.chunk_vertices, range_end - slot.first);
         SHPRT_CUDA_CHECK(cudaMemsetAsync(slot.rays.data(), 0, sizeof(unsigned long long), stream));
@@ -182,16 +289,30 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         SHPRT_CUDA_CHECK(cublas().sgemm(context.blas[index], CUBLAS_OP_N, CUBLAS_OP_T, m, n, k,
                                         &one, basis.data(), m, slot.w.data(), n, &zero, C, m));
         slot.projected.record(stream);
+        if (in.closest_hits) {
+            TransportBuildView view;
+            view.mesh = transport_mesh.view();
+            view.normals = scene.normals.data();
+            view.dirs = scene.dirs.data();
+            view.weights = scene.weights.data();
+            view.hits = slot.hits.data();
+            view.first = static_cast<std::uint32_t>(slot.first);
+            view.count = static_cast<std::uint32_t>(slot.count);
+            view.samples = static_cast<std::uint32_t>(S);
+            view.vertices = static_cast<std::uint32_t>(in.mesh_vertices);
+            view.two_sided = in.two_sided;
+            TransportSlot& t = *slot.transport;
+            SHPRT_CUDA_CHECK(launch_transport_build(t.launch(view), stream));
+            SHPRT_CUDA_CHECK(cudaMemcpyAsync(t.host_nnz.data(), t.nnz.data(), sizeof(std::uint32_t),
+                                             cudaMemcpyDeviceToHost, stream));
+        }
+        slot.merged.record(stream);
         if (!device_output)
             SHPRT_CUDA_CHECK(cudaMemcpyAsync(slot.host_c.data(), C, slot.count * K * sizeof(float),
                                              cudaMemcpyDeviceToHost, stream));
         SHPRT_CUDA_CHECK(cudaMemcpyAsync(slot.host_rays.data(), slot.rays.data(),
                                          sizeof(unsigned long long), cudaMemcpyDeviceToHost,
                                          stream));
-        if (in.closest_hits)
-            SHPRT_CUDA_CHECK(cudaMemcpyAsync(slot.host_hits.data(), slot.hits.data(),
-                                             slot.count * S * sizeof(SampleHit),
-                                             cudaMemcpyDeviceToHost, stream));
         slot.done.record(stream);
         slot.busy = true;
     };
@@ -202,11 +323,15 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
         slot.busy = false;
         result.seconds_trace += elapsed_seconds(slot.start, slot.traced);
         result.seconds_project += elapsed_seconds(slot.traced, slot.projected);
+        result.seconds_operator += elapsed_seconds(slot.projected, slot.merged);
         const std::uint64_t rays = slot.host_rays.data()[0];
         result.rays += rays;
         const float* rows = device_output ? nullptr : slot.host_c.data();
-        if (in.closest_hits && in.on_hits)
-            in.on_hits(slot.first, slot.count, slot.host_hits.data());
+        if (in.closest_hits) {
+            TransportOperator::Block block =
+                slot.transport->download(slot.first, slot.count, slot.stream);
+            if (in.on_transport_block) in.on_transport_block(std::move(block));
+        }
         return in.on_chunk_done ? in.on_chunk_done(slot.first, slot.count, rows, rays) : true;
     };
 

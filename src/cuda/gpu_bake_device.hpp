@@ -62,16 +62,21 @@ struct DeviceBakeInput {
     std::function<bool(std::size_t first, std::size_t count, const float* coeffs,
                        std::uint64_t rays)>
         on_chunk_done;
-    // Interreflected transfer: W from the closest hits (closest_hit_sample), whose records are
-    // handed to on_hits (sample-major, count × S, pinned host memory valid during the call)
-    // before on_chunk_done, for each chunk.
+    // Interreflected transfer: W from the closest hits (closest_hit_sample), and from the hit
+    // records, on the device, each chunk's block of the transport operator A (transport_build.hpp:
+    // the CPU builder's bits from the same hits), handed to on_transport_block before
+    // on_chunk_done. The receivers must be the mesh's vertices.
     bool closest_hits = false;
-    std::function<void(std::size_t first, std::size_t count, const SampleHit* hits)> on_hits;
+    TransportMeshView mesh{};  // host arrays of the occluder mesh
+    std::size_t mesh_vertices = 0, mesh_triangles = 0;
+    bool two_sided = false;
+    std::function<void(TransportOperator::Block&& block)> on_transport_block;
 };
 
 struct DeviceBakeResult {
-    double seconds_trace = 0;    // Σ GPU time of the transfer kernels
-    double seconds_project = 0;  // Σ GPU time of the SGEMMs
+    double seconds_trace = 0;     // Σ GPU time of the transfer kernels
+    double seconds_project = 0;   // Σ GPU time of the SGEMMs
+    double seconds_operator = 0;  // Σ GPU time of the builds of A's blocks (closest_hits)
     std::uint64_t rays = 0;
     std::uint64_t peak_device_bytes = 0;  // the bake's allocations + the cuBLAS workspaces
     std::uint64_t pinned_bytes = 0;       // page-locked host staging

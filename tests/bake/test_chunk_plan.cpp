@@ -38,12 +38,13 @@ void expect_valid(const ChunkPlanRequest& r, const ChunkPlan& p) {
     EXPECT_LE(p.chunk_vertices, r.vertices);
     EXPECT_EQ(p.chunk_count, (r.vertices + p.chunk_vertices - 1) / p.chunk_vertices);
     EXPECT_EQ(p.slots, std::min<std::size_t>(std::size_t(r.slots), p.chunk_count));
-    const std::uint64_t b = gpu_bake_bytes_per_vertex(r.samples, r.K, r.device_output);
+    const std::uint64_t b =
+        gpu_bake_bytes_per_vertex(r.samples, r.K, r.device_output, r.closest_hits);
     EXPECT_EQ(p.slot_bytes, p.chunk_vertices * b + kCounterBytes);
     EXPECT_EQ(p.peak_bytes, r.fixed_device_bytes + std::uint64_t(p.slots) * p.slot_bytes);
     EXPECT_LE(p.peak_bytes, usable(r)) << "the plan must fit the usable free memory";
-    EXPECT_LE(std::uint64_t(p.chunk_vertices) * r.samples, 0x7FFFFFFFull)
-        << "the kernel indexes threads with 32-bit signed integers";
+    EXPECT_LE(std::uint64_t(p.chunk_vertices) * r.samples * (r.closest_hits ? 3 : 1), 0x7FFFFFFFull)
+        << "the kernels index threads (and A's entries) with 32-bit signed integers";
     if (r.requested_chunk > 0) {
         EXPECT_LE(p.chunk_vertices, r.requested_chunk);
     }
@@ -55,8 +56,10 @@ TEST(ChunkPlan, ByteCountsFollowTheDocumentedFormulas) {
               12345u + 1000u * 24u + 512u * 16u + 512u * 16u * 4u);
     EXPECT_EQ(gpu_bake_bytes_per_vertex(4096, 256, false), (4096u + 256u) * 4u);
     EXPECT_EQ(gpu_bake_bytes_per_vertex(4096, 256, true), 4096u * 4u);
-    // Interreflected: a 12-byte hit record per sample too.
-    EXPECT_EQ(gpu_bake_bytes_per_vertex(4096, 256, false, true), (4096u + 256u) * 4u + 4096u * 12u);
+    // Interreflected: a 12-byte hit record per sample, and A's block built from them: three
+    // entries of 80 bytes and 8 of cub's per sample, a 4-byte row start per vertex.
+    EXPECT_EQ(gpu_bake_bytes_per_vertex(4096, 256, false, true),
+              (4096u + 256u) * 4u + 4096u * (12u + 3u * 88u) + 4u);
 }
 
 TEST(ChunkPlan, RoomSweepOnAnAmpleDevice) {
@@ -142,6 +145,10 @@ TEST(ChunkPlan, ThreadIndexLimitCapsHugeSampleCounts) {
     const ChunkPlan p = plan_chunks(r);
     expect_valid(r, p);
     EXPECT_EQ(p.chunk_vertices, 0x7FFFFFFFull / (1u << 24));  // 127
+    r.closest_hits = true;  // three entries of A per (vertex, sample), indexed in int32 too
+    const ChunkPlan q = plan_chunks(r);
+    expect_valid(r, q);
+    EXPECT_EQ(q.chunk_vertices, 0x7FFFFFFFull / (3u << 24));  // 42
 }
 
 TEST(ChunkPlan, DeviceOutputNeedsNoCoefficientBuffers) {

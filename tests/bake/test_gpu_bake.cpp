@@ -30,6 +30,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -115,6 +116,8 @@ TEST(GpuBake, WithoutADeviceCudaIsAOneLineError) {
     EXPECT_EQ(error_code_of([&] { gpu_transfer_samples(mesh, TransferKind::shadowed, set, 0, 1); }),
               ErrorCode::unsupported);
     EXPECT_EQ(error_code_of([&] { measure_gpu_traversal(mesh, set, 1); }), ErrorCode::unsupported);
+    EXPECT_EQ(error_code_of([&] { gpu_transport_operator(mesh, set, false); }),
+              ErrorCode::unsupported);
     // Bad input is reported as such before the missing device.
     o.K = 0;
     EXPECT_EQ(error_code_of([&] { test::bake_gpu(mesh, o, set); }), ErrorCode::invalid_argument);
@@ -257,10 +260,65 @@ TEST(GpuBake, AgreesWithTheCpuBakeInTheRoom) {
     EXPECT_LE(max_rel_agreeing, 1e-4);
 }
 
-// Interreflected transfer on the GPU (closest hits and T_0 on the device, A merged on the host
-// from the kernel's hit records, bounces by cuSPARSE) against the CPU bake with a tracer over the
-// same flat BVH: the same hits, so the same A (nnz equal), T_0 as the SGEMMs round (cuBLAS vs
-// OpenBLAS), the bounces as the sparse products round: 1e-5 of each vertex's largest coefficient.
+// A's rows in one CSR, whatever its blocks: row starts, columns and three channels.
+struct FlatOperator {
+    std::vector<std::uint64_t> row_start{0};
+    std::vector<std::int32_t> column;
+    std::array<std::vector<float>, 3> values;
+};
+
+FlatOperator flatten(const TransportOperator& A) {
+    FlatOperator f;
+    for (const TransportOperator::Block& b : A.blocks) {
+        EXPECT_EQ(b.first, f.row_start.size() - 1) << "blocks in row order, without gaps";
+        for (std::size_t r = 0; r < b.rows(); ++r) {
+            for (std::int32_t p = b.starts()[r]; p < b.starts()[r + 1]; ++p) {
+                f.column.push_back(b.columns()[p]);
+                for (int c = 0; c < 3; ++c) f.values[c].push_back(b.channel(c)[p]);
+            }
+            f.row_start.push_back(f.column.size());
+        }
+    }
+    return f;
+}
+
+// A built on the device (closest hits over the flat BVH, the entries, cub's sort and scan, the
+// run sums) against build_transport_operator with a tracer over the same flat BVH: the same hits,
+// so the same bits, in chunks that do not divide V and in the bake's own plan.
+TEST(GpuBake, TransportOperatorBuiltOnTheDeviceHasTheCpuBits) {
+    SKIP_WITHOUT_GPU();
+    Mesh box = make_builtin("box_on_plane");
+    for (std::size_t v = 0; v < box.vertex_count(); ++v)
+        box.albedo[v] = {0.9f, 0.5f, float(v % 5) / 5.0f};
+    const Mesh room = make_builtin("room");
+    struct Case {
+        const Mesh* mesh;
+        std::size_t samples, chunk;
+        bool two_sided;
+    };
+    for (const Case& c : {Case{&box, 300, 37, false}, Case{&box, 300, 37, true},
+                          Case{&box, 512, 0, false}, Case{&room, 256, 0, false}}) {
+        SCOPED_TRACE(testing::Message() << c.mesh->source << " S=" << c.samples
+                                        << " chunk=" << c.chunk << " two-sided=" << c.two_sided);
+        const DirectionSet d = make_direction_set(SamplerKind::sobol, 4, std::uint32_t(c.samples));
+        const auto flat = make_flat_bvh_tracer(*c.mesh);
+        TransportOptions to;
+        to.two_sided = c.two_sided;
+        const TransportOperator cpu = build_transport_operator(*c.mesh, d, *flat, to);
+        const TransportOperator gpu = gpu_transport_operator(*c.mesh, d, c.two_sided, c.chunk);
+        ASSERT_GT(cpu.nnz(), 0u);
+        EXPECT_EQ(gpu.rays_cast, cpu.rays_cast);
+        const FlatOperator a = flatten(cpu), b = flatten(gpu);
+        EXPECT_EQ(b.row_start, a.row_start);
+        EXPECT_EQ(b.column, a.column);
+        for (int ch = 0; ch < 3; ++ch) EXPECT_EQ(b.values[ch], a.values[ch]) << "channel " << ch;
+    }
+}
+
+// Interreflected transfer on the GPU (closest hits, T_0 and A on the device, bounces by cuSPARSE)
+// against the CPU bake with a tracer over the same flat BVH: the same hits, so the same A (nnz
+// equal), T_0 as the SGEMMs round (cuBLAS vs OpenBLAS), the bounces as the sparse products
+// round: 1e-5 of each vertex's largest coefficient.
 TEST(GpuBake, InterreflectedAgreesWithTheCpuBake) {
     SKIP_WITHOUT_GPU();
     Mesh mesh = make_builtin("box_on_plane");

@@ -15,6 +15,7 @@
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/interreflect.hpp"
 #include "shprt/bake/transfer_sample.hpp"
+#include "shprt/bake/transport_build.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/scene/builder.hpp"
 #include "shprt/scene/builtin.hpp"
@@ -26,13 +27,17 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <random>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace shprt {
@@ -215,10 +220,59 @@ TEST(Interreflect, ClosestHitsAreIntersect) {
     EXPECT_GT(hit_count, 100);
 }
 
+// The GPU's build of one block of A (transport_build.hpp; src/cuda/transport_kernels.cu) run on
+// the host: the kernels' per-index steps in loops, std::stable_sort for cub's (stable) radix sort
+// of the keys with their indices, std::exclusive_scan for cub's scan of the kept flags.
+TransportOperator::Block device_build_on_host(const Mesh& mesh, const DirectionSet& d,
+                                              bool two_sided, std::size_t first, std::size_t count,
+                                              const SampleHit* hits) {
+    TransportBuildView b;
+    b.mesh = transport_mesh_view(mesh);
+    b.normals = mesh.normals.data();
+    b.dirs = d.dirs.data();
+    b.weights = d.weights.data();
+    b.hits = hits;
+    b.first = std::uint32_t(first);
+    b.count = std::uint32_t(count);
+    b.samples = std::uint32_t(d.size());
+    b.vertices = std::uint32_t(mesh.vertex_count());
+    b.two_sided = two_sided;
+    const std::size_t n = b.entries();
+    std::vector<std::uint64_t> keys(n);
+    std::vector<std::uint32_t> order(n), kept(n), slot(n);
+    std::vector<float> values(3 * n), sums(3 * n);
+    for (std::uint32_t i = 0; i < count * d.size(); ++i)
+        transport_sample_entries(b, i, keys.data(), order.data(), values.data());
+    EXPECT_LT(b.no_entry(), std::uint64_t(1) << transport_key_bits(b));
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> pairs(n);
+    for (std::size_t e = 0; e < n; ++e) pairs[e] = {keys[e], order[e]};
+    std::stable_sort(pairs.begin(), pairs.end(),
+                     [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (std::size_t e = 0; e < n; ++e) std::tie(keys[e], order[e]) = pairs[e];
+    for (std::uint32_t p = 0; p < n; ++p)
+        transport_run_sum(p, std::uint32_t(n), keys.data(), order.data(), values.data(),
+                          b.no_entry(), sums.data(), kept.data());
+    std::exclusive_scan(kept.begin(), kept.end(), slot.begin(), 0u);
+    const std::uint32_t nnz = n ? slot[n - 1] + kept[n - 1] : 0;
+    TransportOperator::Block out;
+    out.first = first;
+    std::vector<std::uint64_t> out_keys(nnz);
+    out.column.resize(nnz);
+    for (auto& v : out.values) v.resize(nnz);
+    for (std::uint32_t p = 0; p < n; ++p)
+        transport_compact(p, keys.data(), kept.data(), slot.data(), sums.data(), b.vertices,
+                          out_keys.data(), out.column.data(), out.values[0].data(),
+                          out.values[1].data(), out.values[2].data());
+    out.row_start.resize(count + 1);
+    for (std::uint32_t j = 0; j <= count; ++j)
+        out.row_start[j] = transport_row_start(j, out_keys.data(), nnz, b.vertices);
+    return out;
+}
+
 // The GPU bake's path to A, emulated on the CPU: the kernel's closest_hit_sample over the flat
-// BVH (its W is transfer_sample's, bit for bit) gives sample-major hit records, and
-// transport_block_from_hits merges them into the same bits as build_transport_operator with a
-// tracer over the same flat BVH.
+// BVH (its W is transfer_sample's, bit for bit) gives sample-major hit records, and the device
+// build's steps (device_build_on_host) turn them into the same bits as build_transport_operator
+// with a tracer over the same flat BVH.
 TEST(Interreflect, KernelHitRecordsGiveTheOperatorsBits) {
     Mesh mesh = make_builtin("box_on_plane");
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
@@ -254,11 +308,12 @@ TEST(Interreflect, KernelHitRecordsGiveTheOperatorsBits) {
                 }
             }
             const TransportOperator::Block got =
-                transport_block_from_hits(mesh, d, two_sided, b.first, count, hits.data());
+                device_build_on_host(mesh, d, two_sided, b.first, count, hits.data());
             EXPECT_EQ(got.first, b.first);
-            EXPECT_EQ(got.row_start, b.row_start);
-            EXPECT_EQ(got.column, b.column);
-            for (int c = 0; c < 3; ++c) EXPECT_EQ(got.values[c], b.values[c]) << c;
+            EXPECT_EQ(got.row_start, b.row_start) << "block at " << b.first;
+            EXPECT_EQ(got.column, b.column) << "block at " << b.first;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(got.values[c], b.values[c]) << "block at " << b.first << " channel " << c;
         }
         EXPECT_GT(hits_seen, 1000u);
     }

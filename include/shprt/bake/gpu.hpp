@@ -27,6 +27,7 @@
 #pragma once
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/interreflect.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/transfer/transfer.hpp"
@@ -69,9 +70,16 @@ GpuInfo query_gpu(int device = 0);
 std::uint64_t gpu_bake_fixed_bytes(std::size_t vertices, std::size_t samples, int K,
                                    std::uint64_t bvh_bytes);
 
+// What interreflected transfer adds to a slot per sample: the 12-byte hit record and the build of
+// A's block from it (transport_build.hpp): three entries of 80 bytes (two 8-byte keys for the
+// sort, the kept key, two 4-byte indices, the kept flag and its slot, 3 values, 3 sums, the
+// column and 3 channel values) plus 8 bytes each budgeted for cub's temporary storage.
+inline constexpr std::uint64_t kClosestHitBytesPerSample = 12 + 3 * (80 + 8);
+
 // Bytes each chunk buffer ("slot") holds per vertex: W (4·S) plus C (4·K, unless the bake writes
-// into a caller's device buffer) plus, for interreflected transfer (`closest_hits`), a 12-byte
-// SampleHit per sample; a slot also holds one 8-byte ray counter.
+// into a caller's device buffer) plus, for interreflected transfer (`closest_hits`),
+// kClosestHitBytesPerSample per sample and a 4-byte row start; a slot also holds one 8-byte ray
+// counter.
 std::uint64_t gpu_bake_bytes_per_vertex(std::size_t samples, int K, bool device_output,
                                         bool closest_hits = false);
 
@@ -82,7 +90,7 @@ struct ChunkPlanRequest {
     std::uint64_t free_device_bytes = 0;   // cudaMemGetInfo's free memory before the bake
     std::uint64_t fixed_device_bytes = 0;  // gpu_bake_fixed_bytes(...)
     bool device_output = false;            // C written into the caller's buffer: no C per slot
-    bool closest_hits = false;        // interreflected: a hit record (12 bytes) per sample per slot
+    bool closest_hits = false;  // interreflected: kClosestHitBytesPerSample per sample per slot
     std::size_t requested_chunk = 0;  // BakeOptions::chunk_receivers; 0 = automatic
     int slots = 2;                    // buffers in flight (2 = double buffering), ≥ 1
     // Automatic chunks stop growing at this many bytes per slot: larger ones fill the GPU no
@@ -104,7 +112,8 @@ struct ChunkPlan {
 // Chooses the chunk size of a GPU bake so that everything fits in the usable free memory:
 //   budget = ⌊usable_fraction·free⌋ − fixed; per vertex b = gpu_bake_bytes_per_vertex(...);
 //   fit    = ⌊(budget − slots·8) / (slots·b)⌋   (the most vertices that fit per slot);
-//   chunk  = min(V, fit, ⌊(2^31 − 1)/S⌋ (the kernel's 32-bit thread index), and either
+//   chunk  = min(V, fit, ⌊(2^31 − 1)/S⌋ (the kernel's 32-bit thread index; ⌊(2^31 − 1)/3S⌋
+//            with closest_hits: A's entries), and either
 //            requested_chunk or, when automatic, max(1, ⌊max_slot_bytes / b⌋));
 // an automatic chunk below V is rounded down to a multiple of 128 when at least 128 (whole GEMM
 // tiles). When memory is ample the plan depends on (V, S, K, the request) only, never on the free
@@ -142,6 +151,14 @@ ChunkPlan plan_chunks(const ChunkPlanRequest& request);
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
                                         const DirectionSet& directions, std::size_t first,
                                         std::size_t count, int device = 0);
+
+// The transport operator A of interreflected transfer (interreflect.hpp) as the GPU bake builds
+// it: closest hits over the flat BVH and A's blocks built on the device (transport_build.hpp),
+// one block per chunk of `chunk` vertices (0 = the bake's plan). For tests: the same bits as
+// build_transport_operator with a tracer over the same flat BVH. Throws as the GPU bake, and
+// Error(invalid_argument) for a mesh without albedo per vertex.
+TransportOperator gpu_transport_operator(const Mesh& mesh, const DirectionSet& directions,
+                                         bool two_sided, std::size_t chunk = 0, int device = 0);
 
 // Raw any-hit traversal rate: a kernel that only traces, one thread per (vertex, direction) with
 // n·w > 0, from offset_ray_origin(p, n), over the flat BVH of `mesh`; no W, no projection.

@@ -25,6 +25,7 @@
 #pragma once
 
 #include "shprt/bake/transfer_sample.hpp"
+#include "shprt/bake/transport_build.hpp"
 #include "shprt/core/progress.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -126,14 +127,9 @@ struct TransportOptions {
 TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,
                                            const Tracer& tracer, const TransportOptions& options);
 
-// The GPU bake's way to A (and its CPU tests'): the block of A for vertices [first, first + count)
-// from sample-major hit records, hits[s·count + j] for vertex first + j and direction s, as
-// closest_hit_sample (transfer_sample.hpp) gives them (kNoTriangle where no ray was cast or it
-// escaped). The rows are merged by the same code as build_transport_operator's, so the same hits
-// give the same bits.
-TransportOperator::Block transport_block_from_hits(const Mesh& mesh, const DirectionSet& directions,
-                                                   bool two_sided, std::size_t first,
-                                                   std::size_t count, const SampleHit* hits);
+// The mesh's arrays as A's entries read them (transport_build.hpp: the CPU's rows and the GPU's
+// build of A share its arithmetic); valid while `mesh` is.
+TransportMeshView transport_mesh_view(const Mesh& mesh);
 
 // Which code runs a bounce's product: automatic (AVX2 where the CPU has it, else Eigen), Eigen's
 // sparse × dense product (Eigen::SparseMatrix row-major, mapped on A's arrays, per channel), or
