@@ -14,6 +14,7 @@
 #include "cuda/gpu_bake_device.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/log.hpp"
 #include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
@@ -53,6 +54,18 @@ cuda::DeviceScene device_scene(const Receivers& receivers, const FlatBvh* bvh,
     return s;
 }
 
+// The device memory a GPU bake plans with (BakeOptions::device_memory_budget): the budget, at
+// most what is free, all of it usable; else what is free, 90% of it usable.
+struct DeviceMemory {
+    std::uint64_t bytes = 0;
+    double usable_fraction = 0.9;
+};
+
+DeviceMemory device_memory(const BakeOptions& options, std::uint64_t free_bytes) {
+    if (options.device_memory_budget == 0) return DeviceMemory{free_bytes, 0.9};
+    return DeviceMemory{std::min(free_bytes, options.device_memory_budget), 1.0};
+}
+
 // T_0's rows and A from one pass of closest hits on the device: W projected by cuBLAS, and from
 // the hits A's rows, one block per chunk, built on the device with the CPU builder's arithmetic
 // (transport_build.hpp), so the same bits. Receivers must be the mesh's vertices.
@@ -73,7 +86,9 @@ DeviceTransportPass trace_transport_on_device(const Mesh& mesh, const Receivers&
     request.vertices = V;
     request.samples = S;
     request.K = K;
-    request.free_device_bytes = device.free_bytes;
+    const DeviceMemory memory = device_memory(options, device.free_bytes);
+    request.free_device_bytes = memory.bytes;
+    request.usable_fraction = memory.usable_fraction;
     // The occluder mesh for A's entries: positions and albedo per vertex, three indices per
     // triangle.
     const std::uint64_t mesh_bytes =
@@ -103,8 +118,12 @@ DeviceTransportPass trace_transport_on_device(const Mesh& mesh, const Receivers&
     input.mesh_vertices = mesh.vertex_count();
     input.mesh_triangles = mesh.triangle_count();
     input.two_sided = options.two_sided;
+    // The blocks past BakeOptions::memory_budget's share for A are spilled, as on the CPU.
+    detail::TransportBlockStore store(detail::transport_memory_budget(mesh, options),
+                                      options.spill_directory);
     input.on_transport_block = [&](TransportOperator::Block&& block) {
         pass.A.blocks.push_back(std::move(block));
+        store.keep(pass.A.blocks.size() - 1, pass.A.blocks.back());
     };
     input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* rows,
                               std::uint64_t rays) {
@@ -116,6 +135,7 @@ DeviceTransportPass trace_transport_on_device(const Mesh& mesh, const Receivers&
     SHPRT_CHECK(!pass.result.cancelled && progress.finish(), cancelled,
                 "bake cancelled after {} of {} receivers", progress.receivers_done(), V);
     pass.A.rays_cast = pass.result.rays;
+    store.finish(pass.A);
     return pass;
 }
 
@@ -156,7 +176,9 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     request.vertices = rx.count;
     request.samples = S;
     request.K = F;
-    request.free_device_bytes = device.free_bytes;
+    const DeviceMemory memory = device_memory(options, device.free_bytes);
+    request.free_device_bytes = memory.bytes;
+    request.usable_fraction = memory.usable_fraction;
     request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, F, shadowed ? bvh.bytes() : 0);
     request.device_output = device_output != nullptr;
     request.requested_chunk = options.chunk_receivers;
@@ -243,7 +265,21 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
     st.rays_cast = result.rays;
     st.device_name = device.name;
 
-    cuda::DeviceTransport transport(options.device_index, A, K);
+    // The bounces keep on the device what fits of A; the rest is copied in per bounce.
+    std::vector<std::uint64_t> block_bytes;
+    for (const TransportOperator::Block& b : A.blocks) block_bytes.push_back(b.bytes());
+    const DeviceMemory memory =
+        device_memory(options, cuda::prepare_device(options.device_index).free_bytes);
+    const TransportResidency residency =
+        plan_transport_residency(block_bytes, 2 * std::uint64_t(V) * 3 * K * sizeof(float),
+                                 memory.bytes, memory.usable_fraction);
+    if (residency.streamed_bytes > 0)
+        log_info(
+            "GPU bounces: {:.1f} of A's {:.1f} MiB do not fit the device's memory and are "
+            "copied in per bounce",
+            double(residency.streamed_bytes) / double(1 << 20),
+            double(A.bytes()) / double(1 << 20));
+    cuda::DeviceTransport transport(options.device_index, A, K, residency.resident_blocks);
     st.peak_bytes_device = std::max(result.peak_device_bytes, transport.device_bytes());
     const double seconds = seconds_since(start);
     TransferInfo out = finish_interreflected(

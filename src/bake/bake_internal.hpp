@@ -4,7 +4,10 @@
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/interreflect.hpp"
 
+#include <cstdint>
 #include <functional>
+#include <memory>
+#include <string>
 #include <vector>
 
 namespace shprt::detail {
@@ -47,6 +50,30 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
 // the backend's host memory besides T_0, A and the bounce buffers; `seconds_so_far`: since the
 // bake began (BVH included).
 class BakeProgress;
+// Where the finished blocks of A go, on the CPU and from the GPU: kept in memory (trimmed to
+// their size) while the kept ones fit `budget` bytes (0 = no limit), else spilled to a temporary
+// file in `spill_directory` (TransportOptions says how); finish() maps the spilled blocks back
+// into A (A.spill, A.spilled_bytes). keep() is thread-safe; which blocks spill depends on the
+// order they come, never the bits.
+class TransportBlockStore {
+public:
+    TransportBlockStore(std::uint64_t budget, std::string spill_directory);
+    ~TransportBlockStore();
+    TransportBlockStore(const TransportBlockStore&) = delete;
+    TransportBlockStore& operator=(const TransportBlockStore&) = delete;
+
+    void keep(std::size_t index, TransportOperator::Block& block);
+    void finish(TransportOperator& A);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+// The bytes BakeOptions::memory_budget leaves for A once the rest of an interreflected bake
+// (estimate_bake_peak_bytes) has its share: 0 without a budget, at least 1 (every block spills).
+std::uint64_t transport_memory_budget(const Mesh& mesh, const BakeOptions& options);
+
 using BounceProduct = std::function<void(const float* in, float* out, BakeProgress& progress)>;
 void check_interreflected_job(const BakeJob& job);
 TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& options,

@@ -82,4 +82,44 @@ ChunkPlan plan_chunks(const ChunkPlanRequest& r) {
     return plan;
 }
 
+TransportResidency plan_transport_residency(const std::vector<std::uint64_t>& block_bytes,
+                                            std::uint64_t dense_bytes,
+                                            std::uint64_t free_device_bytes,
+                                            double usable_fraction) {
+    SHPRT_CHECK(usable_fraction > 0.0 && usable_fraction <= 1.0, invalid_argument,
+                "transport residency: usable fraction {} is outside (0, 1]", usable_fraction);
+    const auto usable =
+        static_cast<std::uint64_t>(static_cast<double>(free_device_bytes) * usable_fraction);
+    std::uint64_t total = 0, largest = 0;
+    for (const std::uint64_t b : block_bytes) {
+        total += b;
+        largest = std::max(largest, b);
+    }
+    TransportResidency r;
+    if (dense_bytes <= usable && total <= usable - dense_bytes) {
+        r.resident_blocks = block_bytes.size();
+        r.peak_bytes = dense_bytes + total;
+        return r;
+    }
+    if (usable < dense_bytes || usable - dense_bytes < largest) {
+        fail(ErrorCode::out_of_memory,
+             "the GPU bounces need at least {:.1f} MiB of device memory (the transfer in and out, "
+             "{:.1f} MiB, and the largest block of the transport operator, {:.1f} MiB) but {:.1f} "
+             "MiB are free (of which {:.0f}% are used)",
+             double(dense_bytes + largest) / double(kMiB), double(dense_bytes) / double(kMiB),
+             double(largest) / double(kMiB), double(free_device_bytes) / double(kMiB),
+             100.0 * usable_fraction);
+    }
+    r.staging_bytes = largest;
+    std::uint64_t room = usable - dense_bytes - largest, resident = 0;
+    while (r.resident_blocks < block_bytes.size() && block_bytes[r.resident_blocks] <= room) {
+        room -= block_bytes[r.resident_blocks];
+        resident += block_bytes[r.resident_blocks];
+        ++r.resident_blocks;
+    }
+    r.streamed_bytes = total - resident;
+    r.peak_bytes = dense_bytes + resident + largest;
+    return r;
+}
+
 }  // namespace shprt

@@ -68,10 +68,6 @@ private:
     std::vector<std::uint32_t> m_touched;
 };
 
-}  // namespace detail
-
-namespace {
-
 // The blocks of A that do not fit the memory budget: appended to one temporary file as they
 // finish (any thread; each block's bytes at an offset reserved under a lock, written with pwrite
 // outside it), then mapped read-only. The file is an AtomicFile's temporary, never committed: it
@@ -163,6 +159,57 @@ private:
     std::uint64_t m_size = 0;
     std::atomic<std::uint64_t> m_spilled{0};
 };
+
+struct TransportBlockStore::Impl {
+    std::uint64_t budget;
+    SpillFile spill;
+    std::atomic<std::uint64_t> resident{0};
+    std::mutex mutex;  // guards records
+    std::vector<SpillFile::Record> records;
+
+    Impl(std::uint64_t b, std::string directory) : budget(b), spill(std::move(directory)) {}
+};
+
+TransportBlockStore::TransportBlockStore(std::uint64_t budget, std::string spill_directory)
+    : m_impl(std::make_unique<Impl>(budget, std::move(spill_directory))) {}
+
+TransportBlockStore::~TransportBlockStore() = default;
+
+void TransportBlockStore::keep(std::size_t index, TransportOperator::Block& block) {
+    Impl& m = *m_impl;
+    const std::uint64_t bytes = block.bytes();
+    // Its vectors may have grown by doubling: trimmed to their size, so that the memory A holds
+    // is A.bytes() (the slack was ~10 % of A, seen in the process's RSS).
+    if (m.budget == 0 || m.resident.fetch_add(bytes) + bytes <= m.budget) {
+        block.row_start.shrink_to_fit();
+        block.column.shrink_to_fit();
+        for (auto& v : block.values) v.shrink_to_fit();
+        return;
+    }
+    m.resident.fetch_sub(bytes);
+    const SpillFile::Record record = m.spill.append(block);
+    const std::lock_guard lock(m.mutex);
+    if (m.records.size() <= index) m.records.resize(index + 1);
+    m.records[index] = record;
+}
+
+void TransportBlockStore::finish(TransportOperator& A) {
+    Impl& m = *m_impl;
+    m.records.resize(A.blocks.size());
+    A.spill = m.spill.map(A, m.records);
+    A.spilled_bytes = m.spill.spilled();
+}
+
+std::uint64_t transport_memory_budget(const Mesh& mesh, const BakeOptions& options) {
+    if (options.memory_budget == 0) return 0;
+    const std::uint64_t rest =
+        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), options, true);
+    return options.memory_budget > rest ? options.memory_budget - rest : 1;
+}
+
+}  // namespace detail
+
+namespace {
 
 // One worker's buffers.
 struct RowScratch {
@@ -266,23 +313,8 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
     detail::BakeProgress progress(options.progress, true, V, S);
     progress.set_then(then);
     // A finished block stays in memory while the finished blocks fit the budget, else it goes
-    // to the spill file. Its vectors grew by doubling: trimmed to their size first, so that the
-    // memory A holds is A.bytes() (the slack was ~10 % of A, seen in the process's RSS).
-    SpillFile spill(options.spill_directory);
-    std::vector<SpillFile::Record> spilled(options.memory_budget > 0 ? block_count : 0);
-    std::atomic<std::uint64_t> resident{0};
-    const auto keep_or_spill = [&](std::size_t c, TransportOperator::Block& out) {
-        const std::uint64_t bytes = out.bytes();
-        if (options.memory_budget == 0 ||
-            resident.fetch_add(bytes) + bytes <= options.memory_budget) {
-            out.row_start.shrink_to_fit();
-            out.column.shrink_to_fit();
-            for (auto& v : out.values) v.shrink_to_fit();
-            return;
-        }
-        resident.fetch_sub(bytes);
-        spilled[c] = spill.append(out);
-    };
+    // to the spill file.
+    detail::TransportBlockStore store(options.memory_budget, options.spill_directory);
     constexpr float kInf = std::numeric_limits<float>::infinity();
     constexpr float kKeep[2] = {1.0f, 0.0f};  // visible, occluded: as trace_row, branch-free
 
@@ -352,7 +384,7 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
                                  direct->rows + out.first * std::size_t(direct->K));
             sc.project_seconds += thread_cpu_seconds() - project_start;
         }
-        keep_or_spill(c, out);
+        store.keep(c, out);
     };
 
     {
@@ -362,8 +394,7 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
     SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} of {} vertices",
                 progress.receivers_done(), V);
     A.rays_cast = progress.rays();
-    A.spill = spill.map(A, spilled);
-    A.spilled_bytes = spill.spilled();
+    store.finish(A);
     if (totals)
         for (const RowScratch& sc : scratch) {
             totals->trace_seconds += sc.trace_seconds;
@@ -555,12 +586,8 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
         // What the budget leaves for A once the rest of the bake (estimated before it: tables,
         // buffers, T_0, the bounce arrays and the rows) has its share; nothing left → every
         // block spills.
-        if (options.memory_budget > 0) {
-            const std::uint64_t rest =
-                estimate_bake_peak_bytes(mesh.triangle_count(), V, options, true);
-            to.memory_budget = options.memory_budget > rest ? options.memory_budget - rest : 1;
-            to.spill_directory = options.spill_directory;
-        }
+        to.memory_budget = transport_memory_budget(mesh, options);
+        to.spill_directory = options.spill_directory;
         RowScratch totals;
         // The tracing stage's ETA cannot include the bounces (their cost is known once A is):
         // the bar names them after it, and the bounces' own stage then has the whole rest.

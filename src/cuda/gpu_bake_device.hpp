@@ -86,20 +86,24 @@ struct DeviceBakeResult {
 // Runs the chunk pipeline of gpu.hpp's bake_gpu. Holds the GPU lock throughout.
 DeviceBakeResult run_device_bake(const DeviceBakeInput& input);
 
-// The bounces of an interreflected bake on the device: A (interreflect.hpp) uploaded once, then
-// each apply() is out = A·in per channel by cuSPARSE SpMM (CSR, one call per block of A and
-// channel, CUSPARSE_SPMM_CSR_ALG2: deterministic run to run), `in` and `out` V × 3K floats in
-// host memory (the transfer layout). Holds the GPU lock while it uploads and while it applies.
+// The bounces of an interreflected bake on the device: A (interreflect.hpp), its first
+// `resident_blocks` blocks uploaded once (plan_transport_residency), then each apply() is
+// out = A·in per channel by cuSPARSE SpMM (CSR, one call per block of A and channel,
+// CUSPARSE_SPMM_ALG_DEFAULT without transposing A: deterministic run to run), `in` and `out`
+// V × 3K floats in host memory (the transfer layout). The other blocks are copied in per apply,
+// one at a time, through staging buffers as large as the largest of them; A must outlive this
+// object. Holds the GPU lock while it uploads and while it applies.
 class DeviceTransport {
 public:
-    DeviceTransport(int device, const TransportOperator& A, int K);
+    DeviceTransport(int device, const TransportOperator& A, int K, std::size_t resident_blocks);
     ~DeviceTransport();
     DeviceTransport(const DeviceTransport&) = delete;
     DeviceTransport& operator=(const DeviceTransport&) = delete;
 
     void apply(const float* in, float* out);
-    std::uint64_t device_bytes() const;  // A, the two dense buffers and SpMM's workspace
-    double seconds() const;              // Σ GPU time of the products so far
+    std::uint64_t device_bytes() const;    // A, the two dense buffers and SpMM's workspace
+    double seconds() const;                // Σ GPU time of the products (and staging) so far
+    std::uint64_t streamed_bytes() const;  // bytes of the blocks copied in per apply
 
 private:
     struct Impl;

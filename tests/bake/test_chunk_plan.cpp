@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace shprt {
 namespace {
@@ -234,6 +236,61 @@ TEST(ChunkPlan, BadRequestsAreInvalidArguments) {
     r.usable_fraction = 1.5;
     EXPECT_EQ(code_of(r), ErrorCode::invalid_argument);
     EXPECT_EQ(code_of(ok), ErrorCode::io) << "the valid request must not throw";
+}
+
+// The bounces' A on the device: whole when it fits, else its first blocks resident and the rest
+// streamed through staging buffers as large as the largest block.
+TEST(TransportResidency, KeepsWhatFitsAndStreamsTheRest) {
+    const std::vector<std::uint64_t> blocks = {10, 20, 30, 40};
+    const TransportResidency all = plan_transport_residency(blocks, 5, 105, 1.0);
+    EXPECT_EQ(all.resident_blocks, 4u);
+    EXPECT_EQ(all.staging_bytes, 0u);
+    EXPECT_EQ(all.streamed_bytes, 0u);
+    EXPECT_EQ(all.peak_bytes, 105u);
+
+    // 80 bytes: the dense 5 and the staging 40 leave 35 for 10 + 20; 30 and 40 are streamed.
+    const TransportResidency some = plan_transport_residency(blocks, 5, 80, 1.0);
+    EXPECT_EQ(some.resident_blocks, 2u);
+    EXPECT_EQ(some.staging_bytes, 40u);
+    EXPECT_EQ(some.streamed_bytes, 70u);
+    EXPECT_EQ(some.peak_bytes, 75u);
+
+    // Only the staging fits: every block streamed.
+    const TransportResidency none = plan_transport_residency(blocks, 5, 45, 1.0);
+    EXPECT_EQ(none.resident_blocks, 0u);
+    EXPECT_EQ(none.streamed_bytes, 100u);
+    EXPECT_EQ(none.peak_bytes, 45u);
+
+    // The usable fraction applies to the free bytes: 0.9 · 100 = 90 does not hold all 105.
+    EXPECT_LT(plan_transport_residency(blocks, 5, 100).resident_blocks, 4u);
+
+    std::string message;
+    const auto failure = [&](std::uint64_t free_bytes, double fraction) {
+        try {
+            plan_transport_residency(blocks, 5, free_bytes, fraction);
+        } catch (const Error& e) {
+            message = e.what();
+            return e.code();
+        }
+        return ErrorCode::io;  // no throw: a value no check uses
+    };
+    EXPECT_EQ(failure(44, 1.0), ErrorCode::out_of_memory);
+    EXPECT_NE(message.find("largest block of the transport operator"), std::string::npos)
+        << message;
+    EXPECT_EQ(failure(100, 0.0), ErrorCode::invalid_argument);
+}
+
+TEST(TransportResidency, NeverPlansMoreThanIsUsable) {
+    const std::vector<std::uint64_t> blocks = {7, 1, 13, 2, 9, 9, 0, 30, 4};
+    for (std::uint64_t free_bytes = 40; free_bytes <= 120; ++free_bytes) {
+        const TransportResidency r = plan_transport_residency(blocks, 3, free_bytes, 0.9);
+        const auto usable = std::uint64_t(double(free_bytes) * 0.9);
+        EXPECT_LE(r.peak_bytes, usable) << free_bytes;
+        std::uint64_t resident = 0;
+        for (std::size_t i = 0; i < r.resident_blocks; ++i) resident += blocks[i];
+        EXPECT_EQ(r.peak_bytes, 3 + resident + r.staging_bytes) << free_bytes;
+        EXPECT_EQ(r.streamed_bytes, 75 - resident) << free_bytes;
+    }
 }
 
 }  // namespace

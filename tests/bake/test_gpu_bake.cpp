@@ -359,6 +359,49 @@ TEST(GpuBake, InterreflectedAgreesWithTheCpuBake) {
     EXPECT_EQ(gpu_converged.interreflection.bounces, cpu_converged.interreflection.bounces);
 }
 
+// A device budget that holds the tracing pass but not A: the bounces copy A's blocks in per bounce
+// (plan_transport_residency), with the same products, so the same bits as with A resident. With a
+// host budget too small for A as well, its blocks are spilled to a mapped file as they come back
+// from the device (as the CPU bake spills), and copied in from the mapping: the same bits again.
+TEST(GpuBake, InterreflectedBouncesStreamWhatDoesNotFitTheDevice) {
+    SKIP_WITHOUT_GPU();
+    const Mesh room = make_builtin("room");
+    const std::size_t V = room.vertex_count();
+    BakeOptions o;
+    o.transfer = TransferKind::interreflected;
+    o.device = Device::cuda;
+    o.K = 4;
+    o.samples = 1024;
+    o.bounces = 3;
+    o.chunk_receivers = 128;  // many blocks of A: one per chunk
+    const DirectionSet d = make_direction_set(SamplerKind::sobol, 1, 1024);
+    // What the tracing pass plans with at this chunk (gpu.hpp's formulas), with a margin.
+    const std::uint64_t trace_bytes =
+        gpu_bake_fixed_bytes(V, 1024, o.K, build_flat_bvh(room).bytes()) + V * 24 +
+        room.triangle_count() * 12 +
+        2 * (128 * gpu_bake_bytes_per_vertex(1024, o.K, false, true) + 8);
+    o.device_memory_budget = trace_bytes + (8u << 20);
+    TransportOptions to;
+    to.rows_per_block = 128;
+    const TransportOperator A = build_transport_operator(room, d, *make_flat_bvh_tracer(room), to);
+    ASSERT_GT(A.bytes(), o.device_memory_budget) << "A must not fit the budget";
+
+    const TransferSet streamed = bake(room, o, d);
+    o.memory_budget = 1;  // nothing left for A: every block spills
+    const TransferSet spilled = bake(room, o, d);
+    EXPECT_EQ(spilled.stats.operator_bytes_spilled, A.bytes());
+    o.memory_budget = 0;
+    o.device_memory_budget = 0;
+    const TransferSet resident = bake(room, o, d);
+    EXPECT_EQ(resident.stats.operator_bytes_spilled, 0u);
+    EXPECT_TRUE(std::equal(spilled.coeffs.begin(), spilled.coeffs.end(), resident.coeffs.begin()))
+        << "spilling A's blocks must not change a bit";
+    EXPECT_EQ(streamed.interreflection.operator_nnz, A.nnz());
+    ASSERT_EQ(streamed.coeffs.size(), resident.coeffs.size());
+    EXPECT_TRUE(std::equal(streamed.coeffs.begin(), streamed.coeffs.end(), resident.coeffs.begin()))
+        << "streaming A's blocks must not change a bit";
+}
+
 // Glossy matrices on the GPU: the hemisphere weight and the pair-product SGEMM, against the CPU.
 TEST(GpuBake, GlossyAgreesWithTheCpuBake) {
     SKIP_WITHOUT_GPU();

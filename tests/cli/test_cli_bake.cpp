@@ -107,6 +107,9 @@ TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
         {"--device quantum", "unknown device 'quantum'"},
         {"--threads -1", "--threads -1"},
         {"--bands 2 --coeffs 4", "--bands and --coeffs both given"},
+        {"--device cuda --max-device-memory lots", "--max-device-memory 'lots': expected a size"},
+        {"--device auto --max-device-memory 0", "--max-device-memory '0'"},
+        {"--max-device-memory 1G", "--max-device-memory needs --device cuda or auto"},
     };
     for (const auto& [option, message] : bad) {
         expect_one_line_error(shprt(base + option), message);

@@ -28,6 +28,9 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--device", args.device, "cpu (default), cuda or auto");
     app.add_option("--device-index", args.device_index,
                    "CUDA device for --device cuda|auto (default 0)");
+    app.add_option("--max-device-memory", args.max_device_memory,
+                   "--device cuda|auto: the GPU memory the bake may use (512M, 4G, ...; default "
+                   "90% of what is free); interreflected bounces copy in what does not fit");
     app.add_option("--bounces", args.bounces,
                    "Interreflected: bounces N (0 to 10000; default 1) or 'converged'");
     app.add_option("--tolerance", args.tolerance,
@@ -88,6 +91,16 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
     SHPRT_CHECK(a.device_index >= 0 && a.device_index <= std::numeric_limits<int>::max(),
                 invalid_argument, "--device-index {}: must be 0 or more", a.device_index);
     o.device_index = static_cast<int>(a.device_index);
+    if (!a.max_device_memory.empty()) {
+        SHPRT_CHECK(parse_byte_size(a.max_device_memory, o.device_memory_budget) &&
+                        o.device_memory_budget > 0,
+                    invalid_argument,
+                    "--max-device-memory '{}': expected a size such as 512M or 4G (bytes, K, M, "
+                    "G or T)",
+                    a.max_device_memory);
+        SHPRT_CHECK(o.device != Device::cpu, invalid_argument,
+                    "--max-device-memory needs --device cuda or auto");
+    }
     const bool interreflected = o.transfer == TransferKind::interreflected;
     SHPRT_CHECK(o.transfer != TransferKind::glossy || a.bounces.empty(), unsupported,
                 "--bounces: interreflected glossy transfer is not implemented (glossy matrices "

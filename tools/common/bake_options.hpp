@@ -1,6 +1,6 @@
 // The bake options of `shprt bake`, shared with `shprt view SCENE --bake` so that both accept the
 // same names and check them the same way: --transfer, --bands, --coeffs, --samples, --sampler,
-// --seed, --threads, --device, --device-index.
+// --seed, --threads, --device, --device-index, --max-device-memory and interreflection's.
 #pragma once
 
 #include "shprt/bake/bake.hpp"
@@ -21,6 +21,7 @@ struct BakeOptionArgs {
     std::uint64_t seed = 1;
     long long threads = 0;
     long long device_index = 0;
+    std::string max_device_memory;  // --max-device-memory SIZE
     // Interreflected transfer: --bounces N|converged, --tolerance T, --two-sided (and --albedo,
     // which changes the scene: apply_albedo_option).
     std::string bounces;
@@ -29,7 +30,7 @@ struct BakeOptionArgs {
     bool two_sided = false;
 };
 
-// Adds the nine options above, writing into `args` (which must outlive the parse).
+// Adds the options above, writing into `args` (which must outlive the parse).
 void add_bake_options(CLI::App& app, BakeOptionArgs& args);
 
 // Checks every option (one-line Error(invalid_argument) naming the option and value) and returns

@@ -86,6 +86,11 @@ struct BakeOptions {
     // Receivers per chunk of the grid (one W[chunk×S] buffer and one SGEMM each); 0 = automatic,
     // from the whole receiver set's size and S only (see "Determinism" above).
     std::size_t chunk_receivers = 0;
+    // The GPU bake (Device::cuda): the device bytes it may plan with, at most what is free (0 =
+    // 90% of what is free when it starts; the CUDA context and cuBLAS need the rest). Its chunks
+    // fit it, and for interreflected transfer so do A's blocks kept on the device for the
+    // bounces: the others are copied in per bounce (plan_transport_residency, gpu.hpp).
+    std::uint64_t device_memory_budget = 0;
     // Interreflected transfer only (TransferKind::interreflected, bake/interreflect.hpp): the
     // bounces N ≥ 0 (0 = the shadowed transfer in three channels), or with `converge` as many as
     // it takes for the largest relative change of any receiver's transfer to fall under

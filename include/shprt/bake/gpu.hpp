@@ -123,6 +123,25 @@ struct ChunkPlan {
 // (0, 1].
 ChunkPlan plan_chunks(const ChunkPlanRequest& request);
 
+// Where an interreflected GPU bake's bounces keep the transport operator A (its blocks, in row
+// order, of block_bytes[i] = TransportOperator::Block::bytes() each). With
+//   usable = ⌊usable_fraction·free_device_bytes⌋ − dense_bytes   (the transfer in and out),
+// every block stays on the device when Σ block_bytes ≤ usable. Otherwise the blocks are streamed:
+// staging = the largest block's bytes is set aside, the first blocks whose sum fits the rest stay
+// resident, and the others are copied in per bounce through the staging buffers (the same
+// products, the same bits). Error(out_of_memory) when not even the dense arrays and the staging
+// buffers fit.
+struct TransportResidency {
+    std::size_t resident_blocks = 0;   // blocks [0, resident_blocks) stay on the device
+    std::uint64_t staging_bytes = 0;   // 0 when every block is resident
+    std::uint64_t streamed_bytes = 0;  // the bytes copied in per bounce
+    std::uint64_t peak_bytes = 0;      // dense + resident blocks + staging
+};
+TransportResidency plan_transport_residency(const std::vector<std::uint64_t>& block_bytes,
+                                            std::uint64_t dense_bytes,
+                                            std::uint64_t free_device_bytes,
+                                            double usable_fraction = 0.9);
+
 // ---------------------------------------------------------------------------------------------
 // The bake
 //
