@@ -9,14 +9,18 @@
 //     must give the same bits;
 //   * `--bounces converged` (tolerance 1e-4): bounces taken and time;
 //   * peak bytes per vertex of the interreflected bake.
+// With --device cuda both bakes run on the GPU (closest hits, T_0, A and the cuSPARSE bounces on
+// the device) and the product rows, which time the CPU's kernels, are left out: on the GPU the
+// bounce product is the bare cuSPARSE call itself.
 // A plain main() like bench_bake.cpp: both sides of each ratio are timed in the same run, and
 // every figure is the minimum over --reps runs (the machine is shared; the minimum is the least
 // disturbed).
 //
 // Usage: bench_interreflect [--K K] [--samples S] [--bounces N] [--reps R] [--threads T]
-//                           [--no-converged] [--only-product]
+//                           [--no-converged] [--only-product] [--device cpu|cuda]
 #include "bench_cli.hpp"
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/gpu.hpp"
 #include "shprt/bake/interreflect.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/scene/load.hpp"
@@ -48,6 +52,8 @@ struct Args {
     int threads = 0;
     bool converged = true;
     bool bakes = true;
+    bool products = true;
+    std::string device = "cpu";
 };
 
 Args parse(int argc, char** argv) {
@@ -60,7 +66,10 @@ Args parse(int argc, char** argv) {
     cli.flag(
         "--only-product", [&a] { a.bakes = a.converged = false; },
         "Only the bounce product against the bare Eigen call");
+    cli.option("--device", a.device, "cpu (default) or cuda: where both bakes run")
+        ->check(CLI::IsMember({"cpu", "cuda"}));
     cli.parse(argc, argv);
+    a.products = a.device == "cpu";
     return a;
 }
 
@@ -99,69 +108,12 @@ void bare_eigen(const FlatCsr& A, const float* in, float* out, int K) {
     }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    const Args args = parse(argc, argv);
-    const int threads = args.threads > 0 ? args.threads : tbb::info::default_concurrency();
-    const Mesh room = load_scene("builtin:room");
+// One bounce's product against the bare Eigen call, on the same matrix and input (T_0 and the
+// bounces of `ir_result`): prints the rows and returns whether every case gave the bare call's
+// bits.
+bool time_products(const Mesh& room, const BakeOptions& direct, const TransferSet& ir_result,
+                   const Args& args, int threads) {
     const std::size_t V = room.vertex_count();
-    std::printf(
-        "# bench_interreflect: builtin:room, %zu vertices, K = %d, S = %d, %d bounces, "
-        "RGB, %d threads, min of %d reps\n\n",
-        V, args.K, args.samples, args.bounces, threads, args.reps);
-
-    BakeOptions direct;
-    direct.K = args.K;
-    direct.samples = static_cast<std::uint32_t>(args.samples);
-    direct.threads = threads;
-    BakeOptions ir = direct;
-    ir.transfer = TransferKind::interreflected;
-    ir.bounces = args.bounces;
-
-    // 1. Whole bakes, side by side (each rep: direct, then interreflected).
-    double t_direct = 1e30, t_ir = 1e30;
-    TransferSet ir_result;
-    if (!args.bakes) {  // only the products: T_0 as their input
-        BakeOptions none = ir;
-        none.bounces = 0;
-        ir_result = bake(room, none);
-    }
-    for (int r = 0; r < (args.bakes ? args.reps : 0); ++r) {
-        auto start = Clock::now();
-        const TransferSet d = bake(room, direct);
-        t_direct = std::min(t_direct, seconds_since(start));
-        start = Clock::now();
-        TransferSet result = bake(room, ir);
-        const double t = seconds_since(start);
-        if (t < t_ir) {  // the split below is the fastest run's
-            t_ir = t;
-            ir_result = std::move(result);
-        }
-    }
-    const BakeStats& st = ir_result.stats;
-    const InterreflectionInfo& info = ir_result.interreflection;
-    if (args.bakes) {
-        std::printf("| bake | seconds |\n|---|---:|\n");
-        std::printf("| direct (shadowed) | %.3f |\n", t_direct);
-        std::printf("| interreflected, %d bounces | %.3f |\n", args.bounces, t_ir);
-        std::printf("| — of which the rays (closest hits, for T_0 and A at once) | %.3f |\n",
-                    st.seconds_trace);
-        std::printf("| — of which T_0's projection (SGEMM) | %.3f |\n", st.seconds_project);
-        std::printf("| — of which merging the hits into A | %.3f |\n", st.seconds_operator);
-        std::printf("| — of which bounces (%d SpMM + sums) | %.3f |\n\n", info.bounces,
-                    st.seconds_bounces);
-        std::printf("ratio interreflected / direct = %.2f (limit 3): %s\n", t_ir / t_direct,
-                    t_ir / t_direct <= 3.0 ? "within" : "OVER THE LIMIT");
-        std::printf("nnz(A) = %llu (%.1f per vertex), %.1f MiB; closest-hit rays %llu\n",
-                    static_cast<unsigned long long>(info.operator_nnz),
-                    double(info.operator_nnz) / double(V), double(info.operator_bytes) / 1048576.0,
-                    static_cast<unsigned long long>(info.operator_rays));
-        std::printf("peak host memory %.1f MiB = %.0f bytes per vertex\n\n",
-                    double(st.peak_bytes_host) / 1048576.0, double(st.peak_bytes_host) / double(V));
-    }
-
-    // 2. One bounce's product against the bare Eigen call, on the same matrix and input.
     const auto tracer = make_embree_tracer(room);
     const DirectionSet dirs = make_direction_set(direct.sampler, direct.seed, direct.samples);
     TransportOptions to;
@@ -217,6 +169,88 @@ int main(int argc, char** argv) {
         "\nsame bits as the bare call, every case: %s; the bake's product speed ÷ bare = "
         "%.2f (limit 0.7): %s\n\n",
         same ? "yes" : "NO", bake_ratio, bake_ratio >= 0.7 ? "within" : "UNDER");
+
+    return same;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const Args args = parse(argc, argv);
+    if (args.device == "cuda") {
+        const GpuInfo gpu = query_gpu();
+        if (!gpu.available) {
+            std::fprintf(stderr, "bench_interreflect: --device cuda: %s\n", gpu.reason.c_str());
+            return 2;
+        }
+    }
+    const int threads = args.threads > 0 ? args.threads : tbb::info::default_concurrency();
+    const Mesh room = load_scene("builtin:room");
+    const std::size_t V = room.vertex_count();
+    std::printf(
+        "# bench_interreflect: builtin:room, %zu vertices, K = %d, S = %d, %d bounces, "
+        "RGB, %d threads, device %s, min of %d reps\n\n",
+        V, args.K, args.samples, args.bounces, threads, args.device.c_str(), args.reps);
+
+    BakeOptions direct;
+    direct.K = args.K;
+    direct.samples = static_cast<std::uint32_t>(args.samples);
+    direct.threads = threads;
+    direct.device = args.device == "cuda" ? Device::cuda : Device::cpu;
+    BakeOptions ir = direct;
+    ir.transfer = TransferKind::interreflected;
+    ir.bounces = args.bounces;
+
+    // 1. Whole bakes, side by side (each rep: direct, then interreflected).
+    double t_direct = 1e30, t_ir = 1e30;
+    TransferSet ir_result;
+    if (!args.bakes) {  // only the products: T_0 as their input
+        BakeOptions none = ir;
+        none.bounces = 0;
+        ir_result = bake(room, none);
+    }
+    for (int r = 0; r < (args.bakes ? args.reps : 0); ++r) {
+        auto start = Clock::now();
+        const TransferSet d = bake(room, direct);
+        t_direct = std::min(t_direct, seconds_since(start));
+        start = Clock::now();
+        TransferSet result = bake(room, ir);
+        const double t = seconds_since(start);
+        if (t < t_ir) {  // the split below is the fastest run's
+            t_ir = t;
+            ir_result = std::move(result);
+        }
+    }
+    const BakeStats& st = ir_result.stats;
+    const InterreflectionInfo& info = ir_result.interreflection;
+    if (args.bakes) {
+        std::printf("| bake | seconds |\n|---|---:|\n");
+        std::printf("| direct (shadowed) | %.3f |\n", t_direct);
+        std::printf("| interreflected, %d bounces | %.3f |\n", args.bounces, t_ir);
+        std::printf("| — of which the rays (closest hits, for T_0 and A at once) | %.3f |\n",
+                    st.seconds_trace);
+        std::printf("| — of which T_0's projection (SGEMM) | %.3f |\n", st.seconds_project);
+        std::printf("| — of which %s | %.3f |\n",
+                    args.products ? "merging the hits into A" : "building A (GPU time)",
+                    st.seconds_operator);
+        std::printf("| — of which bounces (%d SpMM + sums) | %.3f |\n\n", info.bounces,
+                    st.seconds_bounces);
+        std::printf("ratio interreflected / direct = %.2f (limit 3): %s\n", t_ir / t_direct,
+                    t_ir / t_direct <= 3.0 ? "within" : "OVER THE LIMIT");
+        std::printf("nnz(A) = %llu (%.1f per vertex), %.1f MiB; closest-hit rays %llu\n",
+                    static_cast<unsigned long long>(info.operator_nnz),
+                    double(info.operator_nnz) / double(V), double(info.operator_bytes) / 1048576.0,
+                    static_cast<unsigned long long>(info.operator_rays));
+        std::printf("peak host memory %.1f MiB = %.0f bytes per vertex\n\n",
+                    double(st.peak_bytes_host) / 1048576.0, double(st.peak_bytes_host) / double(V));
+        if (!args.products)
+            std::printf("device %s: peak device memory %.1f MiB\n\n", st.device_name.c_str(),
+                        double(st.peak_bytes_device) / 1048576.0);
+    }
+
+    // 2. One bounce's product against the bare Eigen call, on the same matrix and input.
+    bool same = true;
+    if (args.products) same = time_products(room, direct, ir_result, args, threads);
 
     // 3. --bounces converged.
     if (args.converged) {

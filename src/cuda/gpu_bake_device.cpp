@@ -122,8 +122,9 @@ struct TransportSlot {
         for (auto& v : value) v = DeviceBuffer<float>(n, tally);
         row_start = DeviceBuffer<std::int32_t>(chunk + 1, tally);
         column = DeviceBuffer<std::int32_t>(n, tally);
-        temp = DeviceBuffer<unsigned char>(std::max<std::size_t>(1, transport_build_temp_bytes(n)),
-                                           tally);
+        std::size_t temp_bytes = 0;
+        SHPRT_CUDA_CHECK(transport_build_temp_bytes(n, temp_bytes));
+        temp = DeviceBuffer<unsigned char>(std::max<std::size_t>(1, temp_bytes), tally);
         host_nnz = PinnedBuffer<std::uint32_t>(1);
     }
 

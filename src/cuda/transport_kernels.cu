@@ -50,17 +50,22 @@ __global__ void __launch_bounds__(kBlock) row_start_kernel(TransportBuildLaunch 
 
 }  // namespace
 
-std::size_t transport_build_temp_bytes(std::size_t entries) {
+cudaError_t transport_build_temp_bytes(std::size_t entries, std::size_t& bytes) {
     const int n = static_cast<int>(entries);
     std::size_t sort_bytes = 0, scan_bytes = 0;
     cub::DoubleBuffer<std::uint64_t> keys(nullptr, nullptr);
     cub::DoubleBuffer<std::uint32_t> order(nullptr, nullptr);
-    if (cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, keys, order, n, 0, 64) !=
-            cudaSuccess ||
-        cub::DeviceScan::ExclusiveSum(nullptr, scan_bytes, static_cast<std::uint32_t*>(nullptr),
-                                      static_cast<std::uint32_t*>(nullptr), n) != cudaSuccess)
-        return 0;
-    return std::max(sort_bytes, scan_bytes);
+    if (const cudaError_t e =
+            cub::DeviceRadixSort::SortPairs(nullptr, sort_bytes, keys, order, n, 0, 64);
+        e != cudaSuccess)
+        return e;
+    if (const cudaError_t e =
+            cub::DeviceScan::ExclusiveSum(nullptr, scan_bytes, static_cast<std::uint32_t*>(nullptr),
+                                          static_cast<std::uint32_t*>(nullptr), n);
+        e != cudaSuccess)
+        return e;
+    bytes = std::max(sort_bytes, scan_bytes);
+    return cudaSuccess;
 }
 
 cudaError_t launch_transport_build(const TransportBuildLaunch& l, cudaStream_t stream) {

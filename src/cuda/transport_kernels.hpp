@@ -32,8 +32,8 @@ struct TransportBuildLaunch {
     std::size_t temp_bytes = 0;    // ≥ transport_build_temp_bytes(entries)
 };
 
-// The temporary storage cub needs for a build of up to `entries` entries (< 2^31).
-std::size_t transport_build_temp_bytes(std::size_t entries);
+// The temporary storage cub needs for a build of up to `entries` entries (< 2^31), into `bytes`.
+cudaError_t transport_build_temp_bytes(std::size_t entries, std::size_t& bytes);
 
 // Enqueues the whole build on `stream`: the block's CSR arrays and *nnz are written when it runs.
 cudaError_t launch_transport_build(const TransportBuildLaunch& launch, cudaStream_t stream);
