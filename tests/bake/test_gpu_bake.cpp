@@ -373,16 +373,16 @@ TEST(GpuBake, InterreflectedBouncesStreamWhatDoesNotFitTheDevice) {
     o.K = 4;
     o.samples = 1024;
     o.bounces = 3;
-    o.chunk_receivers = 128;  // many blocks of A: one per chunk
+    o.chunk_receivers = 64;  // many blocks of A: one per chunk
     const DirectionSet d = make_direction_set(SamplerKind::sobol, 1, 1024);
     // What the tracing pass plans with at this chunk (gpu.hpp's formulas), with a margin.
     const std::uint64_t trace_bytes =
         gpu_bake_fixed_bytes(V, 1024, o.K, build_flat_bvh(room).bytes()) + V * 24 +
         room.triangle_count() * 12 +
-        2 * (128 * gpu_bake_bytes_per_vertex(1024, o.K, false, true) + 8);
+        2 * (64 * gpu_bake_bytes_per_vertex(1024, o.K, false, true) + 8);
     o.device_memory_budget = trace_bytes + (8u << 20);
     TransportOptions to;
-    to.rows_per_block = 128;
+    to.rows_per_block = 64;
     const TransportOperator A = build_transport_operator(room, d, *make_flat_bvh_tracer(room), to);
     ASSERT_GT(A.bytes(), o.device_memory_budget) << "A must not fit the budget";
 
