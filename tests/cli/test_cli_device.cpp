@@ -42,6 +42,21 @@ TEST_F(CliDevice, CudaWithoutAGpuIsAOneLineError) {
     EXPECT_TRUE(out_dir_empty()) << "a failed bake must leave no file";
 }
 
+// --max-device-memory is accepted with --device auto: without a GPU the bake runs on the CPU and
+// the budget has nothing to limit; with one, a plane's bake fits 64 MiB of device memory.
+TEST_F(CliDevice, AutoTakesADeviceMemoryBudget) {
+    const shprt::GpuInfo gpu = shprt::query_gpu();
+    const std::string file = out("plane.shprt");
+    const RunResult r = shprt(
+        "bake builtin:plane --device auto --max-device-memory 64M "
+        "--samples 64 -o '" +
+        file + "'");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(file));
+    const std::string device = gpu.available ? gpu.name : std::string("cpu: ");
+    EXPECT_NE(r.out.find(device), std::string::npos) << r.out;
+}
+
 TEST_F(CliDevice, AutoAlwaysBakes) {
     const shprt::GpuInfo gpu = shprt::query_gpu();
     const std::string file = out("plane.shprt");
