@@ -67,8 +67,8 @@ void brdf_controls(PanelState& s) {
     if (s.has_material_brdfs) {
         ImGui::Checkbox("material BRDFs", &s.material_brdfs);
         help_marker(
-            "The BRDFs the scene's materials give (shininess, roughness). The BRDF below is then "
-            "the one of the vertices whose material gives none.");
+            "The BRDFs the scene's materials give (shininess or roughness, and specular colour). "
+            "The BRDF below is then the one of the vertices whose material gives none.");
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
         ImGui::TextWrapped("%s", s.material_label.c_str());
         ImGui::PopStyleColor();
@@ -84,11 +84,14 @@ void brdf_controls(PanelState& s) {
     else
         ImGui::SliderFloat("exponent", &s.brdf_parameter, 0.0f, 256.0f, "%.1f",
                            ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+    ImGui::ColorEdit3("specular", s.specular, ImGuiColorEditFlags_Float);
     help_marker(
-        "Glossy transfer matrices: exit radiance k·albedo/pi·E + (1-k)·<BRDF lobe rotated to "
-        "the reflected view, M·L>. The lobe is fitted with the file's bands (its error grows "
-        "as the lobe narrows).");
+        "Glossy transfer matrices: exit radiance k·albedo/pi·E + (1-k)·specular·<BRDF lobe "
+        "rotated to the reflected view, M·L>. The lobe is fitted with the file's bands (its "
+        "error grows as the lobe narrows). Specular: white for a dielectric's highlight, the "
+        "metal's colour for a metal.");
     ImGui::Checkbox("albedo override", &s.override_albedo);
+    help_marker("One colour for both the diffuse and the specular part (--albedo).");
     if (s.override_albedo) ImGui::ColorEdit3("albedo", s.albedo, ImGuiColorEditFlags_Float);
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
     ImGui::TextWrapped("%s", s.transfer_label.c_str());

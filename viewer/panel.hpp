@@ -42,10 +42,11 @@ struct PanelState {
     // with them, the combo below then sets the BRDF of the vertices whose material gives none.
     bool has_material_brdfs = false;
     bool material_brdfs = false;
-    std::string material_label;    // describe_brdfs: the materials' BRDFs and their vertices
-    int brdf_model = 0;            // BrdfModel: 0 phong, 1 blinn, 2 ggx
-    float brdf_parameter = 16;     // exponent (phong, blinn) or roughness (ggx)
-    bool override_albedo = false;  // --albedo: one colour for the diffuse and specular parts
+    std::string material_label;     // describe_brdfs: the materials' BRDFs and their vertices
+    int brdf_model = 0;             // BrdfModel: 0 phong, 1 blinn, 2 ggx
+    float brdf_parameter = 16;      // exponent (phong, blinn) or roughness (ggx)
+    float specular[3] = {1, 1, 1};  // the BRDF's specular colour (Brdf::specular)
+    bool override_albedo = false;   // --albedo: one colour for the diffuse and specular parts
     float albedo[3] = {1, 1, 1};
     std::string transfer_label;  // what the GPU holds: bytes per vertex, the CPCA settings
 

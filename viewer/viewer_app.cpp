@@ -187,6 +187,9 @@ void App::init_state() {
     s.material_label = describe_brdfs(m_mesh);
     s.brdf_model = static_cast<int>(m_options.frame.draw.brdf.model);
     s.brdf_parameter = static_cast<float>(m_options.frame.draw.brdf.parameter);
+    s.specular[0] = m_options.frame.draw.brdf.specular.x;
+    s.specular[1] = m_options.frame.draw.brdf.specular.y;
+    s.specular[2] = m_options.frame.draw.brdf.specular.z;
     s.override_albedo = m_options.frame.draw.albedo.has_value();
     if (const auto& a = m_options.frame.draw.albedo) {
         s.albedo[0] = a->x;
@@ -378,6 +381,7 @@ DrawSettings App::draw_settings() const {
     if (m_panel.matrices) {
         s.brdf.model = static_cast<BrdfModel>(m_panel.brdf_model);
         s.brdf.parameter = m_panel.brdf_parameter;
+        s.brdf.specular = Vec3f{m_panel.specular[0], m_panel.specular[1], m_panel.specular[2]};
         s.material_brdfs = m_panel.material_brdfs;
         s.albedo.reset();
         if (m_panel.override_albedo)

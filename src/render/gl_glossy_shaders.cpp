@@ -93,14 +93,18 @@ layout(location = 6) uniform float u_k;           // diffuse share
 layout(location = 10) uniform uint u_vertex_count;
 layout(location = 12) uniform vec4 u_albedo;      // w = 1: xyz replaces both colours
 layout(location = 16) uniform float u_lobe[8];    // g_l of the BRDF's zonal lobe
+layout(location = 13) uniform vec3 u_specular;    // the BRDF's specular colour
 #if MATERIALS
-// Per-material BRDFs: vertex v's lobe is lobe4[2·brdf_index[v] ..] (8 band factors).
+// Per-material BRDFs: vertex v's BRDF is lobe4[3·brdf_index[v] ..]: 8 band factors, then the
+// specular colour.
 layout(std430, binding = 9) readonly buffer BrdfIndexBuffer { uint brdf_index[]; };
 layout(std140, binding = 3) uniform LobeBlock { vec4 lobe4[LOBE_BLOCK_VEC4S]; };
 uint g_lobe_base;
 #define LOBE(l) lobe4[g_lobe_base + uint((l) >> 2)][(l) & 3]
+#define SPECULAR lobe4[g_lobe_base + 2u].xyz
 #else
 #define LOBE(l) u_lobe[l]
+#define SPECULAR u_specular
 #endif
 layout(location = 24) uniform float u_cosine[8];  // g_l of the clamped cosine
 
@@ -156,7 +160,7 @@ void shade_vertex(uint v) {
 #if MATERIALS
             g_lobe_base = uint(LOBE_VEC4S_PER_BRDF) * brdf_index[v];
 #endif
-            colour += (1.0 - u_k) * (override_albedo ? u_albedo.xyz : vec3(1.0)) *
+            colour += (1.0 - u_k) * (override_albedo ? u_albedo.xyz : SPECULAR) *
                       zonal_dot(r, false);
         }
     }

@@ -56,7 +56,8 @@ inline constexpr int kDisplayExposure = 15;
 // Glossy matrix passes: kFirstVertex, kEye, kLightStride, kDiffuseShare, kView and
 // kVertexCount as above (the cluster pass reads its product count at kVertexCount's location),
 // and these.
-inline constexpr int kClusterStride = 11, kAlbedoOverride = 12, kBrdfLobe = 16, kCosineLobe = 24;
+inline constexpr int kClusterStride = 11, kAlbedoOverride = 12, kSpecular = 13, kBrdfLobe = 16,
+                     kCosineLobe = 24;
 }  // namespace loc
 
 // Shader storage buffer bindings of the shading pass.
@@ -72,9 +73,10 @@ inline constexpr unsigned kClusterLightBinding = 1, kClusterBinding = 6, kWeight
 // table, two floats per (l, m) index of kMaxLightK.
 inline constexpr unsigned kLightBlockBinding = 0, kRecurrenceBlockBinding = 1,
                           kClusterLightBlockBinding = 2, kLobeBlockBinding = 3;
-// The glossy vertex pass's lobe block (per-material BRDFs): kLobeVec4sPerBrdf vec4s (8 band
-// factors) per BRDF, kLobeBlockVec4s in all (16 KiB, the smallest GL_MAX_UNIFORM_BLOCK_SIZE).
-inline constexpr int kLobeVec4sPerBrdf = 2, kLobeBlockVec4s = 1024;
+// The glossy vertex pass's lobe block (per-material BRDFs): kLobeVec4sPerBrdf vec4s per BRDF (8
+// band factors, then the specular colour in xyz), kLobeBlockVec4s in all (16 KiB, the smallest
+// GL_MAX_UNIFORM_BLOCK_SIZE).
+inline constexpr int kLobeVec4sPerBrdf = 3, kLobeBlockVec4s = 1024;
 inline constexpr int kLightBlockVec4s = 768, kRecurrenceBlockVec4s = 512;
 
 // Invocations per work group of the shading pass (local_size_x in the shader).

@@ -123,9 +123,9 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
     }
     const int K = effective_basis_size(transfer, light, options.K_used);
     const int bands = sh_bands_for(K);
+    const std::vector<Brdf> brdfs = brdf_table(mesh, options.material_brdfs, options.brdf);
     std::vector<std::vector<double>> lobes;  // per brdf_table entry
-    for (const Brdf& b : brdf_table(mesh, options.material_brdfs, options.brdf))
-        lobes.push_back(brdf_lobe(b, bands).zonal);
+    for (const Brdf& b : brdfs) lobes.push_back(brdf_lobe(b, bands).zonal);
     const std::vector<double> cosine = clamped_cosine_zonal(bands);
     const Vec3d eye = cast<double>(options.eye);
     const int Kt = transfer.layout.K;
@@ -194,12 +194,10 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
             const Vec3d p = cast<double>(mesh.positions[v]);
             const Vec3d n = normalize(cast<double>(mesh.normals[v]));
             rotate_zonal(cosine.data(), K, n, a.data());
-            const std::vector<double>& lobe =
-                lobes[brdf_table_index(mesh, options.material_brdfs, v)];
-            rotate_zonal(lobe.data(), K, reflect_view(n, p, eye), g.data());
-            const Vec3f albedo = mesh.albedo[v];
-            const Vec3f diffuse_colour = options.albedo ? *options.albedo : albedo;
-            const Vec3f specular_colour = options.albedo ? *options.albedo : Vec3f{1, 1, 1};
+            const std::uint32_t brdf = brdf_table_index(mesh, options.material_brdfs, v);
+            rotate_zonal(lobes[brdf].data(), K, reflect_view(n, p, eye), g.data());
+            const Vec3f diffuse_colour = options.albedo.value_or(mesh.albedo[v]);
+            const Vec3f specular_colour = options.albedo.value_or(brdfs[brdf].specular);
             const double rd[3] = {diffuse_colour.x, diffuse_colour.y, diffuse_colour.z};
             const double rs[3] = {specular_colour.x, specular_colour.y, specular_colour.z};
             double E[3], L[3];

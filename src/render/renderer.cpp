@@ -521,7 +521,12 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
         m_lobe_factors.assign(table.size() * kPerBrdf, 0.0f);
         for (std::size_t b = 0; b < table.size(); ++b) {
             const std::vector<float> g = zonal_band_factors(brdf_lobe(table[b], bands).zonal);
-            std::copy(g.begin(), g.end(), m_lobe_factors.begin() + std::ptrdiff_t(b * kPerBrdf));
+            const auto at = m_lobe_factors.begin() + std::ptrdiff_t(b * kPerBrdf);
+            std::copy(g.begin(), g.end(), at);
+            const auto colour = at + 4 * (gl::kLobeVec4sPerBrdf - 1);  // the last vec4's xyz
+            colour[0] = table[b].specular.x;
+            colour[1] = table[b].specular.y;
+            colour[2] = table[b].specular.z;
         }
         if (materials) {
             if (!m_lobe_ubo)
@@ -543,7 +548,11 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
     glUniform1ui(gl::loc::kVertexCount, static_cast<GLuint>(m_vertex_count));
     glUniform4f(gl::loc::kAlbedoOverride, key.albedo.x, key.albedo.y, key.albedo.z,
                 key.override_albedo ? 1.0f : 0.0f);
-    if (!materials) glUniform1fv(gl::loc::kBrdfLobe, bands, m_lobe_factors.data());
+    if (!materials) {
+        glUniform1fv(gl::loc::kBrdfLobe, bands, m_lobe_factors.data());
+        glUniform3f(gl::loc::kSpecular, key.brdf.specular.x, key.brdf.specular.y,
+                    key.brdf.specular.z);
+    }
     glUniform1fv(gl::loc::kCosineLobe, bands, cosine.data());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kPositionBinding, m_position_vbo);

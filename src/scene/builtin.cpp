@@ -40,12 +40,12 @@ Mesh make_sphere() {
 }
 
 // Four spheres on a floor, one glossy BRDF each (the floor has none): what per-material BRDFs
-// look like (docs/glossy.md).
+// look like (docs/glossy.md). The second is a rough metal: gold's specular colour.
 Mesh make_gloss_spheres() {
     MeshBuilder b;
     b.add_rect(Axis::y, 0.0, +1, {-1.75, 1.75, -3.5, 3.5}, 0.125, kGrey);  // (a, b) = (z, x)
     const Brdf brdfs[] = {{BrdfModel::phong, 2},
-                          {BrdfModel::ggx, 0.8},
+                          {BrdfModel::ggx, 0.8, Vec3f{1.0f, 0.71f, 0.29f}},
                           {BrdfModel::blinn_phong, 32},
                           {BrdfModel::ggx, 0.5}};
     const Vec3f colours[] = {

@@ -111,9 +111,11 @@ void prepare_child(std::uint64_t address_space_limit) {
         const ImportedMesh r = work();
         const Mesh& m = r.mesh;
         const std::uint8_t all_normals = r.all_normals ? 1 : 0;
-        // A Brdf has padding: its two fields go as two doubles.
-        std::vector<std::array<double, 2>> brdfs;
-        for (const Brdf& b : m.brdfs) brdfs.push_back({double(int(b.model)), b.parameter});
+        // A Brdf has padding: its fields go as five doubles (model, parameter, specular).
+        std::vector<std::array<double, 5>> brdfs;
+        for (const Brdf& b : m.brdfs)
+            brdfs.push_back(
+                {double(int(b.model)), b.parameter, b.specular.x, b.specular.y, b.specular.z});
         (void)(write_value(fd, kResultTag) && write_value(fd, all_normals) &&
                write_value(fd, r.skipped_faces) && write_value(fd, r.albedo_sources) &&
                write_array(fd, m.positions) && write_array(fd, m.normals) &&
@@ -220,15 +222,17 @@ ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_b
     if (in.value(tag) && tag == kResultTag) {
         std::uint8_t all_normals = 0;
         Mesh& m = r.mesh;
-        std::vector<std::array<double, 2>> brdfs;
+        std::vector<std::array<double, 5>> brdfs;
         complete = in.value(all_normals) && in.value(r.skipped_faces) &&
                    in.value(r.albedo_sources) && in.array(m.positions) && in.array(m.normals) &&
                    in.array(m.albedo) && in.array(m.triangles) && in.array(m.source_vertex) &&
                    in.array(m.uvs) && in.array(brdfs) && in.array(m.brdf_index);
-        for (const auto& [model, parameter] : brdfs) {
+        for (const auto& [model, parameter, red, green, blue] : brdfs) {
             const bool known = model == 0 || model == 1 || model == 2;  // BrdfModel's values
             complete = complete && known;
-            if (known) m.brdfs.push_back({static_cast<BrdfModel>(int(model)), parameter});
+            if (known)
+                m.brdfs.push_back({static_cast<BrdfModel>(int(model)), parameter,
+                                   Vec3f{float(red), float(green), float(blue)}});
         }
         r.all_normals = all_normals != 0;
     } else if (tag == kErrorTag) {

@@ -110,10 +110,34 @@ Vec3f material_albedo(const aiScene& scene, const aiMesh& mesh, bool& found) {
     return grey;
 }
 
-// The material's glossy lobe, or none: GGX with the material's roughness factor (glTF's
-// metallic-roughness, and other PBR materials Assimp reads), else a Phong lobe with its shininess
-// exponent (Blinn–Phong for a Blinn shading model) where the exponent is positive (OBJ's Ns,
-// Collada's and FBX's shininess). Parameters are clamped into check_brdf's ranges.
+// A colour clamped into [0, 1] (non-finite channels to 0): what check_brdf accepts.
+Vec3f unit_colour(float r, float g, float b) {
+    const auto unit = [](float x) { return std::isfinite(x) ? std::clamp(x, 0.0f, 1.0f) : 0.0f; };
+    return {unit(r), unit(g), unit(b)};
+}
+
+// The specular colour of a metallic-roughness material: white for a dielectric, its base colour
+// factor for a metal, mixed by the metallic factor (glTF's own default metallic factor is 1).
+// Textures are not sampled: the colour is the factors'.
+Vec3f metallic_specular(const aiMaterial& material) {
+    aiColor4D base(1, 1, 1, 1);
+    if (aiGetMaterialColor(&material, AI_MATKEY_BASE_COLOR, &base) != AI_SUCCESS)
+        aiGetMaterialColor(&material, AI_MATKEY_COLOR_DIFFUSE, &base);
+    float metallic = 0;
+    if (material.Get(AI_MATKEY_METALLIC_FACTOR, metallic) != AI_SUCCESS || !std::isfinite(metallic))
+        metallic = 0;
+    metallic = std::clamp(metallic, 0.0f, 1.0f);
+    const auto mix = [metallic](float c) { return 1 - metallic + metallic * c; };
+    return unit_colour(mix(base.r), mix(base.g), mix(base.b));
+}
+
+// The material's glossy lobe and its specular colour, or none:
+//  * GGX with the material's roughness factor (glTF's metallic-roughness, and other PBR materials
+//    Assimp reads), coloured by metallic_specular;
+//  * else a Phong lobe with its shininess exponent (Blinn–Phong for a Blinn shading model) where
+//    the exponent is positive (OBJ's Ns, Collada's and FBX's shininess), coloured by the
+//    material's specular colour (OBJ's Ks) where it has one, else white.
+// Parameters and colours are clamped into check_brdf's ranges.
 std::optional<Brdf> material_brdf(const aiScene& scene, const aiMesh& mesh) {
     if (!scene.mMaterials || mesh.mMaterialIndex >= scene.mNumMaterials) return std::nullopt;
     const aiMaterial* material = scene.mMaterials[mesh.mMaterialIndex];
@@ -124,14 +148,17 @@ std::optional<Brdf> material_brdf(const aiScene& scene, const aiMesh& mesh) {
         return std::nullopt;
     float value = 0;
     if (material->Get(AI_MATKEY_ROUGHNESS_FACTOR, value) == AI_SUCCESS && std::isfinite(value))
-        return Brdf{BrdfModel::ggx, std::clamp(double(value), kMinGgxRoughness, 1.0)};
+        return Brdf{BrdfModel::ggx, std::clamp(double(value), kMinGgxRoughness, 1.0),
+                    metallic_specular(*material)};
     if (material->Get(AI_MATKEY_SHININESS, value) == AI_SUCCESS && std::isfinite(value) &&
         value > 0) {
         int model = 0;
         const bool blinn = material->Get(AI_MATKEY_SHADING_MODEL, model) == AI_SUCCESS &&
                            model == aiShadingMode_Blinn;
+        aiColor4D ks(1, 1, 1, 1);
+        aiGetMaterialColor(material, AI_MATKEY_COLOR_SPECULAR, &ks);
         return Brdf{blinn ? BrdfModel::blinn_phong : BrdfModel::phong,
-                    std::min(double(value), kMaxBrdfExponent)};
+                    std::min(double(value), kMaxBrdfExponent), unit_colour(ks.r, ks.g, ks.b)};
     }
     return std::nullopt;
 }

@@ -19,12 +19,16 @@ void check_brdf(const Brdf& b) {
             invalid_argument, "{} exponent {} must be in [0, {}]",
             b.model == BrdfModel::phong ? "phong" : "blinn", b.parameter, kMaxBrdfExponent);
     }
+    const Vec3f c = b.specular;
+    for (float x : {c.x, c.y, c.z})
+        SHPRT_CHECK(std::isfinite(x) && x >= 0 && x <= 1, invalid_argument,
+                    "specular colour ({}, {}, {}) must be in [0, 1]", c.x, c.y, c.z);
 }
 
 Brdf parse_brdf(const std::string& spec) {
     const std::size_t colon = spec.find(':');
     SHPRT_CHECK(colon != std::string::npos, invalid_argument,
-                "--brdf '{}': expected phong:E, blinn:E or ggx:R", spec);
+                "--brdf '{}': expected phong:E, blinn:E or ggx:R, then optionally :R,G,B", spec);
     const std::string name = spec.substr(0, colon);
     Brdf b;
     if (name == "phong")
@@ -36,7 +40,14 @@ Brdf parse_brdf(const std::string& spec) {
     else
         fail(ErrorCode::invalid_argument, "--brdf '{}': unknown model '{}' (phong, blinn or ggx)",
              spec, name);
-    b.parameter = parse_numbers(spec.substr(colon + 1), 1, "--brdf " + spec)[0];
+    const std::size_t colour = spec.find(':', colon + 1);
+    b.parameter =
+        parse_numbers(spec.substr(colon + 1, colour - (colon + 1)), 1, "--brdf " + spec)[0];
+    if (colour != std::string::npos) {
+        const std::vector<double> c =
+            parse_numbers(spec.substr(colour + 1), 3, "--brdf " + spec + " specular colour");
+        b.specular = Vec3f{float(c[0]), float(c[1]), float(c[2])};
+    }
     check_brdf(b);
     return b;
 }
@@ -45,7 +56,9 @@ std::string to_string(const Brdf& b) {
     const char* name = b.model == BrdfModel::phong         ? "phong"
                        : b.model == BrdfModel::blinn_phong ? "blinn"
                                                            : "ggx";
-    return fmt::format("{}:{}", name, b.parameter);
+    const Vec3f c = b.specular;
+    if (c == Vec3f{1, 1, 1}) return fmt::format("{}:{}", name, b.parameter);
+    return fmt::format("{}:{}:{},{},{}", name, b.parameter, c.x, c.y, c.z);
 }
 
 }  // namespace shprt

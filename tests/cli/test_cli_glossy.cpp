@@ -124,6 +124,24 @@ TEST_F(CliGlossy, ShadeWhiteFurnaceCompressAndRender) {
     r = shprt("render '" + file + "' --brdf phong:16 --k 0.5 --size 64x36 -o '" + png + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(test_support::slurp(shot), test_support::slurp(png));
+    // A specular colour in the spec: the viewer draws render's picture, which the colour changes.
+    const std::string gold = " --brdf ggx:0.4:1,0.71,0.29 --k 0.3 --size 64x36";
+    r = shprt("view '" + file + "' --screenshot '" + shot + "'" + gold);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = shprt("render '" + file + "' -o '" + png + "'" + gold);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("brdf=ggx:0.4:1,0.71,0.29"));
+    EXPECT_EQ(test_support::slurp(shot), test_support::slurp(png));
+    const std::string white = (m_dir / "white.png").string();
+    ASSERT_EQ(shprt("render '" + file + "' -o '" + white + "' --brdf ggx:0.4 --k 0.3 --size 64x36")
+                  .exit_code,
+              0);
+    EXPECT_NE(test_support::slurp(white), test_support::slurp(png));
+    expect_one_line_error(shprt("render '" + file + "' -o '" + png + "' --brdf ggx:0.4:1,2,0"),
+                          "specular colour (1, 2, 0) must be in [0, 1]");
+    expect_one_line_error(
+        shprt("shade '" + file + "' -o x.csv --glossy paper --brdf phong:16:1,0.5,0.5"),
+        "--glossy paper: the paper's term has no specular colour");
 
     // A glossy bake in the viewer's own process: its screenshot is the picture of the baked file,
     // and --albedo is the glossy colour override there too (a glossy bake has no albedo).
@@ -162,8 +180,9 @@ std::vector<std::string> csv_rows(const std::string& csv) {
     return rows;
 }
 
-// A scene file whose materials give BRDFs (OBJ Ns: phong:64 on vertices 0-2, none on 3-5,
-// phong:10000 clamped from 50000 on 6-8): baked, described, and shaded without --brdf.
+// A scene file whose materials give BRDFs (OBJ Ns and Ks: phong:64 on vertices 0-2, none on 3-5,
+// phong:10000 clamped from 50000 with specular colour 0.9,0.6,0.2 on 6-8): baked, described, and
+// shaded without --brdf.
 TEST_F(CliGlossy, MaterialBrdfsFromTheSceneFileShadeWithoutBrdf) {
     const std::string scene = std::string(SHPRT_TEST_DATA_DIR) + "/scene/glossy_materials.obj";
     const std::string file = (m_dir / "m.shprt").string();
@@ -171,8 +190,9 @@ TEST_F(CliGlossy, MaterialBrdfsFromTheSceneFileShadeWithoutBrdf) {
         shprt("bake '" + scene + "' --transfer glossy --bands 3 --samples 256 -o '" + file + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     r = shprt("info '" + file + "'");
-    EXPECT_THAT(r.out, ::testing::HasSubstr("brdfs        phong:64 (3 vertices), phong:10000 (3 "
-                                            "vertices), none (3 vertices) (from the materials)"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("brdfs        phong:64 (3 vertices), "
+                                            "phong:10000:0.9,0.6,0.2 (3 vertices), none (3 "
+                                            "vertices) (from the materials)"));
     // A streamed bake and a sharded one keep them too.
     const Mesh whole = read_shprt(file).mesh;
     const std::string streamed = (m_dir / "s.shprt").string(), a = (m_dir / "a.shprt").string(),
@@ -205,11 +225,13 @@ TEST_F(CliGlossy, MaterialBrdfsFromTheSceneFileShadeWithoutBrdf) {
     const std::string light = " --light sun:0.3,1,0.2,20 --light constant:0.1 --eye 0.5,2,1.5 ";
     const std::string materials = (m_dir / "materials.csv").string(),
                       phong64 = (m_dir / "phong64.csv").string(),
-                      gloss64 = (m_dir / "gloss64.csv").string();
+                      gloss64 = (m_dir / "gloss64.csv").string(),
+                      mirror = (m_dir / "mirror.csv").string();
     r = shprt("shade '" + file + "' --k 0.2" + light + "-o '" + materials + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_THAT(r.out, ::testing::HasSubstr("brdf=materials: phong:64 (3 vertices), phong:10000 "
-                                            "(3 vertices), none (3 vertices); none = phong:16"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("brdf=materials: phong:64 (3 vertices), "
+                                            "phong:10000:0.9,0.6,0.2 (3 vertices), none (3 "
+                                            "vertices); none = phong:16"));
     ASSERT_EQ(shprt("shade '" + file + "' --k 0.2 --brdf phong:64" + light + "-o '" + phong64 + "'")
                   .exit_code,
               0);
@@ -217,18 +239,30 @@ TEST_F(CliGlossy, MaterialBrdfsFromTheSceneFileShadeWithoutBrdf) {
     ASSERT_EQ(
         shprt("shade '" + file + "' --k 0.2 --gloss 64" + light + "-o '" + gloss64 + "'").exit_code,
         0);
-    const auto m = csv_rows(materials), p = csv_rows(phong64), g = csv_rows(gloss64);
+    // The mirror material's lobe and specular colour, given as --brdf.
+    ASSERT_EQ(shprt("shade '" + file + "' --k 0.2 --brdf phong:10000:0.9,0.6,0.2" + light + "-o '" +
+                    mirror + "'")
+                  .exit_code,
+              0);
+    const auto m = csv_rows(materials), p = csv_rows(phong64), g = csv_rows(gloss64),
+               c = csv_rows(mirror);
+    ASSERT_EQ(c.size(), 9u);
     ASSERT_EQ(m.size(), 9u);
     ASSERT_EQ(p.size(), 9u);
     ASSERT_EQ(g.size(), 9u);
     for (int v = 0; v < 9; ++v) {
         SCOPED_TRACE(v);
-        if (v < 3) EXPECT_EQ(m[v], p[v]);  // the material's phong:64 = --brdf phong:64
+        if (v < 3) {
+            EXPECT_EQ(m[v], p[v]);  // the material's phong:64 = --brdf phong:64
+        }
         if (v >= 3 && v < 6) {
             EXPECT_NE(m[v], p[v]);  // none: phong:16, not 64
             EXPECT_EQ(g[v], p[v]);  // ... unless --gloss 64
         }
-        if (v >= 6) EXPECT_NE(m[v], p[v]);  // phong:10000
+        if (v >= 6) {
+            EXPECT_NE(m[v], p[v]);  // phong:10000:0.9,0.6,0.2
+            EXPECT_EQ(m[v], c[v]);
+        }
     }
     // render takes the materials too, and the viewer's screenshot is render's picture.
     const std::string png = (m_dir / "m.png").string(), shot = (m_dir / "v.png").string();

@@ -411,6 +411,10 @@ TEST_F(IoShprtCorrupt, MaterialBrdfsAreChecked) {
     meta["scene"]["brdfs"][1] = "ggx:7";
     expect_error(with_metadata(meta), "metadata.scene.brdfs: ggx roughness 7 must be in",
                  "bad spec");
+    meta["scene"]["brdfs"][1] = "ggx:0.25:1,1,2";
+    expect_error(with_metadata(meta),
+                 "metadata.scene.brdfs: specular colour (1, 1, 2) must be in [0, 1]",
+                 "bad specular colour");
     meta["scene"]["brdfs"][1] = 3;
     expect_error(with_metadata(meta), "metadata.scene.brdfs: 3 is not a BRDF spec", "not text");
     meta["scene"]["brdfs"] = "phong:3";

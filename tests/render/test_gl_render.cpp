@@ -588,11 +588,12 @@ TEST(GlRender, CpcaCodesOverSeveralBlocksAndTooWideForOne) {
 }
 
 // Per-material BRDFs (Mesh::brdfs) on the GPU against shade_glossy, raw matrices and a CPCA code:
-// each vertex's lobe comes from the lobe block; switching material_brdfs off gives the one BRDF.
+// each vertex's lobe and specular colour come from the lobe block; switching material_brdfs off
+// gives the one BRDF (with its own specular colour).
 TEST(GlRender, MaterialBrdfsMatchShadeGlossy) {
     REQUIRE_GL(context);
     Mesh mesh = make_builtin("box_on_plane");
-    mesh.brdfs = {Brdf{BrdfModel::ggx, 0.2}, Brdf{BrdfModel::phong, 3}};
+    mesh.brdfs = {Brdf{BrdfModel::ggx, 0.2, Vec3f{1, 0.71f, 0.29f}}, Brdf{BrdfModel::phong, 3}};
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
         mesh.brdf_index.push_back(v % 3 == 2 ? Mesh::kNoBrdf : std::uint32_t(v % 3));
     const TransferSet raw = glossy_box_on_plane(mesh, 25, 64);
@@ -604,7 +605,7 @@ TEST(GlRender, MaterialBrdfsMatchShadeGlossy) {
             SCOPED_TRACE(::testing::Message() << (transfer == &raw ? "raw" : "cpca")
                                               << (materials ? " materials" : " one BRDF"));
             GlossyShadeOptions shade;
-            shade.brdf = parse_brdf("blinn:30");
+            shade.brdf = parse_brdf("blinn:30:0.3,0.6,0.9");
             shade.material_brdfs = materials;
             shade.k = 0.2;
             shade.eye = camera.eye;

@@ -88,7 +88,16 @@ TEST(GlossyLobe, EveryLobeIntegratesToOneAndItsFitErrorFallsWithBands) {
 TEST(GlossyLobe, ParsesSpecsAndRefusesBadOnes) {
     EXPECT_EQ(parse_brdf("ggx:0.3").model, BrdfModel::ggx);
     EXPECT_EQ(parse_brdf("blinn:20").parameter, 20.0);
-    for (const char* bad : {"phong", "phong:-1", "ggx:0", "ggx:2", "lambert:1", "phong:x"})
+    EXPECT_EQ(parse_brdf("blinn:20").specular, (Vec3f{1, 1, 1}));
+    // An optional specular colour; to_string writes it where it is not white, and reads back.
+    const Brdf gold = parse_brdf("ggx:0.4:1,0.71,0.29");
+    EXPECT_EQ(gold, (Brdf{BrdfModel::ggx, 0.4, Vec3f{1, 0.71f, 0.29f}}));
+    EXPECT_EQ(to_string(gold), "ggx:0.4:1,0.71,0.29");
+    EXPECT_EQ(to_string(parse_brdf("phong:16:1,1,1")), "phong:16");
+    for (const Brdf& b : kBrdfs) EXPECT_EQ(parse_brdf(to_string(b)), b);
+    for (const char* bad : {"phong", "phong:-1", "ggx:0", "ggx:2", "lambert:1", "phong:x",
+                            "phong:16:", "phong:16:1,1", "phong:16:1,1,1,1", "phong:16:0.5,1.5,0",
+                            "phong:16:0,-0.1,0", "ggx:0.3:a,b,c", "phong:16:nan,0,0"})
         EXPECT_THROW(parse_brdf(bad), Error) << bad;
 }
 
@@ -107,6 +116,13 @@ TEST(GlossyShade, WhiteFurnaceReturnsTheSpecularAlbedoForEveryLobeAndView) {
             o.albedo = Vec3f{0.25f, 0.5f, 0.75f};
             const ShadeResult c = shade_glossy(r.mesh, r.transfer, constant_light(25, 1.0), o);
             EXPECT_NEAR(c.radiance[0].z, 0.75, 1e-6);
+            // Without the override, the BRDF's own specular colour is ρ_s.
+            o.albedo.reset();
+            o.brdf.specular = Vec3f{0.9f, 0.6f, 0.2f};
+            const ShadeResult own = shade_glossy(r.mesh, r.transfer, constant_light(25, 1.0), o);
+            EXPECT_NEAR(own.radiance[0].x, 0.9, 1e-6) << to_string(o.brdf);
+            EXPECT_NEAR(own.radiance[0].y, 0.6, 1e-6) << to_string(o.brdf);
+            EXPECT_NEAR(own.radiance[0].z, 0.2, 1e-6) << to_string(o.brdf);
         }
     }
 }
@@ -287,7 +303,8 @@ TEST(GlossyShade, MaterialBrdfsShadeEachVertexWithItsOwnLobe) {
     bo.K = 16;
     bo.samples = 64;
     const TransferSet transfer = bake(scene, bo);
-    scene.brdfs = {Brdf{BrdfModel::ggx, 0.3}, Brdf{BrdfModel::phong, 80}};
+    scene.brdfs = {Brdf{BrdfModel::ggx, 0.3, Vec3f{0.95f, 0.64f, 0.54f}},
+                   Brdf{BrdfModel::phong, 80}};
     for (std::size_t v = 0; v < scene.vertex_count(); ++v)
         scene.brdf_index.push_back(v % 3 == 2 ? Mesh::kNoBrdf : std::uint32_t(v % 3));
     GlossyShadeOptions o;

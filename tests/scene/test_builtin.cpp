@@ -66,6 +66,7 @@ TEST(SceneBuiltin, GlossSpheresGiveEachSphereItsBrdf) {
     ASSERT_EQ(m.vertex_count(), floor + 4 * 642u);
     EXPECT_EQ(m.triangle_count(), 2 * 28 * 56 + 4 * 1280u);
     ASSERT_EQ(m.brdfs.size(), 4u);
+    EXPECT_EQ(m.brdfs[1], (Brdf{BrdfModel::ggx, 0.8, Vec3f{1.0f, 0.71f, 0.29f}}));  // gold
     EXPECT_EQ(m.brdfs[3], (Brdf{BrdfModel::ggx, 0.5}));
     ASSERT_EQ(m.brdf_index.size(), m.vertex_count());
     for (std::size_t v = 0; v < m.vertex_count(); ++v) {

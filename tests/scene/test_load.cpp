@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -207,24 +208,43 @@ TEST(SceneLoad, GltfNodeTransformsInstancesAndBaseColour) {
 }
 
 TEST(SceneLoad, MaterialsGiveGlossyBrdfsPerVertex) {
-    // OBJ: Ns is a Phong exponent (clamped to check_brdf's range); a material without Ns, none.
+    // OBJ: Ns is a Phong exponent (clamped to check_brdf's range), Ks its specular colour; a
+    // material without Ns, none.
     const Mesh obj = load_scene(kData + "glossy_materials.obj");
     ASSERT_EQ(obj.vertex_count(), 9u);
     ASSERT_EQ(obj.brdf_index.size(), 9u);
     ASSERT_EQ(obj.brdfs.size(), 2u);
-    EXPECT_EQ(obj.brdfs[0], (Brdf{BrdfModel::phong, 64}));
-    EXPECT_EQ(obj.brdfs[1], (Brdf{BrdfModel::phong, kMaxBrdfExponent}));
+    EXPECT_EQ(obj.brdfs[0], (Brdf{BrdfModel::phong, 64, Vec3f{1, 1, 1}}));
+    EXPECT_EQ(obj.brdfs[1], (Brdf{BrdfModel::phong, kMaxBrdfExponent, Vec3f{0.9f, 0.6f, 0.2f}}));
     for (int v = 0; v < 9; ++v) {
         const std::uint32_t expected = v < 3 ? 0u : v < 6 ? Mesh::kNoBrdf : 1u;
         EXPECT_EQ(obj.brdf_index[v], expected) << "vertex " << v;
     }
     EXPECT_EQ(describe_brdfs(obj),
-              "phong:64 (3 vertices), phong:10000 (3 vertices), none (3 vertices)");
-    // glTF: the metallic-roughness material's roughness, as GGX; both instances share it.
+              "phong:64 (3 vertices), phong:10000:0.9,0.6,0.2 (3 vertices), none (3 vertices)");
+    // glTF: the metallic-roughness material's roughness, as GGX; both instances share it. A
+    // dielectric (metallic 0): a white specular colour.
     const Mesh gltf = load_scene(kData + "rough_instanced.gltf");
     ASSERT_EQ(gltf.brdfs.size(), 1u);
     EXPECT_EQ(gltf.brdfs[0].model, BrdfModel::ggx);
     EXPECT_NEAR(gltf.brdfs[0].parameter, 0.4, 1e-6);
+    EXPECT_EQ(gltf.brdfs[0].specular, (Vec3f{1, 1, 1}));
+    // Half metal: the specular colour is halfway from white to the base colour (0.2, 0.4, 0.6).
+    {
+        std::ifstream in(kData + "rough_instanced.gltf");
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::string dielectric = "\"metallicFactor\": 0.0";
+        ASSERT_NE(text.find(dielectric), std::string::npos);
+        text.replace(text.find(dielectric), dielectric.size(), "\"metallicFactor\": 0.5");
+        const TempDir dir;
+        std::ofstream(dir.file("half_metal.gltf")) << text;
+        const Mesh metal = load_scene(dir.file("half_metal.gltf"));
+        ASSERT_EQ(metal.brdfs.size(), 1u);
+        const Vec3f c = metal.brdfs[0].specular;
+        EXPECT_NEAR(c.x, 0.6f, 1e-6f);
+        EXPECT_NEAR(c.y, 0.7f, 1e-6f);
+        EXPECT_NEAR(c.z, 0.8f, 1e-6f);
+    }
     EXPECT_EQ(gltf.brdf_index, std::vector<std::uint32_t>(6, 0u));
     // No material gives one: both empty (a PLY, and Assimp's placeholder material of an OBJ
     // without a library).

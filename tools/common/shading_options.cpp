@@ -115,7 +115,8 @@ ShprtFile read_for_shading(const std::string& path, bool direct) {
 void add_glossy_options(CLI::App& app, GlossyArgs& args, bool with_albedo) {
     app.add_option("--brdf", args.brdf,
                    "Glossy bakes: the BRDF lobe phong:E (normalised Phong), blinn:E (Blinn-Phong) "
-                   "or ggx:R (roughness); with --k the diffuse share");
+                   "or ggx:R (roughness), optionally :R,G,B, its specular colour (default white); "
+                   "with --k the diffuse share");
     app.add_option("--glossy", args.glossy,
                    "matrix (default: transfer matrices, needs a glossy bake) or paper (the "
                    "paper's zonal term; a glossy bake is turned into diffuse transfer)");
@@ -145,6 +146,8 @@ GlossyPlan plan_glossy(const GlossyArgs& args, const std::string& path, ShprtFil
         if (!args.brdf.empty()) brdf = parse_brdf(args.brdf);
         SHPRT_CHECK(!brdf || brdf->model == BrdfModel::phong, invalid_argument,
                     "--glossy paper: the paper's term has a Phong lobe only (--brdf phong:E)");
+        SHPRT_CHECK(!brdf || brdf->specular == (Vec3f{1, 1, 1}), invalid_argument,
+                    "--glossy paper: the paper's term has no specular colour (--brdf phong:E)");
         if (brdf) gloss = brdf->parameter;
         if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
         return plan;

@@ -13,7 +13,8 @@
 //   E_c   = ⟨a(n), T_c⟩                   irradiance
 //   L_c   = ρ_d,c/π · E_c + ρ_s,c · ⟨g(r), T_c⟩
 //   ρ_d   = k · (albedo override, else the vertex albedo),  ρ_s = (1 − k) · (albedo override,
-//           else white)
+//           else the specular colour of the vertex's BRDF, Brdf::specular: white unless the
+//           material or the --brdf spec gives one)
 //
 // The lobe integrates to 1 over the sphere (a "normalised" lobe), so an unshadowed vertex under
 // a constant light 1 reflects ρ_s (white furnace) up to SH truncation (docs/glossy.md gives the
