@@ -27,13 +27,12 @@ namespace shprt::tools {
 namespace {
 
 struct RenderArgs {
-    bool direct = false;  // shade the direct part of an interreflected bake only
     std::string input, output;
     LightArgs light;  // common/shading_options.hpp, shared with `shprt view`
     GlossyArgs glossy;
     CameraArgs camera;
     std::string size = "1280x720", view = "radiance";
-    double k = 1.0, gloss = kDefaultGloss, exposure = 1.0;
+    ShadingArgs shading;
     int coeffs = 0, samples = 4;
     bool background = false, wireframe = false;
 };
@@ -41,7 +40,7 @@ struct RenderArgs {
 void run(const RenderArgs& a) {
     const auto start = std::chrono::steady_clock::now();
     check_image_extension(a.output);
-    check_shading_args(a.k, a.gloss, a.exposure);
+    check_shading_args(a.shading);
     SHPRT_CHECK(a.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)", a.coeffs);
     SHPRT_CHECK(a.samples >= 1 && a.samples <= 64, invalid_argument,
                 "--samples {}: MSAA samples must be 1 to 64", a.samples);
@@ -53,16 +52,16 @@ void run(const RenderArgs& a) {
     check_output_is_not_input(a.output, input_files(a.input, a.light));
     DrawSettings settings;
     settings.view = parse_view(a.view);
-    settings.k = a.k;
-    settings.gloss = a.gloss;
+    settings.k = a.shading.k;
+    settings.gloss = a.shading.gloss;
     settings.K_used = a.coeffs;
     settings.background = a.background;
     settings.wireframe = a.wireframe;
 
-    ShprtFile file = read_for_shading(a.input, a.direct);
-    check_texel_view(a.input, file.transfer, a.k, settings.view);
-    double gloss = a.gloss;
-    const GlossyPlan plan = plan_glossy(a.glossy, a.input, file, a.k, gloss);
+    ShprtFile file = read_for_shading(a.input, a.shading.direct);
+    check_texel_view(a.input, file.transfer, a.shading.k, settings.view);
+    double gloss = a.shading.gloss;
+    const GlossyPlan plan = plan_glossy(a.glossy, a.input, file, a.shading.k, gloss);
     settings.gloss = gloss;
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
     const float aspect = float(width) / float(height);
@@ -75,14 +74,14 @@ void run(const RenderArgs& a) {
     }
     const Image image =
         render_image(file.mesh, file.transfer, light, settings, width, height, a.samples);
-    save_image(a.output, image, static_cast<float>(a.exposure));
+    save_image(a.output, image, static_cast<float>(a.shading.exposure));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
     const std::string term =
         plan.glossy ? ", " + describe_glossy(file.mesh, *plan.glossy, K_used) : std::string();
-    std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used, a.k,
-                term.c_str(), seconds, a.output.c_str());
+    std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used,
+                a.shading.k, term.c_str(), seconds, a.output.c_str());
 }
 
 const bool render_registered = register_command(
@@ -95,14 +94,11 @@ const bool render_registered = register_command(
              ->required();
          add_light_options(app, args->light);
          add_glossy_options(app, args->glossy);
-         app.add_flag("--direct", args->direct,
-                      "Interreflected bakes: the direct light only (the file's T_0), without the "
-                      "bounces");
-         app.add_option("--k", args->k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
-         app.add_option("--gloss", args->gloss, "Phong exponent of the glossy lobe (default 16)");
+         add_shading_options(app, args->shading, "Exposure multiplier for PNG (default 1)",
+                             "Interreflected bakes: the direct light only (the file's T_0), "
+                             "without the bounces");
          add_camera_options(app, args->camera);
          app.add_option("--size", args->size, "Image size WxH (default 1280x720)");
-         app.add_option("--exposure", args->exposure, "Exposure multiplier for PNG (default 1)");
          app.add_option("--coeffs", args->coeffs, "Use the first K' coefficients (default: all)");
          app.add_option("--view", args->view,
                         "radiance (default), irradiance, or transfer (AO-like, light ignored)");

@@ -23,12 +23,11 @@ namespace shprt::tools {
 namespace {
 
 struct ShadeArgs {
-    bool direct = false;  // shade the direct part of an interreflected bake only
     std::string input, output;
     LightArgs light;  // common/shading_options.hpp, shared with `shprt render` and `shprt view`
     GlossyArgs glossy;
     std::string eye;
-    double k = 1.0, gloss = kDefaultGloss, exposure = 1.0;
+    ShadingArgs shading;
     int coeffs = 0;
     std::string quantity;  // texel files: irradiance (default) or radiance
 };
@@ -41,12 +40,7 @@ void run(const ShadeArgs& a) {
     if (!image_output) shade_format_for_path(a.output);
     SHPRT_CHECK(a.quantity.empty() || a.quantity == "irradiance" || a.quantity == "radiance",
                 invalid_argument, "--quantity '{}': expected irradiance or radiance", a.quantity);
-    SHPRT_CHECK(a.k >= 0 && a.k <= 1, invalid_argument,
-                "--k {}: the diffuse share must be in [0, 1]", a.k);
-    SHPRT_CHECK(a.gloss >= 0 && std::isfinite(a.gloss), invalid_argument,
-                "--gloss {}: the Phong exponent must be ≥ 0", a.gloss);
-    SHPRT_CHECK(a.exposure > 0 && std::isfinite(a.exposure), invalid_argument,
-                "--exposure {}: must be positive", a.exposure);
+    check_shading_args(a.shading);
     SHPRT_CHECK(a.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)", a.coeffs);
     check_glossy_args(a.glossy);
     const LightSetup setup = light_setup_from(a.light);
@@ -54,9 +48,9 @@ void run(const ShadeArgs& a) {
     Vec3f eye{};
     if (!a.eye.empty()) eye = parse_vec3(a.eye, "--eye");
 
-    ShprtFile file = read_for_shading(a.input, a.direct);
-    double gloss = a.gloss;
-    const GlossyPlan plan = plan_glossy(a.glossy, a.input, file, a.k, gloss);
+    ShprtFile file = read_for_shading(a.input, a.shading.direct);
+    double gloss = a.shading.gloss;
+    const GlossyPlan plan = plan_glossy(a.glossy, a.input, file, a.shading.k, gloss);
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
     // Without --eye, the eye of the default `shprt render` camera (16:9), so the glossy term
     // matches the default picture.
@@ -69,7 +63,7 @@ void run(const ShadeArgs& a) {
     glossy_options.eye = eye_used;
     glossy_options.K_used = a.coeffs;
     ShadeOptions options;
-    options.k = a.k;
+    options.k = a.shading.k;
     options.gloss = gloss;
     options.K_used = a.coeffs;
     options.eye = eye_used;
@@ -80,7 +74,7 @@ void run(const ShadeArgs& a) {
                         : shade_texels(file.mesh, file.transfer, light, options);
         write_texel_image(a.output, file.transfer.texels,
                           a.quantity == "radiance" ? result.radiance : result.irradiance,
-                          static_cast<float>(a.exposure));
+                          static_cast<float>(a.shading.exposure));
         const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
         const std::string term =
             plan.glossy ? ", " + describe_glossy(file.mesh, *plan.glossy, K_used) : std::string();
@@ -99,13 +93,13 @@ void run(const ShadeArgs& a) {
     const ShadeResult result = plan.glossy
                                    ? shade_glossy(file.mesh, file.transfer, light, glossy_options)
                                    : shade_vertices(file.mesh, file.transfer, light, options);
-    write_shade(a.output, file.mesh, result, static_cast<float>(a.exposure));
+    write_shade(a.output, file.mesh, result, static_cast<float>(a.shading.exposure));
     const double seconds = seconds_since(start);
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
     const std::string term = plan.glossy ? describe_glossy(file.mesh, *plan.glossy, K_used)
                                          : fmt::format("gloss={}", gloss);
     std::printf("shaded %zu vertices (K'=%d, k=%g, %s) in %.3f s -> %s\n", file.mesh.vertex_count(),
-                K_used, a.k, term.c_str(), seconds, a.output.c_str());
+                K_used, a.shading.k, term.c_str(), seconds, a.output.c_str());
 }
 
 const bool shade_registered = register_command(
@@ -118,16 +112,13 @@ const bool shade_registered = register_command(
              ->required();
          add_light_options(app, args->light);
          add_glossy_options(app, args->glossy);
-         app.add_flag("--direct", args->direct,
-                      "Interreflected bakes: the direct light only (the file's T_0), without the "
-                      "bounces");
-         app.add_option("--k", args->k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
-         app.add_option("--gloss", args->gloss, "Phong exponent of the glossy lobe (default 16)");
+         add_shading_options(app, args->shading, "Exposure of the PLY colours (default 1)",
+                             "Interreflected bakes: the direct light only (the file's T_0), "
+                             "without the bounces");
          app.add_option(
              "--eye", args->eye,
              "Eye position X,Y,Z for the glossy term (default: the default render camera)");
          app.add_option("--coeffs", args->coeffs, "Use the first K' coefficients (default: all)");
-         app.add_option("--exposure", args->exposure, "Exposure of the PLY colours (default 1)");
          app.add_option("--quantity", args->quantity,
                         "Texel files: irradiance (default) or radiance, written as an H x W x 3 "
                         ".npy or .exr (NaN outside the charts), or a .png picture");

@@ -51,9 +51,9 @@ struct ViewArgs {
     BakeOptionArgs bake;
     bool do_bake = false;
     std::string size = "1280x720", view = "radiance";
-    double k = 1.0, gloss = kDefaultGloss, exposure = 1.0;
+    ShadingArgs shading;
     int msaa = viewer::kAutoMsaa;
-    bool background = false, wireframe = false, no_vsync = false, direct = false;
+    bool background = false, wireframe = false, no_vsync = false;
     std::optional<int> benchmark;
     bool benchmark_light = false;
     std::string screenshot;
@@ -83,7 +83,7 @@ TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
 void run(const ViewArgs& a) {
     const auto start = Clock::now();
     // ---- Every option is checked before any work.
-    check_shading_args(a.k, a.gloss, a.exposure);
+    check_shading_args(a.shading);
     SHPRT_CHECK(a.msaa >= 0 && a.msaa <= 64, invalid_argument,
                 "--msaa {}: MSAA samples must be 1 to 64 (or 0: automatic)", a.msaa);
     int width = 0, height = 0;
@@ -125,7 +125,7 @@ void run(const ViewArgs& a) {
              a.bake_only_given.front());
     SHPRT_CHECK(!a.do_bake || bake_glossy || a.glossy.brdf.empty(), invalid_argument,
                 "--brdf shades glossy transfer matrices: with --bake, add --transfer glossy");
-    SHPRT_CHECK(!(a.direct && a.do_bake), invalid_argument,
+    SHPRT_CHECK(!(a.shading.direct && a.do_bake), invalid_argument,
                 "--direct shows a baked file's direct part; with --bake, bake with "
                 "--transfer shadowed instead");
     const bool windowed = a.screenshot.empty() && !a.benchmark;
@@ -157,24 +157,24 @@ void run(const ViewArgs& a) {
     } else {
         // The window keeps the whole transfer (its panel toggles the direct part); a screenshot
         // or a benchmark shows what --direct asks for.
-        file = read_for_shading(a.input, a.direct && !windowed);
-        if (a.direct && windowed)
+        file = read_for_shading(a.input, a.shading.direct && !windowed);
+        if (a.shading.direct && windowed)
             SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
                         "--direct: {} has no direct part (only interreflected bakes keep one)",
                         a.input);
-        check_texel_view(a.input, file.transfer, a.k, view);
+        check_texel_view(a.input, file.transfer, a.shading.k, view);
     }
     // Glossy matrices are shaded with --brdf, else with the materials' BRDFs, else with --gloss's
     // Phong lobe (the panel changes the BRDF live); --glossy paper turns them into the paper's
     // term.
     if (file.transfer.layout.shape == TransferShape::symmetric_matrix && glossy.brdf.empty() &&
         glossy.glossy == "matrix" && file.mesh.brdf_index.empty())
-        glossy.brdf = fmt::format("phong:{}", a.gloss);
-    double gloss = a.gloss;
+        glossy.brdf = fmt::format("phong:{}", a.shading.gloss);
+    double gloss = a.shading.gloss;
     Brdf brdf;
     bool material_brdfs = false;
     std::optional<Vec3f> albedo;
-    const GlossyPlan plan = plan_glossy(glossy, a.input, file, a.k, gloss);
+    const GlossyPlan plan = plan_glossy(glossy, a.input, file, a.shading.k, gloss);
     if (plan.glossy) {
         brdf = plan.glossy->brdf;
         material_brdfs = plan.glossy->material_brdfs;
@@ -187,9 +187,9 @@ void run(const ViewArgs& a) {
     config.width = width;
     config.height = height;
     config.msaa = a.msaa;
-    config.exposure = static_cast<float>(a.exposure);
+    config.exposure = static_cast<float>(a.shading.exposure);
     config.draw.camera = camera_from(a.camera, file.mesh, float(width) / float(height));
-    config.draw.k = a.k;
+    config.draw.k = a.shading.k;
     config.draw.gloss = gloss;
     config.draw.brdf = brdf;
     config.draw.material_brdfs = material_brdfs;
@@ -207,8 +207,8 @@ void run(const ViewArgs& a) {
             viewer::render_screenshot(file.mesh, file.transfer, light, config, backend, &context);
         save_image(a.screenshot, image, config.exposure);
         std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", width, height,
-                    effective_basis_size(file.transfer, light, K_used), a.k, seconds_since(start),
-                    a.screenshot.c_str());
+                    effective_basis_size(file.transfer, light, K_used), a.shading.k,
+                    seconds_since(start), a.screenshot.c_str());
         return;
     }
     if (a.benchmark) {
@@ -234,7 +234,7 @@ void run(const ViewArgs& a) {
     options.max_frames = a.frames.value_or(0);
     options.window_screenshot = a.window_screenshot;
     options.vsync = !a.no_vsync;
-    options.direct_only = a.direct;
+    options.direct_only = a.shading.direct;
     viewer::WindowReport report;
     try {
         report = viewer::run_window(file.mesh, file.transfer, options, bake_options);
@@ -263,15 +263,12 @@ const bool view_registered = register_command(
          add_camera_options(app, args->camera);
          add_glossy_options(app, args->glossy, /*with_albedo=*/false);
          app.add_option("--size", args->size, "Window or image size WxH (default 1280x720)");
-         app.add_option("--exposure", args->exposure, "Exposure multiplier (default 1)");
-         app.add_option("--k", args->k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
-         app.add_option("--gloss", args->gloss, "Phong exponent of the glossy lobe (default 16)");
+         add_shading_options(app, args->shading, "Exposure multiplier (default 1)",
+                             "Interreflected bakes: show the direct light only (the file's T_0; "
+                             "the panel toggles it)");
          app.add_option("--view", args->view,
                         "radiance (default), irradiance, or transfer (AO-like, light ignored)");
          app.add_flag("--background", args->background, "Draw the light behind the scene");
-         app.add_flag("--direct", args->direct,
-                      "Interreflected bakes: show the direct light only (the file's T_0; the "
-                      "panel toggles it)");
          app.add_flag("--wireframe", args->wireframe, "Draw triangle edges only");
          app.add_option("--msaa", args->msaa,
                         "MSAA samples per pixel; 0 = automatic (default): 4, as `shprt render "

@@ -76,13 +76,21 @@ ShadeView parse_view(const std::string& name) {
          name);
 }
 
-void check_shading_args(double k, double gloss, double exposure) {
-    SHPRT_CHECK(k >= 0 && k <= 1, invalid_argument, "--k {}: the diffuse share must be in [0, 1]",
-                k);
-    SHPRT_CHECK(gloss >= 0 && std::isfinite(gloss), invalid_argument,
-                "--gloss {}: the Phong exponent must be ≥ 0", gloss);
-    SHPRT_CHECK(exposure > 0 && std::isfinite(exposure), invalid_argument,
-                "--exposure {}: must be positive", exposure);
+void add_shading_options(CLI::App& app, ShadingArgs& args, const std::string& exposure_help,
+                         const std::string& direct_help) {
+    app.add_option("--k", args.k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
+    app.add_option("--gloss", args.gloss, "Phong exponent of the glossy lobe (default 16)");
+    app.add_option("--exposure", args.exposure, exposure_help);
+    app.add_flag("--direct", args.direct, direct_help);
+}
+
+void check_shading_args(const ShadingArgs& a) {
+    SHPRT_CHECK(a.k >= 0 && a.k <= 1, invalid_argument,
+                "--k {}: the diffuse share must be in [0, 1]", a.k);
+    SHPRT_CHECK(a.gloss >= 0 && std::isfinite(a.gloss), invalid_argument,
+                "--gloss {}: the Phong exponent must be ≥ 0", a.gloss);
+    SHPRT_CHECK(a.exposure > 0 && std::isfinite(a.exposure), invalid_argument,
+                "--exposure {}: must be positive", a.exposure);
 }
 
 void check_texel_view(const std::string& path, const TransferSet& transfer, double k,

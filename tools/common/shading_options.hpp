@@ -55,8 +55,16 @@ Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect);
 // "radiance", "irradiance" or "transfer"; throws Error(invalid_argument) naming `name`.
 ShadeView parse_view(const std::string& name);
 
+// The shading options `shade`, `render` and `view` share: --k, --gloss, --exposure, --direct.
+struct ShadingArgs {
+    double k = 1.0, gloss = kDefaultGloss, exposure = 1.0;
+    bool direct = false;  // shade the direct part of an interreflected bake only
+};
+// Adds them, with the command's own help for --exposure and --direct.
+void add_shading_options(CLI::App& app, ShadingArgs& args, const std::string& exposure_help,
+                         const std::string& direct_help);
 // Checks --k ∈ [0, 1], --gloss ≥ 0 and --exposure > 0 (finite), naming the option.
-void check_shading_args(double k, double gloss, double exposure);
+void check_shading_args(const ShadingArgs& args);
 
 // A diffuse texel file (docs/texels.md) is drawn per fragment without the paper's glossy term:
 // one-line Error(unsupported) naming `path` for --k < 1 in the radiance view (glossy matrices per
