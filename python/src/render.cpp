@@ -9,6 +9,7 @@
 
 #if SHPRT_HAS_RENDER
 #include "shprt/render/camera.hpp"
+#include "shprt/render/glossy.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
@@ -39,6 +40,33 @@ ShadeView parse_view(const std::string& name) {
     fail(ErrorCode::invalid_argument, "view='{}': expected radiance, irradiance or transfer", name);
 }
 
+// The glossy term of a file of transfer matrices (render/glossy.hpp): `brdf` (a spec, "ggx:0.3",
+// "phong:40:1,0.7,0.3") everywhere, else the materials' BRDFs where the mesh has them and a Phong
+// lobe of exponent `gloss` elsewhere; `albedo` replaces both colours. A vector file takes
+// neither (one-line Error).
+struct GlossyArgs {
+    Brdf brdf;
+    bool material_brdfs = false;
+    std::optional<Vec3f> albedo;
+};
+std::optional<GlossyArgs> glossy_args(const ShprtFile& file, const std::optional<std::string>& brdf,
+                                      const std::optional<std::array<float, 3>>& albedo,
+                                      double gloss) {
+    if (file.transfer.layout.shape != TransferShape::symmetric_matrix) {
+        SHPRT_CHECK(!brdf && !albedo, invalid_argument,
+                    "brdf= and albedo= shade glossy transfer matrices; {} holds {} transfer "
+                    "(bake with transfer='glossy')",
+                    file.mesh.source, to_string(file.transfer.layout.shape));
+        return std::nullopt;
+    }
+    GlossyArgs g;
+    g.material_brdfs = !brdf;
+    g.brdf = brdf ? parse_brdf(*brdf) : Brdf{BrdfModel::phong, gloss};
+    check_brdf(g.brdf);
+    if (albedo) g.albedo = Vec3f{(*albedo)[0], (*albedo)[1], (*albedo)[2]};
+    return g;
+}
+
 }  // namespace
 #endif
 
@@ -47,15 +75,27 @@ void bind_render(py::module_& m) {
     m.def(
         "shade",
         [](const ShprtFile& file, py::handle light, double k, double gloss,
-           std::array<float, 3> eye, int coeffs) {
+           std::array<float, 3> eye, int coeffs, std::optional<std::string> brdf,
+           std::optional<std::array<float, 3>> albedo) {
             const ShLight l = light_arg(light);
-            ShadeOptions options;
-            options.k = k;
-            options.gloss = gloss;
-            options.eye = {eye[0], eye[1], eye[2]};
-            options.K_used = coeffs;
+            const std::optional<GlossyArgs> glossy = glossy_args(file, brdf, albedo, gloss);
             ShadeResult result;
-            {
+            if (glossy) {
+                GlossyShadeOptions options;
+                options.brdf = glossy->brdf;
+                options.material_brdfs = glossy->material_brdfs;
+                options.albedo = glossy->albedo;
+                options.k = k;
+                options.eye = {eye[0], eye[1], eye[2]};
+                options.K_used = coeffs;
+                py::gil_scoped_release release;
+                result = shade_glossy(file.mesh, file.transfer, l, options);
+            } else {
+                ShadeOptions options;
+                options.k = k;
+                options.gloss = gloss;
+                options.eye = {eye[0], eye[1], eye[2]};
+                options.K_used = coeffs;
                 py::gil_scoped_release release;
                 result = shade_vertices(file.mesh, file.transfer, l, options);
             }
@@ -63,17 +103,26 @@ void bind_render(py::module_& m) {
                                   vec3_array(std::move(result.radiance)));
         },
         "file"_a, "light"_a, py::kw_only(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
-        "eye"_a = std::array<float, 3>{0, 0, 0}, "coeffs"_a = 0,
+        "eye"_a = std::array<float, 3>{0, 0, 0}, "coeffs"_a = 0, "brdf"_a = py::none(),
+        "albedo"_a = py::none(),
         R"(Per-vertex shading on the CPU (render/shade.hpp): returns (irradiance, radiance), each
 (V, 3) float32, under light (3, K). k is the diffuse share (1 = diffuse only), gloss the Phong
-exponent, eye the viewer for the glossy term, coeffs the K' used (0 = all).)");
+exponent, eye the viewer for the glossy term, coeffs the K' used (0 = all).
+
+A file of glossy transfer matrices (bake(transfer='glossy')) is shaded with its BRDF
+(render/glossy.hpp, as `shprt shade --brdf`): brdf a spec such as 'ggx:0.3' or
+'phong:40:1,0.7,0.3' (with a specular colour) for every vertex; without it the materials' BRDFs
+where the scene has them and a Phong lobe of exponent gloss elsewhere. albedo (r, g, b) replaces
+the diffuse and specular colours. brdf and albedo are refused for vector transfer.)");
     m.def(
         "render",
         [](const ShprtFile& file, py::handle light, int width, int height,
            std::optional<std::array<float, 6>> camera, std::optional<double> fov, double k,
            double gloss, int coeffs, const std::string& view, bool background, bool wireframe,
-           int samples) {
+           int samples, std::optional<std::string> brdf,
+           std::optional<std::array<float, 3>> albedo) {
             const ShLight l = light_arg(light);
+            const std::optional<GlossyArgs> glossy = glossy_args(file, brdf, albedo, gloss);
             SHPRT_CHECK(width >= 1 && width <= 16384 && height >= 1 && height <= 16384,
                         invalid_argument, "size {}x{}: width and height must be 1 to 16384", width,
                         height);
@@ -86,6 +135,11 @@ exponent, eye the viewer for the glossy term, coeffs the K' used (0 = all).)");
             settings.K_used = coeffs;
             settings.background = background;
             settings.wireframe = wireframe;
+            if (glossy) {
+                settings.brdf = glossy->brdf;
+                settings.material_brdfs = glossy->material_brdfs;
+                settings.albedo = glossy->albedo;
+            }
             const float aspect = float(width) / float(height);
             if (camera) {
                 const auto& c = *camera;
@@ -105,10 +159,11 @@ exponent, eye the viewer for the glossy term, coeffs the K' used (0 = all).)");
         "file"_a, "light"_a, py::kw_only(), "width"_a = 1280, "height"_a = 720,
         "camera"_a = py::none(), "fov"_a = py::none(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
         "coeffs"_a = 0, "view"_a = "radiance", "background"_a = false, "wireframe"_a = false,
-        "samples"_a = 4,
+        "samples"_a = 4, "brdf"_a = py::none(), "albedo"_a = py::none(),
         R"(Renders the baked scene headless (OpenGL through EGL, the renderer of `shprt render`):
 returns linear RGB (height, width, 3) float32, row 0 at the top. camera (ex, ey, ez, tx, ty, tz)
-or None for the default view; view 'radiance', 'irradiance' or 'transfer'.)");
+or None for the default view; view 'radiance', 'irradiance' or 'transfer'. brdf and albedo as
+for shade(): the glossy term of transfer matrices, shaded on the GPU.)");
     m.def(
         "save_image",
         [](const std::string& path, py::handle image, float exposure) {

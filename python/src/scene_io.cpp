@@ -54,7 +54,9 @@ std::vector<py::ssize_t> transfer_shape(const TransferLayout& layout, std::size_
     return shape;
 }
 
-// A File from a mesh and an array (V, K) or (V, C, K) of vector transfer.
+// A File from a mesh and an array (V, K) or (V, C, K) of vector transfer, or, for kind 'glossy',
+// (V, K(K+1)/2): each vertex's symmetric K×K matrix as its packed upper triangle (what
+// bake(transfer='glossy') returns).
 ShprtFile make_file(const Mesh& mesh, py::handle transfer, const std::string& kind,
                     const std::string& sampler, int samples, std::uint64_t seed,
                     const std::string& encoding) {
@@ -71,6 +73,17 @@ ShprtFile make_file(const Mesh& mesh, py::handle transfer, const std::string& ki
     t.seed = seed;
     t.layout.channels = a.ndim() == 3 ? int(a.shape(1)) : 1;
     t.layout.K = int(a.shape(a.ndim() - 1));
+    if (t.kind == TransferKind::glossy) {
+        const auto packed = std::int64_t(a.shape(a.ndim() - 1));
+        int K = 0;
+        while (std::int64_t(K + 1) * (K + 2) / 2 <= packed) ++K;
+        SHPRT_CHECK(a.ndim() == 2 && std::int64_t(K) * (K + 1) / 2 == packed, invalid_argument,
+                    "transfer: kind 'glossy' expects (V, K(K+1)/2), each vertex's symmetric "
+                    "matrix packed, got {}",
+                    describe_shape(a));
+        t.layout.shape = TransferShape::symmetric_matrix;
+        t.layout.K = K;
+    }
     t.layout.encoding = parse_transfer_encoding(encoding);
     t.layout.validate();
     t.coeffs.assign(a.data(), a.data() + a.size());
@@ -127,7 +140,8 @@ float32 and triangles (T, 3) uint32, counter-clockwise = front face, world space
 void bind_io(py::module_& m) {
     py::class_<ShprtFile>(m, "File", R"(A baked scene: a .shprt file's mesh, transfer and metadata.
 
-transfer is a view (no copy) of shape (V, K), or (V, C, K) for C = 3 channels, float32.)")
+transfer is a view (no copy) of shape (V, K), or (V, C, K) for C = 3 channels, or (V, K(K+1)/2)
+for glossy matrices (each vertex's packed upper triangle), float32.)")
         .def(py::init([](const Mesh& mesh, py::handle transfer, const std::string& kind,
                          const std::string& sampler, int samples, std::uint64_t seed,
                          const std::string& encoding) {
@@ -135,9 +149,11 @@ transfer is a view (no copy) of shape (V, K), or (V, C, K) for C = 3 channels, f
              }),
              "mesh"_a, "transfer"_a, "kind"_a = "shadowed", "sampler"_a = "sobol", "samples"_a = 0,
              "seed"_a = 0, "encoding"_a = "float32",
-             "A file's content from a mesh and per-vertex transfer (V, K) or (V, 3, K), with "
-             "the bake's description (kind, sampler, samples, seed) for the metadata; "
-             "encoding 'float32' or 'float16' is how save() stores the coefficients.")
+             "A file's content from a mesh and per-vertex transfer (V, K) or (V, 3, K) — for "
+             "kind 'glossy', (V, K(K+1)/2), the packed matrices bake(transfer='glossy') "
+             "returns — with the bake's description (kind, sampler, samples, seed) for the "
+             "metadata; encoding 'float32' or 'float16' is how save() stores the "
+             "coefficients.")
         .def_property_readonly(
             "mesh", [](ShprtFile& f) -> Mesh& { return f.mesh; },
             py::return_value_policy::reference_internal)

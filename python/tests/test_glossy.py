@@ -1,0 +1,90 @@
+"""Glossy transfer matrices from Python: a File from bake(transfer='glossy'), shaded with a BRDF
+(shade and render, brdf= and albedo=) as `shprt shade --brdf` shades it."""
+import numpy as np
+import pytest
+
+import shprt
+
+needs_render = pytest.mark.skipif(not shprt.HAS_RENDER,
+                                  reason="this build has no renderer (render/)")
+
+
+@pytest.fixture(scope="module")
+def glossy_box(box):
+    T = shprt.bake(box, bands=3, samples=256, transfer="glossy", seed=3)
+    return shprt.File(box, T, kind="glossy", samples=256, seed=3)
+
+
+def test_a_glossy_file_holds_packed_matrices_and_round_trips(box, glossy_box, tmp_path):
+    f = glossy_box
+    assert f.K == 9 and f.channels == 1 and f.kind == "glossy"
+    assert f.transfer.shape == (box.vertex_count, 45)
+    path = str(tmp_path / "g.shprt")
+    shprt.save(path, f)
+    back = shprt.load(path)
+    assert back.K == 9 and back.kind == "glossy"
+    assert np.array_equal(back.transfer, f.transfer)
+    with pytest.raises(shprt.Error, match=r"kind 'glossy' expects \(V, K\(K\+1\)/2\)"):
+        shprt.File(box, f.transfer[:, :44], kind="glossy")
+    with pytest.raises(shprt.Error, match="kind 'glossy' expects"):
+        shprt.File(box, np.stack([f.transfer] * 3, axis=1), kind="glossy")
+
+
+@needs_render
+def test_shade_with_a_brdf_is_what_the_command_line_shades(glossy_box, tmp_path, cli):
+    path = str(tmp_path / "g.shprt")
+    shprt.save(path, glossy_box)
+    out = str(tmp_path / "g.csv")
+    cli("shade", path, "--brdf", "ggx:0.4:1,0.71,0.29", "--k", "0.3", "--eye", "1,2,3",
+        "--light", "sun:0.3,1,0.2,5", "--light", "constant:0.2", "-o", out)
+    rows = np.loadtxt(out, delimiter=",", skiprows=1)
+    L = shprt.light(["sun:0.3,1,0.2,5", "constant:0.2"], K=9)
+    E, R = shprt.shade(glossy_box, L, brdf="ggx:0.4:1,0.71,0.29", k=0.3, eye=(1, 2, 3))
+    np.testing.assert_allclose(E, rows[:, 3:6], rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(R, rows[:, 6:9], rtol=1e-6, atol=1e-6)
+    # The specular colour reaches the radiance: white gives another answer.
+    _, white = shprt.shade(glossy_box, L, brdf="ggx:0.4", k=0.3, eye=(1, 2, 3))
+    assert np.abs(white - R).max() > 1e-3
+    # albedo replaces both colours: the same as a white lobe on a white surface, scaled.
+    _, grey = shprt.shade(glossy_box, L, brdf="ggx:0.4:0.5,0.5,0.5", k=0.3, eye=(1, 2, 3),
+                          albedo=(0.5, 0.5, 0.5))
+    _, one = shprt.shade(glossy_box, L, brdf="ggx:0.4", k=0.3, eye=(1, 2, 3), albedo=(1, 1, 1))
+    np.testing.assert_allclose(grey, 0.5 * one, rtol=1e-5, atol=1e-7)
+
+
+@needs_render
+def test_without_a_brdf_the_materials_shade_their_vertices():
+    spheres = shprt.load_scene("builtin:gloss_spheres")
+    f = shprt.File(spheres, shprt.bake(spheres, bands=3, samples=64, transfer="glossy"),
+                   kind="glossy")
+    L = shprt.light("sun:-0.5,0.8,0.4,8", K=9)
+    eye = (0, 1.6, 4)
+    _, materials = shprt.shade(f, L, k=0.4, eye=eye)
+    _, gold = shprt.shade(f, L, k=0.4, eye=eye, brdf="ggx:0.8:1,0.71,0.29")
+    _, floor = shprt.shade(f, L, k=0.4, eye=eye, gloss=16)  # no material: phong:gloss
+    _, phong16 = shprt.shade(f, L, k=0.4, eye=eye, brdf="phong:16")
+    floor_vertices = 29 * 57  # builtin:gloss_spheres' floor comes first, then 4 × 642 per sphere
+    second = slice(floor_vertices + 642, floor_vertices + 2 * 642)
+    np.testing.assert_array_equal(materials[second], gold[second])
+    np.testing.assert_array_equal(floor[:floor_vertices], phong16[:floor_vertices])
+    assert np.abs(materials[second] - phong16[second]).max() > 1e-3
+
+
+@needs_render
+def test_render_takes_the_brdf_and_vector_files_refuse_it(box, glossy_box):
+    L = shprt.light("builtin", K=9)
+    kw = dict(width=64, height=48, samples=1, k=0.3, camera=(2.5, 2, 2.5, 0, 0.3, 0))
+    gold = shprt.render(glossy_box, L, brdf="ggx:0.4:1,0.71,0.29", **kw)
+    white = shprt.render(glossy_box, L, brdf="ggx:0.4", **kw)
+    assert np.isfinite(gold).all() and gold.mean() > 0.01
+    assert np.abs(gold - white).max() > 1e-3
+    vector = shprt.File(box, shprt.bake(box, bands=3, samples=64))
+    for call in (shprt.shade, lambda f, l, **a: shprt.render(f, l, samples=1, **a)):
+        with pytest.raises(shprt.Error, match="shade glossy transfer matrices"):
+            call(vector, L, brdf="phong:16")
+        with pytest.raises(shprt.Error, match="shade glossy transfer matrices"):
+            call(vector, L, albedo=(1, 1, 1))
+    with pytest.raises(shprt.Error, match="unknown model"):
+        shprt.shade(glossy_box, L, brdf="lambert:1")
+    with pytest.raises(shprt.Error, match="specular colour"):
+        shprt.shade(glossy_box, L, brdf="phong:16:2,0,0")
