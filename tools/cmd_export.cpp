@@ -1,12 +1,14 @@
 // `shprt export FILE.shprt -o SCENE.glb [--light L ...] [--bands n] [--half] [--exposure E]`:
 // the mesh, its colours baked under the light and the transfer coefficients as a glTF 2.0
-// binary (render/gltf_export.hpp). Thin: checks the options, reads the file, calls write_glb.
+// binary (render/gltf_export.hpp); a glossy bake as its matrices' diffuse transfer. Thin: checks
+// the options, reads the file, calls write_glb.
 #include "common/command.hpp"
 #include "common/shading_options.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/render/glossy.hpp"
 #include "shprt/render/gltf_export.hpp"
 #include "shprt/render/texel_shade.hpp"
 #include "shprt/sh/basis.hpp"
@@ -45,7 +47,7 @@ void run(const ExportArgs& a) {
     options.exposure = static_cast<float>(a.exposure);
     check_output_is_not_input(a.output, input_files(a.input, a.light));
 
-    const ShprtFile file = read_shprt(a.input);
+    ShprtFile file = read_shprt(a.input);
     if (a.bands > 0) {
         options.K = sh_count(a.bands);
         SHPRT_CHECK(options.K <= file.transfer.layout.K, invalid_argument,
@@ -68,13 +70,18 @@ void run(const ExportArgs& a) {
             static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
         return;
     }
+    // glTF's attributes carry vectors: glossy matrices go as their diffuse part t = M·a(n), the
+    // transfer `--glossy paper` shades (render/glossy.hpp).
+    const bool matrices = file.transfer.layout.shape == TransferShape::symmetric_matrix;
+    if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
     write_glb(a.output, file.mesh, file.transfer, options);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("exported %zu vertices, K=%d, %s in %.2f s -> %s (%ju bytes)\n",
-                file.mesh.vertex_count(), options.K > 0 ? options.K : file.transfer.layout.K,
-                a.half ? "int16 normalized" : "float32", seconds, a.output.c_str(),
-                static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
+    std::printf(
+        "exported %zu vertices, K=%d, %s%s in %.2f s -> %s (%ju bytes)\n", file.mesh.vertex_count(),
+        options.K > 0 ? options.K : file.transfer.layout.K, a.half ? "int16 normalized" : "float32",
+        matrices ? ", the glossy matrices' diffuse transfer M·a(n)" : "", seconds, a.output.c_str(),
+        static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
 }
 
 const bool export_registered = register_command(

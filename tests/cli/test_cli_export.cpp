@@ -3,6 +3,8 @@
 // one-line error, exit code 1 and no output file. The glb's content is tested in
 // tests/render/test_gltf_export.cpp, its validity by the Khronos validator (web_gltf_validator).
 #include "cli/cli_test.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/render/glossy.hpp"
 
 #include <gtest/gtest.h>
 
@@ -46,6 +48,23 @@ TEST_F(CliExport, WritesAGlbAndHalfAndBandsMakeItSmaller) {
     EXPECT_THAT(r.out, ::testing::HasSubstr("K=4"));
     EXPECT_LT(fs::file_size(out("h.glb")), fs::file_size(out("a.glb")));
     EXPECT_LT(fs::file_size(out("b.glb")), fs::file_size(out("h.glb")));
+}
+
+// A glossy bake exports its diffuse part t = M·a(n) (glTF carries vectors): the very file that
+// exporting that diffuse transfer writes.
+TEST_F(CliExport, GlossyMatricesExportTheirDiffuseTransfer) {
+    const std::string glossy = (m_dir / "g.shprt").string(), diffuse = (m_dir / "d.shprt").string();
+    auto r = shprt("bake builtin:box_on_plane --transfer glossy --bands 3 --samples 64 -o '" +
+                   glossy + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const ShprtFile file = read_shprt(glossy);
+    write_shprt(diffuse, file.mesh, glossy_to_diffuse(file.mesh, file.transfer));
+    r = shprt("export '" + glossy + "' -o '" + out("g.glb") + "' --light sun:0,1,0");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("K=9, float32, the glossy matrices' diffuse transfer"));
+    r = shprt("export '" + diffuse + "' -o '" + out("d.glb") + "' --light sun:0,1,0");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(test_support::slurp(out("g.glb")), test_support::slurp(out("d.glb")));
 }
 
 TEST_F(CliExport, BadInputIsOneLineAndNoFile) {
