@@ -67,6 +67,19 @@ std::optional<GlossyArgs> glossy_args(const ShprtFile& file, const std::optional
     return g;
 }
 
+// The file as `shade` and `render` shade it: with `direct`, an interreflected bake's direct part
+// only (as the command line's --direct).
+const ShprtFile& shaded_file(const ShprtFile& file, bool direct, std::optional<ShprtFile>& own) {
+    if (!direct) return file;
+    SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
+                "direct=True: {} has no direct part (only interreflected bakes keep one)",
+                file.mesh.source);
+    own.emplace();
+    own->mesh = file.mesh;
+    own->transfer = file.transfer.direct_only();
+    return *own;
+}
+
 }  // namespace
 #endif
 
@@ -74,10 +87,12 @@ void bind_render(py::module_& m) {
 #if SHPRT_HAS_RENDER
     m.def(
         "shade",
-        [](const ShprtFile& file, py::handle light, double k, double gloss,
+        [](const ShprtFile& given, py::handle light, double k, double gloss,
            std::array<float, 3> eye, int coeffs, std::optional<std::string> brdf,
-           std::optional<std::array<float, 3>> albedo) {
+           std::optional<std::array<float, 3>> albedo, bool direct) {
             const ShLight l = light_arg(light);
+            std::optional<ShprtFile> own;
+            const ShprtFile& file = shaded_file(given, direct, own);
             const std::optional<GlossyArgs> glossy = glossy_args(file, brdf, albedo, gloss);
             ShadeResult result;
             if (glossy) {
@@ -104,7 +119,7 @@ void bind_render(py::module_& m) {
         },
         "file"_a, "light"_a, py::kw_only(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
         "eye"_a = std::array<float, 3>{0, 0, 0}, "coeffs"_a = 0, "brdf"_a = py::none(),
-        "albedo"_a = py::none(),
+        "albedo"_a = py::none(), "direct"_a = false,
         R"(Per-vertex shading on the CPU (render/shade.hpp): returns (irradiance, radiance), each
 (V, 3) float32, under light (3, K). k is the diffuse share (1 = diffuse only), gloss the Phong
 exponent, eye the viewer for the glossy term, coeffs the K' used (0 = all).
@@ -113,15 +128,19 @@ A file of glossy transfer matrices (bake(transfer='glossy')) is shaded with its 
 (render/glossy.hpp, as `shprt shade --brdf`): brdf a spec such as 'ggx:0.3' or
 'phong:40:1,0.7,0.3' (with a specular colour) for every vertex; without it the materials' BRDFs
 where the scene has them and a Phong lobe of exponent gloss elsewhere. albedo (r, g, b) replaces
-the diffuse and specular colours. brdf and albedo are refused for vector transfer.)");
+the diffuse and specular colours. brdf and albedo are refused for vector transfer.
+
+direct=True shades an interreflected bake's direct part only (File.direct; `--direct`).)");
     m.def(
         "render",
-        [](const ShprtFile& file, py::handle light, int width, int height,
+        [](const ShprtFile& given, py::handle light, int width, int height,
            std::optional<std::array<float, 6>> camera, std::optional<double> fov, double k,
            double gloss, int coeffs, const std::string& view, bool background, bool wireframe,
-           int samples, std::optional<std::string> brdf,
-           std::optional<std::array<float, 3>> albedo) {
+           int samples, std::optional<std::string> brdf, std::optional<std::array<float, 3>> albedo,
+           bool direct) {
             const ShLight l = light_arg(light);
+            std::optional<ShprtFile> own;
+            const ShprtFile& file = shaded_file(given, direct, own);
             const std::optional<GlossyArgs> glossy = glossy_args(file, brdf, albedo, gloss);
             SHPRT_CHECK(width >= 1 && width <= 16384 && height >= 1 && height <= 16384,
                         invalid_argument, "size {}x{}: width and height must be 1 to 16384", width,
@@ -159,11 +178,11 @@ the diffuse and specular colours. brdf and albedo are refused for vector transfe
         "file"_a, "light"_a, py::kw_only(), "width"_a = 1280, "height"_a = 720,
         "camera"_a = py::none(), "fov"_a = py::none(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
         "coeffs"_a = 0, "view"_a = "radiance", "background"_a = false, "wireframe"_a = false,
-        "samples"_a = 4, "brdf"_a = py::none(), "albedo"_a = py::none(),
+        "samples"_a = 4, "brdf"_a = py::none(), "albedo"_a = py::none(), "direct"_a = false,
         R"(Renders the baked scene headless (OpenGL through EGL, the renderer of `shprt render`):
 returns linear RGB (height, width, 3) float32, row 0 at the top. camera (ex, ey, ez, tx, ty, tz)
 or None for the default view; view 'radiance', 'irradiance' or 'transfer'. brdf and albedo as
-for shade(): the glossy term of transfer matrices, shaded on the GPU.)");
+for shade(): the glossy term of transfer matrices, shaded on the GPU; direct as for shade().)");
     m.def(
         "save_image",
         [](const std::string& path, py::handle image, float exposure) {

@@ -165,6 +165,17 @@ for glossy matrices (each vertex's packed upper triangle), float32.)")
                                transfer_shape(f.transfer.layout, f.transfer.receiver_count()),
                                self);
             })
+        .def_property_readonly(
+            "direct",
+            [](py::object self) -> py::object {
+                auto& f = self.cast<ShprtFile&>();
+                if (f.transfer.direct.empty()) return py::none();
+                const auto V = py::ssize_t(f.transfer.receiver_count());
+                return view_of(f.transfer.direct.data(), {V, py::ssize_t(f.transfer.layout.K)},
+                               self);
+            },
+            "An interreflected bake's direct part T_0 (V, K), one channel (the shadowed "
+            "transfer), a view; None for other files.")
         .def_property_readonly("K", [](const ShprtFile& f) { return f.transfer.layout.K; })
         .def_property_readonly("channels",
                                [](const ShprtFile& f) { return f.transfer.layout.channels; })

@@ -112,3 +112,32 @@ def test_light_from_a_file_equals_light_from_the_array(tmp_path):
     from_file = shprt.light(str(tmp_path / "sky.exr"), K=16)
     np.testing.assert_allclose(from_file, shprt.light_from_equirect(sky, K=16), rtol=1e-3,
                                atol=1e-3)
+
+
+@pytest.mark.skipif(not shprt.HAS_RENDER, reason="this build has no renderer (render/)")
+def test_an_interreflected_files_direct_part_shades_as_the_command_line_shades_it(
+        box, tmp_path, cli):
+    path = str(tmp_path / "i.shprt")
+    cli("bake", "builtin:box_on_plane", "--transfer", "interreflected", "--bounces", "2",
+        "--bands", "3", "--samples", "128", "-o", path)
+    f = shprt.load(path)
+    assert f.channels == 3 and f.direct.shape == (box.vertex_count, 9)
+    out = str(tmp_path / "d.csv")
+    cli("shade", path, "--direct", "--light", "builtin", "-o", out)
+    rows = np.loadtxt(out, delimiter=",", skiprows=1)
+    L = shprt.light("builtin", K=9)
+    E, R = shprt.shade(f, L, direct=True)
+    np.testing.assert_allclose(E, rows[:, 3:6], rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(R, rows[:, 6:9], rtol=1e-6, atol=1e-6)
+    # The same as shading File.direct as a file of its own; the bounces add light.
+    E0, _ = shprt.shade(shprt.File(box, np.array(f.direct)), L)
+    np.testing.assert_allclose(E, E0, rtol=1e-6, atol=1e-7)
+    E_all, _ = shprt.shade(f, L)
+    assert (E_all >= E - 1e-5).all() and (E_all - E).max() > 1e-3
+    kw = dict(width=48, height=32, samples=1)
+    assert np.abs(shprt.render(f, L, direct=True, **kw) - shprt.render(f, L, **kw)).max() > 1e-3
+    # Other files have no direct part.
+    shadowed = shprt.File(box, shprt.bake(box, bands=3, samples=64))
+    assert shadowed.direct is None
+    with pytest.raises(shprt.Error, match="has no direct part"):
+        shprt.shade(shadowed, L, direct=True)
