@@ -88,4 +88,3 @@ def test_render_takes_the_brdf_and_vector_files_refuse_it(box, glossy_box):
         shprt.shade(glossy_box, L, brdf="lambert:1")
     with pytest.raises(shprt.Error, match="specular colour"):
         shprt.shade(glossy_box, L, brdf="phong:16:2,0,0")
-
