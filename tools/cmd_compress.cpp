@@ -73,6 +73,9 @@ void run(const CompressArgs& a) {
         r.bytes_per_receiver, r.raw_bytes_per_receiver, r.raw_full_bytes_per_receiver,
         r.raw_bytes_per_receiver / r.bytes_per_receiver,
         r.raw_full_bytes_per_receiver / r.bytes_per_receiver);
+    if (r.direct_bytes_per_receiver > 0)
+        std::printf("direct part: kept beside the code (--direct), %.0f B/vertex\n",
+                    r.direct_bytes_per_receiver);
     std::printf(
         "error: exit radiance relative RMSE %.3f%% (8 test lights x %s); per vertex (RMSE / "
         "scene RMS): median %.3f%%, p99 %.3f%%, max %.3f%%\n",

@@ -384,6 +384,13 @@ CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3
     out.compressed.layout.encoding = half ? TransferEncoding::f16 : TransferEncoding::f32;
     reconstruct_cpca(code, D, out.compressed.coeffs);
     out.compressed.cpca = std::move(code);
+    // The direct part is small (one channel of vectors) and is what "direct only" shows: kept,
+    // in the file's encoding.
+    out.compressed.direct = transfer.direct;
+    if (half)
+        for (float& x : out.compressed.direct) x = half_to_float(float_to_half(x));
+    out.direct_bytes_per_receiver =
+        N > 0 ? double(out.compressed.direct.size()) * (half ? 2 : 4) / double(N) : 0.0;
     start = Clock::now();
     out.error = transfer_error(transfer, out.compressed, normals, options.seed);
     out.seconds_error = seconds_since(start);

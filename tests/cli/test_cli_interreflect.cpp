@@ -63,6 +63,17 @@ TEST_F(CliInterreflect, BakeInfoShadeDirect) {
     ASSERT_EQ(shprt("shade '" + file + "' --direct --light constant -o '" + direct + "'").exit_code,
               0);
     EXPECT_NE(test_support::slurp(both), test_support::slurp(direct));
+    // A CPCA file keeps the direct part: `--direct` shades the same.
+    const std::string compressed = (m_dir / "c.shprt").string(),
+                      cdirect = (m_dir / "cdirect.csv").string();
+    r = shprt("compress '" + file + "' -o '" + compressed + "' --cpca 8,4");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("direct part: kept beside the code (--direct), 36 "
+                                            "B/vertex"));
+    ASSERT_EQ(shprt("shade '" + compressed + "' --direct --light constant -o '" + cdirect + "'")
+                  .exit_code,
+              0);
+    EXPECT_EQ(test_support::slurp(cdirect), test_support::slurp(direct));
 #endif
 
     // The same bake without --albedo: the builtin scene's own colours, named.

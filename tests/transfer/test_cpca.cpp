@@ -131,6 +131,32 @@ TEST(Cpca, WorksOnDiffuseVectors) {
     EXPECT_EQ(r.error.relative_rmse, 0.0);
 }
 
+// An interreflected set's direct part goes with the code as it is (rounded to float16 with half),
+// so that a compressed file still shows "direct only".
+TEST(Cpca, TheDirectPartIsKept) {
+    TransferInfo info;
+    info.kind = TransferKind::interreflected;
+    info.layout.K = 4;
+    info.layout.channels = 3;
+    TransferSet t = TransferSet::zeros(info, 20);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0, 1);
+    for (float& x : t.coeffs) x = u(rng);
+    t.direct.resize(20 * 4);
+    for (float& x : t.direct) x = u(rng);
+    CpcaOptions o;
+    o.clusters = 3;
+    o.vectors = 2;
+    const CpcaResult f32 = compress_transfer(t, up_normals(20), o, false);
+    EXPECT_EQ(f32.compressed.direct, t.direct);
+    EXPECT_EQ(f32.direct_bytes_per_receiver, 16.0);
+    const CpcaResult f16 = compress_transfer(t, up_normals(20), o, true);
+    ASSERT_EQ(f16.compressed.direct.size(), t.direct.size());
+    EXPECT_LT(max_abs_diff(f16.compressed.direct, t.direct), 1e-3);
+    EXPECT_EQ(f16.direct_bytes_per_receiver, 8.0);
+    EXPECT_EQ(f16.compressed.direct_only().coeffs, f16.compressed.direct);
+}
+
 TEST(Cpca, BadParametersAreRefused) {
     const TransferSet t = synthetic(10, 3, 6);
     for (auto [clusters, vectors] : {std::pair{0, 1}, {11, 1}, {2, 0}, {2, 7}}) {

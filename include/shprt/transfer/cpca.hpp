@@ -78,13 +78,15 @@ TransferError transfer_error(const TransferSet& exact, const TransferSet& approx
 // of those rows against the input (transfer_error with `normals`, one per receiver).
 struct CpcaResult {
     TransferSet compressed;  // the input's description, layout encoding f16 when half, the code in
-                             // .cpca and the rebuilt rows in .coeffs
+                             // .cpca and the rebuilt rows in .coeffs; an interreflected input's
+                             // direct part (.direct) kept as is (rounded to float16 when half)
     TransferError error;
     double seconds_fit = 0, seconds_error = 0;
     double bytes_per_receiver = 0;           // the code (cpca_bytes_per_receiver)
     double raw_bytes_per_receiver = 0;       // the input's rows as float32
     double raw_full_bytes_per_receiver = 0;  // full K×K float32 matrices per channel (matrices),
                                              // else the rows as float32
+    double direct_bytes_per_receiver = 0;    // the direct part kept beside the code (0: none)
 };
 CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3f>& normals,
                              const CpcaOptions& options, bool half);
