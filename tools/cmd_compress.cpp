@@ -38,20 +38,23 @@ void run(const CompressArgs& a) {
     const TransferSet& t = file.transfer;
     const std::size_t V = t.receiver_count();
     const std::size_t D = t.layout.floats_per_receiver();
+    // The receivers, named in what is printed: vertices, or texels.
+    const char* unit = to_string(t.layout.domain);
+    const char* units = t.layout.domain == ReceiverDomain::texel ? "texels" : "vertices";
     SHPRT_CHECK(cv[0] <= double(V), invalid_argument,
-                "{}: --cpca {}: {} clusters for {} vertices (at most one per vertex)", a.input,
-                a.cpca, cv[0], V);
+                "{}: --cpca {}: {} clusters for {} {} (at most one per {})", a.input, a.cpca, cv[0],
+                V, units, unit);
     SHPRT_CHECK(cv[1] <= double(D), invalid_argument,
-                "{}: --cpca {}: {} vectors, more than the {} floats of a vertex ({} transfer, "
+                "{}: --cpca {}: {} vectors, more than the {} floats of a {} ({} transfer, "
                 "K = {}; a symmetric K×K matrix stores K(K+1)/2 ≤ K²)",
-                a.input, a.cpca, cv[1], D, to_string(t.layout.shape), t.layout.K);
+                a.input, a.cpca, cv[1], D, unit, to_string(t.layout.shape), t.layout.K);
     CpcaOptions options;
     options.clusters = int(cv[0]);
     options.vectors = int(cv[1]);
     options.seed = a.seed;
     options.iterations = a.iterations;
     options.threads = a.threads;
-    const CpcaResult r = compress_transfer(t, file.mesh.normals, options, a.half);
+    const CpcaResult r = compress_transfer(t, receiver_normals(file.mesh, t), options, a.half);
     WriteOptions write;
     write.reproducible = a.reproducible;
     write_shprt(a.output, file.mesh, r.compressed, write);
@@ -68,24 +71,24 @@ void run(const CompressArgs& a) {
         options.clusters, options.vectors, static_cast<unsigned long long>(a.seed), a.iterations,
         a.half ? "float16" : "float32", r.seconds_fit);
     std::printf(
-        "size: %.1f B/vertex (raw float32: %.0f B/vertex as stored, %.0f B/vertex as full "
-        "matrices) = %.1fx / %.1fx smaller\n",
-        r.bytes_per_receiver, r.raw_bytes_per_receiver, r.raw_full_bytes_per_receiver,
-        r.raw_bytes_per_receiver / r.bytes_per_receiver,
+        "size: %.1f B/%s (raw float32: %.0f B/%s as stored, %.0f B/%s as full matrices) = "
+        "%.1fx / %.1fx smaller\n",
+        r.bytes_per_receiver, unit, r.raw_bytes_per_receiver, unit, r.raw_full_bytes_per_receiver,
+        unit, r.raw_bytes_per_receiver / r.bytes_per_receiver,
         r.raw_full_bytes_per_receiver / r.bytes_per_receiver);
     if (r.direct_bytes_per_receiver > 0)
-        std::printf("direct part: kept beside the code (--direct), %.0f B/vertex\n",
-                    r.direct_bytes_per_receiver);
+        std::printf("direct part: kept beside the code (--direct), %.0f B/%s\n",
+                    r.direct_bytes_per_receiver, unit);
     std::printf(
-        "error: exit radiance relative RMSE %.3f%% (8 test lights x %s); per vertex (RMSE / "
+        "error: exit radiance relative RMSE %.3f%% (8 test lights x %s); per %s (RMSE / "
         "scene RMS): median %.3f%%, p99 %.3f%%, max %.3f%%\n",
         100.0 * e.relative_rmse, t.layout.shape == TransferShape::vector ? "diffuse" : "5 views",
-        pct(0.5), pct(0.99), pct(1.0));
+        unit, pct(0.5), pct(0.99), pct(1.0));
     std::string worst;
     for (std::size_t i = 0; i < std::min<std::size_t>(5, e.worst.size()); ++i)
         worst += fmt::format("{}{} ({:.2f}%)", i ? ", " : "", e.worst[i],
                              100.0 * e.receiver_rmse[e.worst[i]]);
-    std::printf("worst vertices: %s\n", worst.c_str());
+    std::printf("worst %s: %s\n", units, worst.c_str());
     std::printf("wrote %s\n", a.output.c_str());
 }
 

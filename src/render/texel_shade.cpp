@@ -27,10 +27,7 @@ TexelPoints texel_points(const Mesh& mesh, const TransferSet& transfer) {
     require_texels(transfer);
     transfer.check(mesh);
     const TexelAtlas& atlas = transfer.texels;
-    TexelSamples samples = rasterize_texels(mesh, atlas.width, atlas.height, atlas.uv_set);
-    SHPRT_CHECK(samples.texel == atlas.texel, format,
-                "{}: the texels of its UVs at {}x{} ({}) are not the file's ({})", mesh.source,
-                atlas.width, atlas.height, samples.count(), atlas.texel.size());
+    TexelSamples samples = atlas_texel_samples(mesh, atlas);
     TexelPoints out;
     Mesh& points = out.points;
     points.source = mesh.source;

@@ -141,6 +141,19 @@ std::size_t TransferSet::receiver_total(const Mesh& mesh) const {
     return layout.domain == ReceiverDomain::texel ? texels.texel.size() : mesh.vertex_count();
 }
 
+TexelSamples atlas_texel_samples(const Mesh& mesh, const TexelAtlas& atlas) {
+    TexelSamples samples = rasterize_texels(mesh, atlas.width, atlas.height, atlas.uv_set);
+    SHPRT_CHECK(samples.texel == atlas.texel, format,
+                "{}: the texels of its UVs at {}x{} ({}) are not the file's ({})", mesh.source,
+                atlas.width, atlas.height, samples.count(), atlas.texel.size());
+    return samples;
+}
+
+std::vector<Vec3f> receiver_normals(const Mesh& mesh, const TransferSet& transfer) {
+    if (transfer.layout.domain == ReceiverDomain::vertex) return mesh.normals;
+    return atlas_texel_samples(mesh, transfer.texels).normals;
+}
+
 void TransferSet::check(const Mesh& mesh) const {
     layout.validate();
     const std::size_t V = receiver_total(mesh);

@@ -59,6 +59,32 @@ TEST_F(CliReceivers, TexelBakeShadeExport) {
 #endif
 }
 
+// CPCA of a texel file: the error report is measured at the texels (their normals from the
+// atlas), the compressed file keeps the atlas, and a full-rank code rebuilds the rows.
+TEST_F(CliReceivers, TexelFilesCompress) {
+    const std::string file = (m_dir / "t.shprt").string(), cpca = (m_dir / "c.shprt").string();
+    auto r = shprt(
+        "bake builtin:quad_box --domain texel --resolution 16 --samples 64 --coeffs 4 "
+        "--float32 -o '" +
+        file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const ShprtFile f = read_shprt(file);
+    r = shprt("compress '" + file + "' -o '" + cpca + "' --cpca 1,4");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr(" B/texel (raw float32: 16 B/texel"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("worst texels: "));
+    const ShprtFile c = read_shprt(cpca);
+    EXPECT_EQ(c.transfer.texels, f.transfer.texels);
+    EXPECT_EQ(c.transfer.cpca.clusters, 1);
+    ASSERT_EQ(c.transfer.coeffs.size(), f.transfer.coeffs.size());
+    for (std::size_t i = 0; i < f.transfer.coeffs.size(); ++i)
+        ASSERT_NEAR(c.transfer.coeffs[i], f.transfer.coeffs[i], 1e-5) << i;
+    const std::size_t texels = f.transfer.texels.texel.size();
+    expect_one_line_error(shprt("compress '" + file + "' -o '" + cpca + "' --cpca " +
+                                std::to_string(texels + 1) + ",2"),
+                          std::to_string(texels) + " texels (at most one per texel)");
+}
+
 TEST_F(CliReceivers, RefineWritesTheRefinedMeshAndWarnsAtTheBudget) {
     const std::string file = (m_dir / "r.shprt").string();
     auto r = shprt(

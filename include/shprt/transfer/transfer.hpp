@@ -13,6 +13,7 @@
 // In memory coefficients are always float32; `encoding` says how a file stores them (or should).
 #pragma once
 
+#include "shprt/scene/texel_raster.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
 
@@ -220,5 +221,14 @@ struct TransferSet : TransferInfo {
     static void check_range(const Mesh& mesh, const TransferLayout& layout, std::size_t first,
                             std::size_t count, std::size_t total);
 };
+
+// The texel centres of a texel set's atlas on `mesh`: rasterize_texels (scene/texel_raster.hpp)
+// at the atlas's size and UV set, checked against its texel list. Throws Error(format) naming the
+// mesh when the mesh's UVs give other texels (another scene), and what rasterize_texels throws.
+TexelSamples atlas_texel_samples(const Mesh& mesh, const TexelAtlas& atlas);
+
+// The unit normals of the receivers of `transfer` on `mesh`, one per receiver: the vertex normals,
+// or the texel centres' (atlas_texel_samples).
+std::vector<Vec3f> receiver_normals(const Mesh& mesh, const TransferSet& transfer);
 
 }  // namespace shprt
