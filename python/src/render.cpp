@@ -13,6 +13,7 @@
 #include "shprt/render/renderer.hpp"
 #include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
+#include "shprt/render/texel_shade.hpp"
 #endif
 
 #include <pybind11/stl.h>
@@ -94,6 +95,7 @@ void bind_render(py::module_& m) {
             std::optional<ShprtFile> own;
             const ShprtFile& file = shaded_file(given, direct, own);
             const std::optional<GlossyArgs> glossy = glossy_args(file, brdf, albedo, gloss);
+            const bool texels = file.transfer.layout.domain == ReceiverDomain::texel;
             ShadeResult result;
             if (glossy) {
                 GlossyShadeOptions options;
@@ -104,7 +106,8 @@ void bind_render(py::module_& m) {
                 options.eye = {eye[0], eye[1], eye[2]};
                 options.K_used = coeffs;
                 py::gil_scoped_release release;
-                result = shade_glossy(file.mesh, file.transfer, l, options);
+                result = texels ? shade_texels_glossy(file.mesh, file.transfer, l, options)
+                                : shade_glossy(file.mesh, file.transfer, l, options);
             } else {
                 ShadeOptions options;
                 options.k = k;
@@ -112,7 +115,8 @@ void bind_render(py::module_& m) {
                 options.eye = {eye[0], eye[1], eye[2]};
                 options.K_used = coeffs;
                 py::gil_scoped_release release;
-                result = shade_vertices(file.mesh, file.transfer, l, options);
+                result = texels ? shade_texels(file.mesh, file.transfer, l, options)
+                                : shade_vertices(file.mesh, file.transfer, l, options);
             }
             return py::make_tuple(vec3_array(std::move(result.irradiance)),
                                   vec3_array(std::move(result.radiance)));
@@ -121,7 +125,8 @@ void bind_render(py::module_& m) {
         "eye"_a = std::array<float, 3>{0, 0, 0}, "coeffs"_a = 0, "brdf"_a = py::none(),
         "albedo"_a = py::none(), "direct"_a = false,
         R"(Per-vertex shading on the CPU (render/shade.hpp): returns (irradiance, radiance), each
-(V, 3) float32, under light (3, K). k is the diffuse share (1 = diffuse only), gloss the Phong
+(V, 3) float32, under light (3, K) — for a texel file (N, 3), one row per covered texel in the
+atlas's order (render/texel_shade.hpp). k is the diffuse share (1 = diffuse only), gloss the Phong
 exponent, eye the viewer for the glossy term, coeffs the K' used (0 = all).
 
 A file of glossy transfer matrices (bake(transfer='glossy')) is shaded with its BRDF

@@ -141,3 +141,17 @@ def test_an_interreflected_files_direct_part_shades_as_the_command_line_shades_i
     assert shadowed.direct is None
     with pytest.raises(shprt.Error, match="has no direct part"):
         shprt.shade(shadowed, L, direct=True)
+
+
+@pytest.mark.skipif(not shprt.HAS_RENDER, reason="this build has no renderer (render/)")
+def test_a_texel_file_shades_per_texel_as_the_command_line_shades_it(tmp_path, cli):
+    path, npy = str(tmp_path / "t.shprt"), str(tmp_path / "e.npy")
+    cli("bake", "builtin:quad_box", "--domain", "texel", "--resolution", "16", "--coeffs", "4",
+        "--samples", "64", "-o", path)
+    cli("shade", path, "--light", "builtin", "-o", npy)
+    image = np.load(npy)  # (H, W, 3), NaN outside the charts
+    covered = ~np.isnan(image[:, :, 0])
+    f = shprt.load(path)
+    E, R = shprt.shade(f, shprt.light("builtin", K=4))
+    assert E.shape == (f.transfer.shape[0], 3) == (covered.sum(), 3)
+    np.testing.assert_allclose(E, image[covered], rtol=1e-6, atol=1e-6)

@@ -31,8 +31,8 @@ void check_inputs(const Mesh& mesh, const TransferSet& transfer, const ShLight& 
 void check_shadable(const Mesh& mesh, const TransferSet& transfer) {
     transfer.check(mesh);
     SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::vertex, unsupported,
-                "texel transfer is shaded per texel (shprt shade -o .npy|.exr|.png, "
-                "render/texel_shade.hpp); per-fragment rendering of texel files is not written");
+                "texel transfer is shaded per texel (shade_texels, render/texel_shade.hpp; "
+                "shprt shade -o .npy|.exr|.png)");
     SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, unsupported,
                 "{} transfer cannot be shaded with L = k·L_D + (1−k)·L_S (it needs a vector per "
                 "receiver; glossy transfer matrices are shaded with --brdf, render/glossy.hpp)",
