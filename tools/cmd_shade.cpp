@@ -69,9 +69,8 @@ void run(const ShadeArgs& a) {
     options.eye = eye_used;
     if (texel) {
         // Per-texel values as an H x W x 3 image (NaN outside the charts).
-        const ShadeResult result =
-            plan.glossy ? shade_texels_glossy(file.mesh, file.transfer, light, glossy_options)
-                        : shade_texels(file.mesh, file.transfer, light, options);
+        const ShadeResult result = shade_receivers(file.mesh, file.transfer, light, options,
+                                                   plan.glossy ? &glossy_options : nullptr);
         write_texel_image(a.output, file.transfer.texels,
                           a.quantity == "radiance" ? result.radiance : result.irradiance,
                           static_cast<float>(a.shading.exposure));
@@ -90,9 +89,8 @@ void run(const ShadeArgs& a) {
         "{}: .exr and .png output are for texel files; {} holds vertex transfer (use .csv, .ply or "
         ".npy)",
         a.output, a.input);
-    const ShadeResult result = plan.glossy
-                                   ? shade_glossy(file.mesh, file.transfer, light, glossy_options)
-                                   : shade_vertices(file.mesh, file.transfer, light, options);
+    const ShadeResult result = shade_receivers(file.mesh, file.transfer, light, options,
+                                               plan.glossy ? &glossy_options : nullptr);
     write_shade(a.output, file.mesh, result, static_cast<float>(a.shading.exposure));
     const double seconds = seconds_since(start);
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);

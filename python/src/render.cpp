@@ -95,28 +95,25 @@ void bind_render(py::module_& m) {
             std::optional<ShprtFile> own;
             const ShprtFile& file = shaded_file(given, direct, own);
             const std::optional<GlossyArgs> glossy = glossy_args(file, brdf, albedo, gloss);
-            const bool texels = file.transfer.layout.domain == ReceiverDomain::texel;
-            ShadeResult result;
+            ShadeOptions options;
+            options.k = k;
+            options.gloss = gloss;
+            options.eye = {eye[0], eye[1], eye[2]};
+            options.K_used = coeffs;
+            GlossyShadeOptions glossy_options;
             if (glossy) {
-                GlossyShadeOptions options;
-                options.brdf = glossy->brdf;
-                options.material_brdfs = glossy->material_brdfs;
-                options.albedo = glossy->albedo;
-                options.k = k;
-                options.eye = {eye[0], eye[1], eye[2]};
-                options.K_used = coeffs;
+                glossy_options.brdf = glossy->brdf;
+                glossy_options.material_brdfs = glossy->material_brdfs;
+                glossy_options.albedo = glossy->albedo;
+                glossy_options.k = k;
+                glossy_options.eye = options.eye;
+                glossy_options.K_used = coeffs;
+            }
+            ShadeResult result;
+            {
                 py::gil_scoped_release release;
-                result = texels ? shade_texels_glossy(file.mesh, file.transfer, l, options)
-                                : shade_glossy(file.mesh, file.transfer, l, options);
-            } else {
-                ShadeOptions options;
-                options.k = k;
-                options.gloss = gloss;
-                options.eye = {eye[0], eye[1], eye[2]};
-                options.K_used = coeffs;
-                py::gil_scoped_release release;
-                result = texels ? shade_texels(file.mesh, file.transfer, l, options)
-                                : shade_vertices(file.mesh, file.transfer, l, options);
+                result = shade_receivers(file.mesh, file.transfer, l, options,
+                                         glossy ? &glossy_options : nullptr);
             }
             return py::make_tuple(vec3_array(std::move(result.irradiance)),
                                   vec3_array(std::move(result.radiance)));

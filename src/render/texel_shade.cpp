@@ -57,6 +57,15 @@ ShadeResult shade_texels_glossy(const Mesh& mesh, const TransferSet& transfer, c
     return shade_glossy(t.points, t.rows, light, options);
 }
 
+ShadeResult shade_receivers(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                            const ShadeOptions& options, const GlossyShadeOptions* glossy) {
+    if (transfer.layout.domain == ReceiverDomain::texel)
+        return glossy ? shade_texels_glossy(mesh, transfer, light, *glossy)
+                      : shade_texels(mesh, transfer, light, options);
+    return glossy ? shade_glossy(mesh, transfer, light, *glossy)
+                  : shade_vertices(mesh, transfer, light, options);
+}
+
 void write_texel_image(const std::string& path, const TexelAtlas& atlas,
                        const std::vector<Vec3f>& values, float exposure) {
     const std::string ext = lower_extension(path);

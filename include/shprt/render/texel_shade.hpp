@@ -39,6 +39,13 @@ TexelPoints texel_points(const Mesh& mesh, const TransferSet& transfer);
 ShadeResult shade_texels_glossy(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                                 const GlossyShadeOptions& options);
 
+// Every receiver of `transfer` shaded, whatever its domain: with `glossy`, the glossy matrix term
+// (shade_glossy per vertex, shade_texels_glossy per texel), else shade_vertices' formulas
+// (shade_vertices, shade_texels). One row per receiver. What `shprt shade` and Python's shade()
+// call; throws what those throw.
+ShadeResult shade_receivers(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
+                            const ShadeOptions& options, const GlossyShadeOptions* glossy);
+
 // Writes one value per receiver as a width × height × 3 image, row 0 at the top, texels outside
 // every chart NaN: `.npy` (float32, shape (H, W, 3)) or `.exr` (float32 R, G, B); or a `.png`
 // picture of it (times `exposure`, tone mapped as save_image does, black outside the charts).
