@@ -54,6 +54,11 @@ void run(const ExportArgs& a) {
                     "--bands {}: {} has K = {}, fewer than {} coefficients", a.bands, a.input,
                     file.transfer.layout.K, options.K);
     }
+    // glTF's attributes and the texel planes carry vectors: glossy matrices go as their diffuse
+    // part t = M·a(n), the transfer `--glossy paper` shades (render/glossy.hpp).
+    const bool matrices = file.transfer.layout.shape == TransferShape::symmetric_matrix;
+    if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
+    const char* from_matrices = matrices ? ", the glossy matrices' diffuse transfer M·a(n)" : "";
     const bool texel = file.transfer.layout.domain == ReceiverDomain::texel;
     SHPRT_CHECK(texel == exr, invalid_argument, "{}: {}", a.output,
                 texel ? "a texel file exports its coefficient planes as .exr"
@@ -62,26 +67,21 @@ void run(const ExportArgs& a) {
         // The coefficient planes, dilated into the gutters, for engines.
         write_texel_coefficients_exr(a.output, file.transfer);
         std::printf(
-            "exported %zu texels of %dx%d, K=%d x %d channel(s), %s planes -> %s (%ju "
+            "exported %zu texels of %dx%d, K=%d x %d channel(s), %s planes%s -> %s (%ju "
             "bytes)\n",
             file.transfer.texels.texel.size(), file.transfer.texels.width,
             file.transfer.texels.height, file.transfer.layout.K, file.transfer.layout.channels,
-            to_string(file.transfer.layout.encoding), a.output.c_str(),
+            to_string(file.transfer.layout.encoding), from_matrices, a.output.c_str(),
             static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
         return;
     }
-    // glTF's attributes carry vectors: glossy matrices go as their diffuse part t = M·a(n), the
-    // transfer `--glossy paper` shades (render/glossy.hpp).
-    const bool matrices = file.transfer.layout.shape == TransferShape::symmetric_matrix;
-    if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
     write_glb(a.output, file.mesh, file.transfer, options);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf(
-        "exported %zu vertices, K=%d, %s%s in %.2f s -> %s (%ju bytes)\n", file.mesh.vertex_count(),
-        options.K > 0 ? options.K : file.transfer.layout.K, a.half ? "int16 normalized" : "float32",
-        matrices ? ", the glossy matrices' diffuse transfer M·a(n)" : "", seconds, a.output.c_str(),
-        static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
+    std::printf("exported %zu vertices, K=%d, %s%s in %.2f s -> %s (%ju bytes)\n",
+                file.mesh.vertex_count(), options.K > 0 ? options.K : file.transfer.layout.K,
+                a.half ? "int16 normalized" : "float32", from_matrices, seconds, a.output.c_str(),
+                static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
 }
 
 const bool export_registered = register_command(

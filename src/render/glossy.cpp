@@ -224,14 +224,15 @@ TransferSet glossy_to_diffuse(const Mesh& mesh, const TransferSet& transfer) {
     info.kind = TransferKind::shadowed;
     info.layout.shape = TransferShape::vector;
     info.layout.channels = 1;
-    const std::size_t V = mesh.vertex_count();
+    const std::size_t V = transfer.receiver_count();
+    const std::vector<Vec3f> normals = receiver_normals(mesh, transfer);  // vertices or texels
     TransferSet out = TransferSet::zeros(info, V);
     const std::vector<double> cosine = clamped_cosine_zonal(sh_bands_for(K));
     parallel_for(0, V, 128, Split::automatic, [&](std::size_t first, std::size_t last) {
         std::vector<double> M(std::size_t(K) * K), a(K);
         for (std::size_t v = first; v != last; ++v) {
             unpack_symmetric(transfer.receiver(v), K, K, M.data());
-            rotate_zonal(cosine.data(), K, normalize(cast<double>(mesh.normals[v])), a.data());
+            rotate_zonal(cosine.data(), K, normalize(cast<double>(normals[v])), a.data());
             float* t = out.receiver(v);
             for (int i = 0; i < K; ++i) {
                 double s = 0;

@@ -296,6 +296,15 @@ TEST_F(CliGlossy, TexelMatricesShadeRenderAndView) {
     r = shprt("view '" + file + "' --screenshot '" + shot + "'" + options);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(test_support::slurp(shot), test_support::slurp(png));
+    // Their diffuse transfer per texel: --glossy paper shades it, export writes it as planes.
+    const std::string paper = (m_dir / "p.npy").string(), exr = (m_dir / "planes.exr").string();
+    r = shprt("shade '" + file + "' --glossy paper -o '" + paper + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(test_support::slurp(paper).find("'shape': (32, 32, 3)"), std::string::npos);
+    r = shprt("export '" + file + "' -o '" + exr + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("planes, the glossy matrices' diffuse transfer"));
+    EXPECT_THAT(test_support::slurp(exr), ::testing::HasSubstr("sh008.Y"));
 }
 
 TEST_F(CliGlossy, DiffuseAndGlossyFilesRefuseTheOtherShading) {

@@ -392,6 +392,25 @@ TEST(GlossyShade, TexelMatricesAreShadedAtEachTexelsPoint) {
     EXPECT_NEAR(furnace.radiance[far].y, 1.0, 0.12);  // phong:8 at 4 bands: ~0.10 truncation
 }
 
+// The diffuse transfer of texel matrices (`--glossy paper`, `export`): per texel, with the texel's
+// own normal, as the texels converted as points; the atlas is kept.
+TEST(GlossyShade, TexelMatricesTurnIntoTexelDiffuseTransfer) {
+    const Mesh mesh = test::quad_box_with_glossy_floor();
+    BakeOptions bo;
+    bo.transfer = TransferKind::glossy;
+    bo.K = 9;
+    bo.samples = 64;
+    const TransferSet t = test::texel_bake(mesh, 16, bo);
+    const TransferSet d = glossy_to_diffuse(mesh, t);
+    EXPECT_EQ(d.layout.domain, ReceiverDomain::texel);
+    EXPECT_EQ(d.layout.shape, TransferShape::vector);
+    EXPECT_EQ(d.texels, t.texels);
+    const TexelPoints points = texel_points(mesh, t);
+    ASSERT_GT(points.points.vertex_count(), mesh.vertex_count());  // more texels than vertices
+    EXPECT_EQ(d.coeffs, glossy_to_diffuse(points.points, points.rows).coeffs);
+    d.check(mesh);
+}
+
 TEST(GlossyShade, RefusesDiffuseTransfer) {
     const Mesh plane = make_builtin("plane");
     BakeOptions bo;
