@@ -88,3 +88,30 @@ def test_render_takes_the_brdf_and_vector_files_refuse_it(box, glossy_box):
         shprt.shade(glossy_box, L, brdf="lambert:1")
     with pytest.raises(shprt.Error, match="specular colour"):
         shprt.shade(glossy_box, L, brdf="phong:16:2,0,0")
+
+
+def test_compress_is_what_the_command_line_compresses(box, glossy_box, tmp_path, cli):
+    # One cluster per vertex holds every row exactly.
+    exact, report = shprt.compress(glossy_box, box.vertex_count, 1)
+    assert report["relative_rmse"] == 0.0
+    assert np.array_equal(exact.transfer, glossy_box.transfer)
+    # 8 clusters x 4 vectors: the rows the command line's file rebuilds, and its error.
+    path, out = str(tmp_path / "g.shprt"), str(tmp_path / "c.shprt")
+    shprt.save(path, glossy_box)
+    printed = cli("compress", path, "-o", out, "--cpca", "8,4")
+    coded, report = shprt.compress(glossy_box, 8, 4)
+    assert np.array_equal(coded.transfer, shprt.load(out).transfer)
+    assert f"relative RMSE {100 * report['relative_rmse']:.3f}%" in printed
+    assert 0 < report["relative_rmse"] < 0.5
+    assert report["receiver_rmse"].shape == (box.vertex_count,)
+    assert report["bytes_per_receiver"] < report["raw_bytes_per_receiver"] == 4 * 45
+    assert report["direct_bytes_per_receiver"] == 0
+    # The coded File saves as a CPCA file and reads back to the same rows.
+    saved = str(tmp_path / "p.shprt")
+    shprt.save(saved, coded)
+    assert "cpca         8 clusters x 4 vectors" in shprt.load(saved).summary()
+    assert np.array_equal(shprt.load(saved).transfer, coded.transfer)
+    with pytest.raises(shprt.Error, match="clusters"):
+        shprt.compress(glossy_box, 0, 4)
+    with pytest.raises(shprt.Error, match="vectors"):
+        shprt.compress(glossy_box, 8, 46)
