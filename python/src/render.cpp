@@ -44,15 +44,11 @@ ShadeView parse_view(const std::string& name) {
 // The glossy term of a file of transfer matrices (render/glossy.hpp): `brdf` (a spec, "ggx:0.3",
 // "phong:40:1,0.7,0.3") everywhere, else the materials' BRDFs where the mesh has them and a Phong
 // lobe of exponent `gloss` elsewhere; `albedo` replaces both colours. A vector file takes
-// neither (one-line Error).
-struct GlossyArgs {
-    Brdf brdf;
-    bool material_brdfs = false;
-    std::optional<Vec3f> albedo;
-};
-std::optional<GlossyArgs> glossy_args(const ShprtFile& file, const std::optional<std::string>& brdf,
-                                      const std::optional<std::array<float, 3>>& albedo,
-                                      double gloss) {
+// neither (one-line Error). The options' brdf, material_brdfs and albedo; the caller sets the rest.
+std::optional<GlossyShadeOptions> glossy_args(const ShprtFile& file,
+                                              const std::optional<std::string>& brdf,
+                                              const std::optional<std::array<float, 3>>& albedo,
+                                              double gloss) {
     if (file.transfer.layout.shape != TransferShape::symmetric_matrix) {
         SHPRT_CHECK(!brdf && !albedo, invalid_argument,
                     "brdf= and albedo= shade glossy transfer matrices; {} holds {} transfer "
@@ -60,7 +56,7 @@ std::optional<GlossyArgs> glossy_args(const ShprtFile& file, const std::optional
                     file.mesh.source, to_string(file.transfer.layout.shape));
         return std::nullopt;
     }
-    GlossyArgs g;
+    GlossyShadeOptions g;
     g.material_brdfs = !brdf;
     g.brdf = brdf ? parse_brdf(*brdf) : Brdf{BrdfModel::phong, gloss};
     check_brdf(g.brdf);
@@ -94,26 +90,22 @@ void bind_render(py::module_& m) {
             const ShLight l = light_arg(light);
             std::optional<ShprtFile> own;
             const ShprtFile& file = shaded_file(given, direct, own);
-            const std::optional<GlossyArgs> glossy = glossy_args(file, brdf, albedo, gloss);
+            std::optional<GlossyShadeOptions> glossy = glossy_args(file, brdf, albedo, gloss);
             ShadeOptions options;
             options.k = k;
             options.gloss = gloss;
             options.eye = {eye[0], eye[1], eye[2]};
             options.K_used = coeffs;
-            GlossyShadeOptions glossy_options;
             if (glossy) {
-                glossy_options.brdf = glossy->brdf;
-                glossy_options.material_brdfs = glossy->material_brdfs;
-                glossy_options.albedo = glossy->albedo;
-                glossy_options.k = k;
-                glossy_options.eye = options.eye;
-                glossy_options.K_used = coeffs;
+                glossy->k = k;
+                glossy->eye = options.eye;
+                glossy->K_used = coeffs;
             }
             ShadeResult result;
             {
                 py::gil_scoped_release release;
                 result = shade_receivers(file.mesh, file.transfer, l, options,
-                                         glossy ? &glossy_options : nullptr);
+                                         glossy ? &*glossy : nullptr);
             }
             return py::make_tuple(vec3_array(std::move(result.irradiance)),
                                   vec3_array(std::move(result.radiance)));
@@ -143,7 +135,7 @@ direct=True shades an interreflected bake's direct part only (File.direct; `--di
             const ShLight l = light_arg(light);
             std::optional<ShprtFile> own;
             const ShprtFile& file = shaded_file(given, direct, own);
-            const std::optional<GlossyArgs> glossy = glossy_args(file, brdf, albedo, gloss);
+            const std::optional<GlossyShadeOptions> glossy = glossy_args(file, brdf, albedo, gloss);
             SHPRT_CHECK(width >= 1 && width <= 16384 && height >= 1 && height <= 16384,
                         invalid_argument, "size {}x{}: width and height must be 1 to 16384", width,
                         height);
