@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -108,7 +109,12 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
         if (pick == N) pick = 0;
     }
 
-    // 2. Lloyd iterations.
+    // 2. Lloyd iterations. The nearest centre by the expanded distance ‖x‖² − 2x·c + ‖c‖² (one
+    // product per block of rows), which in float is off by at most about γ_D (‖x‖² + ‖c‖²)
+    // (Higham, "Accuracy and Stability of Numerical Algorithms", §3.1, for each of the three
+    // terms): near-equal rows would otherwise fall to the wrong one of their centres, and one
+    // cluster per receiver would not reproduce its rows.
+    const float gamma = 3.0f * float(D + 2) * std::numeric_limits<float>::epsilon();
     std::vector<std::uint32_t> assign(N, 0);
     const std::size_t blocks = (N + kBlockRows - 1) / kBlockRows;
     for (int it = 0; it <= options.iterations; ++it) {
@@ -122,17 +128,39 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
                         const std::size_t count = std::min(kBlockRows, N - first);
                         const MatrixF dots = X.middleRows(first, count) * centres.transpose();
                         for (std::size_t i = 0; i < count; ++i) {
-                            std::uint32_t best = 0;
+                            const std::size_t row = first + i;
+                            auto expanded = [&](int c) {
+                                return norms[row] - 2 * dots(i, c) + cnorm[c];
+                            };
+                            auto slack = [&](int c) { return gamma * (norms[row] + cnorm[c]); };
+                            int best = 0;
                             float best_d = std::numeric_limits<float>::infinity();
                             for (int c = 0; c < C; ++c) {
-                                const float d = norms[first + i] - 2 * dots(i, c) + cnorm[c];
+                                const float d = expanded(c);
                                 if (d < best_d) {
                                     best_d = d;
-                                    best = std::uint32_t(c);
+                                    best = c;
                                 }
                             }
-                            if (assign[first + i] != best || it == 0) changed[b] = 1;
-                            assign[first + i] = best;
+                            // Every centre whose expanded distance may, within its rounding,
+                            // be the smallest is compared by its exact distance (lowest index
+                            // on ties).
+                            const float limit = best_d + slack(best);
+                            double best_exact = std::numeric_limits<double>::infinity();
+                            for (int c = 0; c < C; ++c) {
+                                if (expanded(c) - slack(c) > limit) continue;
+                                double e = 0;
+                                for (std::size_t d = 0; d < D; ++d) {
+                                    const double t = double(X(row, d)) - double(centres(c, d));
+                                    e += t * t;
+                                }
+                                if (e < best_exact) {
+                                    best_exact = e;
+                                    best = c;
+                                }
+                            }
+                            if (assign[row] != std::uint32_t(best) || it == 0) changed[b] = 1;
+                            assign[row] = std::uint32_t(best);
                         }
                     }
                 });

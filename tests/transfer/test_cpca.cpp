@@ -59,6 +59,34 @@ TEST(Cpca, OneClusterPerReceiverReproducesTheInputExactly) {
     EXPECT_EQ(rows, t.coeffs);  // every mean is its one member, bit for bit
 }
 
+TEST(Cpca, OneClusterPerReceiverSeparatesNearlyEqualRows) {
+    // Rows of norm ~300 that differ by 0.01 in one float, and exact repeats: in float the
+    // expanded distance ‖x‖² − 2x·c + ‖c‖² rounds by more than the true distances (1e-4), so
+    // the nearest centre must be settled exactly, or rows share a cluster and one vector
+    // cannot rebuild them.
+    TransferInfo info;
+    info.kind = TransferKind::glossy;
+    info.layout.K = 4;
+    info.layout.shape = TransferShape::symmetric_matrix;
+    const std::size_t D = info.layout.floats_per_receiver();
+    const std::size_t n = 24;
+    TransferSet t = TransferSet::zeros(info, n);
+    for (std::size_t r = 0; r < n; ++r) {
+        for (std::size_t d = 0; d < D; ++d) t.coeffs[r * D + d] = 100.0f + float(d);
+        if (r % 8 != 0) t.coeffs[r * D + (r % 8) % D] += 0.01f * float(r / 8 + 1);
+    }
+    CpcaOptions o;
+    o.clusters = int(n);
+    o.vectors = 1;
+    for (int threads : {1, 2}) {
+        o.threads = threads;
+        const CpcaCode code = compress_cpca(t, o);
+        std::vector<float> rows;
+        reconstruct_cpca(code, D, rows);
+        EXPECT_EQ(rows, t.coeffs) << threads << " threads";
+    }
+}
+
 TEST(Cpca, FullRankOneClusterReproducesTheInputToRounding) {
     const TransferSet t = synthetic(60, 4, 2);
     const std::size_t D = t.layout.floats_per_receiver();  // 10 (K² = 16 for the full matrix)
