@@ -18,6 +18,7 @@
 // (--chunk overrides the automatic chunk size, --K (repeatable) the list of K.)
 #include "bench_cli.hpp"
 #include "shprt/bake/bake.hpp"
+#include "shprt/core/host.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/load.hpp"
@@ -401,6 +402,7 @@ int main(int argc, char** argv) {
     std::printf("bench_bake: builtin:room, %d threads, min of %d runs, OPENBLAS_CORETYPE=%s\n",
                 args.threads, args.reps,
                 std::getenv("OPENBLAS_CORETYPE") ? std::getenv("OPENBLAS_CORETYPE") : "(unset)");
+    std::printf("host: %s\n", host_cpu().c_str());
     std::printf("load average at start: ");
     std::fflush(stdout);
     std::system("cut -d' ' -f1-3 /proc/loadavg");

@@ -12,6 +12,7 @@
 // Usage: bench_glossy [--K K] [--samples S] [--reps R] [--threads T] [--no-table]
 #include "bench_cli.hpp"
 #include "shprt/bake/bake.hpp"
+#include "shprt/core/host.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -57,8 +58,8 @@ int main(int argc, char** argv) {
     BakeOptions glossy = diffuse;
     glossy.transfer = TransferKind::glossy;
     const DirectionSet set = make_direction_set(diffuse.sampler, diffuse.seed, diffuse.samples);
-    std::printf("builtin:room: %zu vertices, K = %d, S = %d, threads %d\n", room.vertex_count(),
-                a.K, a.samples, a.threads);
+    std::printf("builtin:room: %zu vertices, K = %d, S = %d, threads %d; host %s\n",
+                room.vertex_count(), a.K, a.samples, a.threads, host_cpu().c_str());
 
     // Validate what is timed: the glossy path against the slow reference.
     {

@@ -22,6 +22,7 @@
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/bake/interreflect.hpp"
+#include "shprt/core/host.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -189,8 +190,9 @@ int main(int argc, char** argv) {
     const std::size_t V = room.vertex_count();
     std::printf(
         "# bench_interreflect: builtin:room, %zu vertices, K = %d, S = %d, %d bounces, "
-        "RGB, %d threads, device %s, min of %d reps\n\n",
-        V, args.K, args.samples, args.bounces, threads, args.device.c_str(), args.reps);
+        "RGB, %d threads, device %s, min of %d reps\n# host: %s\n\n",
+        V, args.K, args.samples, args.bounces, threads, args.device.c_str(), args.reps,
+        host_cpu().c_str());
 
     BakeOptions direct;
     direct.K = args.K;

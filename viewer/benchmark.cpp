@@ -4,6 +4,7 @@
 #include "camera_controller.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/host.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 
@@ -36,6 +37,7 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
     OffscreenContext context(options.backend);
     BenchmarkReport report;
     report.context = context.description();
+    report.host = host_cpu();
     report.vertices = mesh.vertex_count();
     report.triangles = mesh.triangle_count();
     report.K = std::min(transfer.layout.K, rig.K());
@@ -124,10 +126,10 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
 
 std::string format_benchmark(const BenchmarkReport& r) {
     std::string out = fmt::format(
-        "benchmark: {} vertices, {} triangles, K={}, {}x{}, {}x MSAA{}, {}, k={}{}; {}\n",
+        "benchmark: {} vertices, {} triangles, K={}, {}x{}, {}x MSAA{}, {}, k={}{}; {}; host {}\n",
         r.vertices, r.triangles, r.K, r.width, r.height, r.msaa, r.msaa_auto ? " (automatic)" : "",
         r.direct ? "drawn straight to 8 bits" : "float target + present", r.k,
-        r.rotate_light ? ", light turned every frame" : "", r.context);
+        r.rotate_light ? ", light turned every frame" : "", r.context, r.host);
     if (!r.transfer.empty()) out += r.transfer + "\n";
     for (const auto& row : r.rows) {
         if (row.skipped) {

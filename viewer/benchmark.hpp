@@ -46,6 +46,7 @@ struct BenchmarkRow {
 
 struct BenchmarkReport {
     std::string context;  // OffscreenContext::description()
+    std::string host;     // host_cpu(): the CPU llvmpipe runs on, or the one beside the GPU
     std::size_t vertices = 0, triangles = 0;
     int K = 0;  // the file's (and the light's) K
     int width = 0, height = 0, msaa = 0;

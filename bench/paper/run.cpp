@@ -12,31 +12,17 @@
 #include "paper/stage_log.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/host.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/room.hpp"
 
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 #include <optional>
-#include <thread>
 
 namespace shprt::paper {
-namespace {
-
-std::string cpu_model() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            if (colon != std::string::npos) return line.substr(colon + 2);
-        }
-    return "unknown CPU";
-}
-
-}  // namespace
+namespace {}  // namespace
 
 const PaperColumn* paper_column(int K) {
     for (const PaperColumn& c : kPaperColumns)
@@ -49,10 +35,8 @@ Results run(const Options& o, const std::string& command_line, const Reporter& r
     Results res;
     res.options = o;
     res.command = command_line;
-    res.machine = cpu_model();
-    res.cpu_threads =
-        fmt::format("{} hardware threads, {} used", std::thread::hardware_concurrency(),
-                    o.threads > 0 ? std::to_string(o.threads) : "all");
+    res.machine = host_cpu();
+    res.cpu_threads = o.threads > 0 ? fmt::format("{} threads used", o.threads) : "all used";
     const Devices devices = choose_devices(o);
     res.gpu = devices.gpu_description;
     std::filesystem::create_directories(o.out_dir);

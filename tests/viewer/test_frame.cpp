@@ -7,6 +7,7 @@
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/host.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/render/tonemap.hpp"
@@ -214,6 +215,9 @@ TEST(Benchmark, MeasuresEachBasisSizeTheFileHasAndSkipsTheRest) {
         EXPECT_NE(text.find("1x MSAA, drawn straight to 8 bits, k="), std::string::npos)
             << "asked for, not automatic; no float target";
         EXPECT_TRUE(r.direct);
+        // The CPU it ran on, since the hosts of one machine kind differ (core/host.hpp).
+        EXPECT_EQ(r.host, host_cpu());
+        EXPECT_NE(text.find("; host " + host_cpu() + "\n"), std::string::npos) << text;
     }
     // With MSAA (where the implementation has it) the frames go through the float target.
     config.msaa = 4;

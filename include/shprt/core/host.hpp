@@ -1,0 +1,19 @@
+// The CPU a measurement ran on, for the first line of every benchmark report. The hosts of one
+// machine kind differ between sessions (bench/RESULTS.md measured the same frame at half the CPU
+// time on an AMD family 26 host as on the one before), so numbers are read against it.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace shprt {
+
+// "MODEL (family F, model M)" from the text of /proc/cpuinfo (its first processor's "model name",
+// "cpu family" and "model" fields), then ", N CPUs"; the fields it lacks are left out, and with
+// none of them it says "unknown CPU".
+std::string describe_cpu(std::string_view cpuinfo, unsigned cpus);
+
+// describe_cpu of this machine's /proc/cpuinfo and std::thread::hardware_concurrency.
+std::string host_cpu();
+
+}  // namespace shprt
