@@ -2,11 +2,16 @@
 #include "gl_util.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/render/draw_order.hpp"
+#include "shprt/render/renderer.hpp"
+#include "shprt/scene/mesh.hpp"
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace shprt::gl {
 namespace {
@@ -84,6 +89,33 @@ unsigned compile_compute_program(const char* source, const char* name) {
     glAttachShader(program, cs);
     glDeleteShader(cs);
     return link(program, name);
+}
+
+unsigned upload_draw_orders(const Mesh& mesh, int& lists) {
+    const std::size_t list_bytes = mesh.triangles.size() * 3 * sizeof(std::uint32_t);
+    const std::vector<std::uint32_t> orders = draw_orders_fit(mesh.triangles.size())
+                                                  ? directional_draw_orders(mesh)
+                                                  : std::vector<std::uint32_t>{};
+    lists = orders.empty() ? 1 : 1 + kDrawOrderCount;
+    GLuint buffer = 0;
+    glGenBuffers(1, &buffer);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffer);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(list_bytes * std::size_t(lists)),
+                 nullptr, GL_STATIC_DRAW);
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(list_bytes),
+                    mesh.triangles.data());
+    if (!orders.empty())
+        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(list_bytes),
+                        static_cast<GLsizeiptr>(orders.size() * sizeof(std::uint32_t)),
+                        orders.data());
+    return buffer;
+}
+
+const void* draw_order_offset(int lists, std::size_t index_count, const DrawSettings& settings) {
+    if (lists == 1 || !settings.front_to_back) return nullptr;
+    const int order = draw_order_for(settings.camera.target - settings.camera.eye);
+    return reinterpret_cast<const void*>(std::size_t(1 + order) * index_count *
+                                         sizeof(std::uint32_t));
 }
 
 }  // namespace shprt::gl

@@ -1,7 +1,13 @@
 // Private helpers of the OpenGL renderer: error checks, shader compilation, the GLSL sources.
 #pragma once
 
+#include <cstddef>
 #include <string>
+
+namespace shprt {
+struct DrawSettings;
+struct Mesh;
+}  // namespace shprt
 
 namespace shprt::gl {
 
@@ -37,6 +43,14 @@ std::string splice(const std::string& source, const char* marker, const std::str
 // such a code, which reads the products through a uniform block of `block_vec4s` vec4s (0: from
 // the storage buffer).
 std::string glossy_cluster_shader(int K, int K_stored, int vectors);
+
+// The element buffer of a mesh's draws (bound to the current vertex array): its own triangle
+// list, then, where draw_orders_fit, the kDrawOrderCount front-to-back orders of
+// render/draw_order.hpp. `lists` is set to how many lists it holds (1 or 1 + kDrawOrderCount).
+unsigned upload_draw_orders(const Mesh& mesh, int& lists);
+// The byte offset, for glDrawElements, of the list to draw with `settings`: the order nearest
+// the camera's view when settings.front_to_back and the buffer has orders; else the mesh's.
+const void* draw_order_offset(int lists, std::size_t index_count, const DrawSettings& settings);
 // `materials`: the BRDF lobe per vertex from the lobe block (kBrdfIndexBinding,
 // kLobeBlockBinding), else the kBrdfLobe uniform for every vertex.
 std::string glossy_vertex_shader(int K, int K_stored, int vectors, int block_vec4s, bool materials);

@@ -261,9 +261,7 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
     m_color_buffer = make_buffer(GL_ARRAY_BUFFER, V * 4 * sizeof(float), nullptr, GL_DYNAMIC_COPY);
     glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
     glEnableVertexAttribArray(3);
-    m_index_buffer =
-        make_buffer(GL_ELEMENT_ARRAY_BUFFER, mesh.triangles.size() * 3 * sizeof(std::uint32_t),
-                    mesh.triangles.data(), GL_STATIC_DRAW);
+    m_index_buffer = gl::upload_draw_orders(mesh, m_draw_orders);
     glBindVertexArray(0);
     // Dynamic: a progressive bake rewrites it chunk by chunk (update_transfer).
     m_transfer_ssbo =
@@ -690,7 +688,8 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
         m_texel->draw(view_proj, s, K, m_light_ubo, light_stride(m_light.K), exposure,
                       m_color_buffer);
     else
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT,
+                       gl::draw_order_offset(m_draw_orders, m_index_count, s));
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glBindVertexArray(0);
 

@@ -89,9 +89,7 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     m_albedo_vbo = upload(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.albedo.data());
     glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
     glEnableVertexAttribArray(2);
-    m_index_buffer =
-        upload(GL_ELEMENT_ARRAY_BUFFER, mesh.triangles.size() * 3 * sizeof(std::uint32_t),
-               mesh.triangles.data());
+    m_index_buffer = gl::upload_draw_orders(mesh, m_draw_orders);
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
 
@@ -179,7 +177,8 @@ void TexelPass::draw(const Mat4f& view_proj, const DrawSettings& s, int K, unsig
         glBindTexture(GL_TEXTURE_2D_ARRAY, m_planes);
     }
     glBindVertexArray(m_vao);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT,
+                   gl::draw_order_offset(m_draw_orders, m_index_count, s));
     glBindVertexArray(0);
     if (m_colours) {
         glBindTexture(GL_TEXTURE_2D, 0);

@@ -76,6 +76,7 @@ private:
     bool m_colours = false;  // glossy matrices: draw filters per-texel colours
     unsigned m_position_vbo = 0, m_uv_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
     std::size_t m_index_count = 0;
+    int m_draw_orders = 1;  // index lists in m_index_buffer (gl::upload_draw_orders)
     int m_channels = 0, m_layers_per_channel = 0;
 };
 

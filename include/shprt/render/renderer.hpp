@@ -79,6 +79,8 @@ struct DrawSettings {
     Vec3f clear_color{0, 0, 0};  // linear RGB
     bool reshade = false;        // run the per-vertex shading pass even if its inputs are
                                  // unchanged (benchmarks that measure the per-vertex cost)
+    bool front_to_back = true;   // draw the triangles in the draw order nearest the view
+                                 // (render/draw_order.hpp); false: in the mesh's order
 };
 
 // An offscreen float target: RGBA32F colour + 24-bit depth. With MSAA the colour is a
@@ -303,6 +305,7 @@ private:
     std::vector<Brdf> m_material_brdfs;  // the scene's (Mesh::brdfs), empty when it has none
     unsigned m_brdf_index_ssbo = 0, m_lobe_ubo = 0;
     std::size_t m_vertex_count = 0, m_index_count = 0;
+    int m_draw_orders = 1;  // index lists in m_index_buffer: the mesh's, or kDrawOrderCount orders
     TransferLayout m_layout;  // of the scene's transfer
     int m_K = 0, m_channels = 0;
     ShLight m_light{};         // rotated: what the shading pass uses
