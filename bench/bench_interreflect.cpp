@@ -19,6 +19,7 @@
 // Usage: bench_interreflect [--K K] [--samples S] [--bounces N] [--reps R] [--threads T]
 //                           [--no-converged] [--only-product] [--device cpu|cuda]
 #include "bench_cli.hpp"
+#include "plain_embree.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/bake/interreflect.hpp"
@@ -205,7 +206,7 @@ int main(int argc, char** argv) {
 
     // 1. Whole bakes, side by side (each rep: direct, then interreflected).
     double t_direct = 1e30, t_ir = 1e30;
-    TransferSet ir_result;
+    TransferSet ir_result, direct_result;
     if (!args.bakes) {  // only the products: T_0 as their input
         BakeOptions none = ir;
         none.bounces = 0;
@@ -213,7 +214,7 @@ int main(int argc, char** argv) {
     }
     for (int r = 0; r < (args.bakes ? args.reps : 0); ++r) {
         auto start = Clock::now();
-        const TransferSet d = bake(room, direct);
+        direct_result = bake(room, direct);
         t_direct = std::min(t_direct, seconds_since(start));
         start = Clock::now();
         TransferSet result = bake(room, ir);
@@ -225,12 +226,50 @@ int main(int argc, char** argv) {
     }
     const BakeStats& st = ir_result.stats;
     const InterreflectionInfo& info = ir_result.interreflection;
+    // The limit of the rays: plain Embree casting the same closest-hit rays and nothing else
+    // (bench/plain_embree.hpp, as bench_bake's occlusion limit), the faster of its two loops.
+    double t_plain = 0;
+    int plain_failures = 0;
+    if (args.bakes && direct.device == Device::cpu) {
+        const DirectionSet set = make_direction_set(direct.sampler, direct.seed, direct.samples);
+        const bench::PlainEmbree plain(room);
+        std::uint64_t plain_rays = 0;
+        std::vector<float> c0;
+        t_plain = 1e30;
+        for (int r = 0; r < args.reps; ++r)
+            for (const bool branch_free : {false, true}) {
+                const auto start = Clock::now();
+                if (branch_free)
+                    plain.run<true, true>(room, set, 64, threads, plain_rays, c0);
+                else
+                    plain.run<false, true>(room, set, 64, threads, plain_rays, c0);
+                t_plain = std::min(t_plain, seconds_since(start));
+            }
+        // The same rays: the count, and the visible part's c_0 against the direct bake's (T_0).
+        if (plain_rays != info.operator_rays) {
+            std::printf("MISMATCH: plain Embree cast %llu closest-hit rays, the bake %llu\n",
+                        static_cast<unsigned long long>(plain_rays),
+                        static_cast<unsigned long long>(info.operator_rays));
+            ++plain_failures;
+        }
+        std::size_t bad = 0;
+        for (std::size_t v = 0; v < V; ++v)
+            bad += std::fabs(c0[v] - direct_result.receiver(v)[0]) > 1e-4f;
+        if (bad > 0) {
+            std::printf("MISMATCH: c_0 of %zu of %zu vertices differs from the plain loop\n", bad,
+                        V);
+            ++plain_failures;
+        }
+    }
     if (args.bakes) {
         std::printf("| bake | seconds |\n|---|---:|\n");
         std::printf("| direct (shadowed) | %.3f |\n", t_direct);
         std::printf("| interreflected, %d bounces | %.3f |\n", args.bounces, t_ir);
         std::printf("| — of which the rays (closest hits, for T_0 and A at once) | %.3f |\n",
                     st.seconds_trace);
+        if (t_plain > 0)
+            std::printf("| — (plain Embree casting the same closest-hit rays: %.3f) | |\n",
+                        t_plain);
         std::printf("| — of which T_0's projection (SGEMM) | %.3f |\n", st.seconds_project);
         std::printf("| — of which %s | %.3f |\n",
                     args.products ? "merging the hits into A" : "building A (GPU time)",
@@ -239,6 +278,11 @@ int main(int argc, char** argv) {
                     st.seconds_bounces);
         std::printf("ratio interreflected / direct = %.2f (limit 3): %s\n", t_ir / t_direct,
                     t_ir / t_direct <= 3.0 ? "within" : "OVER THE LIMIT");
+        if (t_plain > 0)
+            std::printf(
+                "rays: the bake's ÷ plain Embree's closest hits = %.2f; plain Embree's closest "
+                "hits alone ÷ the whole direct bake = %.2f\n",
+                st.seconds_trace / t_plain, t_plain / t_direct);
         std::printf("nnz(A) = %llu (%.1f per vertex), %.1f MiB; closest-hit rays %llu\n",
                     static_cast<unsigned long long>(info.operator_nnz),
                     double(info.operator_nnz) / double(V), double(info.operator_bytes) / 1048576.0,
@@ -267,5 +311,5 @@ int main(int argc, char** argv) {
             "(bounces %.3f s)\n",
             c.interreflection.bounces, c.interreflection.last_change, t, c.stats.seconds_bounces);
     }
-    return same ? 0 : 1;
+    return same && plain_failures == 0 ? 0 : 1;
 }

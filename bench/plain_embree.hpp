@@ -1,0 +1,147 @@
+// The plain Embree program of bench_bake and bench_interreflect: a bake's rays (per vertex, the
+// shared directions above its horizon, from offset_ray_origin, one stream call per vertex) cast
+// and nothing else, the limit the bakes' tracing is measured against.
+#pragma once
+
+#include "shprt/scene/mesh.hpp"
+#include "shprt/sh/sampler.hpp"
+#include "shprt/trace/ray.hpp"
+#include "trace/embree_common.hpp"
+
+#include <embree3/rtcore.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+namespace shprt::bench {
+
+class PlainEmbree {
+public:
+    explicit PlainEmbree(const Mesh& mesh) {
+        // The tracer's device configuration and build quality, for a like-for-like BVH.
+        m_device = rtcNewDevice(trace_detail::embree_device_config());
+        RTCGeometry g = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, mesh.positions.size()));
+        auto* i = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, mesh.triangles.size()));
+        std::memcpy(v, mesh.positions.data(), mesh.positions.size() * 12);
+        std::memcpy(i, mesh.triangles.data(), mesh.triangles.size() * 12);
+        rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
+        rtcCommitGeometry(g);
+        m_scene = rtcNewScene(m_device);
+        rtcSetSceneBuildQuality(m_scene, RTC_BUILD_QUALITY_HIGH);
+        rtcAttachGeometry(m_scene, g);
+        rtcReleaseGeometry(g);
+        rtcCommitScene(m_scene);
+    }
+    ~PlainEmbree() {
+        rtcReleaseScene(m_scene);
+        rtcReleaseDevice(m_device);
+    }
+    PlainEmbree(const PlainEmbree&) = delete;
+    PlainEmbree& operator=(const PlainEmbree&) = delete;
+
+    // Casts every vertex's above-horizon rays, one stream call per vertex, in the bake's chunks
+    // on `threads` threads. Two ways to pick the above-horizon rays: a branch per direction, or
+    // branch-free (always write the ray, advance only when above); the benchmark times both and
+    // takes the faster as the reference. `rays` gets the ray count and c0[v] the visible
+    // Σ cos·weight·y_0 (the bake's c_0, for validation). kClosest: closest hits
+    // (rtcIntersect1M, as the interreflected bake needs) instead of occlusion (rtcOccluded1M);
+    // a ray is visible when it hits nothing.
+    template <bool kBranchFree, bool kClosest = false>
+    void run(const Mesh& mesh, const DirectionSet& set, std::size_t chunk, int threads,
+             std::uint64_t& rays, std::vector<float>& c0) const {
+        const std::size_t V = mesh.vertex_count(), S = set.size();
+        c0.assign(V, 0.0f);
+        struct Local {
+            std::vector<RTCRay> rays;         // occlusion
+            std::vector<RTCRayHit> ray_hits;  // closest hits
+            std::vector<float> cos_weight;
+            std::uint64_t count = 0;
+        };
+        tbb::enumerable_thread_specific<Local> locals;
+        const float y0 = 0.28209479177387814f;  // 1/√(4π)
+        tbb::task_arena(threads).execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, (V + chunk - 1) / chunk, 1),
+                [&](const tbb::blocked_range<std::size_t>& r) {
+                    Local& l = locals.local();
+                    if (l.cos_weight.empty()) {
+                        if constexpr (kClosest)
+                            l.ray_hits.resize(S);
+                        else
+                            l.rays.resize(S);
+                        l.cos_weight.resize(S);
+                    }
+                    const unsigned saved = _mm_getcsr();
+                    _mm_setcsr(saved | 0x8040u);  // FTZ | DAZ, as Embree wants
+                    RTCIntersectContext context;
+                    rtcInitIntersectContext(&context);
+                    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+                    for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                        const std::size_t end = std::min(V, (c + 1) * chunk);
+                        for (std::size_t v = c * chunk; v < end; ++v) {
+                            const Vec3f n = mesh.normals[v];
+                            const Vec3f o = offset_ray_origin(mesh.positions[v], n);
+                            unsigned m = 0;
+                            for (std::size_t s = 0; s < S; ++s) {
+                                const float dx = set.dirs[3 * s], dy = set.dirs[3 * s + 1],
+                                            dz = set.dirs[3 * s + 2];
+                                const float cosine = n.x * dx + n.y * dy + n.z * dz;
+                                if (!kBranchFree && !(cosine > 0.0f)) continue;
+                                RTCRay& ray = kClosest ? l.ray_hits[m].ray : l.rays[m];
+                                if constexpr (kClosest)
+                                    l.ray_hits[m].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                                ray.org_x = o.x;
+                                ray.org_y = o.y;
+                                ray.org_z = o.z;
+                                ray.tnear = 0.0f;
+                                ray.dir_x = dx;
+                                ray.dir_y = dy;
+                                ray.dir_z = dz;
+                                ray.time = 0.0f;
+                                ray.tfar = std::numeric_limits<float>::infinity();
+                                ray.mask = 0xFFFFFFFFu;
+                                ray.id = m;
+                                ray.flags = 0;
+                                l.cos_weight[m] = cosine * set.weights[s];
+                                m += kBranchFree ? (cosine > 0.0f ? 1u : 0u) : 1u;
+                            }
+                            float sum = 0;
+                            if constexpr (kClosest) {
+                                rtcIntersect1M(m_scene, &context, l.ray_hits.data(), m,
+                                               sizeof(RTCRayHit));
+                                for (unsigned j = 0; j < m; ++j)
+                                    if (l.ray_hits[j].hit.geomID == RTC_INVALID_GEOMETRY_ID)
+                                        sum += l.cos_weight[j];
+                            } else {
+                                rtcOccluded1M(m_scene, &context, l.rays.data(), m, sizeof(RTCRay));
+                                for (unsigned j = 0; j < m; ++j)
+                                    if (l.rays[j].tfar >= 0.0f) sum += l.cos_weight[j];
+                            }
+                            c0[v] = sum * y0;
+                            l.count += m;
+                        }
+                    }
+                    _mm_setcsr(saved);
+                },
+                tbb::simple_partitioner());
+        });
+        rays = 0;
+        for (const Local& l : locals) rays += l.count;
+    }
+
+private:
+    RTCDevice m_device;
+    RTCScene m_scene;
+};
+
+}  // namespace shprt::bench
