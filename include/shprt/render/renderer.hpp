@@ -305,7 +305,7 @@ private:
     std::vector<Brdf> m_material_brdfs;  // the scene's (Mesh::brdfs), empty when it has none
     unsigned m_brdf_index_ssbo = 0, m_lobe_ubo = 0;
     std::size_t m_vertex_count = 0, m_index_count = 0;
-    int m_draw_orders = 1;  // index lists in m_index_buffer: the mesh's, or kDrawOrderCount orders
+    int m_draw_orders = 1;  // index lists in m_index_buffer: 1 (the mesh's), or 1 + kDrawOrderCount
     TransferLayout m_layout;  // of the scene's transfer
     int m_K = 0, m_channels = 0;
     ShLight m_light{};         // rotated: what the shading pass uses
