@@ -91,17 +91,22 @@ unsigned compile_compute_program(const char* source, const char* name) {
     return link(program, name);
 }
 
+unsigned make_buffer(unsigned target, std::size_t bytes, const void* data, unsigned usage) {
+    GLuint buffer = 0;
+    glGenBuffers(1, &buffer);
+    glBindBuffer(target, buffer);
+    glBufferData(target, static_cast<GLsizeiptr>(bytes), data, usage);
+    return buffer;
+}
+
 unsigned upload_draw_orders(const Mesh& mesh, int& lists) {
     const std::size_t list_bytes = mesh.triangles.size() * 3 * sizeof(std::uint32_t);
     const std::vector<std::uint32_t> orders = draw_orders_fit(mesh.triangles.size())
                                                   ? directional_draw_orders(mesh)
                                                   : std::vector<std::uint32_t>{};
     lists = orders.empty() ? 1 : 1 + kDrawOrderCount;
-    GLuint buffer = 0;
-    glGenBuffers(1, &buffer);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffer);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(list_bytes * std::size_t(lists)),
-                 nullptr, GL_STATIC_DRAW);
+    const unsigned buffer = make_buffer(GL_ELEMENT_ARRAY_BUFFER, list_bytes * std::size_t(lists),
+                                        nullptr, GL_STATIC_DRAW);
     glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(list_bytes),
                     mesh.triangles.data());
     if (!orders.empty())

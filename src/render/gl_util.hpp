@@ -44,6 +44,10 @@ std::string splice(const std::string& source, const char* marker, const std::str
 // the storage buffer).
 std::string glossy_cluster_shader(int K, int K_stored, int vectors);
 
+// A new buffer object of `bytes` bytes, bound to `target`, holding `data` (or uninitialised
+// storage when null), with the usage hint `usage` (GL_STATIC_DRAW, ...).
+unsigned make_buffer(unsigned target, std::size_t bytes, const void* data, unsigned usage);
+
 // The element buffer of a mesh's draws (bound to the current vertex array): its own triangle
 // list, then, where draw_orders_fit, the kDrawOrderCount front-to-back orders of
 // render/draw_order.hpp. `lists` is set to how many lists it holds (1 or 1 + kDrawOrderCount).

@@ -42,14 +42,6 @@ constexpr int kMaxMatrixK = 64;
 static_assert(gl::kLightBlockVec4s * 4 == 3 * kMaxLightK, "light block: 3 padded channels");
 static_assert(gl::kRecurrenceBlockVec4s * 2 == kMaxLightK, "recurrence block: (a, b) per index");
 
-GLuint make_buffer(GLenum target, std::size_t bytes, const void* data, GLenum usage) {
-    GLuint buffer = 0;
-    glGenBuffers(1, &buffer);
-    glBindBuffer(target, buffer);
-    glBufferData(target, static_cast<GLsizeiptr>(bytes), data, usage);
-    return buffer;
-}
-
 void delete_buffer(unsigned& buffer) {
     if (buffer) glDeleteBuffers(1, &buffer);
     buffer = 0;
@@ -142,9 +134,9 @@ Renderer::Renderer() {
                 kLightBlockBytes);
     // Enough bands for any K' (K' ≤ light K ≤ kMaxLightK).
     const std::vector<float> table = recurrence_table(sh_bands_for(kMaxLightK));
-    m_recurrence_ubo =
-        make_buffer(GL_UNIFORM_BUFFER, table.size() * sizeof(float), table.data(), GL_STATIC_DRAW);
-    m_light_ubo = make_buffer(GL_UNIFORM_BUFFER, kLightBlockBytes, nullptr, GL_DYNAMIC_DRAW);
+    m_recurrence_ubo = gl::make_buffer(GL_UNIFORM_BUFFER, table.size() * sizeof(float),
+                                       table.data(), GL_STATIC_DRAW);
+    m_light_ubo = gl::make_buffer(GL_UNIFORM_BUFFER, kLightBlockBytes, nullptr, GL_DYNAMIC_DRAW);
     glBindBuffer(GL_UNIFORM_BUFFER, 0);
     gl::check("Renderer");
 }
@@ -251,21 +243,23 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
     release_scene_buffers();
     glBindVertexArray(m_vao);
     const std::size_t vec_bytes = V * sizeof(Vec3f);
-    m_position_vbo = make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.positions.data(), GL_STATIC_DRAW);
+    m_position_vbo =
+        gl::make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.positions.data(), GL_STATIC_DRAW);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
     glEnableVertexAttribArray(0);
     // Normals and albedo are read by the shading pass only (as storage buffers).
-    m_normal_vbo = make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.normals.data(), GL_STATIC_DRAW);
-    m_albedo_vbo = make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.albedo.data(), GL_STATIC_DRAW);
+    m_normal_vbo = gl::make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.normals.data(), GL_STATIC_DRAW);
+    m_albedo_vbo = gl::make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.albedo.data(), GL_STATIC_DRAW);
     // The shading pass writes one vec4 per vertex; the draw reads it as attribute 3.
-    m_color_buffer = make_buffer(GL_ARRAY_BUFFER, V * 4 * sizeof(float), nullptr, GL_DYNAMIC_COPY);
+    m_color_buffer =
+        gl::make_buffer(GL_ARRAY_BUFFER, V * 4 * sizeof(float), nullptr, GL_DYNAMIC_COPY);
     glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
     glEnableVertexAttribArray(3);
     m_index_buffer = gl::upload_draw_orders(mesh, m_draw_orders);
     glBindVertexArray(0);
     // Dynamic: a progressive bake rewrites it chunk by chunk (update_transfer).
     m_transfer_ssbo =
-        make_buffer(GL_SHADER_STORAGE_BUFFER, transfer_bytes, transfer_data, GL_DYNAMIC_DRAW);
+        gl::make_buffer(GL_SHADER_STORAGE_BUFFER, transfer_bytes, transfer_data, GL_DYNAMIC_DRAW);
     m_cpca_clusters = cpca ? code.clusters : 0;
     m_cpca_vectors = cpca ? code.vectors : 0;
     if (cpca) {
@@ -275,22 +269,23 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
         for (std::size_t c = 0; c < std::size_t(code.clusters); ++c) start[c + 1] += start[c];
         std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
         for (std::size_t v = 0; v < V; ++v) order[next[code.cluster[v]]++] = std::uint32_t(v);
-        m_cluster_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, start.size() * sizeof(std::uint32_t),
-                                     start.data(), GL_STATIC_DRAW);
-        m_cluster_vertex_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, V * sizeof(std::uint32_t),
-                                            order.data(), GL_STATIC_DRAW);
+        m_cluster_ssbo =
+            gl::make_buffer(GL_SHADER_STORAGE_BUFFER, start.size() * sizeof(std::uint32_t),
+                            start.data(), GL_STATIC_DRAW);
+        m_cluster_vertex_ssbo = gl::make_buffer(GL_SHADER_STORAGE_BUFFER, V * sizeof(std::uint32_t),
+                                                order.data(), GL_STATIC_DRAW);
         // At least one float: a CPCA code always has vectors ≥ 1, but keep the buffer valid.
-        m_weight_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER,
-                                    std::max<std::size_t>(1, code.weights.size()) * sizeof(float),
-                                    code.weights.data(), GL_STATIC_DRAW);
+        m_weight_ssbo = gl::make_buffer(
+            GL_SHADER_STORAGE_BUFFER, std::max<std::size_t>(1, code.weights.size()) * sizeof(float),
+            code.weights.data(), GL_STATIC_DRAW);
         // A uniform block's worth more than the clusters need: the last dispatch of the vertex
         // pass binds a whole block too (a range shorter than the block is undefined in GL),
         // whatever K' (a smaller K' has a smaller stride and more clusters per block).
-        m_cluster_light_ssbo =
-            make_buffer(GL_SHADER_STORAGE_BUFFER,
-                        std::size_t(code.clusters) * cluster_layout(transfer.layout.K).stride * 16 +
-                            std::size_t(m_max_ubo_bytes),
-                        nullptr, GL_DYNAMIC_COPY);
+        m_cluster_light_ssbo = gl::make_buffer(
+            GL_SHADER_STORAGE_BUFFER,
+            std::size_t(code.clusters) * cluster_layout(transfer.layout.K).stride * 16 +
+                std::size_t(m_max_ubo_bytes),
+            nullptr, GL_DYNAMIC_COPY);
         m_bytes_per_vertex = cpca_bytes_per_receiver(code, D, V, sizeof(float));
     } else {
         m_bytes_per_vertex = double(D) * sizeof(float);
@@ -305,8 +300,8 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
         m_material_brdfs.assign(table.begin() + 1, table.end());
         std::vector<std::uint32_t> index(V);
         for (std::size_t v = 0; v < V; ++v) index[v] = brdf_table_index(mesh, true, v);
-        m_brdf_index_ssbo = make_buffer(GL_SHADER_STORAGE_BUFFER, V * sizeof(std::uint32_t),
-                                        index.data(), GL_STATIC_DRAW);
+        m_brdf_index_ssbo = gl::make_buffer(GL_SHADER_STORAGE_BUFFER, V * sizeof(std::uint32_t),
+                                            index.data(), GL_STATIC_DRAW);
     }
     m_lobe_key = LobeKey{Brdf{}, -1, false};
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
@@ -528,8 +523,8 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
         }
         if (materials) {
             if (!m_lobe_ubo)
-                m_lobe_ubo = make_buffer(GL_UNIFORM_BUFFER, gl::kLobeBlockVec4s * 16, nullptr,
-                                         GL_DYNAMIC_DRAW);
+                m_lobe_ubo = gl::make_buffer(GL_UNIFORM_BUFFER, gl::kLobeBlockVec4s * 16, nullptr,
+                                             GL_DYNAMIC_DRAW);
             glBindBuffer(GL_UNIFORM_BUFFER, m_lobe_ubo);
             glBufferSubData(GL_UNIFORM_BUFFER, 0, GLsizeiptr(m_lobe_factors.size() * sizeof(float)),
                             m_lobe_factors.data());

@@ -12,18 +12,6 @@
 #include <vector>
 
 namespace shprt {
-namespace {
-
-GLuint upload(GLenum target, std::size_t bytes, const void* data) {
-    GLuint buffer = 0;
-    glGenBuffers(1, &buffer);
-    glBindBuffer(target, buffer);
-    glBufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_STATIC_DRAW);
-    return buffer;
-}
-
-}  // namespace
-
 TexelPass::TexelPass() {
     for (int display = 0; display < 2; ++display)
         m_program[display] = gl::compile_program(
@@ -80,13 +68,16 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
         if (*t) glDeleteTextures(1, t), *t = 0;
 
     glBindVertexArray(m_vao);
-    m_position_vbo = upload(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.positions.data());
+    m_position_vbo =
+        gl::make_buffer(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.positions.data(), GL_STATIC_DRAW);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
     glEnableVertexAttribArray(0);
-    m_uv_vbo = upload(GL_ARRAY_BUFFER, V * sizeof(mesh.uvs[0]), mesh.uvs.data());
+    m_uv_vbo =
+        gl::make_buffer(GL_ARRAY_BUFFER, V * sizeof(mesh.uvs[0]), mesh.uvs.data(), GL_STATIC_DRAW);
     glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(mesh.uvs[0]), nullptr);
     glEnableVertexAttribArray(1);
-    m_albedo_vbo = upload(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.albedo.data());
+    m_albedo_vbo =
+        gl::make_buffer(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.albedo.data(), GL_STATIC_DRAW);
     glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
     glEnableVertexAttribArray(2);
     m_index_buffer = gl::upload_draw_orders(mesh, m_draw_orders);

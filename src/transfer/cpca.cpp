@@ -149,11 +149,9 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
                             double best_exact = std::numeric_limits<double>::infinity();
                             for (int c = 0; c < C; ++c) {
                                 if (expanded(c) - slack(c) > limit) continue;
-                                double e = 0;
-                                for (std::size_t d = 0; d < D; ++d) {
-                                    const double t = double(X(row, d)) - double(centres(c, d));
-                                    e += t * t;
-                                }
+                                const double e =
+                                    (X.row(row).cast<double>() - centres.row(c).cast<double>())
+                                        .squaredNorm();
                                 if (e < best_exact) {
                                     best_exact = e;
                                     best = c;
