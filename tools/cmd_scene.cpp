@@ -69,6 +69,8 @@ const char* summary(const std::string& name) {
     if (name == "room") return "The paper's furnished room (open top; --ceiling closes it)";
     if (name == "quad_box") return "Low poly with UVs: a two-triangle floor and a box on it";
     if (name == "gloss_spheres") return "Four spheres on a floor, each with its own glossy BRDF";
+    if (name == "leaky_room")
+        return "A room built like real assets: overlapping panels, parts through the floor";
     return "A built-in scene";
 }
 

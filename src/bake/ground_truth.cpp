@@ -5,12 +5,15 @@
 // §13.6: Shirley & Chiu 1997's concentric disc map, Malley's method, uniform cone sampling).
 // Points: Sobol (0,2)-sequence with hash-based Owen scrambling (Burley 2020), as in sh/sampler.hpp.
 // Frames: Duff, Burgess, Christensen, Hery, Kensler, Liani & Villemin, "Building an Orthonormal
-// Basis, Revisited", JCGT 6(1), 2017.
+// Basis, Revisited", JCGT 6(1), 2017. The path tracer: Kajiya, "The Rendering Equation",
+// SIGGRAPH 1986, with next-event estimation of the distant light by cosine-weighted rays (PBRT
+// 3rd ed., §14.5).
 #include "shprt/bake/ground_truth.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/parallel.hpp"
+#include "shprt/sh/basis.hpp"
 #include "shprt/sh/rng.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/ray.hpp"
@@ -25,6 +28,8 @@
 #include <limits>
 #include <memory>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace shprt {
 namespace {
@@ -75,6 +80,40 @@ void check_light(const GroundTruthLight& light, std::vector<Disc>& discs) {
         out.radiance = g.radiance;
         discs.push_back(out);
     }
+}
+
+// Runs body(first, last, done) over [0, count) in ranges of about `grain` on `threads` threads,
+// reporting ProgressInfo{stage, done, count, "vertices"} from the calling thread at most five
+// times a second and once at the end; stops early and throws Error(cancelled) when it returns
+// false.
+template <class Body>
+void for_vertices(std::size_t count, std::size_t grain, int threads, const ProgressFn& progress,
+                  const char* stage, Body&& body) {
+    std::atomic<std::size_t> done{0};
+    std::atomic<bool> stop{false};
+    const auto caller = std::this_thread::get_id();
+    auto last_report = Clock::now();
+    const auto report = [&]() {
+        return progress(
+            ProgressInfo{stage, done.load(), static_cast<std::uint64_t>(count), "vertices"});
+    };
+    in_arena(threads, [&] {
+        parallel_for(0, count, grain, Split::automatic, [&](std::size_t first, std::size_t last) {
+            if (stop.load(std::memory_order_relaxed)) return;
+            body(first, last);
+            done.fetch_add(last - first, std::memory_order_relaxed);
+            if (progress && std::this_thread::get_id() == caller) {
+                const auto now = Clock::now();
+                if (now - last_report >= std::chrono::milliseconds(200)) {
+                    last_report = now;
+                    if (!report()) stop.store(true);
+                }
+            }
+        });
+    });
+    if (!stop.load() && progress && !report()) stop.store(true);
+    SHPRT_CHECK(!stop.load(), cancelled, "{} cancelled after {} of {} vertices", stage, done.load(),
+                count);
 }
 
 }  // namespace
@@ -158,14 +197,6 @@ GroundTruth ground_truth_irradiance(const Mesh& mesh, const GroundTruthLight& li
     out.disc_visibility.assign(D * V, -1.0f);
 
     std::atomic<std::uint64_t> rays{0};
-    std::atomic<std::size_t> done{0};
-    std::atomic<bool> stop{false};
-    const auto caller = std::this_thread::get_id();
-    auto last_report = Clock::now();
-    const auto report = [&]() {
-        return options.progress(
-            ProgressInfo{"ground truth", done.load(), static_cast<std::uint64_t>(V), "vertices"});
-    };
     const std::size_t max_rays = std::max<std::size_t>(Ns, Nd);
     tbb::enumerable_thread_specific<Scratch> scratch([&] {
         Scratch s;
@@ -253,27 +284,224 @@ GroundTruth ground_truth_irradiance(const Mesh& mesh, const GroundTruthLight& li
         rays.fetch_add(cast_here, std::memory_order_relaxed);
     };
 
-    in_arena(options.threads, [&] {
-        parallel_for(0, V, kGrain, Split::automatic, [&](std::size_t first, std::size_t last) {
-            if (stop.load(std::memory_order_relaxed)) return;
-            Scratch& sc = scratch.local();
-            for (std::size_t v = first; v != last; ++v) run_vertex(v, sc);
-            done.fetch_add(last - first, std::memory_order_relaxed);
-            if (options.progress && std::this_thread::get_id() == caller) {
-                const auto now = Clock::now();
-                if (now - last_report >= std::chrono::milliseconds(200)) {
-                    last_report = now;
-                    if (!report()) stop.store(true);
-                }
-            }
-        });
-    });
-    if (!stop.load() && options.progress && !report()) stop.store(true);
-    SHPRT_CHECK(!stop.load(), cancelled, "ground truth cancelled after {} of {} vertices",
-                done.load(), V);
+    for_vertices(V, kGrain, options.threads, options.progress, "ground truth",
+                 [&](std::size_t first, std::size_t last) {
+                     Scratch& sc = scratch.local();
+                     for (std::size_t v = first; v != last; ++v) run_vertex(v, sc);
+                 });
     out.rays_cast = rays.load();
     out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return out;
+}
+
+std::vector<PathTraceIrradiance> path_trace_irradiance(const Mesh& mesh,
+                                                       std::span<const std::uint32_t> vertices,
+                                                       int K,
+                                                       std::span<const std::vector<double>> lights,
+                                                       const PathTraceOptions& options,
+                                                       const Tracer& tracer) {
+    const auto start = Clock::now();
+    const std::size_t V = mesh.vertex_count();
+    SHPRT_CHECK(V > 0 && !mesh.triangles.empty(), invalid_argument,
+                "path trace: mesh '{}' is empty", mesh.source);
+    SHPRT_CHECK(mesh.normals.size() == V && mesh.albedo.size() == V, invalid_argument,
+                "path trace: mesh '{}' has {} normals and {} albedos for {} vertices", mesh.source,
+                mesh.normals.size(), mesh.albedo.size(), V);
+    for (const std::uint32_t v : vertices)
+        SHPRT_CHECK(v < V, invalid_argument, "path trace: vertex {} is out of range ({} vertices)",
+                    v, V);
+    SHPRT_CHECK(K >= 1 && K <= sh_count(kMaxComputeBands), invalid_argument,
+                "path trace: K = {} must be in [1, {}]", K, sh_count(kMaxComputeBands));
+    SHPRT_CHECK(!lights.empty(), invalid_argument, "path trace: no light");
+    for (const std::vector<double>& light : lights) {
+        SHPRT_CHECK(light.size() == 3 * std::size_t(K), invalid_argument,
+                    "path trace: a light has {} coefficients; 3·K = {} expected", light.size(),
+                    3 * K);
+        for (const double l : light)
+            SHPRT_CHECK(std::isfinite(l), invalid_argument, "path trace: light coefficient {}", l);
+    }
+    const int N = options.bounces;
+    const std::uint32_t M = options.escape_rays, G = kPathTraceReplicates;
+    SHPRT_CHECK(N >= 0 && N <= kMaxPathTraceBounces, invalid_argument,
+                "path trace: bounces = {} must be in [0, {}]", N, kMaxPathTraceBounces);
+    SHPRT_CHECK(M >= 1 && M <= kMaxPathTraceEscapeRays, invalid_argument,
+                "path trace: escape_rays = {} must be in [1, {}]", M, kMaxPathTraceEscapeRays);
+    SHPRT_CHECK(options.paths >= 2 * G && options.paths % G == 0 &&
+                    std::uint64_t(options.paths / G) * M <= 0xFFFFFFFFull,
+                invalid_argument,
+                "path trace: paths = {} must be a multiple of {} (at least {}), with paths/{}·M "
+                "under 2^32",
+                options.paths, G, 2 * G, G);
+    SHPRT_CHECK(options.threads >= 0, invalid_argument,
+                "path trace: threads = {} must be ≥ 0 (0 = all)", options.threads);
+
+    const std::size_t R = vertices.size(), B = std::size_t(N) + 1, NL = lights.size();
+    std::vector<PathTraceIrradiance> out(NL);
+    for (PathTraceIrradiance& o : out) {
+        o.bounces = N;
+        o.receivers = R;
+        for (auto* v : {&o.mean, &o.std_error, &o.indirect_std_error, &o.total_std_error})
+            v->assign(R * B * 3, 0.0);
+    }
+    std::atomic<std::uint64_t> rays{0};
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+
+    const auto run_receiver = [&](std::size_t r) {
+        const std::uint32_t v = vertices[r];
+        std::vector<double> y(std::size_t(K), 0.0);
+        std::vector<Vec3d> w(M);
+        std::vector<Vec3f> dirs(M);
+        std::vector<std::uint8_t> occluded(M);
+        // x[(l·B + b)·3 + c]: one path's E_b under light l. Per replicate g the sums over its paths
+        // of E_b, E_1 + … + E_b and E_0 + … + E_b, at [((l·G + g)·B + b)·3 + c].
+        std::vector<double> x(NL * B * 3);
+        std::vector<double> sum(NL * G * B * 3, 0.0), ind(sum.size(), 0.0), tot(sum.size(), 0.0);
+        std::uint64_t cast_here = 0;
+        const std::uint64_t v_high = std::uint64_t(v) << 32;
+        // Depth 0's scrambles, per replicate: the light rays', the first direction's.
+        std::vector<RngBlock> scramble_light(G), scramble_on(G);
+        for (std::uint32_t g = 0; g < G; ++g) {
+            scramble_light[g] = rng_block(options.seed, v_high | g, kStreamPathTraceScramble);
+            scramble_on[g] = rng_block(options.seed, v_high | g, kStreamPathTraceScramble + 1);
+        }
+        // A cosine-weighted direction about the frame (t, b, n) for the point (u1, u2).
+        const auto direction = [](Vec3d n, Vec3d t, Vec3d b, double u1, double u2) {
+            const Vec3d l = cosine_hemisphere_direction(u1, u2);
+            return normalize(t * l.x + b * l.y + n * l.z);
+        };
+        // The point for ray k (k = M: the direction on) at `depth` of path p (replicate g, j-th).
+        const auto point = [&](std::uint32_t p, std::uint32_t g, std::uint32_t j, int depth,
+                               std::uint32_t k, double& u1, double& u2) {
+            if (depth == 0) {
+                if (k < M)
+                    sobol_point(j * M + k, scramble_light[g], u1, u2);
+                else
+                    sobol_point(j, scramble_on[g], u1, u2);
+                return;
+            }
+            // Deeper, per path: the light rays are one scrambled (0,2)-net (stratified among
+            // themselves, each uniform), the direction on an independent uniform point.
+            const std::uint32_t stream = kStreamPathTrace + 256u * std::uint32_t(depth);
+            if (k < M) {
+                sobol_point(k, rng_block(options.seed, v_high | p, stream), u1, u2);
+                return;
+            }
+            const RngBlock u = rng_block(options.seed, v_high | p, stream + 1);
+            u1 = to_unit_double(u.v[0], u.v[1]);
+            u2 = to_unit_double(u.v[2], u.v[3]);
+        };
+        for (std::uint32_t p = 0; p < options.paths; ++p) {
+            const std::uint32_t g = p % G, j = p / G;
+            std::fill(x.begin(), x.end(), 0.0);
+            Vec3f origin = offset_ray_origin(mesh.positions[v], mesh.normals[v]);
+            Vec3d n = normalize(cast<double>(mesh.normals[v]));
+            Vec3d throughput{1, 1, 1};
+            for (int depth = 0; depth <= N; ++depth) {
+                Vec3d t, b;
+                orthonormal_frame(n, t, b);
+                double u1, u2;
+                // Next event: the light reaching this point, E ≈ π/M Σ L(w_k)·V(w_k).
+                for (std::uint32_t k = 0; k < M; ++k) {
+                    point(p, g, j, depth, k, u1, u2);
+                    w[k] = direction(n, t, b, u1, u2);
+                    dirs[k] = cast<float>(w[k]);
+                }
+                tracer.occluded(origin, dirs.data(), int(M), 0.0f, kInf, occluded.data());
+                cast_here += M;
+                for (std::uint32_t k = 0; k < M; ++k) {
+                    if (occluded[k]) continue;
+                    sh_eval_k<double>(K, w[k].x, w[k].y, w[k].z, y.data());
+                    for (std::size_t l = 0; l < NL; ++l)
+                        for (int c = 0; c < 3; ++c) {
+                            double L = 0;
+                            const double* coeffs = lights[l].data() + std::size_t(c * K);
+                            for (int i = 0; i < K; ++i) L += coeffs[i] * y[std::size_t(i)];
+                            x[(l * B + std::size_t(depth)) * 3 + std::size_t(c)] +=
+                                throughput[c] * L * (kPi / M);
+                        }
+                }
+                if (depth == N) break;
+                // On: one more cosine-weighted direction; its escape was counted above.
+                point(p, g, j, depth, M, u1, u2);
+                const Vec3d wc = direction(n, t, b, u1, u2);
+                const Vec3f wf = cast<float>(wc);
+                const Hit h = tracer.intersect(origin, wf, 0.0f, kInf);
+                ++cast_here;
+                if (!h.hit) break;
+                const auto& tri = mesh.triangles[h.triangle];
+                const double bary[3] = {1.0 - double(h.u) - double(h.v), double(h.u), double(h.v)};
+                Vec3d ph{0, 0, 0}, rho{0, 0, 0};
+                for (int k = 0; k < 3; ++k) {
+                    ph += cast<double>(mesh.positions[tri[k]]) * bary[k];
+                    rho += cast<double>(mesh.albedo[tri[k]]) * bary[k];
+                }
+                const Vec3d p0 = cast<double>(mesh.positions[tri[0]]);
+                const Vec3d face = cross(cast<double>(mesh.positions[tri[1]]) - p0,
+                                         cast<double>(mesh.positions[tri[2]]) - p0);
+                // Two-sided: the side the ray arrives on is the side that reflects.
+                n = normalize(dot(face, wc) > 0 ? -face : face);
+                throughput = {throughput.x * rho.x, throughput.y * rho.y, throughput.z * rho.z};
+                if (throughput.x == 0 && throughput.y == 0 && throughput.z == 0) break;
+                origin = offset_ray_origin(cast<float>(ph), cast<float>(n));
+            }
+            for (std::size_t l = 0; l < NL; ++l)
+                for (std::size_t c = 0; c < 3; ++c) {
+                    double indirect = 0, total = 0;
+                    for (std::size_t bb = 0; bb < B; ++bb) {
+                        const double xb = x[(l * B + bb) * 3 + c];
+                        if (bb > 0) indirect += xb;
+                        total += xb;
+                        const std::size_t i = ((l * G + g) * B + bb) * 3 + c;
+                        sum[i] += xb;
+                        ind[i] += indirect;
+                        tot[i] += total;
+                    }
+                }
+        }
+        // Mean and standard error from the replicates' means (each of paths/G paths).
+        const double per_replicate = double(options.paths / G);
+        const auto mean_and_error = [&](const std::vector<double>& s, std::size_t l, std::size_t bb,
+                                        std::size_t c, double& mean) {
+            const auto replicate_mean = [&](std::uint32_t g) {
+                return s[((l * G + g) * B + bb) * 3 + c] / per_replicate;
+            };
+            double m = 0, var = 0;
+            for (std::uint32_t g = 0; g < G; ++g) m += replicate_mean(g);
+            mean = m / G;
+            for (std::uint32_t g = 0; g < G; ++g)
+                var += (replicate_mean(g) - mean) * (replicate_mean(g) - mean);
+            return std::sqrt(var / (G * (G - 1.0)));
+        };
+        for (std::size_t l = 0; l < NL; ++l)
+            for (std::size_t c = 0; c < 3; ++c)
+                for (std::size_t bb = 0; bb < B; ++bb) {
+                    PathTraceIrradiance& o = out[l];
+                    const std::size_t i = o.index(r, int(bb), int(c));
+                    double unused;
+                    o.std_error[i] = mean_and_error(sum, l, bb, c, o.mean[i]);
+                    o.indirect_std_error[i] = bb > 0 ? mean_and_error(ind, l, bb, c, unused) : 0;
+                    o.total_std_error[i] = mean_and_error(tot, l, bb, c, unused);
+                }
+        rays.fetch_add(cast_here, std::memory_order_relaxed);
+    };
+
+    for_vertices(R, 1, options.threads, options.progress, "path trace",
+                 [&](std::size_t first, std::size_t last) {
+                     for (std::size_t r = first; r != last; ++r) run_receiver(r);
+                 });
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    for (PathTraceIrradiance& o : out) {
+        o.rays_cast = rays.load();
+        o.seconds = seconds;
+    }
+    return out;
+}
+
+PathTraceIrradiance path_trace_irradiance(const Mesh& mesh, std::span<const std::uint32_t> vertices,
+                                          int K, std::span<const double> light,
+                                          const PathTraceOptions& options, const Tracer& tracer) {
+    const std::vector<double> one[1] = {std::vector<double>(light.begin(), light.end())};
+    return std::move(path_trace_irradiance(mesh, vertices, K, one, options, tracer).front());
 }
 
 }  // namespace shprt

@@ -7,6 +7,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/scene/builder.hpp"
+#include "shprt/scene/leaky_room.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/scene/room.hpp"
 
@@ -112,7 +113,8 @@ Mesh make_quad_box() {
 }  // namespace
 
 std::vector<std::string> builtin_scene_names() {
-    return {"plane", "box_on_plane", "sphere", "corner", "room", "quad_box", "gloss_spheres"};
+    return {"plane", "box_on_plane", "sphere",        "corner",
+            "room",  "quad_box",     "gloss_spheres", "leaky_room"};
 }
 
 Mesh make_builtin(const std::string& name) {
@@ -123,6 +125,7 @@ Mesh make_builtin(const std::string& name) {
     if (name == "room") return generate_room(RoomOptions{});
     if (name == "quad_box") return make_quad_box();
     if (name == "gloss_spheres") return make_gloss_spheres();
+    if (name == "leaky_room") return generate_leaky_room(LeakyRoomOptions{});
     std::string names;
     for (const auto& n : builtin_scene_names()) names += (names.empty() ? "" : ", ") + n;
     fail(ErrorCode::invalid_argument, "unknown built-in scene '{}' (choose from: {})", name, names);

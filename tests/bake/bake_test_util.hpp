@@ -1,19 +1,23 @@
-// Helpers shared by the bake tests: a brute-force tracer (the host ray test over all triangles),
-// small hand-made meshes, and the float-rounding bound of a length-S dot product.
+// Helpers shared by the bake tests: the brute-force tracer (common/brute_force_tracer.hpp),
+// small hand-made meshes (a quad, the open spherical cavity), and the float-rounding bound of a
+// length-S dot product.
 #pragma once
 
-#include "common/ray_triangle.hpp"
+#include "common/brute_force_tracer.hpp"
 #include "shprt/bake/bake.hpp"
-#include "shprt/transfer/sink.hpp"
+#include "shprt/scene/builder.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/sink.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shprt::test {
@@ -84,49 +88,6 @@ inline TransferSet bake_gpu(const Mesh& mesh, BakeOptions options, const Directi
     return out;
 }
 
-// Every ray against every triangle, Möller–Trumbore in double precision, two-sided, hits counted
-// for tnear < t < tfar. Slow and obvious: the reference the Embree bake is compared with.
-class BruteForceTracer final : public Tracer {
-public:
-    explicit BruteForceTracer(const Mesh& mesh) {
-        for (const auto& tri : mesh.triangles) {
-            const Vec3d a = cast<double>(mesh.positions[tri[0]]);
-            m_tris.push_back({a, cast<double>(mesh.positions[tri[1]]) - a,
-                              cast<double>(mesh.positions[tri[2]]) - a});
-        }
-    }
-
-    void occluded(Vec3f origin, const Vec3f* dirs, int count, float tnear, float tfar,
-                  std::uint8_t* occluded) const override {
-        for (int i = 0; i < count; ++i)
-            occluded[i] = closest(origin, dirs[i], tnear, tfar, true).hit ? 1 : 0;
-    }
-    Hit intersect(Vec3f origin, Vec3f dir, float tnear, float tfar) const override {
-        return closest(origin, dir, tnear, tfar, false);
-    }
-    const char* name() const override { return "brute-force"; }
-    std::size_t memory_bytes() const override { return m_tris.size() * sizeof(m_tris[0]); }
-
-private:
-    Hit closest(Vec3f of, Vec3f df, float tnear, float tfar, bool any) const {
-        const Vec3d o = cast<double>(of), d = cast<double>(df);
-        Hit best{false, 0xFFFFFFFFu, 0, 0, 0};
-        double best_t = tfar;
-        for (std::size_t k = 0; k < m_tris.size(); ++k) {
-            const auto h = intersect_triangle(o, d, m_tris[k].a, m_tris[k].e1, m_tris[k].e2);
-            if (!h || !(h->t > double(tnear) && h->t < best_t)) continue;
-            best = Hit{true, std::uint32_t(k), float(h->t), float(h->u), float(h->v)};
-            best_t = h->t;
-            if (any) break;
-        }
-        return best;
-    }
-    struct Triangle {
-        Vec3d a, e1, e2;  // vertex a and the edges to b and c
-    };
-    std::vector<Triangle> m_tris;
-};
-
 // Unit round-off of float.
 inline constexpr double kFloatEps = 5.9604644775390625e-8;  // 2^-24
 
@@ -156,6 +117,41 @@ inline void add_quad(Mesh& m, Vec3f a, Vec3f b, Vec3f c, Vec3f d, Vec3f normal) 
     }
     m.triangles.push_back({base, base + 1, base + 2});
     m.triangles.push_back({base, base + 2, base + 3});
+}
+
+// The inside of a unit sphere (icosphere, `level`) with the cap y > cap_y cut away (triangles
+// whose centroid is above it), a cavity open to the sky: vertex normals point inward; triangles
+// wind counter-clockwise seen from inside (their front faces the cavity) when front_inside, else
+// as the icosphere does (the cavity is the back of a closed surface's faces). Only the kept
+// triangles' vertices. The closed form (docs/interreflection.md): every point sees any part of a
+// sphere with a view factor equal to its share of the area, so under a constant sky L the bounce
+// b irradiance is E_b = π·L·f·(ρ(1 − f))^b, f the opening's share (1/4 for cap_y = 0.5).
+inline Mesh spherical_cavity(int level, double cap_y, Vec3f albedo, bool front_inside = true) {
+    MeshBuilder b;
+    b.add_icosphere({0, 0, 0}, 1.0, level, albedo);
+    const Mesh sphere = b.take_mesh("test:cavity");
+    Mesh m;
+    m.source = "test:cavity";
+    std::vector<std::uint32_t> remap(sphere.vertex_count(), ~0u);
+    for (const auto& tri : sphere.triangles) {
+        const Vec3f c =
+            (sphere.positions[tri[0]] + sphere.positions[tri[1]] + sphere.positions[tri[2]]) / 3.0f;
+        if (c.y > cap_y) continue;
+        std::array<std::uint32_t, 3> out{};
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = tri[k];
+            if (remap[v] == ~0u) {
+                remap[v] = static_cast<std::uint32_t>(m.positions.size());
+                m.positions.push_back(sphere.positions[v]);
+                m.normals.push_back(-normalize(sphere.positions[v]));
+                m.albedo.push_back(albedo);
+            }
+            out[k] = remap[v];
+        }
+        if (front_inside) std::swap(out[1], out[2]);
+        m.triangles.push_back(out);
+    }
+    return m;
 }
 
 }  // namespace shprt::test

@@ -22,7 +22,7 @@ using test::expect_valid_generated;
 TEST(SceneBuiltin, NamesAndUnknownName) {
     const auto names = builtin_scene_names();
     EXPECT_EQ(names, (std::vector<std::string>{"plane", "box_on_plane", "sphere", "corner", "room",
-                                               "quad_box", "gloss_spheres"}));
+                                               "quad_box", "gloss_spheres", "leaky_room"}));
     try {
         make_builtin("nope");
         FAIL() << "no error";

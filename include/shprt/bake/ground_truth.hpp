@@ -23,6 +23,32 @@
 //
 // Determinism: every vertex's value depends only on (mesh, light, options.seed, sample counts),
 // never on the thread count or the order in which vertices are computed.
+//
+// Interreflected ground truth (path_trace_irradiance, below): the irradiance per bounce,
+//
+//     E_0(v) as above,   E_b(v) = ∫ max(0, n_v·w) · ρ(h)/π · E_{b−1}(h) dω    (h = h(p_v, w)),
+//
+// estimated by a path tracer that shades like a renderer and shares nothing with the bake's
+// discretisation (bake/interreflect.hpp reads E_{b−1} from the hit triangle's vertices):
+//   * E_{b−1}(h) is estimated AT the hit point h, by rays leaving h itself; ρ(h) is the vertex
+//     albedo interpolated with the hit's barycentrics;
+//   * surfaces are two-sided: at h the normal is the triangle's geometric normal turned toward
+//     the arriving ray, and the rays leaving h start at offset_ray_origin(h, that normal), so a
+//     back face reflects like a front one and light never passes through a surface;
+//   * the receiver's own rays start at offset_ray_origin(p_v, n_v) about its vertex normal, as
+//     the bake's do.
+// Estimator: at each point of a path (the receiver, then each hit) M cosine-weighted rays look
+// for the light ("next event" for a distant light): those that escape add throughput·π/M·Σ L(w_j)
+// to E_b, b the point's depth; the path then continues along one more cosine-weighted direction,
+// whose own escape adds nothing (the M rays counted it), and the throughput is multiplied by ρ(h)
+// at the hit (with pdf cos/π the cosine and 1/π cancel). Fixed depth N, no Russian roulette.
+// Randomised quasi-Monte Carlo (Owen 1997; L'Ecuyer & Lemieux 2002): the paths are dealt into
+// kPathTraceReplicates independent replicates; within one, the receiver's light rays and the
+// paths' first directions are Owen-scrambled Sobol points (as above). Deeper, each path's M light
+// rays at a point are one scrambled Sobol net of their own and the direction on is an independent
+// Philox point: every point is uniform and independent of what decided where the path is, so each
+// replicate's mean is unbiased; the replicates are independent, so the standard error is the
+// spread of the replicates' means: honest, though itself known to about ±20 %.
 #pragma once
 
 #include "shprt/core/progress.hpp"
@@ -32,6 +58,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 namespace shprt {
@@ -92,6 +119,83 @@ GroundTruth ground_truth_irradiance(const Mesh& mesh, const GroundTruthLight& li
 // The same with a caller-owned tracer built over `mesh`.
 GroundTruth ground_truth_irradiance(const Mesh& mesh, const GroundTruthLight& light,
                                     const GroundTruthOptions& options, const Tracer& tracer);
+
+// ---- Interreflected ground truth: a path tracer (see the top of this file) ----
+
+inline constexpr int kMaxPathTraceBounces = 64;
+inline constexpr std::uint32_t kMaxPathTraceEscapeRays = 255;
+inline constexpr std::uint32_t kPathTraceReplicates = 16;
+
+struct PathTraceOptions {
+    int bounces = 3;  // N: E_0 .. E_N are estimated, 0 ≤ N ≤ kMaxPathTraceBounces
+    // Per receiver: a multiple of kPathTraceReplicates, ≥ 2 of them.
+    std::uint32_t paths = 4096;
+    std::uint32_t escape_rays = 4;  // M at every path point, 1 ≤ M ≤ kMaxPathTraceEscapeRays
+    std::uint64_t seed = 1;
+    int threads = 0;  // 0 = all hardware threads
+    // Called with ProgressInfo{"path trace", receivers done, receiver count, "vertices"} from the
+    // calling thread, a few times a second and once at the end. Returning false cancels:
+    // path_trace_irradiance then throws Error(cancelled).
+    ProgressFn progress;
+};
+
+// The random numbers of path p = kPathTraceReplicates·j + g (replicate g, its j-th path) of
+// vertex v. Depth 0: the Sobol points M·j + k (light ray k) and j (the direction on), scrambled by
+// Philox(seed, v·2^32 + g, kStreamPathTraceScramble + 0 and + 1). Depth d ≥ 1: the Sobol points
+// k < M scrambled by Philox(seed, v·2^32 + p, kStreamPathTrace + 256·d) (light ray k), and the
+// uniform point Philox(seed, v·2^32 + p, kStreamPathTrace + 256·d + 1) (the direction on).
+// Distinct from the samplers' and the ground truth's streams.
+inline constexpr std::uint32_t kStreamPathTrace = 0x50540000u;
+inline constexpr std::uint32_t kStreamPathTraceScramble = 0x50550000u;
+
+// One light's estimate. Per receiver r (the position in the `vertices` asked for), bounce
+// b ∈ [0, N] and channel c, at index (r·(N+1) + b)·3 + c (index()).
+struct PathTraceIrradiance {
+    int bounces = 0;  // N
+    std::size_t receivers = 0;
+    std::vector<double> mean;       // E_b, RGB: the light that arrives after exactly b bounces
+    std::vector<double> std_error;  // its standard error
+    // The standard errors of the partial sums E_1 + … + E_b (0 at b = 0) and E_0 + … + E_b (a
+    // path's bounces are correlated, so these do not follow from std_error).
+    std::vector<double> indirect_std_error;
+    std::vector<double> total_std_error;
+    std::uint64_t rays_cast = 0;  // for all the lights together
+    double seconds = 0;           // wall time, all the lights together
+
+    std::size_t index(std::size_t r, int b, int c) const {
+        return (r * static_cast<std::size_t>(bounces + 1) + static_cast<std::size_t>(b)) * 3 +
+               static_cast<std::size_t>(c);
+    }
+    // E_first + … + E_last of receiver r, channel c.
+    double sum(std::size_t r, int first, int last, int c) const {
+        double s = 0;
+        for (int b = first; b <= last; ++b) s += mean[index(r, b, c)];
+        return s;
+    }
+};
+
+// Path-traces E_0 .. E_N (RGB) at the given vertices of `mesh` under each distant light
+// L_c(w) = Σ_{i<K} lights[l][c·K + i]·y_i(w) (real SH, sh/basis.hpp; a light may be negative in
+// places, as band-limited lights are: the estimate is linear in it). The lights share the paths:
+// one call for several lights costs what one light does. The albedo is mesh.albedo. `tracer` is
+// built over `mesh` (Embree for large scenes, an exact tracer in tests). CPU, TBB over receivers,
+// each receiver's paths in order on one thread: a receiver's numbers depend on (mesh, its vertex
+// index, lights, options but threads and progress), not on the thread count or the other
+// receivers asked for. Throws Error(invalid_argument) for an empty mesh, normal or albedo counts
+// that differ from the vertex count, a vertex index out of range, no light, K outside
+// [1, sh_count(kMaxComputeBands)], a light of other than 3K coefficients or a non-finite one, or
+// options outside their ranges; Error(cancelled) when progress returns false.
+std::vector<PathTraceIrradiance> path_trace_irradiance(const Mesh& mesh,
+                                                       std::span<const std::uint32_t> vertices,
+                                                       int K,
+                                                       std::span<const std::vector<double>> lights,
+                                                       const PathTraceOptions& options,
+                                                       const Tracer& tracer);
+
+// One light.
+PathTraceIrradiance path_trace_irradiance(const Mesh& mesh, std::span<const std::uint32_t> vertices,
+                                          int K, std::span<const double> light,
+                                          const PathTraceOptions& options, const Tracer& tracer);
 
 // Building blocks, exposed for tests.
 // Cosine-weighted direction on the hemisphere about +Z for (u1, u2) ∈ [0,1)²: Shirley–Chiu's

@@ -1,5 +1,5 @@
 // Built-in scenes, usable as "builtin:NAME" wherever a scene file is accepted. All are in metres,
-// +Y up, with albedo kDefaultAlbedo (0.8 grey) except the room, and exact unit normals.
+// +Y up, with albedo kDefaultAlbedo (0.8 grey) except the rooms, and exact unit normals.
 //
 //   plane         the square x, z in [-1, 1] at y = 0 facing +Y, a 16 x 16 grid of cells
 //                 (289 vertices, 512 triangles).
@@ -23,6 +23,9 @@
 //                 x in [-3.5, 3.5], z in [-1.75, 1.75]; each sphere's material gives a glossy
 //                 BRDF (Mesh::brdfs: phong:2, ggx:0.8, blinn:32, ggx:0.5, left to right), the
 //                 floor none (docs/glossy.md, "Per-material BRDFs").
+//   leaky_room    generate_leaky_room() with default options (708 triangles): a room built like
+//                 real assets, its walls, floor slabs and furniture overlapping, interpenetrating
+//                 and reaching below the floor, for tests of values read at ray hits.
 #pragma once
 
 #include "shprt/core/vec.hpp"
