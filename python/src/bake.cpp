@@ -9,7 +9,9 @@
 
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <exception>
+#include <limits>
 #include <optional>
 
 namespace shprt::python {
@@ -21,7 +23,8 @@ namespace {
 BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
                          const std::string& sampler, const std::string& transfer,
                          std::uint64_t seed, int threads, const std::string& device,
-                         const py::object& bounces, double tolerance, bool two_sided) {
+                         const py::object& bounces, double tolerance, bool two_sided,
+                         std::int64_t indirect_samples, const py::object& source_spacing) {
     BakeOptions o;
     SHPRT_CHECK(!(bands && coeffs), invalid_argument,
                 "bands and coeffs both given; use one (K = bands²)");
@@ -59,6 +62,27 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
     }
     o.tolerance = tolerance;
     o.two_sided = two_sided;
+    // As `shprt bake --indirect-samples` and `--source-spacing` (a number of metres or
+    // 'vertices'); 0 / None = the defaults.
+    SHPRT_CHECK(indirect_samples >= 0 && indirect_samples <= std::int64_t(kMaxBakeSamples),
+                invalid_argument, "indirect_samples={}: must be 0 (default) to {}",
+                indirect_samples, kMaxBakeSamples);
+    o.indirect_samples = std::uint32_t(indirect_samples);
+    if (py::isinstance<py::str>(source_spacing)) {
+        const std::string name = source_spacing.cast<std::string>();
+        SHPRT_CHECK(name == "vertices", invalid_argument,
+                    "source_spacing='{}': expected metres (> 0) or 'vertices'", name);
+        o.source_spacing = std::numeric_limits<float>::infinity();
+    } else if (!source_spacing.is_none()) {
+        const double metres = source_spacing.cast<double>();
+        SHPRT_CHECK(metres > 0 && std::isfinite(metres), invalid_argument,
+                    "source_spacing={}: expected metres (> 0) or 'vertices'", metres);
+        o.source_spacing = float(metres);
+    }
+    SHPRT_CHECK(o.transfer == TransferKind::interreflected ||
+                    (indirect_samples == 0 && source_spacing.is_none()),
+                invalid_argument,
+                "indirect_samples and source_spacing need transfer='interreflected'");
     validate(o);
     return o;
 }
@@ -66,10 +90,12 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
 py::array bake_py(py::handle vertices, py::handle faces, py::handle normals, py::handle albedo,
                   std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
                   const std::string& sampler, const std::string& transfer, std::uint64_t seed,
-                  const py::object& bounces, double tolerance, bool two_sided, int threads,
+                  const py::object& bounces, double tolerance, bool two_sided,
+                  std::int64_t indirect_samples, const py::object& source_spacing, int threads,
                   const std::string& device, py::object progress) {
-    BakeOptions options = bake_options(bands, coeffs, samples, sampler, transfer, seed, threads,
-                                       device, bounces, tolerance, two_sided);
+    BakeOptions options =
+        bake_options(bands, coeffs, samples, sampler, transfer, seed, threads, device, bounces,
+                     tolerance, two_sided, indirect_samples, source_spacing);
     // A shprt.Mesh is used in place; arrays become a Mesh (one copy, checked).
     std::optional<Mesh> own;
     const Mesh* mesh = nullptr;
@@ -124,8 +150,9 @@ void bind_bake(py::module_& m) {
     m.def("bake", &bake_py, "vertices"_a, "faces"_a = py::none(), "normals"_a = py::none(),
           "albedo"_a = py::none(), py::kw_only(), "bands"_a = py::none(), "coeffs"_a = py::none(),
           "samples"_a = 1024, "sampler"_a = "sobol", "transfer"_a = "shadowed", "seed"_a = 1,
-          "bounces"_a = 1, "tolerance"_a = 1e-4, "two_sided"_a = false, "threads"_a = 0,
-          "device"_a = "cpu", "progress"_a = py::none(),
+          "bounces"_a = 1, "tolerance"_a = 1e-4, "two_sided"_a = false, "indirect_samples"_a = 0,
+          "source_spacing"_a = py::none(), "threads"_a = 0, "device"_a = "cpu",
+          "progress"_a = py::none(),
           R"(Bakes per-vertex SH transfer (bake/bake.hpp) and returns it as a float32 array of
 shape (V, K) — (V, 3, K) for RGB transfer — with K = bands² or coeffs (default 16).
 
@@ -133,8 +160,9 @@ vertices (V, 3) float and faces (T, 3) int, or a shprt.Mesh as the only position
 normals=None computes them; albedo=None is 0.8 grey. samples S directions per vertex from
 sampler 'sobol' (default), 'uniform' (the paper's), 'stratified' or 'fibonacci' with seed;
 transfer 'shadowed' (default), 'unshadowed' or 'interreflected' (RGB, shape (V, 3, K); with
-bounces N or 'converged' until the largest relative change is under tolerance, and two_sided:
-docs/interreflection.md); threads 0 = all; device 'cpu', 'cuda' or 'auto'. The same options and
+bounces N or 'converged' until the largest relative change is under tolerance, two_sided,
+indirect_samples (0 = the default) and source_spacing (metres, 'vertices' or None = the
+default): docs/interreflection.md); threads 0 = all; device 'cpu', 'cuda' or 'auto'. The same options and
 seed give the same bits as `shprt bake`.
 
 The GIL is released while it runs. progress(done, total) is called on this thread about 20

@@ -153,7 +153,8 @@ TransferInfo bake_description(const BakeOptions& options) {
 }
 
 std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receivers,
-                                       const BakeOptions& options, bool rows_in_memory) {
+                                       const BakeOptions& options, bool rows_in_memory,
+                                       std::size_t bounce_sources) {
     const std::uint64_t S = options.samples, K = std::uint64_t(std::max(options.K, 0));
     const std::uint64_t V = receivers;
     const std::uint64_t chunk = options.chunk_receivers > 0
@@ -175,9 +176,16 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
                         S * (3 * sizeof(float) + sizeof(std::uint32_t) + 1) +  // rays
                         chunk * F * sizeof(float));                            // C
     if (rows_in_memory) bytes += V * row * sizeof(float);
-    // Interreflected: the sum and two bounce buffers of V rows, and T_0 (V × K).
-    if (options.transfer == TransferKind::interreflected)
-        bytes += 3 * V * row * sizeof(float) + V * K * sizeof(float);
+    // Interreflected: the sum of V rows and two bounce buffers of N rows (N bounce sources), T_0
+    // of the receivers and of the sources (V + N rows of K), the sources' points and what their
+    // rays met (41 bytes each), every worker's dense row accumulator (25 bytes per source), and
+    // the operator's direction and basis tables (at most S directions).
+    if (options.transfer == TransferKind::interreflected) {
+        const std::uint64_t N = bounce_sources > 0 ? bounce_sources : V;
+        bytes += V * row * sizeof(float) + 2 * N * row * sizeof(float) +
+                 (V + N) * K * sizeof(float) + N * 41 + workers * 25 * N +
+                 S * (K + 7) * sizeof(float);
+    }
     return bytes;
 }
 
@@ -204,6 +212,13 @@ void validate(const BakeOptions& options) {
                 "tolerance = {} must be a positive number", options.tolerance);
     SHPRT_CHECK(options.max_bounces >= 1, invalid_argument, "max_bounces = {} must be 1 or more",
                 options.max_bounces);
+    SHPRT_CHECK(options.indirect_samples <= kMaxBakeSamples, invalid_argument,
+                "indirect samples = {} is too many (at most {})", options.indirect_samples,
+                kMaxBakeSamples);
+    SHPRT_CHECK(options.source_spacing >= 0 && !std::isnan(options.source_spacing),
+                invalid_argument,
+                "source spacing = {} must be 0 (automatic), a positive number of metres or inf",
+                options.source_spacing);
 }
 
 Device resolve_device(Device requested, int device_index) {

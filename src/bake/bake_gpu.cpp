@@ -19,6 +19,7 @@
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/bvh_build.hpp"
+#include "shprt/trace/tracer.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -224,46 +225,27 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
     const auto start = Clock::now();
     check_interreflected_job(job);
     const int wanted = options.converge ? options.max_bounces : options.bounces;
-    if (wanted == 0) {  // T_0 alone: the shadowed GPU bake itself, then the shared finish
-        BakeOptions direct_options = options;
-        direct_options.transfer = TransferKind::shadowed;
-        HostSink direct_sink;
-        BakeJob direct_job = job;
-        direct_job.sink = &direct_sink;
-        TransferInfo info = bake_gpu(direct_job, direct_options, directions);
-        const double seconds = seconds_since(start);
-        return finish_interreflected(
-            job, options, std::move(info), direct_sink.take_rows(), TransportOperator{},
-            [](const float*, float*, BakeProgress&) {}, 0, seconds);
-    }
-    require_gpu(options.device_index);
-    const cuda::DeviceState device = cuda::prepare_device(options.device_index);
+    // T_0: the shadowed GPU bake itself, with every direction.
+    BakeOptions direct_options = direct_stage_options(options);
+    HostSink direct_sink;
+    BakeJob direct_job = job;
+    direct_job.sink = &direct_sink;
+    TransferInfo info = bake_gpu(direct_job, direct_options, directions);
+    if (wanted == 0)
+        return finish_interreflected(job, options, std::move(info), direct_sink.take_rows(), {},
+                                     BounceSourceRays{}, TransportOperator{}, {}, 0,
+                                     seconds_since(start));
+    // The operator over the bounce sources: traced on the host by the CPU's code (the device
+    // build of A, trace_transport_on_device, reads the vertex mesh only and returns no validity
+    // counts; docs/interreflection.md "Not done"), then the bounces on the device.
     const Mesh& mesh = *job.occluders;
-    const Receivers& rx = job.receivers;
-    const std::size_t V = rx.count, S = directions.size();
     const int K = options.K;
     const auto bvh_start = Clock::now();
-    const FlatBvh bvh = build_bvh(mesh, options.threads);
-    const double seconds_bvh = seconds_since(bvh_start);
-    const std::vector<float> Y = basis_table(K, directions);
-
-    BakeProgress progress(options.progress, true, V, S);
-    DeviceTransportPass pass =
-        trace_transport_on_device(mesh, rx, bvh, directions, Y, K, device, options, progress);
-    std::vector<float>& T0 = pass.T0;
-    const TransportOperator& A = pass.A;
-    const cuda::DeviceBakeResult& result = pass.result;
-
-    BakeOptions direct_options = options;
-    direct_options.transfer = TransferKind::shadowed;
-    TransferInfo info = bake_info(direct_options, rx, S);
-    BakeStats& st = info.stats;
-    st.seconds_bvh = seconds_bvh;
-    st.seconds_trace = result.seconds_trace;
-    st.seconds_project = result.seconds_project;
-    st.seconds_operator = result.seconds_operator;
-    st.rays_cast = result.rays;
-    st.device_name = device.name;
+    const auto tracer = make_embree_tracer(mesh);
+    info.stats.seconds_bvh += seconds_since(bvh_start);
+    SourceOperator op = trace_source_operator(mesh, options, directions, *tracer, info.stats);
+    const TransportOperator& A = op.A;
+    const std::size_t N = A.vertices;
 
     // The bounces keep on the device what fits of A; the rest is copied in per bounce.
     std::vector<std::uint64_t> block_bytes;
@@ -271,7 +253,7 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
     const DeviceMemory memory =
         device_memory(options, cuda::prepare_device(options.device_index).free_bytes);
     const TransportResidency residency =
-        plan_transport_residency(block_bytes, 2 * std::uint64_t(V) * 3 * K * sizeof(float),
+        plan_transport_residency(block_bytes, 2 * std::uint64_t(N) * 3 * K * sizeof(float),
                                  memory.bytes, memory.usable_fraction);
     if (residency.streamed_bytes > 0)
         log_info(
@@ -280,17 +262,17 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
             double(residency.streamed_bytes) / double(1 << 20),
             double(A.bytes()) / double(1 << 20));
     cuda::DeviceTransport transport(options.device_index, A, K, residency.resident_blocks);
-    st.peak_bytes_device = std::max(result.peak_device_bytes, transport.device_bytes());
+    info.stats.peak_bytes_device = std::max(info.stats.peak_bytes_device, transport.device_bytes());
     const double seconds = seconds_since(start);
-    TransferInfo out = finish_interreflected(
-        job, options, std::move(info), std::move(T0), A,
-        [&](const float* in, float* out_rows, BakeProgress& rows) {
-            transport.apply(in, out_rows);
-            rows.add(V, 0);
+    return finish_interreflected(
+        job, options, std::move(info), direct_sink.take_rows(), std::move(op.T0_sources), op.rays,
+        A,
+        [&](const float* in, float* out_rows, std::size_t needed, BakeProgress& rows) {
+            transport.apply(in, out_rows);  // every row (cuSPARSE's product of each block)
+            rows.add(std::min<std::size_t>(needed, N), 0);
             rows.poll();
         },
-        Y.size() * sizeof(float) + bvh.bytes() + result.pinned_bytes, seconds);
-    return out;
+        op.pass_bytes + tracer->memory_bytes(), seconds);
 }
 
 }  // namespace detail

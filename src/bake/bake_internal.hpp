@@ -2,6 +2,7 @@
 #pragma once
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/bounce_sources.hpp"
 #include "shprt/bake/interreflect.hpp"
 
 #include <cstdint>
@@ -74,12 +75,49 @@ private:
 // (estimate_bake_peak_bytes) has its share: 0 without a budget, at least 1 (every block spills).
 std::uint64_t transport_memory_budget(const Mesh& mesh, const BakeOptions& options);
 
-using BounceProduct = std::function<void(const float* in, float* out, BakeProgress& progress)>;
+// out = A·in over N × 3K floats; rows of `out` past `rows` may be left as they were (the last
+// bounce needs the receivers' rows alone). Counts the rows it computes on `progress`.
+using BounceProduct =
+    std::function<void(const float* in, float* out, std::size_t rows, BakeProgress& progress)>;
 void check_interreflected_job(const BakeJob& job);
+// What the operator's pass learnt of the bounce sources: which are valid (source_is_valid), the
+// directions each traced, and how many receivers saw a back face.
+struct BounceSourceRays {
+    const BounceSources* sources = nullptr;
+    std::vector<std::uint8_t> valid;  // one per source
+    std::size_t indirect_samples = 0;
+    std::uint64_t receivers_seeing_back_faces = 0;
+};
+// The bounces over the sources (A: N × N, `bounce` over N × 3K floats), from T_0 (the receivers',
+// V × K) and T0_sources (N × K; its first V rows are replaced by T0's); with no bounces wanted A
+// and the sources are empty.
 TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& options,
                                    TransferInfo info, std::vector<float> T0,
+                                   std::vector<float> T0_sources, const BounceSourceRays& rays,
                                    const TransportOperator& A, const BounceProduct& bounce,
                                    std::uint64_t other_bytes, double seconds_so_far);
+// The operator of an interreflected bake over its bounce sources, traced on the CPU from the
+// indirect directions (indirect_direction_set): A, each source's T_0 from the same rays (the
+// receivers' rows are replaced by the full bake's in finish_interreflected), what the rays met;
+// `stats` gains the pass's rays and seconds. Shared by both backends.
+struct SourceOperator {
+    std::unique_ptr<BounceSources> sources;  // rays.sources points here
+    std::vector<float> T0_sources;
+    BounceSourceRays rays;
+    TransportOperator A;
+    std::uint64_t pass_bytes = 0;  // the pass's tables and buffers
+};
+SourceOperator trace_source_operator(const Mesh& mesh, const BakeOptions& options,
+                                     const DirectionSet& directions, const Tracer& tracer,
+                                     BakeStats& stats);
+// The options of an interreflected bake's T_0 stage: the shadowed bake's, whose progress names
+// the bounce sources and the bounces that follow (ProgressInfo::then).
+BakeOptions direct_stage_options(const BakeOptions& options);
+// The directions an inner bounce source (not a receiver) traces: the first gather/kInnerShare of
+// the receivers' `gather`.
+std::size_t inner_source_samples(std::size_t gather);
+// The bounce sources of a bake with `options` (spacing 0 = default_source_spacing).
+BounceSources bake_bounce_sources(const Mesh& mesh, const BakeOptions& options);
 // The GPU backend of interreflected transfer (bake_gpu.cpp; gpu_fallback.cpp without CUDA):
 // closest hits, T_0 and A's blocks on the device (A's from the hit records with the CPU rows'
 // arithmetic, transport_build.hpp), the bounces by cuSPARSE.

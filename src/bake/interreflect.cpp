@@ -8,6 +8,8 @@
 // that each bounce is one sparse × dense product over the K·3 columns of the transfer.
 #include "shprt/bake/interreflect.hpp"
 
+#include "shprt/bake/bounce_sources.hpp"
+
 #include "bake/bake_internal.hpp"
 #include "bake/progress.hpp"
 #include "bake/stages.hpp"
@@ -48,7 +50,9 @@ namespace detail {
 // each).
 class TransportRowBuilder {
 public:
-    TransportRowBuilder(const Mesh& mesh, bool two_sided) : m_mesh(&mesh), m_two_sided(two_sided) {}
+    // `view`: the mesh and its bounce sources; `columns`: the sources (A's columns).
+    TransportRowBuilder(const TransportMeshView& view, std::size_t columns, bool two_sided)
+        : m_view(view), m_columns(columns), m_two_sided(two_sided) {}
 
     // Appends one row to `out` (its entries, then its end in out.row_start) from its rays in
     // direction order: ray r has direction dirs[r], unoccluded weight weights[r] = max(0, n·w_s)·
@@ -58,10 +62,11 @@ public:
     void add_row(const Vec3f* dirs, const float* weights, const SampleHit* hits, std::uint32_t rays,
                  TransportOperator::Block& out);
 
-    static std::size_t bytes(std::size_t vertices) { return 25 * vertices; }
+    static std::size_t bytes(std::size_t columns) { return 25 * columns; }
 
 private:
-    const Mesh* m_mesh;
+    TransportMeshView m_view;
+    std::size_t m_columns;
     bool m_two_sided;
     std::vector<double> m_sums;  // 3 per column
     std::vector<std::uint8_t> m_seen;
@@ -203,7 +208,8 @@ void TransportBlockStore::finish(TransportOperator& A) {
 std::uint64_t transport_memory_budget(const Mesh& mesh, const BakeOptions& options) {
     if (options.memory_budget == 0) return 0;
     const std::uint64_t rest =
-        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), options, true);
+        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), options, true,
+                                 bake_bounce_source_count(mesh, options));
     return options.memory_budget > rest ? options.memory_budget - rest : 1;
 }
 
@@ -289,19 +295,42 @@ struct DirectRows {
     float* rows = nullptr;  // V×K
 };
 
-// The rows of A (and, given `direct`, of T_0) for every vertex, in blocks of `rows_per_block`.
-// `then`: the bounces that follow (ProgressInfo::then), empty for A alone.
-TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable& table,
-                                  const Tracer& tracer, const TransportOptions& options,
-                                  const DirectRows* direct, RowScratch* totals,
-                                  std::string_view then = {}) {
-    const std::size_t V = mesh.vertex_count();
-    SHPRT_CHECK(mesh.albedo.size() == V && mesh.normals.size() == V, invalid_argument,
-                "interreflected transfer needs a normal and an albedo per vertex ({} vertices, {} "
-                "normals, {} albedo values)",
-                V, mesh.normals.size(), mesh.albedo.size());
+// The points whose rows A has: the bounce sources (the mesh's vertices first), the view their
+// hits are read through and, per point, validity's reach (bounce_sources.hpp).
+struct RowPoints {
+    const Vec3f* positions = nullptr;
+    const Vec3f* normals = nullptr;
+    const float* reach = nullptr;  // nullptr: no validity counts
+    std::size_t count = 0;
+    TransportMeshView view;
+    // Rows [0, gather_rows) trace every direction of the table (the receivers' final gather);
+    // the others the first `inner` (0: all), weighted as a set of their own.
+    std::size_t gather_rows = std::numeric_limits<std::size_t>::max();
+    std::size_t inner = 0;
+};
+
+// What one point's rays met, for its validity (source_is_valid).
+struct PointRays {
+    std::uint32_t rays = 0, back = 0, near_back = 0;
+};
+
+// The rows of A (and, given `direct`, of T_0) for every point, in blocks of `rows_per_block`;
+// `counts` (one per point, or null) gets what each point's rays met. `then`: what follows
+// (ProgressInfo::then), empty for A alone.
+TransportOperator trace_transport(const Mesh& mesh, const RowPoints& points,
+                                  const detail::DirectionTable& table, const Tracer& tracer,
+                                  const TransportOptions& options, const DirectRows* direct,
+                                  RowScratch* totals, PointRays* counts,
+                                  std::string_view stage = "bake", std::string_view then = {}) {
+    const std::size_t V = points.count;
+    SHPRT_CHECK(
+        mesh.albedo.size() == mesh.vertex_count() && mesh.normals.size() == mesh.vertex_count(),
+        invalid_argument,
+        "interreflected transfer needs a normal and an albedo per vertex ({} vertices, {} "
+        "normals, {} albedo values)",
+        mesh.vertex_count(), mesh.normals.size(), mesh.albedo.size());
     SHPRT_CHECK(V <= std::size_t(std::numeric_limits<std::int32_t>::max()), invalid_argument,
-                "interreflected transfer supports at most 2^31 - 1 vertices ({} given)", V);
+                "interreflected transfer supports at most 2^31 - 1 bounce sources ({} given)", V);
     const std::size_t S = table.size();
     const std::size_t block_rows =
         options.rows_per_block > 0 ? options.rows_per_block : auto_chunk_receivers(V, S);
@@ -311,6 +340,7 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
     A.blocks.resize(block_count);
     tbb::enumerable_thread_specific<RowScratch> scratch;
     detail::BakeProgress progress(options.progress, true, V, S);
+    progress.set_stage(stage);
     progress.set_then(then);
     // A finished block stays in memory while the finished blocks fit the budget, else it goes
     // to the spill file.
@@ -328,9 +358,16 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
         sc.hits.resize(S);
         sc.sample_hits.resize(S);
         sc.ray_weights.resize(S);
-        if (!sc.rows) sc.rows.emplace(mesh, options.two_sided);
-        const Vec3f n = mesh.normals[v];
+        if (!sc.rows) sc.rows.emplace(points.view, V, options.two_sided);
+        const Vec3f n = points.normals[v];
         detail::weight_row(n, table, weight);
+        if (v >= points.gather_rows && points.inner > 0 && points.inner < S) {
+            // An inner source: the nested prefix of `inner` directions, each weighing S/inner
+            // of the table's (a Monte Carlo set of its own: 4π/inner).
+            const float scale = float(S) / float(points.inner);
+            for (std::size_t s = 0; s < points.inner; ++s) weight[s] *= scale;
+            std::fill(weight + points.inner, weight + S, 0.0f);
+        }
         std::uint32_t m = 0;
         for (std::size_t s = 0; s < S; ++s) {
             sc.ray_index[m] = static_cast<std::uint32_t>(s);
@@ -338,15 +375,26 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
             m += weight[s] != 0.0f ? 1u : 0u;
         }
         if (m > 0)
-            tracer.closest_hits(offset_ray_origin(mesh.positions[v], n), sc.ray_dirs.data(),
+            tracer.closest_hits(offset_ray_origin(points.positions[v], n), sc.ray_dirs.data(),
                                 static_cast<int>(m), 0.0f, kInf, sc.hits.data());
         const double merge_start = thread_cpu_seconds();
+        PointRays met{m, 0, 0};
         for (std::uint32_t r = 0; r < m; ++r) {
             const Hit& h = sc.hits[r];
             sc.sample_hits[r] = SampleHit{h.hit ? h.triangle : kNoTriangle, h.u, h.v};
             sc.ray_weights[r] = weight[sc.ray_index[r]];
             weight[sc.ray_index[r]] *= kKeep[h.hit ? 1 : 0];
+            if (counts && h.hit) {
+                const auto& tri = mesh.triangles[h.triangle];
+                const Vec3f p0 = mesh.positions[tri[0]];
+                const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
+                if (dot(face, sc.ray_dirs[r]) >= 0.0f) {
+                    ++met.back;
+                    met.near_back += h.t < points.reach[v] ? 1u : 0u;
+                }
+            }
         }
+        if (counts) counts[v] = met;
         sc.rows->add_row(sc.ray_dirs.data(), sc.ray_weights.data(), sc.sample_hits.data(), m, out);
         const double end = thread_cpu_seconds();
         sc.trace_seconds += merge_start - trace_start;
@@ -391,7 +439,7 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
         const detail::SingleThreadedBlas single_threaded_blas;
         parallel_each(options.threads, block_count, build_block);
     }
-    SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} of {} vertices",
+    SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} of {} bounce sources",
                 progress.receivers_done(), V);
     A.rays_cast = progress.rays();
     store.finish(A);
@@ -405,23 +453,25 @@ TransportOperator trace_transport(const Mesh& mesh, const detail::DirectionTable
     return A;
 }
 
+RowPoints row_points(const Mesh& mesh, const BounceSources& sources) {
+    return RowPoints{sources.positions.data(), sources.normals.data(), sources.reach.data(),
+                     sources.size(), sources.view(mesh)};
+}
+
 }  // namespace
 
 namespace detail {
 
 void TransportRowBuilder::add_row(const Vec3f* dirs, const float* weights, const SampleHit* hits,
                                   std::uint32_t rays, TransportOperator::Block& out) {
-    const Mesh& mesh = *m_mesh;
-    const std::size_t V = mesh.vertex_count();
-    if (m_seen.size() != V) {
-        m_sums.assign(3 * V, 0.0);
-        m_seen.assign(V, 0);
+    if (m_seen.size() != m_columns) {
+        m_sums.assign(3 * m_columns, 0.0);
+        m_seen.assign(m_columns, 0);
     }
     m_touched.clear();
-    const TransportMeshView view = transport_mesh_view(mesh);
     TransportHitEntries entries;
     for (std::uint32_t r = 0; r < rays; ++r) {
-        if (!transport_hit_entries(view, dirs[r], weights[r], hits[r], m_two_sided, entries))
+        if (!transport_hit_entries(m_view, dirs[r], weights[r], hits[r], m_two_sided, entries))
             continue;
         // Entries of the same column merge, summed in ray order: deterministic.
         for (int k = 0; k < 3; ++k) {
@@ -461,7 +511,8 @@ namespace {
 
 // The products of apply_transport, with an optional progress reporter counting rows.
 void apply_transport_blocks(const TransportOperator& A, const float* in, float* out, int K,
-                            int threads, TransportKernel kernel, detail::BakeProgress* progress) {
+                            int threads, TransportKernel kernel, detail::BakeProgress* progress,
+                            std::size_t rows_needed = std::numeric_limits<std::size_t>::max()) {
     const auto V = static_cast<Eigen::Index>(A.vertices);
     const Eigen::Index stride = 3 * Eigen::Index(K);
     const bool avx2 =
@@ -495,9 +546,11 @@ void apply_transport_blocks(const TransportOperator& A, const float* in, float* 
             progress->poll();
         }
     };
-    const std::size_t blocks = A.blocks.size();
+    // The blocks that hold rows [0, rows_needed) (A's blocks are in row order).
+    std::size_t blocks = 0;
+    while (blocks < A.blocks.size() && A.blocks[blocks].first < rows_needed) ++blocks;
     if (thread_count(threads) == 1 || blocks == 1) {
-        for (const auto& b : A.blocks) run_block(b);
+        for (std::size_t b = 0; b < blocks; ++b) run_block(A.blocks[b]);
         return;
     }
     parallel_each(threads, blocks, [&](std::size_t b) { run_block(A.blocks[b]); });
@@ -514,8 +567,42 @@ TransportMeshView transport_mesh_view(const Mesh& mesh) {
 
 TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,
                                            const Tracer& tracer, const TransportOptions& options) {
-    return trace_transport(mesh, detail::make_direction_table(directions), tracer, options, nullptr,
-                           nullptr);
+    const BounceSources sources =
+        make_bounce_sources(mesh, std::numeric_limits<float>::infinity(), options.two_sided);
+    return build_source_operator(mesh, sources, directions, tracer, options);
+}
+
+TransportOperator build_source_operator(const Mesh& mesh, const BounceSources& sources,
+                                        const DirectionSet& directions, const Tracer& tracer,
+                                        const TransportOptions& options) {
+    SHPRT_CHECK(
+        sources.vertices == mesh.vertex_count() && sources.grid.size() == mesh.triangle_count() &&
+            sources.two_sided == options.two_sided,
+        invalid_argument, "the bounce sources were made for another mesh or the other side option");
+    return trace_transport(mesh, row_points(mesh, sources),
+                           detail::make_direction_table(directions), tracer, options, nullptr,
+                           nullptr, nullptr);
+}
+
+DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionSet& directions) {
+    const std::size_t n = options.indirect_samples > 0
+                              ? options.indirect_samples
+                              : std::max<std::size_t>(1, directions.size() / kIndirectSampleShare);
+    if (n >= directions.size()) return directions;
+    return make_direction_set(options.sampler, options.seed, n);
+}
+
+float bake_source_spacing(const Mesh& mesh, const BakeOptions& options) {
+    return options.source_spacing > 0 ? options.source_spacing : default_source_spacing(mesh);
+}
+
+BounceSources detail::bake_bounce_sources(const Mesh& mesh, const BakeOptions& options) {
+    return make_bounce_sources(mesh, bake_source_spacing(mesh, options), options.two_sided);
+}
+
+std::size_t bake_bounce_source_count(const Mesh& mesh, const BakeOptions& options) {
+    if (options.transfer != TransferKind::interreflected) return 0;
+    return bounce_source_count(mesh, bake_source_spacing(mesh, options), options.two_sided);
 }
 
 void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads) {
@@ -547,91 +634,132 @@ void check_interreflected_job(const BakeJob& job) {
                 mesh.albedo.size(), V);
 }
 
+BakeOptions direct_stage_options(const BakeOptions& options) {
+    BakeOptions direct = options;
+    direct.transfer = TransferKind::shadowed;
+    const int wanted = options.converge ? options.max_bounces : options.bounces;
+    if (wanted > 0 && options.progress) {
+        // Its bar names what follows outside its total (ProgressInfo::then).
+        auto then = std::make_shared<std::string>(
+            options.converge
+                ? std::string("bounce sources + bounces")
+                : fmt::format("bounce sources + {} bounce{}", wanted, wanted == 1 ? "" : "s"));
+        direct.progress = [fn = options.progress, then](const ProgressInfo& info) {
+            ProgressInfo with = info;
+            with.then = *then;
+            return fn(with);
+        };
+    }
+    return direct;
+}
+
+std::size_t inner_source_samples(std::size_t gather) {
+    return std::max<std::size_t>(1, gather / kInnerSourceShare);
+}
+
+SourceOperator trace_source_operator(const Mesh& mesh, const BakeOptions& options,
+                                     const DirectionSet& directions, const Tracer& tracer,
+                                     BakeStats& stats) {
+    const auto pass_start = Clock::now();
+    const std::size_t V = mesh.vertex_count();
+    const int K = options.K;
+    SourceOperator out;
+    out.sources = std::make_unique<BounceSources>(bake_bounce_sources(mesh, options));
+    const BounceSources& sources = *out.sources;
+    const DirectionSet indirect = indirect_direction_set(options, directions);
+    const DirectionTable table = make_direction_table(indirect);
+    const std::vector<float> Y = basis_table(K, indirect);
+    out.T0_sources.resize(sources.size() * std::size_t(K));
+    const DirectRows direct{Y.data(), K, out.T0_sources.data()};
+    TransportOptions to;
+    to.two_sided = options.two_sided;
+    to.threads = options.threads;
+    to.rows_per_block = options.chunk_receivers;  // 0: the CPU bake's chunks
+    to.progress = options.progress;
+    // What the budget leaves for A once the rest of the bake (estimated before it: tables,
+    // buffers, T_0, the bounce arrays and the rows) has its share; nothing left → every block
+    // spills.
+    to.memory_budget = transport_memory_budget(mesh, options);
+    to.spill_directory = options.spill_directory;
+    RowScratch totals;
+    std::vector<PointRays> counts(sources.size());
+    // The tracing stage's ETA cannot include the bounces (their cost is known once A is): the
+    // bar names them after it, and the bounces' own stage then has the whole rest.
+    const int wanted = options.converge ? options.max_bounces : options.bounces;
+    const std::string then = options.converge
+                                 ? std::string("bounces")
+                                 : fmt::format("{} bounce{}", wanted, wanted == 1 ? "" : "s");
+    RowPoints points = row_points(mesh, sources);
+    points.gather_rows = V;
+    points.inner = inner_source_samples(indirect.size());
+    out.A = trace_transport(mesh, points, table, tracer, to, &direct, &totals, counts.data(),
+                            "bounce sources", then);
+    const double wall = seconds_since(pass_start);
+    BounceSourceRays& rays = out.rays;
+    rays.sources = out.sources.get();
+    rays.indirect_samples = indirect.size();
+    rays.valid.resize(sources.size());
+    for (std::size_t q = 0; q < sources.size(); ++q) {
+        const PointRays& c = counts[q];
+        rays.valid[q] = source_is_valid(c.rays, c.back, c.near_back) ? 1 : 0;
+        if (q < V) rays.receivers_seeing_back_faces += c.back > 0 ? 1 : 0;
+    }
+    const double busy = totals.trace_seconds + totals.merge_seconds + totals.project_seconds;
+    if (busy > 0) {
+        stats.seconds_trace += wall * totals.trace_seconds / busy;
+        stats.seconds_operator = wall * totals.merge_seconds / busy;
+        stats.seconds_project += wall * totals.project_seconds / busy;
+    }
+    stats.rays_cast += out.A.rays_cast;
+    const int threads = thread_count(options.threads);
+    out.pass_bytes = Y.size() * sizeof(float) + table.bytes() + totals.w.size() * sizeof(float) +
+                     sources.size() * (2 * sizeof(Vec3f) + sizeof(float) + sizeof(PointRays)) +
+                     std::uint64_t(threads) *
+                         (indirect.size() * (sizeof(Vec3f) + sizeof(std::uint32_t) + sizeof(Hit)) +
+                          25 * std::uint64_t(sources.size()));
+    return out;
+}
+
 TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
                                  const DirectionSet& directions, const Tracer* tracer,
                                  double seconds_bvh) {
     const auto start = Clock::now();
     check_interreflected_job(job);
     const Mesh& mesh = *job.occluders;
-    const Receivers& rx = job.receivers;
-    const std::size_t V = mesh.vertex_count();
     const int K = options.K;
-
     const int wanted = options.converge ? options.max_bounces : options.bounces;
-    std::vector<float> T0;
-    TransferInfo info;
-    TransportOperator A;
-    std::uint64_t pass_bytes = 0;  // the fused pass's tables and buffers
-    if (wanted == 0) {
-        // T_0 alone: exactly the shadowed bake (same stages, same bits), into host memory.
-        BakeOptions direct_options = options;
-        direct_options.transfer = TransferKind::shadowed;
-        HostSink direct_sink;
-        BakeJob direct_job = job;
-        direct_job.sink = &direct_sink;
-        info = bake_cpu(direct_job, direct_options, directions, tracer, seconds_bvh);
-        T0 = direct_sink.take_rows();
-    } else {
-        // One pass of closest hits gives T_0's visibility and A's rows (the same rays).
-        const auto pass_start = Clock::now();
-        const DirectionTable table = make_direction_table(directions);
-        const std::vector<float> Y = basis_table(K, directions);
-        T0.resize(V * std::size_t(K));
-        const DirectRows direct{Y.data(), K, T0.data()};
-        TransportOptions to;
-        to.two_sided = options.two_sided;
-        to.threads = options.threads;
-        to.rows_per_block = options.chunk_receivers;  // 0: the CPU bake's chunks
-        to.progress = options.progress;
-        // What the budget leaves for A once the rest of the bake (estimated before it: tables,
-        // buffers, T_0, the bounce arrays and the rows) has its share; nothing left → every
-        // block spills.
-        to.memory_budget = transport_memory_budget(mesh, options);
-        to.spill_directory = options.spill_directory;
-        RowScratch totals;
-        // The tracing stage's ETA cannot include the bounces (their cost is known once A is):
-        // the bar names them after it, and the bounces' own stage then has the whole rest.
-        const std::string then = options.converge
-                                     ? std::string("bounces")
-                                     : fmt::format("{} bounce{}", wanted, wanted == 1 ? "" : "s");
-        A = trace_transport(mesh, table, *tracer, to, &direct, &totals, then);
-        const double wall = seconds_since(pass_start);
-        BakeOptions direct_options = options;
-        direct_options.transfer = TransferKind::shadowed;
-        info = bake_info(direct_options, rx, directions.size());
-        BakeStats& st = info.stats;
-        const double busy = totals.trace_seconds + totals.merge_seconds + totals.project_seconds;
-        if (busy > 0) {
-            st.seconds_trace = wall * totals.trace_seconds / busy;
-            st.seconds_operator = wall * totals.merge_seconds / busy;
-            st.seconds_project = wall * totals.project_seconds / busy;
-        }
-        st.seconds_bvh = seconds_bvh;
-        st.rays_cast = A.rays_cast;
-        const int threads = thread_count(options.threads);
-        st.device_name = fmt::format("cpu: {} thread{}", threads, threads == 1 ? "" : "s");
-        pass_bytes =
-            Y.size() * sizeof(float) + table.bytes() + totals.w.size() * sizeof(float) +
-            std::uint64_t(threads) *
-                (directions.size() * (sizeof(Vec3f) + sizeof(std::uint32_t) + sizeof(Hit)) +
-                 25 * std::uint64_t(V));
-    }
 
+    // T_0: the shadowed bake itself, with every direction (same stages, same bits).
+    BakeOptions direct_options = direct_stage_options(options);
+    HostSink direct_sink;
+    BakeJob direct_job = job;
+    direct_job.sink = &direct_sink;
+    TransferInfo info = bake_cpu(direct_job, direct_options, directions, tracer, seconds_bvh);
+    std::vector<float> T0 = direct_sink.take_rows();
+    if (wanted == 0)
+        return finish_interreflected(job, options, std::move(info), std::move(T0), {},
+                                     BounceSourceRays{}, TransportOperator{}, {}, 0,
+                                     seconds_since(start) + seconds_bvh);
+
+    SourceOperator op = trace_source_operator(mesh, options, directions, *tracer, info.stats);
+    const TransportOperator& A = op.A;
     return finish_interreflected(
-        job, options, std::move(info), std::move(T0), A,
-        [&](const float* in, float* out, BakeProgress& progress) {
+        job, options, std::move(info), std::move(T0), std::move(op.T0_sources), op.rays, A,
+        [&](const float* in, float* out, std::size_t rows, BakeProgress& progress) {
             apply_transport_blocks(A, in, out, K, options.threads, TransportKernel::automatic,
-                                   &progress);
+                                   &progress, rows);
         },
-        pass_bytes + (tracer ? tracer->memory_bytes() : 0), seconds_bvh + seconds_since(start));
+        op.pass_bytes + (tracer ? tracer->memory_bytes() : 0), seconds_bvh + seconds_since(start));
 }
 
 TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& options,
                                    TransferInfo info, std::vector<float> T0,
+                                   std::vector<float> T0_sources, const BounceSourceRays& rays,
                                    const TransportOperator& A, const BounceProduct& bounce,
                                    std::uint64_t other_bytes, double seconds_so_far) {
     const auto start = Clock::now();
-    const std::size_t V = job.occluders->vertex_count();
+    const Mesh& mesh = *job.occluders;
+    const std::size_t V = mesh.vertex_count();
     const int K = options.K;
     const int wanted = options.converge ? options.max_bounces : options.bounces;
     info.kind = TransferKind::interreflected;
@@ -640,7 +768,7 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
     ir.two_sided = options.two_sided;
     ir.converge = options.converge;
     ir.tolerance = options.converge ? options.tolerance : 0.0;
-    ir.albedo_source = job.occluders->albedo_source;
+    ir.albedo_source = mesh.albedo_source;
     ir.operator_nnz = A.nnz();
     ir.operator_bytes = A.bytes();
     ir.operator_rays = A.rays_cast;
@@ -654,14 +782,39 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
 
     std::uint64_t buffers_bytes = sum.size() * sizeof(float);
     if (wanted > 0) {
+        const BounceSources& sources = *rays.sources;
+        const std::size_t N = sources.size();
+        ir.sources = N;
+        ir.source_spacing = sources.spacing;
+        ir.indirect_samples = rays.indirect_samples;
+        ir.receivers_seeing_back_faces = rays.receivers_seeing_back_faces;
+        const SourceFill fill = plan_source_fill(mesh, sources, rays.valid);
+        ir.invalid_sources = fill.invalid;
         const auto bounce_start = Clock::now();
-        std::vector<float> previous = sum, current(sum.size());
-        buffers_bytes += 2 * sum.size() * sizeof(float);
+        // The sources' light before the first bounce: the receivers' T_0 from the full bake
+        // (every direction), the other sources' from the operator's own rays.
+        std::vector<float> previous(N * row), current(N * row);
+        for (std::size_t q = 0; q < N; ++q) {
+            const float* t0 = q < V ? T0.data() + q * K : T0_sources.data() + q * K;
+            for (int c = 0; c < 3; ++c)
+                std::copy_n(t0, K, previous.data() + q * row + std::size_t(c) * K);
+        }
+        T0_sources = {};
+        buffers_bytes += 2 * previous.size() * sizeof(float);
         // One bar over the bounces' rows (with --bounces converged the total is unknown).
+        // The rows of the blocks of A that hold the receivers: what the last bounce computes.
+        std::size_t last_rows = 0;
+        for (const TransportOperator::Block& blk : A.blocks)
+            if (blk.first < V) last_rows = blk.first + blk.rows();
         BakeProgress progress(options.progress, "bounces", "rows",
-                              options.converge ? 0 : std::uint64_t(wanted) * V);
+                              options.converge ? 0 : std::uint64_t(wanted - 1) * N + last_rows);
         for (int b = 1; b <= wanted; ++b) {
-            bounce(previous.data(), current.data(), progress);
+            // Invalid sources (inside or under geometry) send their valid neighbours' light.
+            fill.apply(previous.data(), row, options.threads);
+            // The last of a fixed number of bounces is needed at the receivers alone (the
+            // final gather): the other sources' rows would feed no further bounce.
+            const bool last = !options.converge && b == wanted;
+            bounce(previous.data(), current.data(), last ? last_rows : N, progress);
             SHPRT_CHECK(!progress.stopped(), cancelled, "bake cancelled during bounce {}", b);
             // The largest relative change of any receiver's transfer by this bounce:
             // |T_b(v)| / |T_0(v) + … + T_b(v)| (Euclidean over its 3K floats).

@@ -34,14 +34,14 @@ bool BakeProgress::report(bool final) {
     if (!m_unit.empty()) return m_callback(ProgressInfo{m_stage, done, m_total, m_unit, m_then});
     if (!m_shadowed)
         return m_callback(
-            ProgressInfo{"bake", done * m_samples, m_total * m_samples, "samples", m_then});
+            ProgressInfo{m_stage, done * m_samples, m_total * m_samples, "samples", m_then});
     const std::uint64_t rays = m_rays.load(std::memory_order_relaxed);
     const double per_receiver = done > 0 ? double(rays) / double(done) : double(m_samples) / 2;
     const std::uint64_t total =
         final
             ? rays
             : rays + std::uint64_t(per_receiver * double(m_total - std::min(done, m_total)) + 0.5);
-    return m_callback(ProgressInfo{"bake", rays, std::max(total, rays), "rays", m_then});
+    return m_callback(ProgressInfo{m_stage, rays, std::max(total, rays), "rays", m_then});
 }
 
 bool BakeProgress::poll() {

@@ -38,6 +38,8 @@ public:
     // What follows this stage outside its total (ProgressInfo::then); `then` must outlive the
     // reporter.
     void set_then(std::string_view then) { m_then = then; }
+    // This stage's name in the reports ("bake" unless set); `stage` must outlive the reporter.
+    void set_stage(std::string_view stage) { m_stage = stage; }
 
     bool stopped() const { return m_stop.load(std::memory_order_relaxed); }
     void stop() { m_stop.store(true, std::memory_order_relaxed); }

@@ -460,6 +460,13 @@ ShprtFile Reader::read(bool allow_part) {
         ir.operator_nnz = f.u64("operator_nnz");
         ir.operator_bytes = f.u64("operator_bytes");
         if (f.obj.contains("operator_rays")) ir.operator_rays = f.u64("operator_rays");
+        if (f.obj.contains("sources")) {  // written since the bounce sources (issue 34)
+            ir.sources = f.u64("sources");
+            ir.source_spacing = f.number_or_zero("source_spacing");
+            ir.invalid_sources = f.u64("invalid_sources");
+            ir.indirect_samples = f.u64("indirect_samples");
+            ir.receivers_seeing_back_faces = f.u64("receivers_seeing_back_faces");
+        }
     }
 
     // A CPCA code instead of the rows (version 3 only).

@@ -108,14 +108,30 @@ std::string shprt_summary(const ShprtFile& file) {
             bounces += fmt::format(", last relative change {:.2g}", ir.last_change);
         line("bounces", bounces);
         line("albedo", ir.albedo_source.empty() ? "(source not recorded)" : ir.albedo_source);
-        line("back faces", ir.two_sided ? "two-sided (a back face sends its front's light)"
+        line("back faces", ir.two_sided ? "two-sided (a back face sends the light of its own side)"
                                         : "one-sided (a ray that hits a back face brings nothing)");
-        line("operator", fmt::format("nnz(A) = {} ({:.1f} per vertex), {}, {} closest-hit rays",
-                                     ir.operator_nnz,
-                                     mesh.vertex_count() > 0
-                                         ? double(ir.operator_nnz) / double(mesh.vertex_count())
-                                         : 0.0,
-                                     bytes_text(double(ir.operator_bytes)), ir.operator_rays));
+        const double rows = ir.sources > 0 ? double(ir.sources) : double(mesh.vertex_count());
+        line("operator",
+             fmt::format("nnz(A) = {} ({:.1f} per {}), {}, {} closest-hit rays", ir.operator_nnz,
+                         rows > 0 ? double(ir.operator_nnz) / rows : 0.0,
+                         ir.sources > 0 ? "bounce source" : "vertex",
+                         bytes_text(double(ir.operator_bytes)), ir.operator_rays));
+        if (ir.sources > 0) {
+            line("bounce sources",
+                 fmt::format("{} points (cells of at most {:.3g} m), {} invalid (inside or under "
+                             "geometry: filled from their neighbours), {} directions each",
+                             ir.sources, ir.source_spacing, ir.invalid_sources,
+                             ir.indirect_samples));
+            const std::size_t V = mesh.vertex_count();
+            line("receivers seeing back faces",
+                 fmt::format(
+                     "{} of {} ({:.1f} %){}", ir.receivers_seeing_back_faces, V,
+                     V > 0 ? 100.0 * double(ir.receivers_seeing_back_faces) / double(V) : 0.0,
+                     ir.receivers_seeing_back_faces > 0
+                         ? ": a leaky or open asset? (docs/interreflection.md, "
+                           "\"Which side\")"
+                         : ""));
+        }
         line("direct part", t.direct.empty() ? "absent" : "kept (transfer_direct: shade --direct)");
     }
 

@@ -116,6 +116,14 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
             {"operator_bytes", ir.operator_bytes},
             {"operator_rays", ir.operator_rays},
         };
+        if (ir.sources > 0) {  // the bounce sources (absent with no bounces, and before them)
+            auto& j = m["interreflection"];
+            j["sources"] = ir.sources;
+            j["source_spacing"] = ir.source_spacing;
+            j["invalid_sources"] = ir.invalid_sources;
+            j["indirect_samples"] = ir.indirect_samples;
+            j["receivers_seeing_back_faces"] = ir.receivers_seeing_back_faces;
+        }
     }
     if (cpca) {
         m["cpca"] = {

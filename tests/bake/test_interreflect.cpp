@@ -12,6 +12,8 @@
 //     sampled directions, the hit's vertex chosen with probability = its barycentric), at N = 1
 //     and 3, RGB albedo, a non-constant light;
 //   * one-sided surfaces: rays that hit a back face bring nothing (and do with two_sided).
+#include "bake_test_util.hpp"
+
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/interreflect.hpp"
 #include "shprt/bake/transfer_sample.hpp"
@@ -51,34 +53,13 @@ double constant_sky_E(const TransferSet& t, std::size_t v, int c) {
     return double(t.receiver(v, c)[0]) * 2.0 * std::sqrt(kPi);
 }
 
-// The inside of a unit sphere (icosphere, `level`) with the cap y > cap_y cut away: normals point
-// inward, triangles wind counter-clockwise seen from inside. Only vertices of kept triangles.
-Mesh spherical_cavity(int level, double cap_y, Vec3f albedo) {
-    MeshBuilder b;
-    b.add_icosphere({0, 0, 0}, 1.0, level, albedo);
-    const Mesh sphere = b.take_mesh("test:cavity");
-    Mesh m;
-    m.source = "test:cavity";
-    std::vector<std::uint32_t> remap(sphere.vertex_count(), ~0u);
-    for (const auto& tri : sphere.triangles) {
-        const Vec3f c =
-            (sphere.positions[tri[0]] + sphere.positions[tri[1]] + sphere.positions[tri[2]]) / 3.0f;
-        if (c.y > cap_y) continue;
-        std::array<std::uint32_t, 3> out{};
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t v = tri[k];
-            if (remap[v] == ~0u) {
-                remap[v] = static_cast<std::uint32_t>(m.positions.size());
-                m.positions.push_back(sphere.positions[v]);
-                m.normals.push_back(-normalize(sphere.positions[v]));
-                m.albedo.push_back(albedo);
-            }
-            out[k] = remap[v];
-        }
-        std::swap(out[1], out[2]);  // counter-clockwise seen from inside
-        m.triangles.push_back(out);
-    }
-    return m;
+// E_N of the open cavity's closed form at a vertex whose direct irradiance under the unit sky is
+// E0 (f = E0/π its opening's share): E_0·Σ_{b≤N} (ρ(1−f))^b.
+double cavity_closed_form(double E0, double rho, int N) {
+    const double r = rho * (1.0 - E0 / kPi);
+    double expect = 0, term = E0;
+    for (int b = 0; b <= N; ++b, term *= r) expect += term;
+    return expect;
 }
 
 BakeOptions ir_options(int K, std::uint32_t samples, int bounces) {
@@ -89,6 +70,17 @@ BakeOptions ir_options(int K, std::uint32_t samples, int bounces) {
     o.seed = 3;
     o.threads = 2;
     o.bounces = bounces;
+    return o;
+}
+
+// The analytic checks below test the operator and the iteration, not the final gather's noise
+// or the sources' cells: the vertices alone are the bounce sources and every direction builds A
+// (the discretisation of docs/interreflection.md's derivation, step 4). The leaky room
+// (test_leaky_room.cpp) tests the default sources against a renderer.
+BakeOptions exact_options(int K, std::uint32_t samples, int bounces) {
+    BakeOptions o = ir_options(K, samples, bounces);
+    o.indirect_samples = samples;
+    o.source_spacing = std::numeric_limits<float>::infinity();
     return o;
 }
 
@@ -141,8 +133,8 @@ TEST(Interreflect, SpilledOperatorGivesTheSameBits) {
     const TransferSet whole = bake(mesh, o);
     EXPECT_EQ(whole.stats.operator_bytes_spilled, 0u);
     const std::uint64_t A = whole.interreflection.operator_bytes;
-    const std::uint64_t rest =
-        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), o, true);
+    const std::uint64_t rest = estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(),
+                                                        o, true, bake_bounce_source_count(mesh, o));
     for (const std::uint64_t budget : {std::uint64_t(1), rest + A / 2}) {
         SCOPED_TRACE("budget " + std::to_string(budget));
         BakeOptions spilling = o;
@@ -168,8 +160,8 @@ TEST(Interreflect, SpilledOperatorGivesTheSameBits) {
     std::filesystem::remove_all(dir);
 }
 
-// The progress of an interreflected bake: the tracing stage's reports name the bounces that
-// follow outside its total (ProgressInfo::then), the bounces' stage names nothing after it.
+// The progress of an interreflected bake: T_0's and the bounce sources' stages name what follows
+// outside their totals (ProgressInfo::then), the bounces' stage names nothing after it.
 TEST(Interreflect, TracingProgressNamesTheBouncesThatFollow) {
     const Mesh mesh = make_builtin("box_on_plane");
     for (const bool converge : {false, true}) {
@@ -181,9 +173,13 @@ TEST(Interreflect, TracingProgressNamesTheBouncesThatFollow) {
             return true;
         };
         bake(mesh, o);
-        bool tracing = false, bounces = false;
+        bool direct = false, tracing = false, bounces = false;
         for (const auto& [stage, then] : seen) {
-            if (stage == "bake") {
+            if (stage == "bake") {  // T_0, then the bounce sources' rays, then the bounces
+                direct = true;
+                EXPECT_EQ(then,
+                          converge ? "bounce sources + bounces" : "bounce sources + 3 bounces");
+            } else if (stage == "bounce sources") {
                 tracing = true;
                 EXPECT_EQ(then, converge ? "bounces" : "3 bounces");
             } else {
@@ -192,6 +188,7 @@ TEST(Interreflect, TracingProgressNamesTheBouncesThatFollow) {
                 EXPECT_EQ(then, "");
             }
         }
+        EXPECT_TRUE(direct);
         EXPECT_TRUE(tracing);
         EXPECT_TRUE(bounces);
     }
@@ -220,22 +217,61 @@ TEST(Interreflect, ClosestHitsAreIntersect) {
     EXPECT_GT(hit_count, 100);
 }
 
+// A triangle's grid (transport_build.hpp): every point (i, j), i + j ≤ n, has its own index —
+// the corners the triangle's vertices, the others base .. base + own − 1 — and the cell that holds
+// (u, v) gives weights that sum to 1, are not negative, and rebuild the point from its corners.
+TEST(Interreflect, GridCellsInterpolateThePoint) {
+    const std::uint32_t tri[3] = {7, 3, 5};
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    for (const std::uint32_t n : {1u, 2u, 3u, 7u, 40u}) {
+        const std::uint32_t base = 100;
+        std::vector<std::uint32_t> seen;
+        for (std::uint32_t j = 0; j <= n; ++j)
+            for (std::uint32_t i = 0; i + j <= n; ++i)
+                seen.push_back(grid_point_index(tri, base, n, i, j));
+        std::sort(seen.begin(), seen.end());
+        ASSERT_EQ(std::adjacent_find(seen.begin(), seen.end()), seen.end()) << "n = " << n;
+        ASSERT_EQ(seen.size(), 3 + grid_own_points(n));
+        EXPECT_EQ(seen[0], 3u);
+        EXPECT_EQ(seen[2], 7u);
+        if (n > 1) EXPECT_EQ(seen.back(), base + grid_own_points(n) - 1);
+        for (int k = 0; k < 2000; ++k) {
+            float u = u01(rng), v = u01(rng);
+            if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
+            const GridCell c = grid_cell(n, u, v);
+            float sum = 0, x = 0, y = 0;
+            for (int q = 0; q < 3; ++q) {
+                EXPECT_GE(c.weight[q], -1e-5f);
+                ASSERT_LE(c.i[q] + c.j[q], n);
+                sum += c.weight[q];
+                x += c.weight[q] * float(c.i[q]) / float(n);
+                y += c.weight[q] * float(c.j[q]) / float(n);
+            }
+            EXPECT_NEAR(sum, 1.0f, 1e-5f);
+            EXPECT_NEAR(x, u, 1e-5f) << "n = " << n;
+            EXPECT_NEAR(y, v, 1e-5f) << "n = " << n;
+        }
+    }
+}
+
 // The GPU's build of one block of A (transport_build.hpp; src/cuda/transport_kernels.cu) run on
 // the host: the kernels' per-index steps in loops, std::stable_sort for cub's (stable) radix sort
 // of the keys with their indices, std::exclusive_scan for cub's scan of the kept flags.
-TransportOperator::Block device_build_on_host(const Mesh& mesh, const DirectionSet& d,
-                                              bool two_sided, std::size_t first, std::size_t count,
+TransportOperator::Block device_build_on_host(const Mesh& mesh, const BounceSources& sources,
+                                              const DirectionSet& d, bool two_sided,
+                                              std::size_t first, std::size_t count,
                                               const SampleHit* hits) {
     TransportBuildView b;
-    b.mesh = transport_mesh_view(mesh);
-    b.normals = mesh.normals.data();
+    b.mesh = sources.view(mesh);
+    b.normals = sources.normals.data();
     b.dirs = d.dirs.data();
     b.weights = d.weights.data();
     b.hits = hits;
     b.first = std::uint32_t(first);
     b.count = std::uint32_t(count);
     b.samples = std::uint32_t(d.size());
-    b.vertices = std::uint32_t(mesh.vertex_count());
+    b.vertices = std::uint32_t(sources.size());
     b.two_sided = two_sided;
     const std::size_t n = b.entries();
     std::vector<std::uint64_t> keys(n);
@@ -272,7 +308,8 @@ TransportOperator::Block device_build_on_host(const Mesh& mesh, const DirectionS
 // The GPU bake's path to A, emulated on the CPU: the kernel's closest_hit_sample over the flat
 // BVH (its W is transfer_sample's, bit for bit) gives sample-major hit records, and the device
 // build's steps (device_build_on_host) turn them into the same bits as build_transport_operator
-// with a tracer over the same flat BVH.
+// with a tracer over the same flat BVH — for the vertices alone, their back copies, and bounce
+// sources with cells (the mapping of a hit to its cell is the shared transport_hit_entries).
 TEST(Interreflect, KernelHitRecordsGiveTheOperatorsBits) {
     Mesh mesh = make_builtin("box_on_plane");
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
@@ -283,9 +320,15 @@ TEST(Interreflect, KernelHitRecordsGiveTheOperatorsBits) {
     const auto tracer = make_flat_bvh_tracer(mesh);
     TransportOptions to;
     to.rows_per_block = 37;  // blocks that do not divide V
-    for (const bool two_sided : {false, true}) {
+    constexpr float kVertices = std::numeric_limits<float>::infinity();
+    for (const auto& [two_sided, spacing] :
+         {std::pair{false, kVertices}, std::pair{true, kVertices}, std::pair{true, 0.1f}}) {
         to.two_sided = two_sided;
-        const TransportOperator A = build_transport_operator(mesh, d, *tracer, to);
+        const BounceSources sources = make_bounce_sources(mesh, spacing, two_sided);
+        const TransportOperator A = spacing == kVertices
+                                        ? build_transport_operator(mesh, d, *tracer, to)
+                                        : build_source_operator(mesh, sources, d, *tracer, to);
+        ASSERT_EQ(A.vertices, sources.size());
         ASSERT_GT(A.nnz(), 0u);
         std::size_t hits_seen = 0;
         for (const TransportOperator::Block& b : A.blocks) {
@@ -293,22 +336,21 @@ TEST(Interreflect, KernelHitRecordsGiveTheOperatorsBits) {
             std::vector<SampleHit> hits(S * count);
             for (std::size_t j = 0; j < count; ++j) {
                 const std::size_t v = b.first + j;
+                const Vec3f p = sources.positions[v], n = sources.normals[v];
                 for (std::size_t s = 0; s < S; ++s) {
                     const Vec3f w{d.dirs[3 * s], d.dirs[3 * s + 1], d.dirs[3 * s + 2]};
                     bool cast = false, cast2 = false;
-                    const float value =
-                        closest_hit_sample(bvh.view(), mesh.positions[v], mesh.normals[v], w,
-                                           d.weights[s], cast, hits[s * count + j]);
+                    const float value = closest_hit_sample(bvh.view(), p, n, w, d.weights[s], cast,
+                                                           hits[s * count + j]);
                     const float shadowed =
-                        transfer_sample(bvh.view(), mesh.positions[v], mesh.normals[v], w,
-                                        d.weights[s], true, cast2);
+                        transfer_sample(bvh.view(), p, n, w, d.weights[s], true, cast2);
                     ASSERT_EQ(value, shadowed) << v << " " << s;
                     ASSERT_EQ(cast, cast2);
                     hits_seen += hits[s * count + j].triangle != kNoTriangle;
                 }
             }
             const TransportOperator::Block got =
-                device_build_on_host(mesh, d, two_sided, b.first, count, hits.data());
+                device_build_on_host(mesh, sources, d, two_sided, b.first, count, hits.data());
             EXPECT_EQ(got.first, b.first);
             EXPECT_EQ(got.row_start, b.row_start) << "block at " << b.first;
             EXPECT_EQ(got.column, b.column) << "block at " << b.first;
@@ -322,10 +364,10 @@ TEST(Interreflect, KernelHitRecordsGiveTheOperatorsBits) {
 // White furnace: ρ = 1 in a cavity under a constant sky of 1: E_N rises with N at every vertex
 // and tends to π (to the direction set's cosine quadrature error).
 TEST(Interreflect, WhiteFurnaceCavityTendsToPiMonotonically) {
-    const Mesh cavity = spherical_cavity(3, 0.5, {1, 1, 1});
+    const Mesh cavity = test::spherical_cavity(3, 0.5, {1, 1, 1});
     std::vector<std::vector<double>> E;  // [N][v]
     for (int N : {0, 1, 2, 4, 8}) {
-        const TransferSet t = bake(cavity, ir_options(1, 4096, N));
+        const TransferSet t = bake(cavity, exact_options(1, 4096, N));
         std::vector<double> e(cavity.vertex_count());
         for (std::size_t v = 0; v < e.size(); ++v) e[v] = constant_sky_E(t, v, 0);
         E.push_back(e);
@@ -333,7 +375,7 @@ TEST(Interreflect, WhiteFurnaceCavityTendsToPiMonotonically) {
     for (std::size_t n = 1; n < E.size(); ++n)
         for (std::size_t v = 0; v < cavity.vertex_count(); ++v)
             ASSERT_GT(E[n][v], E[n - 1][v]) << "step " << n << " vertex " << v;
-    BakeOptions conv = ir_options(1, 4096, 0);
+    BakeOptions conv = exact_options(1, 4096, 0);
     conv.converge = true;
     conv.tolerance = 1e-6;
     const TransferSet t = bake(cavity, conv);
@@ -352,17 +394,14 @@ TEST(Interreflect, WhiteFurnaceCavityTendsToPiMonotonically) {
 // and E_∞ = E_0 / (1 − ρ(1 − f)), with f = E_0/π measured from T_0 at each vertex.
 TEST(Interreflect, SphericalCavityMatchesTheClosedForm) {
     const Vec3f rho{0.3f, 0.6f, 0.9f};
-    const Mesh cavity = spherical_cavity(3, 0.5, rho);
+    const Mesh cavity = test::spherical_cavity(3, 0.5, rho);
     for (int N : {1, 3}) {
-        const TransferSet t = bake(cavity, ir_options(1, 4096, N));
+        const TransferSet t = bake(cavity, exact_options(1, 4096, N));
         double worst = 0;
         for (std::size_t v = 0; v < cavity.vertex_count(); ++v) {
             const double E0 = double(t.direct[v]) * 2.0 * std::sqrt(kPi);
-            const double f = E0 / kPi;
             for (int c = 0; c < 3; ++c) {
-                const double r = double(rho[c]) * (1.0 - f);
-                double expect = 0, term = E0;
-                for (int b = 0; b <= N; ++b, term *= r) expect += term;
+                const double expect = cavity_closed_form(E0, rho[c], N);
                 worst = std::max(worst, std::abs(constant_sky_E(t, v, c) - expect) / expect);
             }
         }
@@ -370,7 +409,7 @@ TEST(Interreflect, SphericalCavityMatchesTheClosedForm) {
         // and the closed form takes each vertex's own f for the whole cavity.
         EXPECT_LT(worst, 0.02) << "N = " << N;
     }
-    BakeOptions conv = ir_options(1, 4096, 0);
+    BakeOptions conv = exact_options(1, 4096, 0);
     conv.converge = true;
     const TransferSet t = bake(cavity, conv);
     EXPECT_TRUE(t.interreflection.converged);
@@ -384,6 +423,35 @@ TEST(Interreflect, SphericalCavityMatchesTheClosedForm) {
         }
     }
     EXPECT_LT(worst, 0.03);
+}
+
+// The same closed form with the default discretisation's pieces: bounce sources on cells of
+// 0.1 m (two to three per edge of the icosphere's triangles, so most sources are the cells' own
+// points, traced with a quarter of the receivers' directions) and the final gather's prefix.
+TEST(Interreflect, GridSourcesMatchTheClosedForm) {
+    const Vec3f rho{0.3f, 0.6f, 0.9f};
+    const Mesh cavity = test::spherical_cavity(3, 0.5, rho);
+    BakeOptions o = ir_options(1, 4096, 3);
+    o.source_spacing = 0.1f;
+    o.indirect_samples = 2048;
+    const TransferSet t = bake(cavity, o);
+    EXPECT_GT(t.interreflection.sources, 3 * cavity.vertex_count());
+    EXPECT_EQ(t.interreflection.invalid_sources, 0u);
+    double sum2 = 0, worst = 0;
+    for (std::size_t v = 0; v < cavity.vertex_count(); ++v) {
+        const double E0 = double(t.direct[v]) * 2.0 * std::sqrt(kPi);
+        for (int c = 0; c < 3; ++c) {
+            const double expect = cavity_closed_form(E0, rho[c], 3);
+            const double e = (constant_sky_E(t, v, c) - expect) / expect;
+            sum2 += e * e;
+            worst = std::max(worst, std::abs(e));
+        }
+    }
+    const double rms = std::sqrt(sum2 / double(3 * cavity.vertex_count()));
+    // Named tolerances: the closed form's 1 % (each vertex's own f, as above) plus the final
+    // gather's noise at 2048 directions (about 1 % RMS of the bounces, 2.5 % at the worst vertex).
+    EXPECT_LT(rms, 0.01);
+    EXPECT_LT(worst, 0.035);
 }
 
 // One-sided surfaces: a floor under a panel whose front faces up sees only the panel's back, so
@@ -503,7 +571,7 @@ TEST(Interreflect, AgreesWithABruteForcePathTracer) {
     probes.insert(probes.end(), floor_probes.begin(), floor_probes.end());
     ASSERT_EQ(probes.size(), 4u);
     for (int N : {1, 3}) {
-        BakeOptions o = ir_options(K, 16384, N);
+        BakeOptions o = exact_options(K, 16384, N);
         const TransferSet t =
             bake_with_tracer(mesh, o, make_direction_set(o.sampler, o.seed, 16384), *tracer);
         for (std::size_t v : probes) {

@@ -6,6 +6,7 @@
 // Embree's allocator, not in operator new). Kinds whose rows are not K floats (glossy: a packed
 // K×K matrix per receiver) are where an estimate that counted K floats fell short.
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/interreflect.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/tracer.hpp"
@@ -96,8 +97,8 @@ Measured measure(const char* scene, const BakeOptions& options) {
     Measured m;
     m.result = bake_with_tracer(mesh, options, dirs, *tracer);
     m.peak = std::uint64_t(g_peak.load() - before) + tracer->memory_bytes();
-    m.estimate =
-        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), options, true);
+    m.estimate = estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), options, true,
+                                          bake_bounce_source_count(mesh, options));
     EXPECT_EQ(m.result.coeffs.size(), m.result.layout.floats(mesh.vertex_count()));
     return m;
 }

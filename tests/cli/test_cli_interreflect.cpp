@@ -4,6 +4,7 @@
 // cannot be done (cuda, shards, streaming, options without the kind) is one line on stderr.
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/gpu.hpp"
+#include "shprt/bake/interreflect.hpp"
 #include "shprt/config.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/load.hpp"
@@ -105,8 +106,8 @@ TEST_F(CliInterreflect, SpilledOperatorWritesTheSameFile) {
     o.samples = 128;
     o.threads = 2;
     const Mesh mesh = load_scene("builtin:box_on_plane");
-    const std::uint64_t rest =
-        estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), o, true);
+    const std::uint64_t rest = estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(),
+                                                        o, true, bake_bounce_source_count(mesh, o));
     const std::filesystem::path spill_dir = m_dir / "spill";
     std::filesystem::create_directories(spill_dir);
     const std::string spilled = (spill_dir / "spilled.shprt").string();

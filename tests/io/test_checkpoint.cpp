@@ -3,6 +3,7 @@
 // checkpoint is refused, and a bake resumed from any set of finished spans gives the whole bake's
 // rows bit for bit. Also the bake's memory estimate against the peak it measures.
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/interreflect.hpp"
 #include "shprt/bake/remaining.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/io/checkpoint.hpp"
@@ -189,7 +190,8 @@ TEST(BakeMemoryEstimate, CoversTheMeasuredPeak) {
             const TransferSet t = bake(mesh, o);
             const std::uint64_t measured = t.stats.peak_bytes_host;  // rows included
             const std::uint64_t estimate =
-                estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), o, true);
+                estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), o, true,
+                                         bake_bounce_source_count(mesh, o));
             EXPECT_GE(estimate, measured);
             EXPECT_LE(estimate, 3 * measured + (1u << 20));
         }

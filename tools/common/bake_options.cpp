@@ -5,6 +5,7 @@
 #include "shprt/core/parse.hpp"
 #include "shprt/sh/basis.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace shprt::tools {
@@ -41,8 +42,15 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
                    "scene's vertex colours, else its materials' diffuse colour, else 0.8 grey); "
                    "in `view`, without --bake or with a glossy bake, the glossy colour override");
     app.add_flag("--two-sided", args.two_sided,
-                 "Interreflected: a ray that hits a back face sees the front's light (default: "
-                 "it brings nothing)");
+                 "Interreflected: a back face reflects the light on its own side, as a renderer "
+                 "does (default: it brings nothing; docs/interreflection.md says which to pick)");
+    app.add_option("--indirect-samples", args.indirect_samples,
+                   fmt::format("Interreflected: directions per receiver for the bounces (the "
+                               "first of the bake's set; default --samples / {})",
+                               kIndirectSampleShare));
+    app.add_option("--source-spacing", args.source_spacing,
+                   "Interreflected: the bounce sources' cell size in metres (default: the "
+                   "scene's diagonal / 48), or 'vertices' for the mesh's vertices alone");
 }
 
 Vec3f parse_albedo(const std::string& text) {
@@ -105,10 +113,31 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
     SHPRT_CHECK(o.transfer != TransferKind::glossy || a.bounces.empty(), unsupported,
                 "--bounces: interreflected glossy transfer is not implemented (glossy matrices "
                 "hold the direct, shadowed light only)");
-    SHPRT_CHECK(
-        interreflected || (a.bounces.empty() && !a.tolerance && a.albedo.empty() && !a.two_sided),
-        invalid_argument,
-        "--bounces, --tolerance, --albedo and --two-sided need --transfer interreflected");
+    SHPRT_CHECK(interreflected || (a.bounces.empty() && !a.tolerance && a.albedo.empty() &&
+                                   !a.two_sided && !a.indirect_samples && a.source_spacing.empty()),
+                invalid_argument,
+                "--bounces, --tolerance, --albedo, --two-sided, --indirect-samples and "
+                "--source-spacing need --transfer interreflected");
+    if (a.indirect_samples) {
+        SHPRT_CHECK(*a.indirect_samples >= 1 && *a.indirect_samples <= kMaxBakeSamples,
+                    invalid_argument, "--indirect-samples {}: must be 1 to {}", *a.indirect_samples,
+                    kMaxBakeSamples);
+        o.indirect_samples = static_cast<std::uint32_t>(*a.indirect_samples);
+    }
+    if (!a.source_spacing.empty()) {
+        if (a.source_spacing == "vertices") {
+            o.source_spacing = std::numeric_limits<float>::infinity();
+        } else {
+            double metres = 0;
+            SHPRT_CHECK(
+                parse_number(a.source_spacing, metres) && metres > 0 && std::isfinite(metres),
+                invalid_argument,
+                "--source-spacing '{}': expected a cell size in metres (> 0) or "
+                "'vertices'",
+                a.source_spacing);
+            o.source_spacing = float(metres);
+        }
+    }
     if (!a.bounces.empty()) {
         if (a.bounces == "converged") {
             o.converge = true;

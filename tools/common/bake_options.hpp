@@ -28,6 +28,8 @@ struct BakeOptionArgs {
     std::optional<double> tolerance;
     std::string albedo;
     bool two_sided = false;
+    std::optional<long long> indirect_samples;  // --indirect-samples S'
+    std::string source_spacing;                 // --source-spacing METRES|vertices
 };
 
 // Adds the options above, writing into `args` (which must outlive the parse).

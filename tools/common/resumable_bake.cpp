@@ -3,6 +3,7 @@
 #include "common/command.hpp"
 #include "common/signals.hpp"
 
+#include "shprt/bake/interreflect.hpp"
 #include "shprt/bake/remaining.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -69,8 +70,9 @@ void check_resumable_args(const ResumableArgs& args, const BakeOptions& options,
 
 std::uint64_t check_bake_memory(const ResumableArgs& args, const BakeJob& job,
                                 const BakeOptions& options, bool rows_in_memory) {
-    const std::uint64_t need = estimate_bake_peak_bytes(
-        job.occluders->triangle_count(), job.receivers.count, options, rows_in_memory);
+    const std::uint64_t need =
+        estimate_bake_peak_bytes(job.occluders->triangle_count(), job.receivers.count, options,
+                                 rows_in_memory, bake_bounce_source_count(*job.occluders, options));
     std::uint64_t limit = 0;
     if (!args.max_memory.empty() && parse_byte_size(args.max_memory, limit)) {
         SHPRT_CHECK(need <= limit, out_of_memory,

@@ -61,6 +61,9 @@ inline constexpr int kMaxBakeCoeffs = sh_count(kMaxComputeBands);
 inline constexpr int kMaxGlossyCoeffs = sh_count(8);
 // Most directions a bake accepts: W[chunk×S] must stay a sensible per-thread buffer.
 inline constexpr std::uint32_t kMaxBakeSamples = std::uint32_t(1) << 24;
+// BakeOptions::indirect_samples 0 means S / kIndirectSampleShare (chosen by measurement:
+// docs/interreflection.md, "Final gather").
+inline constexpr std::uint32_t kIndirectSampleShare = 4;
 // Most worker threads a bake accepts.
 inline constexpr int kMaxBakeThreads = 4096;
 
@@ -101,6 +104,15 @@ struct BakeOptions {
     double tolerance = 1e-4;
     int max_bounces = 1000;
     bool two_sided = false;
+    // Interreflected transfer: the directions each bounce source traces for the operator A, the
+    // first ones of the bake's sampler and seed (for Sobol a nested prefix of the bake's set): T_0
+    // keeps all S, the smooth bounces take fewer (a final gather; docs/interreflection.md).
+    // 0 = S / kIndirectSampleShare; at most S.
+    std::uint32_t indirect_samples = 0;
+    // Interreflected transfer: the bounce sources' cells, at most this many metres a side
+    // (bake/bounce_sources.hpp); 0 = the scene's bounding-box diagonal / kDefaultSourceCells;
+    // infinity = the mesh's vertices only (the discretisation before the sources had cells).
+    float source_spacing = 0;
     // Interreflected transfer on the CPU: the bytes the whole bake may use (0 = no limit). The
     // transport operator A, whose size is known only once traced, gets what the estimate of the
     // rest (estimate_bake_peak_bytes) leaves; its blocks past that are spilled, as they are
@@ -197,13 +209,15 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
 // one rule from its layout (bake_description(options).layout): floats_per_receiver() floats per
 // row and floats_per_channel() columns in the product's table and buffers (K for vectors,
 // K(K+1)/2 for glossy's packed matrices, whose table is built from the K-column one);
-// interreflected transfer adds its three receivers × 3K work arrays (its transport operator, which
+// interreflected transfer adds its work arrays over the receivers and its `bounce_sources`
+// (bounce_source_count; 0: as many as receivers), each 3K floats (its transport operator, which
 // depends on what the rays hit, is not estimated: it is counted against BakeOptions::memory_budget
 // as it is built, and what does not fit is spilled to a mapped file). Used to refuse a bake that
 // cannot fit (`shprt bake --max-memory`, MemAvailable) before any work.
 inline constexpr std::uint64_t kBvhBytesPerTriangle = 160;
 std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receivers,
-                                       const BakeOptions& options, bool rows_in_memory);
+                                       const BakeOptions& options, bool rows_in_memory,
+                                       std::size_t bounce_sources = 0);
 
 // The automatic chunk size for `receivers` receivers and S directions: about 1 MiB of W per
 // thread, at least 64 chunks when the count allows, rounded up to a multiple of 16 (the SGEMM

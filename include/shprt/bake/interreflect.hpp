@@ -24,6 +24,8 @@
 // column order. Same inputs and seed → same bits for any thread count (tested).
 #pragma once
 
+#include "shprt/bake/bake.hpp"
+#include "shprt/bake/bounce_sources.hpp"
 #include "shprt/bake/transfer_sample.hpp"
 #include "shprt/bake/transport_build.hpp"
 #include "shprt/core/progress.hpp"
@@ -120,12 +122,33 @@ struct TransportOptions {
 
 // Builds A for every vertex of `mesh` (positions, unit normals, albedo per vertex) with the
 // direction set `directions` and a tracer built over `mesh` (its closest_hits: one stream per
-// vertex from offset_ray_origin(p, n), directions above the horizon only). Throws
+// vertex from offset_ray_origin(p, n), directions above the horizon only): the bounce sources
+// are the vertices alone (bounce_sources.hpp, spacing infinity), and two-sided their back copies
+// too (2V rows: vertex v's back at V + v). Throws
 // Error(invalid_argument) for a mesh without albedo per vertex; Error(out_of_memory) when one
 // block's non-zeros would pass 2^31 − 1; Error(cancelled) when the progress callback returns
 // false.
 TransportOperator build_transport_operator(const Mesh& mesh, const DirectionSet& directions,
                                            const Tracer& tracer, const TransportOptions& options);
+
+// Builds A over bounce sources made for `mesh` (make_bounce_sources with the same two_sided):
+// one row per point — its closest hits from offset_ray_origin(p, n) over the directions above
+// its horizon — and one column per point (a hit's light from the corners of its cell). The
+// same errors as build_transport_operator, and Error(invalid_argument) for sources of another
+// mesh or side option.
+TransportOperator build_source_operator(const Mesh& mesh, const BounceSources& sources,
+                                        const DirectionSet& directions, const Tracer& tracer,
+                                        const TransportOptions& options);
+
+// The bounce sources an interreflected bake with `options` makes of `mesh` (its spacing, 0 =
+// default_source_spacing; its sides), for estimate_bake_peak_bytes; 0 for other kinds.
+float bake_source_spacing(const Mesh& mesh, const BakeOptions& options);
+std::size_t bake_bounce_source_count(const Mesh& mesh, const BakeOptions& options);
+
+// The directions the operator of an interreflected bake with `options` traces: the first
+// BakeOptions::indirect_samples (0 = S / kIndirectSampleShare) of the bake's sampler and seed —
+// for Sobol a nested prefix of `directions` —, or `directions` itself when that many or more.
+DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionSet& directions);
 
 // The mesh's arrays as A's entries read them (transport_build.hpp: the CPU's rows and the GPU's
 // build of A share its arithmetic); valid while `mesh` is.

@@ -27,30 +27,76 @@
 #include "shprt/core/hd.hpp"
 #include "shprt/core/vec.hpp"
 
+#include <cmath>
 #include <cstdint>
 
 namespace shprt {
 
 // The occluder mesh as A's entries read it: positions and linear albedo per vertex, three vertex
-// indices per triangle (counter-clockwise = front, Mesh::triangles' layout).
+// indices per triangle (counter-clockwise = front), and the bounce sources a hit's light comes
+// from (bake/bounce_sources.hpp): triangle t is a grid of grid[t] cells per edge whose points are
+// A's columns — its corners the mesh's vertices, its other points base[t] + a local index — and,
+// when two-sided, a back face's points are the front's plus `back_offset`. Without a grid
+// (nullptr) every triangle is one cell: A's columns are the mesh's vertices.
 struct TransportMeshView {
     const Vec3f* positions = nullptr;
     const std::uint32_t* triangles = nullptr;  // 3 per triangle
     const Vec3f* albedo = nullptr;
+    const std::uint32_t* grid = nullptr;  // per triangle: cells per edge n ≥ 1 (nullptr: all 1)
+    const std::uint32_t* base = nullptr;  // per triangle: its first own grid point (n > 1)
+    std::uint32_t back_offset = 0;        // two-sided: a back face's points are front + this
 };
 
-// What one ray's closest hit adds to its row of A: per vertex k of the hit triangle, column
-// tri[k] and per channel c the value (weight/π · β_k(h)) · ρ_c(h), with β the hit's barycentrics
-// and ρ(h) = Σ_k ρ(tri[k])·β_k interpolated in that order.
+// The index of grid point (i, j) of a triangle cut into n cells per edge: the point
+// a + (i/n)·(b − a) + (j/n)·(c − a), i, j ≥ 0, i + j ≤ n. Corners are the triangle's vertices;
+// the others are numbered row by row (j, then i) after base, skipping the three corners.
+SHPRT_HD_INLINE std::uint32_t grid_point_index(const std::uint32_t* tri, std::uint32_t base,
+                                               std::uint32_t n, std::uint32_t i, std::uint32_t j) {
+    const std::uint32_t at = j * (n + 1) - j * (j - 1) / 2 + i;  // row-by-row index, corners too
+    const std::uint32_t last = (n + 1) * (n + 2) / 2 - 1;
+    if (at == 0) return tri[0];
+    if (at == n) return tri[1];
+    if (at == last) return tri[2];
+    return base + at - 1 - (at > n ? 1u : 0u);
+}
+
+// Own (non-corner) points of a triangle cut into n cells per edge.
+SHPRT_HD_INLINE std::uint32_t grid_own_points(std::uint32_t n) {
+    return n > 1 ? (n + 1) * (n + 2) / 2 - 3 : 0;
+}
+
+// The cell of a triangle's grid that holds barycentrics (u, v) — u toward the triangle's second
+// vertex, v toward its third — and the point's weights on the cell's three corners.
+struct GridCell {
+    std::uint32_t i[3], j[3];
+    float weight[3];
+};
+SHPRT_HD_INLINE GridCell grid_cell(std::uint32_t n, float u, float v) {
+    const float x = u * float(n), y = v * float(n);
+    const float fi = std::floor(x), fj = std::floor(y);
+    const std::uint32_t j = fj < 0.0f ? 0u : (fj > float(n - 1) ? n - 1 : std::uint32_t(fj));
+    std::uint32_t i = fi < 0.0f ? 0u : (fi > float(n - 1) ? n - 1 : std::uint32_t(fi));
+    if (i + j > n - 1) i = n - 1 - j;  // rounding put the point past its row's last cell
+    const float fx = x - float(i), fy = y - float(j);
+    if (i + j + 1 < n && fx + fy > 1.0f)  // the upper cell of the pair (i, j)
+        return GridCell{
+            {i + 1, i, i + 1}, {j + 1, j + 1, j}, {fx + fy - 1.0f, 1.0f - fx, 1.0f - fy}};
+    return GridCell{{i, i + 1, i}, {j, j, j + 1}, {1.0f - fx - fy, fx, fy}};
+}
+
+// What one ray's closest hit adds to its row of A: per corner k of the hit's cell, its column
+// and per channel c the value (weight/π · β_k(h)) · ρ_c(h), with β the hit's weights on the
+// cell's corners and ρ(h) = Σ_k ρ(tri[k])·β_k interpolated over the mesh triangle in that order.
 struct TransportHitEntries {
     std::uint32_t column[3];
-    float value[3][3];  // [vertex k][channel c]
+    float value[3][3];  // [corner k][channel c]
 };
 
 // The entries of a ray along `dir` whose unoccluded weight is `weight` (max(0, n·w_s)·weight_s)
 // and whose closest hit is `hit`. Returns false — nothing is added — when the ray escaped
 // (kNoTriangle) or, unless `two_sided`, met a back face: a one-sided surface's inside sends
-// nothing (the ray runs along the face's counter-clockwise normal, dot ≥ 0).
+// nothing (the ray runs along the face's counter-clockwise normal, dot ≥ 0). Two-sided, a back
+// face sends the light of its own side: its points' back copies (back_offset).
 SHPRT_HD_INLINE bool transport_hit_entries(const TransportMeshView& mesh, Vec3f dir, float weight,
                                            SampleHit hit, bool two_sided,
                                            TransportHitEntries& out) {
@@ -58,15 +104,30 @@ SHPRT_HD_INLINE bool transport_hit_entries(const TransportMeshView& mesh, Vec3f 
     const std::uint32_t* tri = mesh.triangles + 3 * std::uint64_t(hit.triangle);
     const Vec3f p0 = mesh.positions[tri[0]];
     const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
-    if (!two_sided && dot(face, dir) >= 0.0f) return false;
+    const bool back = dot(face, dir) >= 0.0f;
+    if (!two_sided && back) return false;
     const float bary[3] = {1.0f - hit.u - hit.v, hit.u, hit.v};
     Vec3f rho{0.0f, 0.0f, 0.0f};
     for (int k = 0; k < 3; ++k) rho = rho + mesh.albedo[tri[k]] * bary[k];
     constexpr float kInvPi = float(1.0 / 3.141592653589793);  // as the CPU: float(1.0 / π)
     const float a = weight * kInvPi;
+    const std::uint32_t n = mesh.grid ? mesh.grid[hit.triangle] : 1u;
+    const std::uint32_t side = back ? mesh.back_offset : 0u;
+    if (n == 1) {
+        for (int k = 0; k < 3; ++k) {
+            const float ab = a * bary[k];
+            out.column[k] = tri[k] + side;
+            out.value[k][0] = ab * rho.x;
+            out.value[k][1] = ab * rho.y;
+            out.value[k][2] = ab * rho.z;
+        }
+        return true;
+    }
+    const GridCell cell = grid_cell(n, hit.u, hit.v);
+    const std::uint32_t base = mesh.base[hit.triangle];
     for (int k = 0; k < 3; ++k) {
-        const float ab = a * bary[k];
-        out.column[k] = tri[k];
+        const float ab = a * cell.weight[k];
+        out.column[k] = grid_point_index(tri, base, n, cell.i[k], cell.j[k]) + side;
         out.value[k][0] = ab * rho.x;
         out.value[k][1] = ab * rho.y;
         out.value[k][2] = ab * rho.z;

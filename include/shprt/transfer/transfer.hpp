@@ -118,6 +118,15 @@ struct InterreflectionInfo {
     std::uint64_t operator_bytes = 0;  // bytes of A: pattern + 3 value arrays
     std::uint64_t operator_rays = 0;   // closest-hit rays traced for A: the same rays as T_0's
                                        // (stats.rays_cast) since one pass traces both
+    // The bounce sources (bake/bounce_sources.hpp; 0 in files written before them): how many
+    // points A's rows and columns are, their cell size, how many were invalid (inside or under
+    // geometry, filled from their neighbours), the directions each traced, and how many
+    // receivers saw a back face (a hint of a leaky or open asset).
+    std::uint64_t sources = 0;
+    double source_spacing = 0;
+    std::uint64_t invalid_sources = 0;
+    std::uint64_t indirect_samples = 0;
+    std::uint64_t receivers_seeing_back_faces = 0;
 };
 
 // Adds the work of `part` (one part of a bake: a shard, an MPI rank's share) to `total`: seconds
