@@ -235,13 +235,14 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
         return finish_interreflected(job, options, std::move(info), direct_sink.take_rows(), {},
                                      BounceSourceRays{}, TransportOperator{}, {}, 0,
                                      seconds_since(start));
-    // The operator over the bounce sources: traced on the host by the CPU's code (the device
-    // build of A, trace_transport_on_device, reads the vertex mesh only and returns no validity
+    // The operator over the bounce sources: traced on the host by the CPU's code over the flat
+    // BVH (the device build of A, trace_transport_on_device, reads the vertex mesh only and returns no validity
     // counts; docs/interreflection.md "Not done"), then the bounces on the device.
     const Mesh& mesh = *job.occluders;
     const int K = options.K;
     const auto bvh_start = Clock::now();
-    const auto tracer = make_embree_tracer(mesh);
+    // The flat BVH's traversal, the device's own (SHPRT_HD): the hits the device would find.
+    const auto tracer = make_flat_bvh_tracer(mesh);
     info.stats.seconds_bvh += seconds_since(bvh_start);
     SourceOperator op = trace_source_operator(mesh, options, directions, *tracer, info.stats);
     const TransportOperator& A = op.A;
@@ -293,6 +294,9 @@ std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
 TransportOperator gpu_transport_operator(const Mesh& mesh, const DirectionSet& directions,
                                          bool two_sided, std::size_t chunk, int device) {
     detail::validate_whole_mesh(mesh, TransferKind::interreflected, directions);
+    SHPRT_CHECK(!two_sided, unsupported,
+                "the device build of A is one-sided over the vertices (two-sided sources have "
+                "back copies the device does not take yet)");
     SHPRT_CHECK(mesh.albedo.size() == mesh.vertex_count(), invalid_argument,
                 "interreflected transfer needs an albedo per vertex ({} vertices, {} values)",
                 mesh.vertex_count(), mesh.albedo.size());

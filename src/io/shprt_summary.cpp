@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+
 namespace shprt {
 namespace {
 
@@ -117,20 +119,22 @@ std::string shprt_summary(const ShprtFile& file) {
                          ir.sources > 0 ? "bounce source" : "vertex",
                          bytes_text(double(ir.operator_bytes)), ir.operator_rays));
         if (ir.sources > 0) {
-            line("bounce sources",
-                 fmt::format("{} points (cells of at most {:.3g} m), {} invalid (inside or under "
-                             "geometry: filled from their neighbours), {} directions each",
-                             ir.sources, ir.source_spacing, ir.invalid_sources,
-                             ir.indirect_samples));
+            const std::string cells =
+                ir.source_spacing > 0 && std::isfinite(ir.source_spacing)
+                    ? fmt::format("cells of at most {:.3g} m", ir.source_spacing)
+                    : std::string("the mesh's vertices");
+            line("sources",
+                 fmt::format("{} bounce sources ({}), {} invalid (inside or under geometry: "
+                             "filled from their neighbours); {} directions per receiver",
+                             ir.sources, cells, ir.invalid_sources, ir.indirect_samples));
             const std::size_t V = mesh.vertex_count();
-            line("receivers seeing back faces",
-                 fmt::format(
-                     "{} of {} ({:.1f} %){}", ir.receivers_seeing_back_faces, V,
-                     V > 0 ? 100.0 * double(ir.receivers_seeing_back_faces) / double(V) : 0.0,
-                     ir.receivers_seeing_back_faces > 0
-                         ? ": a leaky or open asset? (docs/interreflection.md, "
-                           "\"Which side\")"
-                         : ""));
+            const std::uint64_t seeing = ir.receivers_seeing_back_faces;
+            line("backs seen",
+                 fmt::format("{} of {} receivers ({:.1f} %) see back faces{}", seeing, V,
+                             V > 0 ? 100.0 * double(seeing) / double(V) : 0.0,
+                             seeing > 0 ? ": a leaky or open asset? (docs/interreflection.md, "
+                                          "\"Which side\")"
+                                        : ""));
         }
         line("direct part", t.direct.empty() ? "absent" : "kept (transfer_direct: shade --direct)");
     }

@@ -119,7 +119,8 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
         if (ir.sources > 0) {  // the bounce sources (absent with no bounces, and before them)
             auto& j = m["interreflection"];
             j["sources"] = ir.sources;
-            j["source_spacing"] = ir.source_spacing;
+            // 0: the mesh's vertices alone (an infinite spacing, which JSON cannot hold).
+            j["source_spacing"] = std::isfinite(ir.source_spacing) ? ir.source_spacing : 0.0;
             j["invalid_sources"] = ir.invalid_sources;
             j["indirect_samples"] = ir.indirect_samples;
             j["receivers_seeing_back_faces"] = ir.receivers_seeing_back_faces;

@@ -296,8 +296,8 @@ TEST(GpuBake, TransportOperatorBuiltOnTheDeviceHasTheCpuBits) {
         std::size_t samples, chunk;
         bool two_sided;
     };
-    for (const Case& c : {Case{&box, 300, 37, false}, Case{&box, 300, 37, true},
-                          Case{&box, 512, 0, false}, Case{&room, 256, 0, false}}) {
+    for (const Case& c :
+         {Case{&box, 300, 37, false}, Case{&box, 512, 0, false}, Case{&room, 256, 0, false}}) {
         SCOPED_TRACE(testing::Message() << c.mesh->source << " S=" << c.samples
                                         << " chunk=" << c.chunk << " two-sided=" << c.two_sided);
         const DirectionSet d = make_direction_set(SamplerKind::sobol, 4, std::uint32_t(c.samples));

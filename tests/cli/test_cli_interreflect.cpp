@@ -88,6 +88,49 @@ TEST_F(CliInterreflect, BakeInfoShadeDirect) {
     EXPECT_THAT(r.out, ::testing::HasSubstr("converged"));
 }
 
+// The bounce sources from the command line: --indirect-samples and --source-spacing reach the
+// bake and the file, `info` names the sources and the receivers that see back faces (many on the
+// leaky room, whose parts overlap), and bad values get one line naming the option.
+TEST_F(CliInterreflect, BounceSourcesOptionsAndInfo) {
+    const std::string file = (m_dir / "leaky.shprt").string();
+    auto r = shprt(
+        "bake builtin:leaky_room --transfer interreflected --bounces 1 --coeffs 4 --samples 256 "
+        "--indirect-samples 32 --source-spacing 0.25 --two-sided -o '" +
+        file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const ShprtFile f = read_shprt(file);
+    const InterreflectionInfo& ir = f.transfer.interreflection;
+    EXPECT_EQ(ir.indirect_samples, 32u);
+    EXPECT_FLOAT_EQ(float(ir.source_spacing), 0.25f);
+    EXPECT_GT(ir.sources, 2 * f.mesh.vertex_count());  // cells, and back copies
+    EXPECT_GT(ir.invalid_sources, 0u);                 // ends of panels inside their neighbours
+    EXPECT_GT(ir.receivers_seeing_back_faces, f.mesh.vertex_count() / 10);
+    r = shprt("info '" + file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("cells of at most 0.25 m"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("32 directions per receiver"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("see back faces: a leaky or open asset?"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("a back face sends the light of its own side"));
+
+    r = shprt(
+        "bake builtin:box_on_plane --transfer interreflected --coeffs 4 --samples 64 "
+        "--source-spacing vertices -o '" +
+        file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(read_shprt(file).transfer.interreflection.sources,
+              load_scene("builtin:box_on_plane").vertex_count());
+    EXPECT_THAT(shprt("info '" + file + "'").out, ::testing::HasSubstr("(the mesh's vertices)"));
+
+    for (const char* bad : {"--source-spacing 0", "--source-spacing -1", "--source-spacing x",
+                            "--indirect-samples 0"}) {
+        r = shprt(std::string("bake builtin:plane --transfer interreflected -o '") + file + "' " +
+                  bad);
+        expect_one_line_error(r, bad[2] == 's' ? "--source-spacing" : "--indirect-samples");
+    }
+    r = shprt("bake builtin:plane --indirect-samples 8 -o '" + file + "'");
+    expect_one_line_error(r, "need --transfer interreflected");
+}
+
 // --max-memory just above the estimate of everything but the operator: A does not fit, its blocks
 // are spilled beside the output and read back memory-mapped, and the file is byte for byte the
 // one baked with A in memory; no temporary file is left.

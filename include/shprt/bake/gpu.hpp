@@ -174,8 +174,11 @@ std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
 // The transport operator A of interreflected transfer (interreflect.hpp) as the GPU bake builds
 // it: closest hits over the flat BVH and A's blocks built on the device (transport_build.hpp),
 // one block per chunk of `chunk` vertices (0 = the bake's plan). For tests: the same bits as
-// build_transport_operator with a tracer over the same flat BVH. Throws as the GPU bake, and
-// Error(invalid_argument) for a mesh without albedo per vertex.
+// build_transport_operator with a tracer over the same flat BVH. One-sided, over the vertices
+// alone: the bake's operator over the bounce sources (cells, back copies, validity) is traced on
+// the host for now (docs/interreflection.md, "Not done"), and this device build is the piece
+// that will take it over. Throws as the GPU bake, Error(invalid_argument) for a mesh without
+// albedo per vertex and Error(unsupported) for `two_sided`.
 TransportOperator gpu_transport_operator(const Mesh& mesh, const DirectionSet& directions,
                                          bool two_sided, std::size_t chunk = 0, int device = 0);
 
