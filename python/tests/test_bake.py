@@ -11,13 +11,18 @@ CASES = [
     dict(bands=2, samples=128, sampler="sobol", transfer="interreflected", bounces=2, seed=1),
     dict(bands=1, samples=64, sampler="sobol", transfer="interreflected", bounces="converged",
          tolerance=1e-3, seed=2),
+    dict(bands=2, samples=256, sampler="sobol", transfer="interreflected", bounces=2, seed=1,
+         indirect_samples=32, source_spacing=0.3, two_sided=True),
+    dict(bands=2, samples=128, sampler="sobol", transfer="interreflected", bounces=1, seed=4,
+         source_spacing="vertices"),
 ]
 
 
 def cli_args(case):
     args = []
     for key, value in case.items():
-        args += [f"--{key}", value]
+        option = "--" + key.replace("_", "-")
+        args += [option] if value is True else [option, value]
     return args
 
 
@@ -86,6 +91,15 @@ def test_save_load_round_trip(box, tmp_path, cli):
     h = shprt.load(str(tmp_path / "h.shprt"))
     assert h.encoding == "float16"
     np.testing.assert_allclose(h.transfer, T, rtol=1e-3, atol=1e-3)
+
+
+def test_bad_bounce_source_options_are_refused(box):
+    for bad in (dict(source_spacing=0), dict(source_spacing=-1.0), dict(source_spacing="cells"),
+                dict(indirect_samples=-1)):
+        with pytest.raises(shprt.Error):
+            shprt.bake(box, bands=1, samples=64, transfer="interreflected", **bad)
+    with pytest.raises(shprt.Error, match="need transfer='interreflected'"):
+        shprt.bake(box, bands=1, samples=64, indirect_samples=8)
 
 
 def test_interreflected_bounces_add_light_and_bad_bounces_are_refused(box):
