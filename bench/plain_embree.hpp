@@ -1,6 +1,8 @@
-// The plain Embree program of bench_bake and bench_interreflect: a bake's rays (per vertex, the
-// shared directions above its horizon, from offset_ray_origin, one stream call per vertex) cast
-// and nothing else, the limit the bakes' tracing is measured against.
+// The plain Embree program of bench_bake: a bake's occlusion rays (per vertex, the shared
+// directions above its horizon, from offset_ray_origin, one stream call per vertex) cast and
+// nothing else, the limit the bake's tracing is measured against. (bench_interreflect measured
+// its closest hits against it too, until the interreflected bake's T_0 became the direct bake
+// itself.)
 #pragma once
 
 #include "shprt/scene/mesh.hpp"
@@ -53,17 +55,14 @@ public:
     // on `threads` threads. Two ways to pick the above-horizon rays: a branch per direction, or
     // branch-free (always write the ray, advance only when above); the benchmark times both and
     // takes the faster as the reference. `rays` gets the ray count and c0[v] the visible
-    // Σ cos·weight·y_0 (the bake's c_0, for validation). kClosest: closest hits
-    // (rtcIntersect1M, as the interreflected bake needs) instead of occlusion (rtcOccluded1M);
-    // a ray is visible when it hits nothing.
-    template <bool kBranchFree, bool kClosest = false>
+    // Σ cos·weight·y_0 (the bake's c_0, for validation).
+    template <bool kBranchFree>
     void run(const Mesh& mesh, const DirectionSet& set, std::size_t chunk, int threads,
              std::uint64_t& rays, std::vector<float>& c0) const {
         const std::size_t V = mesh.vertex_count(), S = set.size();
         c0.assign(V, 0.0f);
         struct Local {
-            std::vector<RTCRay> rays;         // occlusion
-            std::vector<RTCRayHit> ray_hits;  // closest hits
+            std::vector<RTCRay> rays;
             std::vector<float> cos_weight;
             std::uint64_t count = 0;
         };
@@ -75,10 +74,7 @@ public:
                 [&](const tbb::blocked_range<std::size_t>& r) {
                     Local& l = locals.local();
                     if (l.cos_weight.empty()) {
-                        if constexpr (kClosest)
-                            l.ray_hits.resize(S);
-                        else
-                            l.rays.resize(S);
+                        l.rays.resize(S);
                         l.cos_weight.resize(S);
                     }
                     const unsigned saved = _mm_getcsr();
@@ -97,9 +93,7 @@ public:
                                             dz = set.dirs[3 * s + 2];
                                 const float cosine = n.x * dx + n.y * dy + n.z * dz;
                                 if (!kBranchFree && !(cosine > 0.0f)) continue;
-                                RTCRay& ray = kClosest ? l.ray_hits[m].ray : l.rays[m];
-                                if constexpr (kClosest)
-                                    l.ray_hits[m].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                                RTCRay& ray = l.rays[m];
                                 ray.org_x = o.x;
                                 ray.org_y = o.y;
                                 ray.org_z = o.z;
@@ -116,17 +110,9 @@ public:
                                 m += kBranchFree ? (cosine > 0.0f ? 1u : 0u) : 1u;
                             }
                             float sum = 0;
-                            if constexpr (kClosest) {
-                                rtcIntersect1M(m_scene, &context, l.ray_hits.data(), m,
-                                               sizeof(RTCRayHit));
-                                for (unsigned j = 0; j < m; ++j)
-                                    if (l.ray_hits[j].hit.geomID == RTC_INVALID_GEOMETRY_ID)
-                                        sum += l.cos_weight[j];
-                            } else {
-                                rtcOccluded1M(m_scene, &context, l.rays.data(), m, sizeof(RTCRay));
-                                for (unsigned j = 0; j < m; ++j)
-                                    if (l.rays[j].tfar >= 0.0f) sum += l.cos_weight[j];
-                            }
+                            rtcOccluded1M(m_scene, &context, l.rays.data(), m, sizeof(RTCRay));
+                            for (unsigned j = 0; j < m; ++j)
+                                if (l.rays[j].tfar >= 0.0f) sum += l.cos_weight[j];
                             c0[v] = sum * y0;
                             l.count += m;
                         }
