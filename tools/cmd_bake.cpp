@@ -1,25 +1,26 @@
-// `shprt bake SCENE -o OUT.shprt [options]`: load a scene, bake per-vertex SH transfer, write a
-// .shprt file — in one process, a shard of one (--shard I/N), or across the ranks of an MPI job
-// (under mpirun, or --mpi). Thin: it checks the options (one-line errors before any work), calls
-// load_scene, bake (or dist::bake_distributed) and the writer, draws the progress bar and prints
-// a one-line summary on stdout.
+// `shprt bake SCENE -o OUT.shprt [options]`: load a scene, bake its transfer (per vertex, a shard
+// of the vertices, per texel or on refined vertices), write a .shprt file — in one process or
+// across the ranks of an MPI job (under mpirun, or --mpi). Thin: it parses the options into a
+// bake request (bake/request.hpp; its refusals come before any work), loads the scene, runs the
+// request (dist::run under MPI), draws the progress bar and prints the summary on stdout.
 #include "common/bake_options.hpp"
+#include "common/checkpoint_options.hpp"
 #include "common/command.hpp"
 #include "common/progress_bar.hpp"
 #include "common/receiver_options.hpp"
-#include "common/resumable_bake.hpp"
+#include "common/signals.hpp"
 
-#include "shprt/bake/bake.hpp"
+#include "shprt/bake/request.hpp"
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/log.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
-#include "shprt/io/shprt_stream.hpp"
 #include "shprt/scene/load.hpp"
 #include "shprt/sh/basis.hpp"
 #if SHPRT_HAS_MPI
-#include "shprt/dist/mpi_bake.hpp"
+#include "shprt/dist/mpi_request.hpp"
 #endif
 
 #include <fmt/format.h>
@@ -46,9 +47,9 @@ struct BakeArgs {
     bool stream = false;
     bool reproducible = false;
     bool mpi = false;
-    std::size_t mpi_unit = 0;  // 0 = automatic
-    ReceiverArgs receivers;    // --domain texel, --refine: common/receiver_options.hpp
-    ResumableArgs resumable;   // --checkpoint, --resume, --max-memory (common/resumable_bake.hpp)
+    std::size_t mpi_unit = 0;   // 0 = automatic
+    ReceiverArgs receivers;     // --domain texel, --refine: common/receiver_options.hpp
+    CheckpointArgs checkpoint;  // --checkpoint, --resume, --max-memory: checkpoint_options.hpp
 };
 
 // "I/N" with 0 ≤ I < N: shard I of N.
@@ -95,103 +96,127 @@ void check_output_writable(const std::string& path) {
     const AtomicFile probe(path);  // throws Error(io) naming the path; removed on destruction
 }
 
-// Where the bake's rows go and how the file is written: with --stream, the streaming writer
-// (laid out before the bake, rows into the file as they finish); otherwise host memory, written
-// at the end with write_shprt.
-class Output {
-public:
-    Output(const BakeArgs& args, const Mesh& mesh, const Receivers& receivers,
-           const BakeOptions& options, WriteOptions write_options)
-        : m_args(args), m_mesh(mesh), m_options(std::move(write_options)) {
-        if (!args.stream) return;
-        TransferInfo description = bake_description(options);
-        if (args.half) description.layout.encoding = TransferEncoding::f16;
-        m_writer = std::make_unique<ShprtStreamWriter>(args.output, mesh, description,
-                                                       receivers.first, receivers.count, m_options);
-    }
-    TransferSink& sink() { return m_writer ? m_writer->sink() : m_host; }
-    // Where an interreflected bake's direct part goes (written as "transfer_direct").
-    std::vector<float>* direct() { return m_writer ? nullptr : &m_direct; }
-    // Writes the file; returns the seconds it took.
-    double write(const TransferInfo& info) {
-        const auto start = Clock::now();
-        if (m_writer) {
-            m_writer->commit(info);
-        } else {
-            TransferSet transfer;
-            static_cast<TransferInfo&>(transfer) = info;
-            transfer.coeffs = m_host.take_rows();
-            transfer.direct = std::move(m_direct);
-            transfer.stats.peak_bytes_host += transfer.coeffs.size() * sizeof(float);
-            if (m_args.half) transfer.layout.encoding = TransferEncoding::f16;
-            write_shprt(m_args.output, m_mesh, transfer, m_options);
-        }
-        return seconds_since(start);
-    }
+bool use_mpi(const BakeArgs& args) {
+#if SHPRT_HAS_MPI
+    return args.mpi || dist::launched_by_mpi();
+#else
+    SHPRT_CHECK(!args.mpi, unsupported,
+                "--mpi: this build has no MPI (install libopenmpi-dev and configure with "
+                "SHPRT_MPI=AUTO or ON)");
+    return false;
+#endif
+}
 
-private:
-    const BakeArgs& m_args;
-    const Mesh& m_mesh;
-    WriteOptions m_options;
-    std::unique_ptr<ShprtStreamWriter> m_writer;
-    HostSink m_host;
-    std::vector<float> m_direct;
-};
-
-// The rows this process bakes (a shard's range, or every vertex) and the file's metadata.
-struct Plan {
-    Receivers receivers;
-    WriteOptions write_options;
-};
-
-Plan plan(const BakeArgs& args, const Mesh& mesh, double seconds_load, int ranks) {
-    Plan p;
-    p.receivers = vertex_receivers(mesh);
-    nlohmann::json extra;
-    // A shard bakes receivers [⌊V·I/N⌋, ⌊V·(I+1)/N⌋) of the same bake; `shprt merge` joins them.
+// The request the options describe, before the scene is loaded: every refusal the library knows
+// is made here, before any work.
+BakeRequest request_from(const BakeArgs& args) {
+    BakeRequest r;
+    r.options = bake_options_from(args.bake);
+    r.receivers = receivers_from(args.receivers);
     if (!args.shard.empty()) {
         const auto [i, n] = parse_shard(args.shard);
-        const std::size_t V = mesh.vertex_count();
-        SHPRT_CHECK(n <= V, invalid_argument,
-                    "--shard {}: {} shards of {} vertices leave some empty", args.shard, n, V);
-        p.receivers = p.receivers.range(V * i / n, V * (i + 1) / n - V * i / n);
-        extra["shard"] = {{"index", i}, {"of", n}};
+        SHPRT_CHECK(std::holds_alternative<AllVertices>(r.receivers), invalid_argument,
+                    "--shard does not go with {}",
+                    std::holds_alternative<TexelGrid>(r.receivers) ? "--domain texel" : "--refine");
+        r.receivers = VertexShard{i, n};
     }
+    FileOutput file;
+    file.path = args.output;
+    file.stream = args.stream;
+    if (args.half) file.encoding = TransferEncoding::f16;
+    if (args.receivers.float32) file.encoding = TransferEncoding::f32;
+    file.write.reproducible = args.reproducible;
+    r.output = std::move(file);
+    apply_checkpoint_options(args.checkpoint, r);
+    r.distributed = use_mpi(args);
+    check(r);
+    return r;
+}
+
+// The run's own facts in the file's metadata: the load time, the command line, the ranks.
+void add_run_metadata(BakeRequest& r, double seconds_load, int ranks) {
+    nlohmann::json extra;
     extra["stats"]["seconds_load"] = seconds_load;
     extra["command_line"] = command_line();
     if (ranks > 0) extra["mpi"] = {{"ranks", ranks}};
-    p.write_options.receiver_first = p.receivers.first;
-    p.write_options.extra_metadata_json = extra.dump();
-    p.write_options.reproducible = args.reproducible;
-    return p;
+    r.output->write.extra_metadata_json = extra.dump();
 }
 
-void print_summary(const BakeArgs& args, const Plan& plan, const TransferInfo& transfer,
-                   double seconds_load, double seconds_write) {
+void print_interreflection(const TransferInfo& transfer) {
     const BakeStats& s = transfer.stats;
-    if (transfer.kind == TransferKind::interreflected) {
-        const InterreflectionInfo& ir = transfer.interreflection;
+    const InterreflectionInfo& ir = transfer.interreflection;
+    std::printf(
+        "interreflection: %d bounce%s%s (last relative change %.2g), operator %.3f s (nnz(A) "
+        "= %llu, %.1f MiB), bounces %.3f s; albedo: %s\n",
+        ir.bounces, ir.bounces == 1 ? "" : "s",
+        ir.converge ? (ir.converged ? ", converged" : ", NOT converged") : "", ir.last_change,
+        s.seconds_operator, static_cast<unsigned long long>(ir.operator_nnz),
+        double(ir.operator_bytes) / (1024.0 * 1024.0), s.seconds_bounces, ir.albedo_source.c_str());
+    if (s.operator_bytes_spilled > 0)
         std::printf(
-            "interreflection: %d bounce%s%s (last relative change %.2g), operator %.3f s (nnz(A) "
-            "= %llu, %.1f MiB), bounces %.3f s; albedo: %s\n",
-            ir.bounces, ir.bounces == 1 ? "" : "s",
-            ir.converge ? (ir.converged ? ", converged" : ", NOT converged") : "", ir.last_change,
-            s.seconds_operator, static_cast<unsigned long long>(ir.operator_nnz),
-            double(ir.operator_bytes) / (1024.0 * 1024.0), s.seconds_bounces,
-            ir.albedo_source.c_str());
-        if (s.operator_bytes_spilled > 0)
-            std::printf(
-                "operator: %.1f MiB of A past the memory budget, read memory-mapped from a "
-                "temporary file beside the output\n",
-                double(s.operator_bytes_spilled) / (1024.0 * 1024.0));
+            "operator: %.1f MiB of A past the memory budget, read memory-mapped from a "
+            "temporary file beside the output\n",
+            double(s.operator_bytes_spilled) / (1024.0 * 1024.0));
+}
+
+// "baked N texels|vertices, ...": the summary of a texel or refined bake.
+void print_bake_line(const char* what, const BakeResult& r, const std::string& output) {
+    const TransferInfo& t = r.info;
+    const BakeStats& s = t.stats;
+    const double seconds = r.seconds_bake;
+    std::printf(
+        "baked %zu %s, K=%d, S=%d (%s, %s): trace %.3f s, project %.3f s, total %.3f s; %.0f "
+        "receivers/s, %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
+        r.receivers, what, t.layout.K, t.samples, to_string(t.kind), to_string(t.sampler),
+        s.seconds_trace, s.seconds_project, seconds,
+        seconds > 0 ? double(r.receivers) / seconds : 0.0,
+        s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace * 1e-6 : 0.0,
+        double(s.peak_bytes_host) / (1024.0 * 1024.0), s.device_name.c_str(), output.c_str());
+}
+
+void print_refinement(const RefineResult& r, const RefineOptions& refine,
+                      std::size_t input_triangles, const Mesh& refined) {
+    const std::size_t V = refined.vertex_count();
+    if (r.budget_reached)
+        log_warn(
+            "refinement stopped at --max-vertices {}: {} edges still differ by more than {} "
+            "(largest {:.3g})",
+            V, r.edges_over, refine.tolerance, r.largest_difference);
+    else if (r.depth_reached)
+        log_warn(
+            "refinement stopped at --max-edge-split-depth {}: {} edges still differ by more "
+            "than {} (largest {:.3g})",
+            refine.max_depth, r.edges_over, refine.tolerance, r.largest_difference);
+    std::printf(
+        "refined: %zu -> %zu vertices, %zu -> %zu triangles in %d pass%s; largest edge "
+        "difference %.3g (tolerance %g)\n",
+        r.input_vertices, V, input_triangles, refined.triangle_count(), r.passes,
+        r.passes == 1 ? "" : "es", r.largest_difference, refine.tolerance);
+}
+
+void print_summary(const BakeArgs& args, const BakeRequest& request, const Mesh& mesh,
+                   const BakeResult& r, double seconds_load) {
+    const TransferInfo& transfer = r.info;
+    if (const auto* grid = std::get_if<TexelGrid>(&request.receivers)) {
+        std::printf("texels: %dx%d, %llu covered (%.1f%%), UV set %d, %s\n", grid->width,
+                    grid->height, static_cast<unsigned long long>(r.covered_texels),
+                    100.0 * double(r.covered_texels) / (double(grid->width) * grid->height),
+                    grid->uv_set, to_string(transfer.layout.encoding));
+        return print_bake_line("texels", r, args.output);
     }
+    if (const auto* refined = std::get_if<RefinedVertices>(&request.receivers)) {
+        print_refinement(r.refinement, refined->refine, mesh.triangle_count(), *r.refined_mesh);
+        return print_bake_line("vertices", r, args.output);
+    }
+    if (transfer.kind == TransferKind::interreflected) print_interreflection(transfer);
+    const BakeStats& s = transfer.stats;
     const double rays_per_second = s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace : 0;
     std::printf(
         "baked %zu vertices, K=%d, S=%d (%s, %s): load %.3f s, bvh %.3f s, trace %.3f s, "
         "project %.3f s, write %.3f s; %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
-        plan.receivers.count, transfer.layout.K, transfer.samples, to_string(transfer.kind),
+        r.receivers, transfer.layout.K, transfer.samples, to_string(transfer.kind),
         to_string(transfer.sampler), seconds_load, s.seconds_bvh, s.seconds_trace,
-        s.seconds_project, seconds_write, rays_per_second * 1e-6,
+        s.seconds_project, r.seconds_write, rays_per_second * 1e-6,
         double(s.peak_bytes_host) / (1024.0 * 1024.0), s.device_name.c_str(), args.output.c_str());
 }
 
@@ -217,11 +242,9 @@ void print_rank_loads(const dist::DistributedBake& result) {
 }
 
 // `mpirun -np P shprt bake ...` (or --mpi): every rank loads the scene, the ranks share the
-// receivers (dist/mpi_bake.hpp), rank 0 writes the one file and prints; a failure anywhere is one
-// line from rank 0, and every rank exits with its status.
-void run_mpi(const BakeArgs& args, BakeOptions options) {
-    SHPRT_CHECK(args.shard.empty(), invalid_argument,
-                "--shard and MPI: the ranks already share the bake (use one or the other)");
+// receivers (dist/mpi_request.hpp), rank 0 writes the one file and prints; a failure anywhere is
+// one line from rank 0, and every rank exits with its status.
+void run_mpi(const BakeArgs& args, BakeRequest request) {
     // The scene is loaded before MPI starts: the importer runs in a forked child, which some MPI
     // transports do not allow once initialised. Its failure is agreed on once MPI runs.
     std::optional<Mesh> mesh;
@@ -244,33 +267,17 @@ void run_mpi(const BakeArgs& args, BakeOptions options) {
                 check_output_writable(args.output);
             }
         });
-        dist::check_same_scene(session, *mesh);
         if (root) install_interrupt_handler(false);  // SIGTERM: mpirun ending the job
-        std::optional<Plan> p;
-        std::unique_ptr<Output> output;
-        session.agree([&] {
-            p = plan(args, *mesh, seconds_load, session.size());
-            if (root)
-                output =
-                    std::make_unique<Output>(args, *mesh, p->receivers, options, p->write_options);
-        });
-        dist::DistributedBake result;
+        add_run_metadata(request, seconds_load, session.size());
+        dist::DistributedResult result;
         {
             std::optional<ProgressBar> bar;
-            dist::DistOptions dist;
-            if (root) dist.progress = bar.emplace("bake").callback();
-            dist.min_unit = args.mpi_unit;
-            BakeJob job{&*mesh, p->receivers, root ? &output->sink() : nullptr, nullptr, nullptr};
-            result = dist::bake_distributed(session, job, options, dist);
+            if (root) request.options.progress = bar.emplace("bake").callback();
+            result = dist::run(session, request, *mesh, args.mpi_unit);
         }
-        const TransferInfo& info = result.info;
-        double seconds_write = 0;
-        session.agree([&] {
-            if (root) seconds_write = output->write(info);
-        });
         if (root) {
-            print_summary(args, *p, info, seconds_load, seconds_write);
-            print_rank_loads(result);
+            print_summary(args, request, *mesh, result.result, seconds_load);
+            print_rank_loads(result.ranks);
         }
     } catch (const Error& e) {
         // Every rank has the agreed error: rank 0 prints it, and no rank exits before it has (a
@@ -282,76 +289,44 @@ void run_mpi(const BakeArgs& args, BakeOptions options) {
 }
 #endif
 
-bool use_mpi(const BakeArgs& args) {
-#if SHPRT_HAS_MPI
-    return args.mpi || dist::launched_by_mpi();
-#else
-    SHPRT_CHECK(!args.mpi, unsupported,
-                "--mpi: this build has no MPI (install libopenmpi-dev and configure with "
-                "SHPRT_MPI=AUTO or ON)");
-    return false;
-#endif
-}
-
 void run(const BakeArgs& args) {
-    BakeOptions options = bake_options_from(args.bake);
-    check_receiver_options(args.receivers, !args.shard.empty() ? "--shard"
-                                           : args.stream       ? "--stream"
-                                           : args.mpi          ? "--mpi"
-                                                               : "");
-    if (options.transfer == TransferKind::interreflected) {
-        SHPRT_CHECK(args.shard.empty(), unsupported,
-                    "--shard: interreflected transfer cannot be sharded (its bounces couple every "
-                    "vertex); bake it in one process");
-        SHPRT_CHECK(!args.stream, unsupported,
-                    "--stream: interreflected transfer keeps every vertex's rows in memory for "
-                    "its bounces; bake it without --stream");
-    }
-    const bool mpi = use_mpi(args);
-    check_resumable_args(args.resumable, options, args.output,
-                         mpi ? "an MPI bake cannot be checkpointed yet; bake without MPI"
-                         : args.receivers.requested()
-                             ? "texel and refined bakes cannot be checkpointed yet; bake "
-                               "without --checkpoint"
-                             : "");
+    BakeRequest request = request_from(args);
 #if SHPRT_HAS_MPI
-    if (mpi) return run_mpi(args, options);
+    if (request.distributed) return run_mpi(args, std::move(request));
 #endif
     check_output_is_not_input(args.output, {args.scene});
     check_output_writable(args.output);
 
     const auto load_start = Clock::now();
-    Mesh mesh = load_scene(args.scene, args.receivers.uv_set);
+    const int uv_set = std::holds_alternative<TexelGrid>(request.receivers)
+                           ? std::get<TexelGrid>(request.receivers).uv_set
+                           : 0;
+    Mesh mesh = load_scene(args.scene, uv_set);
     apply_albedo_option(args.bake, mesh);
     const double seconds_load = seconds_since(load_start);
+    add_run_metadata(request, seconds_load, 0);
 
-    const Plan p = plan(args, mesh, seconds_load, 0);
-    if (args.receivers.requested()) {
-        install_interrupt_handler();
-        return bake_other_receivers(args.receivers, mesh, options, args.output, args.half,
-                                    p.write_options);
-    }
     install_interrupt_handler();
-    Output output(args, mesh, p.receivers, options, p.write_options);
-    const BakeJob job{&mesh, p.receivers, &output.sink(), nullptr, nullptr, output.direct()};
-    // An interreflected bake spills the part of its operator past the budget next to the output.
-    options.memory_budget = check_bake_memory(args.resumable, job, options, !args.stream);
-    const std::string folder = std::filesystem::path(args.output).parent_path().string();
-    options.spill_directory = folder.empty() ? "." : folder;
-    ResumableBake resumable(args.resumable, job, options);
-    TransferInfo info;
-    {
-        ProgressBar bar("bake");
-        options.progress = bar.callback();
-        test_stop_point("bake");
-        info = resumable.run();
+    std::optional<ProgressBar> bar;
+    request.options.progress = bar.emplace("bake").callback();
+    request.before_write = [&bar] {
+        bar.reset();
+        test_stop_point("write");
+        end_interruptible();  // a signal from here on: nothing written (common/signals.hpp)
+        test_stop_point("writing");
+    };
+    request.before_bake = [] { test_stop_point("bake"); };
+    BakeResult result;
+    try {
+        result = shprt::run(request, mesh);
+    } catch (const Error& e) {
+        if (e.code() != ErrorCode::cancelled || !request.checkpoint || !interrupted()) throw;
+        bar.reset();
+        const int signal = interrupt_signal();
+        print_error(resume_hint(args.checkpoint, signal_name(signal), e.what()).c_str());
+        throw ExitQuietly{interrupted_exit_code(signal)};
     }
-    test_stop_point("write");
-    end_interruptible();  // a signal from here on: nothing written (common/signals.hpp)
-    test_stop_point("writing");
-    const double seconds_write = output.write(info);
-    resumable.remove_checkpoint();
-    print_summary(args, p, info, seconds_load, seconds_write);
+    print_summary(args, request, mesh, result, seconds_load);
 }
 
 const bool bake_registered = register_command(
@@ -377,7 +352,7 @@ const bool bake_registered = register_command(
          app.add_option("--mpi-unit", args->mpi_unit,
                         "Smallest share of receivers a rank claims at a time (default: automatic, "
                         "enough to keep its threads busy)");
-         add_resumable_options(app, args->resumable);
+         add_checkpoint_options(app, args->checkpoint);
          app.callback([args] { run(*args); });
      }});
 

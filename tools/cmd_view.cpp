@@ -21,6 +21,7 @@
 #include "viewer_app.hpp"
 
 #include "shprt/bake/gpu.hpp"
+#include "shprt/bake/request.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/log.hpp"
@@ -70,9 +71,11 @@ bool has_png_extension(const std::string& path) { return lower_extension(path) =
 TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
     install_interrupt_handler();
     ProgressBar bar("bake");
-    options.progress = bar.callback();
+    BakeRequest request;
+    request.options = std::move(options);
+    request.options.progress = bar.callback();
     const auto start = Clock::now();
-    TransferSet t = bake(mesh, options);
+    TransferSet t = shprt::run(request, mesh).transfer;
     end_interruptible();  // from here on a signal ends the viewer at once (common/signals.hpp)
     bar.finish();
     std::printf("baked %zu vertices, K=%d, S=%d in %.2f s (%s)\n", mesh.vertex_count(), t.layout.K,
@@ -188,7 +191,7 @@ void run(const ViewArgs& a) {
     config.height = height;
     config.msaa = a.msaa;
     config.exposure = static_cast<float>(a.shading.exposure);
-    config.draw.camera = camera_from(a.camera, file.mesh, float(width) / float(height));
+    config.draw.camera = camera_from(a.camera, file.mesh, float(width) / float(height), a.input);
     config.draw.k = a.shading.k;
     config.draw.gloss = gloss;
     config.draw.brdf = brdf;

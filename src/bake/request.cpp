@@ -1,0 +1,337 @@
+// The bake request (bake/request.hpp): the one place that decides which receivers, which output
+// and which execution make up a bake, and what does not combine.
+#include "shprt/bake/request.hpp"
+
+#include "shprt/bake/bounce_sources.hpp"
+#include "shprt/bake/remaining.hpp"
+#include "shprt/bake/texels.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
+#include "shprt/core/memory.hpp"
+#include "shprt/core/timer.hpp"
+#include "shprt/io/checkpoint.hpp"
+#include "shprt/io/shprt_stream.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+namespace shprt {
+namespace {
+
+constexpr double kMiB = 1024.0 * 1024.0;
+
+std::string format_bytes(std::uint64_t bytes) {
+    const double b = double(bytes);
+    if (b >= double(1ull << 30)) return fmt::format("{:.2f} GiB", b / double(1ull << 30));
+    if (b >= double(1ull << 20)) return fmt::format("{:.1f} MiB", b / kMiB);
+    return fmt::format("{:.0f} KiB", std::ceil(b / 1024.0));
+}
+
+bool is_texels(const BakeRequest& r) { return std::holds_alternative<TexelGrid>(r.receivers); }
+bool is_refined(const BakeRequest& r) {
+    return std::holds_alternative<RefinedVertices>(r.receivers);
+}
+bool is_shard(const BakeRequest& r) { return std::holds_alternative<VertexShard>(r.receivers); }
+bool streamed(const BakeRequest& r) { return r.output && r.output->stream; }
+
+// `kept` as the metadata kept in reproducible files, `extra` merged into the run's extra metadata.
+WriteOptions with_metadata(WriteOptions options, const nlohmann::json& kept,
+                           const nlohmann::json& extra = nlohmann::json::object()) {
+    if (!kept.empty()) options.kept_metadata_json = kept.dump();
+    nlohmann::json all = options.extra_metadata_json.empty()
+                             ? nlohmann::json::object()
+                             : nlohmann::json::parse(options.extra_metadata_json);
+    all.update(extra);
+    options.extra_metadata_json = all.dump();
+    return options;
+}
+
+// The memory limit the request's estimate `need` is held against (0: none readable), with the
+// one-line refusal naming both.
+std::uint64_t check_memory(const BakeRequest& r, std::uint64_t need, const char* what,
+                           const char* advice) {
+    const std::uint64_t limit = r.max_memory > 0 ? r.max_memory : available_memory_bytes();
+    if (limit == 0) return 0;
+    SHPRT_CHECK(need <= limit, out_of_memory,
+                "{} needs about {} of memory (estimated: {}), more than {}; {}", "this bake",
+                format_bytes(need), what,
+                r.max_memory > 0 ? "--max-memory " + format_bytes(r.max_memory)
+                                 : "the " + format_bytes(limit) + " this machine has available",
+                advice);
+    return limit;
+}
+
+// Writes `transfer` (rows in memory) to the request's file, with `write` as its options.
+double write_file(const BakeRequest& r, const Mesh& mesh, TransferSet& transfer,
+                  const WriteOptions& write, TransferEncoding fallback) {
+    if (r.before_write) r.before_write();
+    if (!r.output) return 0;
+    const auto start = Clock::now();
+    transfer.layout.encoding = r.output->encoding.value_or(fallback);
+    write_shprt(r.output->path, mesh, transfer, write);
+    return seconds_since(start);
+}
+
+BakeResult run_texels(const BakeRequest& r, const Mesh& mesh, const TexelGrid& grid) {
+    const auto [width, height, uv_set] = grid;
+    BakeOptions options = r.options;
+    // The rasteriser's coverage image alone (6 bytes a texel) must fit before anything runs.
+    const std::uint64_t image_bytes = std::uint64_t(width) * std::uint64_t(height) * 6;
+    check_memory(r, image_bytes, fmt::format("rasterising {}x{} texels", width, height).c_str(),
+                 "lower --resolution");
+    const TexelSamples texels = rasterize_texels(mesh, width, height, uv_set);
+    BakeResult out;
+    out.estimated_bytes =
+        texel_bake_bytes(texels.count(), width, height, bake_description(options).layout,
+                         options.samples, options.threads) +
+        estimate_bake_peak_bytes(mesh.triangle_count(), 0, options, false);
+    check_memory(r, out.estimated_bytes,
+                 fmt::format("{}x{} texels ({} covered), K={}, the BVH and per-thread buffers",
+                             width, height, texels.count(), options.K)
+                     .c_str(),
+                 "lower --resolution, --samples or --coeffs");
+    HostSink sink;
+    if (r.before_bake) r.before_bake();
+    const auto start = Clock::now();
+    out.info =
+        bake(BakeJob{&mesh, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, options);
+    out.seconds_bake = seconds_since(start);
+    static_cast<TransferInfo&>(out.transfer) = out.info;
+    out.transfer.texels = texel_atlas(texels, uv_set);
+    out.transfer.coeffs = sink.take_rows();
+    out.transfer.stats.peak_bytes_host += out.transfer.coeffs.size() * sizeof(float);
+    out.receivers = texels.count();
+    out.covered_texels = texels.count();
+    const WriteOptions write =
+        r.output ? with_metadata(
+                       r.output->write,
+                       {{"texel_bake",
+                         {{"resolution", {width, height}}, {"covered_texels", texels.count()}}}},
+                       {{"texel_bake", {{"estimated_bytes", out.estimated_bytes}}}})
+                 : WriteOptions{};
+    out.seconds_write = write_file(r, mesh, out.transfer, write, TransferEncoding::f16);
+    out.info = out.transfer;
+    if (r.output) out.transfer.coeffs = {};
+    return out;
+}
+
+BakeResult run_refined(const BakeRequest& r, const Mesh& mesh, const RefineOptions& refine) {
+    BakeResult out;
+    if (r.before_bake) r.before_bake();
+    const auto start = Clock::now();
+    RefineResult result = bake_refined(mesh, r.options, refine);
+    out.seconds_bake = seconds_since(start);
+    out.receivers = result.mesh.vertex_count();
+    const nlohmann::json meta = {
+        {"refinement",
+         {{"tolerance", refine.tolerance},
+          {"measure", "max over 14 clamped-cosine test lights of |E(a) - E(b)| / (2 pi / 3)"},
+          {"max_vertices", refine.max_vertices},
+          {"max_edge_split_depth", refine.max_depth},
+          {"input_vertices", result.input_vertices},
+          {"input_triangles", mesh.triangle_count()},
+          {"passes", result.passes},
+          {"budget_reached", result.budget_reached},
+          {"depth_reached", result.depth_reached},
+          {"largest_difference", result.largest_difference}}}};
+    out.transfer = std::move(result.transfer);
+    out.refined_mesh = std::move(result.mesh);
+    const WriteOptions write = r.output ? with_metadata(r.output->write, meta) : WriteOptions{};
+    out.seconds_write =
+        write_file(r, *out.refined_mesh, out.transfer, write, TransferEncoding::f32);
+    out.info = out.transfer;
+    if (r.output) out.transfer.coeffs = {};
+    out.refinement = std::move(result);
+    return out;
+}
+
+// The request's checkpoint of `job`: a new one, or the one to resume.
+CheckpointFile open_checkpoint(const CheckpointRequest& c, const BakeJob& job,
+                               const BakeOptions& options) {
+    const TransferInfo description = bake_description(options);
+    const std::uint64_t fingerprint = checkpoint_fingerprint(*job.occluders, job.receivers.first,
+                                                             job.receivers.count, description);
+    const std::size_t floats = description.layout.floats_per_receiver();
+    const Receivers& rx = job.receivers;
+    return c.resume ? CheckpointFile::resume(c.path, fingerprint, rx.first, rx.count, floats,
+                                             c.sync_seconds)
+                    : CheckpointFile::create(c.path, fingerprint, rx.first, rx.count, floats,
+                                             c.sync_seconds);
+}
+
+// bake(job, options) through `file`: the rows it holds are not baked again. A cancelled bake
+// syncs it and says what it holds.
+TransferInfo bake_checkpointed(CheckpointFile& file, const BakeJob& job,
+                               const BakeOptions& options) {
+    CheckpointSink sink(*job.sink, file);
+    BakeJob checkpointed = job;
+    checkpointed.sink = &sink;
+    try {
+        return bake_remaining(checkpointed, options, file.done());
+    } catch (const Error& e) {
+        if (e.code() != ErrorCode::cancelled) throw;
+        file.sync();
+        fail(ErrorCode::cancelled, "{} of {} receivers are saved in {}", file.done_receivers(),
+             file.count(), file.path());
+    }
+}
+
+BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
+    BakeResult out;
+    WriteOptions write;
+    const Receivers receivers = request_receivers(r, mesh, write);
+    out.first = receivers.first;
+    out.receivers = receivers.count;
+    BakeOptions options = r.options;
+    BakeOutput output(r, mesh, receivers, write);
+    const BakeJob job{&mesh, receivers, &output.sink(), nullptr, nullptr, output.direct()};
+    out.estimated_bytes =
+        estimate_bake_peak_bytes(mesh.triangle_count(), receivers.count, options, !streamed(r),
+                                 bake_bounce_source_count(mesh, options));
+    // An interreflected bake counts its operator against the limit and spills the rest beside
+    // the output.
+    options.memory_budget =
+        check_memory(r, out.estimated_bytes, "BVH, rows and per-thread buffers",
+                     "lower --samples or --coeffs, bake with --stream or in --shard parts");
+    if (r.output) {
+        const std::string folder = std::filesystem::path(r.output->path).parent_path().string();
+        options.spill_directory = folder.empty() ? "." : folder;
+    }
+    std::optional<CheckpointFile> checkpoint;
+    if (r.checkpoint) checkpoint.emplace(open_checkpoint(*r.checkpoint, job, options));
+    if (r.before_bake) r.before_bake();
+    const auto start = Clock::now();
+    const TransferInfo info =
+        checkpoint ? bake_checkpointed(*checkpoint, job, options) : bake(job, options);
+    out.seconds_bake = seconds_since(start);
+    out.seconds_write = output.finish(info, out);
+    if (checkpoint) checkpoint->remove();  // the output is in place
+    out.info = info;
+    if (r.output) out.info.layout.encoding = r.output->encoding.value_or(TransferEncoding::f32);
+    return out;
+}
+
+}  // namespace
+
+BakeOutput::BakeOutput(const BakeRequest& r, const Mesh& mesh, const Receivers& receivers,
+                       WriteOptions write)
+    : m_request(r), m_mesh(mesh), m_write(std::move(write)) {
+    if (!streamed(r)) return;
+    TransferInfo description = bake_description(r.options);
+    description.layout.encoding = r.output->encoding.value_or(TransferEncoding::f32);
+    m_writer = std::make_unique<ShprtStreamWriter>(r.output->path, mesh, description,
+                                                   receivers.first, receivers.count, m_write);
+}
+
+BakeOutput::~BakeOutput() = default;
+
+TransferSink& BakeOutput::sink() { return m_writer ? m_writer->sink() : m_host; }
+
+std::vector<float>* BakeOutput::direct() { return m_writer ? nullptr : &m_direct; }
+
+double BakeOutput::finish(const TransferInfo& info, BakeResult& out) {
+    if (m_writer) {
+        if (m_request.before_write) m_request.before_write();
+        const auto start = Clock::now();
+        m_writer->commit(info);
+        return seconds_since(start);
+    }
+    static_cast<TransferInfo&>(out.transfer) = info;
+    out.transfer.coeffs = m_host.take_rows();
+    out.transfer.direct = std::move(m_direct);
+    out.transfer.stats.peak_bytes_host += out.transfer.coeffs.size() * sizeof(float);
+    const double seconds =
+        write_file(m_request, m_mesh, out.transfer, m_write, TransferEncoding::f32);
+    if (m_request.output) out.transfer.coeffs = {}, out.transfer.direct = {};
+    return seconds;
+}
+
+Receivers request_receivers(const BakeRequest& r, const Mesh& mesh, WriteOptions& write) {
+    Receivers receivers = vertex_receivers(mesh);
+    write = r.output ? r.output->write : WriteOptions{};
+    if (const auto* shard = std::get_if<VertexShard>(&r.receivers)) {
+        const std::size_t V = mesh.vertex_count(), i = shard->index, n = shard->count;
+        SHPRT_CHECK(n <= V, invalid_argument,
+                    "--shard {}/{}: {} shards of {} vertices leave some empty", i, n, n, V);
+        receivers = receivers.range(V * i / n, V * (i + 1) / n - V * i / n);
+        write = with_metadata(std::move(write), {}, {{"shard", {{"index", i}, {"of", n}}}});
+    }
+    write.receiver_first = receivers.first;
+    return receivers;
+}
+
+std::optional<std::string> request_refusal(const BakeRequest& r) {
+    const bool interreflected = r.options.transfer == TransferKind::interreflected;
+    const bool other_receivers = is_texels(r) || is_refined(r);
+    const char* receivers = is_texels(r) ? "--domain texel" : "--refine";
+    if (other_receivers && (streamed(r) || r.distributed))
+        return fmt::format("{} does not go with {}", streamed(r) ? "--stream" : "--mpi", receivers);
+    if (interreflected && is_shard(r))
+        return "--shard: interreflected transfer cannot be sharded (its bounces couple every "
+               "vertex); bake it in one process";
+    if (interreflected && streamed(r))
+        return "--stream: interreflected transfer keeps every vertex's rows in memory for its "
+               "bounces; bake it without --stream";
+    if (interreflected && r.distributed)
+        return "--mpi: interreflected transfer cannot be shared between MPI ranks (its bounces "
+               "couple every vertex); bake it in one process";
+    if (interreflected && other_receivers)
+        return fmt::format(
+            "{}: interreflected transfer bakes the scene's own vertices (bake "
+            "shadowed or unshadowed transfer)",
+            receivers);
+    if (r.distributed && is_shard(r))
+        return "--shard and MPI: the ranks already share the bake (use one or the other)";
+    if (streamed(r) && r.output->path.empty()) return "--stream needs an output file";
+    if (r.checkpoint) {
+        const char* option = r.checkpoint->resume ? "--resume" : "--checkpoint";
+        if (r.distributed)
+            return fmt::format("{}: an MPI bake cannot be checkpointed yet; bake without MPI",
+                               option);
+        if (other_receivers)
+            return fmt::format(
+                "{}: texel and refined bakes cannot be checkpointed yet; bake "
+                "without --checkpoint",
+                option);
+        if (const auto why = resume_unsupported(r.options))
+            return fmt::format("{}: {}", option, *why);
+    }
+    return std::nullopt;
+}
+
+void check(const BakeRequest& r) {
+    validate(r.options);
+    if (const auto* shard = std::get_if<VertexShard>(&r.receivers))
+        SHPRT_CHECK(shard->count >= 1 && shard->index < shard->count, invalid_argument,
+                    "--shard {}/{}: expected I/N with 0 <= I < N", shard->index, shard->count);
+    if (const auto* grid = std::get_if<TexelGrid>(&r.receivers))
+        SHPRT_CHECK(grid->width >= 1 && grid->height >= 1 && grid->width <= kMaxTexelSide &&
+                        grid->height <= kMaxTexelSide && grid->uv_set >= 0,
+                    invalid_argument, "--resolution {}x{}: each side must be 1 to {}", grid->width,
+                    grid->height, kMaxTexelSide);
+    if (r.checkpoint) {
+        const CheckpointRequest& c = *r.checkpoint;
+        const char* option = c.resume ? "--resume" : "--checkpoint";
+        SHPRT_CHECK(std::isfinite(c.sync_seconds) && c.sync_seconds >= 0, invalid_argument,
+                    "--checkpoint-every {}: expected seconds, 0 or more", c.sync_seconds);
+        SHPRT_CHECK(!r.output || (c.path != r.output->path && !same_file(c.path, r.output->path)),
+                    invalid_argument, "{} {}: the checkpoint cannot be the output file", option,
+                    c.path);
+    }
+    if (const auto why = request_refusal(r)) fail(ErrorCode::unsupported, "{}", *why);
+}
+
+BakeResult run(const BakeRequest& request, const Mesh& mesh) {
+    check(request);
+    if (const auto* grid = std::get_if<TexelGrid>(&request.receivers))
+        return run_texels(request, mesh, *grid);
+    if (const auto* refined = std::get_if<RefinedVertices>(&request.receivers))
+        return run_refined(request, mesh, refined->refine);
+    return run_vertices(request, mesh);
+}
+
+}  // namespace shprt
