@@ -13,7 +13,7 @@
 // With one BLAS thread per chunk, each chunk's coefficients depend only on that chunk's data:
 // bit-identical results for any thread count.
 #include "bake/bake_internal.hpp"
-#include "bake/progress.hpp"
+#include "bake/bake_progress.hpp"
 #include "bake/stages.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/parallel.hpp"

@@ -9,7 +9,7 @@
 #if SHPRT_HAS_CUDA
 
 #include "bake/bake_internal.hpp"
-#include "bake/progress.hpp"
+#include "bake/bake_progress.hpp"
 #include "bake/stages.hpp"
 #include "cuda/gpu_bake_device.hpp"
 #include "shprt/bake/gpu.hpp"

@@ -11,7 +11,7 @@
 #include "shprt/bake/interreflect.hpp"
 
 #include "bake/bake_internal.hpp"
-#include "bake/progress.hpp"
+#include "bake/bake_progress.hpp"
 #include "bake/stages.hpp"
 #include "shprt/bake/bounce_sources.hpp"
 #include "shprt/core/error.hpp"

@@ -7,7 +7,7 @@
 #include "io/fuzzing.hpp"
 #include "io/shprt_sections.hpp"
 #include "shprt/core/error.hpp"
-#include "shprt/io/half.hpp"
+#include "shprt/core/half.hpp"
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_format.hpp"

@@ -4,7 +4,7 @@
 
 #include "io/shprt_write_internal.hpp"
 #include "shprt/core/error.hpp"
-#include "shprt/io/half.hpp"
+#include "shprt/core/half.hpp"
 
 #include <unistd.h>
 #include <zlib.h>

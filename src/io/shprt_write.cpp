@@ -7,7 +7,7 @@
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/io/half.hpp"
+#include "shprt/core/half.hpp"
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_format.hpp"

@@ -12,7 +12,7 @@
 #include "shprt/core/timer.hpp"
 // Header-only float16 conversion (it sits in io/ because files are where float16 lives; no link
 // dependency on the io library).
-#include "shprt/io/half.hpp"
+#include "shprt/core/half.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 

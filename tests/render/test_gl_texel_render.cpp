@@ -8,7 +8,7 @@
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
-#include "shprt/io/half.hpp"
+#include "shprt/core/half.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/render/glossy.hpp"
 #include "shprt/render/renderer.hpp"

@@ -1,7 +1,7 @@
 // float_to_half / half_to_float against known values, a slow reference built from the definition
 // of binary16 (exact decoding in double, nearest value by search, ties to even), and, where the
 // compiler has _Float16, its conversions.
-#include "shprt/io/half.hpp"
+#include "shprt/core/half.hpp"
 
 #include <gtest/gtest.h>
 

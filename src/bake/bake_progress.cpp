@@ -1,5 +1,5 @@
 // The bake's progress reporter (progress.hpp).
-#include "bake/progress.hpp"
+#include "bake/bake_progress.hpp"
 
 #include <algorithm>
 
