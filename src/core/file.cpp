@@ -3,8 +3,10 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"
 
+#include <pthread.h>
 #include <signal.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -30,6 +32,33 @@ std::atomic<unsigned> g_counter{0};
 constexpr std::size_t kTempSlots = 64;
 std::array<std::atomic<int>, kTempSlots> g_slot_state{};
 std::array<std::array<char, PATH_MAX>, kTempSlots> g_slot_path{};
+
+// The files this process read as input (note_input_file).
+std::mutex g_inputs_mutex;
+std::vector<std::string> g_inputs;
+
+// The last output renamed into place, for signal handlers (committed_output): g_renaming counts
+// the renames in progress; g_committed_path is filled before g_has_committed turns true.
+std::atomic<int> g_renaming{0};
+std::atomic<bool> g_has_committed{false};
+std::array<char, PATH_MAX> g_committed_path{};
+
+// What `mode` is, for the refusal of a non-regular output.
+const char* file_kind(mode_t mode) {
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "a special file";
+}
+
+// Test hook (tests/cli/test_cli_late_signal.cpp): SHPRT_TEST_STOP_AT=renamed stops the process
+// (SIGSTOP) right after an output's rename, while the interrupt signals are still held, so that a
+// test can send one in that window.
+void test_stop_after_rename() {
+    const char* wanted = std::getenv("SHPRT_TEST_STOP_AT");
+    if (wanted != nullptr && std::strcmp(wanted, "renamed") == 0) ::raise(SIGSTOP);
+}
 
 extern "C" void remove_temporaries_and_die(int signal) {
     remove_live_temporaries();
@@ -103,6 +132,7 @@ void remove_stale_temporaries(const std::string& path) {
 
 AtomicFile::AtomicFile(std::string path) : m_path(std::move(path)) {
     SHPRT_CHECK(!m_path.empty(), invalid_argument, "output path is empty");
+    check_output_path(m_path);
     remove_stale_temporaries(m_path);
     m_temp = fmt::format("{}.tmp.{}.{}", m_path, ::getpid(), g_counter++);
     m_slot = register_temporary(m_temp);
@@ -134,8 +164,25 @@ void AtomicFile::commit() {
     const bool closed = std::fclose(m_file) == 0;
     m_file = nullptr;
     SHPRT_CHECK(flushed && closed, io, "cannot write {}: {}", m_path, std::strerror(err));
-    SHPRT_CHECK(std::rename(m_temp.c_str(), m_path.c_str()) == 0, io, "cannot rename {} to {}: {}",
-                m_temp, m_path, std::strerror(errno));
+    // The rename and its record happen with SIGINT, SIGTERM and SIGHUP held in this thread, so
+    // that a handler (in any thread: committed_output waits for the record) sees the output in
+    // place exactly when it is.
+    sigset_t hold, previous;
+    sigemptyset(&hold);
+    for (const int signal : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&hold, signal);
+    ::pthread_sigmask(SIG_BLOCK, &hold, &previous);
+    g_renaming.fetch_add(1);
+    const bool renamed = std::rename(m_temp.c_str(), m_path.c_str()) == 0;
+    const int rename_error = errno;
+    if (renamed && m_path.size() < PATH_MAX) {
+        std::memcpy(g_committed_path.data(), m_path.c_str(), m_path.size() + 1);
+        g_has_committed.store(true);
+    }
+    g_renaming.fetch_sub(1);
+    if (renamed) test_stop_after_rename();
+    ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+    SHPRT_CHECK(renamed, io, "cannot rename {} to {}: {}", m_temp, m_path,
+                std::strerror(rename_error));
     m_committed = true;
     unregister_temporary(m_slot);
     m_slot = std::size_t(-1);
@@ -144,6 +191,42 @@ void AtomicFile::commit() {
 void remove_live_temporaries() {
     for (std::size_t i = 0; i < kTempSlots; ++i)
         if (g_slot_state[i].load() == 2) ::unlink(g_slot_path[i].data());
+}
+
+const char* committed_output() {
+    while (g_renaming.load() != 0) {
+        const timespec pause{0, 100'000};
+        ::nanosleep(&pause, nullptr);
+    }
+    return g_has_committed.load() ? g_committed_path.data() : nullptr;
+}
+
+void note_input_file(const std::string& path) {
+    const std::lock_guard lock(g_inputs_mutex);
+    if (std::find(g_inputs.begin(), g_inputs.end(), path) == g_inputs.end())
+        g_inputs.push_back(path);
+}
+
+std::vector<std::string> noted_input_files() {
+    const std::lock_guard lock(g_inputs_mutex);
+    return g_inputs;
+}
+
+void check_output_path(const std::string& output) {
+    struct stat st {};
+    if (::stat(output.c_str(), &st) == 0) {
+        SHPRT_CHECK(!S_ISDIR(st.st_mode), io, "cannot write {}: it is a directory", output);
+        SHPRT_CHECK(S_ISREG(st.st_mode), io,
+                    "cannot write {}: it exists and is {}, not a regular file (shprt replaces "
+                    "only regular files)",
+                    output, file_kind(st.st_mode));
+    }
+    check_output_is_not_input(output, {});
+}
+
+void check_output_writable(const std::string& output) {
+    check_output_path(output);
+    const AtomicFile probe(output);  // throws Error(io) naming the path; removed on destruction
 }
 
 bool same_file(const std::string& a, const std::string& b) {
@@ -157,6 +240,10 @@ void check_output_is_not_input(const std::string& output, const std::vector<std:
     for (const std::string& input : inputs)
         SHPRT_CHECK(!same_file(output, input), invalid_argument,
                     "output {} is the input file {} (the same file); choose another output name",
+                    output, input);
+    for (const std::string& input : noted_input_files())
+        SHPRT_CHECK(!same_file(output, input), invalid_argument,
+                    "output {} is the file {}, which the scene reads; choose another output name",
                     output, input);
 }
 

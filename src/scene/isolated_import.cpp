@@ -75,6 +75,24 @@ std::uint64_t mapped_bytes() {
     return ok ? pages * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE)) : 0;
 }
 
+// The file names, each ended by '\0', as one array for the pipe; and back.
+std::vector<char> joined_files(const std::vector<std::string>& files) {
+    std::vector<char> out;
+    for (const std::string& f : files) out.insert(out.end(), f.c_str(), f.c_str() + f.size() + 1);
+    return out;
+}
+
+std::vector<std::string> split_files(const std::vector<char>& joined) {
+    std::vector<std::string> files;
+    std::size_t begin = 0;
+    for (std::size_t i = 0; i < joined.size(); ++i)
+        if (joined[i] == '\0') {
+            files.emplace_back(joined.data() + begin, i - begin);
+            begin = i + 1;
+        }
+    return files;
+}
+
 // In the child, before the work: the address-space limit, and stdout and stderr to /dev/null.
 // System calls only (async-signal-safe after fork in a threaded process).
 void prepare_child(std::uint64_t address_space_limit) {
@@ -121,7 +139,8 @@ void prepare_child(std::uint64_t address_space_limit) {
                write_array(fd, m.positions) && write_array(fd, m.normals) &&
                write_array(fd, m.albedo) && write_array(fd, m.triangles) &&
                write_array(fd, m.source_vertex) && write_array(fd, m.uvs) &&
-               write_array(fd, brdfs) && write_array(fd, m.brdf_index));
+               write_array(fd, brdfs) && write_array(fd, m.brdf_index) &&
+               write_array(fd, joined_files(r.files)));
     } catch (const Error& e) {
         write_error(fd, e.code(), e.what());
     } catch (const std::bad_alloc&) {
@@ -223,10 +242,12 @@ ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_b
         std::uint8_t all_normals = 0;
         Mesh& m = r.mesh;
         std::vector<std::array<double, 5>> brdfs;
+        std::vector<char> files;
         complete = in.value(all_normals) && in.value(r.skipped_faces) &&
                    in.value(r.albedo_sources) && in.array(m.positions) && in.array(m.normals) &&
                    in.array(m.albedo) && in.array(m.triangles) && in.array(m.source_vertex) &&
-                   in.array(m.uvs) && in.array(brdfs) && in.array(m.brdf_index);
+                   in.array(m.uvs) && in.array(brdfs) && in.array(m.brdf_index) && in.array(files);
+        r.files = split_files(files);
         for (const auto& [model, parameter, red, green, blue] : brdfs) {
             const bool known = model == 0 || model == 1 || model == 2;  // BrdfModel's values
             complete = complete && known;

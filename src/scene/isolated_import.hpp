@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace shprt::detail {
 
@@ -18,6 +19,9 @@ struct ImportedMesh {
     bool all_normals = true;          // every vertex had a usable normal in the file
     std::uint64_t skipped_faces = 0;  // points and lines left out
     std::uint8_t albedo_sources = 0;  // kAlbedo* bits: where the albedo came from
+    // Every file the importer opened or tried (the scene, its materials, buffers, textures), as
+    // paths relative to the working directory: the outputs may not be any of them.
+    std::vector<std::string> files;
 };
 inline constexpr std::uint8_t kAlbedoVertexColours = 1, kAlbedoMaterial = 2, kAlbedoDefault = 4,
                               kAlbedoTexture = 8,

@@ -14,6 +14,7 @@
 #include "shprt/scene/polygon.hpp"
 #include "texture_albedo.hpp"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/config.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -290,6 +291,7 @@ detail::ImportedMesh extract(const aiScene& scene, const std::string& path,
     }
     if (!all_uvs) out.uvs.clear();
     if (out.brdfs.empty()) out.brdf_index.clear();  // no material gives a BRDF
+    result.files.insert(result.files.end(), textures.files().begin(), textures.files().end());
     return result;
 }
 
@@ -339,10 +341,29 @@ Mesh finish(detail::ImportedMesh imported, const std::string& path, const PlyHea
     return out;
 }
 
+// Assimp's file system, recording the name of every file an importer opens (the scene, its
+// materials, external buffers): the files the scene reads, which no output may overwrite.
+class RecordingIOSystem : public Assimp::DefaultIOSystem {
+public:
+    explicit RecordingIOSystem(std::vector<std::string>& opened) : m_opened(opened) {}
+    Assimp::IOStream* Open(const char* file, const char* mode) override {
+        Assimp::IOStream* stream = DefaultIOSystem::Open(file, mode);
+        if (stream != nullptr &&
+            std::find(m_opened.begin(), m_opened.end(), file) == m_opened.end())
+            m_opened.emplace_back(file);
+        return stream;
+    }
+
+private:
+    std::vector<std::string>& m_opened;
+};
+
 // Reads the file with Assimp and extracts its arrays (in the child process: see load_file).
 detail::ImportedMesh import_with_assimp(const std::string& path, const std::string& ext,
                                         const PlyHeader* ply, int uv_set) {
     Assimp::Importer importer;
+    std::vector<std::string> opened;
+    importer.SetIOHandler(new RecordingIOSystem(opened));  // the importer owns and deletes it
     // Some importers invent a mesh to show a skeleton when a file has none; we want real geometry.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
     // No aiProcess_JoinIdenticalVertices (it would reorder PLY vertices), no normal generation
@@ -355,7 +376,7 @@ detail::ImportedMesh import_with_assimp(const std::string& path, const std::stri
     try {
         scene = importer.ReadFile(path, flags);
     } catch (const std::exception& e) {
-        fail(ErrorCode::format, "{}: cannot read the scene: {}", path, e.what());
+        fail(ErrorCode::format, "{}: cannot read the scene: {}", path, library_message(e.what()));
     } catch (...) {
         fail(ErrorCode::format, "{}: cannot read the scene (the importer failed)", path);
     }
@@ -372,13 +393,15 @@ detail::ImportedMesh import_with_assimp(const std::string& path, const std::stri
         const bool empty = why.find("no faces") != std::string::npos ||
                            why.find("no vertices") != std::string::npos ||
                            why.find("least one mesh") != std::string::npos;
-        SHPRT_CHECK(!empty, format, "{}: empty mesh ({})", path, why);
+        SHPRT_CHECK(!empty, format, "{}: empty mesh ({})", path, library_message(why));
         fail(ErrorCode::format, "{}: cannot read the scene: {}", path,
-             why.empty() ? "unknown importer error" : why);
+             why.empty() ? "unknown importer error" : library_message(why));
     }
     SHPRT_CHECK(scene->mNumMeshes > 0 && scene->mMeshes, format, "{}: empty mesh (no geometry)",
                 path);
-    return extract(*scene, path, ply, uv_set);
+    detail::ImportedMesh result = extract(*scene, path, ply, uv_set);
+    result.files.insert(result.files.begin(), opened.begin(), opened.end());
+    return result;
 }
 
 Mesh load_file(const std::string& path, int uv_set) {
@@ -409,6 +432,9 @@ Mesh load_file(const std::string& path, int uv_set) {
     detail::ImportedMesh imported = detail::run_isolated_import(
         path, importer_memory_budget(size),
         [&] { return import_with_assimp(path, ext, ply_header, uv_set); });
+    // The scene and every file its importer opened are inputs: no output may overwrite them.
+    note_input_file(path);
+    for (const std::string& file : imported.files) note_input_file(file);
     return finish(std::move(imported), path, ply_header);
 }
 

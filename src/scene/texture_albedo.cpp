@@ -131,8 +131,10 @@ const AlbedoTexture* AlbedoTextures::find(const aiMaterial& material, unsigned& 
         AlbedoTexture texture;
         if (const aiTexture* embedded = m_scene.GetEmbeddedTexture(key.c_str()))
             texture = from_embedded(*embedded);
-        else if (key[0] != '*')
-            texture = read_file(key[0] == '/' ? key : m_folder + key);
+        else if (key[0] != '*') {
+            m_files.push_back(key[0] == '/' ? key : m_folder + key);
+            texture = read_file(m_files.back());
+        }
         it = m_cache.emplace(key, std::move(texture)).first;
     }
     if (it->second.texels.empty()) {

@@ -45,8 +45,11 @@ public:
     // material has no colour texture or it cannot be read (`failed` is then set when it had one).
     const AlbedoTexture* find(const aiMaterial& material, unsigned& uv_set, Vec3f& factor,
                               bool& failed);
+    // The texture files find() has tried to read (each once), for the files the scene reads.
+    const std::vector<std::string>& files() const { return m_files; }
 
 private:
+    std::vector<std::string> m_files;
     const aiScene& m_scene;
     std::string m_folder;                          // the model's folder, "" or ending in '/'
     std::map<std::string, AlbedoTexture> m_cache;  // by texture path, empty = unreadable

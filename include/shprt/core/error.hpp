@@ -7,6 +7,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace shprt {
 
@@ -30,6 +31,15 @@ public:
 private:
     ErrorCode m_code;
 };
+
+// The longest text a third-party library's message may add to one of ours, in bytes.
+inline constexpr std::size_t kMaxLibraryMessage = 200;
+
+// `text`, a message from a third-party library (Assimp, stb, OpenEXR ...), as it may appear inside
+// one of ours: line breaks and other control characters become spaces, and past `max_bytes` it is
+// cut (at a UTF-8 character boundary) and ends in "…". Assimp quotes the rest of a corrupt file in
+// some of its messages: an error stays one short line.
+std::string library_message(std::string_view text, std::size_t max_bytes = kMaxLibraryMessage);
 
 // Throws shprt::Error(code, fmt::format(...)).
 template <class... Args>
