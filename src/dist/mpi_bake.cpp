@@ -7,6 +7,7 @@
 
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/job.hpp"
 #include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/hash.hpp"
@@ -14,6 +15,7 @@
 #include "shprt/trace/tracer.hpp"
 
 #include <mpi.h>
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -26,6 +28,7 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <vector>
 #include <new>
 #include <optional>
 
@@ -504,6 +507,11 @@ bool launched_by_mpi() {
     return false;
 }
 
+namespace {
+// The node's shared words of core/job.hpp (one MpiSession a process).
+MPI_Win g_ended_window = MPI_WIN_NULL;
+}  // namespace
+
 MpiSession::MpiSession() {
     int initialised = 0;
     MPI_Initialized(&initialised);
@@ -520,10 +528,43 @@ MpiSession::MpiSession() {
     MPI_Comm node;
     MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, m_rank, MPI_INFO_NULL, &node);
     MPI_Comm_rank(node, &m_local_rank);
+    // The processes of the ranks on this machine, for the signal handlers (core/job.hpp): a rank
+    // that mpirun ends because another died can say which one did. Each has a word in a window of
+    // memory the node's ranks share, where its handler records a signal it ends by.
+    int node_size = 1;
+    MPI_Comm_size(node, &node_size);
+    const int mine[2] = {m_rank, static_cast<int>(::getpid())};
+    std::vector<int> pairs(2 * std::size_t(node_size));
+    MPI_Allgather(mine, 2, MPI_INT, pairs.data(), 2, MPI_INT, node);
+    int* words = nullptr;
+    if (MPI_Win_allocate_shared(MPI_Aint(sizeof(int)), int(sizeof(int)), MPI_INFO_NULL, node,
+                                &words, &g_ended_window) != MPI_SUCCESS)
+        g_ended_window = MPI_WIN_NULL;
+    std::vector<JobRank> ranks(static_cast<std::size_t>(m_size));
+    for (int i = 0; i < node_size; ++i) {
+        const int rank = pairs[2 * std::size_t(i)];
+        if (rank < 0 || rank >= m_size) continue;
+        JobRank& r = ranks[std::size_t(rank)];
+        r.pid = pairs[2 * std::size_t(i) + 1];
+        MPI_Aint size = 0;
+        int unit = 0;
+        int* word = nullptr;
+        if (g_ended_window != MPI_WIN_NULL &&
+            MPI_Win_shared_query(g_ended_window, i, &size, &unit, &word) == MPI_SUCCESS &&
+            size >= MPI_Aint(sizeof(int)))
+            r.ended = word;
+    }
+    if (words != nullptr) *words = 0;
+    MPI_Barrier(node);  // every word is 0 before any rank may read one
+    set_job_ranks(m_rank, ranks);
     MPI_Comm_free(&node);
 }
 
-MpiSession::~MpiSession() { MPI_Finalize(); }
+MpiSession::~MpiSession() {
+    set_job_ranks(-1, {});  // from here a rank that finished may end before the others
+    if (g_ended_window != MPI_WIN_NULL) MPI_Win_free(&g_ended_window);
+    MPI_Finalize();
+}
 
 void MpiSession::barrier() const { MPI_Barrier(MPI_COMM_WORLD); }
 

@@ -21,7 +21,9 @@
 // becomes one error on every rank — rank 0's names the rank and the problem, the others are
 // PeerFailed, which a program reports by exiting quietly with the same status — and no rank waits
 // forever. A rank killed by a signal is the launcher's to handle: mpirun then terminates the job,
-// and rank 0's temporary output is removed on SIGTERM (core/file.hpp).
+// and rank 0's temporary output is removed on SIGTERM (core/file.hpp). MpiSession registers the
+// ranks on this machine (core/job.hpp), so that the signal handlers of the `shprt` program can say
+// which rank ended (rank 0, or the lowest rank left when rank 0 is the one that died).
 #pragma once
 
 #include "shprt/bake/bake.hpp"
