@@ -5,6 +5,7 @@
 #include "common/command.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/bake/bake.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/io/shprt_file.hpp"
@@ -33,7 +34,11 @@ void run(const CompressArgs& a) {
                 invalid_argument, "--cpca {}: CLUSTERS and VECTORS must be whole numbers ≥ 1",
                 a.cpca);
     SHPRT_CHECK(a.iterations >= 0, invalid_argument, "--iterations {}: must be ≥ 0", a.iterations);
+    // As bake's --threads (common/bake_options.cpp).
+    SHPRT_CHECK(a.threads >= 0 && a.threads <= kMaxBakeThreads, invalid_argument,
+                "--threads {}: must be 0 (all) to {}", a.threads, kMaxBakeThreads);
     check_output_is_not_input(a.output, {a.input});
+    check_output_writable(a.output);  // a directory, a device: refused before the work
     const ShprtFile file = read_shprt(a.input);
     const TransferSet& t = file.transfer;
     const std::size_t V = t.receiver_count();

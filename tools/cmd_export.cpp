@@ -46,6 +46,7 @@ void run(const ExportArgs& a) {
                 "--exposure {}: must be positive", a.exposure);
     options.exposure = static_cast<float>(a.exposure);
     check_output_is_not_input(a.output, input_files(a.input, a.light));
+    check_output_writable(a.output);  // a directory, a device: refused before the work
 
     ShprtFile file = read_shprt(a.input);
     if (a.bands > 0) {

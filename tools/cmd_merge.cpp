@@ -23,6 +23,7 @@ struct MergeArgs {
 
 void run(const MergeArgs& args) {
     check_output_is_not_input(args.output, args.parts);
+    check_output_writable(args.output);  // a directory, a device: refused before the work
     std::vector<ShprtFile> parts;
     for (const std::string& path : args.parts) parts.push_back(read_shprt_part(path));
     const ShprtFile whole = merge_shprt_parts(std::move(parts), args.parts);

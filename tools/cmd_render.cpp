@@ -50,6 +50,7 @@ void run(const RenderArgs& a) {
     parse_size(a.size, width, height);
     const LightSetup setup = light_setup_from(a.light);
     check_output_is_not_input(a.output, input_files(a.input, a.light));
+    check_output_writable(a.output);  // a directory, a device: refused before the work
     DrawSettings settings;
     settings.view = parse_view(a.view);
     settings.k = a.shading.k;
@@ -65,7 +66,7 @@ void run(const RenderArgs& a) {
     settings.gloss = gloss;
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
     const float aspect = float(width) / float(height);
-    settings.camera = camera_from(a.camera, file.mesh, aspect);
+    settings.camera = camera_from(a.camera, file.mesh, aspect, a.input);
 
     if (plan.glossy) {  // transfer matrices, shaded on the GPU (render/renderer.hpp)
         settings.brdf = plan.glossy->brdf;

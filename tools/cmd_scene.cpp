@@ -106,6 +106,7 @@ const bool scene_registered = register_command(
              SHPRT_CHECK(lower_extension(mesh_args->output) == ".ply", invalid_argument,
                          "{}: scenes are written as PLY (use a .ply name)", mesh_args->output);
              check_output_is_not_input(mesh_args->output, {mesh_args->name});
+             check_output_writable(mesh_args->output);
              const ShprtFile file = read_shprt(mesh_args->name);
              write_ply(file.mesh, mesh_args->output);
              print(fmt::format("wrote {}: the mesh of {}\n{}", mesh_args->output, mesh_args->name,

@@ -45,6 +45,7 @@ void run(const ShadeArgs& a) {
     check_glossy_args(a.glossy);
     const LightSetup setup = light_setup_from(a.light);
     check_output_is_not_input(a.output, input_files(a.input, a.light));
+    check_output_writable(a.output);  // a directory, a device: refused before the work
     Vec3f eye{};
     if (!a.eye.empty()) eye = parse_vec3(a.eye, "--eye");
 

@@ -124,5 +124,7 @@ extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char*
             return report_interrupted(shprt::tools::interrupt_signal());
         return report_error(e.what(), 1);
     }
+    // A signal that arrived once the output was in place: the run finished (common/signals.hpp).
+    shprt::tools::report_late_signal();
     return 0;
 }

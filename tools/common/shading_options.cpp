@@ -54,7 +54,8 @@ void check_camera_args(const CameraArgs& args) {
     if (!args.camera.empty()) parse_camera(args.camera, parsed);
 }
 
-Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect) {
+Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect,
+                   const std::string& input) {
     check_camera_args(args);
     Camera camera;
     if (args.camera.empty()) {
@@ -65,6 +66,21 @@ Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect) {
         camera = look_at_camera(parsed.eye, parsed.target, Camera{}.fov_y_deg, mesh_bounds(mesh));
     }
     if (args.fov) camera.fov_y_deg = static_cast<float>(*args.fov);
+    // A camera without a frame (eye and target too far apart or too large for single precision,
+    // or a scene whose positions are): say which option or file it came from.
+    try {
+        (void)view_matrix(camera);
+    } catch (const Error& e) {
+        if (!args.camera.empty())
+            fail(ErrorCode::invalid_argument,
+                 "--camera {}: {} (the coordinates are too large for single precision, or the "
+                 "up axis +Y is the view direction)",
+                 args.camera, e.what());
+        fail(ErrorCode::format,
+             "{}: cannot frame the scene with the default camera: {} (its positions are too large "
+             "for single precision); give --camera EX,EY,EZ,TX,TY,TZ",
+             input, e.what());
+    }
     return camera;
 }
 

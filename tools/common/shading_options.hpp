@@ -50,7 +50,10 @@ void check_camera_args(const CameraArgs& args);
 // The camera `shprt render` uses for these options: default_camera(mesh, aspect) without
 // --camera; otherwise look_at_camera (render/camera.hpp) of the eye and target given, with clip
 // planes fitted to the mesh's bounds; --fov overrides the field of view.
-Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect);
+// `input` names the file the mesh came from in the error for a camera without a frame (a scene
+// whose positions are too large for single precision).
+Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect,
+                   const std::string& input);
 
 // "radiance", "irradiance" or "transfer"; throws Error(invalid_argument) naming `name`.
 ShadeView parse_view(const std::string& name);

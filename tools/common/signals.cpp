@@ -3,6 +3,7 @@
 #include "common/command.hpp"
 
 #include "shprt/core/file.hpp"
+#include "shprt/core/job.hpp"
 
 #include <signal.h>
 #include <unistd.h>
@@ -11,6 +12,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 namespace shprt::tools {
 namespace {
@@ -18,8 +20,27 @@ namespace {
 volatile std::sig_atomic_t g_request = 0;   // the signal that arrived as a request, or 0
 volatile std::sig_atomic_t g_requests = 0;  // which signals are requests: 1 SIGINT, 2 all
 pid_t g_main_pid = 0;                       // a forked child (the importer) dies quietly
-volatile std::sig_atomic_t g_quiet = 0;     // no line: an MPI rank other than 0, or after the error
+volatile std::sig_atomic_t g_quiet = 0;     // no line: after the error
+volatile std::sig_atomic_t g_secondary =
+    0;                                  // an MPI rank other than 0: a line only for a lost rank
+volatile std::sig_atomic_t g_late = 0;  // a signal that arrived after the output was in place
 std::atomic<bool> g_installed{false};
+
+void write_all(const char* text);
+
+// Writes a non-negative number (async-signal-safe).
+void write_number(int value) {
+    char digits[12];
+    int n = 0;
+    do {
+        digits[n++] = static_cast<char>('0' + value % 10);
+        value /= 10;
+    } while (value > 0 && n < 11);
+    char text[13];
+    for (int i = 0; i < n; ++i) text[i] = digits[n - 1 - i];
+    text[n] = '\0';
+    write_all(text);
+}
 
 void write_all(const char* text) {
     std::size_t size = std::strlen(text);
@@ -38,8 +59,38 @@ extern "C" void on_signal(int signal) {
         g_request = signal;
         return;
     }
+    // The output is in place (AtomicFile::commit holds the signals across its rename): the run has
+    // succeeded, and only its summary is left. The first signal lets it finish (exit 0,
+    // report_late_signal); a second ends it at once, saying what was written.
+    if (const char* written = committed_output()) {
+        if (g_late == 0) {
+            g_late = signal;
+            return;
+        }
+        remove_live_temporaries();
+        if (g_quiet || g_secondary) ::_exit(128 + signal);
+        write_all("shprt: error: interrupted by ");
+        write_all(signal_name(signal));
+        write_all(" after ");
+        write_all(written);
+        write_all(" was written (it is complete)\n");
+        ::_exit(128 + signal);
+    }
     remove_live_temporaries();
+    note_job_rank_ended(signal);
     if (g_quiet) ::_exit(128 + signal);
+    // An MPI job that mpirun ends because one of its ranks died (core/job.hpp): rank 0, or the
+    // lowest rank left when rank 0 is the one that died, says so instead of naming the signal.
+    const int lost = first_lost_rank();
+    if (g_secondary && !(lost >= 0 && lower_ranks_gone())) ::_exit(128 + signal);
+    if (lost >= 0) {
+        write_all("shprt: error: rank ");
+        write_number(lost);
+        write_all(" of the MPI job ended (killed or crashed), so the job was stopped (");
+        write_all(signal_name(signal));
+        write_all("); nothing was written\n");
+        ::_exit(128 + signal);
+    }
     write_all("shprt: error: interrupted by ");
     write_all(signal_name(signal));
     write_all("; nothing was written\n");
@@ -64,8 +115,22 @@ const char* signal_name(int signal) {
 void install_signal_handlers() {
     if (g_installed.exchange(true)) return;
     g_main_pid = ::getpid();
-    if (is_secondary_rank()) g_quiet = 1;
+    if (is_secondary_rank()) g_secondary = 1;
     handle_interrupt_signals(on_signal);
+    // A write past the file size limit (ulimit -f) fails with EFBIG, which the writer reports in
+    // its one line and after which it removes its temporary, instead of killing the process.
+    ::signal(SIGXFSZ, SIG_IGN);
+}
+
+int late_signal() { return g_late; }
+
+void report_late_signal() {
+    const char* written = committed_output();
+    if (g_late == 0 || g_quiet || g_secondary || written == nullptr) return;
+    const std::string line = std::string("shprt: warning: ") + signal_name(g_late) +
+                             " arrived after " + written +
+                             " was written; the run finished (exit status 0)\n";
+    write_all(line.c_str());
 }
 
 void quiet_signals() { g_quiet = 1; }

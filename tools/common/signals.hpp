@@ -15,6 +15,13 @@
 //     is written: a signal that arrived meanwhile throws Interrupted (nothing is written), and a
 //     later one ends the process with the temporaries removed, so a file is either complete and
 //     renamed into place or absent.
+//   * Once an output is renamed into place (core/file.hpp: committed_output; the rename holds the
+//     signals), the run has succeeded: a first signal lets it finish, exit status 0, and
+//     report_late_signal() says so in a warning; a second ends it at once with "interrupted by
+//     SIGTERM after OUT was written (it is complete)", 128 + the signal. Never "nothing was
+//     written" with the output in place.
+//   * SIGXFSZ is ignored: a write past `ulimit -f` fails with EFBIG, one error line naming the
+//   file.
 // A signal the process was started with ignored (nohup, a script's background job) stays ignored.
 #pragma once
 
@@ -62,6 +69,11 @@ void end_interruptible();
 // ending the other ranks of a failed job) still removes the temporaries and ends the process, but
 // prints nothing, so that the error stays the one and last line.
 void quiet_signals();
+// The signal that arrived after the output was in place (see top), or 0.
+int late_signal();
+// Prints "shprt: warning: SIGTERM arrived after OUT was written; the run finished (exit status 0)"
+// when late_signal() is not 0 (and this process prints): the end of a successful run.
+void report_late_signal();
 // "SIGINT", "SIGTERM", "SIGHUP" (else "signal N").
 const char* signal_name(int signal);
 // The exit status for `signal`: 128 + signal.
