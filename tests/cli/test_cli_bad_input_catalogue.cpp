@@ -6,6 +6,8 @@
 #include "cli/cli_test.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 
 #include <filesystem>
 #include <fstream>
@@ -112,6 +114,11 @@ protected:
         const std::string kind = p[0];
         if (kind == "dir") {
             fs::create_directories(path);
+        } else if (kind == "fifo") {
+            ASSERT_EQ(::mkfifo(path.c_str(), 0644), 0) << path;
+        } else if (kind == "nulldev") {
+            if (::mknod(path.c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0)
+                GTEST_SKIP() << "mknod " << path << " needs root";
         } else if (kind == "text") {
             std::ofstream(path, std::ios::binary)
                 << unescape(spec.substr(kind.size() + p[1].size() + 2));
@@ -145,13 +152,17 @@ bool BadInputCatalogue::s_has_shade = false;
 TEST_P(BadInputCatalogue, OneLineTheExitCodeAndNothingLeft) {
     const Case& c = GetParam();
     ASSERT_GE(c.exit_code, 0) << "malformed catalogue line: " << c.name;
-    if (!s_has_shade && c.args.rfind("shade ", 0) == 0)
-        GTEST_SKIP() << "shade is not in this build (SHPRT_RENDER=OFF)";
+    for (const char* command : {"shade ", "render "})
+        if (!s_has_shade && c.args.rfind(command, 0) == 0)
+            GTEST_SKIP() << command << "is not in this build (SHPRT_RENDER=OFF)";
     const fs::path dir = s_dir / replace_all(replace_all(c.name, " ", "_"), "=", "_");
     fs::remove_all(dir);
     fs::create_directories(dir / "out");
     if (!c.files.empty())
-        for (const std::string& spec : split(c.files, ";")) make(spec, dir);
+        for (const std::string& spec : split(c.files, ";")) {
+            make(spec, dir);
+            if (::testing::Test::IsSkipped()) return;
+        }
     const auto expand = [&](const std::string& s) {
         return replace_all(replace_all(s, "{d}", dir.string()), "{o}", (dir / "out").string());
     };
