@@ -43,7 +43,6 @@ struct BakeArgs {
     std::string scene, output;
     BakeOptionArgs bake;  // common/bake_options.hpp, shared with `shprt view --bake`
     bool half = false;
-    std::string shard;  // "I/N", or empty
     bool stream = false;
     bool reproducible = false;
     bool mpi = false;
@@ -51,22 +50,6 @@ struct BakeArgs {
     ReceiverArgs receivers;     // --domain texel, --refine: common/receiver_options.hpp
     CheckpointArgs checkpoint;  // --checkpoint, --resume, --max-memory: checkpoint_options.hpp
 };
-
-// "I/N" with 0 ≤ I < N: shard I of N.
-std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
-    const std::size_t slash = text.find('/');
-    unsigned long long i = 0, n = 0;
-    const auto number = [](const std::string& s, unsigned long long& v) {
-        if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos || s.size() > 9)
-            return false;
-        v = std::stoull(s);
-        return true;
-    };
-    SHPRT_CHECK(slash != std::string::npos && number(text.substr(0, slash), i) &&
-                    number(text.substr(slash + 1), n) && n >= 1 && i < n,
-                invalid_argument, "--shard '{}': expected I/N with 0 <= I < N (e.g. 0/4)", text);
-    return {static_cast<std::size_t>(i), static_cast<std::size_t>(n)};
-}
 
 // The command line as typed (from /proc/self/cmdline), for the file's metadata; empty if
 // unavailable.
@@ -112,14 +95,9 @@ bool use_mpi(const BakeArgs& args) {
 BakeRequest request_from(const BakeArgs& args) {
     BakeRequest r;
     r.options = bake_options_from(args.bake);
-    r.receivers = receivers_from(args.receivers);
-    if (!args.shard.empty()) {
-        const auto [i, n] = parse_shard(args.shard);
-        SHPRT_CHECK(std::holds_alternative<AllVertices>(r.receivers), invalid_argument,
-                    "--shard does not go with {}",
-                    std::holds_alternative<TexelGrid>(r.receivers) ? "--domain texel" : "--refine");
-        r.receivers = VertexShard{i, n};
-    }
+    r.receivers = parse_receivers(args.receivers.choice);
+    SHPRT_CHECK(!args.receivers.float32 || std::holds_alternative<TexelGrid>(r.receivers),
+                invalid_argument, "--float32 needs --domain texel");
     FileOutput file;
     file.path = args.output;
     file.stream = args.stream;
@@ -340,9 +318,6 @@ const bool bake_registered = register_command(
          app.add_flag("--half", args->half, "Store coefficients as float16");
          app.add_flag("--stream", args->stream,
                       "Write coefficients to the file as chunks finish (no V×K array in memory)");
-         app.add_option("--shard", args->shard,
-                        "Bake part I of N (I/N, 0-based) of the vertices, for job arrays; join "
-                        "the parts with `shprt merge`");
          app.add_flag("--reproducible", args->reproducible,
                       "Leave out what differs between runs (times, rays, peak memory, device, "
                       "the command line), so that the same bake gives the same bytes");

@@ -1,11 +1,12 @@
 // shprt.bake (bake/bake.hpp): the GIL is released while the library bakes; the library calls
-// BakeOptions::progress only from the thread that called bake() (src/bake/progress.hpp), which
+// BakeOptions::progress only from the thread that called bake() (src/bake/bake_progress.hpp), which
 // is the Python thread that called shprt.bake, so the callback takes the GIL back there and runs
 // the Python function. No worker thread ever touches Python.
 #include "bindings.hpp"
 #include "convert.hpp"
 
-#include "shprt/bake/bake.hpp"
+#include "shprt/bake/request.hpp"
+#include "shprt/core/parse.hpp"
 
 #include <pybind11/stl.h>
 
@@ -36,6 +37,8 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
     } else if (coeffs) {
         o.K = *coeffs;
     }
+    o.transfer = parse_transfer_kind(transfer);
+    if (!bands && !coeffs) o.K = default_coeffs(o.transfer);
     SHPRT_CHECK(samples >= 1 && samples <= std::int64_t(kMaxBakeSamples), invalid_argument,
                 "samples={}: must be 1 to {}", samples, kMaxBakeSamples);
     o.samples = std::uint32_t(samples);
@@ -56,8 +59,8 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
                     invalid_argument, "bounces: expected an int or 'converged', got {}",
                     py::str(py::type::of(bounces).attr("__name__")).cast<std::string>());
         const auto n = bounces.cast<long long>();
-        SHPRT_CHECK(n >= 0 && n <= o.max_bounces, invalid_argument, "bounces={}: must be 0 to {}",
-                    n, o.max_bounces);
+        SHPRT_CHECK(n >= 0 && n <= kMaxBounces, invalid_argument, "bounces={}: must be 0 to {}", n,
+                    kMaxBounces);
         o.bounces = int(n);
     }
     o.tolerance = tolerance;
@@ -87,15 +90,116 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
     return o;
 }
 
-py::array bake_py(py::handle vertices, py::handle faces, py::handle normals, py::handle albedo,
-                  std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
-                  const std::string& sampler, const std::string& transfer, std::uint64_t seed,
-                  const py::object& bounces, double tolerance, bool two_sided,
-                  std::int64_t indirect_samples, const py::object& source_spacing, int threads,
-                  const std::string& device, py::object progress) {
-    BakeOptions options =
-        bake_options(bands, coeffs, samples, sampler, transfer, seed, threads, device, bounces,
-                     tolerance, two_sided, indirect_samples, source_spacing);
+// The receiver keywords, parsed by the library's one parser (bake/request.hpp: parse_receivers),
+// as `shprt bake` parses its options.
+struct Receivers {
+    std::string domain;
+    py::object resolution, shard;
+    int uv_set = 0;
+    std::optional<double> refine;
+    std::optional<long long> max_vertices, max_edge_split_depth;
+};
+// The output keywords: a .shprt file (with its encoding, streaming, reproducibility), the
+// checkpoint, the memory limit.
+struct Output {
+    std::optional<std::string> path, checkpoint, resume;
+    bool half = false, float32 = false, stream = false, reproducible = false;
+    double checkpoint_every = 30;
+    py::object max_memory;
+};
+
+// A str or an os.PathLike as a path; None as none.
+std::optional<std::string> path_of(const py::object& value) {
+    if (value.is_none()) return std::nullopt;
+    return py::module_::import("os").attr("fspath")(value).cast<std::string>();
+}
+
+// 8, (8, 4) or "8x4" as the command line's "W[xH]"; (0, 4) or "0/4" as its "I/N".
+std::string spelled(const py::object& value, const char* separator, const char* name) {
+    if (value.is_none()) return {};
+    if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+    if (py::isinstance<py::int_>(value) && !py::isinstance<py::bool_>(value))
+        return std::to_string(value.cast<long long>());
+    if (py::isinstance<py::tuple>(value) && py::len(value) == 2)
+        return std::to_string(value.cast<py::tuple>()[0].cast<long long>()) + separator +
+               std::to_string(value.cast<py::tuple>()[1].cast<long long>());
+    fail(ErrorCode::invalid_argument, "{}: expected a str, an int or a pair, got {}", name,
+         py::str(py::type::of(value).attr("__name__")).cast<std::string>());
+}
+
+void fill_request(const Receivers& rx, const Output& out, BakeRequest& request) {
+    ReceiverChoice choice;
+    choice.domain = rx.domain;
+    choice.resolution = spelled(rx.resolution, "x", "resolution");
+    choice.uv_set = rx.uv_set;
+    choice.refine = rx.refine;
+    choice.max_vertices = rx.max_vertices;
+    choice.max_edge_split_depth = rx.max_edge_split_depth;
+    choice.shard = spelled(rx.shard, "/", "shard");
+    request.receivers = parse_receivers(choice);
+    const bool texels = std::holds_alternative<TexelGrid>(request.receivers);
+    SHPRT_CHECK(!out.float32 || texels, invalid_argument, "float32=True needs domain='texel'");
+    SHPRT_CHECK(
+        out.path || (!texels && !std::holds_alternative<RefinedVertices>(request.receivers)),
+        invalid_argument,
+        "a texel or refined bake writes a .shprt file (its atlas or its new mesh go "
+        "with the rows): give output=, then read it with shprt.load");
+    SHPRT_CHECK(out.path || (!out.half && !out.stream && !out.reproducible), invalid_argument,
+                "half, stream and reproducible describe the file: give output=");
+    if (out.path) {
+        FileOutput file;
+        file.path = *out.path;
+        file.stream = out.stream;
+        if (out.half) file.encoding = TransferEncoding::f16;
+        if (out.float32) file.encoding = TransferEncoding::f32;
+        file.write.reproducible = out.reproducible;
+        request.output = std::move(file);
+    }
+    SHPRT_CHECK(!(out.checkpoint && out.resume), invalid_argument,
+                "checkpoint and resume: give one (resume continues the checkpoint it names)");
+    if (out.checkpoint || out.resume)
+        request.checkpoint = CheckpointRequest{out.checkpoint ? *out.checkpoint : *out.resume,
+                                               bool(out.resume), out.checkpoint_every};
+    if (!out.max_memory.is_none()) {
+        const std::string text = spelled(out.max_memory, "", "max_memory");
+        SHPRT_CHECK(
+            parse_byte_size(text, request.max_memory) && request.max_memory > 0, invalid_argument,
+            "max_memory='{}': expected a size such as 512M or 4G (bytes, K, M, G or T)", text);
+    }
+    check(request);
+}
+
+// What a bake into a file returns: where it went and what it took.
+py::dict summary(const BakeResult& r, const BakeRequest& request) {
+    py::dict d;
+    d["path"] = request.output->path;
+    d["first"] = r.first;
+    d["receivers"] = r.receivers;
+    d["K"] = r.info.layout.K;
+    d["samples"] = r.info.samples;
+    d["encoding"] = std::string(to_string(r.info.layout.encoding));
+    d["seconds_bake"] = r.seconds_bake;
+    d["seconds_write"] = r.seconds_write;
+    d["estimated_bytes"] = r.estimated_bytes;
+    d["peak_bytes"] = r.info.stats.peak_bytes_host;
+    if (std::holds_alternative<TexelGrid>(request.receivers))
+        d["covered_texels"] = r.covered_texels;
+    if (r.refined_mesh) d["vertices"] = r.refined_mesh->vertex_count();
+    return d;
+}
+
+py::object bake_py(py::handle vertices, py::handle faces, py::handle normals, py::handle albedo,
+                   std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
+                   const std::string& sampler, const std::string& transfer, std::uint64_t seed,
+                   const py::object& bounces, double tolerance, bool two_sided,
+                   std::int64_t indirect_samples, const py::object& source_spacing, int threads,
+                   const std::string& device, py::object progress, const Receivers& receivers,
+                   const Output& out) {
+    BakeRequest request;
+    request.options = bake_options(bands, coeffs, samples, sampler, transfer, seed, threads, device,
+                                   bounces, tolerance, two_sided, indirect_samples, source_spacing);
+    fill_request(receivers, out, request);
+    BakeOptions& options = request.options;
     // A shprt.Mesh is used in place; arrays become a Mesh (one copy, checked).
     std::optional<Mesh> own;
     const Mesh* mesh = nullptr;
@@ -114,8 +218,11 @@ py::array bake_py(py::handle vertices, py::handle faces, py::handle normals, py:
                 py::str(py::type::of(progress).attr("__name__")).cast<std::string>());
 
     // Runs on the calling thread only (see the top of the file). An exception from Python —
-    // the callback's own, or KeyboardInterrupt from a signal — stops the bake and is re-raised
-    // once bake() has returned; returning False stops it with shprt.Error(cancelled).
+    // the callback's own, or KeyboardInterrupt from a signal — stops the bake and is re-raised,
+    // as itself, once bake() has returned, whatever bake() did meanwhile (a last call at 100 %
+    // that raises finds the bake already done; the stop may surface as another error). A return
+    // value other than True, False or None is a TypeError, raised the same way; returning False
+    // stops the bake with shprt.Error(cancelled).
     std::exception_ptr python_error;
     options.progress = [&](const ProgressInfo& info) {
         py::gil_scoped_acquire acquire;
@@ -123,38 +230,66 @@ py::array bake_py(py::handle vertices, py::handle faces, py::handle normals, py:
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
             if (progress.is_none()) return true;
             const py::object r = progress(info.done, info.total);
-            return r.is_none() || r.cast<bool>();
+            return r.is_none() || r.cast<bool>();  // REVERT-CHECK
         } catch (...) {
             python_error = std::current_exception();
             return false;
         }
     };
-    TransferSet result;
+    BakeResult result;
     try {
         py::gil_scoped_release release;
-        result = bake(*mesh, options);
+        result = run(request, *mesh);
     } catch (const Error& e) {
         if (python_error && e.code() == ErrorCode::cancelled) std::rethrow_exception(python_error);
         throw;
-    }
-    const std::size_t rows = result.receiver_count();
-    std::vector<py::ssize_t> shape{py::ssize_t(rows)};
-    if (result.layout.channels != 1) shape.push_back(result.layout.channels);
-    shape.push_back(py::ssize_t(result.layout.floats_per_channel()));
-    return take_vector(std::move(result.coeffs), std::move(shape));
+    }  // REVERT-CHECK
+    if (request.output) return summary(result, request);
+    const TransferSet& t = result.transfer;
+    std::vector<py::ssize_t> shape{py::ssize_t(t.receiver_count())};
+    if (t.layout.channels != 1) shape.push_back(t.layout.channels);
+    shape.push_back(py::ssize_t(t.layout.floats_per_channel()));
+    return take_vector(std::move(result.transfer.coeffs), std::move(shape));
 }
 
 }  // namespace
 
 void bind_bake(py::module_& m) {
-    m.def("bake", &bake_py, "vertices"_a, "faces"_a = py::none(), "normals"_a = py::none(),
-          "albedo"_a = py::none(), py::kw_only(), "bands"_a = py::none(), "coeffs"_a = py::none(),
-          "samples"_a = 1024, "sampler"_a = "sobol", "transfer"_a = "shadowed", "seed"_a = 1,
-          "bounces"_a = 1, "tolerance"_a = 1e-4, "two_sided"_a = false, "indirect_samples"_a = 0,
-          "source_spacing"_a = py::none(), "threads"_a = 0, "device"_a = "cpu",
-          "progress"_a = py::none(),
-          R"(Bakes per-vertex SH transfer (bake/bake.hpp) and returns it as a float32 array of
-shape (V, K) — (V, 3, K) for RGB transfer — with K = bands² or coeffs (default 16).
+    m.def(
+        "bake",
+        [](py::handle vertices, py::handle faces, py::handle normals, py::handle albedo,
+           std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
+           const std::string& sampler, const std::string& transfer, std::uint64_t seed,
+           const py::object& bounces, double tolerance, bool two_sided,
+           std::int64_t indirect_samples, const py::object& source_spacing, int threads,
+           const std::string& device, py::object progress, const std::string& domain,
+           py::object resolution, int uv_set, std::optional<double> refine,
+           std::optional<long long> max_vertices, std::optional<long long> max_edge_split_depth,
+           py::object shard, const py::object& output, bool half, bool float32, bool stream,
+           bool reproducible, const py::object& checkpoint, const py::object& resume,
+           double checkpoint_every, py::object max_memory) {
+            const Receivers rx{domain, std::move(resolution), std::move(shard),    uv_set,
+                               refine, max_vertices,          max_edge_split_depth};
+            const Output out{
+                path_of(output), path_of(checkpoint), path_of(resume),      half, float32, stream,
+                reproducible,    checkpoint_every,    std::move(max_memory)};
+            return bake_py(vertices, faces, normals, albedo, bands, coeffs, samples, sampler,
+                           transfer, seed, bounces, tolerance, two_sided, indirect_samples,
+                           source_spacing, threads, device, std::move(progress), rx, out);
+        },
+        "vertices"_a, "faces"_a = py::none(), "normals"_a = py::none(), "albedo"_a = py::none(),
+        py::kw_only(), "bands"_a = py::none(), "coeffs"_a = py::none(), "samples"_a = 1024,
+        "sampler"_a = "sobol", "transfer"_a = "shadowed", "seed"_a = 1, "bounces"_a = 1,
+        "tolerance"_a = 1e-4, "two_sided"_a = false, "indirect_samples"_a = 0,
+        "source_spacing"_a = py::none(), "threads"_a = 0, "device"_a = "cpu",
+        "progress"_a = py::none(), "domain"_a = "vertex", "resolution"_a = py::none(),
+        "uv_set"_a = 0, "refine"_a = py::none(), "max_vertices"_a = py::none(),
+        "max_edge_split_depth"_a = py::none(), "shard"_a = py::none(), "output"_a = py::none(),
+        "half"_a = false, "float32"_a = false, "stream"_a = false, "reproducible"_a = false,
+        "checkpoint"_a = py::none(), "resume"_a = py::none(), "checkpoint_every"_a = 30.0,
+        "max_memory"_a = py::none(),
+        R"(Bakes per-vertex SH transfer (bake/bake.hpp) and returns it as a float32 array of
+shape (V, K) — (V, 3, K) for RGB transfer — with K = bands² or coeffs (default 16; 25 for glossy).
 
 vertices (V, 3) float and faces (T, 3) int, or a shprt.Mesh as the only positional argument.
 normals=None computes them; albedo=None is 0.8 grey. samples S directions per vertex from
@@ -162,8 +297,18 @@ sampler 'sobol' (default), 'uniform' (the paper's), 'stratified' or 'fibonacci' 
 transfer 'shadowed' (default), 'unshadowed' or 'interreflected' (RGB, shape (V, 3, K); with
 bounces N or 'converged' until the largest relative change is under tolerance, two_sided,
 indirect_samples (0 = the default) and source_spacing (metres, 'vertices' or None = the
-default): docs/interreflection.md); threads 0 = all; device 'cpu', 'cuda' or 'auto'. The same options and
-seed give the same bits as `shprt bake`.
+default): docs/interreflection.md); threads 0 = all; device 'cpu', 'cuda' or 'auto'. The same
+options and seed give the same bits as `shprt bake`.
+
+The rest is `shprt bake`'s, with the same names and values (bake/request.hpp):
+receivers — shard 'I/N' or (I, N) (that part of the vertices: the array holds its rows);
+domain 'texel' with resolution W, (W, H) or 'WxH' and uv_set; refine (a tolerance) with
+max_vertices and max_edge_split_depth. Output — output= a .shprt path writes the file (needed for
+texels and refinement) and returns a dict (path, receivers, K, samples, encoding, seconds, ...)
+in place of the array; with half, float32 (texels), stream (rows into the file as they finish)
+and reproducible. checkpoint= a path keeps finished rows so that a cancelled bake continues with
+resume= that path (bit for bit; checkpoint_every seconds between syncs); max_memory (bytes, or
+'512M', '4G') refuses a bake whose estimate is larger (default: the available memory).
 
 The GIL is released while it runs. progress(done, total) is called on this thread about 20
 times a second (an interreflected bake reports its rays, then the bounces' rows, each from 0 to

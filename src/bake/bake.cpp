@@ -189,6 +189,8 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
     return bytes;
 }
 
+int default_coeffs(TransferKind kind) { return kind == TransferKind::glossy ? sh_count(5) : 16; }
+
 void validate(const BakeOptions& options) {
     SHPRT_CHECK(options.K >= 1 && options.K <= kMaxBakeCoeffs, invalid_argument,
                 "basis size K = {} is out of range (1 to {} coefficients, i.e. up to 32 bands)",
@@ -206,12 +208,12 @@ void validate(const BakeOptions& options) {
                 "threads = {} must be 0 (all) to {}", options.threads, kMaxBakeThreads);
     SHPRT_CHECK(options.device_index >= 0, invalid_argument, "device index {} must be ≥ 0",
                 options.device_index);
-    SHPRT_CHECK(options.bounces >= 0, invalid_argument, "bounces = {} must be 0 or more",
-                options.bounces);
-    SHPRT_CHECK(options.tolerance > 0 && std::isfinite(options.tolerance), invalid_argument,
-                "tolerance = {} must be a positive number", options.tolerance);
-    SHPRT_CHECK(options.max_bounces >= 1, invalid_argument, "max_bounces = {} must be 1 or more",
-                options.max_bounces);
+    SHPRT_CHECK(options.bounces >= 0 && options.bounces <= kMaxBounces, invalid_argument,
+                "bounces = {} must be 0 to {}", options.bounces, kMaxBounces);
+    SHPRT_CHECK(options.tolerance > 0 && options.tolerance < 1, invalid_argument,
+                "tolerance = {} must be between 0 and 1 (a relative change)", options.tolerance);
+    SHPRT_CHECK(options.max_bounces >= 1 && options.max_bounces <= kMaxBounces, invalid_argument,
+                "max_bounces = {} must be 1 to {}", options.max_bounces, kMaxBounces);
     SHPRT_CHECK(options.indirect_samples <= kMaxBakeSamples, invalid_argument,
                 "indirect samples = {} is too many (at most {})", options.indirect_samples,
                 kMaxBakeSamples);

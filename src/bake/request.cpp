@@ -8,6 +8,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/memory.hpp"
+#include "shprt/core/parse.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/checkpoint.hpp"
 #include "shprt/io/shprt_stream.hpp"
@@ -215,7 +216,69 @@ BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
     return out;
 }
 
+// "W" (square) or "WxH", each 1..kMaxTexelSide.
+std::pair<int, int> parse_resolution(const std::string& text) {
+    const std::size_t x = text.find('x');
+    std::int64_t w = 0, h = 0;
+    const bool ok =
+        parse_integer(text.substr(0, x), w) == IntegerParse::ok &&
+        (x == std::string::npos ? (h = w, true)
+                                : parse_integer(text.substr(x + 1), h) == IntegerParse::ok);
+    SHPRT_CHECK(ok && w >= 1 && h >= 1 && w <= kMaxTexelSide && h <= kMaxTexelSide,
+                invalid_argument, "--resolution '{}': expected W or WxH, each 1 to {}", text,
+                kMaxTexelSide);
+    return {int(w), int(h)};
+}
+
+// "I/N" with 0 ≤ I < N: shard I of N.
+VertexShard parse_shard(const std::string& text) {
+    const std::size_t slash = text.find('/');
+    std::int64_t i = -1, n = 0;
+    SHPRT_CHECK(slash != std::string::npos &&
+                    parse_integer(text.substr(0, slash), i) == IntegerParse::ok &&
+                    parse_integer(text.substr(slash + 1), n) == IntegerParse::ok && i >= 0 &&
+                    n >= 1 && i < n && n < 1'000'000'000,
+                invalid_argument, "--shard '{}': expected I/N with 0 <= I < N (e.g. 0/4)", text);
+    return VertexShard{std::size_t(i), std::size_t(n)};
+}
+
 }  // namespace
+
+ReceiverSet parse_receivers(const ReceiverChoice& c) {
+    const bool texel = parse_receiver_domain(c.domain) == ReceiverDomain::texel;
+    SHPRT_CHECK(!texel || !c.resolution.empty(), invalid_argument,
+                "--domain texel needs --resolution W or WxH");
+    SHPRT_CHECK(texel || (c.resolution.empty() && c.uv_set == 0), invalid_argument,
+                "--resolution and --uv-set need --domain texel");
+    SHPRT_CHECK(!(texel && c.refine), invalid_argument,
+                "--refine refines vertices: it does not go with --domain texel");
+    SHPRT_CHECK(c.refine || (!c.max_vertices && !c.max_edge_split_depth), invalid_argument,
+                "--max-vertices and --max-edge-split-depth need --refine");
+    SHPRT_CHECK(c.shard.empty() || (!texel && !c.refine), invalid_argument,
+                "--shard does not go with {}", texel ? "--domain texel" : "--refine");
+    if (texel) {
+        const auto [width, height] = parse_resolution(c.resolution);
+        SHPRT_CHECK(c.uv_set >= 0, invalid_argument, "--uv-set {}: must be 0 or more", c.uv_set);
+        return TexelGrid{width, height, c.uv_set};
+    }
+    if (!c.shard.empty()) return parse_shard(c.shard);
+    if (!c.refine) return AllVertices{};
+    RefinedVertices r;
+    SHPRT_CHECK(*c.refine > 0 && std::isfinite(*c.refine), invalid_argument,
+                "--refine {}: the tolerance must be a positive fraction (e.g. 0.05)", *c.refine);
+    r.refine.tolerance = *c.refine;
+    if (c.max_vertices) {
+        SHPRT_CHECK(*c.max_vertices >= 1, invalid_argument, "--max-vertices {}: must be positive",
+                    *c.max_vertices);
+        r.refine.max_vertices = static_cast<std::size_t>(*c.max_vertices);
+    }
+    if (c.max_edge_split_depth) {
+        SHPRT_CHECK(*c.max_edge_split_depth >= 1 && *c.max_edge_split_depth <= 30, invalid_argument,
+                    "--max-edge-split-depth {}: must be 1 to 30", *c.max_edge_split_depth);
+        r.refine.max_depth = static_cast<int>(*c.max_edge_split_depth);
+    }
+    return r;
+}
 
 BakeOutput::BakeOutput(const BakeRequest& r, const Mesh& mesh, const Receivers& receivers,
                        WriteOptions write)

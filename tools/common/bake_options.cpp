@@ -33,7 +33,8 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
                    "--device cuda|auto: the GPU memory the bake may use (512M, 4G, ...; default "
                    "90% of what is free); interreflected bounces copy in what does not fit");
     app.add_option("--bounces", args.bounces,
-                   "Interreflected: bounces N (0 to 10000; default 1) or 'converged'");
+                   fmt::format("Interreflected: bounces N (0 to {}; default 1) or 'converged'",
+                               kMaxBounces));
     app.add_option("--tolerance", args.tolerance,
                    "Interreflected, --bounces converged: stop when no vertex's transfer changes "
                    "by more than this fraction (default 1e-4)");
@@ -86,8 +87,8 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
         SHPRT_CHECK(*a.coeffs >= 1 && *a.coeffs <= kMaxBakeCoeffs, invalid_argument,
                     "--coeffs {}: must be 1 to {}", *a.coeffs, kMaxBakeCoeffs);
         o.K = static_cast<int>(*a.coeffs);
-    } else if (o.transfer == TransferKind::glossy) {
-        o.K = sh_count(5);  // glossy default: 5 bands, 25×25 matrices
+    } else {
+        o.K = default_coeffs(o.transfer);
     }
     SHPRT_CHECK(a.samples >= 1 && a.samples <= kMaxBakeSamples, invalid_argument,
                 "--samples {}: must be 1 to {}", a.samples, kMaxBakeSamples);
@@ -143,10 +144,11 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
             o.converge = true;
         } else {
             std::int64_t n = 0;
-            SHPRT_CHECK(parse_integer(a.bounces, n) == IntegerParse::ok && n >= 0 && n <= 10000,
-                        invalid_argument,
-                        "--bounces '{}': expected a number of bounces 0 to 10000 or 'converged'",
-                        a.bounces);
+            SHPRT_CHECK(
+                parse_integer(a.bounces, n) == IntegerParse::ok && n >= 0 && n <= kMaxBounces,
+                invalid_argument,
+                "--bounces '{}': expected a number of bounces 0 to {} or 'converged'", a.bounces,
+                kMaxBounces);
             o.bounces = static_cast<int>(n);
         }
     }

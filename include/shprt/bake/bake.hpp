@@ -66,6 +66,12 @@ inline constexpr std::uint32_t kMaxBakeSamples = std::uint32_t(1) << 24;
 inline constexpr std::uint32_t kIndirectSampleShare = 4;
 // Most worker threads a bake accepts.
 inline constexpr int kMaxBakeThreads = 4096;
+// Most bounces an interreflected bake accepts (BakeOptions::bounces and max_bounces).
+inline constexpr int kMaxBounces = 10000;
+
+// The basis size K of a bake when the caller gives neither bands nor K: 16 (4 bands), and 25 (5
+// bands: 25×25 matrices) for glossy transfer. The command line and Python both ask here.
+int default_coeffs(TransferKind kind);
 
 // Where a bake runs: the CPU, a CUDA GPU, or the GPU when one is usable and else the CPU.
 enum class Device { cpu, cuda, automatic };
@@ -74,7 +80,7 @@ Device parse_device(const std::string& name);  // "cpu", "cuda", "auto"; throws 
 
 struct BakeOptions {
     TransferKind transfer = TransferKind::shadowed;
-    int K = 16;                    // basis size, 1..kMaxBakeCoeffs; need not be a square
+    int K = 16;  // basis size, 1..kMaxBakeCoeffs; need not be a square (default_coeffs)
     std::uint32_t samples = 1024;  // S, 1..kMaxBakeSamples directions (ignored when a
                                    // DirectionSet is given)
     // Sobol (Owen-scrambled): the paper table measured 7× lower error than the paper's uniform

@@ -51,6 +51,21 @@ struct RefinedVertices {
 };
 using ReceiverSet = std::variant<AllVertices, VertexShard, TexelGrid, RefinedVertices>;
 
+// The receivers as the front ends spell them (`shprt bake --domain --resolution --uv-set --refine
+// --max-vertices --max-edge-split-depth --shard`, and Python's keywords of the same names), parsed
+// by one function so that both take the same values.
+struct ReceiverChoice {
+    std::string domain = "vertex";  // "vertex" or "texel"
+    std::string resolution;         // texel: "W" (square) or "WxH", each 1..kMaxTexelSide
+    int uv_set = 0;                 // texel: the UV set
+    std::optional<double> refine;   // vertex: the refinement's tolerance (> 0)
+    std::optional<long long> max_vertices, max_edge_split_depth;  // refinement's limits
+    std::string shard;  // vertex: "I/N", part I of N (0 ≤ I < N), or empty
+};
+// The ReceiverSet of `choice`; one-line Error(invalid_argument) naming the option for a bad value
+// or options that need another (--resolution without --domain texel, --shard with texels, ...).
+ReceiverSet parse_receivers(const ReceiverChoice& choice);
+
 // A .shprt file as the output.
 struct FileOutput {
     std::string path;
