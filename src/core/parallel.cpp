@@ -4,6 +4,7 @@
 // instantiated here would report every task. The fork and join are marked instead (core/tsan.hpp).
 #include "shprt/core/parallel.hpp"
 
+#include "shprt/core/log.hpp"
 #include "shprt/core/tsan.hpp"
 
 #include <tbb/blocked_range.h>
@@ -13,12 +14,29 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <new>
 
 namespace shprt {
 
+int max_thread_count() {
+    const auto allowed =
+        tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+    return static_cast<int>(std::clamp<std::size_t>(allowed, 1, 1 << 20));
+}
+
 int thread_count(int threads) {
-    return threads > 0 ? threads : std::max(1, tbb::info::default_concurrency());
+    if (threads <= 0) return std::max(1, tbb::info::default_concurrency());
+    const int allowed = max_thread_count();
+    if (threads <= allowed) return threads;
+    // Beyond the limit TBB would print its own warning (and an empty line) on stderr and run
+    // with fewer workers than the arena claims; clamping here keeps the count that is reported
+    // the count that runs. One warning per requested count, not one per call.
+    static std::atomic<int> warned{0};
+    if (warned.exchange(threads) != threads)
+        log_warn("{} threads requested, but TBB allows at most {} on this machine: using {}",
+                 threads, allowed, allowed);
+    return allowed;
 }
 
 struct WorkerThreads::Impl {

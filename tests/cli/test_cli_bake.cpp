@@ -16,6 +16,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 
 namespace fs = std::filesystem;
@@ -76,6 +77,25 @@ TEST_F(CliBake, ThreadCountDoesNotChangeTheCoefficients) {
     EXPECT_EQ(a.transfer.layout.K, 9);
     EXPECT_EQ(a.transfer.sampler, shprt::SamplerKind::stratified);
     EXPECT_EQ(a.transfer.coeffs, b.transfer.coeffs);
+}
+
+// More threads than the machine allows: one shprt warning (not TBB's, nor an empty line), and the
+// report names the threads that ran.
+TEST_F(CliBake, TooManyThreadsAreClampedWithOneWarning) {
+    const int cpus = std::max(1, int(std::thread::hardware_concurrency()));
+    const std::string file = out("p.shprt");
+    const RunResult r = shprt("bake builtin:plane --samples 16 --threads " +
+                              std::to_string(cpus + 3) + " -o '" + file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("TBB Warning"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("\n\n"), std::string::npos) << r.err;
+    const std::string warning =
+        "shprt: warning: " + std::to_string(cpus + 3) + " threads requested";
+    EXPECT_NE(r.err.find(warning), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(warning), r.err.rfind(warning)) << "one warning: " << r.err;
+    EXPECT_EQ((r.out + r.err).find("cpu: " + std::to_string(cpus + 3) + " threads"),
+              std::string::npos)
+        << r.out << r.err;
 }
 
 TEST_F(CliBake, HalfPrecisionFileIsSmaller) {

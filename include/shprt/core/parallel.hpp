@@ -11,7 +11,14 @@
 
 namespace shprt {
 
-// `threads` if > 0, else TBB's default concurrency (at least 1).
+// The most threads an arena may have: TBB's max_allowed_parallelism (the CPUs this process may
+// use, or a lower tbb::global_control limit), at least 1.
+int max_thread_count();
+
+// The threads a loop of `threads` runs on: `threads` if > 0, clamped to max_thread_count() with
+// one log_warn line naming both counts (once per requested count, however often it is asked);
+// else TBB's default concurrency (at least 1). Arena, the bakes and their reports ("cpu: N
+// threads") all take their count from here, so what is reported is what runs.
 int thread_count(int threads);
 
 // How a range is cut: TBB's auto_partitioner (ranges of at least about grain/2, sized by the
