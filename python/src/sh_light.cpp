@@ -75,6 +75,7 @@ ShLight light_from_array(py::handle obj) {
     light.K = int(a.shape(1));
     check_K(light.K, kMaxLightK);
     light.coeffs.assign(a.data(), a.data() + a.size());
+    check_finite_light(light, "light");  // the command line's check of every light it makes
     return light;
 }
 
@@ -241,8 +242,12 @@ rotated by (yaw, pitch, roll) degrees.)");
             ShLight light;
             {
                 py::gil_scoped_release release;
+                // What the command line refuses in a light file: NaN, infinite or negative
+                // pixels, and a light so bright that it overflows float.
+                check_radiance_map("array", map);
                 light = project(map, K);
             }
+            check_finite_light(light, "the image");
             return light_array(std::move(light));
         };
     };

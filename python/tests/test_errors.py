@@ -71,3 +71,38 @@ def test_sh_and_light_arguments():
         f = shprt.File(shprt.Mesh(V, F), np.ones((3, 4), np.float32))
         check("invalid_argument", r"light: expected an array of shape \(3, K\)", shprt.shade, f,
               np.ones((4, 4)))
+
+
+@pytest.mark.parametrize("project", ["light_from_equirect", "light_from_cube_cross"])
+@pytest.mark.parametrize("value, match", [
+    (np.nan, r"image array has a NaN value at pixel \(3, 2\) channel G"),
+    (np.inf, r"image array has a infinite value at pixel \(3, 2\) channel G"),
+    (-1.0, r"image array has a negative value -1 at pixel \(3, 2\) channel G"),
+])
+def test_a_light_image_is_checked_as_the_command_line_checks_a_file(project, value, match):
+    # The same check (and words) as `shprt shade --light FILE.exr`: no NaN coefficients come out.
+    image = np.ones((12, 16, 3), np.float32)
+    image[2, 3, 1] = value
+    check("format", match, getattr(shprt, project), image, K=9)
+    check("format", r"NaN value at pixel \(0, 0\) channel R", getattr(shprt, project),
+          np.full((12, 16, 3), np.nan, np.float32))
+
+
+def test_a_light_too_bright_for_float_is_refused():
+    check("invalid_argument", r"the image is too bright: its SH coefficient 0 of channel R "
+                              r"overflows float",
+          shprt.light_from_equirect, np.full((8, 16, 3), 3e38, np.float32))
+    # A coefficient array given directly is checked as well (shade and render take them).
+    bad = np.zeros((3, 4), np.float32)
+    bad[1, 2] = np.nan
+    check("invalid_argument", r"light is not a number: its SH coefficient 2 of channel G is NaN",
+          shprt.light_rotate, bad, np.eye(3))
+    bad[1, 2] = np.inf
+    check("invalid_argument", r"light is too bright", shprt.light_rotate, bad, np.eye(3))
+
+
+@pytest.mark.skipif(not shprt.HAS_RENDER, reason="this build has no renderer (render/)")
+def test_shade_refuses_a_light_that_is_not_finite():
+    f = shprt.File(shprt.Mesh(V, F), np.ones((3, 4), np.float32), samples=1)
+    bad = np.full((3, 4), np.nan, np.float32)
+    check("invalid_argument", r"light is not a number", shprt.shade, f, bad)

@@ -55,14 +55,11 @@ void check_header_size(const std::string& path, int width, int height,
     if (check_size) check_size(width, height);
 }
 
-void check_finite(const std::string& path, const Image& image) {
-    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
-        if (!std::isfinite(image.rgb[i])) {
-            const std::size_t p = i / 3;
+void check_finite_row(const std::string& path, int y, int width, const float* rgb) {
+    for (std::size_t i = 0; i < 3 * std::size_t(width); ++i) {
+        if (!std::isfinite(rgb[i]))
             fail(ErrorCode::format, "image {} has a {} value at pixel ({}, {}) channel {}", path,
-                 std::isnan(image.rgb[i]) ? "NaN" : "infinite", p % image.width, p / image.width,
-                 "RGB"[i % 3]);
-        }
+                 std::isnan(rgb[i]) ? "NaN" : "infinite", i / 3, y, "RGB"[i % 3]);
     }
 }
 
@@ -167,23 +164,83 @@ Image load_hdr(const std::string& path, const std::string& bytes,
 
 // ---- PNG -------------------------------------------------------------------------------------
 
+// CRC-32 of PNG chunks (ISO 3309, polynomial 0xedb88320; the PNG specification's Annex D).
+std::uint32_t png_crc32(const unsigned char* p, std::size_t n) {
+    static const std::array<std::uint32_t, 256> table = [] {
+        std::array<std::uint32_t, 256> t{};
+        for (std::uint32_t i = 0; i < 256; ++i) {
+            std::uint32_t c = i;
+            for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+            t[i] = c;
+        }
+        return t;
+    }();
+    std::uint32_t c = 0xffffffffu;
+    for (std::size_t i = 0; i < n; ++i) c = table[(c ^ p[i]) & 0xff] ^ (c >> 8);
+    return c ^ 0xffffffffu;
+}
+
+// A chunk type from the file, non-printable bytes as '?'.
+std::string printable_chunk_type(std::string t) {
+    for (char& c : t)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+    return t;
+}
+
+std::uint32_t get_be32(const unsigned char* p) {
+    return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) |
+           std::uint32_t(p[3]);
+}
+
+// The PNG's size from its IHDR chunk (checked first, as every format's header size is), then its
+// chunk structure, before stb_image (which checks no CRC, and stops reading after the last IDAT
+// chunk): chunks of length, type, data and a CRC over type and data, each CRC right, up to IEND.
+// stb_image's own size refusal ("unknown image type" for an RGB image over 2^30 bytes) is never
+// reached: the size line is ours.
+void check_png(const std::string& path, const std::string& bytes,
+               const ImageSizeCheck& check_size) {
+    static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+    const std::size_t n = bytes.size();
+    SHPRT_CHECK(n >= 8 && std::memcmp(b, kSignature, 8) == 0, format,
+                "cannot decode image {}: not a PNG file (no PNG signature)", path);
+    SHPRT_CHECK(n >= 8 + 8 + 13 + 4, format, "image {} is truncated: no PNG header chunk (IHDR)",
+                path);
+    SHPRT_CHECK(get_be32(b + 8) == 13 && std::memcmp(b + 12, "IHDR", 4) == 0, format,
+                "cannot decode image {}: the first PNG chunk is '{}', not IHDR", path,
+                printable_chunk_type(std::string(reinterpret_cast<const char*>(b + 12), 4)));
+    const auto side = [](std::uint32_t v) {
+        return static_cast<int>(std::min<std::uint32_t>(v, 0x7fffffffu));
+    };
+    check_header_size(path, side(get_be32(b + 16)), side(get_be32(b + 20)), check_size);
+    std::size_t pos = 8;
+    for (int chunk = 0;; ++chunk) {
+        SHPRT_CHECK(n - pos >= 12, format, "image {} is truncated: no PNG end chunk (IEND)", path);
+        const std::uint32_t length = get_be32(b + pos);
+        SHPRT_CHECK(length <= 0x7fffffffu && length <= n - pos - 12, format,
+                    "image {} is truncated: PNG chunk {} at byte {} claims {} bytes", path, chunk,
+                    pos, length);
+        const std::string type(reinterpret_cast<const char*>(b + pos + 4), 4);
+        SHPRT_CHECK(
+            png_crc32(b + pos + 4, 4 + std::size_t(length)) == get_be32(b + pos + 8 + length),
+            format, "image {} is corrupt: PNG chunk '{}' at byte {} fails its CRC", path,
+            printable_chunk_type(type), pos);
+        pos += 12 + std::size_t(length);
+        if (type == "IEND") return;
+    }
+}
+
 Image load_png(const std::string& path, const std::string& bytes,
                const ImageSizeCheck& check_size) {
     SHPRT_CHECK(bytes.size() <= std::size_t(std::numeric_limits<int>::max()), format,
                 "image {} is too large", path);
-    // stb_image stops reading after the last IDAT chunk; a file cut inside its final IEND chunk
-    // would pass unnoticed, so the trailer is checked here.
-    static constexpr char kIend[] = {0,   0,   0,      0,      'I',    'E',
-                                     'N', 'D', '\xAE', '\x42', '\x60', '\x82'};
-    SHPRT_CHECK(bytes.find(std::string_view(kIend, sizeof(kIend))) != std::string::npos, format,
-                "image {} is truncated: no PNG end chunk (IEND)", path);
+    check_png(path, bytes, check_size);
     const auto* mem = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int len = static_cast<int>(bytes.size());
     int w = 0, h = 0, comp = 0;
     SHPRT_CHECK(stbi_info_from_memory(mem, len, &w, &h, &comp), format,
                 "cannot decode image {}: {}", path,
                 stbi_failure_reason() ? stbi_failure_reason() : "not a PNG file");
-    check_header_size(path, w, h, check_size);
     // 16-bit PNGs are reduced to 8 bits by stb_image; environment maps worth more precision
     // come as .exr or .hdr.
     std::unique_ptr<stbi_uc, StbFree> data(stbi_load_from_memory(mem, len, &w, &h, &comp, 3));
@@ -247,8 +304,16 @@ std::string printable_exr_type(const std::string& t) {
 // by the same walk tinyexr makes (name\0 type\0 size value, until an empty name). Where the walk
 // breaks tinyexr reports an error, but only after it has converted (and asserted on) the
 // attributes read so far, so those are checked too.
-void check_exr_attributes(const std::string& path, const unsigned char* mem, std::size_t size,
-                          const EXRVersion& version) {
+// Where the walk found the header's end (just past its terminating empty name; 0 if it broke
+// off) and the dataWindow attribute's 16 bytes (0 if absent): what read_image_rows needs to cut a
+// scanline file into files of a few rows.
+struct ExrLayout {
+    std::size_t header_end = 0, data_window_at = 0;
+};
+
+ExrLayout check_exr_attributes(const std::string& path, const unsigned char* mem, std::size_t size,
+                               const EXRVersion& version) {
+    ExrLayout layout;
     std::size_t pos = 8;  // magic and version
     bool tiled = false;
     std::vector<std::string> types;
@@ -284,71 +349,101 @@ void check_exr_attributes(const std::string& path, const unsigned char* mem, std
         if (name == "type" && len > 0 && data[0] != 0)
             types.emplace_back(reinterpret_cast<const char*>(data),
                                strnlen(reinterpret_cast<const char*>(data), len));
+        if (name == "dataWindow" && len == 16) layout.data_window_at = pos + head + 4;
         pos += head + 4 + len;
     }
+    if (pos < size && mem[pos] == 0) layout.header_end = pos + 1;
     for (const std::string& t : types)
         SHPRT_CHECK((t == "scanlineimage" && !tiled) || (t == "tiledimage" && tiled), format,
                     "cannot decode image {}: OpenEXR part type '{}' does not match its {} layout "
                     "(deep or corrupt file)",
                     path, printable_exr_type(t), tiled ? "tiled" : "scanline");
+    return layout;
 }
 
-Image load_exr(const std::string& path, const std::string& bytes,
-               const ImageSizeCheck& check_size) {
+// A parsed OpenEXR header, its size checked (ours, then the caller's) and its channels chosen.
+struct ExrFile {
+    ExrHeaderGuard h;
+    ExrLayout layout;
+    int index[3] = {-1, -1, -1};  // the channels read as R, G, B
+};
+
+// Which channels are R, G and B: by name, or one channel of any name read as grey.
+void choose_exr_channels(const std::string& path, ExrFile& f) {
+    const EXRHeader& header = f.h.header;
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < header.num_channels; ++c)
+        for (int k = 0; k < 3; ++k)
+            if (std::strcmp(header.channels[c].name, names[k]) == 0) f.index[k] = c;
+    if (header.num_channels == 1) f.index[0] = f.index[1] = f.index[2] = 0;
+    SHPRT_CHECK(f.index[0] >= 0 && f.index[1] >= 0 && f.index[2] >= 0, format,
+                "image {}: needs R, G and B channels (or a single channel)", path);
+    for (int k = 0; k < 3; ++k)
+        SHPRT_CHECK(header.requested_pixel_types[f.index[k]] != TINYEXR_PIXELTYPE_UINT, unsupported,
+                    "image {}: integer channels are not supported", path);
+}
+
+// Parses `mem` (a whole file, or one cut from it by read_exr_rows) into `header`, every channel
+// requested as float.
+void parse_exr_header(const std::string& path, const unsigned char* mem, std::size_t size,
+                      const EXRVersion& version, EXRHeader& header) {
+    const char* err = nullptr;
+    const int ret = ParseEXRHeaderFromMemory(&header, &version, mem, size, &err);
+    if (ret != TINYEXR_SUCCESS) fail_exr(path, err, ret);
+    for (int c = 0; c < header.num_channels; ++c)
+        if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
+            header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+}
+
+void open_exr(const std::string& path, const std::string& bytes, const ImageSizeCheck& check_size,
+              EXRVersion& version, ExrFile& f) {
     const auto* mem = reinterpret_cast<const unsigned char*>(bytes.data());
-    EXRVersion version;
-    int ret = ParseEXRVersionFromMemory(&version, mem, bytes.size());
+    const int ret = ParseEXRVersionFromMemory(&version, mem, bytes.size());
     SHPRT_CHECK(ret == TINYEXR_SUCCESS, format, "image {} is not an OpenEXR file (tinyexr code {})",
                 path, ret);
     SHPRT_CHECK(!version.multipart && !version.non_image, unsupported,
                 "image {}: multi-part and deep OpenEXR files are not supported", path);
-    check_exr_attributes(path, mem, bytes.size(), version);
-    ExrHeaderGuard h;
-    const char* err = nullptr;
-    ret = ParseEXRHeaderFromMemory(&h.header, &version, mem, bytes.size(), &err);
-    if (ret != TINYEXR_SUCCESS) fail_exr(path, err, ret);
+    f.layout = check_exr_attributes(path, mem, bytes.size(), version);
+    parse_exr_header(path, mem, bytes.size(), version, f.h.header);
     // The data window decides what LoadEXRImageFromMemory allocates.
-    const EXRBox2i& window = h.header.data_window;
+    const EXRBox2i& window = f.h.header.data_window;
     const long long header_w = (long long)window.max_x - window.min_x + 1;
     const long long header_h = (long long)window.max_y - window.min_y + 1;
     const auto side = [](long long s) {
         return static_cast<int>(std::clamp<long long>(s, 0, std::numeric_limits<int>::max()));
     };
     check_header_size(path, side(header_w), side(header_h), check_size);
-    for (int c = 0; c < h.header.num_channels; ++c)
-        if (h.header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
-            h.header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+    choose_exr_channels(path, f);
+}
 
-    ExrImageGuard im;
+// Decodes `mem` with `header` into `im` (which frees it).
+void decode_exr(const std::string& path, const unsigned char* mem, std::size_t size,
+                const EXRHeader& header, ExrImageGuard& im) {
     // tinyexr frees the image itself when decoding fails, but only the channel planes counted
     // in num_channels, which it sets on success: preset it so the planes are freed too.
-    im.image.num_channels = h.header.num_channels;
-    ret = LoadEXRImageFromMemory(&im.image, &h.header, mem, bytes.size(), &err);
+    im.image.num_channels = header.num_channels;
+    const char* err = nullptr;
+    const int ret = LoadEXRImageFromMemory(&im.image, &header, mem, size, &err);
     if (ret != TINYEXR_SUCCESS) fail_exr(path, err, ret);
     im.loaded = true;
-    check_dimensions(path, im.image.width, im.image.height);
+}
 
-    // Channels: R, G, B by name, or one channel of any name read as grey.
-    int index[3] = {-1, -1, -1};
-    const char* names[3] = {"R", "G", "B"};
-    for (int c = 0; c < h.header.num_channels; ++c)
-        for (int k = 0; k < 3; ++k)
-            if (std::strcmp(h.header.channels[c].name, names[k]) == 0) index[k] = c;
-    if (h.header.num_channels == 1) index[0] = index[1] = index[2] = 0;
-    SHPRT_CHECK(index[0] >= 0 && index[1] >= 0 && index[2] >= 0, format,
-                "image {}: needs R, G and B channels (or a single channel)", path);
-    for (int k = 0; k < 3; ++k)
-        SHPRT_CHECK(h.header.requested_pixel_types[index[k]] != TINYEXR_PIXELTYPE_UINT, unsupported,
-                    "image {}: integer channels are not supported", path);
+// The whole of an opened file, decoded.
+Image decode_exr_image(const std::string& path, const std::string& bytes, const ExrFile& f) {
+    const EXRHeader& header = f.h.header;
+    ExrImageGuard im;
+    decode_exr(path, reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), header,
+               im);
+    check_dimensions(path, im.image.width, im.image.height);
 
     const int W = im.image.width, H = im.image.height;
     Image image = Image::make(W, H);
     const auto put = [&](unsigned char** planes, int src, int x, int y) {
         float* dst = image.pixel(x, y);
-        for (int k = 0; k < 3; ++k) dst[k] = reinterpret_cast<float**>(planes)[index[k]][src];
+        for (int k = 0; k < 3; ++k) dst[k] = reinterpret_cast<float**>(planes)[f.index[k]][src];
     };
-    if (h.header.tiled) {
-        const int tx = h.header.tile_size_x, ty = h.header.tile_size_y;
+    if (header.tiled) {
+        const int tx = header.tile_size_x, ty = header.tile_size_y;
         for (int t = 0; t < im.image.num_tiles; ++t) {
             const EXRTile& tile = im.image.tiles[t];
             for (int j = 0; j < tile.height; ++j)
@@ -365,6 +460,113 @@ Image load_exr(const std::string& path, const std::string& bytes,
     return image;
 }
 
+Image load_exr(const std::string& path, const std::string& bytes,
+               const ImageSizeCheck& check_size) {
+    EXRVersion version;
+    ExrFile f;
+    open_exr(path, bytes, check_size, version, f);
+    return decode_exr_image(path, bytes, f);
+}
+
+// Rows per chunk of a scanline file by compression (tinyexr's DecodeChunk; OpenEXR's table); 0
+// for a compression read_exr_rows leaves whole.
+int exr_lines_per_chunk(int compression) {
+    switch (compression) {
+        case TINYEXR_COMPRESSIONTYPE_NONE:
+        case TINYEXR_COMPRESSIONTYPE_RLE:
+        case TINYEXR_COMPRESSIONTYPE_ZIPS:
+            return 1;
+        case TINYEXR_COMPRESSIONTYPE_ZIP:
+            return 16;
+        case TINYEXR_COMPRESSIONTYPE_PIZ:
+            return 32;
+        default:
+            return 0;
+    }
+}
+
+// About this many rows are decoded at a time: 64 rows of a 16384-wide map are 12 MiB of floats.
+constexpr int kExrRowsPerBlock = 64;
+
+std::int32_t get_i32(const unsigned char* p) {
+    std::int32_t v;
+    std::memcpy(&v, p, 4);  // little-endian, as this machine (and check_exr_attributes)
+    return v;
+}
+
+// An OpenEXR file a block of rows at a time. tinyexr 1.0.1 decodes only whole files, so each
+// block is cut out as a file of its own: the header with its dataWindow narrowed to the block's
+// rows, an offset table for the block's chunks, and the chunks, copied byte for byte; tinyexr
+// decodes and checks that file as it would the whole one. Only what can be cut exactly is cut —
+// a scanline file in increasing line order whose compression has a known chunk height, whose
+// offset table is complete and whose chunks lie in the file, each at the rows it claims; anything
+// else (tiled files, a broken table tinyexr would rebuild) is decoded whole.
+void read_exr_rows(const std::string& path, const std::string& bytes,
+                   const ImageSizeCheck& check_size, const ImageRowSink& row) {
+    EXRVersion version;
+    ExrFile f;
+    open_exr(path, bytes, check_size, version, f);
+    const EXRHeader& header = f.h.header;
+    const EXRBox2i window = header.data_window;
+    const int W = window.max_x - window.min_x + 1, H = window.max_y - window.min_y + 1;
+    const auto* mem = reinterpret_cast<const unsigned char*>(bytes.data());
+    const std::size_t size = bytes.size(), header_end = f.layout.header_end;
+    const int lines = exr_lines_per_chunk(header.compression_type);
+    bool cut = !header.tiled && header.line_order == 0 && lines > 0 && header_end > 0 &&
+               f.layout.data_window_at > 0;
+    const std::size_t chunks = cut ? (std::size_t(H) + lines - 1) / std::size_t(lines) : 0;
+    std::vector<std::uint64_t> offset(chunks), length(chunks);
+    const std::size_t table_end = header_end + 8 * chunks;
+    cut = cut && table_end <= size;
+    for (std::size_t c = 0; cut && c < chunks; ++c) {
+        std::memcpy(&offset[c], mem + header_end + 8 * c, 8);
+        cut = offset[c] >= table_end && offset[c] <= size - 8 &&
+              get_i32(mem + offset[c]) == window.min_y + std::int64_t(c) * lines;
+        const std::int64_t data = cut ? get_i32(mem + offset[c] + 4) : 0;
+        cut = cut && data > 0 && std::uint64_t(data) <= size - offset[c] - 8;
+        length[c] = 8 + std::uint64_t(data);
+    }
+    if (!cut) {
+        const Image image = decode_exr_image(path, bytes, f);
+        for (int y = 0; y < image.height; ++y) row(y, image.pixel(0, y));
+        return;
+    }
+    const std::size_t per_block = std::max(1, kExrRowsPerBlock / lines);
+    std::string block;
+    std::vector<float> rgb(3 * std::size_t(W));
+    for (std::size_t c0 = 0; c0 < chunks; c0 += per_block) {
+        const std::size_t c1 = std::min(chunks, c0 + per_block);
+        const int y0 = int(c0) * lines, y1 = std::min(H, int(c1) * lines);
+        block.assign(bytes, 0, header_end);
+        const std::int32_t window_y[2] = {window.min_y + y0, window.min_y + y1 - 1};
+        std::memcpy(block.data() + f.layout.data_window_at + 4, &window_y[0], 4);
+        std::memcpy(block.data() + f.layout.data_window_at + 12, &window_y[1], 4);
+        block.resize(header_end + 8 * (c1 - c0));
+        for (std::size_t c = c0; c < c1; ++c) {
+            const std::uint64_t at = block.size();
+            std::memcpy(block.data() + header_end + 8 * (c - c0), &at, 8);
+            block.append(bytes, offset[c], length[c]);
+        }
+        const auto* bmem = reinterpret_cast<const unsigned char*>(block.data());
+        ExrHeaderGuard bh;
+        parse_exr_header(path, bmem, block.size(), version, bh.header);
+        ExrImageGuard im;
+        decode_exr(path, bmem, block.size(), bh.header, im);
+        SHPRT_CHECK(im.image.images != nullptr && im.image.width == W &&
+                        im.image.height == y1 - y0 && bh.header.num_channels == header.num_channels,
+                    format, "cannot decode image {}: rows {} to {} decode as {}x{}", path, y0,
+                    y1 - 1, im.image.width, im.image.height);
+        const auto* const* planes = reinterpret_cast<const float* const*>(im.image.images);
+        for (int y = y0; y < y1; ++y) {
+            const std::size_t first = std::size_t(y - y0) * std::size_t(W);
+            for (int x = 0; x < W; ++x)
+                for (int k = 0; k < 3; ++k)
+                    rgb[3 * std::size_t(x) + k] = planes[f.index[k]][first + x];
+            row(y, rgb.data());
+        }
+    }
+}
+
 }  // namespace
 
 Image Image::make(int width, int height) {
@@ -378,6 +580,38 @@ Image Image::make(int width, int height) {
     return image;
 }
 
+void check_image_finite(const std::string& name, const Image& image) {
+    for (int y = 0; y < image.height; ++y)
+        check_finite_row(name, y, image.width, image.pixel(0, y));
+}
+
+void read_image_rows(const std::string& path, const ImageSizeCheck& check_size,
+                     const ImageRowSink& row) {
+    const std::string ext = lower_extension(path);
+    SHPRT_CHECK(ext == ".exr" || ext == ".hdr" || ext == ".png", unsupported,
+                "cannot read image {}: unknown extension '{}' (expected .exr, .hdr or .png)", path,
+                ext);
+    const std::string bytes = read_image_bytes(path);
+    if (ext == ".exr") {
+        int width = 0;
+        read_exr_rows(
+            path, bytes,
+            [&](int w, int h) {
+                width = w;
+                if (check_size) check_size(w, h);
+            },
+            [&](int y, const float* rgb) {
+                check_finite_row(path, y, width, rgb);
+                row(y, rgb);
+            });
+        return;
+    }
+    const Image image =
+        ext == ".hdr" ? load_hdr(path, bytes, check_size) : load_png(path, bytes, check_size);
+    check_image_finite(path, image);
+    for (int y = 0; y < image.height; ++y) row(y, image.pixel(0, y));
+}
+
 Image load_image(const std::string& path, const ImageSizeCheck& check_size) {
     const std::string ext = lower_extension(path);
     SHPRT_CHECK(ext == ".exr" || ext == ".hdr" || ext == ".png", unsupported,
@@ -387,7 +621,7 @@ Image load_image(const std::string& path, const ImageSizeCheck& check_size) {
     Image image = ext == ".exr"   ? load_exr(path, bytes, check_size)
                   : ext == ".hdr" ? load_hdr(path, bytes, check_size)
                                   : load_png(path, bytes, check_size);
-    check_finite(path, image);
+    check_image_finite(path, image);
     return image;
 }
 

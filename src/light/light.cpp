@@ -13,6 +13,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string_view>
 
 namespace shprt {
@@ -54,15 +55,13 @@ bool has_image_extension(const std::string& path) {
 
 // A light's radiance is never negative (nor NaN or infinite: load_image refuses those): the same
 // rule as for constant:V, sun and gradient colours. Checked on every map a light reads.
-void check_radiance_map(const std::string& path, const Image& image) {
-    for (std::size_t i = 0; i < image.rgb.size(); ++i) {
-        if (image.rgb[i] < 0.0f) {
-            const std::size_t p = i / 3;
+void check_radiance_row(const std::string& path, int y, int width, const float* rgb) {
+    for (std::size_t i = 0; i < 3 * std::size_t(width); ++i) {
+        if (rgb[i] < 0.0f)
             fail(ErrorCode::format,
                  "image {} has a negative value {} at pixel ({}, {}) channel {}: a light's "
                  "radiance must be ≥ 0",
-                 path, image.rgb[i], p % image.width, p / image.width, "RGB"[i % 3]);
-        }
+                 path, rgb[i], i / 3, y, "RGB"[i % 3]);
     }
 }
 
@@ -79,26 +78,34 @@ ShLight light_from_file(const std::string& path, int K, char layout /* 'a'uto, '
         return (W % 4 == 0 && H % 3 == 0 && W / 4 == H / 3) ||
                (W % 3 == 0 && H % 4 == 0 && W / 3 == H / 4);
     };
-    // The shape is checked from the header, before the pixels are decoded.
-    const Image image = load_radiance_map(path, [&](int W, int H) {
-        if (layout == 'e' || (layout == 'a' && equirect_shape(W, H))) return;
-        SHPRT_CHECK(cross_shape(W, H), format,
-                    "image {} is {}x{}: expected an equirect map of aspect 2:1 (e.g. 2048x1024) "
-                    "or a cube cross of aspect 4:3 or 3:4 with square faces (e.g. 1024x768)",
-                    path, W, H);
-    });
-    const int W = image.width, H = image.height;
-    if (layout == 'e' || (layout == 'a' && equirect_shape(W, H))) return project_equirect(image, K);
-    return project_cube_cross(image, K);
-}
-
-// Float overflow: a finite but huge radiance (constant:1e38, an RGBE pixel with exponent 255)
-// projects to infinite coefficients, which would shade to inf and NaN.
-void check_finite_light(const ShLight& light, const std::string& what) {
-    for (std::size_t i = 0; i < light.coeffs.size(); ++i)
-        SHPRT_CHECK(std::isfinite(light.coeffs[i]), invalid_argument,
-                    "{} is too bright: its SH coefficient {} of channel {} overflows float", what,
-                    i % std::size_t(light.K), "RGB"[i / std::size_t(light.K)]);
+    // The shape is checked from the header, before the pixels are decoded. An equirect map is
+    // projected row by row as it is read (read_image_rows), so a large map is never held whole; a
+    // cube cross is gathered, its faces being squares across rows.
+    std::optional<EquirectProjection> equirect;
+    Image cross;
+    read_image_rows(
+        path,
+        [&](int W, int H) {
+            if (layout == 'e' || (layout == 'a' && equirect_shape(W, H))) {
+                equirect.emplace(W, H, K);
+                return;
+            }
+            SHPRT_CHECK(cross_shape(W, H), format,
+                        "image {} is {}x{}: expected an equirect map of aspect 2:1 (e.g. "
+                        "2048x1024) or a cube cross of aspect 4:3 or 3:4 with square faces (e.g. "
+                        "1024x768)",
+                        path, W, H);
+            cross = Image::make(W, H);
+        },
+        [&](int y, const float* rgb) {
+            const int width = equirect ? equirect->width() : cross.width;
+            check_radiance_row(path, y, width, rgb);
+            if (equirect)
+                equirect->add_row(rgb);
+            else
+                std::copy(rgb, rgb + 3 * std::size_t(width), cross.pixel(0, y));
+        });
+    return equirect ? equirect->finish() : project_cube_cross(cross, K);
 }
 
 ShLight parse_light_unwrapped(const std::string& spec, int K) {
@@ -168,6 +175,27 @@ ShLight parse_light_unwrapped(const std::string& spec, int K) {
 }
 
 }  // namespace
+
+// Float overflow: a finite but huge radiance (constant:1e38, an RGBE pixel with exponent 255)
+// projects to infinite coefficients, which would shade to inf and NaN.
+void check_finite_light(const ShLight& light, const std::string& what) {
+    for (std::size_t i = 0; i < light.coeffs.size(); ++i) {
+        const std::size_t k = i % std::size_t(light.K);
+        const char channel = "RGB"[i / std::size_t(light.K)];
+        SHPRT_CHECK(!std::isnan(light.coeffs[i]), invalid_argument,
+                    "{} is not a number: its SH coefficient {} of channel {} is NaN", what, k,
+                    channel);
+        SHPRT_CHECK(std::isfinite(light.coeffs[i]), invalid_argument,
+                    "{} is too bright: its SH coefficient {} of channel {} overflows float", what,
+                    k, channel);
+    }
+}
+
+void check_radiance_map(const std::string& name, const Image& image) {
+    check_image_finite(name, image);
+    for (int y = 0; y < image.height; ++y)
+        check_radiance_row(name, y, image.width, image.pixel(0, y));
+}
 
 ShLight ShLight::zero(int K) {
     SHPRT_CHECK(K >= 1 && K <= kMaxLightK, invalid_argument,

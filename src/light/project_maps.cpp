@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 namespace shprt {
@@ -76,85 +77,131 @@ void accumulate_face(const Image& image, int x0, int y0, int n, const CubeFaceFr
 
 }  // namespace
 
-ShLight project_equirect(const Image& map, int K) {
-    check_map(map, "project_equirect");
-    ShLight light = ShLight::zero(K);
-    const int bands = sh_bands_for(K);
-    const int W = map.width, H = map.height;
-    const double dphi = 2.0 * kPi / W;
+// ---- EquirectProjection: the fast path, one row at a time ----------------------------------
+
+struct EquirectProjection::State {
+    int K = 0, bands = 0, full = 0, W = 0, H = 0, next_row = 0;
+    double dphi = 0;
+    std::vector<double> cos_tab, sin_tab;
+    EquirectRowRule rule;
+    std::vector<double> cf;  // coefficients in frame F
+    std::vector<double> q, qrow, a, b;
+};
+
+EquirectProjection::EquirectProjection(int width, int height, int K)
+    : m_state(std::make_unique<State>()) {
+    SHPRT_CHECK(width > 0 && height > 0, invalid_argument,
+                "project_equirect: image is empty ({}x{})", width, height);
+    ShLight::zero(K);  // validates K
+    State& s = *m_state;
+    s.K = K;
+    s.bands = sh_bands_for(K);
+    s.full = sh_count(s.bands);
+    s.W = width;
+    s.H = height;
+    const int W = width, bands = s.bands;
+    s.dphi = 2.0 * kPi / W;
 
     // Frame F: x_F = world z, y_F = world x, z_F = world y (a cyclic permutation, so a proper
     // rotation M with d_F = M d). Rows of the map are bands of constant z_F = cos θ.
     // Column azimuth in F: with φ' = 2π(u − ½) the map azimuth, d.x = s·sin φ', d.z = −s·cos φ',
     // so φ_F = atan2(d.x, d.z) = π − φ'. Over a column, ∫ cos(mφ) dφ = Δφ·sinc(mΔφ/2)·cos(mφ_c)
     // (likewise sin): the column tables carry the sinc factor, so the φ integral is exact.
-    std::vector<double> cos_tab(std::size_t(W) * bands), sin_tab(std::size_t(W) * bands);
+    s.cos_tab.resize(std::size_t(W) * bands);
+    s.sin_tab.resize(std::size_t(W) * bands);
     for (int x = 0; x < W; ++x) {
         const double phi_f = kPi - 2.0 * kPi * ((x + 0.5) / W - 0.5);
         for (int m = 0; m < bands; ++m) {
-            const double h = 0.5 * m * dphi;
+            const double h = 0.5 * m * s.dphi;
             const double sinc = m == 0 ? 1.0 : std::sin(h) / h;
-            cos_tab[std::size_t(x) * bands + m] = sinc * std::cos(m * phi_f);
-            sin_tab[std::size_t(x) * bands + m] = sinc * std::sin(m * phi_f);
+            s.cos_tab[std::size_t(x) * bands + m] = sinc * std::cos(m * phi_f);
+            s.sin_tab[std::size_t(x) * bands + m] = sinc * std::sin(m * phi_f);
         }
     }
-    const EquirectRowRule rule = equirect_row_rule(bands, H);
+    s.rule = equirect_row_rule(bands, height);
+    s.cf.assign(3 * std::size_t(s.full), 0.0);
+    s.q.resize(s.full);
+    s.qrow.resize(s.full);
+    s.a.resize(3 * std::size_t(bands));
+    s.b.resize(3 * std::size_t(bands));
+}
 
-    const int full = sh_count(bands);
-    std::vector<double> cf(3 * std::size_t(full), 0.0);  // coefficients in frame F
-    std::vector<double> q(full), qrow(full), a(3 * std::size_t(bands)), b(3 * std::size_t(bands));
-    for (int y = 0; y < H; ++y) {
-        // qrow = ∫_row q_lm(θ) sin θ dθ, where q_lm(θ) is y_lm at φ = 0: for m > 0
-        // y_{l,±m}(θ, φ) = q_lm(θ)·cos(mφ) / q_lm(θ)·sin(mφ), and y_{l,0} = q_l0(θ).
-        std::fill(qrow.begin(), qrow.end(), 0.0);
-        const double t0 = kPi * y / H, t1 = kPi * (y + 1) / H;
-        for (int k = 0; k < rule.n; ++k) {
-            const double theta = t0 + (t1 - t0) * rule.x[k];
-            const double w = (t1 - t0) * rule.w[k] * std::sin(theta);
-            sh_eval_k(full, std::sin(theta), 0.0, std::cos(theta), q.data());
-            for (int i = 0; i < full; ++i) qrow[i] += w * q[i];
-        }
-        std::fill(a.begin(), a.end(), 0.0);
-        std::fill(b.begin(), b.end(), 0.0);
-        for (int x = 0; x < W; ++x) {
-            const float* px = map.pixel(x, y);
-            const double* ct = cos_tab.data() + std::size_t(x) * bands;
-            const double* st = sin_tab.data() + std::size_t(x) * bands;
-            for (int c = 0; c < 3; ++c) {
-                const double L = px[c];
-                double* ac = a.data() + std::size_t(c) * bands;
-                double* bc = b.data() + std::size_t(c) * bands;
-                for (int m = 0; m < bands; ++m) {
-                    ac[m] += L * ct[m];
-                    bc[m] += L * st[m];
-                }
-            }
-        }
+EquirectProjection::~EquirectProjection() = default;
+EquirectProjection::EquirectProjection(EquirectProjection&&) noexcept = default;
+EquirectProjection& EquirectProjection::operator=(EquirectProjection&&) noexcept = default;
+
+int EquirectProjection::width() const { return m_state->W; }
+int EquirectProjection::height() const { return m_state->H; }
+int EquirectProjection::rows_added() const { return m_state->next_row; }
+
+void EquirectProjection::add_row(const float* rgb) {
+    State& s = *m_state;
+    SHPRT_CHECK(s.next_row < s.H, invalid_argument,
+                "EquirectProjection::add_row: all {} rows were already added", s.H);
+    const int y = s.next_row++, W = s.W, H = s.H, bands = s.bands, full = s.full;
+    // qrow = ∫_row q_lm(θ) sin θ dθ, where q_lm(θ) is y_lm at φ = 0: for m > 0
+    // y_{l,±m}(θ, φ) = q_lm(θ)·cos(mφ) / q_lm(θ)·sin(mφ), and y_{l,0} = q_l0(θ).
+    std::fill(s.qrow.begin(), s.qrow.end(), 0.0);
+    const double t0 = kPi * y / H, t1 = kPi * (y + 1) / H;
+    for (int k = 0; k < s.rule.n; ++k) {
+        const double theta = t0 + (t1 - t0) * s.rule.x[k];
+        const double w = (t1 - t0) * s.rule.w[k] * std::sin(theta);
+        sh_eval_k(full, std::sin(theta), 0.0, std::cos(theta), s.q.data());
+        for (int i = 0; i < full; ++i) s.qrow[i] += w * s.q[i];
+    }
+    std::fill(s.a.begin(), s.a.end(), 0.0);
+    std::fill(s.b.begin(), s.b.end(), 0.0);
+    for (int x = 0; x < W; ++x) {
+        const float* px = rgb + 3 * std::size_t(x);
+        const double* ct = s.cos_tab.data() + std::size_t(x) * bands;
+        const double* st = s.sin_tab.data() + std::size_t(x) * bands;
         for (int c = 0; c < 3; ++c) {
-            double* out = cf.data() + std::size_t(c) * full;
-            const double* ac = a.data() + std::size_t(c) * bands;
-            const double* bc = b.data() + std::size_t(c) * bands;
-            for (int l = 0; l < bands; ++l) {
-                out[sh_index(l, 0)] += dphi * qrow[sh_index(l, 0)] * ac[0];
-                for (int m = 1; m <= l; ++m) {
-                    const double qm = dphi * qrow[sh_index(l, m)];
-                    out[sh_index(l, m)] += qm * ac[m];
-                    out[sh_index(l, -m)] += qm * bc[m];
-                }
+            const double L = px[c];
+            double* ac = s.a.data() + std::size_t(c) * bands;
+            double* bc = s.b.data() + std::size_t(c) * bands;
+            for (int m = 0; m < bands; ++m) {
+                ac[m] += L * ct[m];
+                bc[m] += L * st[m];
             }
         }
     }
+    for (int c = 0; c < 3; ++c) {
+        double* out = s.cf.data() + std::size_t(c) * full;
+        const double* ac = s.a.data() + std::size_t(c) * bands;
+        const double* bc = s.b.data() + std::size_t(c) * bands;
+        for (int l = 0; l < bands; ++l) {
+            out[sh_index(l, 0)] += s.dphi * s.qrow[sh_index(l, 0)] * ac[0];
+            for (int m = 1; m <= l; ++m) {
+                const double qm = s.dphi * s.qrow[sh_index(l, m)];
+                out[sh_index(l, m)] += qm * ac[m];
+                out[sh_index(l, -m)] += qm * bc[m];
+            }
+        }
+    }
+}
 
+ShLight EquirectProjection::finish() const {
+    const State& s = *m_state;
+    SHPRT_CHECK(s.next_row == s.H, invalid_argument,
+                "EquirectProjection::finish: {} of {} rows added", s.next_row, s.H);
     // World light f(d) = g(M d) where g has coefficients cf; ShRotation(R) maps g to g(R⁻¹ d),
     // so R = M⁻¹ = Mᵀ.
+    ShLight light = ShLight::zero(s.K);
     const Mat3d M{{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}};
-    const ShRotation rot = ShRotation::from_matrix(transpose(M), bands);
-    std::vector<double> world(full);
+    const ShRotation rot = ShRotation::from_matrix(transpose(M), s.bands);
+    std::vector<double> world(s.full);
     for (int c = 0; c < 3; ++c) {
-        rot.apply(cf.data() + std::size_t(c) * full, world.data(), full);
-        for (int i = 0; i < K; ++i) light.channel(c)[i] = static_cast<float>(world[i]);
+        rot.apply(s.cf.data() + std::size_t(c) * s.full, world.data(), s.full);
+        for (int i = 0; i < s.K; ++i) light.channel(c)[i] = static_cast<float>(world[i]);
     }
     return light;
+}
+
+ShLight project_equirect(const Image& map, int K) {
+    check_map(map, "project_equirect");
+    EquirectProjection projection(map.width, map.height, K);
+    for (int y = 0; y < map.height; ++y) projection.add_row(map.pixel(0, y));
+    return projection.finish();
 }
 
 ShLight project_equirect_reference(const Image& map, int K) {

@@ -225,6 +225,51 @@ TEST_F(ImageFiles, HugeImagesAreRefusedFromTheHeader) {
     }
 }
 
+// An RGB PNG over the caps (20000 x 20000 x 3 bytes is over 2^30, where stb_image refuses it
+// itself with "unknown image type") is refused with the size line too.
+TEST_F(ImageFiles, AnRgbPngOverTheCapsGivesTheSizeLine) {
+    std::string png = png_claiming(20000, 20000);
+    png[8 + 8 + 9] = 2;  // colour type 2: RGB
+    const std::string p = path("rgb.png");
+    write_bytes(p, png);
+    try {
+        load_image(p);
+        ADD_FAILURE() << "huge RGB PNG accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("is too large: 20000x20000"), std::string::npos)
+            << e.what();
+    }
+}
+
+// stb_image checks no CRC: a PNG chunk whose CRC is wrong (here the pixel data's own) decodes
+// there as if whole. The chunks' CRCs are checked first.
+TEST_F(ImageFiles, APngChunkWithABadCrcIsRefused) {
+    const Image image = test_support::random_image(6, 3, 2, 0.0f, 1.0f);
+    test_support::write_test_image(path("good.png"), image);
+    std::string bytes = read_file(path("good.png"));
+    EXPECT_NO_THROW(load_image(path("good.png")));
+    const std::size_t idat = bytes.find("IDAT");
+    ASSERT_NE(idat, std::string::npos);
+    const std::uint32_t length = (std::uint32_t(std::uint8_t(bytes[idat - 4])) << 24) |
+                                 (std::uint32_t(std::uint8_t(bytes[idat - 3])) << 16) |
+                                 (std::uint32_t(std::uint8_t(bytes[idat - 2])) << 8) |
+                                 std::uint32_t(std::uint8_t(bytes[idat - 1]));
+    bytes[idat + 4 + length] ^= 0x01;  // the first byte of IDAT's CRC
+    write_bytes(path("crc.png"), bytes);
+    try {
+        load_image(path("crc.png"));
+        ADD_FAILURE() << "a PNG with a bad CRC was accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::format);
+        EXPECT_NE(std::string(e.what()).find(path("crc.png") +
+                                             " is corrupt: PNG chunk 'IDAT' at "
+                                             "byte " +
+                                             std::to_string(idat - 4) + " fails its CRC"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 // The caller's size check runs on the header's size, before decoding: the corrupt pixel data of
 // this PNG is never reached.
 TEST_F(ImageFiles, TheCallersSizeCheckRunsBeforeDecoding) {

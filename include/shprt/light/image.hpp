@@ -60,4 +60,21 @@ using ImageSizeCheck = std::function<void(int width, int height)>;
 // is called with the header's size before decoding as well.
 Image load_image(const std::string& path, const ImageSizeCheck& check_size = {});
 
+// Receives one row of an image: y from the top, width·3 floats (valid during the call only).
+using ImageRowSink = std::function<void(int y, const float* rgb)>;
+
+// Reads an image as load_image does (the same checks and errors; `check_size` is called before
+// the first row), but hands it over a row at a time, top row first, so that a caller that needs
+// one row at a time (an SH projection) never holds the whole picture. OpenEXR scanline files in
+// increasing line order (NONE, RLE, ZIPS, ZIP or PIZ compression: what writers make) are decoded
+// about 64 rows at a time: memory is the file's bytes plus O(width · 64) floats, whatever the
+// height. Other OpenEXR files (tiled ones), .hdr and .png are decoded whole first. A NaN or
+// infinite pixel throws when its row is reached, after the rows above it were handed over.
+void read_image_rows(const std::string& path, const ImageSizeCheck& check_size,
+                     const ImageRowSink& row);
+
+// Throws Error(format) "image NAME has a NaN value at pixel (x, y) channel R" (or "infinite") for
+// the first non-finite value: the check load_image makes, for images from elsewhere (Python).
+void check_image_finite(const std::string& name, const Image& image);
+
 }  // namespace shprt

@@ -36,6 +36,7 @@
 #include "shprt/sh/window.hpp"
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,18 @@ ShLight make_light(const std::vector<std::string>& specs, int K);
 // output does not overwrite an input (core/file.hpp check_output_is_not_input).
 std::vector<std::string> light_spec_files(const std::string& spec);
 
+// ---- Checks (the command line's, for lights from elsewhere: Python arrays) ---------------------
+
+// Throws Error(format) naming `name` and the first pixel that is NaN, infinite ("image NAME has a
+// NaN value at pixel (x, y) channel R") or negative (a light's radiance is ≥ 0): what parse_light
+// refuses in a file.
+void check_radiance_map(const std::string& name, const Image& image);
+
+// Throws Error(invalid_argument) for the first non-finite coefficient: "WHAT is too bright: its
+// SH coefficient i of channel C overflows float" (infinite: what parse_light refuses for
+// constant:1e38 or a map of 3e38 pixels), or "WHAT is not a number: ... is NaN".
+void check_finite_light(const ShLight& light, const std::string& what);
+
 // ---- Environment maps ------------------------------------------------------------------------
 
 // Projects an equirect map (any width × height, light/equirect.hpp orientation). Each pixel is
@@ -91,6 +104,28 @@ std::vector<std::string> light_spec_files(const std::string& spec);
 // to world axes; O(W·H·bands + H·K). Agrees with project_equirect_reference to rounding.
 // Throws Error(invalid_argument) for an empty image or a bad K.
 ShLight project_equirect(const Image& map, int K);
+
+// The same projection fed one row at a time, top row first, so that a map need never be held
+// whole (light_from_file streams an OpenEXR light through it in blocks of rows): memory is
+// O(W·bands + K), and the result is bit for bit project_equirect's. Throws Error(invalid_argument)
+// for an empty size or a bad K, a row beyond the height, or finish() before every row was added.
+class EquirectProjection {
+public:
+    EquirectProjection(int width, int height, int K);
+    ~EquirectProjection();
+    EquirectProjection(EquirectProjection&&) noexcept;
+    EquirectProjection& operator=(EquirectProjection&&) noexcept;
+    int width() const;
+    int height() const;
+    int rows_added() const;
+    // Adds the next row: `rgb` holds width() pixels of three floats (light/image.hpp layout).
+    void add_row(const float* rgb);
+    ShLight finish() const;
+
+private:
+    struct State;
+    std::unique_ptr<State> m_state;
+};
 
 // Slow reference for the same pixel integrals: a tensor Gauss–Legendre rule over every pixel's
 // (θ, φ) rectangle in world coordinates; O(W·H·K·n²) with n ≈ 6 + bands·π/H nodes per side.
