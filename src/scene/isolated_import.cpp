@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstdio>
@@ -26,6 +27,9 @@ namespace {
 constexpr char kResultTag = 'M', kErrorTag = 'E';
 // A length field above this is a broken stream, not a mesh (2^32 vertices of 12 bytes is 48 GiB).
 constexpr std::uint64_t kMaxArrayBytes = std::uint64_t(1) << 40;
+// The wall-clock limit is this many times the CPU-time limit: room for a loaded machine, where
+// the child waits for a CPU, but still a bound for a child that waits for input forever.
+constexpr unsigned kWallPerCpuSecond = 3;
 
 // Moves `bytes` bytes with read(2) or write(2) (`io`), resuming after partial transfers and
 // signals. False when the other end is gone. No allocation and no lock: safe in the child.
@@ -75,6 +79,17 @@ std::uint64_t mapped_bytes() {
     return ok ? pages * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE)) : 0;
 }
 
+// Lowers a resource limit's soft value to `wanted` (never raises it); the hard value too when
+// `hard` is given, so that a soft limit the child ignores still ends it.
+void lower_limit(int resource, rlim_t wanted, rlim_t hard = RLIM_INFINITY) {
+    rlimit limit{};
+    if (::getrlimit(resource, &limit) != 0) return;
+    if (limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur > wanted) limit.rlim_cur = wanted;
+    if (hard != RLIM_INFINITY && (limit.rlim_max == RLIM_INFINITY || limit.rlim_max > hard))
+        limit.rlim_max = std::max(hard, limit.rlim_cur);
+    ::setrlimit(resource, &limit);
+}
+
 // The file names, each ended by '\0', as one array for the pipe; and back.
 std::vector<char> joined_files(const std::vector<std::string>& files) {
     std::vector<char> out;
@@ -93,9 +108,9 @@ std::vector<std::string> split_files(const std::vector<char>& joined) {
     return files;
 }
 
-// In the child, before the work: the address-space limit, and stdout and stderr to /dev/null.
-// System calls only (async-signal-safe after fork in a threaded process).
-void prepare_child(std::uint64_t address_space_limit) {
+// In the child, before the work: the address-space and time limits, and stdout and stderr to
+// /dev/null. System calls only (async-signal-safe after fork in a threaded process).
+void prepare_child(std::uint64_t address_space_limit, unsigned cpu_seconds) {
     if (!kShadowMemorySanitizer && address_space_limit > 0) {
         rlimit limit{};
         if (::getrlimit(RLIMIT_AS, &limit) == 0) {
@@ -109,11 +124,26 @@ void prepare_child(std::uint64_t address_space_limit) {
     // A crash in the importer ends the child by its signal, which the parent names: the default
     // action, not a handler inherited from the parent (a sanitizer's, which would print a report
     // and exit with status 1 instead).
-    for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) {
+    // SIGXCPU and SIGALRM (the time limits below) likewise, and unblocked: the parent may hold
+    // signals while it starts (tools/shprt_main), and the child inherits its mask.
+    sigset_t limits;
+    ::sigemptyset(&limits);
+    for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGXCPU, SIGALRM}) {
         struct sigaction action {};
         action.sa_handler = SIG_DFL;
         ::sigemptyset(&action.sa_mask);
         ::sigaction(sig, &action, nullptr);
+        ::sigaddset(&limits, sig);
+    }
+    ::sigprocmask(SIG_UNBLOCK, &limits, nullptr);
+    // A crash or a time limit leaves no core file in the user's folder.
+    lower_limit(RLIMIT_CORE, 0);
+    if (cpu_seconds > 0) {
+        // CPU time (the child's own, from 0 at fork): SIGXCPU at the limit, SIGKILL a little
+        // after should the signal be ignored. Wall time: SIGALRM, for a child that waits (a
+        // texture named by the file that is a FIFO) rather than computes.
+        lower_limit(RLIMIT_CPU, cpu_seconds, rlim_t(cpu_seconds) + 5);
+        ::alarm(kWallPerCpuSecond * cpu_seconds);
     }
     const int null = ::open("/dev/null", O_WRONLY);
     if (null >= 0) {
@@ -209,7 +239,7 @@ private:
 }  // namespace
 
 ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_budget,
-                                 const std::function<ImportedMesh()>& work) {
+                                 const std::function<ImportedMesh()>& work, unsigned cpu_seconds) {
     // Formatted here: the child must not allocate once it is out of memory.
     const std::string out_of_memory_message = fmt::format(
         "{}: the importer needed more than {:.1f} GiB of memory (a count in the file is corrupt, "
@@ -227,7 +257,7 @@ ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_b
     }
     if (pid == 0) {
         ::close(fds[0]);
-        prepare_child(limit);
+        prepare_child(limit, cpu_seconds);
         child_main(fds[1], work, out_of_memory_message);
     }
     ::close(fds[1]);
@@ -271,6 +301,14 @@ ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_b
     ::close(fds[0]);
     const int status = child.wait();
     if (!complete) {
+        const int sig = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+        if (cpu_seconds > 0 && (sig == SIGXCPU || sig == SIGALRM))
+            fail(ErrorCode::format,
+                 "{}: the importer took more than {} s {} reading this file (a count in the file "
+                 "is corrupt, or the scene is larger than the limit: set SHPRT_IMPORT_SECONDS to "
+                 "raise it)",
+                 path, sig == SIGXCPU ? cpu_seconds : kWallPerCpuSecond * cpu_seconds,
+                 sig == SIGXCPU ? "of CPU time" : "of wall-clock time");
         if (WIFSIGNALED(status))
             fail(ErrorCode::format,
                  "{}: the importer crashed reading this file (signal {}, {}); the file is corrupt "

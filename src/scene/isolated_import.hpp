@@ -38,8 +38,13 @@ inline constexpr std::uint8_t kAlbedoVertexColours = 1, kAlbedoMaterial = 2, kAl
 // OOM killer) or exiting early — throws Error(format) "PATH: the importer crashed reading this file
 // (signal N, NAME) ...". `work` runs in a copy of a possibly multi-threaded process, so it must
 // only compute: no locks another thread may hold (no logging, no TBB). Where fork() fails, `work`
-// runs in this process.
+// runs in this process. With `cpu_seconds` > 0 the child may use that much CPU time
+// (RLIMIT_CPU, counted from the fork) and 3 times as much wall-clock time (alarm, for a child that
+// waits rather than computes); past either, it is ended and this throws Error(format) "PATH: the
+// importer took more than N s of CPU time reading this file ... set SHPRT_IMPORT_SECONDS to raise
+// it". The child leaves no core file (RLIMIT_CORE 0).
 ImportedMesh run_isolated_import(const std::string& path, std::uint64_t memory_budget,
-                                 const std::function<ImportedMesh()>& work);
+                                 const std::function<ImportedMesh()>& work,
+                                 unsigned cpu_seconds = 0);
 
 }  // namespace shprt::detail

@@ -67,7 +67,9 @@ void compute_vertex_normals(Mesh& mesh) { weighted_normals(mesh, nullptr, mesh.p
 void compute_vertex_normals_by_position(Mesh& mesh) {
     std::vector<std::uint32_t> group(mesh.positions.size());
     std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> ids;
-    ids.reserve(mesh.positions.size());
+    // Not reserved for every vertex: 8 bytes of buckets per vertex (240 MB for the 30 M vertices
+    // of an OBJ whose faces share 3 positions) when few positions are distinct; it grows as needed.
+    ids.reserve(std::min<std::size_t>(mesh.positions.size(), std::size_t(1) << 16));
     for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
         const Vec3f p = mesh.positions[v];
         // + 0.0f folds -0 into +0 so the two zeros weld.
@@ -83,6 +85,24 @@ std::optional<std::size_t> bad_brdf_index(const Mesh& mesh) {
     for (std::size_t v = 0; v < mesh.brdf_index.size(); ++v)
         if (mesh.brdf_index[v] != Mesh::kNoBrdf && mesh.brdf_index[v] >= mesh.brdfs.size())
             return v;
+    return std::nullopt;
+}
+
+std::optional<std::size_t> bad_albedo(const Mesh& mesh) {
+    const auto in_range = [](float c) { return c >= 0.0f && c <= 1.0f; };
+    for (std::size_t v = 0; v < mesh.albedo.size(); ++v) {
+        const Vec3f a = mesh.albedo[v];
+        if (!in_range(a.x) || !in_range(a.y) || !in_range(a.z)) return v;
+    }
+    return std::nullopt;
+}
+
+std::optional<std::size_t> zero_normal(const Mesh& mesh) {
+    for (std::size_t v = 0; v < mesh.normals.size(); ++v) {
+        const Vec3f n = mesh.normals[v];
+        const float length2 = n.x * n.x + n.y * n.y + n.z * n.z;
+        if (!(length2 > 0.0f) || !std::isfinite(length2)) return v;
+    }
     return std::nullopt;
 }
 

@@ -66,6 +66,20 @@ Mesh load_scene(const std::string& spec, int uv_set = 0);
 // keeps a corrupt file from pushing the machine into swap or the OOM killer.
 std::uint64_t importer_memory_budget(std::uint64_t file_bytes);
 
+// How long the importer child may take to read a file of `file_bytes` bytes: seconds of CPU time
+// (and 3 times as many of wall-clock time, for a child that waits rather than computes); past
+// that it is ended and load_scene throws Error(format) "PATH: the importer took more than N s of
+// CPU time reading this file ...". The environment variable SHPRT_IMPORT_SECONDS, when set, gives
+// it (a number from 1 to kMaxImportSeconds; Error(invalid_argument) otherwise). By default it is
+// kImportSecondsFloor plus one second per kImportBytesPerSecond bytes of file: Assimp reads every
+// model of its own test corpus (Debian's assimp-testmodels, 595 files) in under 0.6 s of CPU time,
+// and an 80 MB OBJ of 10 M faces in about 15 s (its limit: 90 s), while a corrupt count that
+// makes Assimp run on (a one-byte change to a corpus LWS file ran 67 s) stops at 10 s.
+inline constexpr unsigned kImportSecondsFloor = 10;
+inline constexpr std::uint64_t kImportBytesPerSecond = 1'000'000;
+inline constexpr unsigned kMaxImportSeconds = 1'000'000;
+unsigned importer_time_limit(std::uint64_t file_bytes);
+
 // True when `spec` names a built-in scene ("builtin:" prefix).
 bool is_builtin_spec(const std::string& spec);
 

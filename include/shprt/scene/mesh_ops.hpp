@@ -41,6 +41,14 @@ void validate_mesh(Mesh& mesh, const std::string& name);
 // (the check every reader of Mesh::brdf_index makes, each with its own error).
 std::optional<std::size_t> bad_brdf_index(const Mesh& mesh);
 
+// The first vertex whose albedo has a channel outside [0, 1] (or NaN), if any: validate_mesh
+// clamps every albedo into [0, 1], so the .shprt writer and reader refuse anything else.
+std::optional<std::size_t> bad_albedo(const Mesh& mesh);
+
+// The first vertex whose normal is zero (or not finite), if any: what the .shprt writer and reader
+// refuse (computed normals are unit vectors; a vertex without faces gets +Y).
+std::optional<std::size_t> zero_normal(const Mesh& mesh);
+
 // The materials' BRDFs with their vertex counts, for people: "phong:32 (1200 vertices), ggx:0.4
 // (300 vertices), none (50 vertices)"; "none" for a mesh without them.
 std::string describe_brdfs(const Mesh& mesh);
