@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstring>
@@ -138,6 +139,18 @@ CheckpointFile CheckpointFile::resume(const std::string& path, std::uint64_t fin
         f.m_found.push_back({at + kRecordHeadBytes, {rf, rc}});
         f.m_done.push_back({rf, rc});
         at += kRecordHeadBytes + bytes;
+    }
+    // Every receiver at most once, as merge_shprt_parts checks its parts: a bake never writes a
+    // receiver twice, so records that overlap (each with a valid CRC) are a forged or foreign
+    // file, and replaying them would let the later rows replace the earlier ones.
+    if (const SpanOrder sorted = order_spans(f.m_done); sorted.overlap) {
+        const ReceiverSpan a = f.m_done[sorted.overlap->first],
+                           b = f.m_done[sorted.overlap->second];
+        fail(ErrorCode::format,
+             "{}: checkpoint records {} and {} both hold receivers [{}, {}) (a damaged or forged "
+             "checkpoint); start afresh without --resume",
+             path, sorted.overlap->first, sorted.overlap->second, std::max(a.first, b.first),
+             std::min(a.first + a.count, b.first + b.count));
     }
     if (at < size)
         SHPRT_CHECK(::ftruncate(f.m_fd, static_cast<off_t>(at)) == 0, io, "cannot truncate {}: {}",

@@ -6,6 +6,7 @@
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/mesh_ops.hpp"
+#include "shprt/transfer/sink.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -49,20 +50,24 @@ ShprtFile merge_shprt_parts(std::vector<ShprtFile> parts, const std::vector<std:
         SHPRT_CHECK(diff.empty(), invalid_argument, "{}: not a part of the same bake as {}: {}",
                     names[i], names[0], diff);
     }
-    // In receiver order; the ranges must tile [0, V).
-    std::vector<std::size_t> order(parts.size());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return parts[a].receiver_first < parts[b].receiver_first;
-    });
+    // In receiver order; the ranges must tile [0, V): every receiver once (order_spans, the
+    // check a checkpoint's records get too), none left out.
+    std::vector<ReceiverSpan> spans;
+    for (const ShprtFile& p : parts)
+        spans.push_back({p.receiver_first, p.transfer.receiver_count()});
+    const SpanOrder sorted = order_spans(spans);
+    if (sorted.overlap) {
+        const auto [a, b] = *sorted.overlap;
+        fail(ErrorCode::invalid_argument,
+             "{}: receivers [{}, {}) overlap the part before it (which ends at {})", names[b],
+             spans[b].first, spans[b].first + spans[b].count, spans[a].first + spans[a].count);
+    }
+    const std::vector<std::size_t>& order = sorted.order;
     const std::size_t V = parts[0].mesh.vertex_count();
     std::size_t next = 0;
     for (std::size_t i : order) {
         const std::size_t first = parts[i].receiver_first;
         const std::size_t end = first + parts[i].transfer.receiver_count();
-        SHPRT_CHECK(first >= next, invalid_argument,
-                    "{}: receivers [{}, {}) overlap the part before it (which ends at {})",
-                    names[i], first, end, next);
         SHPRT_CHECK(first == next, invalid_argument,
                     "merge: receivers [{}, {}) are in no part (the next part, {}, starts at {})",
                     next, first, names[i], first);

@@ -582,6 +582,12 @@ ShprtFile Reader::read(bool allow_part) {
     check_finite(reinterpret_cast<const float*>(mesh.positions.data()), 3 * V, "positions");
     check_finite(reinterpret_cast<const float*>(mesh.normals.data()), 3 * V, "normals");
     check_finite(reinterpret_cast<const float*>(mesh.albedo.data()), 3 * V, "albedo");
+    // What the writer refuses (a scene's albedo is clamped into [0, 1] when it is loaded; its
+    // normals are never zero).
+    if (const auto v = bad_albedo(mesh))
+        corrupt(m_path, "albedo: vertex {} has ({}, {}, {}), outside [0, 1]", *v, mesh.albedo[*v].x,
+                mesh.albedo[*v].y, mesh.albedo[*v].z);
+    if (const auto v = zero_normal(mesh)) corrupt(m_path, "normals: vertex {} is zero", *v);
     check_finite(t.coeffs.data(), t.coeffs.size(), "transfer");
     check_finite(t.direct.data(), t.direct.size(), "transfer_direct");
     // Texel domain: the UVs and every receiver's texel, in order and inside the image; and

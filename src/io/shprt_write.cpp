@@ -215,6 +215,12 @@ void check_mesh(const std::string& path, const Mesh& mesh) {
                 "{}: the mesh has {} BRDFs and {} BRDF indices (both or neither)", path,
                 mesh.brdfs.size(), mesh.brdf_index.size());
     for (const Brdf& b : mesh.brdfs) check_brdf(b);
+    if (const auto v = bad_albedo(mesh))
+        fail(ErrorCode::invalid_argument, "{}: vertex {} has albedo ({}, {}, {}), outside [0, 1]",
+             path, *v, mesh.albedo[*v].x, mesh.albedo[*v].y, mesh.albedo[*v].z);
+    if (const auto v = zero_normal(mesh))
+        fail(ErrorCode::invalid_argument, "{}: vertex {} has a zero (or non-finite) normal", path,
+             *v);
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
         for (std::uint32_t index : mesh.triangles[i])
             SHPRT_CHECK(index < V, invalid_argument,

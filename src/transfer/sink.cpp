@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <numeric>
 
 namespace shprt {
 namespace {
@@ -92,6 +93,27 @@ std::vector<ReceiverSpan> remaining_spans(std::size_t first, std::size_t count,
     }
     if (at < end) gaps.push_back({at, end - at});
     return gaps;
+}
+
+SpanOrder order_spans(const std::vector<ReceiverSpan>& spans) {
+    SpanOrder out;
+    out.order.resize(spans.size());
+    std::iota(out.order.begin(), out.order.end(), std::size_t(0));
+    std::stable_sort(out.order.begin(), out.order.end(),
+                     [&](std::size_t a, std::size_t b) { return spans[a].first < spans[b].first; });
+    // The non-empty span reaching furthest so far: any later span starting before its end
+    // shares a receiver with it.
+    std::optional<std::size_t> reach;
+    for (std::size_t i : out.order) {
+        const ReceiverSpan& s = spans[i];
+        if (s.count == 0) continue;
+        if (reach && s.first < spans[*reach].first + spans[*reach].count) {
+            out.overlap = std::pair{*reach, i};
+            break;
+        }
+        if (!reach || s.first + s.count > spans[*reach].first + spans[*reach].count) reach = i;
+    }
+    return out;
 }
 
 }  // namespace shprt

@@ -110,6 +110,42 @@ TEST_F(CheckpointTest, AnotherBakesCheckpointIsRefused) {
     EXPECT_THROW(CheckpointFile::resume(m_path, 42, 0, 10, 4, 0), Error);
 }
 
+// Records that overlap, each with valid CRCs (a forged or foreign file; a bake never writes a
+// receiver twice), are refused in one line, as `shprt merge` refuses overlapping parts: replayed,
+// the later record's rows would replace the earlier's and change the result.
+TEST_F(CheckpointTest, OverlappingRecordsAreRefused) {
+    const std::size_t floats = 3;
+    {
+        CheckpointFile f = CheckpointFile::create(m_path, 42, 0, 20, floats, 0);
+        f.append(0, 6, rows(0, 6, floats).data());
+        f.append(10, 4, rows(10, 4, floats).data());
+        std::vector<float> other = rows(4, 4, floats);
+        for (float& v : other) v = -v;
+        f.append(4, 4, other.data());  // receivers 4 and 5 a second time
+    }
+    try {
+        CheckpointFile::resume(m_path, 42, 0, 20, floats, 0);
+        ADD_FAILURE() << "resumed a checkpoint whose records overlap";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::format);
+        EXPECT_NE(std::string(e.what()).find(m_path + ": checkpoint records 0 and 2 both hold "
+                                                      "receivers [4, 6)"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(OrderSpans, FindsTheFirstSharedReceiverAsMergeDoes) {
+    const SpanOrder ok = order_spans({{10, 5}, {0, 10}, {15, 0}, {15, 3}});
+    EXPECT_EQ(ok.order, (std::vector<std::size_t>{1, 0, 2, 3}));
+    EXPECT_FALSE(ok.overlap);
+    const SpanOrder bad = order_spans({{0, 10}, {20, 5}, {9, 2}});
+    ASSERT_TRUE(bad.overlap);
+    EXPECT_EQ(*bad.overlap, (std::pair<std::size_t, std::size_t>{0, 2}));
+    // A span inside a long one that an intermediate short one does not reach.
+    EXPECT_TRUE(order_spans({{0, 100}, {10, 1}, {50, 2}}).overlap);
+}
+
 BakeOptions room_options() {
     BakeOptions o;
     o.K = 9;

@@ -8,6 +8,7 @@
 // (shprt_format.hpp) and recomputing CRCs, so the check under test is reached.
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_format.hpp"
 
@@ -28,7 +29,7 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
 // A small scene (16 vertices, 18 triangles, K = 9) with source_vertex and brdf_index sections.
-void write_small_file(const std::string& path) {
+Mesh small_mesh() {
     Mesh mesh;
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) {
@@ -46,6 +47,11 @@ void write_small_file(const std::string& path) {
             mesh.triangles.push_back({v + 1, v + 4, v + 5});
         }
     mesh.source = "builtin:corrupt-test";
+    return mesh;
+}
+
+void write_small_file(const std::string& path) {
+    const Mesh mesh = small_mesh();
     TransferSet t;
     t.layout.K = 9;
     t.coeffs.resize(16 * 9);
@@ -127,8 +133,9 @@ protected:
     }
     // The file with `patch` applied to one section's bytes and its CRC fixed in the metadata.
     template <class Patch>
-    std::string with_section_patch(const std::string& name, Patch&& patch) const {
-        Json meta = m_meta;
+    std::string with_section_patch(const std::string& name, Patch&& patch,
+                                   const Json* base = nullptr) const {
+        Json meta = base ? *base : m_meta;
         std::string bytes = m_good;
         for (Json& s : meta["sections"]) {
             if (s["name"].get<std::string>() != name) continue;
@@ -402,6 +409,34 @@ TEST_F(IoShprtCorrupt, ContentChecksBehindValidChecksums) {
                  "normals: value 0 is not finite", "inf normal");
     expect_error(with_section_patch("brdf_index", [&](char* p) { put_u32(p + 8, 2); }),
                  "brdf_index: vertex 2 has BRDF 2 but scene.brdfs lists 2", "BRDF out of range");
+}
+
+// What the writer never writes, with valid CRCs: an albedo outside [0, 1], a zero normal.
+// (The scene hash, which covers both, is recomputed too: a forger's whole work.)
+TEST_F(IoShprtCorrupt, AlbedoOutsideTheUnitRangeAndZeroNormalsAreRefused) {
+    const auto forged = [&](const std::string& section, const auto& change) {
+        Mesh mesh = small_mesh();
+        change(mesh);
+        Json meta = m_meta;
+        meta["scene"]["hash"] = format_mesh_hash(mesh_hash(mesh));
+        const auto& array = section == "albedo" ? mesh.albedo : mesh.normals;
+        return with_section_patch(
+            section, [&](char* p) { std::memcpy(p, array.data(), array.size() * 12); }, &meta);
+    };
+    expect_error(forged("albedo", [](Mesh& m) { m.albedo[1].y = 1.5f; }),
+                 "albedo: vertex 1 has (0.5, 1.5, 0.125), outside [0, 1]", "albedo 1.5");
+    expect_error(forged("albedo", [](Mesh& m) { m.albedo[0].x = -0.25f; }),
+                 "albedo: vertex 0 has (-0.25, 0.25, 0), outside [0, 1]", "albedo -0.25");
+    expect_error(forged("normals",
+                        [](Mesh& m) {
+                            m.normals[5] = {0, 0, 0};
+                        }),
+                 "normals: vertex 5 is zero", "zero normal");
+    expect_error(forged("normals",
+                        [](Mesh& m) {
+                            m.normals.assign(16, {0, 0, 0});
+                        }),
+                 "normals: vertex 0 is zero", "all-zero normals");
 }
 
 TEST_F(IoShprtCorrupt, MaterialBrdfsAreChecked) {

@@ -20,6 +20,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
+#include <utility>
 #include <vector>
 
 namespace shprt {
@@ -36,6 +38,16 @@ struct ReceiverSpan {
 // possibly reaching outside), in increasing order.
 std::vector<ReceiverSpan> remaining_spans(std::size_t first, std::size_t count,
                                           std::vector<ReceiverSpan> done);
+
+// "Every receiver at most once": the indices of `spans` in increasing order of first receiver
+// (ties by index), and the first two of that order that share a receiver, if any. Empty spans
+// share nothing. merge_shprt_parts (parts of a sharded bake) and CheckpointFile::resume (a
+// checkpoint's records) refuse what overlaps.
+struct SpanOrder {
+    std::vector<std::size_t> order;
+    std::optional<std::pair<std::size_t, std::size_t>> overlap;  // (earlier, later) in spans
+};
+SpanOrder order_spans(const std::vector<ReceiverSpan>& spans);
 
 class TransferSink {
 public:
