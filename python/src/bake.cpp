@@ -225,12 +225,18 @@ py::object bake_py(py::handle vertices, py::handle faces, py::handle normals, py
     // stops the bake with shprt.Error(cancelled).
     std::exception_ptr python_error;
     options.progress = [&](const ProgressInfo& info) {
+        if (python_error) return false;
         py::gil_scoped_acquire acquire;
         try {
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
             if (progress.is_none()) return true;
             const py::object r = progress(info.done, info.total);
-            return r.is_none() || r.cast<bool>();  // REVERT-CHECK
+            if (r.is_none()) return true;
+            if (!PyBool_Check(r.ptr()))
+                throw py::type_error(
+                    "progress: the callback must return True, False or None, not " +
+                    py::str(py::type::of(r).attr("__name__")).cast<std::string>());
+            return r.ptr() == Py_True;
         } catch (...) {
             python_error = std::current_exception();
             return false;
@@ -240,10 +246,11 @@ py::object bake_py(py::handle vertices, py::handle faces, py::handle normals, py
     try {
         py::gil_scoped_release release;
         result = run(request, *mesh);
-    } catch (const Error& e) {
-        if (python_error && e.code() == ErrorCode::cancelled) std::rethrow_exception(python_error);
+    } catch (const Error&) {
+        if (python_error) std::rethrow_exception(python_error);
         throw;
-    }  // REVERT-CHECK
+    }
+    if (python_error) std::rethrow_exception(python_error);
     if (request.output) return summary(result, request);
     const TransferSet& t = result.transfer;
     std::vector<py::ssize_t> shape{py::ssize_t(t.receiver_count())};

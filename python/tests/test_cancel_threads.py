@@ -168,3 +168,32 @@ def test_the_gil_is_released_while_baking():
     ends["main"] = time.monotonic()
     a.join()
     assert ends["main"] < ends["bake"], ends
+
+
+def test_a_progress_return_that_is_no_bool_is_a_type_error(box):
+    # Not pybind11's "RuntimeError: Unable to cast Python instance of type <class 'str'>".
+    with pytest.raises(TypeError, match="progress: the callback must return True, False or None, "
+                                        "not str"):
+        shprt.bake(box, bands=2, samples=256, progress=lambda done, total: "yes")
+    with pytest.raises(TypeError, match="not int"):
+        shprt.bake(box, bands=2, samples=256, progress=lambda done, total: 1)
+
+
+def test_an_exception_in_the_last_progress_call_is_not_lost(box):
+    # The final report (done == total) comes when the work is done: the exception still reaches
+    # the caller as itself.
+    def progress(done, total):
+        if done == total:
+            raise Stop("at the end")
+
+    with pytest.raises(Stop, match="at the end"):
+        shprt.bake(box, bands=2, samples=256, progress=progress)
+
+
+@pytest.mark.parametrize("transfer", ["unshadowed", "interreflected"])
+def test_an_exception_in_progress_propagates_for_every_transfer(box, transfer):
+    def progress(done, total):
+        raise Stop(transfer)
+
+    with pytest.raises(Stop, match=transfer):
+        shprt.bake(box, bands=2, samples=256, transfer=transfer, progress=progress)
