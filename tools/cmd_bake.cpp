@@ -70,15 +70,6 @@ std::string command_line() {
     return out;
 }
 
-// Fails early, before any work, if OUT cannot be written: a directory, or a place where the
-// temporary file cannot be created. The probe's temporary file is removed at once.
-void check_output_writable(const std::string& path) {
-    std::error_code ec;
-    SHPRT_CHECK(!std::filesystem::is_directory(path, ec), io, "cannot write {}: it is a directory",
-                path);
-    const AtomicFile probe(path);  // throws Error(io) naming the path; removed on destruction
-}
-
 bool use_mpi(const BakeArgs& args) {
 #if SHPRT_HAS_MPI
     return args.mpi || dist::launched_by_mpi();
@@ -297,12 +288,12 @@ void run(const BakeArgs& args) {
     BakeResult result;
     try {
         result = shprt::run(request, mesh);
-    } catch (const Error& e) {
-        if (e.code() != ErrorCode::cancelled || !request.checkpoint || !interrupted()) throw;
+    } catch (const CheckpointKept& e) {
         bar.reset();
-        const int signal = interrupt_signal();
-        print_error(resume_hint(args.checkpoint, signal_name(signal), e.what()).c_str());
-        throw ExitQuietly{interrupted_exit_code(signal)};
+        const bool signalled = e.code() == ErrorCode::cancelled && interrupted();
+        const int signal = signalled ? interrupt_signal() : 0;
+        print_error(resume_hint(e, signalled ? signal_name(signal) : nullptr).c_str());
+        throw ExitQuietly{signalled ? interrupted_exit_code(signal) : 1};
     }
     print_summary(args, request, mesh, result, seconds_load);
 }

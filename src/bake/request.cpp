@@ -158,14 +158,16 @@ CheckpointFile open_checkpoint(const CheckpointRequest& c, const BakeJob& job,
                                                              job.receivers.count, description);
     const std::size_t floats = description.layout.floats_per_receiver();
     const Receivers& rx = job.receivers;
+    // A new checkpoint is an output: not a directory, a device or a file the scene read.
+    if (!c.resume) check_output_path(c.path);
     return c.resume ? CheckpointFile::resume(c.path, fingerprint, rx.first, rx.count, floats,
                                              c.sync_seconds)
                     : CheckpointFile::create(c.path, fingerprint, rx.first, rx.count, floats,
                                              c.sync_seconds);
 }
 
-// bake(job, options) through `file`: the rows it holds are not baked again. A cancelled bake
-// syncs it and says what it holds.
+// bake(job, options) through `file`: the rows it holds are not baked again. A bake that stops
+// with rows saved syncs it and says so (CheckpointKept).
 TransferInfo bake_checkpointed(CheckpointFile& file, const BakeJob& job,
                                const BakeOptions& options) {
     CheckpointSink sink(*job.sink, file);
@@ -174,10 +176,15 @@ TransferInfo bake_checkpointed(CheckpointFile& file, const BakeJob& job,
     try {
         return bake_remaining(checkpointed, options, file.done());
     } catch (const Error& e) {
-        if (e.code() != ErrorCode::cancelled) throw;
-        file.sync();
-        fail(ErrorCode::cancelled, "{} of {} receivers are saved in {}", file.done_receivers(),
-             file.count(), file.path());
+        const std::size_t done = file.done_receivers();
+        if (done == 0 && e.code() != ErrorCode::cancelled) throw;
+        try {
+            file.sync();
+        } catch (const Error&) {
+            // The rows written so far are in the file; what could not be synced is what the
+            // failure was about, and a resume drops a damaged tail.
+        }
+        throw CheckpointKept(e, done, file.count(), file.path());
     }
 }
 
@@ -243,6 +250,14 @@ VertexShard parse_shard(const std::string& text) {
 }
 
 }  // namespace
+
+CheckpointKept::CheckpointKept(const Error& cause, std::size_t done_, std::size_t count_,
+                               std::string path_)
+    : Error(cause.code(), fmt::format("{}; {} of {} receivers are saved in {}", cause.what(), done_,
+                                      count_, path_)),
+      done(done_),
+      count(count_),
+      path(std::move(path_)) {}
 
 ReceiverSet parse_receivers(const ReceiverChoice& c) {
     const bool texel = parse_receiver_domain(c.domain) == ReceiverDomain::texel;

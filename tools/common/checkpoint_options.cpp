@@ -38,12 +38,16 @@ void apply_checkpoint_options(const CheckpointArgs& args, BakeRequest& request) 
         CheckpointRequest{resume ? args.resume : args.checkpoint, resume, args.checkpoint_every};
 }
 
-std::string resume_hint(const CheckpointArgs& args, const char* signal, const std::string& saved) {
-    const std::string& path = args.resume.empty() ? args.checkpoint : args.resume;
+std::string resume_hint(const CheckpointKept& kept, const char* signal) {
+    if (signal)
+        return fmt::format(
+            "interrupted by {}; {} of {} receivers are saved in {}: to continue, run the same "
+            "command with --resume {} in place of --checkpoint (no output was written)",
+            signal, kept.done, kept.count, kept.path, kept.path);
     return fmt::format(
-        "interrupted by {}; {}: to continue, run the same command with --resume {} in place of "
+        "{}: to continue once that is fixed, run the same command with --resume {} in place of "
         "--checkpoint (no output was written)",
-        signal, saved, path);
+        kept.what(), kept.path);
 }
 
 }  // namespace shprt::tools

@@ -28,8 +28,8 @@ void add_checkpoint_options(CLI::App& app, CheckpointArgs& args);
 // for a bad --max-memory).
 void apply_checkpoint_options(const CheckpointArgs& args, BakeRequest& request);
 
-// The line for a bake that a signal cancelled while it kept a checkpoint: how many receivers it
-// holds (`saved`, the request's Error(cancelled) message) and how to resume.
-std::string resume_hint(const CheckpointArgs& args, const char* signal, const std::string& saved);
+// The line for a checkpointed bake that stopped with rows saved (`kept`): cancelled by `signal`
+// (nullptr: it failed, e.g. on a full disk), what the checkpoint holds, and how to resume.
+std::string resume_hint(const CheckpointKept& kept, const char* signal);
 
 }  // namespace shprt::tools

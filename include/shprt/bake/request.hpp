@@ -16,6 +16,7 @@
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/refine.hpp"
+#include "shprt/core/error.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_stream.hpp"
 #include "shprt/scene/mesh.hpp"
@@ -130,11 +131,22 @@ struct BakeResult {
     double seconds_bake = 0, seconds_write = 0;
 };
 
+// What run() throws when a checkpointed bake stops with rows in its checkpoint — cancelled, or
+// failed (a full disk, a device error): the error's code, its message followed by "; N of M
+// receivers are saved in PATH", and those facts. The checkpoint is synced: the same request with
+// `resume` continues it.
+class CheckpointKept : public Error {
+public:
+    CheckpointKept(const Error& cause, std::size_t done, std::size_t count, std::string path);
+    std::size_t done = 0, count = 0;
+    std::string path;
+};
+
 // Runs `request` on `mesh` (the occluders, and the vertices or UVs of the receivers): checks it
 // (check, then what needs the mesh: the shard's size, the memory estimate — Error(out_of_memory)
-// naming the estimate and the limit), bakes, calls before_write and writes the output. On
-// cancellation with a checkpoint, the checkpoint is synced and Error(cancelled) says "N of M
-// receivers are saved in PATH". Throws what bake(), bake_refined and the writers throw.
+// naming the estimate and the limit), bakes, calls before_write and writes the output. Throws
+// what bake(), bake_refined and the writers throw; CheckpointKept when a checkpointed bake stops
+// with rows saved.
 BakeResult run(const BakeRequest& request, const Mesh& mesh);
 
 // The pieces of run() for a vertex bake, for the runner of distributed requests
