@@ -7,12 +7,10 @@
 #include "shprt/transfer/cpca.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/half.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
-// Header-only float16 conversion (it sits in io/ because files are where float16 lives; no link
-// dependency on the io library).
-#include "shprt/core/half.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 
@@ -49,36 +47,13 @@ std::vector<float> metric_scale(const TransferLayout& layout) {
 
 double uniform01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
 
-}  // namespace
-
-CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) {
-    const std::size_t N = transfer.receiver_count();
-    const std::size_t D = transfer.layout.floats_per_receiver();
-    SHPRT_CHECK(N >= 1 && D >= 1, invalid_argument, "CPCA of an empty transfer");
-    SHPRT_CHECK(options.clusters >= 1 && std::size_t(options.clusters) <= N, invalid_argument,
-                "CPCA clusters = {} must be 1 to the receiver count {}", options.clusters, N);
-    SHPRT_CHECK(
-        options.vectors >= 1 && std::size_t(options.vectors) <= D, invalid_argument,
-        "CPCA vectors = {} must be 1 to {} (the floats per receiver: {})", options.vectors, D,
-        transfer.layout.shape == TransferShape::symmetric_matrix ? "K(K+1)/2 for a symmetric matrix"
-                                                                 : "K per channel");
-    SHPRT_CHECK(options.iterations >= 0, invalid_argument, "CPCA iterations = {} must be ≥ 0",
-                options.iterations);
-    const int C = options.clusters, V = options.vectors;
-    Arena arena(options.threads);
-
-    // The rows in the Frobenius metric.
-    const std::vector<float> scale = metric_scale(transfer.layout);
-    MatrixF X(N, D);
-    for (std::size_t r = 0; r < N; ++r)
-        for (std::size_t d = 0; d < D; ++d) X(r, d) = transfer.coeffs[r * D + d] * scale[d];
-    Eigen::VectorXf norms = X.rowwise().squaredNorm();
-
-    // 1. k-means++ seeding.
-    MatrixF centres(C, D);
+// 1. k-means++ seeding: C centres among the rows of X.
+MatrixF seed_centres(const MatrixF& X, int C, std::uint64_t seed, Arena& arena) {
+    const std::size_t N = std::size_t(X.rows());
+    MatrixF centres(C, X.cols());
     std::vector<double> nearest(N, std::numeric_limits<double>::infinity());
     std::vector<char> used(N, 0);
-    std::mt19937_64 rng(options.seed);
+    std::mt19937_64 rng(seed);
     std::size_t pick = std::min<std::size_t>(N - 1, std::size_t(uniform01(rng) * double(N)));
     for (int c = 0; c < C; ++c) {
         used[pick] = 1;
@@ -108,16 +83,52 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
             pick = std::size_t(std::find(used.begin(), used.end(), 0) - used.begin());
         if (pick == N) pick = 0;
     }
+    return centres;
+}
 
-    // 2. Lloyd iterations. The nearest centre by the expanded distance ‖x‖² − 2x·c + ‖c‖² (one
-    // product per block of rows), which in float is off by at most about γ_D (‖x‖² + ‖c‖²)
-    // (Higham, "Accuracy and Stability of Numerical Algorithms", §3.1, for each of the three
-    // terms): near-equal rows would otherwise fall to the wrong one of their centres, and one
-    // cluster per receiver would not reproduce its rows.
+// The nearest centre of row `row` (whose squared norm is `norm`), given its dot products with
+// the centres (`dots`, one per centre) and their squared norms: by the expanded distance
+// ‖x‖² − 2x·c + ‖c‖², which in float is off by at most about γ_D (‖x‖² + ‖c‖²) (Higham,
+// "Accuracy and Stability of Numerical Algorithms", §3.1, for each of the three terms); every
+// centre that may, within that rounding, be the nearest is compared by its exact distance
+// (lowest index on ties) — near-equal rows would otherwise fall to the wrong one of their
+// centres, and one cluster per receiver would not reproduce its rows.
+int nearest_centre(const MatrixF& X, std::size_t row, float norm, const float* dots,
+                   const MatrixF& centres, const Eigen::VectorXf& cnorm, float gamma) {
+    const int C = int(centres.rows());
+    auto expanded = [&](int c) { return norm - 2 * dots[c] + cnorm[c]; };
+    auto slack = [&](int c) { return gamma * (norm + cnorm[c]); };
+    int best = 0;
+    float best_d = std::numeric_limits<float>::infinity();
+    for (int c = 0; c < C; ++c) {
+        const float d = expanded(c);
+        if (d < best_d) {
+            best_d = d;
+            best = c;
+        }
+    }
+    const float limit = best_d + slack(best);
+    double best_exact = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < C; ++c) {
+        if (expanded(c) - slack(c) > limit) continue;
+        const double e = (X.row(row).cast<double>() - centres.row(c).cast<double>()).squaredNorm();
+        if (e < best_exact) {
+            best_exact = e;
+            best = c;
+        }
+    }
+    return best;
+}
+
+// 2. Lloyd iterations from `centres`: each row's cluster (one product per block of rows).
+std::vector<std::uint32_t> lloyd(const MatrixF& X, const Eigen::VectorXf& norms, MatrixF centres,
+                                 int iterations, Arena& arena) {
+    const std::size_t N = std::size_t(X.rows()), D = std::size_t(X.cols());
+    const int C = int(centres.rows());
     const float gamma = 3.0f * float(D + 2) * std::numeric_limits<float>::epsilon();
     std::vector<std::uint32_t> assign(N, 0);
     const std::size_t blocks = (N + kBlockRows - 1) / kBlockRows;
-    for (int it = 0; it <= options.iterations; ++it) {
+    for (int it = 0; it <= iterations; ++it) {
         const Eigen::VectorXf cnorm = centres.rowwise().squaredNorm();
         std::vector<char> changed(blocks, 0);
         arena.execute([&] {
@@ -129,34 +140,8 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
                         const MatrixF dots = X.middleRows(first, count) * centres.transpose();
                         for (std::size_t i = 0; i < count; ++i) {
                             const std::size_t row = first + i;
-                            auto expanded = [&](int c) {
-                                return norms[row] - 2 * dots(i, c) + cnorm[c];
-                            };
-                            auto slack = [&](int c) { return gamma * (norms[row] + cnorm[c]); };
-                            int best = 0;
-                            float best_d = std::numeric_limits<float>::infinity();
-                            for (int c = 0; c < C; ++c) {
-                                const float d = expanded(c);
-                                if (d < best_d) {
-                                    best_d = d;
-                                    best = c;
-                                }
-                            }
-                            // Every centre whose expanded distance may, within its rounding,
-                            // be the smallest is compared by its exact distance (lowest index
-                            // on ties).
-                            const float limit = best_d + slack(best);
-                            double best_exact = std::numeric_limits<double>::infinity();
-                            for (int c = 0; c < C; ++c) {
-                                if (expanded(c) - slack(c) > limit) continue;
-                                const double e =
-                                    (X.row(row).cast<double>() - centres.row(c).cast<double>())
-                                        .squaredNorm();
-                                if (e < best_exact) {
-                                    best_exact = e;
-                                    best = c;
-                                }
-                            }
+                            const int best = nearest_centre(X, row, norms[row], dots.row(i).data(),
+                                                            centres, cnorm, gamma);
                             if (assign[row] != std::uint32_t(best) || it == 0) changed[b] = 1;
                             assign[row] = std::uint32_t(best);
                         }
@@ -164,7 +149,7 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
                 });
         });
         const bool any = std::find(changed.begin(), changed.end(), 1) != changed.end();
-        if (!any || it == options.iterations) break;
+        if (!any || it == iterations) break;
         MatrixD sums = MatrixD::Zero(C, D);
         std::vector<std::size_t> counts(C, 0);
         for (std::size_t i = 0; i < N; ++i) {
@@ -174,9 +159,83 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
         for (int c = 0; c < C; ++c)
             if (counts[c] > 0) centres.row(c) = (sums.row(c) / double(counts[c])).cast<float>();
     }
+    return assign;
+}
 
-    // 3. Per cluster: the mean (from the original rows, so a one-member cluster is exact) and
-    // the principal directions.
+// 3. Cluster c of `code` from its members `m`: the mean (from the original rows, so a
+// one-member cluster is exact), the principal directions and the members' weights.
+void fit_cluster(const TransferSet& transfer, const std::vector<float>& scale, int c,
+                 const std::vector<std::size_t>& m, CpcaCode& code) {
+    const std::size_t D = transfer.layout.floats_per_receiver();
+    const int V = code.vectors;
+    Eigen::VectorXd mean = Eigen::VectorXd::Zero(D);
+    for (std::size_t i : m)
+        for (std::size_t d = 0; d < D; ++d) mean[d] += transfer.coeffs[i * D + d];
+    mean /= double(m.size());
+    float* out_mean = code.means.data() + std::size_t(c) * D;
+    for (std::size_t d = 0; d < D; ++d) out_mean[d] = float(mean[d]);
+    MatrixD A(m.size(), D);  // centred members, Frobenius metric
+    for (std::size_t k = 0; k < m.size(); ++k)
+        for (std::size_t d = 0; d < D; ++d)
+            A(k, d) = (double(transfer.coeffs[m[k] * D + d]) - double(out_mean[d])) * scale[d];
+    MatrixD B = MatrixD::Zero(V, D);  // rows: orthonormal directions
+    if (m.size() > 1) {
+        const bool gram = m.size() <= D;
+        const MatrixD S = gram ? MatrixD(A * A.transpose()) : MatrixD(A.transpose() * A);
+        Eigen::SelfAdjointEigenSolver<MatrixD> eig(S);
+        const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
+        const double tiny = 1e-12 * std::max(1.0, lambda[lambda.size() - 1]);
+        for (int v = 0; v < V && v < lambda.size(); ++v) {
+            const Eigen::Index e = lambda.size() - 1 - v;
+            if (lambda[e] <= tiny) break;
+            Eigen::VectorXd dir = gram ? Eigen::VectorXd(A.transpose() * eig.eigenvectors().col(e))
+                                       : Eigen::VectorXd(eig.eigenvectors().col(e));
+            dir.normalize();
+            Eigen::Index at = 0;
+            dir.cwiseAbs().maxCoeff(&at);
+            if (dir[at] < 0) dir = -dir;
+            B.row(v) = dir.transpose();
+        }
+    }
+    // 4. weights, and the directions stored in the original coordinates.
+    for (std::size_t k = 0; k < m.size(); ++k) {
+        const Eigen::VectorXd w = B * A.row(k).transpose();
+        for (int v = 0; v < V; ++v) code.weights[m[k] * V + v] = float(w[v]);
+    }
+    float* out_basis = code.basis.data() + std::size_t(c) * V * D;
+    for (int v = 0; v < V; ++v)
+        for (std::size_t d = 0; d < D; ++d)
+            out_basis[std::size_t(v) * D + d] = float(B(v, d) / scale[d]);
+}
+
+}  // namespace
+
+CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) {
+    const std::size_t N = transfer.receiver_count();
+    const std::size_t D = transfer.layout.floats_per_receiver();
+    SHPRT_CHECK(N >= 1 && D >= 1, invalid_argument, "CPCA of an empty transfer");
+    SHPRT_CHECK(options.clusters >= 1 && std::size_t(options.clusters) <= N, invalid_argument,
+                "CPCA clusters = {} must be 1 to the receiver count {}", options.clusters, N);
+    SHPRT_CHECK(
+        options.vectors >= 1 && std::size_t(options.vectors) <= D, invalid_argument,
+        "CPCA vectors = {} must be 1 to {} (the floats per receiver: {})", options.vectors, D,
+        transfer.layout.shape == TransferShape::symmetric_matrix ? "K(K+1)/2 for a symmetric matrix"
+                                                                 : "K per channel");
+    SHPRT_CHECK(options.iterations >= 0, invalid_argument, "CPCA iterations = {} must be ≥ 0",
+                options.iterations);
+    const int C = options.clusters, V = options.vectors;
+    Arena arena(options.threads);
+
+    // The rows in the Frobenius metric.
+    const std::vector<float> scale = metric_scale(transfer.layout);
+    MatrixF X(N, D);
+    for (std::size_t r = 0; r < N; ++r)
+        for (std::size_t d = 0; d < D; ++d) X(r, d) = transfer.coeffs[r * D + d] * scale[d];
+    const Eigen::VectorXf norms = X.rowwise().squaredNorm();
+
+    const std::vector<std::uint32_t> assign =
+        lloyd(X, norms, seed_centres(X, C, options.seed, arena), options.iterations, arena);
+
     std::vector<std::vector<std::size_t>> members(C);
     for (std::size_t i = 0; i < N; ++i) members[assign[i]].push_back(i);
     CpcaCode code;
@@ -188,55 +247,12 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
     code.basis.assign(std::size_t(C) * V * D, 0.0f);
     code.weights.assign(N * std::size_t(V), 0.0f);
     arena.execute([&] {
-        parallel_for(
-            0, std::size_t(C), 1, Split::automatic, [&](std::size_t first, std::size_t last) {
-                for (int c = int(first); c != int(last); ++c) {
-                    const std::vector<std::size_t>& m = members[c];
-                    if (m.empty()) continue;
-                    Eigen::VectorXd mean = Eigen::VectorXd::Zero(D);
-                    for (std::size_t i : m)
-                        for (std::size_t d = 0; d < D; ++d) mean[d] += transfer.coeffs[i * D + d];
-                    mean /= double(m.size());
-                    float* out_mean = code.means.data() + std::size_t(c) * D;
-                    for (std::size_t d = 0; d < D; ++d) out_mean[d] = float(mean[d]);
-                    MatrixD A(m.size(), D);  // centred members, Frobenius metric
-                    for (std::size_t k = 0; k < m.size(); ++k)
-                        for (std::size_t d = 0; d < D; ++d)
-                            A(k, d) =
-                                (double(transfer.coeffs[m[k] * D + d]) - double(out_mean[d])) *
-                                scale[d];
-                    MatrixD B = MatrixD::Zero(V, D);  // rows: orthonormal directions
-                    if (m.size() > 1) {
-                        const bool gram = m.size() <= D;
-                        const MatrixD S =
-                            gram ? MatrixD(A * A.transpose()) : MatrixD(A.transpose() * A);
-                        Eigen::SelfAdjointEigenSolver<MatrixD> eig(S);
-                        const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
-                        const double tiny = 1e-12 * std::max(1.0, lambda[lambda.size() - 1]);
-                        for (int v = 0; v < V && v < lambda.size(); ++v) {
-                            const Eigen::Index e = lambda.size() - 1 - v;
-                            if (lambda[e] <= tiny) break;
-                            Eigen::VectorXd dir =
-                                gram ? Eigen::VectorXd(A.transpose() * eig.eigenvectors().col(e))
-                                     : Eigen::VectorXd(eig.eigenvectors().col(e));
-                            dir.normalize();
-                            Eigen::Index at = 0;
-                            dir.cwiseAbs().maxCoeff(&at);
-                            if (dir[at] < 0) dir = -dir;
-                            B.row(v) = dir.transpose();
-                        }
-                    }
-                    // 4. weights, and the directions stored in the original coordinates.
-                    for (std::size_t k = 0; k < m.size(); ++k) {
-                        const Eigen::VectorXd w = B * A.row(k).transpose();
-                        for (int v = 0; v < V; ++v) code.weights[m[k] * V + v] = float(w[v]);
-                    }
-                    float* out_basis = code.basis.data() + std::size_t(c) * V * D;
-                    for (int v = 0; v < V; ++v)
-                        for (std::size_t d = 0; d < D; ++d)
-                            out_basis[std::size_t(v) * D + d] = float(B(v, d) / scale[d]);
-                }
-            });
+        parallel_for(0, std::size_t(C), 1, Split::automatic,
+                     [&](std::size_t first, std::size_t last) {
+                         for (int c = int(first); c != int(last); ++c)
+                             if (!members[c].empty())
+                                 fit_cluster(transfer, scale, c, members[c], code);
+                     });
     });
     return code;
 }
