@@ -4,8 +4,8 @@
 // parses, reads, calls compress_transfer, writes atomically, prints.
 #include "common/command.hpp"
 
-#include "shprt/core/error.hpp"
 #include "shprt/bake/bake.hpp"
+#include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/io/shprt_file.hpp"

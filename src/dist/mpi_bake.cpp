@@ -28,9 +28,9 @@
 #include <exception>
 #include <limits>
 #include <memory>
-#include <vector>
 #include <new>
 #include <optional>
+#include <vector>
 
 namespace shprt::dist {
 namespace {
