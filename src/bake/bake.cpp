@@ -10,6 +10,7 @@
 #include "bake/bake_internal.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/names.hpp"
 #include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/basis.hpp"
@@ -118,24 +119,13 @@ TransferSet bake_to_host(const Mesh& mesh, const Receivers& receivers, const Bak
 
 }  // namespace
 
-const char* to_string(Device device) {
-    switch (device) {
-        case Device::cpu:
-            return "cpu";
-        case Device::cuda:
-            return "cuda";
-        case Device::automatic:
-            return "auto";
-    }
-    return "auto";
-}
+namespace {
+constexpr Named<Device> kDeviceNames[] = {
+    {Device::cpu, "cpu"}, {Device::cuda, "cuda"}, {Device::automatic, "auto"}};
+}  // namespace
 
-Device parse_device(const std::string& name) {
-    if (name == "cpu") return Device::cpu;
-    if (name == "cuda") return Device::cuda;
-    if (name == "auto") return Device::automatic;
-    fail(ErrorCode::invalid_argument, "unknown device '{}' (expected cpu, cuda or auto)", name);
-}
+const char* to_string(Device device) { return name_of(kDeviceNames, device); }
+Device parse_device(const std::string& name) { return parse_named(kDeviceNames, name, "device"); }
 
 TransferInfo bake_description(const BakeOptions& options) {
     TransferInfo info;

@@ -4,6 +4,7 @@
 #include "shprt/sh/rotation.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/names.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include <cmath>
@@ -12,21 +13,14 @@
 
 namespace shprt {
 
-const char* to_string(RotationMethod method) {
-    switch (method) {
-        case RotationMethod::paper:
-            return "paper";
-        case RotationMethod::ivanic:
-            return "ivanic";
-    }
-    return "?";
-}
+namespace {
+constexpr Named<RotationMethod> kRotationMethodNames[] = {{RotationMethod::paper, "paper"},
+                                                          {RotationMethod::ivanic, "ivanic"}};
+}  // namespace
 
+const char* to_string(RotationMethod method) { return name_of(kRotationMethodNames, method); }
 RotationMethod parse_rotation_method(const std::string& name) {
-    if (name == "paper") return RotationMethod::paper;
-    if (name == "ivanic") return RotationMethod::ivanic;
-    fail(ErrorCode::invalid_argument, "unknown SH rotation method '{}' (expected paper or ivanic)",
-         name);
+    return parse_named(kRotationMethodNames, name, "SH rotation method");
 }
 
 namespace {

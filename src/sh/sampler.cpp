@@ -14,6 +14,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
+#include "shprt/core/names.hpp"
 
 #include <cmath>
 
@@ -88,25 +89,16 @@ void detail::gauss_legendre(int n, std::vector<double>& nodes, std::vector<doubl
     }
 }
 
-const char* to_string(SamplerKind kind) {
-    switch (kind) {
-        case SamplerKind::uniform:
-            return "uniform";
-        case SamplerKind::stratified:
-            return "stratified";
-        case SamplerKind::fibonacci:
-            return "fibonacci";
-        case SamplerKind::sobol:
-            return "sobol";
-    }
-    return "unknown";
-}
+namespace {
+constexpr Named<SamplerKind> kSamplerNames[] = {{SamplerKind::uniform, "uniform"},
+                                                {SamplerKind::stratified, "stratified"},
+                                                {SamplerKind::fibonacci, "fibonacci"},
+                                                {SamplerKind::sobol, "sobol"}};
+}  // namespace
 
+const char* to_string(SamplerKind kind) { return name_of(kSamplerNames, kind); }
 SamplerKind parse_sampler_kind(const std::string& name) {
-    for (SamplerKind kind : kAllSamplerKinds)
-        if (name == to_string(kind)) return kind;
-    fail(ErrorCode::invalid_argument,
-         "unknown sampler '{}' (choices: uniform, stratified, fibonacci, sobol)", name);
+    return parse_named(kSamplerNames, name, "sampler");
 }
 
 DirectionSet make_direction_set(SamplerKind kind, std::uint64_t seed, std::uint32_t count) {

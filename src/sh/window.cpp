@@ -5,6 +5,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
+#include "shprt/core/names.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include <cmath>
@@ -24,26 +25,16 @@ void apply_impl(WindowKind kind, T* coeffs, int K, double strength) {
 
 }  // namespace
 
-const char* to_string(WindowKind kind) {
-    switch (kind) {
-        case WindowKind::none:
-            return "none";
-        case WindowKind::hann:
-            return "hann";
-        case WindowKind::lanczos:
-            return "lanczos";
-        case WindowKind::sloan:
-            return "sloan";
-    }
-    return "?";
-}
+namespace {
+constexpr Named<WindowKind> kWindowNames[] = {{WindowKind::none, "none"},
+                                              {WindowKind::hann, "hann"},
+                                              {WindowKind::lanczos, "lanczos"},
+                                              {WindowKind::sloan, "sloan"}};
+}  // namespace
 
+const char* to_string(WindowKind kind) { return name_of(kWindowNames, kind); }
 WindowKind parse_window_kind(const std::string& name) {
-    for (WindowKind k :
-         {WindowKind::none, WindowKind::hann, WindowKind::lanczos, WindowKind::sloan})
-        if (name == to_string(k)) return k;
-    fail(ErrorCode::invalid_argument,
-         "unknown SH window '{}' (expected none, hann, lanczos or sloan)", name);
+    return parse_named(kWindowNames, name, "SH window");
 }
 
 std::vector<double> window_weights(WindowKind kind, int bands, double strength) {

@@ -2,6 +2,7 @@
 #include "shprt/transfer/transfer.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/names.hpp"
 #include "shprt/scene/mesh.hpp"
 
 #include <algorithm>
@@ -32,69 +33,43 @@ void add_stats(BakeStats& total, const BakeStats& part) {
     total.device_name += (total.device_name.empty() ? "" : "; ") + name;
 }
 
-const char* to_string(TransferKind kind) {
-    switch (kind) {
-        case TransferKind::unshadowed:
-            return "unshadowed";
-        case TransferKind::shadowed:
-            return "shadowed";
-        case TransferKind::interreflected:
-            return "interreflected";
-        case TransferKind::glossy:
-            return "glossy";
-    }
-    return "shadowed";
-}
+namespace {
 
+constexpr Named<TransferKind> kTransferKindNames[] = {
+    {TransferKind::unshadowed, "unshadowed"},
+    {TransferKind::shadowed, "shadowed"},
+    {TransferKind::interreflected, "interreflected"},
+    {TransferKind::glossy, "glossy"},
+};
+constexpr Named<ReceiverDomain> kReceiverDomainNames[] = {{ReceiverDomain::vertex, "vertex"},
+                                                          {ReceiverDomain::texel, "texel"}};
+constexpr Named<TransferShape> kTransferShapeNames[] = {
+    {TransferShape::vector, "vector"},
+    {TransferShape::matrix, "matrix"},
+    {TransferShape::symmetric_matrix, "symmetric_matrix"},
+};
+constexpr Named<TransferEncoding> kTransferEncodingNames[] = {{TransferEncoding::f32, "float32"},
+                                                              {TransferEncoding::f16, "float16"}};
+
+}  // namespace
+
+const char* to_string(TransferKind kind) { return name_of(kTransferKindNames, kind); }
 TransferKind parse_transfer_kind(const std::string& name) {
-    if (name == "unshadowed") return TransferKind::unshadowed;
-    if (name == "shadowed") return TransferKind::shadowed;
-    if (name == "interreflected") return TransferKind::interreflected;
-    if (name == "glossy") return TransferKind::glossy;
-    fail(ErrorCode::invalid_argument,
-         "unknown transfer kind '{}' (expected unshadowed, shadowed, interreflected or glossy)",
-         name);
+    return parse_named(kTransferKindNames, name, "transfer kind");
 }
-
-const char* to_string(ReceiverDomain domain) {
-    return domain == ReceiverDomain::texel ? "texel" : "vertex";
-}
-
+const char* to_string(ReceiverDomain domain) { return name_of(kReceiverDomainNames, domain); }
 ReceiverDomain parse_receiver_domain(const std::string& name) {
-    if (name == "vertex") return ReceiverDomain::vertex;
-    if (name == "texel") return ReceiverDomain::texel;
-    fail(ErrorCode::invalid_argument, "unknown receiver domain '{}' (expected vertex or texel)",
-         name);
+    return parse_named(kReceiverDomainNames, name, "receiver domain");
 }
-
-const char* to_string(TransferShape shape) {
-    switch (shape) {
-        case TransferShape::vector:
-            return "vector";
-        case TransferShape::matrix:
-            return "matrix";
-        case TransferShape::symmetric_matrix:
-            return "symmetric_matrix";
-    }
-    return "vector";
-}
-
+const char* to_string(TransferShape shape) { return name_of(kTransferShapeNames, shape); }
 TransferShape parse_transfer_shape(const std::string& name) {
-    if (name == "vector") return TransferShape::vector;
-    if (name == "matrix") return TransferShape::matrix;
-    if (name == "symmetric_matrix") return TransferShape::symmetric_matrix;
-    fail(ErrorCode::invalid_argument,
-         "unknown transfer shape '{}' (expected vector, matrix or symmetric_matrix)", name);
+    return parse_named(kTransferShapeNames, name, "transfer shape");
 }
-
 const char* to_string(TransferEncoding encoding) {
-    return encoding == TransferEncoding::f16 ? "float16" : "float32";
+    return name_of(kTransferEncodingNames, encoding);
 }
-
 TransferEncoding parse_transfer_encoding(const std::string& name) {
-    if (name == "float32") return TransferEncoding::f32;
-    if (name == "float16") return TransferEncoding::f16;
-    fail(ErrorCode::invalid_argument, "unknown encoding '{}' (expected float32 or float16)", name);
+    return parse_named(kTransferEncodingNames, name, "encoding");
 }
 
 std::size_t TransferLayout::floats_per_channel() const {
