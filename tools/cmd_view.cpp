@@ -15,10 +15,7 @@
 #include "common/progress_bar.hpp"
 #include "common/shading_options.hpp"
 
-#include "benchmark.hpp"
-#include "light_rig.hpp"
-#include "screenshot.hpp"
-#include "viewer_app.hpp"
+#include "viewer.hpp"
 
 #include "shprt/bake/gpu.hpp"
 #include "shprt/bake/request.hpp"

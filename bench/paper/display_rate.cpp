@@ -7,8 +7,7 @@
 #include "shprt/render/camera.hpp"
 
 #if SHPRT_HAS_VIEWER
-#include "benchmark.hpp"
-#include "light_rig.hpp"
+#include "viewer.hpp"
 #endif
 
 #include <fmt/format.h>
