@@ -271,6 +271,7 @@ void run(const BakeArgs& args) {
                            ? std::get<TexelGrid>(request.receivers).uv_set
                            : 0;
     Mesh mesh = load_scene(args.scene, uv_set);
+    check_output_path(args.output);  // now also against the files the scene read (a .mtl, ...)
     apply_albedo_option(args.bake, mesh);
     const double seconds_load = seconds_since(load_start);
     add_run_metadata(request, seconds_load, 0);

@@ -109,10 +109,12 @@ TransferSet bake_to_host(const Mesh& mesh, const Receivers& receivers, const Bak
     job.sink = &sink;
     job.directions = directions;
     job.tracer = tracer;
+    HostSink direct;
+    job.direct = options.transfer == TransferKind::interreflected ? &direct : nullptr;
     TransferSet out;
-    job.direct = options.transfer == TransferKind::interreflected ? &out.direct : nullptr;
     static_cast<TransferInfo&>(out) = bake(job, options);
     out.coeffs = sink.take_rows();
+    out.direct = direct.take_rows();
     out.stats.peak_bytes_host += out.coeffs.size() * sizeof(float);
     return out;
 }

@@ -704,7 +704,13 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
         sink.write(0, V, sum.data());
     }
     sink.finish();
-    if (job.direct) *job.direct = std::move(T0);
+    if (job.direct) {
+        TransferLayout direct_layout = info.layout;
+        direct_layout.channels = 1;
+        job.direct->begin(direct_layout, 0, V);
+        job.direct->write(0, V, T0.data());
+        job.direct->finish();
+    }
 
     BakeStats& st = info.stats;
     st.seconds_total = seconds_so_far + seconds_since(start);

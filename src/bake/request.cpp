@@ -309,7 +309,7 @@ BakeOutput::~BakeOutput() = default;
 
 TransferSink& BakeOutput::sink() { return m_writer ? m_writer->sink() : m_host; }
 
-std::vector<float>* BakeOutput::direct() { return m_writer ? nullptr : &m_direct; }
+TransferSink* BakeOutput::direct() { return m_writer ? nullptr : &m_direct; }
 
 double BakeOutput::finish(const TransferInfo& info, BakeResult& out) {
     if (m_writer) {
@@ -320,7 +320,7 @@ double BakeOutput::finish(const TransferInfo& info, BakeResult& out) {
     }
     static_cast<TransferInfo&>(out.transfer) = info;
     out.transfer.coeffs = m_host.take_rows();
-    out.transfer.direct = std::move(m_direct);
+    out.transfer.direct = m_direct.take_rows();
     out.transfer.stats.peak_bytes_host += out.transfer.coeffs.size() * sizeof(float);
     const double seconds =
         write_file(m_request, m_mesh, out.transfer, m_write, TransferEncoding::f32);

@@ -161,9 +161,10 @@ struct BakeJob {
     const DirectionSet* directions = nullptr;
     // A tracer built over `occluders` (CPU only); nullptr = the bake builds Embree's.
     const Tracer* tracer = nullptr;
-    // Interreflected transfer only: where the direct part T_0 goes (receivers × K floats, see
-    // TransferSet::direct); nullptr = not kept.
-    std::vector<float>* direct = nullptr;
+    // Interreflected transfer only: a second sink for the direct part T_0 (the same receivers,
+    // one channel of K each: TransferSet::direct), given its rows once the bounces are done;
+    // nullptr = not kept.
+    TransferSink* direct = nullptr;
 };
 
 // Glossy transfer (TransferKind::glossy, docs/glossy.md) is the same pipeline with two changes:

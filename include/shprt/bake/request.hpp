@@ -167,7 +167,7 @@ public:
     BakeOutput& operator=(const BakeOutput&) = delete;
     TransferSink& sink();
     // Where an interreflected bake's direct part goes (nullptr when streamed).
-    std::vector<float>* direct();
+    TransferSink* direct();
     double finish(const TransferInfo& info, BakeResult& out);
 
 private:
@@ -175,8 +175,7 @@ private:
     const Mesh& m_mesh;
     WriteOptions m_write;
     std::unique_ptr<ShprtStreamWriter> m_writer;
-    HostSink m_host;
-    std::vector<float> m_direct;
+    HostSink m_host, m_direct;
 };
 
 }  // namespace shprt
