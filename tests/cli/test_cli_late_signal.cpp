@@ -7,6 +7,7 @@
 // the way a user meets it. SIGXFSZ (`ulimit -f`) is ignored by the program itself: the write fails
 // with EFBIG, one line, no temporary — tested with the signal at its default action.
 #include "cli/cli_test.hpp"
+#include "shprt/config.hpp"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -113,14 +114,17 @@ protected:
     }
     // The commands that write an output, each with -o OUTPUT appended by the caller.
     std::vector<std::vector<std::string>> writers() {
-        const std::string room = baked();
-        return {
-            {"shade", room, "--light", "constant:1"},
-            {"render", room, "--light", "constant:1", "--size", "64x48"},
+        std::vector<std::vector<std::string>> all = {
             {"bake", "builtin:plane", "--samples", "16", "--coeffs", "4", "--reproducible"},
             {"bake", "builtin:plane", "--samples", "16", "--coeffs", "4", "--reproducible",
              "--stream"},
         };
+        if (SHPRT_HAS_RENDER) {  // shade and render come with the renderer
+            const std::string room = baked();
+            all.push_back({"shade", room, "--light", "constant:1"});
+            all.push_back({"render", room, "--light", "constant:1", "--size", "64x48"});
+        }
+        return all;
     }
     static std::string extension(const std::vector<std::string>& args) {
         return args[0] == "shade" ? ".csv" : args[0] == "render" ? ".png" : ".shprt";
@@ -184,6 +188,7 @@ TEST_F(CliLateSignal, SignalRightAfterTheRenameLetsTheRunFinish) {
 // The loop, at timed moments around the end of `shade`: whenever the file is in place the
 // run succeeded, and whenever the run says it was interrupted nothing is there.
 TEST_F(CliLateSignal, TimedSignalsNeverContradictTheOutput) {
+    if (!SHPRT_HAS_RENDER) GTEST_SKIP() << "`shade` comes with the renderer (SHPRT_RENDER=OFF)";
     const std::vector<std::string> args = {"shade", baked(), "--light", "constant:1"};
     const std::string output = out("s.csv");
     const auto t0 = std::chrono::steady_clock::now();
