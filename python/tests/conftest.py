@@ -13,7 +13,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="session")
-def cli():
+def cli_process():
+    """cli_process(*args): the command line's subprocess.CompletedProcess, whatever its exit."""
     path = os.environ.get("SHPRT_CLI") or str(ROOT / "build" / "shprt")
     if not os.path.exists(path):
         pytest.skip(f"the shprt command line is not built ({path})")
@@ -25,7 +26,15 @@ def cli():
         env.pop("LD_PRELOAD", None)
 
     def run(*args):
-        done = subprocess.run([path, *map(str, args)], capture_output=True, text=True, env=env)
+        return subprocess.run([path, *map(str, args)], capture_output=True, text=True, env=env)
+
+    return run
+
+
+@pytest.fixture(scope="session")
+def cli(cli_process):
+    def run(*args):
+        done = cli_process(*args)
         assert done.returncode == 0, f"shprt {' '.join(map(str, args))}: {done.stderr}"
         return done.stdout
 

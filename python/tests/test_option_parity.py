@@ -7,9 +7,7 @@ other.)
 
 Every option found in both must have a row in PROBES: a new shared option without one fails here.
 """
-import os
 import re
-import subprocess
 
 import pytest
 
@@ -61,15 +59,8 @@ NOT_THE_SAME = {
 HARNESS = {"output"}  # both always write a file here
 
 
-def cli_path():
-    path = os.environ.get("SHPRT_CLI") or "build/shprt"
-    if not os.path.exists(path):
-        pytest.skip(f"the shprt command line is not built ({path})")
-    return path
-
-
-def cli_options():
-    text = subprocess.run([cli_path(), "bake", "--help"], capture_output=True, text=True).stdout
+def cli_options(cli_process):
+    text = cli_process("bake", "--help").stdout
     return {m.replace("-", "_") for m in re.findall(r"--([a-z][a-z0-9-]*)", text)}
 
 
@@ -78,8 +69,8 @@ def python_options():
     return set(re.findall(r"\b([a-z_0-9]+)\s*[:=]", signature))
 
 
-def test_every_shared_option_is_probed():
-    shared = (cli_options() & python_options()) - set(NOT_THE_SAME) - HARNESS
+def test_every_shared_option_is_probed(cli_process):
+    shared = (cli_options(cli_process) & python_options()) - set(NOT_THE_SAME) - HARNESS
     assert {"bands", "samples", "bounces", "shard", "resolution"} <= shared, shared
     assert shared <= set(PROBES), f"shared options without a probe: {sorted(shared - set(PROBES))}"
 
@@ -98,10 +89,9 @@ def fresh(tmp_path, name):
     return tmp_path / name
 
 
-def bake_cli(tmp_path, scene, options):
+def bake_cli(cli_process, tmp_path, scene, options):
     out = fresh(tmp_path, "cli.shprt")
-    done = subprocess.run([cli_path(), "bake", scene, "-o", str(out), *cli_args(options)],
-                          capture_output=True, text=True)
+    done = cli_process("bake", scene, "-o", out, *cli_args(options))
     return (out.read_bytes() if done.returncode == 0 else None), done.stderr.strip()
 
 
@@ -120,14 +110,14 @@ def with_tmp(options, tmp_path):
 
 
 @pytest.mark.parametrize("option", sorted(PROBES))
-def test_shared_option_takes_the_same_values(tmp_path, option):
+def test_shared_option_takes_the_same_values(cli_process, tmp_path, option):
     extra, values = PROBES[option]
     for value in values:
         options = dict(BASE, **extra)
         options[option] = value
         options = with_tmp(options, tmp_path)
         scene = options.pop("scene", SCENE)
-        cli, cli_error = bake_cli(tmp_path, scene, options)
+        cli, cli_error = bake_cli(cli_process, tmp_path, scene, options)
         py, py_error = bake_python(tmp_path, scene, options)
         assert (cli is None) == (py is None), (
             f"{option}={value!r}: the command line {'refused' if cli is None else 'accepted'} it "
@@ -136,8 +126,8 @@ def test_shared_option_takes_the_same_values(tmp_path, option):
 
 
 @pytest.mark.parametrize("transfer", ["shadowed", "glossy", "interreflected"])
-def test_defaults_agree(tmp_path, transfer):
-    cli, error = bake_cli(tmp_path, SCENE, dict(BASE, transfer=transfer))
+def test_defaults_agree(cli_process, tmp_path, transfer):
+    cli, error = bake_cli(cli_process, tmp_path, SCENE, dict(BASE, transfer=transfer))
     assert cli is not None, error
     py, error = bake_python(tmp_path, SCENE, dict(BASE, transfer=transfer))
     assert py is not None, error

@@ -9,6 +9,8 @@
 
 #include "light/image_fixture.hpp"
 
+#include "shprt/core/sanitizers.hpp"
+
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -235,9 +237,12 @@ TEST_F(ImageRows, ALargeCompressibleLightTakesMemoryForABlockNotTheImage) {
     int status = 0;
     ::waitpid(pid, &status, 0);
     EXPECT_NEAR(got[0], 0.5 * std::sqrt(4.0 * M_PI), 1e-4) << "the constant light's c_0";
-    EXPECT_LT(got[1], full_bytes / 4) << "peak " << got[1] / double(1 << 20) << " MiB for a map of "
-                                      << full_bytes / double(1 << 20) << " MiB of floats ("
-                                      << fs::file_size(p) << " bytes of file)";
+    // Under ASan freed blocks wait in its quarantine (256 MiB by default) before they are reused,
+    // so the peak there is bounded by the map's floats, still half of what holding it took.
+    const double bound = SHPRT_UNDER_ASAN ? full_bytes : full_bytes / 4;
+    EXPECT_LT(got[1], bound) << "peak " << got[1] / double(1 << 20) << " MiB for a map of "
+                             << full_bytes / double(1 << 20) << " MiB of floats ("
+                             << fs::file_size(p) << " bytes of file)";
     std::printf("peak resident memory %.0f MiB for a %dx%d map (%.0f MiB of floats, %zu bytes)\n",
                 got[1] / double(1 << 20), W, H, full_bytes / double(1 << 20),
                 std::size_t(fs::file_size(p)));
