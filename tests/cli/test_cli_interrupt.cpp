@@ -3,6 +3,7 @@
 // and the temporaries it leaves, checkpoints and resumes that end in the uninterrupted bake's
 // bytes, the memory estimate, and a write that fails (a file size limit). Every failure: its exit
 // code, one last line "shprt: error: ...", no output file and no temporary.
+#include "cli/cli_process.hpp"
 #include "cli/cli_test.hpp"
 
 #include <fcntl.h>
@@ -26,6 +27,7 @@ namespace {
 using shprt::test_support::expect_one_line_error;
 using shprt::test_support::RunResult;
 using shprt::test_support::slurp;
+using shprt::test_support::wait_stopped;
 
 // A bake of a few tenths of a second on one thread: long enough to be interrupted while it runs.
 const std::vector<std::string> kBake = {"bake", "builtin:room",  "--samples", "256", "--threads",
@@ -33,63 +35,12 @@ const std::vector<std::string> kBake = {"bake", "builtin:room",  "--samples", "2
 
 class CliInterrupt : public shprt::test_support::CliTest {
 protected:
-    // Starts `shprt ARGS` with stdout and stderr into this test's files, SIGINT and SIGTERM at
-    // their defaults, and `stop_at` in SHPRT_TEST_STOP_AT (when not empty). Returns once the
-    // program runs (its exec done).
+    // `shprt ARGS` in the background (cli_process.hpp), stopping itself at `stop_at` when given.
     pid_t start(const std::vector<std::string>& args, const std::string& stop_at = "") const {
-        int ready[2];
-        if (::pipe2(ready, O_CLOEXEC) != 0) return -1;
-        const std::string out = (m_dir / "stdout").string(), err = (m_dir / "stderr").string();
-        const pid_t pid = ::fork();
-        if (pid == 0) {
-            ::close(ready[0]);
-            ::dup2(::open("/dev/null", O_RDONLY), 0);
-            ::dup2(::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), 1);
-            ::dup2(::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), 2);
-            ::signal(SIGINT, SIG_DFL);
-            ::signal(SIGTERM, SIG_DFL);
-            if (!stop_at.empty()) ::setenv("SHPRT_TEST_STOP_AT", stop_at.c_str(), 1);
-            std::vector<char*> argv{const_cast<char*>(SHPRT_CLI_PATH)};
-            for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-            argv.push_back(nullptr);
-            ::execv(SHPRT_CLI_PATH, argv.data());
-            ::_exit(127);
-        }
-        ::close(ready[1]);
-        char c;
-        while (::read(ready[0], &c, 1) > 0) {
-        }
-        ::close(ready[0]);
-        return pid;
+        return shprt::test_support::start_shprt(m_dir, args, {.stop_at = stop_at});
     }
-    // Waits until the program has its own SIGINT handler (SigCgt in /proc/PID/status): the
-    // launcher's main() has begun (tools/launcher.cpp, within a millisecond of exec). Before that,
-    // while the dynamic loader maps the C library, a signal ends it by the default action, before
-    // any file is opened.
-    static void wait_for_main(pid_t pid) {
-        for (int i = 0; i < 20000; ++i) {
-            std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-            std::string line;
-            while (std::getline(in, line))
-                if (line.rfind("SigCgt:", 0) == 0 &&
-                    (std::stoull(line.substr(7), nullptr, 16) & (1ull << (SIGINT - 1))) != 0)
-                    return;
-            if (!in.eof() && !in.good()) return;
-            std::this_thread::sleep_for(std::chrono::microseconds(100));
-        }
-    }
-    // Waits until the program stopped itself (SHPRT_TEST_STOP_AT); false if it ended instead.
-    static bool wait_stopped(pid_t pid) {
-        int status = 0;
-        return ::waitpid(pid, &status, WUNTRACED) == pid && WIFSTOPPED(status);
-    }
-    // Waits for the end: stdout, stderr and the exit code as run_shprt gives them.
-    RunResult finish(pid_t pid) const {
-        int status = 0;
-        ::waitpid(pid, &status, 0);
-        const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        return {code, slurp(m_dir / "stdout"), slurp(m_dir / "stderr")};
-    }
+    static void wait_for_main(pid_t pid) { shprt::test_support::wait_for_handlers(pid, SIGINT); }
+    RunResult finish(pid_t pid) const { return shprt::test_support::finish_shprt(m_dir, pid); }
     // Sends `signal` to a stopped program and lets it go on.
     static void signal_stopped(pid_t pid, int signal) {
         ::kill(pid, signal);

@@ -6,6 +6,7 @@
 // stops itself right after the rename, signals still held); a timed loop checks the same promise
 // the way a user meets it. SIGXFSZ (`ulimit -f`) is ignored by the program itself: the write fails
 // with EFBIG, one line, no temporary — tested with the signal at its default action.
+#include "cli/cli_process.hpp"
 #include "cli/cli_test.hpp"
 #include "shprt/config.hpp"
 
@@ -30,73 +31,16 @@ namespace {
 
 using shprt::test_support::RunResult;
 using shprt::test_support::slurp;
+using shprt::test_support::StartOptions;
+using shprt::test_support::wait_stopped;
 
 class CliLateSignal : public shprt::test_support::CliTest {
 protected:
-    struct Start {
-        std::string stop_at;         // SHPRT_TEST_STOP_AT
-        rlim_t file_size_limit = 0;  // RLIMIT_FSIZE in bytes (0: unchanged)
-    };
-    // Starts `shprt ARGS` with stdout and stderr into this test's files and SIGINT, SIGTERM,
-    // SIGHUP and SIGXFSZ at their default actions (whatever the test runner set).
-    pid_t start(const std::vector<std::string>& args, const Start& how) const {
-        int ready[2];
-        if (::pipe2(ready, O_CLOEXEC) != 0) return -1;
-        const std::string out = (m_dir / "stdout").string(), err = (m_dir / "stderr").string();
-        const pid_t pid = ::fork();
-        if (pid == 0) {
-            ::close(ready[0]);
-            ::dup2(::open("/dev/null", O_RDONLY), 0);
-            ::dup2(::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), 1);
-            ::dup2(::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), 2);
-            for (const int signal : {SIGINT, SIGTERM, SIGHUP, SIGXFSZ}) ::signal(signal, SIG_DFL);
-            sigset_t none;
-            sigemptyset(&none);
-            ::sigprocmask(SIG_SETMASK, &none, nullptr);
-            if (!how.stop_at.empty()) ::setenv("SHPRT_TEST_STOP_AT", how.stop_at.c_str(), 1);
-            if (how.file_size_limit > 0) {
-                const rlimit limit{how.file_size_limit, how.file_size_limit};
-                ::setrlimit(RLIMIT_FSIZE, &limit);
-            }
-            std::vector<char*> argv{const_cast<char*>(SHPRT_CLI_PATH)};
-            for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-            argv.push_back(nullptr);
-            ::execv(SHPRT_CLI_PATH, argv.data());
-            ::_exit(127);
-        }
-        // Returns once the exec is done (the pipe closes on exec).
-        ::close(ready[1]);
-        char c;
-        while (::read(ready[0], &c, 1) > 0) {
-        }
-        ::close(ready[0]);
-        return pid;
+    pid_t start(const std::vector<std::string>& args, const StartOptions& how) const {
+        return shprt::test_support::start_shprt(m_dir, args, how);
     }
-    // Waits until the program has its own SIGTERM handler (SigCgt in /proc/PID/status): in the
-    // first milliseconds after exec, before the launcher's main(), a signal ends it by the default
-    // action (README, "What is guaranteed"), which is not what these tests are about.
-    static void wait_for_main(pid_t pid) {
-        for (int i = 0; i < 20000; ++i) {
-            std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-            std::string line;
-            while (std::getline(in, line))
-                if (line.rfind("SigCgt:", 0) == 0 &&
-                    (std::stoull(line.substr(7), nullptr, 16) & (1ull << (SIGTERM - 1))) != 0)
-                    return;
-            if (!in.eof() && !in.good()) return;
-            std::this_thread::sleep_for(std::chrono::microseconds(100));
-        }
-    }
-    static bool wait_stopped(pid_t pid) {
-        int status = 0;
-        return ::waitpid(pid, &status, WUNTRACED) == pid && WIFSTOPPED(status);
-    }
-    RunResult finish(pid_t pid) const {
-        int status = 0;
-        ::waitpid(pid, &status, 0);
-        const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        return {code, slurp(m_dir / "stdout"), slurp(m_dir / "stderr")};
-    }
+    static void wait_for_main(pid_t pid) { shprt::test_support::wait_for_handlers(pid, SIGTERM); }
+    RunResult finish(pid_t pid) const { return shprt::test_support::finish_shprt(m_dir, pid); }
     std::string last_line(const std::string& text) const {
         const std::size_t end = text.size() > 0 && text.back() == '\n' ? text.size() - 1 : 0;
         const std::size_t begin = text.rfind('\n', end > 0 ? end - 1 : 0);
