@@ -18,7 +18,9 @@
 // disturbed).
 //
 // Usage: bench_interreflect [--K K] [--samples S] [--bounces N] [--reps R] [--threads T]
-//                           [--no-converged] [--only-product] [--device cpu|cuda]
+//                           [--bounce-coeffs K2] [--indirect-samples S'] [--no-converged]
+//                           [--only-product]
+//                           [--device cpu|cuda]
 #include "bench_cli.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/gpu.hpp"
@@ -55,6 +57,8 @@ struct Args {
     int bounces = 3;
     int reps = 3;
     int threads = 0;
+    int bounce_coeffs = 0;     // 0: the bake's default
+    int indirect_samples = 0;  // 0: the bake's default
     bool converged = true;
     bool bakes = true;
     bool products = true;
@@ -68,6 +72,12 @@ Args parse(int argc, char** argv) {
                         "The interreflected bake against the direct bake and a bare Eigen product");
     cli.K(a.K).samples(a.samples).reps(a.reps).threads(a.threads);
     cli.option("--bounces", a.bounces, "Bounces N")->check(CLI::Range(0, 1000));
+    cli.option("--bounce-coeffs", a.bounce_coeffs,
+               "Coefficients after the second bounce (0 = the bake's default; K = all)")
+        ->check(CLI::Range(0, kMaxBakeCoeffs));
+    cli.option("--indirect-samples", a.indirect_samples,
+               "Gather rays per receiver (0 = the bake's default, S/8)")
+        ->check(CLI::Range(0, 1 << 24));
     cli.flag("--no-converged", a.converged, false, "Skip --bounces converged");
     cli.flag(
         "--only-product", [&a] { a.bakes = a.converged = false; },
@@ -290,6 +300,8 @@ int main(int argc, char** argv) {
     BakeOptions ir = direct;
     ir.transfer = TransferKind::interreflected;
     ir.bounces = args.bounces;
+    ir.bounce_coeffs = std::min(args.bounce_coeffs, args.K);
+    ir.indirect_samples = static_cast<std::uint32_t>(args.indirect_samples);
 
     // 1. Whole bakes, side by side (each rep: direct, then interreflected).
     double t_direct = 1e30, t_ir = 1e30;
@@ -330,11 +342,13 @@ int main(int argc, char** argv) {
         std::printf("ratio interreflected / direct = %.2f (limit 3): %s\n", t_ir / t_direct,
                     t_ir / t_direct <= 3.0 ? "within" : "OVER THE LIMIT");
         std::printf(
-            "bounce sources %llu (%.2f per vertex, %llu invalid), %llu directions per receiver "
-            "(inner sources a quarter)\n",
+            "bounce sources %llu (%.2f per vertex, %llu invalid), %llu cosine-distributed rays per "
+            "receiver (inner sources: half as many sphere directions); K = %d after one bounce, "
+            "%llu after more\n",
             static_cast<unsigned long long>(info.sources), double(info.sources) / double(V),
             static_cast<unsigned long long>(info.invalid_sources),
-            static_cast<unsigned long long>(info.indirect_samples));
+            static_cast<unsigned long long>(info.indirect_samples), args.K,
+            static_cast<unsigned long long>(info.bounce_coeffs));
         std::printf("nnz(A) = %llu (%.1f per source), %.1f MiB; closest-hit rays %llu\n",
                     static_cast<unsigned long long>(info.operator_nnz),
                     double(info.operator_nnz) / double(std::max<std::uint64_t>(info.sources, 1)),

@@ -25,7 +25,8 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
                          const std::string& sampler, const std::string& transfer,
                          std::uint64_t seed, int threads, const std::string& device,
                          const py::object& bounces, double tolerance, bool two_sided,
-                         std::int64_t indirect_samples, const py::object& source_spacing) {
+                         std::int64_t indirect_samples, const py::object& source_spacing,
+                         std::int64_t bounce_coeffs) {
     BakeOptions o;
     SHPRT_CHECK(!(bands && coeffs), invalid_argument,
                 "bands and coeffs both given; use one (K = bands²)");
@@ -82,10 +83,15 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
                     "source_spacing={}: expected metres (> 0) or 'vertices'", metres);
         o.source_spacing = float(metres);
     }
+    SHPRT_CHECK(bounce_coeffs >= 0 && bounce_coeffs <= o.K, invalid_argument,
+                "bounce_coeffs={}: must be 0 (default) to K = {} (the bake's basis size)",
+                bounce_coeffs, o.K);
+    o.bounce_coeffs = int(bounce_coeffs);
     SHPRT_CHECK(o.transfer == TransferKind::interreflected ||
-                    (indirect_samples == 0 && source_spacing.is_none()),
+                    (indirect_samples == 0 && source_spacing.is_none() && bounce_coeffs == 0),
                 invalid_argument,
-                "indirect_samples and source_spacing need transfer='interreflected'");
+                "indirect_samples, source_spacing and bounce_coeffs need "
+                "transfer='interreflected'");
     validate(o);
     return o;
 }
@@ -192,12 +198,13 @@ py::object bake_py(py::handle vertices, py::handle faces, py::handle normals, py
                    std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
                    const std::string& sampler, const std::string& transfer, std::uint64_t seed,
                    const py::object& bounces, double tolerance, bool two_sided,
-                   std::int64_t indirect_samples, const py::object& source_spacing, int threads,
-                   const std::string& device, py::object progress, const Receivers& receivers,
-                   const Output& out) {
+                   std::int64_t indirect_samples, const py::object& source_spacing,
+                   std::int64_t bounce_coeffs, int threads, const std::string& device,
+                   py::object progress, const Receivers& receivers, const Output& out) {
     BakeRequest request;
-    request.options = bake_options(bands, coeffs, samples, sampler, transfer, seed, threads, device,
-                                   bounces, tolerance, two_sided, indirect_samples, source_spacing);
+    request.options =
+        bake_options(bands, coeffs, samples, sampler, transfer, seed, threads, device, bounces,
+                     tolerance, two_sided, indirect_samples, source_spacing, bounce_coeffs);
     fill_request(receivers, out, request);
     BakeOptions& options = request.options;
     // A shprt.Mesh is used in place; arrays become a Mesh (one copy, checked).
@@ -268,13 +275,14 @@ void bind_bake(py::module_& m) {
            std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
            const std::string& sampler, const std::string& transfer, std::uint64_t seed,
            const py::object& bounces, double tolerance, bool two_sided,
-           std::int64_t indirect_samples, const py::object& source_spacing, int threads,
-           const std::string& device, py::object progress, const std::string& domain,
-           py::object resolution, int uv_set, std::optional<double> refine,
-           std::optional<long long> max_vertices, std::optional<long long> max_edge_split_depth,
-           py::object shard, const py::object& output, bool half, bool float32, bool stream,
-           bool reproducible, const py::object& checkpoint, const py::object& resume,
-           double checkpoint_every, py::object max_memory) {
+           std::int64_t indirect_samples, const py::object& source_spacing,
+           std::int64_t bounce_coeffs, int threads, const std::string& device, py::object progress,
+           const std::string& domain, py::object resolution, int uv_set,
+           std::optional<double> refine, std::optional<long long> max_vertices,
+           std::optional<long long> max_edge_split_depth, py::object shard,
+           const py::object& output, bool half, bool float32, bool stream, bool reproducible,
+           const py::object& checkpoint, const py::object& resume, double checkpoint_every,
+           py::object max_memory) {
             const Receivers rx{domain, std::move(resolution), std::move(shard),    uv_set,
                                refine, max_vertices,          max_edge_split_depth};
             const Output out{
@@ -282,13 +290,14 @@ void bind_bake(py::module_& m) {
                 reproducible,    checkpoint_every,    std::move(max_memory)};
             return bake_py(vertices, faces, normals, albedo, bands, coeffs, samples, sampler,
                            transfer, seed, bounces, tolerance, two_sided, indirect_samples,
-                           source_spacing, threads, device, std::move(progress), rx, out);
+                           source_spacing, bounce_coeffs, threads, device, std::move(progress), rx,
+                           out);
         },
         "vertices"_a, "faces"_a = py::none(), "normals"_a = py::none(), "albedo"_a = py::none(),
         py::kw_only(), "bands"_a = py::none(), "coeffs"_a = py::none(), "samples"_a = 1024,
         "sampler"_a = "sobol", "transfer"_a = "shadowed", "seed"_a = 1, "bounces"_a = 1,
         "tolerance"_a = 1e-4, "two_sided"_a = false, "indirect_samples"_a = 0,
-        "source_spacing"_a = py::none(), "threads"_a = 0, "device"_a = "cpu",
+        "source_spacing"_a = py::none(), "bounce_coeffs"_a = 0, "threads"_a = 0, "device"_a = "cpu",
         "progress"_a = py::none(), "domain"_a = "vertex", "resolution"_a = py::none(),
         "uv_set"_a = 0, "refine"_a = py::none(), "max_vertices"_a = py::none(),
         "max_edge_split_depth"_a = py::none(), "shard"_a = py::none(), "output"_a = py::none(),
@@ -303,8 +312,9 @@ normals=None computes them; albedo=None is 0.8 grey. samples S directions per ve
 sampler 'sobol' (default), 'uniform' (the paper's), 'stratified' or 'fibonacci' with seed;
 transfer 'shadowed' (default), 'unshadowed' or 'interreflected' (RGB, shape (V, 3, K); with
 bounces N or 'converged' until the largest relative change is under tolerance, two_sided,
-indirect_samples (0 = the default) and source_spacing (metres, 'vertices' or None = the
-default): docs/interreflection.md); threads 0 = all; device 'cpu', 'cuda' or 'auto'. The same
+indirect_samples (0 = the default), source_spacing (metres, 'vertices' or None = the
+default) and bounce_coeffs (the coefficients after the second bounce; 0 = the default):
+docs/interreflection.md); threads 0 = all; device 'cpu', 'cuda' or 'auto'. The same
 options and seed give the same bits as `shprt bake`.
 
 The rest is `shprt bake`'s, with the same names and values (bake/request.hpp):

@@ -35,6 +35,7 @@ PROBES = {
     "two_sided": (INTERREFLECTED, [True]),
     "indirect_samples": (INTERREFLECTED, [-1, 1, 8, 16777217]),
     "source_spacing": (INTERREFLECTED, ["vertices", 0.25, 0, -1]),
+    "bounce_coeffs": (dict(INTERREFLECTED, bands=2), [-1, 1, 4, 5]),
     "domain": (dict(scene=TEXEL_SCENE), ["vertex", "texel", "face"]),
     "resolution": (dict(scene=TEXEL_SCENE, domain="texel"), ["8", "8x4", "0", "16385", "x"]),
     "uv_set": (TEXELS, [0, 1, -1]),

@@ -209,6 +209,9 @@ void validate(const BakeOptions& options) {
     SHPRT_CHECK(options.indirect_samples <= kMaxBakeSamples, invalid_argument,
                 "indirect samples = {} is too many (at most {})", options.indirect_samples,
                 kMaxBakeSamples);
+    SHPRT_CHECK(options.bounce_coeffs >= 0 && options.bounce_coeffs <= options.K, invalid_argument,
+                "bounce coefficients = {} must be 0 (automatic) to K = {} (the bake's basis size)",
+                options.bounce_coeffs, options.K);
     SHPRT_CHECK(options.source_spacing >= 0 && !std::isnan(options.source_spacing),
                 invalid_argument,
                 "source spacing = {} must be 0 (automatic), a positive number of metres or inf",

@@ -236,8 +236,8 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
                                      BounceSourceRays{}, TransportOperator{}, {}, 0,
                                      seconds_since(start));
     // The operator over the bounce sources: traced on the host by the CPU's code over the flat
-    // BVH (the device build of A, trace_transport_on_device, reads the vertex mesh only and returns no validity
-    // counts; docs/interreflection.md "Not done"), then the bounces on the device.
+    // BVH (the device build of A, trace_transport_on_device, reads the vertex mesh only and returns
+    // no validity counts; docs/interreflection.md "Not done"), then the bounces on the device.
     const Mesh& mesh = *job.occluders;
     const int K = options.K;
     const auto bvh_start = Clock::now();
@@ -268,9 +268,28 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
     return finish_interreflected(
         job, options, std::move(info), direct_sink.take_rows(), std::move(op.T0_sources), op.rays,
         A,
-        [&](const float* in, float* out_rows, std::size_t needed, BakeProgress& rows) {
-            transport.apply(in, out_rows);  // every row (cuSPARSE's product of each block)
-            rows.add(std::min<std::size_t>(needed, N), 0);
+        [&, in3 = std::vector<float>(), out3 = std::vector<float>()](const BounceRows& p,
+                                                                     BakeProgress& rows) mutable {
+            // The device computes every row and column of A·in (cuSPARSE's product of each block),
+            // once per bounce — at the bounce's first call, rows from 0 —, in the 3 × K layout;
+            // each call copies out what it asks for (the same sums: the same bits).
+            const std::size_t row = 3 * std::size_t(K);
+            if (p.first == 0) {
+                in3.resize(N * row);
+                for (std::size_t q = 0; q < N; ++q)
+                    for (int c = 0; c < 3; ++c)
+                        std::copy_n(p.in + q * std::size_t(p.in_channels * p.in_K) +
+                                        (p.in_channels == 3 ? std::size_t(c * p.in_K) : 0),
+                                    p.in_K, in3.data() + q * row + std::size_t(c) * K);
+                out3.resize(N * row);
+                transport.apply(in3.data(), out3.data());
+            }
+            for (std::size_t q = p.first; q < p.end; ++q)
+                for (int c = 0; c < 3; ++c)
+                    std::copy_n(out3.data() + q * row + std::size_t(c) * K, p.columns,
+                                p.out + (q - p.first) * 3 * std::size_t(p.out_K) +
+                                    std::size_t(c) * std::size_t(p.out_K));
+            rows.add(p.end - p.first, 0);
             rows.poll();
         },
         op.pass_bytes + tracer->memory_bytes(), seconds);

@@ -75,10 +75,19 @@ private:
 // (estimate_bake_peak_bytes) has its share: 0 without a budget, at least 1 (every block spills).
 std::uint64_t transport_memory_budget(const Mesh& mesh, const BakeOptions& options);
 
-// out = A·in over N × 3K floats; rows of `out` past `rows` may be left as they were (the last
-// bounce needs the receivers' rows alone). Counts the rows it computes on `progress`.
-using BounceProduct =
-    std::function<void(const float* in, float* out, std::size_t rows, BakeProgress& progress)>;
+// One call of a bounce's product: rows [first, end) of out = A·in — each a block boundary of A —,
+// the first `columns` coefficients of each channel. `in` holds A's N rows of in_channels × in_K
+// floats (in_channels 1: one channel that the three share, the first bounce's T_0); row r of the
+// result goes to out + (r − first)·3·out_K, channel c at c·out_K. Counts its rows on `progress`.
+struct BounceRows {
+    const float* in = nullptr;
+    int in_channels = 3, in_K = 0;
+    std::size_t first = 0, end = 0;
+    float* out = nullptr;
+    int out_K = 0;
+    int columns = 0;
+};
+using BounceProduct = std::function<void(const BounceRows& rows, BakeProgress& progress)>;
 void check_interreflected_job(const BakeJob& job);
 // What the operator's pass learnt of the bounce sources: which are valid (source_is_valid), the
 // directions each traced, and how many receivers saw a back face.

@@ -14,6 +14,7 @@
 #include "bake/bake_progress.hpp"
 #include "bake/stages.hpp"
 #include "shprt/bake/bounce_sources.hpp"
+#include "shprt/bake/ground_truth.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/parallel.hpp"
@@ -101,34 +102,38 @@ using DenseOut = Eigen::Map<Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic,
 // attribute does not reach inline functions from headers, which must not be compiled for AVX2
 // here (the linker could keep those copies for the portable path).
 __attribute__((target("avx2"))) void transport_rows_avx2(const TransportOperator::Block& A,
-                                                         const float* in, float* out, int K,
-                                                         float* acc) {
-    const std::size_t stride = 3 * std::size_t(K);
-    const int vec_end = K / 8 * 8;
+                                                         const detail::BounceRows& p, float* acc) {
+    const std::size_t in_stride = std::size_t(p.in_channels) * std::size_t(p.in_K);
+    const std::size_t in_step = p.in_channels == 3 ? std::size_t(p.in_K) : 0;
+    const std::size_t out_stride = 3 * std::size_t(p.out_K);
+    const int width = p.columns;
+    const int vec_end = width / 8 * 8;
     const float* v0 = A.channel(0);
     const float* v1 = A.channel(1);
     const float* v2 = A.channel(2);
     const std::int32_t* starts = A.starts();
     const std::int32_t* columns = A.columns();
     for (std::size_t r = 0; r < A.rows(); ++r) {
-        for (std::size_t i = 0; i < stride; ++i) acc[i] = 0.0f;
-        for (std::int32_t p = starts[r]; p < starts[r + 1]; ++p) {
-            const float* x = in + std::size_t(columns[std::size_t(p)]) * stride;
-            const float a[3] = {v0[p], v1[p], v2[p]};
+        std::fill_n(acc, 3 * std::size_t(width), 0.0f);
+        for (std::int32_t q = starts[r]; q < starts[r + 1]; ++q) {
+            const float* x = p.in + std::size_t(columns[std::size_t(q)]) * in_stride;
+            const float a[3] = {v0[q], v1[q], v2[q]};
             for (int c = 0; c < 3; ++c) {
-                const float* xc = x + std::size_t(c) * K;
-                float* yc = acc + std::size_t(c) * K;
+                const float* xc = x + std::size_t(c) * in_step;
+                float* yc = acc + std::size_t(c) * std::size_t(width);
                 const __m256 av = _mm256_set1_ps(a[c]);
                 int k = 0;
                 for (; k < vec_end; k += 8)
                     _mm256_storeu_ps(yc + k,
                                      _mm256_add_ps(_mm256_loadu_ps(yc + k),
                                                    _mm256_mul_ps(av, _mm256_loadu_ps(xc + k))));
-                for (; k < K; ++k) yc[k] = yc[k] + a[c] * xc[k];
+                for (; k < width; ++k) yc[k] = yc[k] + a[c] * xc[k];
             }
         }
-        float* y = out + (A.first + r) * stride;
-        for (std::size_t i = 0; i < stride; ++i) y[i] = acc[i];
+        float* y = p.out + (A.first + r - p.first) * out_stride;
+        for (int c = 0; c < 3; ++c)
+            std::copy_n(acc + std::size_t(c) * std::size_t(width), width,
+                        y + std::size_t(c) * std::size_t(p.out_K));
     }
 }
 
@@ -140,10 +145,11 @@ bool cpu_has_avx2() {
     return has;
 }
 
-// T_0's rows from the same rays as A's (the fused pass of bake_interreflected): the visibility of
-// a direction is "no closest hit", the very answer of the shadowed bake's occlusion rays, and the
-// rows are projected as bake_cpu projects them (the same weights, chunks and SGEMM), so T_0's
-// bits are the shadowed bake's (tested).
+// T_0's rows of the inner bounce sources from the same rays as A's (the fused pass of
+// bake_interreflected): the visibility of a direction is "no closest hit", the very answer of the
+// shadowed bake's occlusion rays, projected with the SGEMM of bake_cpu over the directions the
+// source traced (its nested prefix). The receivers' rows (RowPoints::gather_rows) are not
+// projected: the full bake's T_0 replaces them (finish_interreflected).
 struct DirectRows {
     const float* Y = nullptr;  // the basis table, S×K
     int K = 0;
@@ -162,7 +168,39 @@ struct RowPoints {
     // the others the first `inner` (0: all), weighted as a set of their own.
     std::size_t gather_rows = std::numeric_limits<std::size_t>::max();
     std::size_t inner = 0;
+    // The gather rows cast the table's directions mapped to their cosine-weighted hemisphere
+    // (cosine_gather_directions) instead of the sphere's directions above their horizon.
+    bool cosine_gather = false;
 };
+
+// The directions of a sphere set mapped to the cosine-weighted hemisphere around +z: a direction
+// (x, y, z) of a set uniform on the sphere has z uniform on [−1, 1] and azimuth φ uniform, so
+// u = (1 + z)/2 is uniform on [0, 1] and (cos θ = √u, φ) is distributed as cos θ/π on the
+// hemisphere — the map keeps the set's stratification. Local (x, y, z) = (x, y)/√(2(1 + z)),
+// √((1 + z)/2); the pole z = −1 goes to the horizon along +x.
+std::vector<Vec3f> cosine_gather_directions(const detail::DirectionTable& table) {
+    std::vector<Vec3f> out(table.size());
+    for (std::size_t s = 0; s < table.size(); ++s) {
+        const Vec3f d = table.dirs[s];
+        const float up = 1.0f + d.z;
+        if (up <= 0.0f) {
+            out[s] = Vec3f{1.0f, 0.0f, 0.0f};
+            continue;
+        }
+        const float r = 1.0f / std::sqrt(2.0f * up);
+        out[s] = Vec3f{d.x * r, d.y * r, std::sqrt(0.5f * up)};
+    }
+    return out;
+}
+
+// Whether a ray along `dir` that hit triangle `t` met its back (one-sided: counter-clockwise is
+// the front), as transport_hit_entries decides.
+bool meets_back_face(const Mesh& mesh, std::uint32_t t, Vec3f dir) {
+    const auto& tri = mesh.triangles[t];
+    const Vec3f p0 = mesh.positions[tri[0]];
+    const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
+    return dot(face, dir) >= 0.0f;
+}
 
 // What one point's rays met, for its validity (source_is_valid).
 struct PointRays {
@@ -202,6 +240,10 @@ TransportOperator trace_transport(const Mesh& mesh, const RowPoints& points,
     detail::TransportBlockStore store(options.memory_budget, options.spill_directory);
     constexpr float kInf = std::numeric_limits<float>::infinity();
     constexpr float kKeep[2] = {1.0f, 0.0f};  // visible, occluded: as trace_row, branch-free
+    const std::vector<Vec3f> gather_local =
+        points.cosine_gather ? cosine_gather_directions(table) : std::vector<Vec3f>();
+    // A cosine-distributed ray's weight: ∫ cos·f dω ≈ (π/S)·Σ f (add_row divides by π).
+    const float gather_weight = float(kPi) / float(S);
 
     // One row: its rays' closest hits, T_0's weights (`weight`: zeroed where a ray hits anything,
     // front or back — an occluder either way) and A's merged entries.
@@ -215,6 +257,39 @@ TransportOperator trace_transport(const Mesh& mesh, const RowPoints& points,
         sc.ray_weights.resize(S);
         if (!sc.rows) sc.rows.emplace(points.view, V, options.two_sided);
         const Vec3f n = points.normals[v];
+        if (points.cosine_gather && v < points.gather_rows) {
+            // A receiver's final gather: every direction, in its own hemisphere. Its T_0 row is
+            // not projected (the full bake's replaces it), so `weight` is not needed.
+            Vec3d t, b;
+            orthonormal_frame(Vec3d{n.x, n.y, n.z}, t, b);
+            const Vec3f tf{float(t.x), float(t.y), float(t.z)};
+            const Vec3f bf{float(b.x), float(b.y), float(b.z)};
+            for (std::size_t s = 0; s < S; ++s) {
+                const Vec3f l = gather_local[s];
+                sc.ray_dirs[s] = tf * l.x + bf * l.y + n * l.z;
+                sc.ray_weights[s] = gather_weight;
+            }
+            const auto m = static_cast<std::uint32_t>(S);
+            tracer.closest_hits(offset_ray_origin(points.positions[v], n), sc.ray_dirs.data(),
+                                static_cast<int>(m), 0.0f, kInf, sc.hits.data());
+            const double merge_start = thread_cpu_seconds();
+            PointRays met{m, 0, 0};
+            for (std::uint32_t r = 0; r < m; ++r) {
+                const Hit& h = sc.hits[r];
+                sc.sample_hits[r] = SampleHit{h.hit ? h.triangle : kNoTriangle, h.u, h.v};
+                if (counts && h.hit && meets_back_face(mesh, h.triangle, sc.ray_dirs[r])) {
+                    ++met.back;
+                    met.near_back += h.t < points.reach[v] ? 1u : 0u;
+                }
+            }
+            if (counts) counts[v] = met;
+            sc.rows->add_row(sc.ray_dirs.data(), sc.ray_weights.data(), sc.sample_hits.data(), m,
+                             out);
+            const double end = thread_cpu_seconds();
+            sc.trace_seconds += merge_start - trace_start;
+            sc.merge_seconds += end - merge_start;
+            return m;
+        }
         detail::weight_row(n, table, weight);
         if (v >= points.gather_rows && points.inner > 0 && points.inner < S) {
             // An inner source: the nested prefix of `inner` directions, each weighing S/inner
@@ -239,14 +314,9 @@ TransportOperator trace_transport(const Mesh& mesh, const RowPoints& points,
             sc.sample_hits[r] = SampleHit{h.hit ? h.triangle : kNoTriangle, h.u, h.v};
             sc.ray_weights[r] = weight[sc.ray_index[r]];
             weight[sc.ray_index[r]] *= kKeep[h.hit ? 1 : 0];
-            if (counts && h.hit) {
-                const auto& tri = mesh.triangles[h.triangle];
-                const Vec3f p0 = mesh.positions[tri[0]];
-                const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
-                if (dot(face, sc.ray_dirs[r]) >= 0.0f) {
-                    ++met.back;
-                    met.near_back += h.t < points.reach[v] ? 1u : 0u;
-                }
+            if (counts && h.hit && meets_back_face(mesh, h.triangle, sc.ray_dirs[r])) {
+                ++met.back;
+                met.near_back += h.t < points.reach[v] ? 1u : 0u;
             }
         }
         if (counts) counts[v] = met;
@@ -283,8 +353,14 @@ TransportOperator trace_transport(const Mesh& mesh, const RowPoints& points,
         }
         if (direct) {
             const double project_start = thread_cpu_seconds();
-            detail::project_rows(W, count, S, direct->Y, direct->K,
-                                 direct->rows + out.first * std::size_t(direct->K));
+            // The inner sources of the block: the rows from max(first, gather_rows) on.
+            const std::size_t skip =
+                std::min(count, points.gather_rows > out.first ? points.gather_rows - out.first
+                                                               : std::size_t(0));
+            const std::size_t depth = points.inner > 0 && points.inner < S ? points.inner : S;
+            if (skip < count)
+                detail::project_rows(W + skip * S, count - skip, S, depth, direct->Y, direct->K,
+                                     direct->rows + (out.first + skip) * std::size_t(direct->K));
             sc.project_seconds += thread_cpu_seconds() - project_start;
         }
         store.keep(c, out);
@@ -364,25 +440,26 @@ void TransportRowBuilder::add_row(const Vec3f* dirs, const float* weights, const
 
 namespace {
 
-// The products of apply_transport, with an optional progress reporter counting rows.
-void apply_transport_blocks(const TransportOperator& A, const float* in, float* out, int K,
-                            int threads, TransportKernel kernel, detail::BakeProgress* progress,
-                            std::size_t rows_needed = std::numeric_limits<std::size_t>::max()) {
-    const auto V = static_cast<Eigen::Index>(A.vertices);
-    const Eigen::Index stride = 3 * Eigen::Index(K);
+// The products of apply_transport and of the bounces (detail::BounceRows: which rows, which
+// columns, which layouts), with an optional progress reporter counting rows. Each output row is
+// its own sum over its row's entries in column order from zero: the bits never depend on the
+// blocks, the threads, the kernel, the layouts or how many columns are computed.
+void apply_transport_blocks(const TransportOperator& A, const detail::BounceRows& p, int threads,
+                            TransportKernel kernel, detail::BakeProgress* progress) {
+    const auto N = static_cast<Eigen::Index>(A.vertices);
     const bool avx2 =
         kernel == TransportKernel::avx2 || (kernel == TransportKernel::automatic && cpu_has_avx2());
     SHPRT_CHECK(!avx2 || cpu_has_avx2(), unsupported, "this CPU has no AVX2");
-    // Each output row is its own sum over its row's entries in column order: the bits never
-    // depend on the blocks, the threads or the kernel.
     const auto eigen_block = [&](const TransportOperator::Block& b) {
         const auto rows = static_cast<Eigen::Index>(b.rows());
+        const Eigen::Index out_stride = 3 * Eigen::Index(p.out_K);
         for (int c = 0; c < 3; ++c) {
-            const SparseMap a(rows, V, Eigen::Index(b.nnz()), b.starts(), b.columns(),
+            const SparseMap a(rows, N, Eigen::Index(b.nnz()), b.starts(), b.columns(),
                               b.channel(c));
-            const DenseMap x(in + c * K, V, K, Eigen::OuterStride<>(stride));
-            DenseOut y(out + Eigen::Index(b.first) * stride + c * K, rows, K,
-                       Eigen::OuterStride<>(stride));
+            const DenseMap x(p.in + (p.in_channels == 3 ? c * p.in_K : 0), N, p.columns,
+                             Eigen::OuterStride<>(p.in_channels * Eigen::Index(p.in_K)));
+            DenseOut y(p.out + Eigen::Index(b.first - p.first) * out_stride + c * p.out_K, rows,
+                       p.columns, Eigen::OuterStride<>(out_stride));
             y.noalias() = a * x;
         }
     };
@@ -393,22 +470,24 @@ void apply_transport_blocks(const TransportOperator& A, const float* in, float* 
             eigen_block(b);
         } else {
             std::vector<float>& acc = accumulators.local();
-            acc.resize(std::size_t(stride));
-            transport_rows_avx2(b, in, out, K, acc.data());
+            acc.resize(3 * std::size_t(p.columns));
+            transport_rows_avx2(b, p, acc.data());
         }
         if (progress) {
             progress->add(b.rows(), 0);
             progress->poll();
         }
     };
-    // The blocks that hold rows [0, rows_needed) (A's blocks are in row order).
-    std::size_t blocks = 0;
-    while (blocks < A.blocks.size() && A.blocks[blocks].first < rows_needed) ++blocks;
-    if (thread_count(threads) == 1 || blocks == 1) {
-        for (std::size_t b = 0; b < blocks; ++b) run_block(A.blocks[b]);
+    // The blocks that hold rows [first, end) (A's blocks are in row order; both are block ends).
+    std::size_t from = 0;
+    while (from < A.blocks.size() && A.blocks[from].first < p.first) ++from;
+    std::size_t to = from;
+    while (to < A.blocks.size() && A.blocks[to].first < p.end) ++to;
+    if (thread_count(threads) == 1 || to - from == 1) {
+        for (std::size_t b = from; b < to; ++b) run_block(A.blocks[b]);
         return;
     }
-    parallel_each(threads, blocks, [&](std::size_t b) { run_block(A.blocks[b]); });
+    parallel_each(threads, to - from, [&](std::size_t b) { run_block(A.blocks[from + b]); });
 }
 
 }  // namespace
@@ -439,6 +518,11 @@ TransportOperator build_source_operator(const Mesh& mesh, const BounceSources& s
                            nullptr, nullptr);
 }
 
+int bounce_coeffs(const BakeOptions& options) {
+    return std::min(options.K,
+                    options.bounce_coeffs > 0 ? options.bounce_coeffs : kDefaultBounceCoeffs);
+}
+
 DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionSet& directions) {
     const std::size_t n = options.indirect_samples > 0
                               ? options.indirect_samples
@@ -461,12 +545,14 @@ std::size_t bake_bounce_source_count(const Mesh& mesh, const BakeOptions& option
 }
 
 void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads) {
-    apply_transport_blocks(A, in, out, K, threads, TransportKernel::automatic, nullptr);
+    apply_transport(A, in, out, K, threads, TransportKernel::automatic);
 }
 
 void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads,
-                     TransportKernel kernel) {
-    apply_transport_blocks(A, in, out, K, threads, kernel, nullptr);
+                     TransportKernel kernel, int columns) {
+    const int width = columns > 0 && columns < K ? columns : K;
+    apply_transport_blocks(A, detail::BounceRows{in, 3, K, 0, A.vertices, out, K, width}, threads,
+                           kernel, nullptr);
 }
 
 namespace detail {
@@ -547,6 +633,7 @@ SourceOperator trace_source_operator(const Mesh& mesh, const BakeOptions& option
     RowPoints points = row_points(mesh, sources);
     points.gather_rows = V;
     points.inner = inner_source_samples(indirect.size());
+    points.cosine_gather = true;
     out.A = trace_transport(mesh, points, table, tracer, to, &direct, &totals, counts.data(),
                             "bounce sources", then);
     const double wall = seconds_since(pass_start);
@@ -600,9 +687,8 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
     const TransportOperator& A = op.A;
     return finish_interreflected(
         job, options, std::move(info), std::move(T0), std::move(op.T0_sources), op.rays, A,
-        [&](const float* in, float* out, std::size_t rows, BakeProgress& progress) {
-            apply_transport_blocks(A, in, out, K, options.threads, TransportKernel::automatic,
-                                   &progress, rows);
+        [&](const BounceRows& rows, BakeProgress& progress) {
+            apply_transport_blocks(A, rows, options.threads, TransportKernel::automatic, &progress);
         },
         op.pass_bytes + (tracer ? tracer->memory_bytes() : 0), seconds_bvh + seconds_since(start));
 }
@@ -646,47 +732,80 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
         const SourceFill fill = plan_source_fill(mesh, sources, rays.valid);
         ir.invalid_sources = fill.invalid;
         const auto bounce_start = Clock::now();
-        // The sources' light before the first bounce: the receivers' T_0 from the full bake
-        // (every direction), the other sources' from the operator's own rays.
-        std::vector<float> previous(N * row), current(N * row);
-        for (std::size_t q = 0; q < N; ++q) {
-            const float* t0 = q < V ? T0.data() + q * K : T0_sources.data() + q * K;
-            for (int c = 0; c < 3; ++c)
-                std::copy_n(t0, K, previous.data() + q * row + std::size_t(c) * K);
-        }
-        T0_sources = {};
-        buffers_bytes += 2 * previous.size() * sizeof(float);
-        // One bar over the bounces' rows (with --bounces converged the total is unknown).
-        // The rows of the blocks of A that hold the receivers: what the last bounce computes.
-        std::size_t last_rows = 0;
+        // The sources' light before the first bounce, one channel (T_0 is grey): the
+        // receivers' T_0 from the full bake (every direction), the other sources' from the
+        // operator's own rays.
+        std::vector<float> first = std::move(T0_sources);
+        std::copy_n(T0.data(), V * std::size_t(K), first.data());
+        // The first bounce reaches the receivers in every coefficient: the rows of A's blocks
+        // that hold them (`wide_rows`, what a last bounce computes) in all K. The light of the
+        // later bounces is carried in the first `narrow` (bounce_coeffs), so every other row, at
+        // every bounce, is computed in those alone, into rows of 3 × narrow floats.
+        std::size_t wide_rows = 0;
         for (const TransportOperator::Block& blk : A.blocks)
-            if (blk.first < V) last_rows = blk.first + blk.rows();
+            if (blk.first < V) wide_rows = blk.first + blk.rows();
+        const int narrow = bounce_coeffs(options);
+        const std::size_t narrow_row = 3 * std::size_t(narrow);
+        ir.bounce_coeffs = std::uint64_t(narrow);
+        std::vector<float> wide(wide_rows * row), previous(N * narrow_row), current(N * narrow_row);
+        buffers_bytes += (wide.size() + 2 * current.size()) * sizeof(float);
+        // One bar over the bounces' rows (with --bounces converged the total is unknown).
         BakeProgress progress(options.progress, "bounces", "rows",
-                              options.converge ? 0 : std::uint64_t(wanted - 1) * N + last_rows);
+                              options.converge ? 0 : std::uint64_t(wanted - 1) * N + wide_rows);
         for (int b = 1; b <= wanted; ++b) {
             // Invalid sources (inside or under geometry) send their valid neighbours' light.
-            fill.apply(previous.data(), row, options.threads);
-            // The last of a fixed number of bounces is needed at the receivers alone (the
-            // final gather): the other sources' rows would feed no further bounce.
+            // The last of a fixed number of bounces is needed at the receivers alone (the final
+            // gather): the other sources' rows would feed no further bounce.
             const bool last = !options.converge && b == wanted;
-            bounce(previous.data(), current.data(), last ? last_rows : N, progress);
+            if (b == 1) {
+                fill.apply(first.data(), std::size_t(K), options.threads);
+                bounce(BounceRows{first.data(), 1, K, 0, wide_rows, wide.data(), K, K}, progress);
+                if (!last)
+                    bounce(BounceRows{first.data(), 1, K, wide_rows, N,
+                                      current.data() + wide_rows * narrow_row, narrow, narrow},
+                           progress);
+            } else {
+                fill.apply(previous.data(), narrow_row, options.threads);
+                bounce(BounceRows{previous.data(), 3, narrow, 0, last ? wide_rows : N,
+                                  current.data(), narrow, narrow},
+                       progress);
+            }
             SHPRT_CHECK(!progress.stopped(), cancelled, "bake cancelled during bounce {}", b);
             // The largest relative change of any receiver's transfer by this bounce:
-            // |T_b(v)| / |T_0(v) + … + T_b(v)| (Euclidean over its 3K floats).
+            // |T_b(v)| / |T_0(v) + … + T_b(v)| (Euclidean over its 3K floats; T_b's coefficients
+            // past `columns` are zero). The first bounce's receivers' rows go on in `narrow`.
+            const int columns = b == 1 ? K : narrow;
+            const float* added = b == 1 ? wide.data() : current.data();
+            const std::size_t added_row = b == 1 ? row : narrow_row;
             double change = 0;
             for (std::size_t v = 0; v < V; ++v) {
                 double t2 = 0, s2 = 0;
                 float* s = sum.data() + v * row;
-                const float* t = current.data() + v * row;
-                for (std::size_t i = 0; i < row; ++i) {
-                    s[i] += t[i];
-                    t2 += double(t[i]) * t[i];
-                    s2 += double(s[i]) * s[i];
+                const float* t = added + v * added_row;
+                for (int c = 0; c < 3; ++c) {
+                    float* sc = s + std::size_t(c) * K;
+                    const float* tc = t + std::size_t(c) * std::size_t(columns);
+                    for (int k = 0; k < K; ++k) {
+                        if (k < columns) {
+                            sc[k] += tc[k];
+                            t2 += double(tc[k]) * tc[k];
+                        }
+                        s2 += double(sc[k]) * sc[k];
+                    }
                 }
                 if (s2 > 0) change = std::max(change, std::sqrt(t2 / s2));
             }
             ir.bounces = b;
             ir.last_change = change;
+            if (b == 1) {
+                if (!last)
+                    for (std::size_t q = 0; q < wide_rows; ++q)
+                        for (int c = 0; c < 3; ++c)
+                            std::copy_n(wide.data() + q * row + std::size_t(c) * K, narrow,
+                                        current.data() + q * narrow_row + std::size_t(c) * narrow);
+                first = {};
+                wide = {};
+            }
             std::swap(previous, current);
             if (options.converge && change < options.tolerance) break;
         }

@@ -92,8 +92,13 @@ std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionT
 
 void project_rows(const float* W, std::size_t count, std::size_t S, const float* Y, int K,
                   float* C) {
+    project_rows(W, count, S, S, Y, K, C);
+}
+
+void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t depth,
+                  const float* Y, int K, float* C) {
     cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(count), K,
-                static_cast<int>(S), 1.0f, W, static_cast<int>(S), Y, K, 0.0f, C, K);
+                static_cast<int>(depth), 1.0f, W, static_cast<int>(S), Y, K, 0.0f, C, K);
 }
 
 namespace {

@@ -63,6 +63,10 @@ std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionT
 // caller keeps OpenBLAS at one thread: SingleThreadedBlas).
 void project_rows(const float* W, std::size_t count, std::size_t S, const float* Y, int K,
                   float* C);
+// The same over the first `depth` ≤ S directions only (W's rows keep their stride S): for rows
+// whose weights past `depth` are zero, the same sums without the zero terms.
+void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t depth,
+                  const float* Y, int K, float* C);
 
 // OpenBLAS's thread count set to 1 for a scope, restored afterwards: the bake's TBB workers each
 // run their own single-threaded SGEMM (bake_cpu.cpp says why). The setting is process-wide, so

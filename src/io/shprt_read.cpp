@@ -466,6 +466,8 @@ ShprtFile Reader::read(bool allow_part) {
             ir.invalid_sources = f.u64("invalid_sources");
             ir.indirect_samples = f.u64("indirect_samples");
             ir.receivers_seeing_back_faces = f.u64("receivers_seeing_back_faces");
+            if (f.obj.contains("bounce_coeffs"))  // since the bounces' coefficients
+                ir.bounce_coeffs = std::uint64_t(f.integer("bounce_coeffs", 1, t.layout.K));
         }
     }
 

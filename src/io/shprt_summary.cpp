@@ -127,6 +127,9 @@ std::string shprt_summary(const ShprtFile& file) {
                  fmt::format("{} bounce sources ({}), {} invalid (inside or under geometry: "
                              "filled from their neighbours); {} directions per receiver",
                              ir.sources, cells, ir.invalid_sources, ir.indirect_samples));
+            if (ir.bounce_coeffs > 0)
+                line("coeffs", fmt::format("K = {} after one bounce, the first {} after more", K,
+                                           ir.bounce_coeffs));
             const std::size_t V = mesh.vertex_count();
             const std::uint64_t seeing = ir.receivers_seeing_back_faces;
             line("backs seen",

@@ -124,6 +124,7 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
             j["invalid_sources"] = ir.invalid_sources;
             j["indirect_samples"] = ir.indirect_samples;
             j["receivers_seeing_back_faces"] = ir.receivers_seeing_back_faces;
+            if (ir.bounce_coeffs > 0) j["bounce_coeffs"] = ir.bounce_coeffs;
         }
     }
     if (cpca) {

@@ -118,6 +118,43 @@ TEST(Interreflect, SameBitsForAnyThreadCount) {
     EXPECT_EQ(a.interreflection.operator_nnz, b.interreflection.operator_nnz);
 }
 
+// From the second bounce on the light is carried in the first bounce_coeffs coefficients: those
+// are the whole bake's bits, and every later coefficient is T_0 plus the first bounce alone — the
+// bits of a one-bounce bake. Each bounce's product computes the same sums either way.
+TEST(Interreflect, LaterBouncesCarryTheFirstBounceCoeffs) {
+    Mesh mesh = make_builtin("box_on_plane");
+    for (Vec3f& rho : mesh.albedo) rho = Vec3f{0.9f, 0.5f, 0.2f};
+    const int K = 25, narrow = 4;
+    BakeOptions o = ir_options(K, 256, 3);
+    o.bounce_coeffs = K;
+    const TransferSet all = bake(mesh, o);
+    o.bounce_coeffs = narrow;
+    const TransferSet cut = bake(mesh, o);
+    BakeOptions once = ir_options(K, 256, 1);
+    const TransferSet one = bake(mesh, once);
+    EXPECT_EQ(all.interreflection.bounce_coeffs, std::uint64_t(K));
+    EXPECT_EQ(cut.interreflection.bounce_coeffs, std::uint64_t(narrow));
+    EXPECT_EQ(one.interreflection.bounce_coeffs, std::uint64_t(kDefaultBounceCoeffs));
+    std::size_t differ = 0;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_EQ(std::memcmp(cut.receiver(v, c), all.receiver(v, c), narrow * sizeof(float)),
+                      0)
+                << "vertex " << v << " channel " << c;
+            ASSERT_EQ(std::memcmp(cut.receiver(v, c) + narrow, one.receiver(v, c) + narrow,
+                                  (K - narrow) * sizeof(float)),
+                      0)
+                << "vertex " << v << " channel " << c;
+            for (int k = narrow; k < K; ++k)
+                differ += all.receiver(v, c)[k] != cut.receiver(v, c)[k];
+        }
+    EXPECT_GT(differ, 0u) << "the later bounces added nothing past the first coefficients";
+    // The default is kDefaultBounceCoeffs, or K when that is smaller; more than K is refused.
+    EXPECT_EQ(bake(mesh, ir_options(9, 64, 2)).interreflection.bounce_coeffs, 9u);
+    o.bounce_coeffs = K + 1;
+    EXPECT_THROW(bake(mesh, o), Error);
+}
+
 // A memory budget that A does not fit: its blocks past the budget are spilled to a temporary file
 // and read back memory-mapped; the result is the in-memory bake's, bit for bit, whether every block
 // spills (a budget of 1 byte) or some do, and nothing is left in the spill directory.
@@ -471,7 +508,13 @@ TEST(Interreflect, BackFacesBringNothingUnlessTwoSided) {
     two_sided.two_sided = true;
     const TransferSet two = bake(mesh, two_sided);
     EXPECT_GT(two.interreflection.operator_nnz, 0u);
-    EXPECT_GT(constant_sky_E(two, 0, 0), double(two.direct[0]) * 2.0 * std::sqrt(kPi));
+    // Two-sided, the panel's underside sends the ground's light back: the ground gains.
+    double with = 0, without = 0;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        with += constant_sky_E(two, v, 0);
+        without += double(two.direct[v * 4]) * 2.0 * std::sqrt(kPi);
+    }
+    EXPECT_GT(with, without * 1.001);
 }
 
 // The independent estimate: a path tracer over the same discretisation (radiance at a hit is the

@@ -95,12 +95,13 @@ TEST_F(CliInterreflect, BounceSourcesOptionsAndInfo) {
     const std::string file = (m_dir / "leaky.shprt").string();
     auto r = shprt(
         "bake builtin:leaky_room --transfer interreflected --bounces 1 --coeffs 4 --samples 256 "
-        "--indirect-samples 32 --source-spacing 0.25 --two-sided -o '" +
+        "--indirect-samples 32 --source-spacing 0.25 --two-sided --bounce-coeffs 1 -o '" +
         file + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const ShprtFile f = read_shprt(file);
     const InterreflectionInfo& ir = f.transfer.interreflection;
     EXPECT_EQ(ir.indirect_samples, 32u);
+    EXPECT_EQ(ir.bounce_coeffs, 1u);
     EXPECT_FLOAT_EQ(float(ir.source_spacing), 0.25f);
     EXPECT_GT(ir.sources, 2 * f.mesh.vertex_count());  // cells, and back copies
     EXPECT_GT(ir.invalid_sources, 0u);                 // ends of panels inside their neighbours
@@ -109,6 +110,7 @@ TEST_F(CliInterreflect, BounceSourcesOptionsAndInfo) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_THAT(r.out, ::testing::HasSubstr("cells of at most 0.25 m"));
     EXPECT_THAT(r.out, ::testing::HasSubstr("32 directions per receiver"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("K = 4 after one bounce, the first 1 after more"));
     EXPECT_THAT(r.out, ::testing::HasSubstr("see back faces: a leaky or open asset?"));
     EXPECT_THAT(r.out, ::testing::HasSubstr("a back face sends the light of its own side"));
 
@@ -122,10 +124,10 @@ TEST_F(CliInterreflect, BounceSourcesOptionsAndInfo) {
     EXPECT_THAT(shprt("info '" + file + "'").out, ::testing::HasSubstr("(the mesh's vertices)"));
 
     for (const char* bad : {"--source-spacing 0", "--source-spacing -1", "--source-spacing x",
-                            "--indirect-samples 0"}) {
+                            "--indirect-samples 0", "--bounce-coeffs 0", "--bounce-coeffs 17"}) {
         r = shprt(std::string("bake builtin:plane --transfer interreflected -o '") + file + "' " +
                   bad);
-        expect_one_line_error(r, bad[2] == 's' ? "--source-spacing" : "--indirect-samples");
+        expect_one_line_error(r, std::string(bad).substr(0, std::string(bad).find(' ')));
     }
     r = shprt("bake builtin:plane --indirect-samples 8 -o '" + file + "'");
     expect_one_line_error(r, "need --transfer interreflected");

@@ -32,9 +32,9 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--max-device-memory", args.max_device_memory,
                    "--device cuda|auto: the GPU memory the bake may use (512M, 4G, ...; default "
                    "90% of what is free); interreflected bounces copy in what does not fit");
-    app.add_option("--bounces", args.bounces,
-                   fmt::format("Interreflected: bounces N (0 to {}; default 1) or 'converged'",
-                               kMaxBounces));
+    app.add_option(
+        "--bounces", args.bounces,
+        fmt::format("Interreflected: bounces N (0 to {}; default 1) or 'converged'", kMaxBounces));
     app.add_option("--tolerance", args.tolerance,
                    "Interreflected, --bounces converged: stop when no vertex's transfer changes "
                    "by more than this fraction (default 1e-4)");
@@ -52,6 +52,10 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--source-spacing", args.source_spacing,
                    "Interreflected: the bounce sources' cell size in metres (default: the "
                    "scene's diagonal / 48), or 'vertices' for the mesh's vertices alone");
+    app.add_option("--bounce-coeffs", args.bounce_coeffs,
+                   fmt::format("Interreflected: coefficients the light carries from its second "
+                               "bounce on (default {}, at most K; the first bounce keeps all K)",
+                               kDefaultBounceCoeffs));
 }
 
 Vec3f parse_albedo(const std::string& text) {
@@ -114,11 +118,18 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
     SHPRT_CHECK(o.transfer != TransferKind::glossy || a.bounces.empty(), unsupported,
                 "--bounces: interreflected glossy transfer is not implemented (glossy matrices "
                 "hold the direct, shadowed light only)");
-    SHPRT_CHECK(interreflected || (a.bounces.empty() && !a.tolerance && a.albedo.empty() &&
-                                   !a.two_sided && !a.indirect_samples && a.source_spacing.empty()),
-                invalid_argument,
-                "--bounces, --tolerance, --albedo, --two-sided, --indirect-samples and "
-                "--source-spacing need --transfer interreflected");
+    SHPRT_CHECK(
+        interreflected || (a.bounces.empty() && !a.tolerance && a.albedo.empty() && !a.two_sided &&
+                           !a.indirect_samples && a.source_spacing.empty() && !a.bounce_coeffs),
+        invalid_argument,
+        "--bounces, --tolerance, --albedo, --two-sided, --indirect-samples, "
+        "--source-spacing and --bounce-coeffs need --transfer interreflected");
+    if (a.bounce_coeffs) {
+        SHPRT_CHECK(*a.bounce_coeffs >= 1 && *a.bounce_coeffs <= o.K, invalid_argument,
+                    "--bounce-coeffs {}: must be 1 to K = {} (the bake's basis size)",
+                    *a.bounce_coeffs, o.K);
+        o.bounce_coeffs = static_cast<int>(*a.bounce_coeffs);
+    }
     if (a.indirect_samples) {
         SHPRT_CHECK(*a.indirect_samples >= 1 && *a.indirect_samples <= kMaxBakeSamples,
                     invalid_argument, "--indirect-samples {}: must be 1 to {}", *a.indirect_samples,

@@ -30,6 +30,7 @@ struct BakeOptionArgs {
     bool two_sided = false;
     std::optional<long long> indirect_samples;  // --indirect-samples S'
     std::string source_spacing;                 // --source-spacing METRES|vertices
+    std::optional<long long> bounce_coeffs;     // --bounce-coeffs K2
 };
 
 // Adds the options above, writing into `args` (which must outlive the parse).

@@ -62,8 +62,13 @@ inline constexpr int kMaxGlossyCoeffs = sh_count(8);
 // Most directions a bake accepts: W[chunk×S] must stay a sensible per-thread buffer.
 inline constexpr std::uint32_t kMaxBakeSamples = std::uint32_t(1) << 24;
 // BakeOptions::indirect_samples 0 means S / kIndirectSampleShare (chosen by measurement:
-// docs/interreflection.md, "Final gather").
-inline constexpr std::uint32_t kIndirectSampleShare = 4;
+// docs/interreflection.md, "Final gather"): S/8 cosine-distributed rays per receiver, as many
+// rays as S/4 directions of the sphere have above a horizon.
+inline constexpr std::uint32_t kIndirectSampleShare = 8;
+// BakeOptions::bounce_coeffs 0 means this many (4 bands), or K when smaller: light that has
+// bounced twice or more is carried in its first coefficients only (chosen by measurement:
+// docs/interreflection.md, "Coefficients of the bounces").
+inline constexpr int kDefaultBounceCoeffs = 16;
 // Most worker threads a bake accepts.
 inline constexpr int kMaxBakeThreads = 4096;
 // Most bounces an interreflected bake accepts (BakeOptions::bounces and max_bounces).
@@ -110,15 +115,22 @@ struct BakeOptions {
     double tolerance = 1e-4;
     int max_bounces = 1000;
     bool two_sided = false;
-    // Interreflected transfer: the directions each bounce source traces for the operator A, the
-    // first ones of the bake's sampler and seed (for Sobol a nested prefix of the bake's set): T_0
-    // keeps all S, the smooth bounces take fewer (a final gather; docs/interreflection.md).
-    // 0 = S / kIndirectSampleShare; at most S.
+    // Interreflected transfer: the rays each receiver casts for the bounces (its final gather),
+    // the first ones of the bake's sampler and seed (for Sobol a nested prefix of the bake's set)
+    // mapped to the receiver's cosine-weighted hemisphere; the other bounce sources trace the
+    // first 1/kInnerSourceShare of them as sphere directions. T_0 keeps all S, the smooth
+    // bounces take fewer (docs/interreflection.md). 0 = S / kIndirectSampleShare; at most S.
     std::uint32_t indirect_samples = 0;
     // Interreflected transfer: the bounce sources' cells, at most this many metres a side
     // (bake/bounce_sources.hpp); 0 = the scene's bounding-box diagonal / kDefaultSourceCells;
     // infinity = the mesh's vertices only (the discretisation before the sources had cells).
     float source_spacing = 0;
+    // Interreflected transfer: the coefficients that light carries after its second bounce and
+    // on (0 = kDefaultBounceCoeffs, capped at K; else 1..K). The first bounce reaches the
+    // receivers in all K; the later bounces, smooth in the light's direction and computed from
+    // sources that trace few rays, in the first bounce_coeffs (the others get the first bounce
+    // alone). Each bounce's product costs in proportion to its coefficients.
+    int bounce_coeffs = 0;
     // Interreflected transfer on the CPU: the bytes the whole bake may use (0 = no limit). The
     // transport operator A, whose size is known only once traced, gets what the estimate of the
     // rest (estimate_bake_peak_bytes) leaves; its blocks past that are spilled, as they are

@@ -43,10 +43,11 @@ inline constexpr float kSourceBackShare = 0.5f;
 // How many rings of neighbours the fill searches for valid points before it gives up (zero).
 inline constexpr int kSourceFillRings = 8;
 // The sources that are not receivers (the grids' own points, the back copies) trace the first
-// 1/kInnerSourceShare of the receivers' indirect directions: the receivers' rows are the final
-// gather, whose noise is what a user sees; an inner source's light reaches a receiver averaged
-// over the many hits of its row (measured: docs/interreflection.md, "Final gather").
-inline constexpr std::size_t kInnerSourceShare = 4;
+// 1/kInnerSourceShare of the receivers' indirect directions, on the sphere (their T_0 is projected
+// from the same rays): the receivers' rows are the final gather, whose noise is what a user sees;
+// an inner source's light reaches a receiver averaged over the many hits of its row (measured:
+// docs/interreflection.md, "Final gather").
+inline constexpr std::size_t kInnerSourceShare = 2;
 // The default spacing: the scene's bounding-box diagonal over this many cells.
 inline constexpr float kDefaultSourceCells = 48.0f;
 

@@ -150,6 +150,10 @@ std::size_t bake_bounce_source_count(const Mesh& mesh, const BakeOptions& option
 // for Sobol a nested prefix of `directions` —, or `directions` itself when that many or more.
 DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionSet& directions);
 
+// The coefficients light carries from its second bounce on in an interreflected bake with
+// `options`: BakeOptions::bounce_coeffs, 0 = kDefaultBounceCoeffs, at most K.
+int bounce_coeffs(const BakeOptions& options);
+
 // The mesh's arrays as A's entries read them (transport_build.hpp: the CPU's rows and the GPU's
 // build of A share its arithmetic); valid while `mesh` is.
 TransportMeshView transport_mesh_view(const Mesh& mesh);
@@ -162,9 +166,11 @@ enum class TransportKernel { automatic, eigen, avx2 };
 
 // One bounce: out = A·in per channel, where `in` and `out` are V rows of 3 channels × K floats
 // (the transfer layout, receiver-major: row v, channel c at (v·3 + c)·K). TBB over fixed blocks of
-// 2048 rows; `threads` 0 = all. The bits do not depend on the threads or the kernel.
+// 2048 rows; `threads` 0 = all. The bits do not depend on the threads or the kernel. With
+// `columns` < K only the first `columns` floats of each channel are computed (the others of
+// `out` are left as they were); each is the same as in the whole product.
 void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads);
 void apply_transport(const TransportOperator& A, const float* in, float* out, int K, int threads,
-                     TransportKernel kernel);
+                     TransportKernel kernel, int columns = 0);
 
 }  // namespace shprt

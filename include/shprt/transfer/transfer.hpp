@@ -127,6 +127,9 @@ struct InterreflectionInfo {
     std::uint64_t invalid_sources = 0;
     std::uint64_t indirect_samples = 0;
     std::uint64_t receivers_seeing_back_faces = 0;
+    // The coefficients the light carries from its second bounce on (BakeOptions::bounce_coeffs;
+    // 0 in files written before it: all K).
+    std::uint64_t bounce_coeffs = 0;
 };
 
 // Adds the work of `part` (one part of a bake: a shard, an MPI rank's share) to `total`: seconds
