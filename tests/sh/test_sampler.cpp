@@ -2,6 +2,7 @@
 // double, moments, χ² over equal-solid-angle bins, stratification for any count, Sobol net
 // property, integration error against uniform) and Gauss–Legendre quadrature.
 #include "shprt/core/math.hpp"
+#include "shprt/sh/direction_order.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/sh/zonal.hpp"
 
@@ -532,6 +533,69 @@ TEST(Sampler, ErrorFallsAsOneOverRootSForEverySampler) {
                            std::to_string(rms_S) + " " + std::to_string(rms_16S));
         }
     }
+}
+
+// ---- The coherent tracing order ---------------------------------------------------------------
+
+// Hilbert keys: every aligned 2^k × 2^k block of cells is one run of 4^k consecutive keys, and
+// successive keys are edge-adjacent cells (checked on the curve's first 2^16 cells).
+TEST(DirectionOrder, HilbertKeysAreContiguousPerBlockAndStepToNeighbours) {
+    std::mt19937_64 engine(3);
+    for (int trial = 0; trial < 200; ++trial) {
+        const int k = 1 + trial % 4;
+        const std::uint32_t size = 1u << k;
+        const std::uint32_t x0 = (static_cast<std::uint32_t>(engine()) & 0xffffu) & ~(size - 1);
+        const std::uint32_t y0 = (static_cast<std::uint32_t>(engine()) & 0xffffu) & ~(size - 1);
+        std::vector<std::uint32_t> keys;
+        for (std::uint32_t dy = 0; dy < size; ++dy)
+            for (std::uint32_t dx = 0; dx < size; ++dx)
+                keys.push_back(hilbert_index(x0 + dx, y0 + dy));
+        std::sort(keys.begin(), keys.end());
+        ASSERT_EQ(keys.front() % (size * size), 0u) << x0 << " " << y0 << " k=" << k;
+        for (std::size_t i = 1; i < keys.size(); ++i) ASSERT_EQ(keys[i], keys[0] + i);
+    }
+    std::vector<std::uint32_t> at(1u << 16, ~0u);  // cell of key d, for d < 2^16: x | y << 16
+    for (std::uint32_t y = 0; y < 256; ++y)
+        for (std::uint32_t x = 0; x < 256; ++x) {
+            const std::uint32_t d = hilbert_index(x, y);
+            if (d < at.size()) at[d] = x | y << 16;
+        }
+    for (std::size_t d = 0; d < at.size(); ++d) {
+        ASSERT_NE(at[d], ~0u) << d;  // the first 4^8 keys lie in the first 256 × 256 block
+        if (d == 0) continue;
+        const int dx = int(at[d] & 0xffffu) - int(at[d - 1] & 0xffffu);
+        const int dy = int(at[d] >> 16) - int(at[d - 1] >> 16);
+        ASSERT_EQ(std::abs(dx) + std::abs(dy), 1) << d;
+    }
+}
+
+// The order is a permutation, a pure function of the set, and coherent: successive directions
+// are close (the set's own order jumps across the sphere).
+TEST_P(EachSampler, CoherentOrderIsACoherentPermutation) {
+    const SamplerKind kind = GetParam();
+    constexpr std::uint32_t kCount = 4096;
+    // Mean angle between successive directions: ~π/2 in a random order; along the curve about
+    // the spacing √(4π/S) ≈ 0.055 rad, with the curve's few long jumps.
+    constexpr double kMaxMeanStepCoherent = 0.1;
+    const DirectionSet set = make_direction_set(kind, 8, kCount);
+    const std::vector<std::uint32_t> order = coherent_order(set);
+    ASSERT_EQ(order.size(), kCount);
+    std::vector<bool> seen(kCount, false);
+    for (std::uint32_t s : order) {
+        ASSERT_LT(s, kCount);
+        ASSERT_FALSE(seen[s]);
+        seen[s] = true;
+    }
+    EXPECT_EQ(order, coherent_order(make_direction_set(kind, 8, kCount)));
+    double step = 0.0, step_set = 0.0;
+    for (std::uint32_t i = 1; i < kCount; ++i) {
+        const double c = dot(dir_at(set, order[i]), dir_at(set, order[i - 1]));
+        step += std::acos(std::clamp(c, -1.0, 1.0)) / (kCount - 1);
+        const double c_set = dot(dir_at(set, i), dir_at(set, i - 1));
+        step_set += std::acos(std::clamp(c_set, -1.0, 1.0)) / (kCount - 1);
+    }
+    EXPECT_LT(step, kMaxMeanStepCoherent) << to_string(kind) << " (set order: " << step_set << ")";
+    RecordProperty("mean_step", std::to_string(step) + " vs " + std::to_string(step_set));
 }
 
 // ---- Quadrature -----------------------------------------------------------------------------
