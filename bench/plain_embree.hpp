@@ -1,6 +1,9 @@
 // The plain Embree program of bench_bake: a bake's occlusion rays (per vertex, the shared
 // directions above its horizon, from offset_ray_origin, one stream call per vertex) cast and
-// nothing else, the limit the bake's tracing is measured against. (bench_interreflect measured
+// nothing else, the limit the bake's tracing is measured against. The same rays cost Embree up
+// to a third more in an incoherent order than in a coherent one (issue 39), so the limit is the
+// fastest order: run() casts them in the set's order or in a given one (coherent_order, sorted
+// along a space-filling curve), and bench_bake times both. (bench_interreflect measured
 // its closest hits against it too, until the interreflected bake's T_0 became the direct bake
 // itself.)
 #pragma once
@@ -54,11 +57,13 @@ public:
     // Casts every vertex's above-horizon rays, one stream call per vertex, in the bake's chunks
     // on `threads` threads. Two ways to pick the above-horizon rays: a branch per direction, or
     // branch-free (always write the ray, advance only when above); the benchmark times both and
-    // takes the faster as the reference. `rays` gets the ray count and c0[v] the visible
-    // Σ cos·weight·y_0 (the bake's c_0, for validation).
+    // takes the faster as the reference. `order` (S indices, or nullptr for the set's own order)
+    // is the order the directions are cast in. `rays` gets the ray count and c0[v] the visible
+    // Σ cos·weight·y_0 (the bake's c_0, for validation; summed in the cast order).
     template <bool kBranchFree>
     void run(const Mesh& mesh, const DirectionSet& set, std::size_t chunk, int threads,
-             std::uint64_t& rays, std::vector<float>& c0) const {
+             std::uint64_t& rays, std::vector<float>& c0,
+             const std::uint32_t* order = nullptr) const {
         const std::size_t V = mesh.vertex_count(), S = set.size();
         c0.assign(V, 0.0f);
         struct Local {
@@ -88,7 +93,8 @@ public:
                             const Vec3f n = mesh.normals[v];
                             const Vec3f o = offset_ray_origin(mesh.positions[v], n);
                             unsigned m = 0;
-                            for (std::size_t s = 0; s < S; ++s) {
+                            for (std::size_t i = 0; i < S; ++i) {
+                                const std::size_t s = order ? order[i] : i;
                                 const float dx = set.dirs[3 * s], dy = set.dirs[3 * s + 1],
                                             dz = set.dirs[3 * s + 2];
                                 const float cosine = n.x * dx + n.y * dy + n.z * dz;

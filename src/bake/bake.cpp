@@ -8,6 +8,7 @@
 #include "shprt/bake/bake.hpp"
 
 #include "bake/bake_internal.hpp"
+#include "bake/stages.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/names.hpp"
@@ -163,7 +164,7 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
     std::uint64_t bytes = triangles * kBvhBytesPerTriangle;
     bytes += S * F * sizeof(float);                                            // Y (or P)
     if (F != K) bytes += S * K * sizeof(float);                                // Y for P
-    bytes += S * (4 * sizeof(float) + 3 * sizeof(float));                      // direction table
+    bytes += S * detail::DirectionTable::kBytesPerDirection;                   // direction table
     bytes += workers * (chunk * S * sizeof(float) +                            // W
                         S * (3 * sizeof(float) + sizeof(std::uint32_t) + 1) +  // rays
                         chunk * F * sizeof(float));                            // C
@@ -176,7 +177,7 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
         const std::uint64_t N = bounce_sources > 0 ? bounce_sources : V;
         bytes += V * row * sizeof(float) + 2 * N * row * sizeof(float) +
                  (V + N) * K * sizeof(float) + N * 41 + workers * 25 * N +
-                 S * (K + 7) * sizeof(float);
+                 S * (K * sizeof(float) + detail::DirectionTable::kBytesPerDirection);
     }
     return bytes;
 }

@@ -5,10 +5,13 @@
 //  * Sobol: Sobol 1967, Joe and Kuo 2008 (dimension 2 = polynomial x + 1); Owen 1995 scrambling
 //    by hashing, Laine and Karras 2011, Burley 2020.
 //  * Random rotation: Shoemake 1992.
+//  * Coherent order: the octahedral map (Praun and Hoppe 2003) walked along a Hilbert curve
+//    (direction_order.hpp).
 //  * Gauss–Legendre nodes by Newton's method on the three-term Legendre recurrence (Golub and
 //    Welsch 1969 give the same nodes; Newton is simpler and accurate to rounding here).
 // The per-direction maps are in include/shprt/sh/sampler.hpp (SHPRT_HD); this file builds sets.
 #include "shprt/sh/sampler.hpp"
+#include "shprt/sh/direction_order.hpp"
 
 #include "sh/quadrature.hpp"
 
@@ -16,6 +19,7 @@
 #include "shprt/core/math.hpp"
 #include "shprt/core/names.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace shprt {
@@ -161,6 +165,20 @@ DirectionSet to_float(const DirectionSetD& set) {
     out.dirs.assign(set.dirs.begin(), set.dirs.end());
     out.weights.assign(set.weights.begin(), set.weights.end());
     return out;
+}
+
+std::vector<std::uint32_t> coherent_order(const DirectionSet& set) {
+    const std::size_t S = set.size();
+    std::vector<std::uint64_t> keyed(S);
+    for (std::size_t s = 0; s < S; ++s) {
+        const std::uint64_t key =
+            octahedral_hilbert_key(set.dirs[3 * s], set.dirs[3 * s + 1], set.dirs[3 * s + 2]);
+        keyed[s] = key << 32 | static_cast<std::uint32_t>(s);  // ties by index: a total order
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<std::uint32_t> order(S);
+    for (std::size_t i = 0; i < S; ++i) order[i] = static_cast<std::uint32_t>(keyed[i]);
+    return order;
 }
 
 }  // namespace shprt

@@ -209,6 +209,14 @@ SHPRT_HD_INLINE Vec3<T> fibonacci_lattice_point(std::uint32_t index, std::uint32
 //                it: every seed gives the same point spacing).
 //  * sobol:      Owen-scrambled Sobol point `index` (seeds from Philox(seed, 0, kStreamSobol));
 //                independent of count; best when count is a power of two (a (0,m,2)-net).
+// Nested prefixes: for uniform and sobol the first n directions of any set are the n-direction
+// set; stratified and fibonacci sets depend on count and are not nested.
+// Convergence is a property of the RMS error over seeds (tests/sh/test_sampler.cpp,
+// ErrorFallsAsOneOverRootSForEverySampler: ∝ 1/√S for uniform, faster for the others). One
+// seed's curve is one draw, and with nested prefixes the error at 4S contains the error at S: for
+// a peaked light a quarter of the seeds show no fall from S to 4S, as an independent random
+// generator does (issue 39; seed 1 on the unshadowed sphere under a sun-like lobe: 4.0 %, 11.1 %,
+// 4.5 % at S = 4096, 16384, 65536, where the RMS over 8 seeds falls 11.5 %, 6.1 %, 4.1 %).
 template <class T>
 SHPRT_HD_INLINE Vec3<T> sphere_direction(SamplerKind kind, std::uint64_t seed, std::uint32_t index,
                                          std::uint32_t count) {
