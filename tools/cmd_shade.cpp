@@ -91,15 +91,15 @@ void run(const ShadeArgs& a) {
             shade_with_sun(file.mesh, file.transfer, light, sun, options, sun_options);
         if (result.bounced)
             std::printf(
-                "sun: direct light traced at every %s (%d disc directions), bounced light "
+                "sun: direct light traced at every %s (%d disc direction%s), bounced light "
                 "from the file's T - T0\n",
-                texel ? "texel" : "vertex", a.sun_samples);
+                texel ? "texel" : "vertex", a.sun_samples, a.sun_samples == 1 ? "" : "s");
         else
             std::printf(
-                "sun: direct light only, traced at every %s (%d disc directions): %s has "
+                "sun: direct light only, traced at every %s (%d disc direction%s): %s has "
                 "no bounced light (%s)\n",
-                texel ? "texel" : "vertex", a.sun_samples, a.input.c_str(),
-                a.shading.direct ? "--direct" : "not an interreflected bake");
+                texel ? "texel" : "vertex", a.sun_samples, a.sun_samples == 1 ? "" : "s",
+                a.input.c_str(), a.shading.direct ? "--direct" : "not an interreflected bake");
         return std::move(static_cast<ShadeResult&>(result));
     };
     if (texel) {
