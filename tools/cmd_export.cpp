@@ -32,6 +32,7 @@ struct ExportArgs {
 };
 
 void run(const ExportArgs& a) {
+    refuse_sun(a.light, "export");
     const auto start = std::chrono::steady_clock::now();
     const bool exr = lower_extension(a.output) == ".exr";
     SHPRT_CHECK(lower_extension(a.output) == ".glb" || exr, invalid_argument,

@@ -38,6 +38,7 @@ struct RenderArgs {
 };
 
 void run(const RenderArgs& a) {
+    refuse_sun(a.light, "render");
     const auto start = std::chrono::steady_clock::now();
     check_image_extension(a.output);
     check_shading_args(a.shading);

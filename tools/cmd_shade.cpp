@@ -12,6 +12,7 @@
 #include "shprt/render/camera.hpp"
 #include "shprt/render/shade.hpp"
 #include "shprt/render/shade_export.hpp"
+#include "shprt/render/sun_shade.hpp"
 #include "shprt/render/texel_shade.hpp"
 
 #include <chrono>
@@ -29,6 +30,7 @@ struct ShadeArgs {
     std::string eye;
     ShadingArgs shading;
     int coeffs = 0;
+    int sun_samples = kDefaultSunSamples;
     std::string quantity;  // texel files: irradiance (default) or radiance
 };
 
@@ -44,6 +46,15 @@ void run(const ShadeArgs& a) {
     SHPRT_CHECK(a.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)", a.coeffs);
     check_glossy_args(a.glossy);
     const LightSetup setup = light_setup_from(a.light);
+    SHPRT_CHECK(setup.sun || a.sun_samples == kDefaultSunSamples, invalid_argument,
+                "--sun-samples {} needs --sun", a.sun_samples);
+    if (setup.sun) {
+        try {
+            (void)sun_disc_directions(*setup.sun, a.sun_samples, 0);
+        } catch (const Error& e) {
+            fail(e.code(), "--sun-samples: {}", e.what());
+        }
+    }
     check_output_is_not_input(a.output, input_files(a.input, a.light));
     check_output_writable(a.output);  // a directory, a device: refused before the work
     Vec3f eye{};
@@ -68,10 +79,32 @@ void run(const ShadeArgs& a) {
     options.gloss = gloss;
     options.K_used = a.coeffs;
     options.eye = eye_used;
+    // With --sun: the sun kept out of the SH sum, traced (render/sun_shade.hpp); said once.
+    const auto shade = [&]() -> ShadeResult {
+        if (!setup.sun)
+            return shade_receivers(file.mesh, file.transfer, light, options,
+                                   plan.glossy ? &glossy_options : nullptr);
+        SunShadeOptions sun_options;
+        sun_options.disc_samples = a.sun_samples;
+        const PreparedSun sun = prepare_sun(setup, file.transfer.layout.K);
+        SunShadeResult result =
+            shade_with_sun(file.mesh, file.transfer, light, sun, options, sun_options);
+        if (result.bounced)
+            std::printf(
+                "sun: direct light traced at every %s (%d disc direction%s), bounced light "
+                "from the file's T - T0\n",
+                texel ? "texel" : "vertex", a.sun_samples, a.sun_samples == 1 ? "" : "s");
+        else
+            std::printf(
+                "sun: direct light only, traced at every %s (%d disc direction%s): %s has "
+                "no bounced light (%s)\n",
+                texel ? "texel" : "vertex", a.sun_samples, a.sun_samples == 1 ? "" : "s",
+                a.input.c_str(), a.shading.direct ? "--direct" : "not an interreflected bake");
+        return std::move(static_cast<ShadeResult&>(result));
+    };
     if (texel) {
         // Per-texel values as an H x W x 3 image (NaN outside the charts).
-        const ShadeResult result = shade_receivers(file.mesh, file.transfer, light, options,
-                                                   plan.glossy ? &glossy_options : nullptr);
+        const ShadeResult result = shade();
         write_texel_image(a.output, file.transfer.texels,
                           a.quantity == "radiance" ? result.radiance : result.irradiance,
                           static_cast<float>(a.shading.exposure));
@@ -90,8 +123,7 @@ void run(const ShadeArgs& a) {
         "{}: .exr and .png output are for texel files; {} holds vertex transfer (use .csv, .ply or "
         ".npy)",
         a.output, a.input);
-    const ShadeResult result = shade_receivers(file.mesh, file.transfer, light, options,
-                                               plan.glossy ? &glossy_options : nullptr);
+    const ShadeResult result = shade();
     write_shade(a.output, file.mesh, result, static_cast<float>(a.shading.exposure));
     const double seconds = seconds_since(start);
     const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
@@ -118,6 +150,10 @@ const bool shade_registered = register_command(
              "--eye", args->eye,
              "Eye position X,Y,Z for the glossy term (default: the default render camera)");
          app.add_option("--coeffs", args->coeffs, "Use the first K' coefficients (default: all)");
+         app.add_option(
+             "--sun-samples", args->sun_samples,
+             "With --sun: directions traced on the sun's disc, a square (default 64; 1 = "
+             "the centre only, a point sun's hard shadow)");
          app.add_option("--quantity", args->quantity,
                         "Texel files: irradiance (default) or radiance, written as an H x W x 3 "
                         ".npy or .exr (NaN outside the charts), or a .png picture");

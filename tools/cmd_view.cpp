@@ -81,6 +81,7 @@ TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
 }
 
 void run(const ViewArgs& a) {
+    refuse_sun(a.light, "view");
     const auto start = Clock::now();
     // ---- Every option is checked before any work.
     check_shading_args(a.shading);

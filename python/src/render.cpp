@@ -13,12 +13,14 @@
 #include "shprt/render/renderer.hpp"
 #include "shprt/render/save_image.hpp"
 #include "shprt/render/shade.hpp"
+#include "shprt/render/sun_shade.hpp"
 #include "shprt/render/texel_shade.hpp"
 #endif
 
 #include <pybind11/stl.h>
 
 #include <cstring>
+#include <variant>
 
 namespace shprt::python {
 
@@ -77,6 +79,19 @@ const ShprtFile& shaded_file(const ShprtFile& file, bool direct, std::optional<S
     return *own;
 }
 
+// sun= as the command line's --sun: "X,Y,Z[,RADIUS_DEG[,R,G,B]]" or the same 3, 4 or 7 numbers.
+using SunArg = std::variant<std::string, std::vector<double>>;
+Sun sun_arg(const SunArg& arg) {
+    std::string text;
+    if (const auto* s = std::get_if<std::string>(&arg)) {
+        text = *s;
+    } else {
+        for (double v : std::get<std::vector<double>>(arg))
+            text += (text.empty() ? "" : ",") + fmt::format("{}", v);
+    }
+    return parse_sun(text, "sun='" + text + "'", "X,Y,Z[,RADIUS_DEG[,R,G,B]]");
+}
+
 }  // namespace
 #endif
 
@@ -86,8 +101,13 @@ void bind_render(py::module_& m) {
         "shade",
         [](const ShprtFile& given, py::handle light, double k, double gloss,
            std::array<float, 3> eye, int coeffs, std::optional<std::string> brdf,
-           std::optional<std::array<float, 3>> albedo, bool direct) {
+           std::optional<std::array<float, 3>> albedo, bool direct, std::optional<SunArg> sun,
+           int sun_samples) {
             const ShLight l = light_arg(light);
+            std::optional<PreparedSun> prepared;
+            if (sun) prepared = PreparedSun{sun_arg(*sun), {}};
+            SHPRT_CHECK(prepared || sun_samples == kDefaultSunSamples, invalid_argument,
+                        "sun_samples={} needs sun=", sun_samples);
             std::optional<ShprtFile> own;
             const ShprtFile& file = shaded_file(given, direct, own);
             std::optional<GlossyShadeOptions> glossy = glossy_args(file, brdf, albedo, gloss);
@@ -104,15 +124,28 @@ void bind_render(py::module_& m) {
             ShadeResult result;
             {
                 py::gil_scoped_release release;
-                result = shade_receivers(file.mesh, file.transfer, l, options,
-                                         glossy ? &*glossy : nullptr);
+                if (prepared) {
+                    SHPRT_CHECK(!glossy, unsupported,
+                                "sun=: a traced sun lights diffuse transfer only; {} holds glossy "
+                                "transfer matrices",
+                                file.mesh.source);
+                    prepared->sh = sun_light(prepared->sun, l.K);  // same K as the sky
+                    SunShadeOptions sun_options;
+                    sun_options.disc_samples = sun_samples;
+                    result = shade_with_sun(file.mesh, file.transfer, l, *prepared, options,
+                                            sun_options);
+                } else {
+                    result = shade_receivers(file.mesh, file.transfer, l, options,
+                                             glossy ? &*glossy : nullptr);
+                }
             }
             return py::make_tuple(vec3_array(std::move(result.irradiance)),
                                   vec3_array(std::move(result.radiance)));
         },
         "file"_a, "light"_a, py::kw_only(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
         "eye"_a = std::array<float, 3>{0, 0, 0}, "coeffs"_a = 0, "brdf"_a = py::none(),
-        "albedo"_a = py::none(), "direct"_a = false,
+        "albedo"_a = py::none(), "direct"_a = false, "sun"_a = py::none(),
+        "sun_samples"_a = kDefaultSunSamples,
         R"(Per-vertex shading on the CPU (render/shade.hpp): returns (irradiance, radiance), each
 (V, 3) float32, under light (3, K) — for a texel file (N, 3), one row per covered texel in the
 atlas's order (render/texel_shade.hpp). k is the diffuse share (1 = diffuse only), gloss the Phong
@@ -124,7 +157,13 @@ A file of glossy transfer matrices (bake(transfer='glossy')) is shaded with its 
 where the scene has them and a Phong lobe of exponent gloss elsewhere. albedo (r, g, b) replaces
 the diffuse and specular colours. brdf and albedo are refused for vector transfer.
 
-direct=True shades an interreflected bake's direct part only (File.direct; `--direct`).)");
+direct=True shades an interreflected bake's direct part only (File.direct; `--direct`).
+
+sun='X,Y,Z[,RADIUS_DEG[,R,G,B]]' (or those 3, 4 or 7 numbers) adds a sun kept out of the SH sum, as
+`shprt shade --sun` (render/sun_shade.hpp): its direct light traced at each receiver through
+sun_samples directions on its disc (a square; 1 = a point sun), its bounced light from an
+interreflected file's T - T0; `light` is then the sky alone (the sun's own SH projection is made
+here, at the light's K, neither windowed nor rotated). Diffuse transfer only.)");
     m.def(
         "render",
         [](const ShprtFile& given, py::handle light, int width, int height,

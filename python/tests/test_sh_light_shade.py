@@ -144,6 +144,31 @@ def test_an_interreflected_files_direct_part_shades_as_the_command_line_shades_i
 
 
 @pytest.mark.skipif(not shprt.HAS_RENDER, reason="this build has no renderer (render/)")
+def test_a_sun_kept_out_of_the_sh_sum_shades_as_the_command_line_shades_it(box, tmp_path, cli):
+    path, out = str(tmp_path / "i.shprt"), str(tmp_path / "s.csv")
+    cli("bake", "builtin:box_on_plane", "--transfer", "interreflected", "--bounces", "1",
+        "--bands", "3", "--samples", "128", "-o", path)
+    f = shprt.load(path)
+    stdout = cli("shade", path, "--light", "gradient", "--sun", "1,1,0.3,2", "--sun-samples", "16",
+                 "-o", out)
+    assert "bounced light from the file's T - T0" in stdout
+    rows = np.loadtxt(out, delimiter=",", skiprows=1)
+    sky = shprt.light("gradient", K=9)
+    E, R = shprt.shade(f, sky, sun="1,1,0.3,2", sun_samples=16)
+    np.testing.assert_allclose(E, rows[:, 3:6], rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(R, rows[:, 6:9], rtol=1e-6, atol=1e-6)
+    E2, _ = shprt.shade(f, sky, sun=[1, 1, 0.3, 2], sun_samples=16)
+    np.testing.assert_array_equal(E, E2)
+    # The sun adds light.
+    E_sky, _ = shprt.shade(f, sky)
+    assert ((E - E_sky)[:, 0] > 1e-3).sum() > 0
+    with pytest.raises(shprt.Error, match=r"sun='1,2': expected X,Y,Z"):
+        shprt.shade(f, sky, sun="1,2")
+    with pytest.raises(shprt.Error, match="sun_samples=9 needs sun="):
+        shprt.shade(f, sky, sun_samples=9)
+
+
+@pytest.mark.skipif(not shprt.HAS_RENDER, reason="this build has no renderer (render/)")
 def test_a_texel_file_shades_per_texel_as_the_command_line_shades_it(tmp_path, cli):
     path, npy = str(tmp_path / "t.shprt"), str(tmp_path / "e.npy")
     cli("bake", "builtin:quad_box", "--domain", "texel", "--resolution", "16", "--coeffs", "4",

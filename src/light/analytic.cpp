@@ -7,6 +7,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/light/light.hpp"
+#include "shprt/light/sun.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/sh/zonal.hpp"
@@ -124,19 +125,30 @@ Vec3d sun_radiance_for_irradiance(Vec3d irradiance, double radius_deg) {
     return irradiance / (kPi * s * s);
 }
 
-ShLight sun_light(Vec3d dir, double radius_deg, Vec3d radiance, int K) {
-    const double len = length(dir);
+Sun make_sun(Vec3d direction, double radius_deg, Vec3d radiance) {
+    const double len = length(direction);
     SHPRT_CHECK(std::isfinite(len) && len > 0.0, invalid_argument,
-                "sun direction ({}, {}, {}) must be finite and non-zero", dir.x, dir.y, dir.z);
+                "sun direction ({}, {}, {}) must be finite and non-zero", direction.x, direction.y,
+                direction.z);
     SHPRT_CHECK(std::isfinite(radius_deg) && radius_deg > 0.0 && radius_deg <= 90.0,
                 invalid_argument, "sun radius {}° must be in (0, 90]", radius_deg);
     check_radiance(radiance, "sun");
+    return Sun{direction / len, radius_deg, radiance};
+}
+
+ShLight sun_light(const Sun& given, int K) {
+    const Sun sun = make_sun(given.direction, given.radius_deg, given.radiance);  // the checks
     ShLight light = ShLight::zero(K);
     const int bands = sh_bands_for(K);
-    const double cos_r = std::cos(radius_deg * kDeg);
-    const auto g = [&](double) { return radiance; };
-    add_zonal(light, zonal_coefficients(g, {cos_r, 1.0}, bands), bands, dir / len);
+    const double cos_r = std::cos(sun.radius_deg * kDeg);
+    const auto g = [&](double) { return sun.radiance; };
+    add_zonal(light, zonal_coefficients(g, {cos_r, 1.0}, bands), bands, sun.direction);
     return light;
+}
+
+ShLight sun_light(Vec3d dir, double radius_deg, Vec3d radiance, int K) {
+    // Through make_sun, as parse_sun does, so that `sun:` and this give the same bits.
+    return sun_light(make_sun(dir, radius_deg, radiance), K);
 }
 
 Vec3d builtin_sun_direction() {

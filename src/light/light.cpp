@@ -2,6 +2,7 @@
 // rotation of sh/rotation.hpp (Ivanic & Ruedenberg 1996; Sloan, Kautz & Snyder 2002 §6 rotate
 // the light, never re-project it).
 #include "shprt/light/light.hpp"
+#include "shprt/light/sun.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -143,17 +144,9 @@ ShLight parse_light_unwrapped(const std::string& spec, int K) {
     if (head == "sun") {
         SHPRT_CHECK(has_args, invalid_argument,
                     "light '{}': expected sun:X,Y,Z[,RADIUS_DEG[,R,G,B]]", spec);
-        const std::vector<double> v = spec_numbers(args, spec);
-        SHPRT_CHECK(v.size() == 3 || v.size() == 4 || v.size() == 7, invalid_argument,
-                    "light '{}': expected sun:X,Y,Z[,RADIUS_DEG[,R,G,B]] (3, 4 or 7 numbers), got "
-                    "{} numbers",
-                    spec, v.size());
-        const double radius = v.size() > 3 ? v[3] : 2.0;
-        SHPRT_CHECK(radius > 0.0 && radius <= 90.0, invalid_argument,
-                    "light '{}': sun radius {} degrees must be in (0, 90]", spec, radius);
-        const Vec3d radiance = v.size() == 7 ? Vec3d{v[4], v[5], v[6]}
-                                             : sun_radiance_for_irradiance({3, 3, 3}, radius);
-        return sun_light({v[0], v[1], v[2]}, radius, radiance, K);
+        // The one sun model (light/sun.hpp), shared with `--sun`.
+        return sun_light(parse_sun(args, "light '" + spec + "'", "sun:X,Y,Z[,RADIUS_DEG[,R,G,B]]"),
+                         K);
     }
     if (head == "equirect" && has_args) return light_from_file(std::string(args), K, 'e');
     if (head == "cross" && has_args) return light_from_file(std::string(args), K, 'c');

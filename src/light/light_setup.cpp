@@ -15,9 +15,25 @@ namespace shprt {
 ShLight light_source(const LightSetup& setup, int K) {
     SHPRT_CHECK(K >= 1 && K <= kMaxLightK, invalid_argument,
                 "light basis size K = {} is outside 1..{}", K, kMaxLightK);
-    ShLight light = make_light(setup.specs, sh_count(sh_bands_for(K)));
+    const int full = sh_count(sh_bands_for(K));
+    if (setup.specs.empty() && setup.sun) return ShLight::zero(full);  // the sun alone
+    ShLight light = make_light(setup.specs, full);
     window_light(light, setup.window, setup.window_strength);
     return light;
+}
+
+PreparedSun prepare_sun(const LightSetup& setup, int K) {
+    SHPRT_CHECK(setup.sun.has_value(), invalid_argument, "prepare_sun: the light setup has no sun");
+    SHPRT_CHECK(K >= 1 && K <= kMaxLightK, invalid_argument,
+                "light basis size K = {} is outside 1..{}", K, kMaxLightK);
+    ShLight source = sun_light(*setup.sun, sh_count(sh_bands_for(K)));
+    window_light(source, setup.window, setup.window_strength);
+    const Mat3d R = light_rotation(setup);
+    PreparedSun out;
+    out.sun = *setup.sun;
+    if (!(R == Mat3d::identity())) out.sun.direction = normalize(R * setup.sun->direction);
+    out.sh = rotated_light(source, R, K);
+    return out;
 }
 
 Mat3d light_rotation(const LightSetup& setup) {

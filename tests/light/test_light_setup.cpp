@@ -82,6 +82,36 @@ TEST(LightPath, TheIdentityKeepsTheSourceBitsAndOnlyTruncates) {
     EXPECT_EQ(prepare_light(setup, 20).coeffs, cut.coeffs);
 }
 
+// A sun kept out of the SH sum (setup.sun) goes the same way as a `sun:` spec: its projection is
+// what the spec gives through the path, bit for bit; its direction turns with --rotate; and the
+// SH light of the setup never holds it (no sky at all when there are no specs, not the built-in
+// light with its own sun).
+TEST(LightPath, TheSunTurnsWithTheRestAndStaysOutOfTheSum) {
+    LightSetup setup = sun_setup();
+    const Sun sun = parse_sun("1,2,0.5,6", "--sun", "X,Y,Z[,RADIUS_DEG[,R,G,B]]");
+    setup.sun = sun;
+    LightSetup spec_only = setup;
+    spec_only.sun.reset();
+    spec_only.specs = {"sun:1,2,0.5,6"};
+    for (int K : {16, 48}) {
+        const PreparedSun prepared = prepare_sun(setup, K);
+        EXPECT_EQ(prepared.sh.coeffs, prepare_light(spec_only, K).coeffs) << K;
+        EXPECT_EQ(prepare_light(setup, K).coeffs, [&] {
+            LightSetup s = setup;
+            s.sun.reset();
+            return prepare_light(s, K).coeffs;
+        }()) << K;
+        const Vec3d expected = light_rotation(setup) * sun.direction;
+        for (int i = 0; i < 3; ++i) EXPECT_NEAR(prepared.sun.direction[i], expected[i], 1e-15);
+        EXPECT_EQ(prepared.sun.radius_deg, 6.0);
+    }
+    LightSetup alone;
+    alone.sun = sun;
+    const ShLight sky = prepare_light(alone, 16);
+    EXPECT_TRUE(std::all_of(sky.coeffs.begin(), sky.coeffs.end(), [](float c) { return c == 0; }));
+    EXPECT_THROW(prepare_sun(LightSetup{}, 16), Error);
+}
+
 TEST(LightPath, BadArgumentsThrow) {
     const ShLight source = light_source(LightSetup{}, 9);
     EXPECT_THROW(rotated_light(source, Mat3d::identity(), 0), Error);

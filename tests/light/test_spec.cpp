@@ -8,6 +8,7 @@
 #include "shprt/light/cubemap.hpp"
 #include "shprt/light/equirect.hpp"
 #include "shprt/light/light.hpp"
+#include "shprt/light/sun.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/window.hpp"
 
@@ -227,6 +228,80 @@ TEST(LightSpecParse, AnalyticSpecsAndSums) {
     EXPECT_THROW(add_light(small, expected), Error);
     for (const Vec3d d : {Vec3d{0, 1, 0}, Vec3d{0.6, 0, -0.8}})
         EXPECT_NEAR(light_radiance(parse_light("constant:2", 9), d).y, 2.0, 1e-6);
+}
+
+// `--sun` and `sun:` share one model (light/sun.hpp): the same numbers give the same sun, and
+// every bad value is one line that begins with what the caller named (the option).
+TEST(SunSpec, OneModelForBothSpellings) {
+    const std::string syntax = "X,Y,Z[,RADIUS_DEG[,R,G,B]]";
+    const Sun sun = parse_sun("1,2,3,5", "--sun '1,2,3,5'", syntax);
+    EXPECT_NEAR(length(sun.direction), 1.0, 1e-15);
+    EXPECT_EQ(sun.radius_deg, 5.0);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(sun_irradiance(sun)[c], kDefaultSunIrradiance, 1e-12);
+    EXPECT_NEAR(sun_solid_angle(sun), 2 * kPi * (1 - std::cos(5 * kDeg)), 1e-15);
+    for (const int K : {1, 25, 256})
+        EXPECT_EQ(sun_light(sun, K).coeffs, parse_light("sun:1,2,3,5", K).coeffs) << K;
+    EXPECT_EQ(parse_sun("0,1,0,2,10,20,30", "x", syntax).radiance, (Vec3d{10, 20, 30}));
+
+    const auto expect_error = [&](const std::string& numbers, const std::string& needle) {
+        const std::string what = "--sun '" + numbers + "'";
+        try {
+            (void)parse_sun(numbers, what, syntax);
+            ADD_FAILURE() << numbers << ": no error";
+        } catch (const Error& e) {
+            const std::string m = e.what();
+            EXPECT_EQ(e.code(), ErrorCode::invalid_argument) << m;
+            EXPECT_EQ(m.rfind(what, 0), 0u) << m;
+            EXPECT_NE(m.find(needle), std::string::npos) << m;
+            EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+        }
+    };
+    expect_error("1,2", "expected X,Y,Z[,RADIUS_DEG[,R,G,B]] (3, 4 or 7 numbers), got 2");
+    expect_error("0,1,0,2,1,1", "(3, 4 or 7 numbers), got 6");
+    expect_error("0,0,0", "non-zero");
+    expect_error("0,1,0,0", "(0, 90]");
+    expect_error("0,1,0,90.5", "(0, 90]");
+    expect_error("0,1,0,2,1,-1,1", "non-negative");
+    expect_error("0,1,nan", "not a number");
+    expect_error("0,1,x", "'x' is not a number");
+    expect_error("", "");
+}
+
+// The disc directions: inside the cap, uniform in solid angle (stratified: the mean of
+// (1 − cos θ)/(1 − cos r) is 1/2 and of cos θ is (1 + cos r)/2, to the strata's error), the centre
+// alone for one sample, a pure function of (sun, count, seed), and counts that are not squares
+// refused.
+TEST(SunSpec, DiscDirections) {
+    const Sun sun = make_sun({0.3, 1, -0.2}, 10, {1, 1, 1});
+    const double cos_r = std::cos(10 * kDeg);
+    for (const int n : {2, 8, 32}) {
+        const std::vector<Vec3d> dirs = sun_disc_directions(sun, n * n, 7);
+        ASSERT_EQ(dirs.size(), std::size_t(n * n));
+        double u = 0, c = 0, x = 0, y = 0;
+        const Vec3d t = normalize(cross(sun.direction, Vec3d{1, 0, 0}));
+        const Vec3d b = cross(sun.direction, t);
+        for (const Vec3d& d : dirs) {
+            EXPECT_NEAR(length(d), 1.0, 1e-14);
+            EXPECT_GE(dot(d, sun.direction), cos_r - 1e-14);
+            u += (1 - dot(d, sun.direction)) / (1 - cos_r);
+            c += dot(d, sun.direction);
+            x += dot(d, t);
+            y += dot(d, b);
+        }
+        const double N = n * n;
+        // A jittered grid: each stratum's mean is off by at most its extent.
+        EXPECT_NEAR(u / N, 0.5, 1.0 / n) << n;
+        EXPECT_NEAR(c / N, (1 + cos_r) / 2, (1 - cos_r) / n) << n;
+        EXPECT_NEAR(x / N, 0.0, std::sin(10 * kDeg) / n) << n;
+        EXPECT_NEAR(y / N, 0.0, std::sin(10 * kDeg) / n) << n;
+    }
+    EXPECT_EQ(sun_disc_directions(sun, 64, 7), sun_disc_directions(sun, 64, 7));
+    EXPECT_NE(sun_disc_directions(sun, 64, 7), sun_disc_directions(sun, 64, 8));
+    const std::vector<Vec3d> one = sun_disc_directions(sun, 1, 7);
+    ASSERT_EQ(one.size(), 1u);
+    EXPECT_EQ(one[0], sun.direction);
+    for (const int bad : {0, -4, 2, 10, 63, kMaxSunSamples + 1, 65 * 65})
+        EXPECT_THROW(sun_disc_directions(sun, bad, 7), Error) << bad;
 }
 
 // A sun toward s, rotated by R through the SH rotation, is the sun toward R·s (projected

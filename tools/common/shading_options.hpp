@@ -22,16 +22,20 @@ namespace shprt::tools {
 
 struct LightArgs {
     std::vector<std::string> lights;
+    std::string sun;  // --sun X,Y,Z[,RADIUS_DEG[,R,G,B]] (light/sun.hpp), or empty
     std::string rotate, window = "none";
     double window_strength = 0;
 };
 
-// Adds --light (repeatable), --rotate, --window and --window-strength writing into `args`
+// Adds --light (repeatable), --sun, --rotate, --window and --window-strength writing into `args`
 // (which must outlive the parse).
 void add_light_options(CLI::App& app, LightArgs& args);
-// The LightSetup of the parsed options; throws Error(invalid_argument) naming a bad window or
-// rotation. Light files are only read later, by prepare_light.
+// The LightSetup of the parsed options; throws Error(invalid_argument) naming a bad --sun, window
+// or rotation. Light files are only read later, by prepare_light.
 LightSetup light_setup_from(const LightArgs& args);
+// The commands that do not draw a sun kept out of the SH sum yet (`render`, `view`, `export`):
+// a one-line Error(unsupported) naming `command` when --sun was given.
+void refuse_sun(const LightArgs& args, const std::string& command);
 
 struct CameraArgs {
     std::string camera;         // "EX,EY,EZ,TX,TY,TZ" or empty (default camera)

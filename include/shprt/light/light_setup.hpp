@@ -15,15 +15,22 @@
 
 #include "shprt/core/vec.hpp"
 #include "shprt/light/light.hpp"
+#include "shprt/light/sun.hpp"
 #include "shprt/sh/window.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace shprt {
 
 struct LightSetup {
-    std::vector<std::string> specs;  // light specs (light/light.hpp), summed; empty = {"builtin"}
+    // Light specs (light/light.hpp), summed; empty = {"builtin"}, or no light at all beside a
+    // `sun` (the built-in light holds a sun of its own, which would be counted twice).
+    std::vector<std::string> specs;
+    // A sun kept out of the SH sum (`--sun`, render/sun_shade.hpp): prepare_sun turns it with the
+    // rest; prepare_light and light_source never include it.
+    std::optional<Sun> sun;
     Vec3d yaw_pitch_roll_deg{0, 0,
                              0};  // rotation R = Ry(yaw)·Rx(pitch)·Rz(roll) (core/rotation3.hpp)
     WindowKind window = WindowKind::none;
@@ -48,6 +55,17 @@ ShLight rotated_light(const ShLight& source, const Mat3d& R, int K);
 // rotated_light(light_source(setup, K), light_rotation(setup), K): the light of basis size K for
 // `setup`. Throws what light_source throws.
 ShLight prepare_light(const LightSetup& setup, int K);
+
+// setup.sun as it lights the scene: its direction turned by light_rotation(setup) (the rotation
+// turns every light), and its SH projection for its bounced light (render/sun_shade.hpp) through
+// the same path as a `sun:` spec: projected with full bands, windowed by setup.window, rotated,
+// truncated to K. Throws Error(invalid_argument) when setup.sun is unset or K is outside
+// [1, kMaxLightK].
+struct PreparedSun {
+    Sun sun;     // direction rotated
+    ShLight sh;  // basis size K
+};
+PreparedSun prepare_sun(const LightSetup& setup, int K);
 
 // Parses "YAW,PITCH,ROLL" in degrees (three finite numbers, core/parse.hpp); throws
 // Error(invalid_argument) naming `text`.
