@@ -1,8 +1,10 @@
 #include "common/progress_bar.hpp"
 
+#include "shprt/core/log.hpp"
+#include "shprt/core/terminal.hpp"
+
 #include <fmt/format.h>
 #include <sys/ioctl.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -47,8 +49,8 @@ std::string format_duration(double seconds) {
 
 ProgressBar::ProgressBar(std::string label, std::FILE* out)
     : m_label(std::move(label)),
-      m_out(out),
-      m_terminal(out != nullptr && ::isatty(::fileno(out)) != 0),
+      m_out(log_enabled(LogLevel::info) ? out : nullptr),
+      m_terminal(terminal_escape_codes(m_out)),
       m_start(Clock::now()) {}
 
 ProgressBar::~ProgressBar() { finish(); }

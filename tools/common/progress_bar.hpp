@@ -1,7 +1,8 @@
 // Progress display for the `shprt` tools. The library reports progress through a ProgressFn
 // (core/progress.hpp); a tool passes ProgressBar::callback() and the bar draws it.
 //
-//   * On a terminal (isatty on the output stream): one line redrawn in place, at most 10 times a
+//   * Nothing below the info log level (core/log.hpp: the command line's -q, --log-level warn).
+//   * On a terminal that takes escape codes (core/terminal.hpp: not TERM=dumb): one line redrawn in place, at most 10 times a
 //     second, e.g.
 //       bake [##############..............]  48%  51.2 Mrays/s  ETA 3.1 s
 //     and where work follows that the stage cannot time yet (ProgressInfo::then), it is named
