@@ -181,6 +181,7 @@ TEST_F(CliBadInput, TyposSayWhatWasMeant) {
     EXPECT_EQ(help.exit_code, 0) << help.err;
     EXPECT_NE(help.out.find("Usage: shprt bake "), std::string::npos) << help.out;
     EXPECT_EQ(help.out.find(SHPRT_CLI_PATH), std::string::npos) << help.out;
+    EXPECT_EQ(help.out.find("`view`"), std::string::npos) << "bake's help is bake's: " << help.out;
 }
 
 // Memory is bounded by the input: a header claiming more than memory holds is a clean error at

@@ -32,16 +32,15 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--max-device-memory", args.max_device_memory,
                    "--device cuda|auto: the GPU memory the bake may use (512M, 4G, ...; default "
                    "90% of what is free); interreflected bounces copy in what does not fit");
-    app.add_option("--bounces", args.bounces,
-                   fmt::format("Interreflected: bounces N (0 to {}; default 1) or 'converged'",
-                               kMaxBounces));
+    app.add_option(
+        "--bounces", args.bounces,
+        fmt::format("Interreflected: bounces N (0 to {}; default 1) or 'converged'", kMaxBounces));
     app.add_option("--tolerance", args.tolerance,
                    "Interreflected, --bounces converged: stop when no vertex's transfer changes "
                    "by more than this fraction (default 1e-4)");
     app.add_option("--albedo", args.albedo,
                    "Interreflected: albedo R,G,B (linear, 0 to 1) for every vertex (default: the "
-                   "scene's vertex colours, else its materials' diffuse colour, else 0.8 grey); "
-                   "in `view`, without --bake or with a glossy bake, the glossy colour override");
+                   "scene's vertex colours, else its materials' diffuse colour, else 0.8 grey)");
     app.add_flag("--two-sided", args.two_sided,
                  "Interreflected: a back face reflects the light on its own side, as a renderer "
                  "does (default: it brings nothing; docs/interreflection.md says which to pick)");
