@@ -94,7 +94,7 @@ if(SHPRT_BUILD_TESTS)
                      -DWORK=${PROJECT_BINARY_DIR}/consumer-test -DCXX=${CMAKE_CXX_COMPILER}
                      -DGENERATOR=${CMAKE_GENERATOR} ${shprt_consumer_python}
                      -P ${PROJECT_SOURCE_DIR}/tests/consumer/check.cmake)
-    set_tests_properties(consumer PROPERTIES LABELS package COST 20)
+    set_tests_properties(consumer PROPERTIES LABELS package COST 20 RESOURCE_LOCK shprt_install)
     # The same project taking shprt in with add_subdirectory: configured and generated only (about
     # 2 s; building it builds the whole library again, minutes). It catches what broke
     # add_subdirectory before (paths from CMAKE_SOURCE_DIR: "No SOURCES given to target").

@@ -43,5 +43,6 @@ if(SHPRT_BUILD_TESTS)
     add_test(NAME deb COMMAND ${CMAKE_COMMAND} -DBUILD=${PROJECT_BINARY_DIR}
                               -DWORK=${PROJECT_BINARY_DIR}/deb-test -DVERSION=${PROJECT_VERSION}
                               -P ${PROJECT_SOURCE_DIR}/tests/consumer/deb.cmake)
-    set_tests_properties(deb PROPERTIES LABELS package)
+    # RESOURCE_LOCK: it and `consumer` both run the build folder's install scripts; one at a time.
+    set_tests_properties(deb PROPERTIES LABELS package RESOURCE_LOCK shprt_install)
 endif()
