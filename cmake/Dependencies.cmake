@@ -23,7 +23,7 @@ target_link_libraries(shprt_stb INTERFACE PkgConfig::STB)
 
 # The renderer (render/) needs OpenGL through EGL and libepoxy (`shprt render` and the tests draw
 # headless); SHPRT_RENDER=AUTO builds it when they are found, OFF leaves every GL package out (the
-# baker, shprt::bake, never needs one). The viewer adds the window side: GLFW and Dear ImGui.
+# baker, shprt::baker, never needs one). The viewer adds the window side: GLFW and Dear ImGui.
 set(SHPRT_HAS_RENDER 0)
 if(NOT SHPRT_RENDER STREQUAL "OFF")
     set(shprt_gl_required "")

@@ -115,10 +115,9 @@ void print_interreflection(const TransferInfo& transfer) {
     const BakeStats& s = transfer.stats;
     const InterreflectionInfo& ir = transfer.interreflection;
     std::printf(
-        "interreflection: %d bounce%s%s (last relative change %.2g), operator %.3f s (nnz(A) "
-        "= %llu, %.1f MiB), bounces %.3f s; albedo: %s\n",
-        ir.bounces, ir.bounces == 1 ? "" : "s",
-        ir.converge ? (ir.converged ? ", converged" : ", NOT converged") : "", ir.last_change,
+        "interreflection: %d bounce%s (%s), operator %.3f s (nnz(A) = %llu, %.1f MiB), bounces "
+        "%.3f s; albedo: %s\n",
+        ir.bounces, ir.bounces == 1 ? "" : "s", describe_convergence(ir).c_str(),
         s.seconds_operator, static_cast<unsigned long long>(ir.operator_nnz),
         double(ir.operator_bytes) / (1024.0 * 1024.0), s.seconds_bounces, ir.albedo_source.c_str());
     if (s.operator_bytes_spilled > 0)

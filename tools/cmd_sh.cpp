@@ -14,10 +14,9 @@
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
 
-#include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,10 +26,8 @@ namespace {
 
 int parse_bands(const std::string& text) {
     SHPRT_CHECK(!text.empty(), invalid_argument, "sh: --bands N is required");
-    char* end = nullptr;
-    errno = 0;
-    const long n = std::strtol(text.c_str(), &end, 10);
-    SHPRT_CHECK(errno == 0 && end == text.c_str() + text.size(), invalid_argument,
+    std::int64_t n = 0;
+    SHPRT_CHECK(parse_integer(text, n) == IntegerParse::ok, invalid_argument,
                 "sh: --bands must be an integer, got '{}'", text);
     SHPRT_CHECK(n >= 1 && n <= kMaxBands, invalid_argument,
                 "sh: --bands must be in [1, {}], got {}", kMaxBands, n);

@@ -284,6 +284,10 @@ const bool view_registered = register_command(
              ->description(
                  "With --bake: basis size K to bake (1 to 1024, default 16); otherwise: use the "
                  "first K' coefficients (default: all)");
+         app.get_option("--albedo")
+             ->description(
+                 "With --bake, interreflected: the albedo R,G,B of every vertex; without --bake or "
+                 "with a glossy bake: the glossy colour override R,G,B");
          app.add_option("--benchmark", args->benchmark,
                         "Render FRAMES frames offscreen per K' = 32, 48, 64, 128, 256 and print "
                         "frames/s");

@@ -1,5 +1,6 @@
 // The `shprt` program: a small executable that puts its signal handlers in place before anything
-// else loads, then loads the command line (libshprt_cli.so, beside it) and runs it.
+// else loads, then loads the command line (libshprt_cli.so: beside it in the build folder, in
+// ../lib/shprt/ when installed, cmake/Install.cmake) and runs it.
 //
 // The command line links Assimp, Embree, oneTBB, OpenBLAS, OpenGL, GLFW and MPI; the dynamic
 // loader's work on them and their initialisers take 20 to 60 ms on a busy machine, and a signal in
@@ -49,8 +50,11 @@ int main(int argc, char** argv) {
         point != nullptr && std::strcmp(point, "load") == 0)
         ::raise(SIGSTOP);
 
-    char library[PATH_MAX];
+    char library[PATH_MAX], installed[PATH_MAX];
     beside_this_program("libshprt_cli.so", library);
+    beside_this_program(SHPRT_CLI_LIBRARY_FROM_BIN "/libshprt_cli.so", installed);
+    if (::access(library, F_OK) != 0 && ::access(installed, F_OK) == 0)
+        std::memcpy(library, installed, sizeof library);
     // RTLD_GLOBAL: Open MPI's components, which it loads itself, look for libmpi's symbols there.
     void* handle = ::dlopen(library, RTLD_NOW | RTLD_GLOBAL);
     using Main = int (*)(int, char**, int (*)());

@@ -8,6 +8,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/core/parallel.hpp"
+#include "shprt/core/terminal.hpp"
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -59,13 +60,23 @@ extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char*
     // TBB's workers have exited when shprt_main returns (core/parallel.hpp).
     const shprt::WorkerThreads workers;
     using shprt::tools::check_numeric_options;
-    CLI::App app{"shprt — precomputed radiance transfer in a spherical-harmonics basis"};
+    // Named, so that usage lines say "shprt bake", not the path the program was run by.
+    CLI::App app{"shprt — precomputed radiance transfer in a spherical-harmonics basis", "shprt"};
     app.set_version_flag("--version", std::string("shprt ") + SHPRT_VERSION_STRING +
                                           (SHPRT_HAS_CUDA ? " (CUDA)" : " (no CUDA)"));
     app.require_subcommand(1);
+    app.fallthrough();  // the options below are taken after the subcommand too
     std::string log_level = "info";
-    app.add_option("--log-level", log_level, "debug, info, warn or error")
-        ->check(CLI::IsMember({"debug", "info", "warn", "error"}));
+    auto* log_level_option =
+        app.add_option("--log-level", log_level,
+                       "debug, info, warn or error; taken after the subcommand too")
+            ->check(CLI::IsMember({"debug", "info", "warn", "error"}));
+    auto* quiet = app.add_flag_callback(
+        "-q,--quiet", [&] { log_level = "warn"; }, "Warnings and errors only, no progress");
+    auto* verbose = app.add_flag_callback(
+        "-v,--verbose", [&] { log_level = "debug"; }, "Debug messages too");
+    quiet->excludes(log_level_option)->excludes(verbose);
+    verbose->excludes(log_level_option);
 
     for (const auto& command : shprt::tools::commands()) {
         CLI::App* sub = app.add_subcommand(command.name, command.description);
@@ -73,26 +84,19 @@ extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char*
     }
     check_numeric_options(app);
 
-    auto logger = spdlog::stderr_color_mt("shprt");
     // Every line on stderr starts with "shprt: " (README, "The command line"): warnings are
-    // "shprt: warning: ...", errors "shprt: error: ...".
+    // "shprt: warning: ...", errors "shprt: error: ...". Colour as core/terminal.hpp decides.
+    auto logger = spdlog::stderr_color_mt("shprt", shprt::terminal_colour(stderr)
+                                                       ? spdlog::color_mode::always
+                                                       : spdlog::color_mode::never);
     logger->set_pattern("shprt: %^%l%$: %v");
-    app.parse_complete_callback([&] { logger->set_level(spdlog::level::from_str(log_level)); });
+    logger->set_level(spdlog::level::trace);  // the library's log level filters (core/log.hpp)
+    app.parse_complete_callback([&] { shprt::set_log_level(shprt::parse_log_level(log_level)); });
     shprt::set_log_sink([logger](shprt::LogLevel level, std::string_view message) {
-        switch (level) {
-            case shprt::LogLevel::debug:
-                logger->debug("{}", message);
-                break;
-            case shprt::LogLevel::info:
-                logger->info("{}", message);
-                break;
-            case shprt::LogLevel::warn:
-                logger->warn("{}", message);
-                break;
-            case shprt::LogLevel::error:
-                logger->error("{}", message);
-                break;
-        }
+        using spdlog::level::level_enum;
+        constexpr level_enum kLevels[] = {level_enum::debug, level_enum::info, level_enum::warn,
+                                          level_enum::err};
+        logger->log(kLevels[static_cast<int>(level)], "{}", message);
     });
 
     // Exit codes, one rule (README, "The command line"): 2 when the command line cannot be
@@ -111,7 +115,7 @@ extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char*
             return report_error(value_error_message(e.what()).c_str(), 1);
         }
         // A usage error: one line like every other error, and exit code 2 (as getopt tools).
-        return report_error(e.what(), 2, " (see --help)");
+        return report_error(shprt::tools::usage_error_message(app, e).c_str(), 2, " (see --help)");
     } catch (const shprt::tools::ExitQuietly& e) {
         return e.exit_code;
     } catch (const shprt::tools::Interrupted& e) {

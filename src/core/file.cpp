@@ -186,6 +186,7 @@ void AtomicFile::commit() {
     m_committed = true;
     unregister_temporary(m_slot);
     m_slot = std::size_t(-1);
+    log_debug("wrote {}", m_path);
 }
 
 void remove_live_temporaries() {

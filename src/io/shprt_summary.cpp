@@ -33,6 +33,19 @@ std::string rate_text(double per_second) {
 
 }  // namespace
 
+std::string describe_convergence(const InterreflectionInfo& ir) {
+    if (ir.converge)
+        return fmt::format("{}: last relative change {:.2g} {} tolerance {:.2g}",
+                           ir.converged ? "converged" : "NOT converged", ir.last_change,
+                           ir.converged ? "<" : ">=", ir.tolerance);
+    if (ir.bounces == 0) return "the direct light only";
+    // Issue 40: a fixed count's last change read as "not converged"; it is information.
+    return fmt::format(
+        "a fixed count, not tested for convergence; largest relative change by "
+        "bounce {}: {:.2g}",
+        ir.bounces, ir.last_change);
+}
+
 std::string shprt_summary(const ShprtFile& file) {
     // The metadata comes from read_shprt (already validated) or a writer; tolerate anything.
     OrderedJson meta = OrderedJson::parse(file.metadata_json, nullptr, /*allow_exceptions=*/false);
@@ -96,18 +109,8 @@ std::string shprt_summary(const ShprtFile& file) {
                                  t.cpca.clusters, t.cpca.vectors, t.cpca.seed));
     if (t.kind == TransferKind::interreflected) {
         const InterreflectionInfo& ir = t.interreflection;
-        std::string bounces = fmt::format("{} (stored: T_0 + ... + T_{})", ir.bounces, ir.bounces);
-        if (ir.converge)
-            bounces +=
-                ir.converged
-                    ? fmt::format(", converged: last relative change {:.2g} < tolerance {:.2g}",
-                                  ir.last_change, ir.tolerance)
-                    : fmt::format(
-                          ", NOT converged: last relative change {:.2g} >= "
-                          "tolerance {:.2g}",
-                          ir.last_change, ir.tolerance);
-        else if (ir.bounces > 0)
-            bounces += fmt::format(", last relative change {:.2g}", ir.last_change);
+        const std::string bounces = fmt::format("{} (stored: T_0 + ... + T_{}), {}", ir.bounces,
+                                                ir.bounces, describe_convergence(ir));
         line("bounces", bounces);
         line("albedo", ir.albedo_source.empty() ? "(source not recorded)" : ir.albedo_source);
         line("back faces", ir.two_sided ? "two-sided (a back face sends the light of its own side)"

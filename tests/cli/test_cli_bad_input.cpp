@@ -154,6 +154,36 @@ TEST_F(CliBadInput, EveryStderrLineIsPrefixedAndTheErrorIsLast) {
     expect_prefixed_lines(r);
 }
 
+// A mistyped subcommand or option is a usage error that names the closest one (issue 40), among
+// the subcommands at its place or the options of the subcommand given and the ones above it; a
+// word close to nothing is named alone. Usage lines name the program, not the path it ran by.
+TEST_F(CliBadInput, TyposSayWhatWasMeant) {
+    expect_usage_error(shprt("bkae builtin:plane"), "unknown command 'bkae'; did you mean 'bake'?");
+    expect_usage_error(shprt("--log-level warn merg"),
+                       "unknown command 'merg'; did you mean 'merge'?");
+    expect_usage_error(shprt("scene inof builtin:plane"),
+                       "unknown command 'inof'; did you mean 'info'?");
+    const RunResult far = shprt("xyzzy");
+    expect_usage_error(far, "unknown command 'xyzzy'");
+    EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << far.err;
+    const std::string bake = "bake builtin:plane --samples 16 -o '" + out("p.shprt") + "' ";
+    for (const std::string& typo : {"--coefs 9", "--coefs=9", "--ceoffs 9"}) {
+        const std::string word = typo.substr(0, typo.find_first_of(" ="));
+        expect_usage_error(shprt(bake + typo),
+                           "unknown option '" + word + "'; did you mean '--coeffs'?");
+    }
+    expect_usage_error(shprt(bake + "--log-levl warn"),
+                       "unknown option '--log-levl'; did you mean '--log-level'?");
+    expect_usage_error(shprt(bake + "--frobnicate"), "unknown option '--frobnicate'");
+    EXPECT_TRUE(out_dir_empty());
+
+    const RunResult help = shprt("bake --help");
+    EXPECT_EQ(help.exit_code, 0) << help.err;
+    EXPECT_NE(help.out.find("Usage: shprt bake "), std::string::npos) << help.out;
+    EXPECT_EQ(help.out.find(SHPRT_CLI_PATH), std::string::npos) << help.out;
+    EXPECT_EQ(help.out.find("`view`"), std::string::npos) << "bake's help is bake's: " << help.out;
+}
+
 // Memory is bounded by the input: a header claiming more than memory holds is a clean error at
 // once, not gigabytes for seconds (Assimp's invalid/OutOfMemory.off, 309 bytes claiming 3.5e11
 // vertices, took 15.8 GB for 14 s) nor "std::bad_alloc".

@@ -98,6 +98,79 @@ TEST_F(CliBake, TooManyThreadsAreClampedWithOneWarning) {
         << r.out << r.err;
 }
 
+// One log level (core/log.hpp) decides both the messages and the progress, and is taken before
+// or after the subcommand: -q (warn) keeps the warning and drops the progress, --log-level error
+// drops both, -v adds the debug lines. -q with -v or --log-level is a usage error.
+TEST_F(CliBake, QuietVerboseAndTheLogLevelAnywhereOnTheLine) {
+    const int threads = std::max(1, int(std::thread::hardware_concurrency())) + 3;
+    const std::string file = out("p.shprt");
+    const std::string bake = "bake builtin:plane --samples 16 --threads " +
+                             std::to_string(threads) + " -o '" + file + "'";
+    const std::string warning = "shprt: warning: " + std::to_string(threads) + " threads requested";
+    RunResult r = shprt(bake);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("shprt: bake: 100%"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(warning), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("debug"), std::string::npos) << r.err;
+    for (const std::string& quiet : {"-q " + bake, bake + " -q", bake + " --quiet",
+                                     "--log-level warn " + bake, bake + " --log-level warn"}) {
+        r = shprt(quiet);
+        EXPECT_EQ(r.exit_code, 0) << quiet << ": " << r.err;
+        EXPECT_EQ(r.err.rfind(warning, 0), 0u) << quiet << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << quiet << ": " << r.err;
+        EXPECT_NE(r.out.find("baked "), std::string::npos) << "results stay: " << r.out;
+    }
+    r = shprt(bake + " --log-level error");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    for (const std::string& verbose : {bake + " -v", "--verbose " + bake}) {
+        r = shprt(verbose);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_NE(r.err.find("shprt: debug: wrote " + file), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("shprt: bake: 100%"), std::string::npos) << r.err;
+    }
+    shprt::test_support::expect_usage_error(shprt(bake + " -q -v"), "excludes");
+    shprt::test_support::expect_usage_error(shprt("-q " + bake + " --log-level info"), "excludes");
+}
+
+// Escape codes only on a terminal that takes them (core/terminal.hpp), checked on a
+// pseudo-terminal made by util-linux's script(1): the in-place bar and coloured levels; no colour
+// under NO_COLOR; under TERM=dumb plain lines and no escape code at all.
+TEST_F(CliBake, EscapeCodesOnlyWhereTheTerminalTakesThem) {
+    if (std::system("script --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1)";
+    const std::string bake =
+        "bake builtin:plane --samples 16 --threads " +
+        std::to_string(std::max(1, int(std::thread::hardware_concurrency())) + 3) + " -o '" +
+        out("p.shprt") + "'";
+    const auto on_a_terminal = [&](const std::string& environment) {
+        const std::string log = (m_dir / "terminal").string();
+        const std::string command = "env -u NO_COLOR " + environment + " script -qec \"'" +
+                                    SHPRT_CLI_PATH + "' " + bake + "\" /dev/null >'" + log +
+                                    "' 2>&1 </dev/null";
+        EXPECT_EQ(std::system(command.c_str()), 0) << command << "\n" << slurp(log);
+        return slurp(log);
+    };
+    const auto colours = [](const std::string& text) {  // escape codes other than "clear line"
+        int n = 0;
+        for (std::size_t at = 0; (at = text.find('\x1b', at)) != std::string::npos; ++at)
+            n += text.compare(at, 3, "\x1b[K") != 0;
+        return n;
+    };
+    std::string text = on_a_terminal("TERM=xterm");
+    if (text.empty()) GTEST_SKIP() << "script(1) gave no terminal here";
+    EXPECT_NE(text.find("\rbake ["), std::string::npos) << text;
+    EXPECT_NE(text.find("\x1b[K"), std::string::npos) << text;
+    EXPECT_GT(colours(text), 0) << "the warning's level is coloured: " << text;
+    text = on_a_terminal("TERM=xterm NO_COLOR=1");
+    EXPECT_NE(text.find("\x1b[K"), std::string::npos) << text;
+    EXPECT_EQ(colours(text), 0) << text;
+    EXPECT_NE(text.find("shprt: warning: "), std::string::npos) << text;
+    text = on_a_terminal("TERM=dumb");
+    EXPECT_EQ(text.find('\x1b'), std::string::npos) << text;
+    EXPECT_NE(text.find("shprt: bake: 100%"), std::string::npos) << text;
+    EXPECT_NE(text.find("shprt: warning: "), std::string::npos) << text;
+}
+
 TEST_F(CliBake, HalfPrecisionFileIsSmaller) {
     const std::string full = out("full.shprt"), half = out("half.shprt");
     ASSERT_EQ(

@@ -32,6 +32,9 @@ TEST_F(CliInterreflect, BakeInfoShadeDirect) {
         file + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_THAT(r.out, ::testing::HasSubstr("interreflection: 2 bounces"));
+    // A fixed count is no convergence test, and the line says so rather than read "not converged".
+    EXPECT_THAT(r.out, ::testing::HasSubstr("2 bounces (a fixed count, not tested for convergence; "
+                                            "largest relative change by bounce 2: "));
 
     const ShprtFile f = read_shprt(file);
     EXPECT_EQ(f.transfer.kind, TransferKind::interreflected);
@@ -55,6 +58,7 @@ TEST_F(CliInterreflect, BakeInfoShadeDirect) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_THAT(r.out, ::testing::HasSubstr("albedo       --albedo 0.9,0.5,0.25"));
     EXPECT_THAT(r.out, ::testing::HasSubstr("bounces      2"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("a fixed count, not tested for convergence"));
     EXPECT_THAT(r.out, ::testing::HasSubstr("nnz(A) = "));
 
 #if SHPRT_HAS_RENDER  // `shade` comes with the renderer
@@ -83,6 +87,8 @@ TEST_F(CliInterreflect, BakeInfoShadeDirect) {
         "--coeffs 4 --samples 64 -o '" +
         file + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out,
+                ::testing::ContainsRegex("bounces? \\((NOT )?converged: last relative change"));
     r = shprt("info '" + file + "'");
     EXPECT_THAT(r.out, ::testing::HasSubstr("albedo       builtin scene colours"));
     EXPECT_THAT(r.out, ::testing::HasSubstr("converged"));

@@ -101,7 +101,9 @@ TEST_F(CliScene, BadRequestsFailCleanly) {
     // Argument errors are found while parsing: usage errors, and nothing written.
     expect_usage_error(shprt("scene"), "subcommand is required");
     expect_usage_error(shprt(fmt::format("scene teapot -o '{}'", out("t.ply"))),
-                       "subcommand is required");
+                       "unknown command 'teapot'");
+    expect_usage_error(shprt(fmt::format("scene sphre -o '{}'", out("t.ply"))),
+                       "unknown command 'sphre'; did you mean 'sphere'?");
     expect_usage_error(shprt(fmt::format("scene sphere --triangles 5 -o '{}'", out("s.ply"))),
                        "--triangles");
     expect_usage_error(shprt("scene room"), "--output is required");

@@ -40,8 +40,7 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
                    "by more than this fraction (default 1e-4)");
     app.add_option("--albedo", args.albedo,
                    "Interreflected: albedo R,G,B (linear, 0 to 1) for every vertex (default: the "
-                   "scene's vertex colours, else its materials' diffuse colour, else 0.8 grey); "
-                   "in `view`, without --bake or with a glossy bake, the glossy colour override");
+                   "scene's vertex colours, else its materials' diffuse colour, else 0.8 grey)");
     app.add_flag("--two-sided", args.two_sided,
                  "Interreflected: a back face reflects the light on its own side, as a renderer "
                  "does (default: it brings nothing; docs/interreflection.md says which to pick)");

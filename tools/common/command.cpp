@@ -2,8 +2,10 @@
 
 #include "common/signals.hpp"
 
+#include "shprt/core/names.hpp"
+#include "shprt/core/terminal.hpp"
+
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -26,22 +28,31 @@ bool register_command(Command command) {
 
 const std::vector<Command>& commands() { return registry(); }
 
+std::string usage_error_message(const CLI::App& app, const CLI::ParseError& error) {
+    const std::vector<std::string> unknown = app.remaining(true);
+    if (unknown.empty()) return error.what();
+    const CLI::App* scope = &app;  // the innermost subcommand given
+    while (!scope->get_subcommands().empty()) scope = scope->get_subcommands().front();
+    std::string word = unknown.front();
+    const bool option = word.size() > 1 && word[0] == '-';
+    std::vector<std::string> names;
+    if (option) {
+        word = word.substr(0, word.find('='));
+        for (const CLI::App* a = scope; a != nullptr; a = a->get_parent())
+            for (const CLI::Option* o : a->get_options()) {
+                for (const std::string& name : o->get_lnames()) names.push_back("--" + name);
+                for (const std::string& name : o->get_snames()) names.push_back("-" + name);
+            }
+    } else {
+        for (const CLI::App* sub : scope->get_subcommands({})) names.push_back(sub->get_name());
+        if (names.empty()) return error.what();  // an argument too many
+    }
+    return unknown_name_message(option ? "option" : "command", word, {names.begin(), names.end()});
+}
+
 void print_error(const char* what, const char* suffix) {
     quiet_signals();  // this is the one error line: a later signal adds none
-    std::string message = what;
-    while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back())))
-        message.pop_back();
-    std::string line;
-    for (std::size_t start = 0; start <= message.size();) {
-        std::size_t end = message.find('\n', start);
-        if (end == std::string::npos) end = message.size();
-        std::string part = message.substr(start, end - start);
-        while (!part.empty() && std::isspace(static_cast<unsigned char>(part.back())))
-            part.pop_back();
-        if (!part.empty()) line += (line.empty() ? "" : "; ") + part;
-        start = end + 1;
-    }
-    std::fprintf(stderr, "shprt: error: %s%s\n", line.c_str(), suffix);
+    std::fprintf(stderr, "shprt: error: %s%s\n", one_line(what).c_str(), suffix);
 }
 
 bool is_secondary_rank() {

@@ -37,6 +37,11 @@ bool is_secondary_rank();
 // driver's shader log, a library's list of problems) has its line breaks turned into "; ".
 void print_error(const char* what, const char* suffix = "");
 
+// The message of a usage error: for a word the command line does not know, "unknown command
+// 'bkae'; did you mean 'bake'?" or "unknown option '--coefs'; did you mean '--coeffs'?" (among
+// the options of the subcommand given and the ones above it); CLI11's own otherwise.
+std::string usage_error_message(const CLI::App& app, const CLI::ParseError& error);
+
 bool register_command(Command command);
 const std::vector<Command>& commands();
 

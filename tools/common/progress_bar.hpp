@@ -1,7 +1,9 @@
 // Progress display for the `shprt` tools. The library reports progress through a ProgressFn
 // (core/progress.hpp); a tool passes ProgressBar::callback() and the bar draws it.
 //
-//   * On a terminal (isatty on the output stream): one line redrawn in place, at most 10 times a
+//   * Nothing below the info log level (core/log.hpp: the command line's -q, --log-level warn).
+//   * On a terminal that takes escape codes (core/terminal.hpp: not TERM=dumb): one line redrawn in
+//   place, at most 10 times a
 //     second, e.g.
 //       bake [##############..............]  48%  51.2 Mrays/s  ETA 3.1 s
 //     and where work follows that the stage cannot time yet (ProgressInfo::then), it is named
@@ -19,6 +21,7 @@
 
 #include "common/signals.hpp"
 
+#include "shprt/core/format.hpp"  // format_si, format_duration
 #include "shprt/core/progress.hpp"
 
 #include <chrono>
@@ -67,11 +70,5 @@ private:
     std::chrono::steady_clock::time_point m_start;
     std::chrono::steady_clock::time_point m_last_draw{};
 };
-
-// Formatting helpers, also for other tools. format_si: "51.2 M", "980 k", "3.00" (SI prefix, three
-// significant digits). format_duration: "0.35 s", "4.2 s", "1:05", "2:03:04" (m:ss from a minute
-// on, h:mm:ss from an hour on).
-std::string format_si(double value);
-std::string format_duration(double seconds);
 
 }  // namespace shprt::tools

@@ -1,6 +1,7 @@
 // The spelled names of an enum, as one table per enum, and the two functions every enum's
 // to_string and parse_* are made of: the name of a value, and the value of a name (with the one
-// error line every parser gives: "unknown WHAT 'TEXT' (expected a, b or c)").
+// error line every parser gives: "unknown WHAT 'TEXT' (expected a, b or c)", followed by
+// "; did you mean 'b'?" when TEXT looks like a misspelt name).
 //
 //   constexpr Named<Device> kDeviceNames[] = {{Device::cpu, "cpu"}, {Device::cuda, "cuda"}};
 //   const char* to_string(Device d) { return name_of(kDeviceNames, d); }
@@ -8,6 +9,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -19,9 +21,21 @@ struct Named {
     const char* name;
 };
 
-// Throws Error(invalid_argument) "unknown WHAT 'TEXT' (expected A, B or C)".
+// Throws Error(invalid_argument) "unknown WHAT 'TEXT' (expected A, B or C)", and
+// "; did you mean 'B'?" after it when closest_name finds one.
 [[noreturn]] void fail_unknown_name(std::string_view what, std::string_view text,
                                     const std::vector<std::string_view>& names);
+
+// The name of `names` that `text` most likely misspells, or "" when none is close. Close: at most
+// max(1, n / 3) edits apart, n being TEXT's length without leading dashes (an edit inserts,
+// deletes or replaces a character or swaps two neighbours; case is ignored), and n at least 3
+// or the names equal but for case. The first of equally close names wins. The suggestion of
+// every "did you mean" (subcommands, options, enum names).
+std::string_view closest_name(std::string_view text, const std::vector<std::string_view>& names);
+
+// "unknown WHAT 'TEXT'", and "; did you mean 'NAME'?" when closest_name finds NAME.
+std::string unknown_name_message(std::string_view what, std::string_view text,
+                                 const std::vector<std::string_view>& names);
 
 // The name of `value` in `table` ("?" for a value the table lacks).
 template <class E, std::size_t N>

@@ -111,4 +111,10 @@ ShprtFile merge_shprt_parts(std::vector<ShprtFile> parts, const std::vector<std:
 // bake time split, rays/s, peak memory, file size, scene hash, tool version. Ends with '\n'.
 std::string shprt_summary(const ShprtFile& file);
 
+// An interreflected bake's bounces in words, as `shprt info` and the bake's own line print them:
+// "converged: last relative change 3e-05 < tolerance 0.0001" (or "NOT converged: ... >= ..."), for
+// a fixed count "a fixed count, not tested for convergence; largest relative change by bounce 3:
+// 0.16" (information, not a failure), for none "the direct light only".
+std::string describe_convergence(const InterreflectionInfo& ir);
+
 }  // namespace shprt
