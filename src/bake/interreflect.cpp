@@ -257,7 +257,10 @@ TransportOperator trace_transport(const Mesh& mesh, const RowPoints& points,
         sc.ray_weights.resize(S);
         if (!sc.rows) sc.rows.emplace(points.view, V, options.two_sided);
         const Vec3f n = points.normals[v];
-        if (points.cosine_gather && v < points.gather_rows) {
+        // The rays: m directions and their unoccluded weights.
+        const bool gather = points.cosine_gather && v < points.gather_rows;
+        std::uint32_t m = 0;
+        if (gather) {
             // A receiver's final gather: every direction, in its own hemisphere. Its T_0 row is
             // not projected (the full bake's replaces it), so `weight` is not needed.
             Vec3d t, b;
@@ -269,40 +272,22 @@ TransportOperator trace_transport(const Mesh& mesh, const RowPoints& points,
                 sc.ray_dirs[s] = tf * l.x + bf * l.y + n * l.z;
                 sc.ray_weights[s] = gather_weight;
             }
-            const auto m = static_cast<std::uint32_t>(S);
-            tracer.closest_hits(offset_ray_origin(points.positions[v], n), sc.ray_dirs.data(),
-                                static_cast<int>(m), 0.0f, kInf, sc.hits.data());
-            const double merge_start = thread_cpu_seconds();
-            PointRays met{m, 0, 0};
-            for (std::uint32_t r = 0; r < m; ++r) {
-                const Hit& h = sc.hits[r];
-                sc.sample_hits[r] = SampleHit{h.hit ? h.triangle : kNoTriangle, h.u, h.v};
-                if (counts && h.hit && meets_back_face(mesh, h.triangle, sc.ray_dirs[r])) {
-                    ++met.back;
-                    met.near_back += h.t < points.reach[v] ? 1u : 0u;
-                }
+            m = static_cast<std::uint32_t>(S);
+        } else {
+            detail::weight_row(n, table, weight);
+            if (v >= points.gather_rows && points.inner > 0 && points.inner < S) {
+                // An inner source: the nested prefix of `inner` directions, each weighing
+                // S/inner of the table's (a Monte Carlo set of its own: 4π/inner).
+                const float scale = float(S) / float(points.inner);
+                for (std::size_t s = 0; s < points.inner; ++s) weight[s] *= scale;
+                std::fill(weight + points.inner, weight + S, 0.0f);
             }
-            if (counts) counts[v] = met;
-            sc.rows->add_row(sc.ray_dirs.data(), sc.ray_weights.data(), sc.sample_hits.data(), m,
-                             out);
-            const double end = thread_cpu_seconds();
-            sc.trace_seconds += merge_start - trace_start;
-            sc.merge_seconds += end - merge_start;
-            return m;
-        }
-        detail::weight_row(n, table, weight);
-        if (v >= points.gather_rows && points.inner > 0 && points.inner < S) {
-            // An inner source: the nested prefix of `inner` directions, each weighing S/inner
-            // of the table's (a Monte Carlo set of its own: 4π/inner).
-            const float scale = float(S) / float(points.inner);
-            for (std::size_t s = 0; s < points.inner; ++s) weight[s] *= scale;
-            std::fill(weight + points.inner, weight + S, 0.0f);
-        }
-        std::uint32_t m = 0;
-        for (std::size_t s = 0; s < S; ++s) {
-            sc.ray_index[m] = static_cast<std::uint32_t>(s);
-            sc.ray_dirs[m] = table.dirs[s];
-            m += weight[s] != 0.0f ? 1u : 0u;
+            for (std::size_t s = 0; s < S; ++s) {
+                sc.ray_index[m] = static_cast<std::uint32_t>(s);
+                sc.ray_dirs[m] = table.dirs[s];
+                m += weight[s] != 0.0f ? 1u : 0u;
+            }
+            for (std::uint32_t r = 0; r < m; ++r) sc.ray_weights[r] = weight[sc.ray_index[r]];
         }
         if (m > 0)
             tracer.closest_hits(offset_ray_origin(points.positions[v], n), sc.ray_dirs.data(),
@@ -312,8 +297,7 @@ TransportOperator trace_transport(const Mesh& mesh, const RowPoints& points,
         for (std::uint32_t r = 0; r < m; ++r) {
             const Hit& h = sc.hits[r];
             sc.sample_hits[r] = SampleHit{h.hit ? h.triangle : kNoTriangle, h.u, h.v};
-            sc.ray_weights[r] = weight[sc.ray_index[r]];
-            weight[sc.ray_index[r]] *= kKeep[h.hit ? 1 : 0];
+            if (!gather) weight[sc.ray_index[r]] *= kKeep[h.hit ? 1 : 0];
             if (counts && h.hit && meets_back_face(mesh, h.triangle, sc.ray_dirs[r])) {
                 ++met.back;
                 met.near_back += h.t < points.reach[v] ? 1u : 0u;
