@@ -88,6 +88,10 @@ struct BounceRows {
     int columns = 0;
 };
 using BounceProduct = std::function<void(const BounceRows& rows, BakeProgress& progress)>;
+// The CPU's product for one BounceRows (transport_product.cpp), counting its rows on `progress`
+// (or null); apply_transport is the same over every row and column.
+void apply_transport_rows(const TransportOperator& A, const BounceRows& rows, int threads,
+                          TransportKernel kernel, BakeProgress* progress);
 void check_interreflected_job(const BakeJob& job);
 // What the operator's pass learnt of the bounce sources: which are valid (source_is_valid), the
 // directions each traced, and how many receivers saw a back face.

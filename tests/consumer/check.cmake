@@ -12,13 +12,8 @@ endforeach()
 set(prefix ${WORK}/prefix)
 file(REMOVE_RECURSE ${WORK})
 
-function(run)  # the command, its output kept for the failure message
-    execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE out)
-    if(NOT status EQUAL 0)
-        message(FATAL_ERROR "consumer: `${ARGN}` failed (${status}):\n${out}")
-    endif()
-    set(output "${out}" PARENT_SCOPE)
-endfunction()
+set(RUN_NAME consumer)
+include(${CMAKE_CURRENT_LIST_DIR}/run.cmake)
 
 set(components cli dev)
 if(PYTHON_DIR)
