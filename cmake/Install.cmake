@@ -43,7 +43,7 @@ install(FILES ${PROJECT_BINARY_DIR}/shprtConfig.cmake ${PROJECT_BINARY_DIR}/shpr
 # shprt.pc: the static libraries, most dependent first, then what they link. Relocatable: the
 # prefix is found from the .pc file's own folder, so `--prefix P` at install time holds.
 set(shprt_pc_libs "")
-foreach(area render dist bake cuda light io transfer trace scene sh core)
+foreach(area render dist bake shade cuda light io transfer trace scene sh core)
     if(TARGET shprt_${area})
         string(APPEND shprt_pc_libs " -lshprt_${area}")
     endif()

@@ -1,6 +1,6 @@
 // `shprt export FILE.shprt -o SCENE.glb [--light L ...] [--bands n] [--half] [--exposure E]`:
 // the mesh, its colours baked under the light and the transfer coefficients as a glTF 2.0
-// binary (render/gltf_export.hpp); a glossy bake as its matrices' diffuse transfer. Thin: checks
+// binary (shade/gltf_export.hpp); a glossy bake as its matrices' diffuse transfer. Thin: checks
 // the options, reads the file, calls write_glb.
 #include "common/command.hpp"
 #include "common/shading_options.hpp"
@@ -8,10 +8,10 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
-#include "shprt/render/glossy.hpp"
-#include "shprt/render/gltf_export.hpp"
-#include "shprt/render/texel_shade.hpp"
 #include "shprt/sh/basis.hpp"
+#include "shprt/shade/glossy.hpp"
+#include "shprt/shade/gltf_export.hpp"
+#include "shprt/shade/texel_shade.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -29,6 +29,7 @@ struct ExportArgs {
     int bands = 0;
     double exposure = 1.0;
     bool half = false;
+    std::string attributes = "custom";
 };
 
 void run(const ExportArgs& a) {
@@ -43,6 +44,7 @@ void run(const ExportArgs& a) {
     GltfExportOptions options;
     options.light = light_setup_from(a.light);
     options.half = a.half;
+    options.attributes = parse_gltf_attributes(a.attributes);
     SHPRT_CHECK(a.exposure > 0 && std::isfinite(a.exposure), invalid_argument,
                 "--exposure {}: must be positive", a.exposure);
     options.exposure = static_cast<float>(a.exposure);
@@ -57,7 +59,7 @@ void run(const ExportArgs& a) {
                     file.transfer.layout.K, options.K);
     }
     // glTF's attributes and the texel planes carry vectors: glossy matrices go as their diffuse
-    // part t = M·a(n), the transfer `--glossy paper` shades (render/glossy.hpp).
+    // part t = M·a(n), the transfer `--glossy paper` shades (shade/glossy.hpp).
     const bool matrices = file.transfer.layout.shape == TransferShape::symmetric_matrix;
     if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
     const char* from_matrices = matrices ? ", the glossy matrices' diffuse transfer M·a(n)" : "";
@@ -80,9 +82,10 @@ void run(const ExportArgs& a) {
     write_glb(a.output, file.mesh, file.transfer, options);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("exported %zu vertices, K=%d, %s%s in %.2f s -> %s (%ju bytes)\n",
+    std::printf("exported %zu vertices, K=%d, %s, %s attributes%s in %.2f s -> %s (%ju bytes)\n",
                 file.mesh.vertex_count(), options.K > 0 ? options.K : file.transfer.layout.K,
-                a.half ? "int16 normalized" : "float32", from_matrices, seconds, a.output.c_str(),
+                a.half ? "int16 normalized" : "float32", to_string(options.attributes),
+                from_matrices, seconds, a.output.c_str(),
                 static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
 }
 
@@ -99,6 +102,10 @@ const bool export_registered = register_command(
                         "Export the first n bands (n² coefficients; default: all of the file's)");
          app.add_option("--exposure", args->exposure,
                         "COLOR_0 = exposure × radiance, clamped to [0, 1] (default 1)");
+         app.add_option("--attributes", args->attributes,
+                        "Where the transfer goes: custom (default: _SHPRT_T* attributes, which "
+                        "three.js keeps) or standard (TEXCOORD_0..7, then COLOR_1.., which "
+                        "Blender and gltfpack -noq keep; float32)");
          app.add_flag("--half", args->half,
                       "16-bit coefficients: normalized int16 with a scale per coefficient (glTF "
                       "has no float16)");

@@ -9,9 +9,9 @@
 #include "shprt/core/file.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/light_setup.hpp"
-#include "shprt/render/camera.hpp"
 #include "shprt/render/renderer.hpp"
-#include "shprt/render/save_image.hpp"
+#include "shprt/shade/camera.hpp"
+#include "shprt/shade/save_image.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -28,12 +28,11 @@ namespace {
 
 struct RenderArgs {
     std::string input, output;
-    LightArgs light;  // common/shading_options.hpp, shared with `shprt view`
-    GlossyArgs glossy;
-    CameraArgs camera;
-    std::string size = "1280x720", view = "radiance";
+    LightArgs light;  // common/shading_options.hpp, shared with `shade`, `view` and `export`
     ShadingArgs shading;
-    int coeffs = 0, samples = 4;
+    CameraArgs camera;
+    std::string size = "1280x720";
+    int samples = 4;
     bool background = false, wireframe = false;
 };
 
@@ -41,49 +40,34 @@ void run(const RenderArgs& a) {
     refuse_sun(a.light, "render");
     const auto start = std::chrono::steady_clock::now();
     check_image_extension(a.output);
-    check_shading_args(a.shading);
-    SHPRT_CHECK(a.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)", a.coeffs);
     SHPRT_CHECK(a.samples >= 1 && a.samples <= 64, invalid_argument,
                 "--samples {}: MSAA samples must be 1 to 64", a.samples);
     check_camera_args(a.camera);
-    check_glossy_args(a.glossy);
     int width = 0, height = 0;
     parse_size(a.size, width, height);
     const LightSetup setup = light_setup_from(a.light);
+    const ShadingParams params = shading_params(a.shading, setup);
     check_output_is_not_input(a.output, input_files(a.input, a.light));
     check_output_writable(a.output);  // a directory, a device: refused before the work
-    DrawSettings settings;
-    settings.view = parse_view(a.view);
-    settings.k = a.shading.k;
-    settings.gloss = a.shading.gloss;
-    settings.K_used = a.coeffs;
+
+    ShprtFile file = read_shprt(a.input);
+    const ShadingPlan plan = resolve_shading(params, file, a.input, Spelling::command_line);
+    check_texel_view(a.input, file.transfer, params.k, params.view);
+    const ShLight light = prepare_light(setup, file.transfer.layout.K);
+    DrawSettings settings = draw_settings(plan, params.view);
+    settings.camera = camera_from(a.camera, file.mesh, float(width) / float(height), a.input);
     settings.background = a.background;
     settings.wireframe = a.wireframe;
-
-    ShprtFile file = read_for_shading(a.input, a.shading.direct);
-    check_texel_view(a.input, file.transfer, a.shading.k, settings.view);
-    double gloss = a.shading.gloss;
-    const GlossyPlan plan = plan_glossy(a.glossy, a.input, file, a.shading.k, gloss);
-    settings.gloss = gloss;
-    const ShLight light = prepare_light(setup, file.transfer.layout.K);
-    const float aspect = float(width) / float(height);
-    settings.camera = camera_from(a.camera, file.mesh, aspect, a.input);
-
-    if (plan.glossy) {  // transfer matrices, shaded on the GPU (render/renderer.hpp)
-        settings.brdf = plan.glossy->brdf;
-        settings.material_brdfs = plan.glossy->material_brdfs;
-        settings.albedo = plan.glossy->albedo;
-    }
     const Image image =
         render_image(file.mesh, file.transfer, light, settings, width, height, a.samples);
-    save_image(a.output, image, static_cast<float>(a.shading.exposure));
+    save_image(a.output, image, static_cast<float>(params.exposure));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const int K_used = effective_basis_size(file.transfer, light, a.coeffs);
+    const int K_used = effective_basis_size(file.transfer, light, params.coeffs);
     const std::string term =
-        plan.glossy ? ", " + describe_glossy(file.mesh, *plan.glossy, K_used) : std::string();
-    std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used,
-                a.shading.k, term.c_str(), seconds, a.output.c_str());
+        plan.glossy ? ", " + describe_terms(plan, file.mesh, K_used) : std::string();
+    std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used, params.k,
+                term.c_str(), seconds, a.output.c_str());
 }
 
 const bool render_registered = register_command(
@@ -95,15 +79,12 @@ const bool render_registered = register_command(
                         "Output image: .png (tone mapped), .exr or .hdr (linear)")
              ->required();
          add_light_options(app, args->light);
-         add_glossy_options(app, args->glossy);
-         add_shading_options(app, args->shading, "Exposure multiplier for PNG (default 1)",
+         add_shading_options(app, args->shading, kCoeffsOption | kAlbedoOption | kViewOption,
+                             "Exposure multiplier for PNG (default 1)",
                              "Interreflected bakes: the direct light only (the file's T_0), "
                              "without the bounces");
          add_camera_options(app, args->camera);
          app.add_option("--size", args->size, "Image size WxH (default 1280x720)");
-         app.add_option("--coeffs", args->coeffs, "Use the first K' coefficients (default: all)");
-         app.add_option("--view", args->view,
-                        "radiance (default), irradiance, or transfer (AO-like, light ignored)");
          app.add_flag("--background", args->background,
                       "Draw the light (its SH projection) behind the scene");
          app.add_flag("--wireframe", args->wireframe, "Draw triangle edges only");

@@ -24,9 +24,9 @@
 #include "shprt/core/log.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
-#include "shprt/render/save_image.hpp"
-#include "shprt/render/shade.hpp"
 #include "shprt/scene/load.hpp"
+#include "shprt/shade/save_image.hpp"
+#include "shprt/shade/shade.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -44,12 +44,11 @@ namespace {
 struct ViewArgs {
     std::string input;
     LightArgs light;
-    GlossyArgs glossy;
     CameraArgs camera;
     BakeOptionArgs bake;
     bool do_bake = false;
-    std::string size = "1280x720", view = "radiance";
-    ShadingArgs shading;
+    std::string size = "1280x720";
+    ShadingArgs shading;  // its --albedo and --coeffs are the bake options' (below)
     int msaa = viewer::kAutoMsaa;
     bool background = false, wireframe = false, no_vsync = false;
     std::optional<int> benchmark;
@@ -84,25 +83,30 @@ void run(const ViewArgs& a) {
     refuse_sun(a.light, "view");
     const auto start = Clock::now();
     // ---- Every option is checked before any work.
-    check_shading_args(a.shading);
     SHPRT_CHECK(a.msaa >= 0 && a.msaa <= 64, invalid_argument,
                 "--msaa {}: MSAA samples must be 1 to 64 (or 0: automatic)", a.msaa);
     int width = 0, height = 0;
     parse_size(a.size, width, height);
     check_camera_args(a.camera);
-    // --albedo is registered with the bake options (an interreflected bake's albedo). Without
-    // --bake, and with a glossy bake (which has no albedo), it overrides the glossy colours.
+    // --albedo and --coeffs are registered with the bake options (an interreflected bake's
+    // albedo, the K baked). Without --bake, and with a glossy bake (which has no albedo), --albedo
+    // overrides the glossy colours; without --bake, --coeffs is the K' shown first.
     const bool bake_glossy =
         a.do_bake && parse_transfer_kind(a.bake.transfer) == TransferKind::glossy;
-    GlossyArgs glossy = a.glossy;
+    ShadingArgs shading = a.shading;
     BakeOptionArgs bake_args = a.bake;
     if (!a.do_bake || bake_glossy) {
-        glossy.albedo = a.bake.albedo;
+        shading.albedo = a.bake.albedo;
         bake_args.albedo.clear();
     }
-    check_glossy_args(glossy);
+    if (!a.do_bake && a.bake.coeffs) {
+        SHPRT_CHECK(*a.bake.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)",
+                    *a.bake.coeffs);
+        shading.params.coeffs = static_cast<int>(std::min<long long>(*a.bake.coeffs, 1 << 20));
+    }
     const LightSetup setup = light_setup_from(a.light);
-    const ShadeView view = parse_view(a.view);
+    ShadingParams params = shading_params(shading, setup);
+    const ShadeView view = params.view;
     const viewer::OffscreenBackend backend = viewer::parse_offscreen_backend(a.offscreen);
     SHPRT_CHECK(!(a.benchmark && !a.screenshot.empty()), invalid_argument,
                 "--benchmark and --screenshot both given; use one");
@@ -124,27 +128,21 @@ void run(const ViewArgs& a) {
     if (!a.do_bake && !a.bake_only_given.empty())
         fail(ErrorCode::invalid_argument, "{} is a bake option: add --bake (FILE is then a scene)",
              a.bake_only_given.front());
-    SHPRT_CHECK(!a.do_bake || bake_glossy || a.glossy.brdf.empty(), invalid_argument,
+    SHPRT_CHECK(!a.do_bake || bake_glossy || !params.brdf, invalid_argument,
                 "--brdf shades glossy transfer matrices: with --bake, add --transfer glossy");
-    SHPRT_CHECK(!(a.shading.direct && a.do_bake), invalid_argument,
+    SHPRT_CHECK(!(params.direct && a.do_bake), invalid_argument,
                 "--direct shows a baked file's direct part; with --bake, bake with "
                 "--transfer shadowed instead");
     const bool windowed = a.screenshot.empty() && !a.benchmark;
     // The window draws the matrices as their rows arrive; the paper's term replaces them with
     // vectors, which a finished bake can give (--screenshot, --benchmark), not a refining one.
-    SHPRT_CHECK(!(bake_glossy && windowed && glossy.glossy == "paper"), unsupported,
+    SHPRT_CHECK(!(bake_glossy && windowed && params.glossy == GlossyTerm::paper), unsupported,
                 "--glossy paper: the window shows a glossy bake's matrices while they refine "
                 "(use --brdf phong:E, or bake the file first and view it with --glossy paper)");
     std::optional<BakeOptions> bake_options;
-    int K_used = 0;
     if (a.do_bake) {
         bake_options = bake_options_from(bake_args);
         resolve_device(bake_options->device, bake_options->device_index);  // fail before a window
-    } else if (a.bake.coeffs) {
-        // Without --bake, --coeffs is the K' shown first (as `shprt render --coeffs`).
-        SHPRT_CHECK(*a.bake.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)",
-                    *a.bake.coeffs);
-        K_used = static_cast<int>(std::min<long long>(*a.bake.coeffs, 1 << 20));
     }
 
     // ---- The scene: a file, or (with --bake) baked here. The window shows a bake from all-zero
@@ -158,29 +156,24 @@ void run(const ViewArgs& a) {
     } else {
         // The window keeps the whole transfer (its panel toggles the direct part); a screenshot
         // or a benchmark shows what --direct asks for.
-        file = read_for_shading(a.input, a.shading.direct && !windowed);
-        if (a.shading.direct && windowed)
+        file = read_shprt(a.input);
+        if (params.direct && windowed)
             SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
                         "--direct: {} has no direct part (only interreflected bakes keep one)",
                         a.input);
-        check_texel_view(a.input, file.transfer, a.shading.k, view);
+        check_texel_view(a.input, file.transfer, params.k, view);
     }
     // Glossy matrices are shaded with --brdf, else with the materials' BRDFs, else with --gloss's
     // Phong lobe (the panel changes the BRDF live); --glossy paper turns them into the paper's
     // term.
-    if (file.transfer.layout.shape == TransferShape::symmetric_matrix && glossy.brdf.empty() &&
-        glossy.glossy == "matrix" && file.mesh.brdf_index.empty())
-        glossy.brdf = fmt::format("phong:{}", a.shading.gloss);
-    double gloss = a.shading.gloss;
-    Brdf brdf;
-    bool material_brdfs = false;
-    std::optional<Vec3f> albedo;
-    const GlossyPlan plan = plan_glossy(glossy, a.input, file, a.shading.k, gloss);
-    if (plan.glossy) {
-        brdf = plan.glossy->brdf;
-        material_brdfs = plan.glossy->material_brdfs;
-        albedo = plan.glossy->albedo;
-    }
+    if (file.transfer.layout.shape == TransferShape::symmetric_matrix && !params.brdf &&
+        params.glossy == GlossyTerm::matrix && file.mesh.brdf_index.empty())
+        params.brdf = Brdf{BrdfModel::phong, params.gloss};
+    // The window keeps the whole transfer (its panel toggles the direct part); a screenshot or a
+    // benchmark shows what --direct asks for.
+    ShadingParams resolved = params;
+    resolved.direct = params.direct && !windowed;
+    const ShadingPlan plan = resolve_shading(resolved, file, a.input, Spelling::command_line);
     viewer::LightRig rig(std::min(file.transfer.layout.K, kMaxLightK));
     rig.set_source(setup);  // a missing light file fails here, before any window
 
@@ -188,15 +181,9 @@ void run(const ViewArgs& a) {
     config.width = width;
     config.height = height;
     config.msaa = a.msaa;
-    config.exposure = static_cast<float>(a.shading.exposure);
+    config.exposure = static_cast<float>(params.exposure);
+    config.draw = draw_settings(plan, view);
     config.draw.camera = camera_from(a.camera, file.mesh, float(width) / float(height), a.input);
-    config.draw.k = a.shading.k;
-    config.draw.gloss = gloss;
-    config.draw.brdf = brdf;
-    config.draw.material_brdfs = material_brdfs;
-    config.draw.albedo = albedo;
-    config.draw.K_used = K_used;
-    config.draw.view = view;
     config.draw.background = a.background;
     config.draw.wireframe = a.wireframe;
     const std::string name = std::filesystem::path(a.input).filename().string();
@@ -208,7 +195,7 @@ void run(const ViewArgs& a) {
             viewer::render_screenshot(file.mesh, file.transfer, light, config, backend, &context);
         save_image(a.screenshot, image, config.exposure);
         std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", width, height,
-                    effective_basis_size(file.transfer, light, K_used), a.shading.k,
+                    effective_basis_size(file.transfer, light, params.coeffs), params.k,
                     seconds_since(start), a.screenshot.c_str());
         return;
     }
@@ -235,7 +222,7 @@ void run(const ViewArgs& a) {
     options.max_frames = a.frames.value_or(0);
     options.window_screenshot = a.window_screenshot;
     options.vsync = !a.no_vsync;
-    options.direct_only = a.shading.direct;
+    options.direct_only = params.direct;
     viewer::WindowReport report;
     try {
         report = viewer::run_window(file.mesh, file.transfer, options, bake_options);
@@ -262,13 +249,10 @@ const bool view_registered = register_command(
              ->required();
          add_light_options(app, args->light);
          add_camera_options(app, args->camera);
-         add_glossy_options(app, args->glossy, /*with_albedo=*/false);
          app.add_option("--size", args->size, "Window or image size WxH (default 1280x720)");
-         add_shading_options(app, args->shading, "Exposure multiplier (default 1)",
+         add_shading_options(app, args->shading, kViewOption, "Exposure multiplier (default 1)",
                              "Interreflected bakes: show the direct light only (the file's T_0; "
                              "the panel toggles it)");
-         app.add_option("--view", args->view,
-                        "radiance (default), irradiance, or transfer (AO-like, light ignored)");
          app.add_flag("--background", args->background, "Draw the light behind the scene");
          app.add_flag("--wireframe", args->wireframe, "Draw triangle edges only");
          app.add_option("--msaa", args->msaa,

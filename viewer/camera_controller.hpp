@@ -11,8 +11,8 @@
 // keeps the eye. No GLFW or OpenGL here: the window feeds it pixel deltas, tests call it directly.
 #pragma once
 
-#include "shprt/render/camera.hpp"
 #include "shprt/scene/mesh_ops.hpp"
+#include "shprt/shade/camera.hpp"
 
 namespace shprt::viewer {
 
@@ -53,7 +53,7 @@ public:
     void orbit_by(float radians);
 
     // The camera for drawing: look_at_camera(eye, target, field of view, bounds)
-    // (render/camera.hpp), so up is +Y (the pitch clamp keeps it off the view direction) and the
+    // (shade/camera.hpp), so up is +Y (the pitch clamp keeps it off the view direction) and the
     // clip planes are fitted to the bounds.
     Camera camera() const;
 

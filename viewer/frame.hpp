@@ -9,7 +9,7 @@
 #pragma once
 
 #include "shprt/render/renderer.hpp"
-#include "shprt/render/save_image.hpp"
+#include "shprt/shade/save_image.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -36,7 +36,7 @@ struct PanelState {
     bool has_direct = false;    // the transfer is interreflected and keeps its direct part
     bool direct_only = false;   // show the direct part (T_0) instead of T_0 + … + T_N
     bool diffuse_only = false;  // diffuse texel transfer: drawn per fragment without glossy term
-    // Glossy transfer matrices (render/glossy.hpp): the BRDF replaces the Phong "gloss" slider.
+    // Glossy transfer matrices (shade/glossy.hpp): the BRDF replaces the Phong "gloss" slider.
     bool matrices = false;
     // The scene's materials give BRDFs (Mesh::brdfs): `material_brdfs` shades their vertices
     // with them, the combo below then sets the BRDF of the vertices whose material gives none.

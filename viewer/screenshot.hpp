@@ -1,6 +1,6 @@
 // `shprt view FILE --screenshot OUT.png`: one frame of the viewer without a window (without the
 // panel), taken by the one picture path: render_image's drawing (render_image_in_current_context)
-// in an offscreen context, then save_image (render/save_image.hpp). For the same camera, light
+// in an offscreen context, then save_image (shade/save_image.hpp). For the same camera, light
 // and options it is `shprt render`'s PNG, byte for byte.
 #pragma once
 

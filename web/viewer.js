@@ -1,9 +1,9 @@
 // shprt's PRT viewer for the browser: loads a .glb written by `shprt export`, reads the transfer
 // attributes (_SHPRT_T*) and the convention block (primitives[0].extras.shprt, see
-// include/shprt/render/gltf_export.hpp), and relights the model in a vertex shader under the SH
-// light of the file, which the mouse rotates. The shading is render/shade.hpp's pure diffuse
+// include/shprt/shade/gltf_export.hpp), and relights the model in a vertex shader under the SH
+// light of the file, which the mouse rotates. The shading is shade/shade.hpp's pure diffuse
 // model, E = Σ_{i<K′} T_i·L_i, L = albedo/π·E, per vertex; the fragment shader applies exposure,
-// the ACES filmic fit and sRGB exactly as `shprt render`'s PNG writer (render/tonemap.hpp), so
+// the ACES filmic fit and sRGB exactly as `shprt render`'s PNG writer (shade/tonemap.hpp), so
 // the same camera and light give the same picture (web/test_web.mjs checks it).
 //
 // URL parameters (all optional):
@@ -74,7 +74,7 @@ precision highp float;
 uniform float exposure;
 in vec3 radiance;
 out vec4 color;
-float aces(float x) {  // render/tonemap.hpp tonemap_aces
+float aces(float x) {  // shade/tonemap.hpp tonemap_aces
     if (!(x > 0.0)) return 0.0;
     return min((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 1.0);
 }
@@ -126,7 +126,7 @@ function transferTexture(geometry, info, maxSize) {
     return { texture, width };
 }
 
-// The clip planes of `shprt render` for this eye and target (render/camera.cpp fit_clip_planes).
+// The clip planes of `shprt render` for this eye and target (shade/camera.cpp fit_clip_planes).
 function fitClipPlanes(eye, target, box) {
     const f = target.clone().sub(eye).normalize();
     let far = 0, near = Infinity;

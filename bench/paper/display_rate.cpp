@@ -4,7 +4,7 @@
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/light/light_setup.hpp"
-#include "shprt/render/camera.hpp"
+#include "shprt/shade/camera.hpp"
 
 #if SHPRT_HAS_VIEWER
 #include "viewer.hpp"

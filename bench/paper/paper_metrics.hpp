@@ -10,7 +10,7 @@
 
 #include "shprt/core/vec.hpp"
 #include "shprt/light/image.hpp"
-#include "shprt/render/camera.hpp"
+#include "shprt/shade/camera.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>

@@ -1,8 +1,8 @@
 // Quality stage of the paper study (quality.hpp).
 #include "paper/quality.hpp"
 
-#include "shprt/render/shade.hpp"
 #include "shprt/sh/window.hpp"
+#include "shprt/shade/shade.hpp"
 
 #include <span>
 

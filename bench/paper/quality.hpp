@@ -13,7 +13,7 @@
 
 namespace shprt::paper {
 
-// Luminance of the per-vertex irradiance that shade_vertices (render/shade.hpp) gives for `light`.
+// Luminance of the per-vertex irradiance that shade_vertices (shade/shade.hpp) gives for `light`.
 std::vector<double> shade_luminance(const Mesh& mesh, const TransferSet& transfer,
                                     const ShLight& light);
 

@@ -10,10 +10,10 @@
 
 #include "shprt/light/image.hpp"
 #include "shprt/light/light.hpp"
-#include "shprt/render/camera.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/shade/camera.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <memory>

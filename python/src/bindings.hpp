@@ -5,8 +5,13 @@
 
 #include "shprt/light/light.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/shade/params.hpp"
 
 #include <pybind11/pybind11.h>
+
+#include <array>
+#include <optional>
+#include <string>
 
 namespace shprt::python {
 
@@ -18,7 +23,22 @@ void bind_io(py::module_& m);      // shprt.File, load, save
 void bind_bake(py::module_& m);    // bake, bake_description
 void bind_sh(py::module_& m);      // sh_* (evaluation, projection, rotation, windowing)
 void bind_light(py::module_& m);   // light, light_from_equirect, light_from_cube_cross
-void bind_render(py::module_& m);  // shade; render and save_image when the build has render/
+void bind_shade(py::module_& m);   // shade, save_image (shade/: no GL)
+void bind_render(py::module_& m);  // render, when the build has render/ (GL)
+
+// The shading keywords shade() and render() share, as shade/params.hpp's ShadingParams, checked
+// (one line naming the keyword as Python spells it).
+struct ShadingKeywords {
+    double k;
+    double gloss;
+    int coeffs;
+    std::optional<std::string> brdf;
+    std::optional<std::array<float, 3>> albedo;
+    bool direct;
+    std::string glossy;
+    std::string view = "radiance";
+};
+ShadingParams shading_params(const ShadingKeywords& keywords);
 
 // The mesh a Python call gives: a shprt.Mesh as it is, or arrays (vertices (V, 3) float,
 // faces (T, 3) int, normals (V, 3) or None = computed, albedo (V, 3) or None = kDefaultAlbedo)

@@ -61,5 +61,6 @@ PYBIND11_MODULE(_shprt, m) {
     bind_bake(m);
     bind_sh(m);
     bind_light(m);
+    bind_shade(m);
     bind_render(m);
 }

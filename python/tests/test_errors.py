@@ -67,10 +67,9 @@ def test_sh_and_light_arguments():
     check("invalid_argument", r"R: expected an array of shape \(3, 3\)", shprt.sh_rotate,
           np.ones(4), np.eye(2))
     check("invalid_argument", r"unknown|sphinx|light", shprt.light, "sphinx", 9)
-    if shprt.HAS_RENDER:
-        f = shprt.File(shprt.Mesh(V, F), np.ones((3, 4), np.float32))
-        check("invalid_argument", r"light: expected an array of shape \(3, K\)", shprt.shade, f,
-              np.ones((4, 4)))
+    f = shprt.File(shprt.Mesh(V, F), np.ones((3, 4), np.float32))
+    check("invalid_argument", r"light: expected an array of shape \(3, K\)", shprt.shade, f,
+          np.ones((4, 4)))
 
 
 @pytest.mark.parametrize("project", ["light_from_equirect", "light_from_cube_cross"])
@@ -101,7 +100,6 @@ def test_a_light_too_bright_for_float_is_refused():
     check("invalid_argument", r"light is too bright", shprt.light_rotate, bad, np.eye(3))
 
 
-@pytest.mark.skipif(not shprt.HAS_RENDER, reason="this build has no renderer (render/)")
 def test_shade_refuses_a_light_that_is_not_finite():
     f = shprt.File(shprt.Mesh(V, F), np.ones((3, 4), np.float32), samples=1)
     bad = np.full((3, 4), np.nan, np.float32)

@@ -1,6 +1,6 @@
 // Reading image files: OpenEXR (tinyexr), Radiance RGBE (stb_image, after our own structural
 // check of the scanlines, because stb_image 2.27 loops forever on some truncated RLE streams) and
-// PNG (stb_image). Writing is render/save_image.cpp. References: Greg Ward, "Real Pixels" (Graphics
+// PNG (stb_image). Writing is shade/save_image.cpp. References: Greg Ward, "Real Pixels" (Graphics
 // Gems II, 1991) and the Radiance file-format notes for RGBE and its run-length scanlines; IEC
 // 61966-2-1 for sRGB.
 #include "shprt/light/image.hpp"

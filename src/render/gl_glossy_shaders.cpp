@@ -1,5 +1,5 @@
 // GLSL 4.30 sources of the renderer's glossy matrix shading: the GPU twin of shade_glossy
-// (render/glossy.hpp), in float. Two compute passes:
+// (shade/glossy.hpp), in float. Two compute passes:
 //
 //   cluster pass   (CPCA files only) one invocation per cluster mean and basis matrix: its
 //                  product with the light, B·L_c for the three colours. Runs when the light or

@@ -1,5 +1,5 @@
 // GLSL 4.30 sources of the renderer. The shading compute shader is the GPU twin of
-// shade_vertices (render/shade.cpp): the same formulas, in float, one invocation per vertex
+// shade_vertices (shade/shade.cpp): the same formulas, in float, one invocation per vertex
 // (each vertex is shaded once however many triangles share it; the draw then only transforms
 // and interpolates). The glossy lobe is rotated with
 // the zonal identity c_lm = g_l · y_lm(r), g_l = sqrt(4π/(2l+1)) z_l (Sloan, Kautz & Snyder
@@ -246,7 +246,7 @@ void main() {
 }
 )glsl";
 
-// render/tonemap.hpp and core/colour.hpp: Narkowicz's ACES fit, then the exact sRGB curve; the
+// shade/tonemap.hpp and core/colour.hpp: Narkowicz's ACES fit, then the exact sRGB curve; the
 // display code of linear radiance already scaled by the exposure. The one GLSL copy: the present
 // pass and every fragment shader drawn straight to a display splice it in.
 const char* const kDisplayEncode = R"glsl(

@@ -1,5 +1,5 @@
 // GLSL 4.30 sources of the texel pass (texel_pass.hpp): the per-fragment twin of shade_texels
-// (render/texel_shade.hpp) — E = Σ_i T_i L_i with T read from the coefficient planes at the
+// (shade/texel_shade.hpp) — E = Σ_i T_i L_i with T read from the coefficient planes at the
 // fragment's UV (bilinear inside a chart) instead of interpolated from vertices.
 #include "texel_pass.hpp"
 

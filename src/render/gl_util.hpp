@@ -23,7 +23,7 @@ unsigned compile_compute_program(const char* source, const char* name);
 
 // GLSL 4.30 sources (gl_shaders.cpp). The fragment shaders marked "// @output" write their
 // colour through output_colour(), which fragment_shader() supplies.
-extern const char* const kShadeComputeShader;        // per-vertex PRT shading (render/shade.hpp)
+extern const char* const kShadeComputeShader;        // per-vertex PRT shading (shade/shade.hpp)
 extern const char* const kSceneVertexShader;         // transforms; passes the vertex colour on
 extern const char* const kSceneFragmentShader;       // @output: the interpolated colour
 extern const char* const kFullscreenVertexShader;    // one triangle covering the viewport
@@ -39,7 +39,7 @@ std::string fragment_shader(const char* source, bool display);
 std::string splice(const std::string& source, const char* marker, const std::string& code);
 // Glossy transfer matrices (gl_glossy_shaders.cpp), for K' coefficients of matrices stored
 // K_stored wide: the per-cluster light products of a CPCA code with `vectors` basis matrices per
-// cluster, and the per-vertex shading (render/glossy.hpp) of raw matrices (vectors = 0) or of
+// cluster, and the per-vertex shading (shade/glossy.hpp) of raw matrices (vectors = 0) or of
 // such a code, which reads the products through a uniform block of `block_vec4s` vec4s (0: from
 // the storage buffer).
 std::string glossy_cluster_shader(int K, int K_stored, int vectors);

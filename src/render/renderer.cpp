@@ -12,10 +12,10 @@
 #include "shprt/light/light.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
-#include "shprt/render/texel_shade.hpp"
-#include "shprt/render/tonemap.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
+#include "shprt/shade/texel_shade.hpp"
+#include "shprt/shade/tonemap.hpp"
 #include "shprt/transfer/cpca.hpp"
 #include "texel_pass.hpp"
 
@@ -27,6 +27,20 @@
 #include <vector>
 
 namespace shprt {
+
+DrawSettings draw_settings(const ShadingPlan& plan, ShadeView view) {
+    DrawSettings settings;
+    settings.view = view;
+    settings.k = plan.options.k;
+    settings.gloss = plan.options.gloss;
+    settings.K_used = plan.options.K_used;
+    if (plan.glossy) {  // transfer matrices, shaded on the GPU
+        settings.brdf = plan.glossy->brdf;
+        settings.material_brdfs = plan.glossy->material_brdfs;
+        settings.albedo = plan.glossy->albedo;
+    }
+    return settings;
+}
 namespace {
 
 // Size of the equirect texture the background is drawn from: the light is band-limited (at most

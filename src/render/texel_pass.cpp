@@ -4,7 +4,7 @@
 
 #include "gl_util.hpp"
 #include "shprt/core/error.hpp"
-#include "shprt/render/texel_shade.hpp"
+#include "shprt/shade/texel_shade.hpp"
 
 #include <epoxy/gl.h>
 

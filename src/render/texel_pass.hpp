@@ -5,9 +5,9 @@
 // light (its uniform block), the background, wireframe and presentation stay the Renderer's.
 #pragma once
 
-#include "shprt/render/camera.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/shade/camera.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>

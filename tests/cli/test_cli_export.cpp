@@ -1,10 +1,10 @@
 // `shprt export` run as a program: a .glb comes out (and --half and --bands shrink it); bad input
 // (missing or truncated .shprt, a bad light, a bad extension or --bands, output = input) gives a
 // one-line error, exit code 1 and no output file. The glb's content is tested in
-// tests/render/test_gltf_export.cpp, its validity by the Khronos validator (web_gltf_validator).
+// tests/shade/test_gltf_export.cpp, its validity by the Khronos validator (web_gltf_validator).
 #include "cli/cli_test.hpp"
 #include "shprt/io/shprt_file.hpp"
-#include "shprt/render/glossy.hpp"
+#include "shprt/shade/glossy.hpp"
 
 #include <gtest/gtest.h>
 

@@ -11,11 +11,11 @@
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/render/renderer.hpp"
-#include "shprt/render/save_image.hpp"
-#include "shprt/render/shade.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
+#include "shprt/shade/save_image.hpp"
+#include "shprt/shade/shade.hpp"
 
 #include "cli/cli_test.hpp"
 

@@ -2,7 +2,7 @@
 // text as it would come from the command line: numbers and integers (core/parse.hpp) and the
 // check every numeric option of the tools runs (tools/common/number_options.hpp, through a small
 // CLI11 app), number lists, light specs (analytic ones; files have their own target),
-// YAW,PITCH,ROLL, cameras, vectors and image sizes (render/camera.hpp), sampler, window and
+// YAW,PITCH,ROLL, cameras, vectors and image sizes (shade/camera.hpp), sampler, window and
 // transfer names. Each either parses to a value that keeps the parser's promise or throws
 // shprt::Error.
 #include "common/number_options.hpp"
@@ -10,9 +10,9 @@
 #include "shprt/core/parse.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/light/light_setup.hpp"
-#include "shprt/render/camera.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/sh/window.hpp"
+#include "shprt/shade/camera.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <CLI/CLI.hpp>

@@ -2,7 +2,7 @@
 // sRGB curve, orientation, and bad files (missing, empty, truncated at every cut, garbage, NaN/Inf
 // pixels, wrong extension) → shprt::Error naming the file, never a crash or a hang. The files are
 // written by tinyexr and stb_image_write directly (image_fixture.hpp), not by save_image (render/,
-// tested in tests/render/test_save_image.cpp).
+// tested in tests/shade/test_save_image.cpp).
 #include "shprt/light/image.hpp"
 
 #include "light/image_fixture.hpp"

@@ -2,7 +2,7 @@
 #include "paper/paper_metrics.hpp"
 
 #include "shprt/core/error.hpp"
-#include "shprt/render/shade.hpp"
+#include "shprt/shade/shade.hpp"
 
 #include <gtest/gtest.h>
 

@@ -9,11 +9,11 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/rotation3.hpp"
 #include "shprt/render/gl_context.hpp"
-#include "shprt/render/glossy.hpp"
 #include "shprt/render/renderer.hpp"
-#include "shprt/render/tonemap.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/room.hpp"
+#include "shprt/shade/glossy.hpp"
+#include "shprt/shade/tonemap.hpp"
 #include "shprt/transfer/cpca.hpp"
 
 #include <epoxy/gl.h>
@@ -283,7 +283,7 @@ TEST(GlRender, PresentShowsWhatThePngEncoderWrites) {
 }
 
 // The GPU's display encoding (the present pass's GLSL, which draw_to_display shares) against the
-// PNG encoder's (render/tonemap.hpp) on 196 608 radiance values from 0 to past the tone map's
+// PNG encoder's (shade/tonemap.hpp) on 196 608 radiance values from 0 to past the tone map's
 // saturation: the same formulas in float, so a code may differ by one level only where the GPU's
 // pow() rounds a value across a rounding boundary — rarely (llvmpipe: 1 of the 196 608 codes).
 TEST(GlRender, PresentEncodesARampAsThePngEncoderDoes) {
@@ -479,7 +479,7 @@ Camera box_view() {
 }
 
 // Glossy transfer matrices (a real bake of a box on a plane, so shadows are in the matrices) and
-// their CPCA code, shaded on the GPU, against shade_glossy on the CPU (render/glossy.hpp): every
+// their CPCA code, shaded on the GPU, against shade_glossy on the CPU (shade/glossy.hpp): every
 // pixel equals the CPU radiance interpolated where its ray hits, for the three BRDF models, the
 // colour override, truncated K', and the irradiance and transfer views.
 TEST(GlRender, GlossyMatricesAndTheirCpcaCodeMatchShadeGlossy) {

@@ -10,10 +10,10 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/half.hpp"
 #include "shprt/render/gl_context.hpp"
-#include "shprt/render/glossy.hpp"
 #include "shprt/render/renderer.hpp"
-#include "shprt/render/texel_shade.hpp"
 #include "shprt/scene/builtin.hpp"
+#include "shprt/shade/glossy.hpp"
+#include "shprt/shade/texel_shade.hpp"
 #include "shprt/transfer/cpca.hpp"
 
 #include <gtest/gtest.h>

@@ -10,8 +10,8 @@
 #include "shprt/core/host.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
-#include "shprt/render/tonemap.hpp"
 #include "shprt/scene/load.hpp"
+#include "shprt/shade/tonemap.hpp"
 
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>

@@ -1,8 +1,6 @@
 // Options shared by `shprt render` and `shprt view` (shading_options.hpp).
 #include "common/shading_options.hpp"
 
-#include "common/bake_options.hpp"
-
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/parse.hpp"
@@ -97,29 +95,55 @@ Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect,
     return camera;
 }
 
-ShadeView parse_view(const std::string& name) {
-    if (name == "radiance") return ShadeView::radiance;
-    if (name == "irradiance") return ShadeView::irradiance;
-    if (name == "transfer") return ShadeView::transfer;
-    fail(ErrorCode::invalid_argument, "--view '{}': expected radiance, irradiance or transfer",
-         name);
+void add_shading_options(CLI::App& app, ShadingArgs& args, unsigned extra,
+                         const std::string& exposure_help, const std::string& direct_help) {
+    ShadingParams& p = args.params;
+    app.add_option("--k", p.k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
+    app.add_option("--gloss", p.gloss,
+                   fmt::format("Phong exponent of the glossy lobe (default {})", kDefaultGloss));
+    app.add_option("--exposure", p.exposure, exposure_help);
+    app.add_flag("--direct", p.direct, direct_help);
+    app.add_option("--brdf", args.brdf,
+                   "Glossy bakes: the BRDF lobe phong:E (normalised Phong), blinn:E (Blinn-Phong) "
+                   "or ggx:R (roughness), optionally :R,G,B, its specular colour (default white); "
+                   "with --k the diffuse share");
+    app.add_option("--glossy", args.glossy,
+                   "matrix (default: transfer matrices, needs a glossy bake) or paper (the "
+                   "paper's zonal term; a glossy bake is turned into diffuse transfer)");
+    if (extra & kCoeffsOption)
+        app.add_option("--coeffs", p.coeffs, "Use the first K' coefficients (default: all)");
+    if (extra & kAlbedoOption)
+        app.add_option("--albedo", args.albedo,
+                       "Glossy shading: R,G,B (linear, 0 to 1) overriding the diffuse and "
+                       "specular colours");
+    if (extra & kViewOption)
+        app.add_option("--view", args.view,
+                       "radiance (default), irradiance, or transfer (AO-like, light ignored)");
+    if (extra & kEyeOption)
+        app.add_option("--eye", args.eye,
+                       "Eye position X,Y,Z for the glossy term (default: the default render "
+                       "camera)");
+    if (extra & kSunSamplesOption)
+        app.add_option("--sun-samples", p.sun_samples,
+                       fmt::format("With --sun: directions traced on the sun's disc, a square "
+                                   "(default {}; 1 = the centre only, a point sun's hard shadow)",
+                                   kDefaultSunSamples));
 }
 
-void add_shading_options(CLI::App& app, ShadingArgs& args, const std::string& exposure_help,
-                         const std::string& direct_help) {
-    app.add_option("--k", args.k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
-    app.add_option("--gloss", args.gloss, "Phong exponent of the glossy lobe (default 16)");
-    app.add_option("--exposure", args.exposure, exposure_help);
-    app.add_flag("--direct", args.direct, direct_help);
-}
-
-void check_shading_args(const ShadingArgs& a) {
-    SHPRT_CHECK(a.k >= 0 && a.k <= 1, invalid_argument,
-                "--k {}: the diffuse share must be in [0, 1]", a.k);
-    SHPRT_CHECK(a.gloss >= 0 && std::isfinite(a.gloss), invalid_argument,
-                "--gloss {}: the Phong exponent must be ≥ 0", a.gloss);
-    SHPRT_CHECK(a.exposure > 0 && std::isfinite(a.exposure), invalid_argument,
-                "--exposure {}: must be positive", a.exposure);
+ShadingParams shading_params(const ShadingArgs& args, const LightSetup& light) {
+    constexpr Spelling cli = Spelling::command_line;
+    ShadingParams p = args.params;
+    p.view = parse_view(args.view, cli);
+    p.glossy = parse_glossy_term(args.glossy, cli);
+    if (!args.brdf.empty()) p.brdf = parse_brdf(args.brdf);
+    if (!args.albedo.empty()) {
+        const std::vector<double> rgb = parse_numbers(args.albedo, 3, "--albedo R,G,B");
+        p.albedo = Vec3f{float(rgb[0]), float(rgb[1]), float(rgb[2])};
+    }
+    if (!args.eye.empty()) p.eye = parse_vec3(args.eye, "--eye");
+    p.sun = light.sun;
+    check(p, cli);
+    return p;
 }
 
 void check_texel_view(const std::string& path, const TransferSet& transfer, double k,
@@ -137,100 +161,6 @@ void check_image_extension(const std::string& path) {
     const std::string ext = lower_extension(path);
     SHPRT_CHECK(ext == ".png" || ext == ".exr" || ext == ".hdr", invalid_argument,
                 "output {}: unknown image format (expected .png, .exr or .hdr)", path);
-}
-
-ShprtFile read_for_shading(const std::string& path, bool direct) {
-    ShprtFile file = read_shprt(path);
-    if (direct) {
-        SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
-                    "--direct: {} has no direct part (only interreflected bakes keep one)", path);
-        file.transfer = file.transfer.direct_only();
-    }
-    return file;
-}
-
-void add_glossy_options(CLI::App& app, GlossyArgs& args, bool with_albedo) {
-    app.add_option("--brdf", args.brdf,
-                   "Glossy bakes: the BRDF lobe phong:E (normalised Phong), blinn:E (Blinn-Phong) "
-                   "or ggx:R (roughness), optionally :R,G,B, its specular colour (default white); "
-                   "with --k the diffuse share");
-    app.add_option("--glossy", args.glossy,
-                   "matrix (default: transfer matrices, needs a glossy bake) or paper (the "
-                   "paper's zonal term; a glossy bake is turned into diffuse transfer)");
-    if (with_albedo)
-        app.add_option("--albedo", args.albedo,
-                       "Glossy shading: R,G,B (linear, 0 to 1) overriding the diffuse and "
-                       "specular colours");
-}
-
-void check_glossy_args(const GlossyArgs& args) {
-    SHPRT_CHECK(args.glossy == "matrix" || args.glossy == "paper", invalid_argument,
-                "--glossy '{}': expected matrix or paper", args.glossy);
-    if (!args.brdf.empty()) parse_brdf(args.brdf);
-    if (!args.albedo.empty()) {
-        SHPRT_CHECK(args.glossy == "matrix", invalid_argument,
-                    "--albedo needs the matrix term (--glossy matrix)");
-        parse_albedo(args.albedo);
-    }
-}
-
-GlossyPlan plan_glossy(const GlossyArgs& args, const std::string& path, ShprtFile& file, double k,
-                       double& gloss) {
-    const bool matrices = file.transfer.layout.shape != TransferShape::vector;
-    GlossyPlan plan;
-    if (args.glossy == "paper") {
-        std::optional<Brdf> brdf;
-        if (!args.brdf.empty()) brdf = parse_brdf(args.brdf);
-        SHPRT_CHECK(!brdf || brdf->model == BrdfModel::phong, invalid_argument,
-                    "--glossy paper: the paper's term has a Phong lobe only (--brdf phong:E)");
-        SHPRT_CHECK(!brdf || brdf->specular == (Vec3f{1, 1, 1}), invalid_argument,
-                    "--glossy paper: the paper's term has no specular colour (--brdf phong:E)");
-        if (brdf) gloss = brdf->parameter;
-        if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
-        return plan;
-    }
-    // Without --brdf, a glossy file whose materials give BRDFs is shaded with them.
-    const bool materials = matrices && args.brdf.empty() && !file.mesh.brdf_index.empty();
-    SHPRT_CHECK(!matrices || !args.brdf.empty() || materials, invalid_argument,
-                "{}: glossy transfer matrices need --brdf phong:E|blinn:E|ggx:R (or --glossy "
-                "paper): the scene's materials give no BRDF",
-                path);
-    if (args.brdf.empty() && !materials) {
-        SHPRT_CHECK(args.albedo.empty(), invalid_argument, "--albedo needs --brdf");
-        return plan;
-    }
-    SHPRT_CHECK(matrices, invalid_argument,
-                "{}: {} transfer is diffuse (a vector per vertex): --brdf needs a glossy bake "
-                "(--transfer glossy), or use --gloss",
-                path, to_string(file.transfer.kind));
-    GlossyShadeOptions o;
-    if (materials) {
-        o.material_brdfs = true;  // o.brdf (--gloss's Phong lobe) where a material gives none
-        o.brdf = Brdf{BrdfModel::phong, gloss};
-        check_brdf(o.brdf);
-    } else {
-        o.brdf = parse_brdf(args.brdf);
-    }
-    o.k = k;
-    if (!args.albedo.empty()) o.albedo = parse_albedo(args.albedo);
-    plan.glossy = o;
-    return plan;
-}
-
-std::string describe_brdf(const Brdf& brdf, int K) {
-    const int bands = sh_bands_for(K);
-    return fmt::format("brdf={}, zonal fit error {:.1f}% at {} bands", to_string(brdf),
-                       100 * brdf_lobe(brdf, bands).fit_error, bands);
-}
-
-std::string describe_glossy(const Mesh& mesh, const GlossyShadeOptions& options, int K) {
-    if (!options.material_brdfs || mesh.brdf_index.empty()) return describe_brdf(options.brdf, K);
-    const int bands = sh_bands_for(K);
-    double worst = 0;
-    for (const Brdf& b : brdf_table(mesh, true, options.brdf))
-        worst = std::max(worst, brdf_lobe(b, bands).fit_error);
-    return fmt::format("brdf=materials: {}; none = {}; worst zonal fit error {:.1f}% at {} bands",
-                       describe_brdfs(mesh), to_string(options.brdf), 100 * worst, bands);
 }
 
 }  // namespace shprt::tools

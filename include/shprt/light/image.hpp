@@ -1,5 +1,5 @@
 // Float RGB images, and reading them: environment maps (light specs) are read here. Pictures are
-// written by render/save_image.hpp, a layer up.
+// written by shade/save_image.hpp, a layer up.
 //
 // Pixels are linear RGB floats (radiance or any linear quantity), row-major, row 0 at the top of
 // the picture, three floats per pixel. Reading is chosen by the file's extension:

@@ -28,7 +28,7 @@ struct LightSetup {
     // Light specs (light/light.hpp), summed; empty = {"builtin"}, or no light at all beside a
     // `sun` (the built-in light holds a sun of its own, which would be counted twice).
     std::vector<std::string> specs;
-    // A sun kept out of the SH sum (`--sun`, render/sun_shade.hpp): prepare_sun turns it with the
+    // A sun kept out of the SH sum (`--sun`, shade/sun_shade.hpp): prepare_sun turns it with the
     // rest; prepare_light and light_source never include it.
     std::optional<Sun> sun;
     Vec3d yaw_pitch_roll_deg{0, 0,
@@ -57,7 +57,7 @@ ShLight rotated_light(const ShLight& source, const Mat3d& R, int K);
 ShLight prepare_light(const LightSetup& setup, int K);
 
 // setup.sun as it lights the scene: its direction turned by light_rotation(setup) (the rotation
-// turns every light), and its SH projection for its bounced light (render/sun_shade.hpp) through
+// turns every light), and its SH projection for its bounced light (shade/sun_shade.hpp) through
 // the same path as a `sun:` spec: projected with full bands, windowed by setup.window, rotated,
 // truncated to K. Throws Error(invalid_argument) when setup.sun is unset or K is outside
 // [1, kMaxLightK].

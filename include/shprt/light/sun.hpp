@@ -3,7 +3,7 @@
 //   * projected into the SH sum (`--light sun:X,Y,Z[,RADIUS_DEG[,R,G,B]]`, light.hpp's parse_light:
 //     sun_light below, exact zonal projection), soft by construction: K coefficients cannot hold a
 //     disc of a few degrees (docs/lights.md, "The sun");
-//   * kept out of the SH sum (`--sun X,Y,Z[,RADIUS_DEG[,R,G,B]]`, render/sun_shade.hpp): its direct
+//   * kept out of the SH sum (`--sun X,Y,Z[,RADIUS_DEG[,R,G,B]]`, shade/sun_shade.hpp): its direct
 //     light traced per receiver through the disc directions below, its bounced light from an
 //     interreflected file's T − T₀ under sun_light's projection (docs/lights.md, "A sun kept out of
 //     the SH sum").

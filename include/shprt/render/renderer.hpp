@@ -4,11 +4,11 @@
 // It owns its GL objects and draws into whatever context and framebuffer are current; it never
 // creates a context. Per-vertex transfer lives in a shader storage buffer (channels × K floats per
 // vertex, the TransferSet layout), the light (3 × K floats) in a uniform block; a compute pass
-// evaluates the paper's shading once per vertex (render/shade.hpp: E, L_D, and the glossy term with
+// evaluates the paper's shading once per vertex (shade/shade.hpp: E, L_D, and the glossy term with
 // the Phong lobe rotated to the reflection direction by the SH recurrence of sh/basis.hpp ported to
 // GLSL) into a colour buffer, and the draw interpolates it. Glossy transfer matrices (a glossy
 // bake, TransferShape::symmetric_matrix) are shaded by their own pass, the twin of shade_glossy
-// (render/glossy.hpp): M_v·L per vertex, or, for a CPCA file, the light transformed once per
+// (shade/glossy.hpp): M_v·L per vertex, or, for a CPCA file, the light transformed once per
 // cluster matrix by a cluster pass and T = mean·L + Σ w_i (B_i·L) per vertex (only the code is
 // uploaded). The passes are skipped when nothing the colours depend on changed since the last draw
 // (diffuse shading does not depend on the camera; glossy shading depends on the eye position
@@ -16,7 +16,7 @@
 // (rooms are seen from inside). The output is linear radiance in a float target; tone mapping
 // happens after the multisample resolve (save_image for files; `present`, which resolves as it
 // tone-maps, for a window). The one path from a scene to a picture file is render_image, then
-// save_image (render/save_image.hpp): `shprt render` and the viewer's --screenshot both take it.
+// save_image (shade/save_image.hpp): `shprt render` and the viewer's --screenshot both take it.
 //
 // Typical use:
 //     HeadlessGlContext context;              // or a GLFW window's context
@@ -32,11 +32,12 @@
 
 #include "shprt/light/image.hpp"
 #include "shprt/light/light.hpp"
-#include "shprt/render/camera.hpp"
-#include "shprt/render/glossy.hpp"
-#include "shprt/render/save_image.hpp"
-#include "shprt/render/shade.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/shade/camera.hpp"
+#include "shprt/shade/glossy.hpp"
+#include "shprt/shade/params.hpp"
+#include "shprt/shade/save_image.hpp"
+#include "shprt/shade/shade.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>
@@ -51,19 +52,11 @@ namespace shprt {
 
 class TexelPass;  // src/render/texel_pass.hpp
 
-// What the vertex shader outputs per vertex.
-enum class ShadeView {
-    radiance,    // L = k·L_D + (1−k)·L_S (the picture)
-    irradiance,  // E
-    transfer,    // transfer only, AO-like: E under a uniform white sky of radiance 1, divided by
-                 // π (1 = unoccluded, 0 = fully blocked), grey; ignores light, albedo, k, K'
-};
-
 struct DrawSettings {
     Camera camera;
     double k = 1.0;                // diffuse share, as ShadeOptions::k
     double gloss = kDefaultGloss;  // Phong exponent, as ShadeOptions::gloss
-    // Glossy transfer matrices only (render/glossy.hpp, GlossyShadeOptions: k, K_used and the
+    // Glossy transfer matrices only (shade/glossy.hpp, GlossyShadeOptions: k, K_used and the
     // camera's eye are the fields above): the BRDF's zonal lobe, and the colour that replaces
     // both the diffuse (vertex albedo) and the specular (white) colour.
     Brdf brdf;
@@ -82,6 +75,10 @@ struct DrawSettings {
     bool front_to_back = true;   // draw the triangles in the draw order nearest the view
                                  // (render/draw_order.hpp); false: in the mesh's order
 };
+
+// The settings that draw what `plan` shades (shade/params.hpp): k, gloss, K′ and the glossy
+// matrices' BRDF and colour; the camera and the rest are the caller's.
+DrawSettings draw_settings(const ShadingPlan& plan, ShadeView view);
 
 // An offscreen float target: RGBA32F colour + 24-bit depth. With MSAA the colour is a
 // multisample texture: `Renderer::present` averages its samples while tone mapping (a window's
@@ -146,7 +143,7 @@ private:
 };
 
 // Reads the colour buffer of `framebuffer` (0 = the default framebuffer's back buffer) as 8-bit
-// RGB, rows top first, for save_png (render/save_image.hpp). Waits for rendering to finish.
+// RGB, rows top first, for save_png (shade/save_image.hpp). Waits for rendering to finish.
 // Throws Error(unsupported) if OpenGL reports an error.
 Rgb8Image read_framebuffer(unsigned framebuffer, int width, int height);
 

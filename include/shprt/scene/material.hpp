@@ -1,6 +1,6 @@
 // A surface's glossy BRDF as a scene carries it: the model, its one parameter and its specular
 // colour, per material (Mesh::brdfs). Shading turns it into a zonal lobe times the colour
-// (render/glossy.hpp, docs/glossy.md); the loader reads it from the file's materials
+// (shade/glossy.hpp, docs/glossy.md); the loader reads it from the file's materials
 // (scene/load.hpp).
 #pragma once
 

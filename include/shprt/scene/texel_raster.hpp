@@ -1,6 +1,6 @@
 // Texel samples of a mesh's UV atlas: the texel centres on the surface, with their position,
 // normal and albedo: the receivers of a texel-domain bake (bake/texels.hpp) and what shading a
-// texel file needs (render/texel_shade.hpp). Microsoft's D3DX PRT engine did per-texel PRT the
+// texel file needs (shade/texel_shade.hpp). Microsoft's D3DX PRT engine did per-texel PRT the
 // same way; this is the open version, on the same bake as vertices.
 //
 // The image: width × height texels, row 0 at the top. Texel (x, y) covers

@@ -1,11 +1,11 @@
 // Writers of per-vertex shading results: CSV, numpy .npy (format 1.0) and binary PLY with
 // display-encoded vertex colours. All through AtomicFile.
-#include "shprt/render/shade_export.hpp"
+#include "shprt/shade/shade_export.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/render/tonemap.hpp"
 #include "shprt/scene/ply.hpp"
+#include "shprt/shade/tonemap.hpp"
 
 #include <fmt/format.h>
 
@@ -21,7 +21,7 @@ namespace shprt {
 namespace {
 
 // Sizes, and no inf or NaN: a non-finite result is an error, never an output (as for pictures,
-// render/save_image.hpp).
+// shade/save_image.hpp).
 void check_result(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(result.irradiance.size() == V && result.radiance.size() == V, invalid_argument,

@@ -1,11 +1,11 @@
-// CPU reference of the paper's per-vertex shading (render/shade.hpp): diffuse E = c_T · c_L and
+// CPU reference of the paper's per-vertex shading (shade/shade.hpp): diffuse E = c_T · c_L and
 // the glossy term with a zonal Phong lobe rotated to the reflection direction in O(K).
 //
 // Implements: P.-P. Sloan, J. Kautz, J. Snyder, "Precomputed Radiance Transfer for Real-Time
 // Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH 2002 (diffuse transfer,
 // zonal lobe rotation), and the shading model of the paper reproduced here
 // (/work/shared/paper/PAPER.md, "Shading").
-#include "shprt/render/shade.hpp"
+#include "shprt/shade/shade.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
@@ -31,11 +31,11 @@ void check_inputs(const Mesh& mesh, const TransferSet& transfer, const ShLight& 
 void check_shadable(const Mesh& mesh, const TransferSet& transfer) {
     transfer.check(mesh);
     SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::vertex, unsupported,
-                "texel transfer is shaded per texel (shade_texels, render/texel_shade.hpp; "
+                "texel transfer is shaded per texel (shade_texels, shade/texel_shade.hpp; "
                 "shprt shade -o .npy|.exr|.png)");
     SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, unsupported,
                 "{} transfer cannot be shaded with L = k·L_D + (1−k)·L_S (it needs a vector per "
-                "receiver; glossy transfer matrices are shaded with --brdf, render/glossy.hpp)",
+                "receiver; glossy transfer matrices are shaded with --brdf, shade/glossy.hpp)",
                 to_string(transfer.layout.shape));
 }
 

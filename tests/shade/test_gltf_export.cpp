@@ -1,14 +1,14 @@
-// glTF export (render/gltf_export.hpp): the .glb parsed back here — container, accessors, every
+// glTF export (shade/gltf_export.hpp): the .glb parsed back here — container, accessors, every
 // attribute's values in vertex order (float32 exactly, int16 within its stated bound), COLOR_0
 // against shade_vertices, the extras block's convention and light — and bad input leaving no file.
 // The Khronos validator's verdict on real exports is the CTest test web_gltf_validator.
-#include "render_test_util.hpp"
+#include "shade_test_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/light/light_setup.hpp"
-#include "shprt/render/gltf_export.hpp"
-#include "shprt/render/shade.hpp"
 #include "shprt/scene/builtin.hpp"
+#include "shprt/shade/gltf_export.hpp"
+#include "shprt/shade/shade.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -36,7 +36,7 @@ struct Glb {
         const std::size_t offset = view["byteOffset"].get<std::size_t>();
         const std::size_t count = a["count"].get<std::size_t>();
         const std::string type = a["type"];
-        const std::size_t n = type == "SCALAR" ? 1 : type == "VEC3" ? 3 : 4;
+        const std::size_t n = type == "SCALAR" ? 1 : type == "VEC2" ? 2 : type == "VEC3" ? 3 : 4;
         const int component = a["componentType"];
         const bool normalized = a.value("normalized", false);
         std::vector<double> out(count * n);
@@ -244,6 +244,52 @@ TEST(GltfExport, HalfIsNormalizedInt16WithinItsStatedBound) {
     write_glb(dir.file("f.glb"), s.mesh, s.transfer, options_with({"builtin"}));
     EXPECT_LT(std::filesystem::file_size(dir.file("h.glb")),
               0.7 * double(std::filesystem::file_size(dir.file("f.glb"))));
+}
+
+// --attributes standard: the channels·K coefficients in order, two per TEXCOORD_0..7, then four
+// per COLOR_1..; the convention block on the primitive, the mesh and the node (Blender reads the
+// last two).
+TEST(GltfExport, StandardAttributesHoldTheCoefficientsInOrder) {
+    test::TempDir dir;
+    const Scene s = scene(9, 3);  // 27 floats: 8 TEXCOORD pairs (16), then 3 COLOR_n (12, 1 padded)
+    GltfExportOptions o = options_with({"builtin"});
+    o.attributes = GltfAttributes::standard;
+    write_glb(dir.file("s.glb"), s.mesh, s.transfer, o);
+    const Glb glb = read_glb(dir.file("s.glb"));
+    const std::size_t V = s.mesh.vertex_count();
+    const Json& names = glb.primitive()["extras"]["shprt"]["attributes"]["standard"];
+    ASSERT_EQ(names.size(), 11u);
+    EXPECT_EQ(names[0], "TEXCOORD_0");
+    EXPECT_EQ(names[7], "TEXCOORD_7");
+    EXPECT_EQ(names[8], "COLOR_1");
+    EXPECT_EQ(names[10], "COLOR_3");
+    std::vector<std::vector<double>> sets;
+    for (const auto& name : names) sets.push_back(glb.attribute(name.get<std::string>()));
+    for (std::size_t v = 0; v < V; ++v) {
+        int f = 0;
+        for (const auto& set : sets) {
+            const std::size_t width = set.size() / V;
+            ASSERT_TRUE(width == 2 || width == 4);
+            for (std::size_t j = 0; j < width; ++j, ++f) {
+                const float want = f < 27 ? s.transfer.receiver(v, f / 9)[f % 9] : 0.0f;
+                ASSERT_EQ(set[v * width + j], want) << "vertex " << v << " float " << f;
+            }
+        }
+        ASSERT_EQ(f, 28);
+    }
+    for (const auto& [name, index] : glb.primitive()["attributes"].items())
+        EXPECT_EQ(name.rfind("_SHPRT_T", 0), std::string::npos) << name;
+    EXPECT_EQ(glb.json["meshes"][0]["extras"], glb.primitive()["extras"]);
+    EXPECT_EQ(glb.json["nodes"][0]["extras"], glb.primitive()["extras"]);
+    // 16-bit coefficients are signed: TEXCOORD_n and COLOR_n cannot hold them.
+    o.half = true;
+    EXPECT_THROW(write_glb(dir.file("h.glb"), s.mesh, s.transfer, o), Error);
+    // More than the standard attributes' room (16 + 4·64 floats).
+    const Scene big = scene(100, 3);
+    o.half = false;
+    EXPECT_THROW(write_glb(dir.file("b.glb"), big.mesh, big.transfer, o), Error);
+    EXPECT_FALSE(std::filesystem::exists(dir.file("h.glb")));
+    EXPECT_FALSE(std::filesystem::exists(dir.file("b.glb")));
 }
 
 TEST(GltfExport, BadInputThrowsAndLeavesNoFile) {

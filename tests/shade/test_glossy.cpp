@@ -1,19 +1,19 @@
-// Glossy shading with transfer matrices (render/glossy.hpp): lobe normalisation and fits, the
+// Glossy shading with transfer matrices (shade/glossy.hpp): lobe normalisation and fits, the
 // white furnace, the analytic zonal convolution at an unoccluded receiver, and a brute-force
 // integral of lobe × visibility × light at room vertices within the stated truncation bound.
-#include "shprt/render/glossy.hpp"
+#include "shprt/shade/glossy.hpp"
 
-#include "render_test_util.hpp"
+#include "shade_test_util.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
-#include "shprt/render/camera.hpp"
-#include "shprt/render/texel_shade.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/texel_raster.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
+#include "shprt/shade/camera.hpp"
+#include "shprt/shade/texel_shade.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
 #include "shprt/transfer/cpca.hpp"

@@ -2,15 +2,15 @@
 // a JSON chunk padded with spaces and a BIN chunk padded with zeros, both to 4 bytes), §3.6-3.7
 // (buffer views and accessors; every vertex attribute here has its own tightly packed view, so no
 // byteStride is needed), §3.11 (custom attributes start with an underscore), KHR_materials_unlit.
-// Layout and conventions: include/shprt/render/gltf_export.hpp.
-#include "shprt/render/gltf_export.hpp"
+// Layout and conventions: include/shprt/shade/gltf_export.hpp.
+#include "shprt/shade/gltf_export.hpp"
 
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/render/camera.hpp"
-#include "shprt/render/shade.hpp"
 #include "shprt/sh/basis.hpp"
+#include "shprt/shade/camera.hpp"
+#include "shprt/shade/shade.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -67,11 +67,9 @@ void append_u32(std::vector<unsigned char>& out, std::uint32_t x) {
     for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(x >> (8 * i)));
 }
 
-}  // namespace
-
-void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
-               const GltfExportOptions& options) {
-    // 1. Every check before the file exists.
+// Every check before the file exists; returns the K exported.
+int check_exportable(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
+                     const GltfExportOptions& options) {
     check_shadable(mesh, transfer);
     {
         const std::uint32_t one = 1;
@@ -89,10 +87,23 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
                 "cannot export K = {}: lights have at most {} coefficients ({} bands); export "
                 "fewer bands",
                 K, kMaxLightK, kMaxComputeBands);
+    // TEXCOORD_n and COLOR_n may be float or unsigned normalized integers only: signed
+    // coefficients in 16 bits need the custom attributes.
+    SHPRT_CHECK(!options.half || options.attributes == GltfAttributes::custom, invalid_argument,
+                "cannot write {}: 16-bit coefficients (--half) need the custom attributes; glTF's "
+                "TEXCOORD_n and COLOR_n hold floats or unsigned integers, and coefficients are "
+                "signed",
+                path);
+    const int floats = transfer.layout.channels * K;
+    SHPRT_CHECK(options.attributes == GltfAttributes::custom ||
+                    floats <= kStandardTexcoordFloats + 4 * kMaxStandardColors,
+                invalid_argument,
+                "cannot write {}: {} coefficients per vertex do not fit the standard attributes "
+                "({} in TEXCOORD_0..7 and {} in COLOR_1..{}); export fewer bands",
+                path, floats, kStandardTexcoordFloats, 4 * kMaxStandardColors, kMaxStandardColors);
     const std::size_t V = mesh.vertex_count();
-    const int channels = transfer.layout.channels;
     for (std::size_t v = 0; v < V; ++v)
-        for (int c = 0; c < channels; ++c) {
+        for (int c = 0; c < transfer.layout.channels; ++c) {
             const float* t = transfer.receiver(v, c);
             for (int i = 0; i < K; ++i)
                 SHPRT_CHECK(std::isfinite(t[i]), invalid_argument,
@@ -104,44 +115,45 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
         check_finite(path, v, mesh.normals[v], "normal");
         check_finite(path, v, mesh.albedo[v], "albedo");
     }
+    return K;
+}
 
-    // 2. The light: its full-band source turned by --rotate (what the extras carry, so a viewer
-    // can rotate it further exactly), and the same cut to K for COLOR_0 — prepare_light's path.
-    const ShLight source = light_source(options.light, K);
-    const ShLight full = rotated_light(source, light_rotation(options.light), source.K);
-    const ShLight light = rotated_light(full, Mat3d::identity(), K);
+// COLOR_0: exposure × the radiance under `light`, clamped to [0, 1]. glTF requires float colours
+// in [0, 1] (the validator's ACCESSOR_NON_CLAMPED is an error), as a display without a tone map
+// would show them; the exact radiance is what relighting with the transfer gives.
+std::vector<Vec3f> baked_colours(const std::string& path, const Mesh& mesh,
+                                 const TransferSet& transfer, const ShLight& light, float exposure,
+                                 std::size_t& clipped) {
     ShadeOptions shade_options;
-    shade_options.K_used = K;
+    shade_options.K_used = light.K;
     const ShadeResult shaded = shade_vertices(mesh, transfer, light, shade_options);
-    // glTF requires float colours in [0, 1] (the validator's ACCESSOR_NON_CLAMPED is an error):
-    // exposure × L clamped, as a display without a tone map would show it. The exact radiance is
-    // what relighting with the transfer gives.
-    std::vector<Vec3f> colour(V);
-    std::size_t clipped = 0;
+    std::vector<Vec3f> colour(mesh.vertex_count());
+    clipped = 0;
     const auto clamp01 = [](float x) { return std::clamp(x, 0.0f, 1.0f); };
-    for (std::size_t v = 0; v < V; ++v) {
+    for (std::size_t v = 0; v < colour.size(); ++v) {
         check_finite(path, v, shaded.radiance[v], "colour (the light overflows float)");
-        const Vec3f L = shaded.radiance[v] * options.exposure;
+        const Vec3f L = shaded.radiance[v] * exposure;
         colour[v] = {clamp01(L.x), clamp01(L.y), clamp01(L.z)};
         if (std::max({L.x, L.y, L.z}) > 1.0f) ++clipped;
     }
+    return colour;
+}
 
-    // 3. Buffers and accessors.
-    GlbBuilder glb;
+// POSITION (with its bounds), NORMAL, COLOR_0 and _SHPRT_ALBEDO.
+Json add_geometry(GlbBuilder& glb, const Mesh& mesh, const std::vector<Vec3f>& colour) {
+    const std::size_t V = mesh.vertex_count();
     Json attributes = Json::object();
     const int position =
         glb.add(mesh.positions.data(), V * sizeof(Vec3f), kArrayBuffer, kFloat, "VEC3", V);
-    {
-        Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
-                 std::numeric_limits<float>::max()};
-        Vec3f hi = lo * -1.0f;
-        for (const Vec3f p : mesh.positions) {
-            lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-            hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-        }
-        glb.accessors[position]["min"] = vec3_json(lo);  // POSITION must have min and max
-        glb.accessors[position]["max"] = vec3_json(hi);
+    Vec3f lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+             std::numeric_limits<float>::max()};
+    Vec3f hi = lo * -1.0f;
+    for (const Vec3f p : mesh.positions) {
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
+    glb.accessors[position]["min"] = vec3_json(lo);  // POSITION must have min and max
+    glb.accessors[position]["max"] = vec3_json(hi);
     attributes["POSITION"] = position;
     attributes["NORMAL"] =
         glb.add(mesh.normals.data(), V * sizeof(Vec3f), kArrayBuffer, kFloat, "VEC3", V);
@@ -149,14 +161,21 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
         glb.add(colour.data(), V * sizeof(Vec3f), kArrayBuffer, kFloat, "VEC3", V);
     attributes["_SHPRT_ALBEDO"] =
         glb.add(mesh.albedo.data(), V * sizeof(Vec3f), kArrayBuffer, kFloat, "VEC3", V);
+    return attributes;
+}
 
+// _SHPRT_T<j>, float32 or 16-bit normalized with a scale per channel and coefficient; returns the
+// scales (empty for float32).
+Json add_custom_transfer(GlbBuilder& glb, Json& attributes, const TransferSet& transfer, int K,
+                         bool half) {
+    const std::size_t V = transfer.receiver_count();
     const int per_channel = (K + 3) / 4;  // VEC4 attributes per channel
     Json scales = Json::array();
     std::vector<float> f32(V * 4);
     std::vector<std::int16_t> i16(V * 4);
-    for (int c = 0; c < channels; ++c) {
+    for (int c = 0; c < transfer.layout.channels; ++c) {
         std::vector<double> scale(std::size_t(K), 1.0);
-        if (options.half) {
+        if (half) {
             for (int i = 0; i < K; ++i) {
                 double m = 0;
                 for (std::size_t v = 0; v < V; ++v)
@@ -174,7 +193,7 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
                     const int i = 4 * a + j;
                     const float x = i < K ? t[i] : 0.0f;
                     f32[4 * v + j] = x;
-                    if (options.half) {
+                    if (half) {
                         const double q = std::round(double(x) / scale[std::min(i, K - 1)] * 32767);
                         i16[4 * v + j] =
                             static_cast<std::int16_t>(std::clamp(q, -32767.0, 32767.0));
@@ -182,24 +201,53 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
                 }
             }
             const std::string name = "_SHPRT_T" + std::to_string(c * per_channel + a);
-            attributes[name] = options.half ? glb.add(i16.data(), V * 4 * sizeof(std::int16_t),
-                                                      kArrayBuffer, kShort, "VEC4", V, true)
-                                            : glb.add(f32.data(), V * 4 * sizeof(float),
-                                                      kArrayBuffer, kFloat, "VEC4", V);
+            attributes[name] =
+                half ? glb.add(i16.data(), V * 4 * sizeof(std::int16_t), kArrayBuffer, kShort,
+                               "VEC4", V, true)
+                     : glb.add(f32.data(), V * 4 * sizeof(float), kArrayBuffer, kFloat, "VEC4", V);
         }
     }
-    const int indices =
-        glb.add(mesh.triangles.data(), mesh.triangle_count() * 3 * 4, kElementArrayBuffer,
-                kUnsignedInt, "SCALAR", mesh.triangle_count() * 3);
-    // Index buffer views carry no byteStride; targets are given so loaders need not guess.
+    return scales;
+}
 
-    // 4. The convention block.
+// The standard attributes: the vertex's coefficients, channel after channel (n = channels·K
+// floats), in TEXCOORD_0 … TEXCOORD_7 (two each), then COLOR_1 … (four each); float32, zeros past
+// n. Returns the attribute names in order.
+Json add_standard_transfer(GlbBuilder& glb, Json& attributes, const TransferSet& transfer, int K) {
+    const std::size_t V = transfer.receiver_count();
+    const int channels = transfer.layout.channels;
+    const int n = channels * K;
+    const auto coefficient = [&](std::size_t v, int f) {
+        return f < n ? transfer.receiver(v, f / K)[f % K] : 0.0f;
+    };
+    Json names = Json::array();
+    std::vector<float> values;
+    for (int f = 0, set = 0; f < n; ++set) {
+        const bool texcoord = f < kStandardTexcoordFloats;
+        const int width = texcoord ? 2 : 4;
+        values.assign(V * width, 0.0f);
+        for (std::size_t v = 0; v < V; ++v)
+            for (int j = 0; j < width; ++j) values[v * width + j] = coefficient(v, f + j);
+        const std::string name = texcoord ? "TEXCOORD_" + std::to_string(set)
+                                          : "COLOR_" + std::to_string(set - 7);  // COLOR_1 on
+        attributes[name] = glb.add(values.data(), values.size() * sizeof(float), kArrayBuffer,
+                                   kFloat, texcoord ? "VEC2" : "VEC4", V);
+        names.push_back(name);
+        f += width;
+    }
+    return names;
+}
+
+// extras.shprt: everything a relighting engine needs (gltf_export.hpp).
+Json convention_block(const Mesh& mesh, const TransferSet& transfer, int K,
+                      const GltfExportOptions& options, const ShLight& full, std::size_t clipped,
+                      Json layout) {
     Json light_coeffs = Json::array();
     for (int c = 0; c < 3; ++c)
         light_coeffs.push_back(Json(std::vector<float>(full.channel(c), full.channel(c) + full.K)));
     const Camera camera = default_camera(mesh, 16.0f / 9.0f);
     const Vec3d ypr = options.light.yaw_pitch_roll_deg;
-    Json shprt = {
+    return {
         {"format", "shprt-gltf"},
         {"version", 1},
         {"generator", std::string("shprt ") + SHPRT_VERSION_STRING},
@@ -213,17 +261,11 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
         {"K", K},
         {"bands", sh_bands_for(K)},
         {"full_bands", K == sh_count(sh_bands_for(K))},
-        {"channels", channels},
+        {"channels", transfer.layout.channels},
         {"transfer", to_string(transfer.kind)},
         {"sampler", to_string(transfer.sampler)},
         {"samples", transfer.samples},
-        {"attributes",
-         {{"prefix", "_SHPRT_T"},
-          {"per_channel", per_channel},
-          {"layout",
-           "_SHPRT_T<c*per_channel + a> holds coefficients 4a..4a+3 of channel c "
-           "(0 beyond K)"},
-          {"albedo", "_SHPRT_ALBEDO"}}},
+        {"attributes", std::move(layout)},
         {"encoding", options.half ? "int16_normalized" : "float32"},
         {"radiometry",
          {{"irradiance",
@@ -249,42 +291,14 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
           {"fov_y_deg", camera.fov_y_deg},
           {"aspect", 16.0 / 9.0}}},
     };
-    if (options.half) {
-        shprt["scale"] = scales;
-        shprt["decode"] = "T_c[i] = max(q / 32767, -1) * scale[c][i] (what normalized SHORT gives)";
-    }
+}
 
-    Json gltf = {
-        {"asset",
-         {{"version", "2.0"}, {"generator", std::string("shprt ") + SHPRT_VERSION_STRING}}},
-        {"extensionsUsed", {"KHR_materials_unlit"}},
-        {"scene", 0},
-        {"scenes", {{{"nodes", {0}}}}},
-        {"nodes", {{{"mesh", 0}, {"name", "shprt"}}}},
-        {"materials",
-         {{{"name", "baked (COLOR_0)"},
-           {"pbrMetallicRoughness",
-            {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
-           {"doubleSided", true},
-           {"extensions", {{"KHR_materials_unlit", Json::object()}}}}}},
-        {"meshes",
-         {{{"name", "shprt"},
-           {"primitives",
-            {{{"attributes", attributes},
-              {"indices", indices},
-              {"material", 0},
-              {"mode", kTriangles},
-              {"extras", {{"shprt", shprt}}}}}}}}},
-        {"buffers", {{{"byteLength", glb.bin.size()}}}},
-        {"bufferViews", glb.buffer_views},
-        {"accessors", glb.accessors},
-    };
-
-    // 5. GLB container.
+// The GLB container (§4.4), written atomically.
+void write_container(const std::string& path, const Json& gltf, std::vector<unsigned char>& bin) {
     std::string json = gltf.dump();
     while (json.size() % 4 != 0) json.push_back(' ');
-    while (glb.bin.size() % 4 != 0) glb.bin.push_back(0);
-    const std::uint64_t total = 12 + 8 + json.size() + 8 + glb.bin.size();
+    while (bin.size() % 4 != 0) bin.push_back(0);
+    const std::uint64_t total = 12 + 8 + json.size() + 8 + bin.size();
     SHPRT_CHECK(total <= 0xffffffffu, invalid_argument,
                 "cannot write {}: {} bytes exceed the 4 GiB a .glb can hold (export fewer bands "
                 "or use --half)",
@@ -299,11 +313,95 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
     out.write(head.data(), head.size());
     out.write(json);
     head.clear();
-    append_u32(head, static_cast<std::uint32_t>(glb.bin.size()));
+    append_u32(head, static_cast<std::uint32_t>(bin.size()));
     append_u32(head, 0x004E4942u);  // "BIN\0"
     out.write(head.data(), head.size());
-    out.write(glb.bin.data(), glb.bin.size());
+    out.write(bin.data(), bin.size());
     out.commit();
+}
+
+}  // namespace
+
+const char* to_string(GltfAttributes attributes) {
+    return attributes == GltfAttributes::standard ? "standard" : "custom";
+}
+
+GltfAttributes parse_gltf_attributes(const std::string& name) {
+    if (name == "custom") return GltfAttributes::custom;
+    if (name == "standard") return GltfAttributes::standard;
+    fail(ErrorCode::invalid_argument, "--attributes '{}': expected custom or standard", name);
+}
+
+void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
+               const GltfExportOptions& options) {
+    const int K = check_exportable(path, mesh, transfer, options);
+    // The light: its full-band source turned by --rotate (what the extras carry, so a viewer can
+    // rotate it further exactly), and the same cut to K for COLOR_0 — prepare_light's path.
+    const ShLight source = light_source(options.light, K);
+    const ShLight full = rotated_light(source, light_rotation(options.light), source.K);
+    const ShLight light = rotated_light(full, Mat3d::identity(), K);
+    std::size_t clipped = 0;
+    const std::vector<Vec3f> colour =
+        baked_colours(path, mesh, transfer, light, options.exposure, clipped);
+
+    GlbBuilder glb;
+    Json attributes = add_geometry(glb, mesh, colour);
+    Json layout, scales;
+    if (options.attributes == GltfAttributes::custom) {
+        scales = add_custom_transfer(glb, attributes, transfer, K, options.half);
+        layout = {{"prefix", "_SHPRT_T"},
+                  {"per_channel", (K + 3) / 4},
+                  {"layout",
+                   "_SHPRT_T<c*per_channel + a> holds coefficients 4a..4a+3 of channel c "
+                   "(0 beyond K)"},
+                  {"albedo", "_SHPRT_ALBEDO"}};
+    } else {
+        layout = {{"standard", add_standard_transfer(glb, attributes, transfer, K)},
+                  {"layout",
+                   "the coefficients of channel 0, then channel 1, ... (channels * K floats), "
+                   "two per TEXCOORD_n, then four per COLOR_n, in the order listed (0 beyond "
+                   "channels * K)"},
+                  {"albedo", "_SHPRT_ALBEDO"}};
+    }
+    const int indices =
+        glb.add(mesh.triangles.data(), mesh.triangle_count() * 3 * 4, kElementArrayBuffer,
+                kUnsignedInt, "SCALAR", mesh.triangle_count() * 3);
+    // Index buffer views carry no byteStride; targets are given so loaders need not guess.
+    Json shprt = convention_block(mesh, transfer, K, options, full, clipped, std::move(layout));
+    if (options.half) {
+        shprt["scale"] = scales;
+        shprt["decode"] = "T_c[i] = max(q / 32767, -1) * scale[c][i] (what normalized SHORT gives)";
+    }
+    // The block sits on the primitive (three.js: geometry.userData), and on the mesh and the node,
+    // where Blender's importer reads extras (custom properties).
+    const Json extras = {{"shprt", shprt}};
+    Json gltf = {
+        {"asset",
+         {{"version", "2.0"}, {"generator", std::string("shprt ") + SHPRT_VERSION_STRING}}},
+        {"extensionsUsed", {"KHR_materials_unlit"}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {{{"mesh", 0}, {"name", "shprt"}, {"extras", extras}}}},
+        {"materials",
+         {{{"name", "baked (COLOR_0)"},
+           {"pbrMetallicRoughness",
+            {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
+           {"doubleSided", true},
+           {"extensions", {{"KHR_materials_unlit", Json::object()}}}}}},
+        {"meshes",
+         {{{"name", "shprt"},
+           {"primitives",
+            {{{"attributes", attributes},
+              {"indices", indices},
+              {"material", 0},
+              {"mode", kTriangles},
+              {"extras", extras}}}},
+           {"extras", extras}}}},
+        {"buffers", {{{"byteLength", glb.bin.size()}}}},
+        {"bufferViews", glb.buffer_views},
+        {"accessors", glb.accessors},
+    };
+    write_container(path, gltf, glb.bin);
 }
 
 }  // namespace shprt

@@ -35,6 +35,14 @@
 
 namespace shprt {
 
+// What is shown per vertex, texel or pixel (`--view`).
+enum class ShadeView {
+    radiance,    // L = k·L_D + (1−k)·L_S (the picture)
+    irradiance,  // E
+    transfer,    // transfer only, AO-like: E under a uniform white sky of radiance 1, divided by
+                 // π (1 = unoccluded, 0 = fully blocked), grey; ignores light, albedo, k, K'
+};
+
 // Lower clamp of cos η in the glossy term's division (see above).
 inline constexpr double kMinCosEta = 0.1;
 

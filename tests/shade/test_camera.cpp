@@ -1,9 +1,9 @@
 // Camera matrices and default framing: projection and pixel rays are inverse to each other, the
 // target lands at the image centre, default cameras see the scene, parsers reject bad text.
 #include "shprt/core/error.hpp"
-#include "shprt/render/camera.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/room.hpp"
+#include "shprt/shade/camera.hpp"
 
 #include <gtest/gtest.h>
 

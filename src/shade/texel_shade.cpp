@@ -1,12 +1,12 @@
 // Texel-domain shading and export (texel_shade.hpp).
-#include "shprt/render/texel_shade.hpp"
+#include "shprt/shade/texel_shade.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/render/glossy.hpp"
-#include "shprt/render/save_image.hpp"
-#include "shprt/render/shade_export.hpp"
 #include "shprt/scene/texel_raster.hpp"
+#include "shprt/shade/glossy.hpp"
+#include "shprt/shade/save_image.hpp"
+#include "shprt/shade/shade_export.hpp"
 
 #include <fmt/format.h>
 

@@ -2,9 +2,9 @@
 // as images, and the coefficients as EXR planes for engines.
 #pragma once
 
-#include "shprt/render/glossy.hpp"
-#include "shprt/render/shade.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/shade/glossy.hpp"
+#include "shprt/shade/shade.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <string>

@@ -1,13 +1,13 @@
-// The picture writer (render/save_image.hpp): round trips through load_image (.exr bit-exact,
+// The picture writer (shade/save_image.hpp): round trips through load_image (.exr bit-exact,
 // .hdr within RGBE precision, .png through the display chain), orientation, display bytes written
 // unchanged, the tone map's properties, and bad input refused without leaving a file.
 #include "light/image_fixture.hpp"
-#include "render_test_util.hpp"
+#include "shade_test_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/light/image.hpp"
-#include "shprt/render/save_image.hpp"
-#include "shprt/render/tonemap.hpp"
+#include "shprt/shade/save_image.hpp"
+#include "shprt/shade/tonemap.hpp"
 
 #include <gtest/gtest.h>
 

@@ -10,7 +10,7 @@
 //
 //   E_sun,direct   = L · Ω/N · Σ_j V(p, d_j) · max(0, n·d_j)     traced, d_j = sun_disc_directions
 //   E_sun,bounced  = Σ_i (T − T_0)_c^i · c_S,c^i                 interreflected files only
-//   E_sky          = Σ_i T_c^i · c_sky,c^i                        (render/shade.hpp)
+//   E_sky          = Σ_i T_c^i · c_sky,c^i                        (shade/shade.hpp)
 //   E = E_sun,direct + E_sun,bounced + E_sky,     L_out = ρ/π · E
 //
 // Why: T_0·c_S is the sun's direct light through K coefficients, a blur of the disc tens of
@@ -28,8 +28,8 @@
 
 #include "shprt/light/light_setup.hpp"
 #include "shprt/light/sun.hpp"
-#include "shprt/render/shade.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/shade/shade.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <cstdint>

@@ -1,13 +1,13 @@
-// A sun kept out of the SH sum (render/sun_shade.hpp): the direct light traced with Embree at each
+// A sun kept out of the SH sum (shade/sun_shade.hpp): the direct light traced with Embree at each
 // receiver, the bounced light from T − T_0, the sky from T. The split is the one games use with
 // precomputed light (Enlighten; Far Cry 3's deferred radiance transfer): the direct sun drawn
 // sharp, the bounces precomputed. Disc sampling: light/sun.hpp (Shirley & Chiu 1997).
-#include "shprt/render/sun_shade.hpp"
+#include "shprt/shade/sun_shade.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/parallel.hpp"
-#include "shprt/render/texel_shade.hpp"
+#include "shprt/shade/texel_shade.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
 

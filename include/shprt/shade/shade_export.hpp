@@ -5,8 +5,8 @@
 // creates the file.
 #pragma once
 
-#include "shprt/render/shade.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/shade/shade.hpp"
 
 #include <string>
 
@@ -33,7 +33,7 @@ void write_npy_f32(const std::string& path, const std::vector<std::size_t>& shap
 
 // Binary little-endian PLY through write_ply (scene/ply.hpp, the one PLY writer): vertices with
 // float x, y, z, nx, ny, nz and uchar red, green, blue (the radiance L times `exposure`, filmic
-// tone mapped and sRGB encoded exactly as PNG images are, render/save_image.hpp), then the
+// tone mapped and sRGB encoded exactly as PNG images are, shade/save_image.hpp), then the
 // triangles as "list uchar uint vertex_indices". Opens in MeshLab and Blender. Needs normals
 // (Error(invalid_argument)).
 void write_shade_ply(const std::string& path, const Mesh& mesh, const ShadeResult& result,

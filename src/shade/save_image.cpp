@@ -1,11 +1,11 @@
 // Picture files (save_image.hpp): OpenEXR through tinyexr, Radiance RGBE and PNG through
 // stb_image_write. References: Greg Ward, "Real Pixels" (Graphics Gems II, 1991) for RGBE;
-// IEC 61966-2-1 for sRGB; Narkowicz 2016 for the filmic tone map (render/tonemap.hpp).
-#include "shprt/render/save_image.hpp"
+// IEC 61966-2-1 for sRGB; Narkowicz 2016 for the filmic tone map (shade/tonemap.hpp).
+#include "shprt/shade/save_image.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/render/tonemap.hpp"
+#include "shprt/shade/tonemap.hpp"
 
 #include <stb_image_write.h>
 #include <tinyexr.h>

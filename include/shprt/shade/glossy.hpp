@@ -34,9 +34,9 @@
 
 #include "shprt/core/vec.hpp"
 #include "shprt/light/light.hpp"
-#include "shprt/render/shade.hpp"
 #include "shprt/scene/material.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/shade/shade.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <cstdint>
@@ -104,7 +104,7 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
 // The diffuse (vector) transfer of a glossy set: t_v = M_v · a(n_v), the shadowed clamped-cosine
 // transfer of the shading formula above, one channel, kind shadowed, per receiver: vertices, or
 // texels (with their normals from the atlas, receiver_normals; the atlas is kept). The paper's
-// glossy term (render/shade.hpp, `--glossy paper`) shades it, so both terms come from one bake.
+// glossy term (shade/shade.hpp, `--glossy paper`) shades it, so both terms come from one bake.
 TransferSet glossy_to_diffuse(const Mesh& mesh, const TransferSet& transfer);
 
 // A per-vertex colour as a transfer the GL renderer draws as is: three channels of K = 1 holding

@@ -1,18 +1,18 @@
-// CPU shading (render/shade.hpp): white furnace through bake → file → light → shade, irradiance
+// CPU shading (shade/shade.hpp): white furnace through bake → file → light → shade, irradiance
 // of a linear sky with its truncation error, the glossy term against brute-force integrals over
 // directions, K' truncation, RGB transfer channels, input checks.
-#include "render_test_util.hpp"
+#include "shade_test_util.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/parallel.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/sun.hpp"
-#include "shprt/render/shade.hpp"
-#include "shprt/render/sun_shade.hpp"
-#include "shprt/render/texel_shade.hpp"
 #include "shprt/scene/builder.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/sh/sampler.hpp"
+#include "shprt/shade/shade.hpp"
+#include "shprt/shade/sun_shade.hpp"
+#include "shprt/shade/texel_shade.hpp"
 #include "shprt/trace/tracer.hpp"
 
 #include <gtest/gtest.h>
@@ -365,7 +365,7 @@ TEST(Shade, LobeBandFactorsAreTheZonalIdentityScale) {
     EXPECT_THROW(lobe_band_factors(4, -1), Error);
 }
 
-// ---- A sun kept out of the SH sum (render/sun_shade.hpp) -------------------------------------
+// ---- A sun kept out of the SH sum (shade/sun_shade.hpp) -------------------------------------
 
 // An open floor (x, z in [-2, 2]) with a box [-0.5, 0.5] x [0, 1] x [-0.5, 0.5] standing on it, in
 // 0.5 m cells: 126 vertices, coloured so that the bounces are coloured too.
@@ -382,7 +382,7 @@ double rms(const std::vector<double>& v) {
     return std::sqrt(s / double(v.size()));
 }
 
-// The split of render/sun_shade.hpp counts nothing twice and loses nothing: sun direct (traced) +
+// The split of shade/sun_shade.hpp counts nothing twice and loses nothing: sun direct (traced) +
 // sun bounced (T − T_0) + sky (T) equals the all-SH shading T·(sky + sun) as the bands grow, on a
 // scene where the SH converges (a 15° sun over an open floor with a box; an interreflected bake
 // with an exact product quadrature, so that T_0 under the sun's SH tends to the traced integral).

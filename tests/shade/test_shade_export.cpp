@@ -1,12 +1,12 @@
 // CSV, NPY and PLY exports of per-vertex shading: each parsed back here, values and vertex order
 // checked; bad paths leave no file behind.
-#include "render_test_util.hpp"
+#include "shade_test_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
-#include "shprt/render/shade_export.hpp"
-#include "shprt/render/tonemap.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/scene/load.hpp"
+#include "shprt/shade/shade_export.hpp"
+#include "shprt/shade/tonemap.hpp"
 
 #include <gtest/gtest.h>
 

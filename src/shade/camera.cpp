@@ -1,6 +1,6 @@
 // Pinhole camera, OpenGL matrices (the gluLookAt / gluPerspective conventions) and the default
 // framing of a scene.
-#include "shprt/render/camera.hpp"
+#include "shprt/shade/camera.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"

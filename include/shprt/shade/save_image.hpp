@@ -10,7 +10,7 @@
 //   .hdr  Radiance RGBE through stb_image_write (8-bit mantissas with a shared exponent: relative
 //         precision about 2^-8 of the pixel's largest channel; negative values are stored as 0).
 //   .png  8-bit sRGB through stb_image_write, display-referred: multiplied by `exposure`, tone
-//         mapped with the ACES filmic fit and encoded with the sRGB curve (render/tonemap.hpp).
+//         mapped with the ACES filmic fit and encoded with the sRGB curve (shade/tonemap.hpp).
 //
 // Reading images (environment maps) is light/image.hpp's load_image.
 #pragma once

@@ -1,11 +1,11 @@
-// Glossy shading with transfer matrices (render/glossy.hpp, docs/glossy.md).
+// Glossy shading with transfer matrices (shade/glossy.hpp, docs/glossy.md).
 //
 // Implements the glossy transfer of P.-P. Sloan, J. Kautz, J. Snyder, "Precomputed Radiance
 // Transfer for Real-Time Rendering in Dynamic, Low-Frequency Lighting Environments", SIGGRAPH
 // 2002 (§5: transfer matrices, lobes rotated to the reflection direction), with zonal lobes for
 // normalised Phong, Blinn–Phong and GGX (B. Walter et al., "Microfacet Models for Refraction
 // through Rough Surfaces", EGSR 2007, for D_GGX).
-#include "shprt/render/glossy.hpp"
+#include "shprt/shade/glossy.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"

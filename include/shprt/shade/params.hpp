@@ -1,0 +1,100 @@
+// How a baked file is shaded, as one value: what `shprt shade`, `render`, `view` and Python's
+// shade() and render() are given, each in its own syntax (`--k 0.5`, `k=0.5`), and then checked
+// and resolved here, once, so the same options give the same numbers everywhere.
+//
+//   ShadingParams            the user's choices, parsed; check() before any file is read
+//     │ resolve_shading(file)
+//   ShadingPlan              what the file is shaded with: the diffuse/paper term's ShadeOptions,
+//     │                      or the glossy matrices' GlossyShadeOptions; the file itself narrowed
+//     │                      to its direct part, or its glossy matrices turned into diffuse
+//     │                      transfer for the paper's term
+//   shade_file(plan, light)  the CPU shading (shade.hpp, glossy.hpp, texel_shade.hpp, a traced sun:
+//                            sun_shade.hpp); the GL renderer draws the same plan
+#pragma once
+
+#include "shprt/core/vec.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/light/light.hpp"
+#include "shprt/light/light_setup.hpp"
+#include "shprt/light/sun.hpp"
+#include "shprt/scene/material.hpp"
+#include "shprt/shade/glossy.hpp"
+#include "shprt/shade/shade.hpp"
+#include "shprt/shade/sun_shade.hpp"
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace shprt {
+
+// How a front end spells an option in its messages: `--sun-samples 9` or `sun_samples=9`.
+enum class Spelling { command_line, python };
+// The option `name` (snake_case) with `value` as `spelling` writes it; an empty value gives the
+// option alone (`--direct`, `direct=`).
+std::string option_text(Spelling spelling, std::string_view name, std::string_view value = {});
+
+// Which glossy term shades a file of transfer matrices: the matrices with their BRDF, or the
+// paper's zonal term of their diffuse part (glossy_to_diffuse).
+enum class GlossyTerm { matrix, paper };
+
+// "radiance", "irradiance" or "transfer"; "matrix" or "paper". Error(invalid_argument) naming the
+// option (`view`, `glossy`) as `spelling` writes it.
+ShadeView parse_view(const std::string& name, Spelling spelling);
+GlossyTerm parse_glossy_term(const std::string& name, Spelling spelling);
+
+// Every shading choice. The defaults are every front end's defaults.
+struct ShadingParams {
+    ShadeView view = ShadeView::radiance;
+    double k = 1.0;                // diffuse share in [0, 1]
+    double gloss = kDefaultGloss;  // Phong exponent ≥ 0 of the paper's glossy term
+    // Glossy matrices: the BRDF of every vertex; unset, the materials' BRDFs where the scene
+    // gives them and `gloss`'s Phong lobe elsewhere. With GlossyTerm::paper: a Phong lobe whose
+    // exponent replaces `gloss`.
+    std::optional<Brdf> brdf;
+    GlossyTerm glossy = GlossyTerm::matrix;
+    std::optional<Vec3f> albedo;  // glossy matrices: replaces both colours (linear, 0..1)
+    int coeffs = 0;               // K′: the first coefficients used (0 = all)
+    double exposure = 1.0;        // of pictures (PNG) and the PLY's colours
+    bool direct = false;          // an interreflected file's direct part T₀ only
+    std::optional<Vec3f> eye;     // the glossy terms' eye; unset: the default camera's (16:9)
+    std::optional<Sun> sun;       // a sun kept out of the SH sum (sun_shade.hpp)
+    int sun_samples = kDefaultSunSamples;  // directions on its disc: a square, 1..kMaxSunSamples
+};
+
+// Checks every choice on its own, before any file is read: k ∈ [0, 1], gloss ≥ 0, exposure > 0
+// (finite), coeffs ≥ 0, a valid BRDF (a Phong lobe without colour for the paper's term), albedo in
+// [0, 1] and only with the matrix term, sun_samples a square and only with a sun. One-line
+// Error(invalid_argument) naming the option as `spelling` writes it.
+void check(const ShadingParams& params, Spelling spelling);
+
+// What a file is shaded with (see the top of this file).
+struct ShadingPlan {
+    ShadeOptions options;                      // the diffuse and paper terms (shade.hpp)
+    std::optional<GlossyShadeOptions> glossy;  // set: the matrices with their BRDF (glossy.hpp)
+    std::optional<Sun> sun;
+    int sun_samples = kDefaultSunSamples;
+};
+
+// Resolves `params` against `file` (read from `source`, which errors name) and narrows the file
+// to what is shaded: with `direct`, its direct part (an error for a file without one); with the
+// paper's term, glossy matrices become their diffuse transfer. A diffuse file given a BRDF, or
+// glossy matrices without a BRDF, materials or the paper's term, is a one-line Error naming
+// `source`; so is a traced sun on glossy matrices. check(params) first.
+ShadingPlan resolve_shading(const ShadingParams& params, ShprtFile& file, const std::string& source,
+                            Spelling spelling);
+
+// The file's receivers shaded on the CPU under `sky` with the plan (shade_receivers), plus the
+// sun when the plan has one: `sun` is its prepared form (prepare_sun: its direction turned with
+// the sky, its SH projection at the sky's K), required then. `bounced` says whether the sun's
+// bounced light came from the file (an interreflected bake) or it is direct only.
+SunShadeResult shade_file(const ShprtFile& file, const ShLight& sky, const ShadingPlan& plan,
+                          const PreparedSun* sun = nullptr);
+
+// What the glossy terms are, for a command's summary line: "gloss=16" for the diffuse and paper
+// terms; "brdf=ggx:0.3, zonal fit error 1.2% at 5 bands" for matrices, or with the materials'
+// BRDFs "brdf=materials: phong:32 (1200 vertices), none (8 vertices); none = phong:16; worst zonal
+// fit error 12.0% at 5 bands". K_used: the basis size shaded (effective_basis_size).
+std::string describe_terms(const ShadingPlan& plan, const Mesh& mesh, int K_used);
+
+}  // namespace shprt

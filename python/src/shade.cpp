@@ -1,0 +1,125 @@
+// shade() and save_image(): shading on the CPU (shade/), in every build, the baker-only one too.
+// The shading keywords shade() and render() share become one ShadingParams (shade/params.hpp),
+// checked and resolved as the command line's options are.
+#include "bindings.hpp"
+#include "convert.hpp"
+
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/shade/params.hpp"
+#include "shprt/shade/save_image.hpp"
+
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <variant>
+
+namespace shprt::python {
+
+using namespace pybind11::literals;
+
+namespace {
+
+py::array_t<float> vec3_array(std::vector<Vec3f>&& rows) {
+    const py::ssize_t n = py::ssize_t(rows.size());
+    std::vector<float> flat(rows.size() * 3);
+    if (!rows.empty()) std::memcpy(flat.data(), rows.data(), flat.size() * sizeof(float));
+    return take_vector(std::move(flat), {n, 3});
+}
+
+// sun= as the command line's --sun: "X,Y,Z[,RADIUS_DEG[,R,G,B]]" or the same 3, 4 or 7 numbers.
+using SunArg = std::variant<std::string, std::vector<double>>;
+Sun sun_arg(const SunArg& arg) {
+    std::string text;
+    if (const auto* s = std::get_if<std::string>(&arg)) {
+        text = *s;
+    } else {
+        for (double v : std::get<std::vector<double>>(arg))
+            text += (text.empty() ? "" : ",") + fmt::format("{}", v);
+    }
+    return parse_sun(text, "sun='" + text + "'", "X,Y,Z[,RADIUS_DEG[,R,G,B]]");
+}
+
+}  // namespace
+
+ShadingParams shading_params(const ShadingKeywords& w) {
+    ShadingParams p;
+    p.view = parse_view(w.view, Spelling::python);
+    p.glossy = parse_glossy_term(w.glossy, Spelling::python);
+    p.k = w.k;
+    p.gloss = w.gloss;
+    p.coeffs = w.coeffs;
+    p.direct = w.direct;
+    if (w.brdf) p.brdf = parse_brdf(*w.brdf);
+    if (w.albedo) p.albedo = Vec3f{(*w.albedo)[0], (*w.albedo)[1], (*w.albedo)[2]};
+    check(p, Spelling::python);
+    return p;
+}
+
+void bind_shade(py::module_& m) {
+    m.def(
+        "shade",
+        [](const ShprtFile& given, py::handle light, double k, double gloss,
+           std::optional<std::array<float, 3>> eye, int coeffs, std::optional<std::string> brdf,
+           std::optional<std::array<float, 3>> albedo, bool direct, const std::string& glossy,
+           std::optional<SunArg> sun, int sun_samples) {
+            const ShLight sky = light_arg(light);
+            ShadingKeywords keywords{k, gloss, coeffs, brdf, albedo, direct, glossy};
+            ShadingParams params = shading_params(keywords);
+            if (eye) params.eye = Vec3f{(*eye)[0], (*eye)[1], (*eye)[2]};
+            if (sun) params.sun = sun_arg(*sun);
+            params.sun_samples = sun_samples;
+            check(params, Spelling::python);
+            ShprtFile file = given;  // narrowed by resolve_shading (direct=, glossy='paper')
+            const ShadingPlan plan =
+                resolve_shading(params, file, file.mesh.source, Spelling::python);
+            SunShadeResult result;
+            {
+                py::gil_scoped_release release;
+                // The sun's own SH projection at the sky's K, neither windowed nor rotated.
+                std::optional<PreparedSun> prepared;
+                if (plan.sun) prepared = PreparedSun{*plan.sun, sun_light(*plan.sun, sky.K)};
+                result = shade_file(file, sky, plan, prepared ? &*prepared : nullptr);
+            }
+            return py::make_tuple(vec3_array(std::move(result.irradiance)),
+                                  vec3_array(std::move(result.radiance)));
+        },
+        "file"_a, "light"_a, py::kw_only(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
+        "eye"_a = py::none(), "coeffs"_a = 0, "brdf"_a = py::none(), "albedo"_a = py::none(),
+        "direct"_a = false, "glossy"_a = "matrix", "sun"_a = py::none(),
+        "sun_samples"_a = kDefaultSunSamples,
+        R"(Per-vertex shading on the CPU (shade/shade.hpp): returns (irradiance, radiance), each
+(V, 3) float32, under light (3, K) — for a texel file (N, 3), one row per covered texel in the
+atlas's order (shade/texel_shade.hpp). k is the diffuse share (1 = diffuse only), gloss the Phong
+exponent, eye the viewer for the glossy term (None: the default camera's eye, as `shprt shade`),
+coeffs the K' used (0 = all). The keywords are `shprt shade`'s options, with the same limits and
+defaults (shade/params.hpp).
+
+A file of glossy transfer matrices (bake(transfer='glossy')) is shaded with its BRDF
+(shade/glossy.hpp, as `shprt shade --brdf`): brdf a spec such as 'ggx:0.3' or
+'phong:40:1,0.7,0.3' (with a specular colour) for every vertex; without it the materials' BRDFs
+where the scene has them. albedo (r, g, b) replaces the diffuse and specular colours. brdf and
+albedo are refused for vector transfer. glossy='paper' shades the paper's zonal term instead (the
+matrices' diffuse part; brdf then a Phong lobe whose exponent replaces gloss).
+
+direct=True shades an interreflected bake's direct part only (File.direct; `--direct`).
+
+sun='X,Y,Z[,RADIUS_DEG[,R,G,B]]' (or those 3, 4 or 7 numbers) adds a sun kept out of the SH sum, as
+`shprt shade --sun` (shade/sun_shade.hpp): its direct light traced at each receiver through
+sun_samples directions on its disc (a square; 1 = a point sun), its bounced light from an
+interreflected file's T - T0; `light` is then the sky alone (the sun's own SH projection is made
+here, at the light's K, neither windowed nor rotated). Diffuse transfer only.)");
+    m.def(
+        "save_image",
+        [](const std::string& path, py::handle image, float exposure) {
+            const auto a = float32_array(image, "image");
+            check_shape(a, "image", {-1, -1, 3}, "(H, W, 3)");
+            Image img = Image::make(int(a.shape(1)), int(a.shape(0)));
+            std::memcpy(img.rgb.data(), a.data(), img.rgb.size() * sizeof(float));
+            py::gil_scoped_release release;
+            save_image(path, img, exposure);
+        },
+        "path"_a, "image"_a, "exposure"_a = 1.0f,
+        "Writes linear RGB (H, W, 3) as .png (tone mapped, sRGB) or .exr/.hdr (linear).");
+}
+
+}  // namespace shprt::python

@@ -1,0 +1,166 @@
+// ShadingParams: one check and one resolution for every front end (shade/params.hpp).
+#include "shprt/shade/params.hpp"
+
+#include "shprt/core/error.hpp"
+#include "shprt/scene/mesh_ops.hpp"
+#include "shprt/sh/basis.hpp"
+#include "shprt/shade/camera.hpp"
+#include "shprt/shade/texel_shade.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace shprt {
+
+std::string option_text(Spelling spelling, std::string_view name, std::string_view value) {
+    if (spelling == Spelling::python) return fmt::format("{}={}", name, value);
+    std::string option = "--" + std::string(name);
+    std::replace(option.begin(), option.end(), '_', '-');
+    return value.empty() ? option : fmt::format("{} {}", option, value);
+}
+
+ShadeView parse_view(const std::string& name, Spelling spelling) {
+    if (name == "radiance") return ShadeView::radiance;
+    if (name == "irradiance") return ShadeView::irradiance;
+    if (name == "transfer") return ShadeView::transfer;
+    fail(ErrorCode::invalid_argument, "{}: expected radiance, irradiance or transfer",
+         option_text(spelling, "view", "'" + name + "'"));
+}
+
+GlossyTerm parse_glossy_term(const std::string& name, Spelling spelling) {
+    if (name == "matrix") return GlossyTerm::matrix;
+    if (name == "paper") return GlossyTerm::paper;
+    fail(ErrorCode::invalid_argument, "{}: expected matrix or paper",
+         option_text(spelling, "glossy", "'" + name + "'"));
+}
+
+namespace {
+
+std::string number(double v) { return fmt::format("{}", v); }
+
+}  // namespace
+
+void check(const ShadingParams& p, Spelling s) {
+    SHPRT_CHECK(p.k >= 0 && p.k <= 1, invalid_argument, "{}: the diffuse share must be in [0, 1]",
+                option_text(s, "k", number(p.k)));
+    SHPRT_CHECK(p.gloss >= 0 && std::isfinite(p.gloss), invalid_argument,
+                "{}: the Phong exponent must be ≥ 0", option_text(s, "gloss", number(p.gloss)));
+    SHPRT_CHECK(p.exposure > 0 && std::isfinite(p.exposure), invalid_argument,
+                "{}: must be positive", option_text(s, "exposure", number(p.exposure)));
+    SHPRT_CHECK(p.coeffs >= 0, invalid_argument, "{}: must be ≥ 1 (0 = all)",
+                option_text(s, "coeffs", std::to_string(p.coeffs)));
+    if (p.brdf) check_brdf(*p.brdf);
+    if (p.glossy == GlossyTerm::paper && p.brdf) {
+        const std::string paper = option_text(s, "glossy", "paper");
+        SHPRT_CHECK(p.brdf->model == BrdfModel::phong, invalid_argument,
+                    "{}: the paper's term has a Phong lobe only ({})", paper,
+                    option_text(s, "brdf", "phong:E"));
+        SHPRT_CHECK(p.brdf->specular == (Vec3f{1, 1, 1}), invalid_argument,
+                    "{}: the paper's term has no specular colour ({})", paper,
+                    option_text(s, "brdf", "phong:E"));
+    }
+    if (p.albedo) {
+        const Vec3f a = *p.albedo;
+        const std::string text = option_text(s, "albedo", fmt::format("{},{},{}", a.x, a.y, a.z));
+        SHPRT_CHECK(a.x >= 0 && a.x <= 1 && a.y >= 0 && a.y <= 1 && a.z >= 0 && a.z <= 1,
+                    invalid_argument, "{}: each component must be 0 to 1 (linear reflectance)",
+                    text);
+        SHPRT_CHECK(p.glossy == GlossyTerm::matrix, invalid_argument,
+                    "{} needs the matrix term ({})", option_text(s, "albedo"),
+                    option_text(s, "glossy", "matrix"));
+    }
+    const std::string samples = option_text(s, "sun_samples", std::to_string(p.sun_samples));
+    SHPRT_CHECK(p.sun || p.sun_samples == kDefaultSunSamples, invalid_argument, "{} needs {}",
+                samples, option_text(s, "sun"));
+    if (p.sun) {
+        try {
+            (void)sun_disc_directions(*p.sun, p.sun_samples, 0);
+        } catch (const Error& e) {
+            fail(e.code(), "{}: {}", option_text(s, "sun_samples"), e.what());
+        }
+    }
+}
+
+ShadingPlan resolve_shading(const ShadingParams& p, ShprtFile& file, const std::string& source,
+                            Spelling s) {
+    if (p.direct) {
+        SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
+                    "{}: {} has no direct part (only interreflected bakes keep one)",
+                    option_text(s, "direct", s == Spelling::python ? "True" : ""), source);
+        file.transfer = file.transfer.direct_only();
+    }
+    ShadingPlan plan;
+    plan.sun = p.sun;
+    plan.sun_samples = p.sun_samples;
+    plan.options.k = p.k;
+    plan.options.gloss = p.gloss;
+    plan.options.K_used = p.coeffs;
+    plan.options.eye = p.eye ? *p.eye : default_camera(file.mesh, 16.0f / 9.0f).eye;
+    const bool matrices = file.transfer.layout.shape != TransferShape::vector;
+    const std::string brdf_option = option_text(s, "brdf");
+    if (p.glossy == GlossyTerm::paper) {
+        if (p.brdf) plan.options.gloss = p.brdf->parameter;
+        if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
+        return plan;
+    }
+    // Without a BRDF, a glossy file whose materials give BRDFs is shaded with them.
+    const bool materials = matrices && !p.brdf && !file.mesh.brdf_index.empty();
+    SHPRT_CHECK(!matrices || p.brdf || materials, invalid_argument,
+                "{}: glossy transfer matrices need {} (or {}): the scene's materials give no BRDF",
+                source, option_text(s, "brdf", "phong:E|blinn:E|ggx:R"),
+                option_text(s, "glossy", "paper"));
+    if (!p.brdf && !materials) {
+        SHPRT_CHECK(!p.albedo, invalid_argument, "{} needs {}", option_text(s, "albedo"),
+                    brdf_option);
+        return plan;
+    }
+    SHPRT_CHECK(matrices, invalid_argument,
+                "{}: {} transfer is diffuse (a vector per receiver): {} needs a glossy bake ({}), "
+                "or use {}",
+                source, to_string(file.transfer.kind), brdf_option,
+                option_text(s, "transfer", "glossy"), option_text(s, "gloss"));
+    SHPRT_CHECK(!p.sun, unsupported,
+                "{}: a traced sun lights diffuse transfer only; {} holds glossy transfer matrices",
+                option_text(s, "sun"), source);
+    GlossyShadeOptions g;
+    g.material_brdfs = materials;  // then g.brdf (gloss's Phong lobe) where a material gives none
+    g.brdf = p.brdf ? *p.brdf : Brdf{BrdfModel::phong, p.gloss};
+    check_brdf(g.brdf);
+    g.k = p.k;
+    g.albedo = p.albedo;
+    g.eye = plan.options.eye;
+    g.K_used = p.coeffs;
+    plan.glossy = g;
+    return plan;
+}
+
+SunShadeResult shade_file(const ShprtFile& file, const ShLight& sky, const ShadingPlan& plan,
+                          const PreparedSun* sun) {
+    SHPRT_CHECK(!plan.sun || sun, invalid_argument,
+                "shade_file: the plan has a sun, and no prepared sun was given");
+    if (!plan.sun) {
+        SunShadeResult result;
+        static_cast<ShadeResult&>(result) = shade_receivers(
+            file.mesh, file.transfer, sky, plan.options, plan.glossy ? &*plan.glossy : nullptr);
+        return result;
+    }
+    SunShadeOptions sun_options;
+    sun_options.disc_samples = plan.sun_samples;
+    return shade_with_sun(file.mesh, file.transfer, sky, *sun, plan.options, sun_options);
+}
+
+std::string describe_terms(const ShadingPlan& plan, const Mesh& mesh, int K_used) {
+    if (!plan.glossy) return fmt::format("gloss={}", plan.options.gloss);
+    const GlossyShadeOptions& g = *plan.glossy;
+    const int bands = sh_bands_for(K_used);
+    if (!g.material_brdfs || mesh.brdf_index.empty())
+        return fmt::format("brdf={}, zonal fit error {:.1f}% at {} bands", to_string(g.brdf),
+                           100 * brdf_lobe(g.brdf, bands).fit_error, bands);
+    double worst = 0;
+    for (const Brdf& b : brdf_table(mesh, true, g.brdf))
+        worst = std::max(worst, brdf_lobe(b, bands).fit_error);
+    return fmt::format("brdf=materials: {}; none = {}; worst zonal fit error {:.1f}% at {} bands",
+                       describe_brdfs(mesh), to_string(g.brdf), 100 * worst, bands);
+}
+
+}  // namespace shprt
