@@ -99,7 +99,7 @@ void bind_render(py::module_& m) {
 #if SHPRT_HAS_RENDER
     m.def(
         "shade",
-        [](const ShprtFile& given, py::handle light, double k, double gloss,
+        [](const ShprtFile& given, ArrayLike light, double k, double gloss,
            std::array<float, 3> eye, int coeffs, std::optional<std::string> brdf,
            std::optional<std::array<float, 3>> albedo, bool direct, std::optional<SunArg> sun,
            int sun_samples) {
@@ -166,7 +166,7 @@ interreflected file's T - T0; `light` is then the sky alone (the sun's own SH pr
 here, at the light's K, neither windowed nor rotated). Diffuse transfer only.)");
     m.def(
         "render",
-        [](const ShprtFile& given, py::handle light, int width, int height,
+        [](const ShprtFile& given, ArrayLike light, int width, int height,
            std::optional<std::array<float, 6>> camera, std::optional<double> fov, double k,
            double gloss, int coeffs, const std::string& view, bool background, bool wireframe,
            int samples, std::optional<std::string> brdf, std::optional<std::array<float, 3>> albedo,
@@ -218,7 +218,7 @@ or None for the default view; view 'radiance', 'irradiance' or 'transfer'. brdf 
 for shade(): the glossy term of transfer matrices, shaded on the GPU; direct as for shade().)");
     m.def(
         "save_image",
-        [](const std::string& path, py::handle image, float exposure) {
+        [](const std::string& path, ArrayLike image, float exposure) {
             const auto a = float32_array(image, "image");
             check_shape(a, "image", {-1, -1, 3}, "(H, W, 3)");
             Image img = Image::make(int(a.shape(1)), int(a.shape(0)));
