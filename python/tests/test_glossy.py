@@ -1,5 +1,7 @@
 """Glossy transfer matrices from Python: a File from bake(transfer='glossy'), shaded with a BRDF
 (shade and render, brdf= and albedo=) as `shprt shade --brdf` shades it."""
+from typing import Any, Callable
+
 import numpy as np
 import pytest
 
@@ -73,13 +75,15 @@ def test_without_a_brdf_the_materials_shade_their_vertices():
 @needs_render
 def test_render_takes_the_brdf_and_vector_files_refuse_it(box, glossy_box):
     L = shprt.light("builtin", K=9)
-    kw = dict(width=64, height=48, samples=1, k=0.3, camera=(2.5, 2, 2.5, 0, 0.3, 0))
+    kw: dict[str, Any] = dict(width=64, height=48, samples=1, k=0.3, camera=(2.5, 2, 2.5, 0, 0.3, 0))
     gold = shprt.render(glossy_box, L, brdf="ggx:0.4:1,0.71,0.29", **kw)
     white = shprt.render(glossy_box, L, brdf="ggx:0.4", **kw)
     assert np.isfinite(gold).all() and gold.mean() > 0.01
     assert np.abs(gold - white).max() > 1e-3
     vector = shprt.File(box, shprt.bake(box, bands=3, samples=64))
-    for call in (shprt.shade, lambda f, l, **a: shprt.render(f, l, samples=1, **a)):
+    calls: tuple[Callable[..., Any], ...] = (
+        shprt.shade, lambda f, l, **a: shprt.render(f, l, samples=1, **a))
+    for call in calls:
         with pytest.raises(shprt.Error, match="shade glossy transfer matrices"):
             call(vector, L, brdf="phong:16")
         with pytest.raises(shprt.Error, match="shade glossy transfer matrices"):
