@@ -50,5 +50,19 @@ if(SHPRT_HAS_CUDA)
     endif()
     message(STATUS "shprt: CUDA backend ON (nvcc ${CMAKE_CUDA_COMPILER_VERSION}, architectures ${CMAKE_CUDA_ARCHITECTURES})")
 else()
-    message(STATUS "shprt: CUDA backend OFF (SHPRT_CUDA=${SHPRT_CUDA}, no nvcc found or disabled)")
+    # Why not, in the words of device 'cuda's error and query_gpu()'s reason (the bake area's
+    # SHPRT_NO_CUDA_REASON, src/bake/gpu_fallback.cpp): nvcc is looked for whatever SHPRT_CUDA says
+    # (where check_language looks too: PATH and /usr/local/cuda/bin), so that the message says
+    # what is true of this machine and what to do about it. No semicolons (a CMake list).
+    find_program(shprt_nvcc nvcc PATHS /usr/local/cuda/bin NO_CACHE)
+    if(SHPRT_CUDA STREQUAL "OFF" AND shprt_nvcc)
+        set(SHPRT_NO_CUDA_REASON "configured with SHPRT_CUDA=OFF although nvcc is at ${shprt_nvcc}: reconfigure with -DSHPRT_CUDA=AUTO")
+    elseif(SHPRT_CUDA STREQUAL "OFF")
+        set(SHPRT_NO_CUDA_REASON "configured with SHPRT_CUDA=OFF, and no nvcc was found: install the CUDA toolkit, then reconfigure with -DSHPRT_CUDA=AUTO")
+    elseif(shprt_nvcc)
+        set(SHPRT_NO_CUDA_REASON "nvcc at ${shprt_nvcc} failed CMake's CUDA check at configure time: see the configure log, set CUDAHOSTCXX to a host compiler it supports and reconfigure")
+    else()
+        set(SHPRT_NO_CUDA_REASON "no nvcc was found at configure time, on PATH or in /usr/local/cuda/bin: install the CUDA toolkit or set CUDACXX to nvcc, and reconfigure")
+    endif()
+    message(STATUS "shprt: CUDA backend OFF (${SHPRT_NO_CUDA_REASON})")
 endif()

@@ -39,5 +39,7 @@ class CMakeBuild(build_ext):
         shutil.copyfile(built, target)
 
 
-setup(packages=["shprt"], ext_modules=[CMakeExtension("shprt._shprt")],
+# The extension's type stubs and the PEP 561 marker go into the wheel beside it.
+setup(packages=["shprt"], package_data={"shprt": ["py.typed", "*.pyi"]},
+      ext_modules=[CMakeExtension("shprt._shprt")],
       cmdclass={"build_ext": CMakeBuild})

@@ -21,11 +21,11 @@ import shprt
 class Bar:
     """One line on stderr: the file, its bar, rays/s and ETA, and the folder's progress."""
 
-    def __init__(self, index, count, name, width=30):
+    def __init__(self, index: int, count: int, name: str, width: int = 30) -> None:
         self.index, self.count, self.name, self.width = index, count, name, width
         self.start = time.monotonic()
 
-    def __call__(self, done, total):
+    def __call__(self, done: int, total: int) -> None:
         frac = done / total if total else 0.0
         elapsed = time.monotonic() - self.start
         rate = done / elapsed if elapsed > 0 else 0.0
@@ -37,8 +37,8 @@ class Bar:
         sys.stderr.flush()
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def main() -> int:
+    p = argparse.ArgumentParser(description=(__doc__ or "").split("\n")[0])
     p.add_argument("folder", type=pathlib.Path)
     p.add_argument("-o", "--output", type=pathlib.Path, required=True)
     p.add_argument("--bands", type=int, default=4)

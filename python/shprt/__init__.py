@@ -12,12 +12,18 @@ Errors from the library are shprt.Error (a RuntimeError) with .code, e.g. 'inval
 'io', 'format', 'unsupported', 'cancelled'.
 """
 
+from typing import Any as _Any, Dict as _Dict
+
 from ._shprt import *  # noqa: F401,F403
-from ._shprt import __version__, Error, HAS_RENDER, HAS_CUDA  # noqa: F401
+# Named again "as" themselves: the stubs' way of saying that the package re-exports them (mypy
+# --strict: no implicit re-export); __version__ is not in the * above.
+from ._shprt import __version__ as __version__, Error as Error  # noqa: F401
+from ._shprt import HAS_RENDER as HAS_RENDER, HAS_CUDA as HAS_CUDA  # noqa: F401
 
 import json as _json
 
 
-def metadata(file):
+def metadata(file: "File") -> _Dict[str, _Any]:  # noqa: F405 (File is from the * import)
     """The .shprt file's JSON metadata as a dict."""
-    return _json.loads(file.metadata_json)
+    result: _Dict[str, _Any] = _json.loads(file.metadata_json)
+    return result

@@ -268,30 +268,52 @@ py::object bake_py(py::handle vertices, py::handle faces, py::handle normals, py
 
 }  // namespace
 
+// The types bake()'s loosely typed arguments show in its signature (convert.hpp, Loose): what
+// each one takes, checked in bake_options and fill_request.
+#define SHPRT_PY_NAME(type, text)                                  \
+    struct type {                                                  \
+        static constexpr auto name = py::detail::const_name(text); \
+    }
+SHPRT_PY_NAME(MeshOrArrayName, "Union[shprt.Mesh, numpy.typing.ArrayLike]");
+SHPRT_PY_NAME(BouncesName, "Union[int, str]");
+SHPRT_PY_NAME(SpacingName, "Union[float, str, None]");
+SHPRT_PY_NAME(ProgressName, "Optional[Callable[[int, int], Optional[bool]]]");
+SHPRT_PY_NAME(SizeName, "Union[int, str, Tuple[int, int], None]");
+SHPRT_PY_NAME(PathName, "Union[str, os.PathLike[str], None]");
+#undef SHPRT_PY_NAME
+using Path = Loose<PathName>;
+using Size = Loose<SizeName>;
+
 void bind_bake(py::module_& m) {
     m.def(
         "bake",
-        [](py::handle vertices, py::handle faces, py::handle normals, py::handle albedo,
-           std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
-           const std::string& sampler, const std::string& transfer, std::uint64_t seed,
-           const py::object& bounces, double tolerance, bool two_sided,
-           std::int64_t indirect_samples, const py::object& source_spacing,
-           std::int64_t bounce_coeffs, int threads, const std::string& device, py::object progress,
-           const std::string& domain, py::object resolution, int uv_set,
+        [](Loose<MeshOrArrayName> vertices, OptionalArrayLike faces, OptionalArrayLike normals,
+           OptionalArrayLike albedo, std::optional<int> bands, std::optional<int> coeffs,
+           std::int64_t samples, const std::string& sampler, const std::string& transfer,
+           std::uint64_t seed, const Loose<BouncesName>& bounces, double tolerance, bool two_sided,
+           std::int64_t indirect_samples, const Loose<SpacingName>& source_spacing,
+           std::int64_t bounce_coeffs, int threads, const std::string& device,
+           Loose<ProgressName> progress, const std::string& domain, Size resolution, int uv_set,
            std::optional<double> refine, std::optional<long long> max_vertices,
-           std::optional<long long> max_edge_split_depth, py::object shard,
-           const py::object& output, bool half, bool float32, bool stream, bool reproducible,
-           const py::object& checkpoint, const py::object& resume, double checkpoint_every,
-           py::object max_memory) {
-            const Receivers rx{domain, std::move(resolution), std::move(shard),    uv_set,
-                               refine, max_vertices,          max_edge_split_depth};
-            const Output out{
-                path_of(output), path_of(checkpoint), path_of(resume),      half, float32, stream,
-                reproducible,    checkpoint_every,    std::move(max_memory)};
+           std::optional<long long> max_edge_split_depth, Size shard, const Path& output, bool half,
+           bool float32, bool stream, bool reproducible, const Path& checkpoint, const Path& resume,
+           double checkpoint_every, Size max_memory) {
+            const Receivers rx{
+                domain,       std::move(resolution.value), std::move(shard.value), uv_set, refine,
+                max_vertices, max_edge_split_depth};
+            const Output out{path_of(output.value),
+                             path_of(checkpoint.value),
+                             path_of(resume.value),
+                             half,
+                             float32,
+                             stream,
+                             reproducible,
+                             checkpoint_every,
+                             std::move(max_memory.value)};
             return bake_py(vertices, faces, normals, albedo, bands, coeffs, samples, sampler,
-                           transfer, seed, bounces, tolerance, two_sided, indirect_samples,
-                           source_spacing, bounce_coeffs, threads, device, std::move(progress), rx,
-                           out);
+                           transfer, seed, bounces.value, tolerance, two_sided, indirect_samples,
+                           source_spacing.value, bounce_coeffs, threads, device,
+                           std::move(progress.value), rx, out);
         },
         "vertices"_a, "faces"_a = py::none(), "normals"_a = py::none(), "albedo"_a = py::none(),
         py::kw_only(), "bands"_a = py::none(), "coeffs"_a = py::none(), "samples"_a = 1024,

@@ -20,7 +20,7 @@ namespace py = pybind11;
 void bind_errors(py::module_& m);  // shprt.Error
 void bind_scene(py::module_& m);   // shprt.Mesh, load_scene, builtin_scenes
 void bind_io(py::module_& m);      // shprt.File, load, save
-void bind_bake(py::module_& m);    // bake, bake_description
+void bind_bake(py::module_& m);    // bake
 void bind_sh(py::module_& m);      // sh_* (evaluation, projection, rotation, windowing)
 void bind_light(py::module_& m);   // light, light_from_equirect, light_from_cube_cross
 void bind_shade(py::module_& m);   // shade, save_image (shade/: no GL)

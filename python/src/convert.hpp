@@ -26,6 +26,25 @@ namespace shprt::python {
 
 namespace py = pybind11;
 
+// An argument the binding converts and checks itself, so that a bad one is one shprt.Error naming
+// it (not pybind11's "incompatible function arguments"): any Python object is taken as it is.
+// Tag::name is the type its signature shows, the one the stubs give (python/shprt/_shprt.pyi,
+// checked by python/tests/test_stubs.py); a bare py::handle would show as "handle".
+template <class Tag>
+struct Loose {
+    py::object value;
+    operator py::handle() const { return value; }  // NOLINT: used where a handle is
+    bool is_none() const { return value.is_none(); }
+};
+struct ArrayLikeName {
+    static constexpr auto name = py::detail::const_name("numpy.typing.ArrayLike");
+};
+struct OptionalArrayLikeName {
+    static constexpr auto name = py::detail::const_name("Optional[numpy.typing.ArrayLike]");
+};
+using ArrayLike = Loose<ArrayLikeName>;                  // an array, or what numpy.asarray takes
+using OptionalArrayLike = Loose<OptionalArrayLikeName>;  // the same, or None
+
 // "(10, 3) float32": an array's shape and dtype, for messages.
 std::string describe_shape(const py::array& a);
 
@@ -69,3 +88,17 @@ py::array_t<T> view_of(T* data, std::vector<py::ssize_t> shape, py::handle base)
 }
 
 }  // namespace shprt::python
+
+namespace pybind11::detail {
+template <class Tag>
+struct type_caster<shprt::python::Loose<Tag>> {
+    PYBIND11_TYPE_CASTER(shprt::python::Loose<Tag>, Tag::name);
+    bool load(handle src, bool) {
+        value.value = reinterpret_borrow<object>(src);
+        return true;
+    }
+    static handle cast(const shprt::python::Loose<Tag>& v, return_value_policy, handle) {
+        return v.value.inc_ref();
+    }
+};
+}  // namespace pybind11::detail

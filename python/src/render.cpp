@@ -23,7 +23,7 @@ void bind_render(py::module_& m) {
 #if SHPRT_HAS_RENDER
     m.def(
         "render",
-        [](const ShprtFile& given, py::handle light, int width, int height,
+        [](const ShprtFile& given, ArrayLike light, int width, int height,
            std::optional<std::array<float, 6>> camera, std::optional<double> fov, double k,
            double gloss, int coeffs, const std::string& view, bool background, bool wireframe,
            int samples, std::optional<std::string> brdf, std::optional<std::array<float, 3>> albedo,

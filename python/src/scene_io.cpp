@@ -99,10 +99,10 @@ void bind_scene(py::module_& m) {
 
 Its arrays are views of the library's memory (no copies): positions, normals, albedo (V, 3)
 float32 and triangles (T, 3) uint32, counter-clockwise = front face, world space +Y up.)")
-        .def(py::init(
-                 [](py::handle vertices, py::handle faces, py::handle normals, py::handle albedo) {
-                     return mesh_from_arrays(vertices, faces, normals, albedo, "mesh");
-                 }),
+        .def(py::init([](ArrayLike vertices, ArrayLike faces, OptionalArrayLike normals,
+                         OptionalArrayLike albedo) {
+                 return mesh_from_arrays(vertices, faces, normals, albedo, "mesh");
+             }),
              "vertices"_a, "faces"_a, "normals"_a = py::none(), "albedo"_a = py::none(),
              "A mesh from arrays; normals=None computes area- and angle-weighted vertex normals, "
              "albedo=None is 0.8 grey. Raises shprt.Error for bad shapes, dtypes, NaN or "
@@ -143,7 +143,7 @@ void bind_io(py::module_& m) {
 
 transfer is a view (no copy) of shape (V, K), or (V, C, K) for C = 3 channels, or (V, K(K+1)/2)
 for glossy matrices (each vertex's packed upper triangle), float32.)")
-        .def(py::init([](const Mesh& mesh, py::handle transfer, const std::string& kind,
+        .def(py::init([](const Mesh& mesh, ArrayLike transfer, const std::string& kind,
                          const std::string& sampler, int samples, std::uint64_t seed,
                          const std::string& encoding) {
                  return make_file(mesh, transfer, kind, sampler, samples, seed, encoding);
@@ -252,7 +252,7 @@ receivers, and bytes per receiver for the code, the raw rows and the kept direct
         "Writes a shprt.File atomically (no half-written file on error).");
     m.def(
         "save",
-        [](const std::string& path, const Mesh& mesh, py::handle transfer, const std::string& kind,
+        [](const std::string& path, const Mesh& mesh, ArrayLike transfer, const std::string& kind,
            const std::string& sampler, int samples, std::uint64_t seed, const std::string& encoding,
            bool reproducible) {
             const ShprtFile file =

@@ -96,7 +96,7 @@ void bind_sh(py::module_& m) {
     m.def("sh_count", &sh_count, "bands"_a, "bands² coefficients.");
     m.def(
         "sh_eval",
-        [](py::handle dirs, int K) {
+        [](ArrayLike dirs, int K) {
             check_K(K, sh_count(kMaxBands));
             const std::vector<double> d = unit_directions(dirs, "dirs");
             const std::size_t n = d.size() / 3;
@@ -119,7 +119,7 @@ void bind_sh(py::module_& m) {
         "The bake's direction set: (dirs (S, 3) float32, weights (S,) float32 = 4π/S).");
     m.def(
         "sh_project",
-        [](py::handle dirs, py::handle values, int K, py::handle weights) {
+        [](ArrayLike dirs, ArrayLike values, int K, OptionalArrayLike weights) {
             check_K(K, sh_count(kMaxBands));
             const auto d = float32_array(dirs, "dirs");
             check_shape(d, "dirs", {-1, 3}, "(S, 3)");
@@ -155,7 +155,7 @@ void bind_sh(py::module_& m) {
         "float64.");
     m.def(
         "sh_reconstruct",
-        [](py::handle coeffs, py::handle dirs) {
+        [](ArrayLike coeffs, ArrayLike dirs) {
             const Coeffs c = coeff_rows(coeffs, "coeffs");
             const std::vector<double> d = unit_directions(dirs, "dirs");
             const std::size_t n = d.size() / 3;
@@ -173,7 +173,7 @@ void bind_sh(py::module_& m) {
         "Σ_i c_i y_i(d) at directions (N, 3) for coefficients (..., K): shape (N, ...).");
     m.def(
         "sh_rotate",
-        [](py::handle coeffs, py::handle R, const std::string& method) {
+        [](ArrayLike coeffs, ArrayLike R, const std::string& method) {
             const Coeffs c = coeff_rows(coeffs, "coeffs");
             const ShRotation rotation = ShRotation::from_matrix(mat3(R, "R"), sh_bands_for(c.K),
                                                                 parse_rotation_method(method));
@@ -189,7 +189,7 @@ void bind_sh(py::module_& m) {
         "padded with zeros.");
     m.def(
         "sh_window",
-        [](py::handle coeffs, const std::string& kind, double strength) {
+        [](ArrayLike coeffs, const std::string& kind, double strength) {
             const Coeffs c = coeff_rows(coeffs, "coeffs");
             std::vector<double> out(c.a.data(), c.a.data() + c.a.size());
             const WindowKind w = parse_window_kind(kind);
@@ -237,7 +237,7 @@ path (light/light_setup.hpp): the specs summed — 'FILE.hdr|.exr' (equirect or 
 rotated by (yaw, pitch, roll) degrees.)");
     // A light projected from an image array by `project` (equirect or cube cross), GIL released.
     const auto projected = [](ShLight (*project)(const Image&, int)) {
-        return [project](py::handle image, int K) {
+        return [project](ArrayLike image, int K) {
             const Image map = image_from_array(image);
             ShLight light;
             {
@@ -258,7 +258,7 @@ rotated by (yaw, pitch, roll) degrees.)");
           "Projects a horizontal (4:3) or vertical (3:4) cube cross (H, W, 3): (3, K) float32.");
     m.def(
         "light_rotate",
-        [](py::handle light, py::handle R) {
+        [](ArrayLike light, ArrayLike R) {
             const ShLight source = light_from_array(light);
             return light_array(rotated_light(source, mat3(R, "R"), source.K));
         },

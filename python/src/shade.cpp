@@ -58,7 +58,7 @@ ShadingParams shading_params(const ShadingKeywords& w) {
 void bind_shade(py::module_& m) {
     m.def(
         "shade",
-        [](const ShprtFile& given, py::handle light, double k, double gloss,
+        [](const ShprtFile& given, ArrayLike light, double k, double gloss,
            std::optional<std::array<float, 3>> eye, int coeffs, std::optional<std::string> brdf,
            std::optional<std::array<float, 3>> albedo, bool direct, const std::string& glossy,
            std::optional<SunArg> sun, int sun_samples) {
@@ -110,7 +110,7 @@ interreflected file's T - T0; `light` is then the sky alone (the sun's own SH pr
 here, at the light's K, neither windowed nor rotated). Diffuse transfer only.)");
     m.def(
         "save_image",
-        [](const std::string& path, py::handle image, float exposure) {
+        [](const std::string& path, ArrayLike image, float exposure) {
             const auto a = float32_array(image, "image");
             check_shape(a, "image", {-1, -1, 3}, "(H, W, 3)");
             Image img = Image::make(int(a.shape(1)), int(a.shape(0)));

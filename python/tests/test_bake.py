@@ -1,4 +1,6 @@
 """shprt.bake against the C++ results: the same options and seed give the bits of `shprt bake`."""
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -94,8 +96,9 @@ def test_save_load_round_trip(box, tmp_path, cli):
 
 
 def test_bad_bounce_source_options_are_refused(box):
-    for bad in (dict(source_spacing=0), dict(source_spacing=-1.0), dict(source_spacing="cells"),
-                dict(indirect_samples=-1)):
+    bads: list[dict[str, Any]] = [dict(source_spacing=0), dict(source_spacing=-1.0),
+                                  dict(source_spacing="cells"), dict(indirect_samples=-1)]
+    for bad in bads:
         with pytest.raises(shprt.Error):
             shprt.bake(box, bands=1, samples=64, transfer="interreflected", **bad)
     with pytest.raises(shprt.Error, match="need transfer='interreflected'"):
@@ -108,7 +111,8 @@ def test_interreflected_bounces_add_light_and_bad_bounces_are_refused(box):
     assert T0.shape == T2.shape == (len(box.positions), 3, 4)
     # The box's vertices on the floor see light off the box: more DC, never less.
     assert (T2[:, :, 0] >= T0[:, :, 0]).all() and (T2[:, :, 0] > T0[:, :, 0]).any()
-    for bad in (-1, "forever", 1.5, True):
+    wrong: list[Any] = [-1, "forever", 1.5, True]
+    for bad in wrong:
         with pytest.raises(shprt.Error):
             shprt.bake(box, bands=2, samples=64, transfer="interreflected", bounces=bad)
 

@@ -2,6 +2,7 @@
 cancels the bake, and two bakes from two Python threads at once give the single-bake bits."""
 import threading
 import time
+from typing import Any
 
 import numpy as np
 import pytest
@@ -62,7 +63,7 @@ def test_returning_false_cancels_with_shprt_error(box):
 
 
 def test_two_bakes_from_two_threads_at_once(box, sphere):
-    jobs = {
+    jobs: dict[str, tuple[shprt.Mesh, dict[str, Any]]] = {
         "box": (box, dict(bands=4, samples=1024, seed=3, threads=2)),
         "sphere": (sphere, dict(bands=3, samples=2048, sampler="uniform", threads=2)),
     }
@@ -81,7 +82,7 @@ def test_two_bakes_from_two_threads_at_once(box, sphere):
             errors.append(e)
 
     for _ in range(3):
-        idents = {}
+        idents: dict[str, set[int]] = {}
         threads = [threading.Thread(target=work, args=(name,)) for name in jobs]
         for t in threads:
             t.start()
@@ -174,9 +175,9 @@ def test_a_progress_return_that_is_no_bool_is_a_type_error(box):
     # Not pybind11's "RuntimeError: Unable to cast Python instance of type <class 'str'>".
     with pytest.raises(TypeError, match="progress: the callback must return True, False or None, "
                                         "not str"):
-        shprt.bake(box, bands=2, samples=256, progress=lambda done, total: "yes")
+        shprt.bake(box, bands=2, samples=256, progress=lambda done, total: "yes")  # type: ignore
     with pytest.raises(TypeError, match="not int"):
-        shprt.bake(box, bands=2, samples=256, progress=lambda done, total: 1)
+        shprt.bake(box, bands=2, samples=256, progress=lambda done, total: 1)  # type: ignore
 
 
 def test_an_exception_in_the_last_progress_call_is_not_lost(box):

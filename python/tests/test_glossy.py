@@ -1,5 +1,7 @@
 """Glossy transfer matrices from Python: a File from bake(transfer='glossy'), shaded with a BRDF
 (shade and render, brdf= and albedo=) as `shprt shade --brdf` shades it."""
+from typing import Any, Callable
+
 import numpy as np
 import pytest
 
@@ -71,7 +73,7 @@ def test_without_a_brdf_the_materials_shade_their_vertices():
 @needs_render
 def test_render_takes_the_brdf(box, glossy_box):
     L = shprt.light("builtin", K=9)
-    kw = dict(width=64, height=48, samples=1, k=0.3, camera=(2.5, 2, 2.5, 0, 0.3, 0))
+    kw: dict[str, Any] = dict(width=64, height=48, samples=1, k=0.3, camera=(2.5, 2, 2.5, 0, 0.3, 0))
     gold = shprt.render(glossy_box, L, brdf="ggx:0.4:1,0.71,0.29", **kw)
     white = shprt.render(glossy_box, L, brdf="ggx:0.4", **kw)
     assert np.isfinite(gold).all() and gold.mean() > 0.01
@@ -81,7 +83,7 @@ def test_render_takes_the_brdf(box, glossy_box):
 def test_vector_files_refuse_a_brdf(box, glossy_box):
     L = shprt.light("builtin", K=9)
     vector = shprt.File(box, shprt.bake(box, bands=3, samples=64))
-    calls = [shprt.shade]
+    calls: list[Callable[..., Any]] = [shprt.shade]
     if shprt.HAS_RENDER:
         calls.append(lambda f, l, **a: shprt.render(f, l, samples=1, **a))
     for call in calls:

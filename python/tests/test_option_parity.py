@@ -8,6 +8,7 @@ other.)
 Every option found in both must have a row in PROBES: a new shared option without one fails here.
 """
 import re
+from typing import Any
 
 import pytest
 
@@ -21,7 +22,7 @@ BASE = dict(samples=16, reproducible=True)  # small bakes: the values are the po
 # (True: the bare flag) and as option=value; "{tmp}" is the test's folder. "scene" picks the scene.
 INTERREFLECTED = dict(transfer="interreflected", bands=1)
 TEXELS = dict(scene=TEXEL_SCENE, domain="texel", resolution="8")
-PROBES = {
+PROBES: dict[str, tuple[dict[str, Any], list[Any]]] = {
     "bands": ({}, [0, 1, 3, 8, 33, -1]),
     "coeffs": ({}, [0, 1, 10, 1024, 1025]),
     "samples": ({}, [0, 1, 17, 16777217]),
@@ -66,7 +67,7 @@ def cli_options(cli_process):
 
 
 def python_options():
-    signature = shprt.bake.__doc__.splitlines()[0]
+    signature = (shprt.bake.__doc__ or "").splitlines()[0]
     return set(re.findall(r"\b([a-z_0-9]+)\s*[:=]", signature))
 
 

@@ -1,5 +1,6 @@
 """SH evaluation, projection, rotation, windowing; lights; shade and render."""
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -118,7 +119,7 @@ def test_an_interreflected_files_direct_part_shades_as_the_command_line_shades_i
     cli("bake", "builtin:box_on_plane", "--transfer", "interreflected", "--bounces", "2",
         "--bands", "3", "--samples", "128", "-o", path)
     f = shprt.load(path)
-    assert f.channels == 3 and f.direct.shape == (box.vertex_count, 9)
+    assert f.channels == 3 and f.direct is not None and f.direct.shape == (box.vertex_count, 9)
     out = str(tmp_path / "d.csv")
     cli("shade", path, "--direct", "--light", "builtin", "-o", out)
     rows = np.loadtxt(out, delimiter=",", skiprows=1)
@@ -132,7 +133,7 @@ def test_an_interreflected_files_direct_part_shades_as_the_command_line_shades_i
     E_all, _ = shprt.shade(f, L)
     assert (E_all >= E - 1e-5).all() and (E_all - E).max() > 1e-3
     if shprt.HAS_RENDER:
-        kw = dict(width=48, height=32, samples=1)
+        kw: dict[str, Any] = dict(width=48, height=32, samples=1)
         assert np.abs(shprt.render(f, L, direct=True, **kw) - shprt.render(f, L, **kw)).max() > 1e-3
     # Other files have no direct part.
     shadowed = shprt.File(box, shprt.bake(box, bands=3, samples=64))

@@ -8,6 +8,7 @@ the command line takes the default camera's, and had no `glossy='paper'`.)
 Every option found in both must have a row in PROBES: a new shared option without one fails here.
 """
 import re
+from typing import Any
 
 import numpy as np
 import pytest
@@ -19,8 +20,8 @@ K = 9
 
 # option -> (the file it shades and the options the values need, values to try). A value is tried
 # as `--option value` (True: the bare flag) and as option=value.
-GLOSSY = dict(file="glossy")
-PROBES = {
+GLOSSY: dict[str, Any] = dict(file="glossy")
+PROBES: dict[str, tuple[dict[str, Any], list[Any]]] = {
     "k": ({}, [-0.1, 0, 0.35, 1, 1.5]),
     "gloss": (dict(k=0.5), [-1, 0, 3.5, 1e4]),
     "coeffs": ({}, [-1, 0, 1, 4, 9, 100]),
@@ -46,7 +47,7 @@ def cli_options(cli_process):
 
 
 def python_options():
-    signature = shprt.shade.__doc__.splitlines()[0]
+    signature = (shprt.shade.__doc__ or "").splitlines()[0]
     return set(re.findall(r"\b([a-z_0-9]+)\s*[:=]", signature)) - {"file"}
 
 

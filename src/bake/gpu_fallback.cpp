@@ -14,8 +14,12 @@
 namespace shprt {
 namespace {
 
-constexpr const char* kNoCuda =
-    "this build has no CUDA (configure with nvcc and SHPRT_CUDA=AUTO or ON)";
+// SHPRT_NO_CUDA_REASON: what the configure step found (SHPRT_CUDA, and where nvcc is if anywhere)
+// and what to do, from cmake/Cuda.cmake.
+#ifndef SHPRT_NO_CUDA_REASON
+#define SHPRT_NO_CUDA_REASON "configured without the CUDA backend"
+#endif
+constexpr const char* kNoCuda = "this build has no CUDA (" SHPRT_NO_CUDA_REASON ")";
 
 [[noreturn]] void no_cuda() { fail(ErrorCode::unsupported, "device 'cuda': {}", kNoCuda); }
 

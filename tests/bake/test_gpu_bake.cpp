@@ -29,10 +29,13 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <vector>
@@ -128,6 +131,46 @@ TEST(GpuBake, WithoutADeviceCudaIsAOneLineError) {
     EXPECT_EQ(t.stats.device_name.rfind("cpu", 0), 0u) << t.stats.device_name;
     EXPECT_EQ(t.stats.peak_bytes_device, 0u);
 }
+
+#if !SHPRT_HAS_CUDA
+// Where nvcc is on this machine (PATH, then /usr/local/cuda/bin: where the configure step looks,
+// cmake/Cuda.cmake), or "" when it is nowhere.
+std::string nvcc_on_this_machine() {
+    std::vector<std::string> dirs;
+    const char* path = std::getenv("PATH");
+    for (std::string rest = path ? path : ""; !rest.empty();) {
+        const std::size_t colon = rest.find(':');
+        dirs.push_back(rest.substr(0, colon));
+        rest = colon == std::string::npos ? "" : rest.substr(colon + 1);
+    }
+    dirs.push_back("/usr/local/cuda/bin");
+    for (const std::string& dir : dirs) {
+        const std::string candidate = dir + "/nvcc";
+        if (!dir.empty() && access(candidate.c_str(), X_OK) == 0) return candidate;
+    }
+    return "";
+}
+
+// A build without CUDA says why, truly (it used to say "configure with nvcc" on a machine whose
+// nvcc the build had been told to leave alone): the SHPRT_CUDA it was configured with, and nvcc's
+// path where there is one. Checked against this machine, the one the build was configured on (a
+// toolkit installed or removed since makes this fail until the build is configured again).
+TEST(GpuBake, WithoutCudaTheReasonSaysWhatConfigureFoundAndWhatToDo) {
+    const std::string reason = query_gpu().reason;
+    const std::string nvcc = nvcc_on_this_machine();
+    std::printf("[ no CUDA ] nvcc on this machine: %s\n", nvcc.empty() ? "none" : nvcc.c_str());
+    EXPECT_EQ(reason.rfind("this build has no CUDA (", 0), 0u) << reason;
+    EXPECT_EQ(reason.back(), ')') << reason;
+    EXPECT_NE(reason.find("reconfigure"), std::string::npos) << reason;  // what to do
+    if (nvcc.empty()) {
+        EXPECT_NE(reason.find("no nvcc was found"), std::string::npos) << reason;
+        EXPECT_NE(reason.find("install the CUDA toolkit"), std::string::npos) << reason;
+    } else {
+        EXPECT_NE(reason.find(nvcc), std::string::npos) << "nvcc is at " << nvcc << ": " << reason;
+        EXPECT_EQ(reason.find("no nvcc"), std::string::npos) << reason;
+    }
+}
+#endif
 
 // ---------------------------------------------------------------------------------------------
 // With a device

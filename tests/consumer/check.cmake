@@ -32,6 +32,12 @@ if(PYTHON_DIR)
     if(NOT module OR NOT EXISTS ${prefix}/${PYTHON_DIR}/shprt/__init__.py)
         message(FATAL_ERROR "consumer: the Python module is not in ${prefix}/${PYTHON_DIR}/shprt")
     endif()
+    # Typed (PEP 561): the extension's stubs and the marker that tells type checkers to read them.
+    foreach(file _shprt.pyi py.typed)
+        if(NOT EXISTS ${prefix}/${PYTHON_DIR}/shprt/${file})
+            message(FATAL_ERROR "consumer: ${file} is not installed in ${prefix}/${PYTHON_DIR}/shprt")
+        endif()
+    endforeach()
 endif()
 
 # find_package(shprt) from the prefix; only the prefix is searched for it.

@@ -53,7 +53,9 @@ struct GpuInfo {
 };
 
 // CUDA device `device` (0-based among those CUDA_VISIBLE_DEVICES shows). Never throws: without a
-// CUDA build, reason is "this build has no CUDA (configure with nvcc and SHPRT_CUDA=AUTO or ON)";
+// CUDA build, reason is "this build has no CUDA (<why>)", where <why> is what the configure step
+// found and what to do: SHPRT_CUDA=OFF with or without an nvcc (named), an nvcc (named) that failed
+// CMake's CUDA check, or no nvcc at all (cmake/Cuda.cmake);
 // when the CUDA runtime reports an error (e.g. "CUDA driver version is insufficient for CUDA
 // runtime version" on a machine without a GPU) or no device, reason is
 // "no CUDA device (cudaGetDeviceCount: <CUDA's message>)"; for an index past the last device,
