@@ -153,8 +153,9 @@ for glossy matrices (each vertex's packed upper triangle), float32.)")
              "A file's content from a mesh and per-vertex transfer (V, K) or (V, 3, K) — for "
              "kind 'glossy', (V, K(K+1)/2), the packed matrices bake(transfer='glossy') "
              "returns — with the bake's description (kind, sampler, samples, seed) for the "
-             "metadata; encoding 'float32' or 'float16' is how save() stores the "
-             "coefficients.")
+             "metadata (save() takes samples = 0 only for kind 'unshadowed', a closed-form "
+             "transfer: other kinds are baked from at least one direction); "
+             "encoding 'float32' or 'float16' is how save() stores the coefficients.")
         .def_property_readonly(
             "mesh", [](ShprtFile& f) -> Mesh& { return f.mesh; },
             py::return_value_policy::reference_internal)
@@ -264,7 +265,9 @@ receivers, and bytes per receiver for the code, the raw rows and the kept direct
         },
         "path"_a, "mesh"_a, "transfer"_a, "kind"_a = "shadowed", "sampler"_a = "sobol",
         "samples"_a = 0, "seed"_a = 0, "encoding"_a = "float32", "reproducible"_a = false,
-        "Writes a mesh and its transfer (V, K) or (V, 3, K) as a .shprt file.");
+        "Writes a mesh and its transfer (V, K) or (V, 3, K) as a .shprt file; samples is the "
+        "bake's directions per receiver, 0 only for kind 'unshadowed' computed in closed form "
+        "(readers refuse 0 for any other kind).");
 }
 
 }  // namespace shprt::python

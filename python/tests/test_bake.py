@@ -89,10 +89,21 @@ def test_save_load_round_trip(box, tmp_path, cli):
     # The command line reads what Python wrote.
     assert "K" in cli("info", path)
     # float16 storage.
-    shprt.save(str(tmp_path / "h.shprt"), shprt.File(box, T, encoding="float16"))
+    shprt.save(str(tmp_path / "h.shprt"), shprt.File(box, T, samples=256, encoding="float16"))
     h = shprt.load(str(tmp_path / "h.shprt"))
     assert h.encoding == "float16"
     np.testing.assert_allclose(h.transfer, T, rtol=1e-3, atol=1e-3)
+
+
+def test_a_file_without_its_sample_count_is_not_written(box, tmp_path):
+    # samples = 0 says "no directions": only unshadowed transfer has a closed form, so a shadowed
+    # file saying 0 is refused by the reader, and the writer refuses it first (file and field).
+    T = shprt.bake(box, bands=2, samples=64)
+    with pytest.raises(shprt.Error, match=r"z\.shprt: samples = 0 for shadowed transfer"):
+        shprt.save(str(tmp_path / "z.shprt"), box, T)
+    assert not (tmp_path / "z.shprt").exists()
+    shprt.save(str(tmp_path / "u.shprt"), box, T, kind="unshadowed")
+    assert shprt.load(str(tmp_path / "u.shprt")).samples == 0
 
 
 def test_bad_bounce_source_options_are_refused(box):

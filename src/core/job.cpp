@@ -55,6 +55,14 @@ int first_lost_rank() {
     return -1;
 }
 
+int lower_rank_running_here() {
+    const int rank = g_rank.load();
+    if (rank <= 0 || rank > g_count.load()) return -1;
+    for (int i = 0; i < rank; ++i)
+        if (g_ranks[std::size_t(i)].pid > 0 && !gone(i)) return i;
+    return -1;
+}
+
 bool lower_ranks_gone() {
     const int rank = g_rank.load();
     if (rank <= 0 || rank > g_count.load()) return false;

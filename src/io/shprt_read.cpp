@@ -376,6 +376,8 @@ ShprtFile Reader::read(bool allow_part) {
     if (m.boolean("last_band_full") != (sh_count(bands) == layout.K))
         corrupt(m_path, "metadata: last_band_full contradicts K = {}", layout.K);
     t.samples = m.integer("samples", 0, INT_MAX);
+    if (const char* why = samples_refusal(t.kind, t.samples))
+        corrupt(m_path, "metadata: samples = 0 for {} transfer, but {}", to_string(t.kind), why);
     t.seed = m.u64("seed");
 
     const Fields scene = m.object("scene");

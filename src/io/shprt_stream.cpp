@@ -144,8 +144,7 @@ ShprtStreamWriter::ShprtStreamWriter(const std::string& path, const Mesh& mesh,
         fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
     }
     detail::check_mesh(path, mesh);
-    SHPRT_CHECK(info.samples >= 0, invalid_argument, "{}: negative sample count {}", path,
-                info.samples);
+    detail::check_samples(path, info.kind, info.samples);
 
     m_state = std::make_unique<State>(path, mesh, info, first, count, options);
     State& s = *m_state;

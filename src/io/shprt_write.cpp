@@ -201,6 +201,12 @@ void for_each_chunk(const SectionOut& s, const std::function<void(const void*, s
     }
 }
 
+void check_samples(const std::string& path, TransferKind kind, int samples) {
+    if (const char* why = samples_refusal(kind, samples))
+        fail(ErrorCode::invalid_argument, "{}: samples = {} for {} transfer, but {}", path, samples,
+             to_string(kind), why);
+}
+
 void check_mesh(const std::string& path, const Mesh& mesh) {
     const std::size_t V = mesh.positions.size();
     SHPRT_CHECK(mesh.source_vertex.empty() || mesh.source_vertex.size() == V, invalid_argument,
@@ -375,8 +381,7 @@ void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& t
         fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
     }
     detail::check_mesh(path, mesh);
-    SHPRT_CHECK(transfer.samples >= 0, invalid_argument, "{}: negative sample count {}", path,
-                transfer.samples);
+    detail::check_samples(path, transfer.kind, transfer.samples);
     detail::check_coefficients(path, transfer.coeffs.data(), transfer.coeffs.size(),
                                transfer.layout, options.receiver_first);
     if (!transfer.direct.empty()) {

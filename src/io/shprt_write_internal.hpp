@@ -40,6 +40,9 @@ void for_each_chunk(const SectionOut& s, const std::function<void(const void*, s
 // Error(invalid_argument) "<path>: ..." for a source_vertex of the wrong size or a triangle index
 // out of range.
 void check_mesh(const std::string& path, const Mesh& mesh);
+// Error(invalid_argument) "<path>: samples = N, but ..." where samples_refusal (transfer.hpp)
+// gives a reason.
+void check_samples(const std::string& path, TransferKind kind, int samples);
 // Error(invalid_argument) "<path>: ..." for a coefficient that is not finite or, for float16,
 // out of its range; `first_receiver` numbers the receivers in the message.
 void check_coefficients(const std::string& path, const float* coeffs, std::size_t n,

@@ -92,6 +92,14 @@ void TransferLayout::validate() const {
                 "transfer has {} channels (expected 1 or 3)", channels);
 }
 
+const char* samples_refusal(TransferKind kind, int samples) {
+    if (samples < 0) return "a sample count cannot be negative";
+    if (samples == 0 && kind != TransferKind::unshadowed)
+        return "only unshadowed transfer has a closed form: a transfer of any other kind is baked "
+               "from at least one direction per receiver";
+    return nullptr;
+}
+
 TransferSet TransferSet::zeros(const TransferInfo& info, std::size_t receivers) {
     info.layout.validate();
     TransferSet t;

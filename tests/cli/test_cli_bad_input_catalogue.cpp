@@ -4,11 +4,13 @@
 // cannot be written. Each ends in its exit code and one error line, the last on stderr, that names
 // the file (or option) and the problem, with no output file and no temporary left.
 #include "cli/cli_test.hpp"
+#include "shprt/io/shprt_format.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -134,6 +136,26 @@ protected:
             std::size_t pos = at >= 0 ? std::size_t(at) : bytes.size() - std::size_t(-at);
             for (std::size_t i = 0; i + 1 < p.at(3).size(); i += 2)
                 bytes[pos++] = static_cast<char>(std::stoi(p[3].substr(i, 2), nullptr, 16));
+            std::ofstream(path, std::ios::binary) << bytes;
+        } else if (kind == "meta") {
+            // The top-level number `"KEY": N` of the metadata set to VALUE, padded with spaces to
+            // N's length (no offset moves), and the header's two CRCs recomputed, so that only
+            // the reader's content checks can refuse it.
+            const std::string key = "\"" + p.at(2) + "\": ", value = p.at(3);
+            std::string bytes = s_good;
+            std::uint64_t length = 0;
+            std::memcpy(&length, bytes.data() + 32, 8);
+            const std::size_t at = bytes.find(key, shprt::kShprtHeaderSize) + key.size();
+            const std::size_t end = bytes.find_first_of(",\n}", at);
+            ASSERT_LT(end, shprt::kShprtHeaderSize + length) << spec;
+            ASSERT_LE(value.size(), end - at) << spec;
+            bytes.replace(at, end - at, value + std::string(end - at - value.size(), ' '));
+            const auto put_crc = [&](std::size_t offset, const char* data, std::size_t size) {
+                const std::uint32_t crc = shprt::crc32(data, size);
+                std::memcpy(bytes.data() + offset, &crc, 4);
+            };
+            put_crc(40, bytes.data() + shprt::kShprtHeaderSize, length);
+            put_crc(44, bytes.data(), 44);
             std::ofstream(path, std::ios::binary) << bytes;
         } else {
             FAIL() << "unknown file kind in " << spec;

@@ -341,6 +341,10 @@ TEST_F(IoShprtCorrupt, CountsInconsistentWithVKAndChannels) {
         {"glossy vectors", [](Json& m) { m["transfer_kind"] = "glossy"; },
          "transfer_kind glossy needs shape symmetric_matrix"},
         {"samples", [](Json& m) { m["samples"] = -1; }, "samples"},
+        // Only unshadowed transfer has a closed form; every other kind is baked from at least one
+        // direction, and the writer refuses 0 for it.
+        {"samples 0", [](Json& m) { m["samples"] = 0; },
+         "metadata: samples = 0 for shadowed transfer, but only unshadowed transfer"},
         {"missing K", [](Json& m) { m.erase("K"); }, "missing field 'K'"},
         {"missing sections", [](Json& m) { m.erase("sections"); }, "missing field 'sections'"},
         {"no sections", [](Json& m) { m["sections"] = Json::array(); }, "sections"},
@@ -375,6 +379,13 @@ TEST_F(IoShprtCorrupt, CountsInconsistentWithVKAndChannels) {
         e.apply(meta);
         expect_error(with_metadata(meta), e.message, e.what);
     }
+    // Unshadowed transfer computed in closed form (the clamped cosine) took no samples.
+    Json meta = m_meta;
+    meta["samples"] = 0;
+    meta["transfer_kind"] = "unshadowed";
+    const std::string analytic = (m_dir / "analytic.shprt").string();
+    std::ofstream(analytic, std::ios::binary) << with_metadata(meta);
+    EXPECT_EQ(read_shprt(analytic).transfer.samples, 0);
 }
 
 TEST_F(IoShprtCorrupt, BadJson) {

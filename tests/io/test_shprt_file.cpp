@@ -420,6 +420,16 @@ TEST_F(IoShprtFile, WriterRejectsInconsistentInput) {
     s = good;
     s.transfer.coeffs[7] = 70000.0f;
     expect_rejected(s, true, "float16 overflow");
+    s = good;
+    s.transfer.samples = 0;  // only unshadowed transfer has a closed form (no directions)
+    EXPECT_NO_THROW(write_shprt(path("analytic.shprt"), s.mesh, s.transfer));
+    fs::remove(path("analytic.shprt"));
+    s.transfer.kind = TransferKind::shadowed;
+    expect_rejected(s, false, "samples = 0, shadowed");
+    s.transfer.samples = -1;
+    expect_rejected(s, false, "samples = -1");
+    s = good;
+    s.transfer.coeffs[7] = 70000.0f;
     EXPECT_NO_THROW(write_shprt(path("ok.shprt"), s.mesh, s.transfer));  // fine in float32
 }
 

@@ -83,6 +83,7 @@ TEST(ShprtTexels, VertexFilesStoreNoUvsAndRefinedParentsRoundTrip) {
     mesh.triangles = {{0, 1, 4}, {1, 2, 4}, {0, 4, 3}, {4, 2, 3}};
     TransferSet t;
     t.layout.K = 4;
+    t.samples = 16;
     t.coeffs.assign(t.layout.floats(5), 0.5f);
     write_shprt(path, mesh, t);
     const ShprtFile f = read_shprt(path);

@@ -6,9 +6,11 @@
 #include "shprt/core/job.hpp"
 
 #include <signal.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
@@ -25,6 +27,7 @@ volatile std::sig_atomic_t g_secondary =
     0;                                  // an MPI rank other than 0: a line only for a lost rank
 volatile std::sig_atomic_t g_late = 0;  // a signal that arrived after the output was in place
 std::atomic<bool> g_installed{false};
+long g_test_line_delay_ms = 0;  // SHPRT_TEST_SIGNAL_LINE_DELAY_MS (signals.hpp)
 
 void write_all(const char* text);
 
@@ -52,7 +55,33 @@ void write_all(const char* text) {
     }
 }
 
-// Async-signal-safe: write, unlink (remove_live_temporaries) and _exit only.
+// Sleeps `ms` milliseconds (async-signal-safe).
+void sleep_ms(long ms) {
+    timespec t{ms / 1000, (ms % 1000) * 1'000'000};
+    while (::nanosleep(&t, &t) != 0 && errno == EINTR) {
+    }
+}
+
+// The line a signal ends the process with is about to be written (the test hook's delay).
+void before_line() {
+    if (g_test_line_delay_ms > 0) sleep_ms(g_test_line_delay_ms);
+}
+
+// A rank that does not speak for the job ends only once the ranks below it on this machine are
+// gone (at most kQuietRankWaitMs): mpirun (Open MPI 4.1) ends a job with SIGTERM to every rank and
+// then SIGKILL to all of them as soon as the first has ended (the SIGCHLD cuts its one-second wait
+// short), so a quiet rank that ended first killed the rank that speaks before its line, whenever
+// the machine ran that rank's handler later than the quiet one's (about 1 run in 20). Rank 0, or
+// the lowest rank left, now ends first.
+constexpr long kQuietRankWaitMs = 2000;
+[[noreturn]] void end_quiet_rank(int signal) {
+    for (long waited = 0; waited < kQuietRankWaitMs && lower_rank_running_here() >= 0; waited += 2)
+        sleep_ms(2);
+    ::_exit(128 + signal);
+}
+
+// Async-signal-safe: write, unlink (remove_live_temporaries), kill(pid, 0), nanosleep and _exit
+// only.
 extern "C" void on_signal(int signal) {
     if (::getpid() != g_main_pid) ::_exit(128 + signal);
     if ((g_requests == 2 || (g_requests == 1 && signal == SIGINT)) && g_request == 0) {
@@ -82,7 +111,8 @@ extern "C" void on_signal(int signal) {
     // An MPI job that mpirun ends because one of its ranks died (core/job.hpp): rank 0, or the
     // lowest rank left when rank 0 is the one that died, says so instead of naming the signal.
     const int lost = first_lost_rank();
-    if (g_secondary && !(lost >= 0 && lower_ranks_gone())) ::_exit(128 + signal);
+    if (g_secondary && !(lost >= 0 && lower_ranks_gone())) end_quiet_rank(signal);
+    before_line();
     if (lost >= 0) {
         write_all("shprt: error: rank ");
         write_number(lost);
@@ -116,6 +146,8 @@ void install_signal_handlers() {
     if (g_installed.exchange(true)) return;
     g_main_pid = ::getpid();
     if (is_secondary_rank()) g_secondary = 1;
+    if (const char* delay = std::getenv("SHPRT_TEST_SIGNAL_LINE_DELAY_MS"))
+        g_test_line_delay_ms = std::strtol(delay, nullptr, 10);
     handle_interrupt_signals(on_signal);
     // A write past the file size limit (ulimit -f) fails with EFBIG, which the writer reports in
     // its one line and after which it removes its temporary, instead of killing the process.

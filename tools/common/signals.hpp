@@ -20,6 +20,9 @@
 //     report_late_signal() says so in a warning; a second ends it at once with "interrupted by
 //     SIGTERM after OUT was written (it is complete)", 128 + the signal. Never "nothing was
 //     written" with the output in place.
+//   * Under mpirun only rank 0 (or the lowest rank left, when rank 0 died) prints; every other rank
+//     on the machine ends only once the ranks below it are gone (at most 2 s), since mpirun
+//     SIGKILLs every rank as soon as the first has ended.
 //   * SIGXFSZ is ignored: a write past `ulimit -f` fails with EFBIG, one error line naming the
 //   file.
 // A signal the process was started with ignored (nohup, a script's background job) stays ignored.
@@ -86,5 +89,8 @@ inline int interrupted_exit_code(int signal) { return 128 + signal; }
 // start, signals are requests), "write" (the bake is over, signals are still requests), "writing"
 // (the output is about to be written, a signal ends the process).
 void test_stop_point(const char* point);
+// Also for the tests: SHPRT_TEST_SIGNAL_LINE_DELAY_MS=N makes the handler wait N ms before the
+// line a signal ends the process with, as a rank that the machine does not schedule at once does
+// (tests/dist/test_mpi_signals.cpp).
 
 }  // namespace shprt::tools

@@ -36,6 +36,10 @@ void note_job_rank_ended(int signal);
 // Async-signal-safe.
 int first_lost_rank();
 
+// The lowest rank below this one whose process runs on this machine (not yet reaped), or -1: none,
+// outside a job, or rank 0. Async-signal-safe.
+int lower_rank_running_here();
+
 // True when every rank below this one is known to have ended (their processes are gone from this
 // machine): this rank is the lowest one left, which speaks for the job. False for rank 0 and
 // outside a job, and when a lower rank runs on another machine (unknown). Async-signal-safe.

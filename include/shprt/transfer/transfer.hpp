@@ -156,6 +156,13 @@ struct TexelAtlas {
 // W, E, N, S, NW, NE, SW, SE that has one); −1 elsewhere.
 std::vector<std::int64_t> dilate_texels(const TexelAtlas& atlas, int gutter);
 
+// Why `samples` (TransferInfo::samples) cannot describe a transfer of `kind`, or nullptr: a
+// negative count, or 0 for a kind other than unshadowed. 0 means "no directions": only unshadowed
+// transfer has a closed form (the clamped cosine's SH projection, sh/zonal.hpp); shadowed, glossy
+// and interreflected transfer are baked from at least one direction per receiver (and bake()
+// traces at least one for unshadowed transfer too). The .shprt writer and reader refuse both.
+const char* samples_refusal(TransferKind kind, int samples);
+
 // Everything about a transfer set but its coefficients: what a bake into a sink returns.
 struct TransferInfo {
     TransferKind kind = TransferKind::shadowed;
