@@ -1,7 +1,11 @@
 // The CPU bake's per-chunk stages (stages.hpp).
 #include "bake/stages.hpp"
 
+#include "shprt/bake/bake.hpp"
+#include "shprt/sh/basis.hpp"
 #include "shprt/sh/direction_order.hpp"
+#include "shprt/sh/local_frame.hpp"
+#include "shprt/sh/rotation.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
 
@@ -13,9 +17,10 @@
 
 namespace shprt::detail {
 
-DirectionTable make_direction_table(const DirectionSet& directions) {
+DirectionTable make_direction_table(const DirectionSet& directions, DirectionFrame frame) {
     const std::size_t S = directions.size();
     DirectionTable t;
+    t.frame = frame;
     t.x.resize(S);
     t.y.resize(S);
     t.z.resize(S);
@@ -34,6 +39,31 @@ DirectionTable make_direction_table(const DirectionSet& directions) {
     return t;
 }
 
+}  // namespace shprt::detail
+
+namespace shprt {
+
+DirectionSet bake_direction_set(const BakeOptions& options) {
+    if (options.direction_frame == DirectionFrame::sphere)
+        return make_direction_set(options.sampler, options.seed, options.samples);
+    // Glossy transfer integrates V·y_i·y_j over the hemisphere without a cosine: a cosine density
+    // would weigh each sample by 1/cos θ' (infinite variance at the horizon), so its local set is
+    // uniform on the hemisphere.
+    const HemisphereDensity density = options.transfer == TransferKind::glossy
+                                          ? HemisphereDensity::uniform
+                                          : HemisphereDensity::cosine;
+    return make_local_direction_set(options.sampler, options.seed, options.samples, density);
+}
+
+}  // namespace shprt
+
+namespace shprt::detail {
+
+int projected_coeffs(const BakeOptions& options) {
+    if (options.direction_frame == DirectionFrame::sphere) return options.K;
+    return sh_count(sh_bands_for(options.K));
+}
+
 void TraceScratch::reserve(std::size_t samples) {
     if (ray_dirs.size() >= samples) return;
     ray_dirs.resize(samples);
@@ -47,6 +77,10 @@ void weight_row(Vec3f n, const DirectionTable& d, float* row, bool hemisphere) {
     const float* dy = d.y.data();
     const float* dz = d.z.data();
     const float* weight = d.weight.data();
+    if (d.frame == DirectionFrame::local) {
+        std::copy(weight, weight + S, row);
+        return;
+    }
     // Written with max and a select, not branches, so that the loops compile to SIMD.
     if (hemisphere) {
         for (std::size_t s = 0; s < S; ++s)
@@ -81,11 +115,21 @@ std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionT
     const std::uint32_t* order = d.trace_order.data();
     const Vec3f* dirs = d.trace_dirs.data();
     std::uint32_t m = 0;
-    for (std::size_t i = 0; i < S; ++i) {
-        const std::uint32_t s = order[i];
-        scratch.ray_index[m] = s;
-        scratch.ray_dirs[m] = dirs[i];
-        m += row[s] != 0.0f ? 1u : 0u;
+    if (d.frame == DirectionFrame::local) {
+        // Every direction is above the horizon: no compaction, the frame turns them.
+        const LocalFrame f = local_frame(n);
+        for (std::size_t i = 0; i < S; ++i) {
+            scratch.ray_index[i] = order[i];
+            scratch.ray_dirs[i] = to_world(f, dirs[i]);
+        }
+        m = static_cast<std::uint32_t>(S);
+    } else {
+        for (std::size_t i = 0; i < S; ++i) {
+            const std::uint32_t s = order[i];
+            scratch.ray_index[m] = s;
+            scratch.ray_dirs[m] = dirs[i];
+            m += row[s] != 0.0f ? 1u : 0u;
+        }
     }
     if (m == 0) return 0;
     constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -106,6 +150,53 @@ void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t 
                   const float* Y, int K, float* C) {
     cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(count), K,
                 static_cast<int>(depth), 1.0f, W, static_cast<int>(S), Y, K, 0.0f, C, K);
+}
+
+void rotate_rows_to_world(const Vec3f* normals, std::size_t count, int KL, int K, bool matrix,
+                          const float* local, float* world) {
+    const std::size_t local_columns =
+        matrix ? std::size_t(KL) * std::size_t(KL + 1) / 2 : std::size_t(KL);
+    const std::size_t world_columns =
+        matrix ? std::size_t(K) * std::size_t(K + 1) / 2 : std::size_t(K);
+    std::vector<double> in(KL), out(KL);
+    std::vector<double> a, m;  // matrices: D·M' (column i = D·column i of M'), then D·M'·Dᵀ
+    if (matrix) {
+        a.resize(std::size_t(KL) * KL);
+        m.resize(std::size_t(KL) * KL);
+    }
+    for (std::size_t j = 0; j < count; ++j) {
+        const LocalFrame f = local_frame(normals[j]);
+        const float* src = local + j * local_columns;
+        float* dst = world + j * world_columns;
+        if (!matrix) {
+            for (int i = 0; i < KL; ++i) in[i] = src[i];
+            rotate_zyz_paper(0.0, f.beta, f.gamma, in.data(), out.data(), KL);
+            for (int i = 0; i < K; ++i) dst[i] = static_cast<float>(out[i]);
+            continue;
+        }
+        // M' from its packed upper triangle; M' is symmetric, so its row i is its column i.
+        std::size_t p = 0;
+        for (int i = 0; i < KL; ++i)
+            for (int k = i; k < KL; ++k, ++p)
+                m[std::size_t(i) * KL + k] = m[std::size_t(k) * KL + i] = src[p];
+        // a[r][i] = (D·M')[r][i]: rotate each column of M'.
+        for (int i = 0; i < KL; ++i) {
+            for (int r = 0; r < KL; ++r) in[r] = m[std::size_t(i) * KL + r];
+            rotate_zyz_paper(0.0, f.beta, f.gamma, in.data(), out.data(), KL);
+            for (int r = 0; r < KL; ++r) a[std::size_t(r) * KL + i] = out[r];
+        }
+        // (D·M'·Dᵀ)ᵀ = D·(D·M')ᵀ: column r of it is D·(row r of a), and it is symmetric.
+        for (int r = 0; r < KL; ++r) {
+            rotate_zyz_paper(0.0, f.beta, f.gamma, a.data() + std::size_t(r) * KL, out.data(), KL);
+            for (int i = 0; i < KL; ++i) m[std::size_t(r) * KL + i] = out[i];
+        }
+        // Packed upper triangle of the leading K×K block; m[r][i] = M[i][r], symmetrised.
+        p = 0;
+        for (int i = 0; i < K; ++i)
+            for (int k = i; k < K; ++k, ++p)
+                dst[p] = static_cast<float>(
+                    0.5 * (m[std::size_t(i) * KL + k] + m[std::size_t(k) * KL + i]));
+    }
 }
 
 namespace {
