@@ -164,8 +164,14 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
     const TransferLayout layout = bake_description(options).layout;
     const std::uint64_t F = layout.floats_per_channel(), row = layout.floats_per_receiver();
     std::uint64_t bytes = triangles * kBvhBytesPerTriangle;
-    bytes += S * F * sizeof(float);                                            // Y (or P)
-    if (F != K) bytes += S * K * sizeof(float);                                // Y for P
+    // A local set projects onto KL ≥ K coefficients (the full bands) in the frame, into a
+    // buffer of its own per worker, and rotates into the rows.
+    const bool local = options.direction_frame == DirectionFrame::local;
+    const std::uint64_t KL = std::uint64_t(detail::projected_coeffs(options));
+    const std::uint64_t FL = F == K ? KL : KL * (KL + 1) / 2;
+    bytes += S * FL * sizeof(float);                                           // Y (or P)
+    if (FL != KL) bytes += S * KL * sizeof(float);                             // Y for P
+    if (local) bytes += workers * chunk * FL * sizeof(float);                  // C in the frame
     bytes += S * detail::DirectionTable::kBytesPerDirection;                   // direction table
     bytes += workers * (chunk * S * sizeof(float) +                            // W
                         S * (3 * sizeof(float) + sizeof(std::uint32_t) + 1) +  // rays
