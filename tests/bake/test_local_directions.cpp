@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -78,6 +79,12 @@ TEST(LocalDirections, SetsAreOnTheHemisphereWithTheirDensity) {
         EXPECT_FLOAT_EQ(cosine.weights[0], float(kPi / 4096));
         EXPECT_FLOAT_EQ(uniform.weights[0], float(2 * kPi / 4096));
     }
+    // Nested like the sphere sets they map: the first 64 of Sobol's 4096 are Sobol's 64.
+    const DirectionSet big =
+        make_local_direction_set(SamplerKind::sobol, 3, 4096, HemisphereDensity::cosine);
+    const DirectionSet small =
+        make_local_direction_set(SamplerKind::sobol, 3, 64, HemisphereDensity::cosine);
+    EXPECT_TRUE(std::equal(small.dirs.begin(), small.dirs.end(), big.dirs.begin()));
 }
 
 TEST(LocalDirections, FrameIsARotationThatTakesZToTheNormal) {
@@ -223,8 +230,9 @@ TEST(LocalDirections, AgreesWithTheSphereSetWithinItsNoiseForEveryKind) {
     }
 }
 
-TEST(LocalDirections, SameBitsForOneAndTwoThreads) {
+TEST(LocalDirections, SameBitsForOneAndTwoThreadsAndForAShard) {
     const Mesh scene = make_builtin("box_on_plane");
+    const Mesh sphere = make_builtin("sphere");
     for (const TransferKind kind : {TransferKind::shadowed, TransferKind::glossy}) {
         BakeOptions one = local_options(kind, kind == TransferKind::glossy ? 5 : 12, 200);
         one.threads = 1;
@@ -234,6 +242,16 @@ TEST(LocalDirections, SameBitsForOneAndTwoThreads) {
         const TransferSet a = bake(scene, one), b = bake(scene, two);
         ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
         EXPECT_EQ(std::memcmp(a.coeffs.data(), b.coeffs.data(), a.coeffs.size() * sizeof(float)), 0)
+            << to_string(kind);
+        // A range (a shard) gives the whole bake's rows; on the sphere, whose receivers all have
+        // other normals (a row rotated with a neighbour's frame would show).
+        const std::size_t first = 100, count = 150;
+        const TransferSet whole = bake(sphere, two);
+        const TransferSet part = bake(sphere, vertex_receivers(sphere).range(first, count), two);
+        const std::size_t row = whole.layout.floats_per_receiver();
+        EXPECT_EQ(std::memcmp(part.coeffs.data(), whole.coeffs.data() + first * row,
+                              count * row * sizeof(float)),
+                  0)
             << to_string(kind);
     }
 }
