@@ -127,6 +127,13 @@ void print_interreflection(const TransferInfo& transfer) {
             double(s.operator_bytes_spilled) / (1024.0 * 1024.0));
 }
 
+// The sampler as the summary lines name it: "sobol", or "sobol, local" for a local set.
+std::string sampling_label(const TransferInfo& t) {
+    std::string label = to_string(t.sampler);
+    if (t.direction_frame == DirectionFrame::local) label += ", local";
+    return label;
+}
+
 // "baked N texels|vertices, ...": the summary of a texel or refined bake.
 void print_bake_line(const char* what, const BakeResult& r, const std::string& output) {
     const TransferInfo& t = r.info;
@@ -135,7 +142,7 @@ void print_bake_line(const char* what, const BakeResult& r, const std::string& o
     std::printf(
         "baked %zu %s, K=%d, S=%d (%s, %s): trace %.3f s, project %.3f s, total %.3f s; %.0f "
         "receivers/s, %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
-        r.receivers, what, t.layout.K, t.samples, to_string(t.kind), to_string(t.sampler),
+        r.receivers, what, t.layout.K, t.samples, to_string(t.kind), sampling_label(t).c_str(),
         s.seconds_trace, s.seconds_project, seconds,
         seconds > 0 ? double(r.receivers) / seconds : 0.0,
         s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace * 1e-6 : 0.0,
@@ -183,7 +190,7 @@ void print_summary(const BakeArgs& args, const BakeRequest& request, const Mesh&
         "baked %zu vertices, K=%d, S=%d (%s, %s): load %.3f s, bvh %.3f s, trace %.3f s, "
         "project %.3f s, write %.3f s; %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
         r.receivers, transfer.layout.K, transfer.samples, to_string(transfer.kind),
-        to_string(transfer.sampler), seconds_load, s.seconds_bvh, s.seconds_trace,
+        sampling_label(transfer).c_str(), seconds_load, s.seconds_bvh, s.seconds_trace,
         s.seconds_project, r.seconds_write, rays_per_second * 1e-6,
         double(s.peak_bytes_host) / (1024.0 * 1024.0), s.device_name.c_str(), args.output.c_str());
 }

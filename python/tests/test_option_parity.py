@@ -27,6 +27,7 @@ PROBES: dict[str, tuple[dict[str, Any], list[Any]]] = {
     "coeffs": ({}, [0, 1, 10, 1024, 1025]),
     "samples": ({}, [0, 1, 17, 16777217]),
     "sampler": ({}, ["sobol", "uniform", "stratified", "fibonacci", "halton"]),
+    "directions": ({}, ["sphere", "local", "tangent"]),
     "transfer": ({}, ["unshadowed", "shadowed", "glossy", "interreflected", "specular"]),
     "seed": ({}, [0, 7, 2**64 - 1]),
     "threads": ({}, [-1, 0, 1, 4097]),

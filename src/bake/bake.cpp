@@ -15,6 +15,7 @@
 #include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/basis.hpp"
+#include "shprt/sh/local_frame.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
@@ -140,6 +141,7 @@ TransferInfo bake_description(const BakeOptions& options) {
                                                                  : TransferShape::vector;
     info.layout.encoding = TransferEncoding::f32;
     info.sampler = options.sampler;
+    info.direction_frame = options.direction_frame;
     info.samples = static_cast<int>(options.samples);
     info.seed = options.seed;
     return info;
@@ -162,8 +164,14 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
     const TransferLayout layout = bake_description(options).layout;
     const std::uint64_t F = layout.floats_per_channel(), row = layout.floats_per_receiver();
     std::uint64_t bytes = triangles * kBvhBytesPerTriangle;
-    bytes += S * F * sizeof(float);                                            // Y (or P)
-    if (F != K) bytes += S * K * sizeof(float);                                // Y for P
+    // A local set projects onto KL ≥ K coefficients (the full bands) in the frame, into a
+    // buffer of its own per worker, and rotates into the rows.
+    const bool local = options.direction_frame == DirectionFrame::local;
+    const std::uint64_t KL = std::uint64_t(detail::projected_coeffs(options));
+    const std::uint64_t FL = F == K ? KL : KL * (KL + 1) / 2;
+    bytes += S * FL * sizeof(float);                                           // Y (or P)
+    if (FL != KL) bytes += S * KL * sizeof(float);                             // Y for P
+    if (local) bytes += workers * chunk * FL * sizeof(float);                  // C in the frame
     bytes += S * detail::DirectionTable::kBytesPerDirection;                   // direction table
     bytes += workers * (chunk * S * sizeof(float) +                            // W
                         S * (3 * sizeof(float) + sizeof(std::uint32_t) + 1) +  // rays
@@ -257,10 +265,14 @@ TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
     validate(checked);
     detail::validate_job(job, checked);
     SHPRT_CHECK(job.sink != nullptr, invalid_argument, "a bake needs a sink for its rows");
-    const Device backend = resolve_device(checked.device, checked.device_index);
+    Device backend = resolve_device(checked.device, checked.device_index);
+    if (backend == Device::cuda && checked.direction_frame == DirectionFrame::local) {
+        // The GPU bake has no local sets yet: automatic means "the GPU where it can run".
+        SHPRT_CHECK(checked.device == Device::automatic, unsupported, "{}", kLocalDirectionsOnGpu);
+        backend = Device::cpu;
+    }
     if (job.directions) return run_bake(job, checked, backend, *job.directions);
-    const DirectionSet directions =
-        make_direction_set(checked.sampler, checked.seed, checked.samples);
+    const DirectionSet directions = bake_direction_set(checked);
     return run_bake(job, checked, backend, directions);
 }
 
@@ -298,6 +310,7 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
     const std::size_t S = directions.size();
     const bool glossy = options.transfer == TransferKind::glossy;
     const bool shadowed = options.transfer == TransferKind::shadowed || glossy;
+    const bool local = options.direction_frame == DirectionFrame::local;
     constexpr float kInf = std::numeric_limits<float>::infinity();
 
     TransferSet out =
@@ -311,12 +324,17 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
         const Vec3f nf = mesh.normals[v];
         const Vec3d n = cast<double>(nf);
         const Vec3f origin = offset_ray_origin(mesh.positions[v], nf);
+        const LocalFrame frame = local_frame(nf);
         std::fill(sum.begin(), sum.end(), 0.0);
         for (std::size_t s = 0; s < S; ++s) {
-            const Vec3f wf{directions.dirs[3 * s], directions.dirs[3 * s + 1],
-                           directions.dirs[3 * s + 2]};
+            Vec3f wf{directions.dirs[3 * s], directions.dirs[3 * s + 1],
+                     directions.dirs[3 * s + 2]};
+            // A local set: the direction turned into the frame, the basis evaluated there in
+            // world space (no SH rotation: what the fast path's rotation must reproduce), and
+            // the weight taken whole (the density is in it).
+            if (local) wf = to_world(frame, wf);
             const Vec3d w = cast<double>(wf);
-            const double cosine = dot(n, w);
+            const double cosine = local ? 1.0 : dot(n, w);
             if (cosine <= 0) continue;  // below the horizon: T = 0, no ray
             if (shadowed) {
                 std::uint8_t occluded = 0;

@@ -38,8 +38,9 @@ double seconds_between(Clock::time_point a, Clock::time_point b) {
 
 // One worker's buffers, reused for every chunk it runs.
 struct Scratch {
-    std::vector<float> w;  // W[chunk×S], row-major
-    std::vector<float> c;  // C[chunk×K] when the sink has no host rows to project into
+    std::vector<float> w;        // W[chunk×S], row-major
+    std::vector<float> c;        // C[chunk×K] when the sink has no host rows to project into
+    std::vector<float> c_local;  // C'[chunk×KL] in the receivers' frames (local sets)
     TraceScratch trace;
     double trace_seconds = 0;    // CPU time in weighting and tracing (this worker)
     double project_seconds = 0;  // CPU time in SGEMM (this worker)
@@ -75,13 +76,17 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     const std::size_t first_chunk = rx.first / chunk;
     const std::size_t chunk_count = (rx.end() + chunk - 1) / chunk - first_chunk;
 
-    const DirectionTable table = make_direction_table(directions);
-    // The basis table, once for all receivers: Y[s*K + i] = y_i(w_s).
+    const bool local = options.direction_frame == DirectionFrame::local;
+    const DirectionTable table = make_direction_table(directions, options.direction_frame);
+    // The basis table, once for all receivers: Y[s*KL + i] = y_i(w_s), KL = K (a local set: the
+    // full bands that hold K, in the frame; rotated to K in world space after the product).
     // Glossy transfer projects onto the pair-product table instead (stages.hpp): its F =
     // K(K+1)/2 columns are the packed upper triangle of each receiver's matrix.
-    const std::vector<float> Y =
-        glossy ? pair_product_table(basis_table(K, directions), S, K) : basis_table(K, directions);
-    const int F = glossy ? K * (K + 1) / 2 : K;  // columns of the product
+    const int KL = projected_coeffs(options);
+    const std::vector<float> Y = glossy ? pair_product_table(basis_table(KL, directions), S, KL)
+                                        : basis_table(KL, directions);
+    const int F = glossy ? K * (K + 1) / 2 : K;      // columns of a row
+    const int FL = glossy ? KL * (KL + 1) / 2 : KL;  // columns of the product
 
     TransferInfo info = bake_info(options, rx, S);
     TransferSink& sink = *job.sink;
@@ -125,7 +130,15 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
             if (sc.c.empty()) sc.c.resize(chunk * std::size_t(F));
             C = sc.c.data();
         }
-        project_rows(sc.w.data(), height, S, Y.data(), F, C);
+        if (local) {
+            if (sc.c_local.empty()) sc.c_local.resize(chunk * std::size_t(FL));
+            project_rows(sc.w.data(), height, S, Y.data(), FL, sc.c_local.data());
+            rotate_rows_to_world(rx.normals + first, count, KL, K, glossy,
+                                 sc.c_local.data() + lead * std::size_t(FL),
+                                 C + lead * std::size_t(F));
+        } else {
+            project_rows(sc.w.data(), height, S, Y.data(), F, C);
+        }
         const double project_end = thread_cpu_seconds();
         sc.trace_seconds += project_start - trace_start;
         sc.project_seconds += project_end - project_start;
@@ -152,7 +165,7 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     for (const Scratch& sc : scratch) {
         trace_acc += sc.trace_seconds;
         project_acc += sc.project_seconds;
-        c_bytes += sc.c.size() * sizeof(float);
+        c_bytes += (sc.c.size() + sc.c_local.size()) * sizeof(float);
     }
     const double busy = trace_acc + project_acc;
     BakeStats& st = info.stats;

@@ -395,8 +395,11 @@ DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionS
     const std::size_t n = options.indirect_samples > 0
                               ? options.indirect_samples
                               : std::max<std::size_t>(1, directions.size() / kIndirectSampleShare);
-    if (n >= directions.size()) return directions;
-    return make_direction_set(options.sampler, options.seed, n);
+    // A local bake's set is in the frame; the bounce sources take the sphere set of its sampler.
+    if (n >= directions.size() && options.direction_frame == DirectionFrame::sphere)
+        return directions;
+    return make_direction_set(options.sampler, options.seed,
+                              static_cast<std::uint32_t>(std::min(n, directions.size())));
 }
 
 float bake_source_spacing(const Mesh& mesh, const BakeOptions& options) {

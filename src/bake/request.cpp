@@ -362,6 +362,8 @@ std::optional<std::string> request_refusal(const BakeRequest& r) {
             "{}: interreflected transfer bakes the scene's own vertices (bake "
             "shadowed or unshadowed transfer)",
             receivers);
+    if (r.options.direction_frame == DirectionFrame::local && r.options.device == Device::cuda)
+        return kLocalDirectionsOnGpu;
     if (r.distributed && is_shard(r))
         return "--shard and MPI: the ranks already share the bake (use one or the other)";
     if (streamed(r) && r.output->path.empty()) return "--stream needs an output file";

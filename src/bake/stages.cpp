@@ -1,21 +1,27 @@
 // The CPU bake's per-chunk stages (stages.hpp).
 #include "bake/stages.hpp"
 
+#include "shprt/bake/bake.hpp"
+#include "shprt/sh/basis.hpp"
 #include "shprt/sh/direction_order.hpp"
+#include "shprt/sh/local_frame.hpp"
+#include "shprt/sh/rotation.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
 
 #include <cblas.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <mutex>
 
 namespace shprt::detail {
 
-DirectionTable make_direction_table(const DirectionSet& directions) {
+DirectionTable make_direction_table(const DirectionSet& directions, DirectionFrame frame) {
     const std::size_t S = directions.size();
     DirectionTable t;
+    t.frame = frame;
     t.x.resize(S);
     t.y.resize(S);
     t.z.resize(S);
@@ -34,6 +40,31 @@ DirectionTable make_direction_table(const DirectionSet& directions) {
     return t;
 }
 
+}  // namespace shprt::detail
+
+namespace shprt {
+
+DirectionSet bake_direction_set(const BakeOptions& options) {
+    if (options.direction_frame == DirectionFrame::sphere)
+        return make_direction_set(options.sampler, options.seed, options.samples);
+    // Glossy transfer integrates V·y_i·y_j over the hemisphere without a cosine: a cosine density
+    // would weigh each sample by 1/cos θ' (infinite variance at the horizon), so its local set is
+    // uniform on the hemisphere.
+    const HemisphereDensity density = options.transfer == TransferKind::glossy
+                                          ? HemisphereDensity::uniform
+                                          : HemisphereDensity::cosine;
+    return make_local_direction_set(options.sampler, options.seed, options.samples, density);
+}
+
+}  // namespace shprt
+
+namespace shprt::detail {
+
+int projected_coeffs(const BakeOptions& options) {
+    if (options.direction_frame == DirectionFrame::sphere || options.K < 1) return options.K;
+    return sh_count(sh_bands_for(options.K));
+}
+
 void TraceScratch::reserve(std::size_t samples) {
     if (ray_dirs.size() >= samples) return;
     ray_dirs.resize(samples);
@@ -47,6 +78,10 @@ void weight_row(Vec3f n, const DirectionTable& d, float* row, bool hemisphere) {
     const float* dy = d.y.data();
     const float* dz = d.z.data();
     const float* weight = d.weight.data();
+    if (d.frame == DirectionFrame::local) {
+        std::copy(weight, weight + S, row);
+        return;
+    }
     // Written with max and a select, not branches, so that the loops compile to SIMD.
     if (hemisphere) {
         for (std::size_t s = 0; s < S; ++s)
@@ -81,11 +116,21 @@ std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionT
     const std::uint32_t* order = d.trace_order.data();
     const Vec3f* dirs = d.trace_dirs.data();
     std::uint32_t m = 0;
-    for (std::size_t i = 0; i < S; ++i) {
-        const std::uint32_t s = order[i];
-        scratch.ray_index[m] = s;
-        scratch.ray_dirs[m] = dirs[i];
-        m += row[s] != 0.0f ? 1u : 0u;
+    if (d.frame == DirectionFrame::local) {
+        // Every direction is above the horizon: no compaction, the frame turns them.
+        const LocalFrame f = local_frame(n);
+        for (std::size_t i = 0; i < S; ++i) {
+            scratch.ray_index[i] = order[i];
+            scratch.ray_dirs[i] = to_world(f, dirs[i]);
+        }
+        m = static_cast<std::uint32_t>(S);
+    } else {
+        for (std::size_t i = 0; i < S; ++i) {
+            const std::uint32_t s = order[i];
+            scratch.ray_index[m] = s;
+            scratch.ray_dirs[m] = dirs[i];
+            m += row[s] != 0.0f ? 1u : 0u;
+        }
     }
     if (m == 0) return 0;
     constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -106,6 +151,131 @@ void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t 
                   const float* Y, int K, float* C) {
     cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(count), K,
                 static_cast<int>(depth), 1.0f, W, static_cast<int>(S), Y, K, 0.0f, C, K);
+}
+
+namespace {
+
+// D(R) for a receiver's frame R = Rz(γ)·Ry(β), applied band by band as the paper's factorisation
+// Z(γ)·Xᵀ·Z(β)·X (rotate_zyz_paper with α = 0, whose Z(α) is the identity): the X = D(Rx(π/2))
+// blocks fetched once for all receivers, cos mθ and sin mθ by angle addition from one cosine and
+// sine (no trigonometric call per band). Full bands only (`coeffs` = bands²).
+class FrameRotation {
+public:
+    explicit FrameRotation(int coeffs) : m_bands(sh_bands_for(coeffs)), m_x(m_bands) {
+        std::size_t size = 0;
+        for (int l = 0; l < m_bands; ++l) size += std::size_t(2 * l + 1) * std::size_t(2 * l + 1);
+        m_xt.resize(size);
+        std::size_t offset = 0;
+        for (int l = 0; l < m_bands; ++l) {
+            const int n = 2 * l + 1;
+            m_x[l] = rotation_x90_block(l);
+            for (int r = 0; r < n; ++r)
+                for (int c = 0; c < n; ++c)
+                    m_xt[offset + std::size_t(c) * n + r] = m_x[l][r * n + c];
+            offset += std::size_t(n) * n;
+        }
+    }
+    void set(const LocalFrame& f) {
+        multiples(std::cos(f.beta), std::sin(f.beta), m_cb, m_sb);
+        multiples(std::cos(f.gamma), std::sin(f.gamma), m_cg, m_sg);
+    }
+    // out = D·in over every band; in and out do not overlap.
+    void apply(const double* in, double* out) const {
+        double v[2 * kMaxComputeBands + 1];
+        const double* xt = m_xt.data();
+        for (int l = 0; l < m_bands; ++l) {
+            const int n = 2 * l + 1;
+            const double* x = m_x[l];
+            const double* u = in + l * l;
+            for (int r = 0; r < n; ++r) v[r] = dot(x + std::size_t(r) * n, u, n);  // v = X·u
+            z_rotate(m_cb, m_sb, l, v);
+            double* w = out + l * l;
+            for (int c = 0; c < n; ++c) w[c] = dot(xt + std::size_t(c) * n, v, n);  // w = Xᵀ·v
+            xt += std::size_t(n) * n;
+            z_rotate(m_cg, m_sg, l, w);
+        }
+    }
+
+private:
+    // Σ a[i]·b[i] in four independent sums: one chain of dependent additions runs at the adder's
+    // latency (measured 3x slower here; the loop is not vectorised at -O2).
+    static double dot(const double* a, const double* b, int n) {
+        double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+        int i = 0;
+        for (; i + 4 <= n; i += 4) {
+            s0 += a[i] * b[i];
+            s1 += a[i + 1] * b[i + 1];
+            s2 += a[i + 2] * b[i + 2];
+            s3 += a[i + 3] * b[i + 3];
+        }
+        for (; i < n; ++i) s0 += a[i] * b[i];
+        return (s0 + s1) + (s2 + s3);
+    }
+    void multiples(double c1, double s1, double* c, double* s) const {
+        c[0] = 1.0, s[0] = 0.0;
+        for (int m = 1; m < m_bands; ++m) {
+            c[m] = c[m - 1] * c1 - s[m - 1] * s1;
+            s[m] = s[m - 1] * c1 + c[m - 1] * s1;
+        }
+    }
+    // v ← Z·v for one band (rows m and −m mix; sh/rotation.hpp's rotate_z).
+    static void z_rotate(const double* c, const double* s, int l, double* v) {
+        for (int m = 1; m <= l; ++m) {
+            const double p = v[l + m], q = v[l - m];
+            v[l + m] = c[m] * p - s[m] * q;
+            v[l - m] = s[m] * p + c[m] * q;
+        }
+    }
+
+    int m_bands;
+    std::vector<const double*> m_x;  // X = D(Rx(π/2)) per band (the library's cache)
+    std::vector<double> m_xt;        // Xᵀ of every band, one after another
+    double m_cb[kMaxComputeBands], m_sb[kMaxComputeBands], m_cg[kMaxComputeBands],
+        m_sg[kMaxComputeBands];
+};
+
+}  // namespace
+
+void rotate_rows_to_world(const Vec3f* normals, std::size_t count, int KL, int K, bool matrix,
+                          const float* local, float* world) {
+    const std::size_t L = std::size_t(KL);
+    const std::size_t local_columns = matrix ? L * (L + 1) / 2 : L;
+    const std::size_t world_columns =
+        matrix ? std::size_t(K) * std::size_t(K + 1) / 2 : std::size_t(K);
+    FrameRotation rotation(KL);
+    std::vector<double> in(L), out(L);
+    std::vector<double> a, m;  // matrices: D·M' (column i = D·column i of M'), then D·M'·Dᵀ
+    if (matrix) {
+        a.resize(L * L);
+        m.resize(L * L);
+    }
+    for (std::size_t j = 0; j < count; ++j) {
+        rotation.set(local_frame(normals[j]));
+        const float* src = local + j * local_columns;
+        float* dst = world + j * world_columns;
+        if (!matrix) {
+            for (std::size_t i = 0; i < L; ++i) in[i] = src[i];
+            rotation.apply(in.data(), out.data());
+            for (int i = 0; i < K; ++i) dst[i] = static_cast<float>(out[i]);
+            continue;
+        }
+        // M' from its packed upper triangle; M' is symmetric, so its row i is its column i.
+        std::size_t p = 0;
+        for (std::size_t i = 0; i < L; ++i)
+            for (std::size_t k = i; k < L; ++k, ++p) m[i * L + k] = m[k * L + i] = src[p];
+        // a[r][i] = (D·M')[r][i]: rotate each column of M'.
+        for (std::size_t i = 0; i < L; ++i) {
+            rotation.apply(m.data() + i * L, out.data());
+            for (std::size_t r = 0; r < L; ++r) a[r * L + i] = out[r];
+        }
+        // (D·M'·Dᵀ)ᵀ = D·(D·M')ᵀ: column r of it is D·(row r of a), and it is symmetric.
+        for (std::size_t r = 0; r < L; ++r) rotation.apply(a.data() + r * L, m.data() + r * L);
+        // Packed upper triangle of the leading K×K block; m[r][i] = M[i][r], symmetrised.
+        p = 0;
+        for (std::size_t i = 0; i < std::size_t(K); ++i)
+            for (std::size_t k = i; k < std::size_t(K); ++k, ++p)
+                dst[p] = static_cast<float>(0.5 * (m[i * L + k] + m[k * L + i]));
+    }
 }
 
 namespace {

@@ -9,6 +9,12 @@
 //   project  C[count×K] = W[count×S] · Y[S×K]                (one single-threaded SGEMM)
 // These are exactly the operations of transfer_sample() (transfer_sample.hpp), which the GPU
 // kernel runs, so the two backends' W agree bit for bit where their tracers agree.
+//
+// With a local set (DirectionFrame::local, docs/sampling.md) the set lives in the receiver's
+// tangent frame (local_frame.hpp) and the weight already holds the cosine (or the hemisphere's
+// constant density): weight copies it, trace casts every direction turned into the frame, project
+// gives the coefficients in the frame over full bands, and
+//   rotate   c = D(R)·c' per receiver (vectors), M = D·M'·Dᵀ (glossy), truncated to K.
 #pragma once
 
 #include "shprt/core/vec.hpp"
@@ -20,7 +26,8 @@
 
 namespace shprt {
 class Tracer;
-}
+struct BakeOptions;
+}  // namespace shprt
 
 namespace shprt::detail {
 
@@ -30,7 +37,10 @@ namespace shprt::detail {
 // The set's order is what the nested prefixes, the basis table and the rows keep; tracing in the
 // coherent order is faster (issue 39) and changes nothing else: every answer goes to the
 // direction's own index.
+// A local table (frame == local) holds the set in the tangent frame; its trace order is the
+// coherent order of the local directions, which a rotation keeps coherent.
 struct DirectionTable {
+    DirectionFrame frame = DirectionFrame::sphere;
     std::vector<float> x, y, z, weight;
     std::vector<Vec3f> dirs;
     std::vector<std::uint32_t> trace_order;
@@ -40,7 +50,12 @@ struct DirectionTable {
     static constexpr std::size_t kBytesPerDirection =
         4 * sizeof(float) + 2 * sizeof(Vec3f) + sizeof(std::uint32_t);
 };
-DirectionTable make_direction_table(const DirectionSet& directions);
+DirectionTable make_direction_table(const DirectionSet& directions,
+                                    DirectionFrame frame = DirectionFrame::sphere);
+
+// The basis size a bake projects onto: K, or for a local set the full bands that hold K (a
+// partial last band is rotated whole, then truncated: sh/rotation.hpp).
+int projected_coeffs(const BakeOptions& options);
 
 // One worker's buffers for trace_row, reused across receivers.
 struct TraceScratch {
@@ -54,7 +69,8 @@ struct TraceScratch {
 };
 
 // weight: row[s] = max(0, n·w_s)·weight_s for s < S; with `hemisphere` (glossy transfer),
-// row[s] = weight_s where n·w_s > 0, else 0 (the hemisphere, no cosine).
+// row[s] = weight_s where n·w_s > 0, else 0 (the hemisphere, no cosine). A local table:
+// row[s] = weight_s (every direction is above the horizon, the density is in the weight).
 void weight_row(Vec3f n, const DirectionTable& directions, float* row, bool hemisphere = false);
 
 // The glossy projection table: P[s·F + p(i,j)] = y_i(w_s)·y_j(w_s) for 0 ≤ i ≤ j < K, with
@@ -63,7 +79,8 @@ void weight_row(Vec3f n, const DirectionTable& directions, float* row, bool hemi
 std::vector<float> pair_product_table(const std::vector<float>& Y, std::size_t S, int K);
 
 // trace: zeroes row[s] where the direction is occluded; casts one stream of the directions with
-// row[s] ≠ 0 from offset_ray_origin(p, n), in the table's trace order. Returns the rays cast.
+// row[s] ≠ 0 from offset_ray_origin(p, n), in the table's trace order (a local table: turned
+// into n's frame by to_world(local_frame(n), ·)). Returns the rays cast.
 std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionTable& directions,
                         float* row, TraceScratch& scratch);
 
@@ -75,6 +92,14 @@ void project_rows(const float* W, std::size_t count, std::size_t S, const float*
 // whose weights past `depth` are zero, the same sums without the zero terms.
 void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t depth,
                   const float* Y, int K, float* C);
+
+// rotate (local sets): `count` rows projected in their receivers' frames, `normals[j]` receiver
+// j's normal, each `local_columns` wide (KL = projected_coeffs, or KL(KL+1)/2 packed for
+// `matrix`), to world rows of K (K(K+1)/2 packed) columns in `world`: c = D(R)·c' over the full
+// bands, then the first K; M = D·M'·Dᵀ, then its leading K×K block. In double, per receiver:
+// O(Σ(2l+1)²) for a vector, K times more for a matrix.
+void rotate_rows_to_world(const Vec3f* normals, std::size_t count, int KL, int K, bool matrix,
+                          const float* local, float* world);
 
 // OpenBLAS's thread count set to 1 for a scope, restored afterwards: the bake's TBB workers each
 // run their own single-threaded SGEMM (bake_cpu.cpp says why). The setting is process-wide, so

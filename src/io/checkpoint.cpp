@@ -57,17 +57,15 @@ std::size_t pread_some(int fd, void* data, std::size_t size, std::uint64_t offse
 
 std::uint64_t checkpoint_fingerprint(const Mesh& occluders, std::size_t first, std::size_t count,
                                      const TransferInfo& d) {
-    const std::uint64_t fields[] = {mesh_hash(occluders),
-                                    first,
-                                    count,
-                                    static_cast<std::uint64_t>(d.kind),
-                                    static_cast<std::uint64_t>(d.layout.domain),
-                                    static_cast<std::uint64_t>(d.layout.channels),
-                                    static_cast<std::uint64_t>(d.layout.K),
-                                    static_cast<std::uint64_t>(d.layout.shape),
-                                    static_cast<std::uint64_t>(d.sampler),
-                                    static_cast<std::uint64_t>(d.samples),
-                                    d.seed};
+    const std::uint64_t fields[] = {
+        mesh_hash(occluders), first, count, static_cast<std::uint64_t>(d.kind),
+        static_cast<std::uint64_t>(d.layout.domain), static_cast<std::uint64_t>(d.layout.channels),
+        static_cast<std::uint64_t>(d.layout.K), static_cast<std::uint64_t>(d.layout.shape),
+        // a local set's bit above the sampler: a sphere bake's
+        // fingerprint stays what it was
+        static_cast<std::uint64_t>(d.sampler) |
+            (d.direction_frame == DirectionFrame::local ? 0x100u : 0u),
+        static_cast<std::uint64_t>(d.samples), d.seed};
     return fnv1a64(fields, sizeof(fields));
 }
 

@@ -23,10 +23,11 @@ std::string difference(const TransferSet& a, const TransferSet& b) {
                            b.layout.K, b.layout.channels, to_string(b.layout.shape),
                            to_string(b.layout.encoding), a.layout.K, a.layout.channels,
                            to_string(a.layout.shape), to_string(a.layout.encoding));
-    if (a.sampler != b.sampler || a.samples != b.samples || a.seed != b.seed)
-        return fmt::format("sampling {} S = {} seed {} instead of {} S = {} seed {}",
-                           to_string(b.sampler), b.samples, b.seed, to_string(a.sampler), a.samples,
-                           a.seed);
+    if (a.sampler != b.sampler || a.samples != b.samples || a.seed != b.seed ||
+        a.direction_frame != b.direction_frame)
+        return fmt::format("sampling {} ({}) S = {} seed {} instead of {} ({}) S = {} seed {}",
+                           to_string(b.sampler), to_string(b.direction_frame), b.samples, b.seed,
+                           to_string(a.sampler), to_string(a.direction_frame), a.samples, a.seed);
     return {};
 }
 

@@ -351,6 +351,9 @@ ShprtFile Reader::read(bool allow_part) {
     try {
         t.kind = parse_transfer_kind(m.string("transfer_kind"));
         t.sampler = parse_sampler_kind(m.string("sampler"));
+        // Absent before local sets existed (and for sphere sets): the sphere.
+        if (meta.contains("directions"))
+            t.direction_frame = parse_direction_frame(m.string("directions"));
         // Version 1 knew only per-vertex vectors; version 2 names the domain and the shape.
         if (h.version >= 2) {
             layout.domain = parse_receiver_domain(m.string("domain"));

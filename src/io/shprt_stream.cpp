@@ -175,7 +175,7 @@ void ShprtStreamWriter::commit(const TransferInfo& info) {
     final_info.layout.encoding = s.info.layout.encoding;  // the file's choice, as in begin()
     SHPRT_CHECK(info.kind == s.info.kind && final_info.layout == s.info.layout &&
                     info.sampler == s.info.sampler && info.samples == s.info.samples &&
-                    info.seed == s.info.seed,
+                    info.direction_frame == s.info.direction_frame && info.seed == s.info.seed,
                 invalid_argument, "{}: the bake's description differs from the file's layout",
                 s.path);
     detail::SectionOut& transfer = s.sections.back();

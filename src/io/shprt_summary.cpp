@@ -101,7 +101,9 @@ std::string shprt_summary(const ShprtFile& file) {
                                   "band l = {}; only the first {} bands rotate exactly)",
                                   K, bands, K - sh_count(full), 2 * full + 1, full, full));
     line("sampling",
-         fmt::format("{}, {} samples, seed {}", to_string(t.sampler), t.samples, t.seed));
+         fmt::format("{}{}, {} samples, seed {}", to_string(t.sampler),
+                     t.direction_frame == DirectionFrame::local ? " (local: tangent frames)" : "",
+                     t.samples, t.seed));
     line("precision", to_string(t.layout.encoding));
     if (!t.cpca.empty())
         line("cpca", fmt::format("{} clusters x {} vectors (k-means++ seed {}); rows rebuilt on "

@@ -100,6 +100,8 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
     m["channels"] = t.layout.channels;
     m["precision"] = to_string(t.layout.encoding);
     m["sampler"] = to_string(t.sampler);
+    // Written only for a local set: a sphere bake's metadata (and bytes) stay as before it.
+    if (t.direction_frame != DirectionFrame::sphere) m["directions"] = to_string(t.direction_frame);
     m["samples"] = t.samples;
     m["seed"] = t.seed;
     if (t.kind == TransferKind::interreflected) {

@@ -105,6 +105,32 @@ SamplerKind parse_sampler_kind(const std::string& name) {
     return parse_named(kSamplerNames, name, "sampler");
 }
 
+namespace {
+constexpr Named<DirectionFrame> kFrameNames[] = {{DirectionFrame::sphere, "sphere"},
+                                                 {DirectionFrame::local, "local"}};
+}  // namespace
+
+const char* to_string(DirectionFrame frame) { return name_of(kFrameNames, frame); }
+DirectionFrame parse_direction_frame(const std::string& name) {
+    return parse_named(kFrameNames, name, "directions");
+}
+
+DirectionSet make_local_direction_set(SamplerKind kind, std::uint64_t seed, std::uint32_t count,
+                                      HemisphereDensity density) {
+    DirectionSet set = make_set<DirectionSet>(kind, seed, count);  // checks count
+    const bool cosine = density == HemisphereDensity::cosine;
+    set.weights.assign(count, static_cast<float>((cosine ? kPi : 2.0 * kPi) / count));
+    for (std::uint32_t s = 0; s < count; ++s) {
+        const Vec3d d = sphere_direction<double>(kind, seed, s, count);
+        const Vec3d l = cosine ? sphere_to_cosine_hemisphere<double>(d)
+                               : sphere_to_uniform_hemisphere<double>(d);
+        set.dirs[3 * static_cast<std::size_t>(s) + 0] = static_cast<float>(l.x);
+        set.dirs[3 * static_cast<std::size_t>(s) + 1] = static_cast<float>(l.y);
+        set.dirs[3 * static_cast<std::size_t>(s) + 2] = static_cast<float>(l.z);
+    }
+    return set;
+}
+
 DirectionSet make_direction_set(SamplerKind kind, std::uint64_t seed, std::uint32_t count) {
     return make_set<DirectionSet>(kind, seed, count);
 }

@@ -24,6 +24,10 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--sampler", args.sampler,
                    "sobol (default: 7x lower error than the paper's set at the same cost), "
                    "uniform (the paper's), stratified or fibonacci");
+    app.add_option("--directions", args.directions,
+                   "sphere (default: one set on the sphere, the paper's) or local (one "
+                   "cosine-weighted set in each receiver's tangent frame: every ray above the "
+                   "horizon; CPU only; docs/sampling.md)");
     app.add_option("--seed", args.seed, "Seed of the direction set (default 1)");
     app.add_option("--threads", args.threads, "Worker threads (default 0 = all)");
     app.add_option("--device", args.device, "cpu (default), cuda or auto");
@@ -77,6 +81,7 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
     BakeOptions o;
     o.transfer = parse_transfer_kind(a.transfer);
     o.sampler = parse_sampler_kind(a.sampler);
+    o.direction_frame = parse_direction_frame(a.directions);
     o.device = parse_device(a.device);
     SHPRT_CHECK(!(a.bands && a.coeffs), invalid_argument,
                 "--bands and --coeffs both given; use one (K = bands²)");

@@ -15,7 +15,7 @@
 namespace shprt::tools {
 
 struct BakeOptionArgs {
-    std::string transfer = "shadowed", sampler = "sobol", device = "cpu";
+    std::string transfer = "shadowed", sampler = "sobol", directions = "sphere", device = "cpu";
     std::optional<long long> bands, coeffs;
     long long samples = 1024;
     std::uint64_t seed = 1;

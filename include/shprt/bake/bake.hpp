@@ -73,6 +73,11 @@ inline constexpr int kDefaultBounceCoeffs = 16;
 inline constexpr int kMaxBakeThreads = 4096;
 // Most bounces an interreflected bake accepts (BakeOptions::bounces and max_bounces).
 inline constexpr int kMaxBounces = 10000;
+// The one line with which a GPU bake refuses a local direction set (bake() with Device::cuda,
+// request_refusal).
+inline constexpr const char* kLocalDirectionsOnGpu =
+    "--directions local: the GPU bake has no local direction sets yet; bake on the CPU "
+    "(--device cpu) or with --directions sphere";
 
 // The basis size K of a bake when the caller gives neither bands nor K: 16 (4 bands), and 25 (5
 // bands: 25×25 matrices) for glossy transfer. The command line and Python both ask here.
@@ -91,6 +96,15 @@ struct BakeOptions {
     // Sobol (Owen-scrambled): the paper table measured 7× lower error than the paper's uniform
     // set at the same cost (docs/paper_table.md); SamplerKind::uniform is the paper's.
     SamplerKind sampler = SamplerKind::sobol;
+    // Where the shared set lives (docs/sampling.md): sphere (the paper's: one set in world space,
+    // weights 4π/S, about half of it above a receiver's horizon) or local (one set in each
+    // receiver's tangent frame, cosine-weighted — uniform on the hemisphere for glossy —, every
+    // direction traced, the frame's coefficients rotated to world space band by band). CPU only:
+    // Device::cuda refuses local, Device::automatic then runs on the CPU. With a caller's
+    // DirectionSet and local, the set is in the frame (+z the normal) and its weights multiply
+    // the visibility alone (the cosine, if any, folded in). Interreflected transfer: T_0 uses it;
+    // the bounce sources keep the sphere set (their final gather is cosine-distributed already).
+    DirectionFrame direction_frame = DirectionFrame::sphere;
     std::uint64_t seed = 1;
     int threads = 0;  // worker threads, 0..kMaxBakeThreads; 0 = all hardware threads
     // cpu; cuda (the GPU bake; Error(unsupported) with the reason where it cannot run); or
@@ -161,6 +175,12 @@ Device resolve_device(Device requested, int device_index = 0);
 // transfer —, float32), sampler, samples and seed; no stats. A progressive
 // display starts from TransferSet::zeros(bake_description(options), V).
 TransferInfo bake_description(const BakeOptions& options);
+
+// The direction set a bake with `options` makes when it is given none (BakeJob::directions):
+// make_direction_set(sampler, seed, samples) for DirectionFrame::sphere; for local the set of
+// make_local_direction_set, cosine-weighted (uniform on the hemisphere for glossy transfer: a
+// cosine density would weigh its samples by 1/cos θ, of infinite variance at the horizon).
+DirectionSet bake_direction_set(const BakeOptions& options);
 
 // A bake's inputs: the three seams, plus optional caller-made pieces.
 struct BakeJob {

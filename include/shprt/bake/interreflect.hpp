@@ -148,6 +148,7 @@ std::size_t bake_bounce_source_count(const Mesh& mesh, const BakeOptions& option
 // The directions the operator of an interreflected bake with `options` traces: the first
 // BakeOptions::indirect_samples (0 = S / kIndirectSampleShare) of the bake's sampler and seed —
 // for Sobol a nested prefix of `directions` —, or `directions` itself when that many or more.
+// A local bake (DirectionFrame::local): always the sphere set of its sampler and seed, at most S.
 DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionSet& directions);
 
 // The coefficients light carries from its second bounce on in an interreflected bake with

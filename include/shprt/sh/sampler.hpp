@@ -36,6 +36,17 @@ inline constexpr SamplerKind kAllSamplerKinds[] = {SamplerKind::uniform, Sampler
 const char* to_string(SamplerKind kind);
 SamplerKind parse_sampler_kind(const std::string& name);  // throws Error(invalid_argument)
 
+// Where a bake's shared direction set lives (docs/sampling.md):
+//  * sphere: one set on the whole sphere in world space, weights 4π/S (the paper's scheme); a
+//    receiver uses the directions above its horizon, about S/2 of them.
+//  * local:  one set on the hemisphere around +z of a receiver's tangent frame (cosine-weighted
+//    for diffuse transfer, uniform for glossy), turned into each receiver's frame by the rotation
+//    of local_frame.hpp: every direction is above the horizon and is traced; the coefficients
+//    projected in the frame are rotated to world space band by band.
+enum class DirectionFrame { sphere, local };
+const char* to_string(DirectionFrame frame);
+DirectionFrame parse_direction_frame(const std::string& name);  // "sphere", "local"; throws Error
+
 // A direction set with integration weights: ∫ f dω ≈ Σ_s weights[s] · f(dirs[s]).
 // Monte Carlo sets carry the constant weight 4π/S; quadrature sets carry exact weights.
 struct DirectionSet {
@@ -249,6 +260,35 @@ SHPRT_HD_INLINE Vec3<T> sphere_direction(SamplerKind kind, std::uint64_t seed, s
 }
 
 // ---------------------------------------------------------------------------------------------
+// Hemisphere maps (the local direction sets, docs/sampling.md)
+//
+// A direction d = (x, y, z) uniform on the sphere has z uniform on [−1, 1] and its azimuth φ
+// uniform and independent of z, so u = (1 + z)/2 is uniform on [0, 1]. The maps below keep φ and
+// send u to the polar angle θ' about +z of the hemisphere:
+//  * cosine:  cos θ' = √u, density cos θ'/π (∫ cos θ' f dω ≈ (π/S)·Σ f over S directions);
+//  * uniform: cos θ' = u,  density 1/(2π)   (∫ f dω ≈ (2π/S)·Σ f).
+// Both are monotone in z and keep φ, so they carry a set's stratification (Sobol's elementary
+// intervals, the stratified cells) and its nested prefixes to the hemisphere. With
+// x² + y² = (1 − z)(1 + z): the cosine map is (x, y)/√(2(1 + z)), √((1 + z)/2); the uniform map
+// scales (x, y) by sin θ'/sin θ = √(1 − u²)/√(1 − z²). The pole z = −1 goes to the horizon
+// along +x.
+template <class T>
+SHPRT_HD_INLINE Vec3<T> sphere_to_cosine_hemisphere(Vec3<T> d) {
+    const T up = T(1) + d.z;
+    if (!(up > T(0))) return {T(1), T(0), T(0)};
+    const T r = T(1) / std::sqrt(T(2) * up);
+    return {d.x * r, d.y * r, std::sqrt(T(0.5) * up)};
+}
+template <class T>
+SHPRT_HD_INLINE Vec3<T> sphere_to_uniform_hemisphere(Vec3<T> d) {
+    const T u = T(0.5) * (T(1) + d.z);
+    const T sin2 = (T(1) - d.z) * (T(1) + d.z);  // sin² θ of d
+    if (!(sin2 > T(0))) return d.z > T(0) ? Vec3<T>{T(0), T(0), T(1)} : Vec3<T>{T(1), T(0), T(0)};
+    const T r = std::sqrt((T(1) - u) * (T(1) + u) / sin2);
+    return {d.x * r, d.y * r, u};
+}
+
+// ---------------------------------------------------------------------------------------------
 // Host-side sets
 
 // The `count`-direction set of `kind` and `seed` with weights 4π/count: direction s is
@@ -275,6 +315,17 @@ DirectionSet gauss_legendre_set(int n_theta, int n_phi);
 // Throws Error(invalid_argument) unless 1 ≤ bands ≤ 4096.
 DirectionSetD quadrature_set_for_bands_d(int bands);
 DirectionSet quadrature_set_for_bands(int bands);
+
+// The density of a local set on its hemisphere (see the maps above).
+enum class HemisphereDensity { cosine, uniform };
+
+// The `count`-direction local set of `kind` and `seed`: direction s is
+// sphere_direction<double>(kind, seed, s, count) mapped to the hemisphere around +z by the map of
+// `density`, rounded to float; every weight is π/count (cosine: the weight of V·f in
+// ∫ V·cos θ'·f dω, the cosine folded in) or 2π/count (uniform: the weight of V·f in ∫ V·f dω).
+// Nested like the sphere set it maps (uniform, sobol). Throws as make_direction_set.
+DirectionSet make_local_direction_set(SamplerKind kind, std::uint64_t seed, std::uint32_t count,
+                                      HemisphereDensity density);
 
 // Rounds a double set to float.
 DirectionSet to_float(const DirectionSetD& set);

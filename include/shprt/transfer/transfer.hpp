@@ -170,6 +170,7 @@ struct TransferInfo {
 
     // Sampling that produced it (recorded in the file).
     SamplerKind sampler = SamplerKind::uniform;
+    DirectionFrame direction_frame = DirectionFrame::sphere;  // the set's frame (sampler.hpp)
     int samples = 0;
     std::uint64_t seed = 0;
     BakeStats stats;

@@ -1,0 +1,294 @@
+// The sphere direction set against the local one (docs/sampling.md, "The local set"; issue 39,
+// item 1), on the room under a 16-band sky plus a 2° sun, shaded to per-vertex luminance:
+//
+//  1. variance at equal rays: for a fixed set of receivers (every 64th vertex), the variance over
+//     16 seeds of each receiver's luminance, sphere vs local at the same S and at the same rays
+//     (a sphere set of S casts about S/2 rays per receiver, a local set S);
+//  2. error against time: the relative RMS luminance error of whole-room bakes against a
+//     65536-sample sphere Sobol bake with another seed (kept in --reference-cache), for S from 64
+//     up, sphere and local interleaved (min wall time of --reps runs each), and the time each
+//     needs for 1 % by log–log interpolation between the bracketing S.
+//
+//     build/bench/bench_local_directions [--K 256] [--max-samples 8192] [--reps 2]
+//
+// Wall times are the bake's own (the direction set made, traced and projected; the BVH is built
+// once outside and not counted: the same for both). The load average is printed before and after:
+// other programs share this machine.
+#include "shprt/bake/bake.hpp"
+#include "shprt/core/host.hpp"
+#include "shprt/light/light.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/trace/tracer.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <ctime>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// CPU seconds of the whole process (every worker thread of the bake).
+double process_cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+struct Args {
+    int K = 256;
+    std::uint32_t max_samples = 8192, reference_samples = 65536;
+    int reps = 2, threads = 2, seeds = 16;
+    std::string reference_cache = "/tmp/bench_local_directions_reference.bin";
+};
+
+// Luminance of every receiver's irradiance under the light: Y = 0.2126 R + 0.7152 G + 0.0722 B.
+std::vector<double> luminance(const std::vector<float>& rows, int K, const ShLight& light) {
+    const std::size_t V = rows.size() / std::size_t(K);
+    std::vector<double> y(V);
+    std::vector<double> l(static_cast<std::size_t>(K));
+    for (int i = 0; i < K; ++i)
+        l[i] = 0.2126 * light.channel(0)[i] + 0.7152 * light.channel(1)[i] +
+               0.0722 * light.channel(2)[i];
+    for (std::size_t v = 0; v < V; ++v) {
+        double e = 0;
+        for (int i = 0; i < K; ++i)
+            e += double(rows[v * std::size_t(K) + std::size_t(i)]) * l[std::size_t(i)];
+        y[v] = e;
+    }
+    return y;
+}
+
+double relative_rms(const std::vector<double>& a, const std::vector<double>& ref) {
+    double num = 0, den = 0;
+    for (std::size_t v = 0; v < a.size(); ++v) {
+        num += (a[v] - ref[v]) * (a[v] - ref[v]);
+        den += ref[v] * ref[v];
+    }
+    return std::sqrt(num / den);
+}
+
+BakeOptions options_for(const Args& a, DirectionFrame frame, std::uint32_t S, std::uint64_t seed) {
+    BakeOptions o;
+    o.K = a.K;
+    o.samples = S;
+    o.seed = seed;
+    o.threads = a.threads;
+    o.sampler = SamplerKind::sobol;
+    o.direction_frame = frame;
+    return o;
+}
+
+void print_load(const char* when) {
+    std::printf("load average %s: ", when);
+    std::fflush(stdout);
+    std::system("cut -d' ' -f1-3 /proc/loadavg");
+}
+
+// 1. Per-receiver variance over seeds.
+void variance_study(const Args& a, const Mesh& mesh, const Tracer& tracer, const ShLight& light) {
+    std::vector<Vec3f> p, n;
+    for (std::size_t v = 0; v < mesh.vertex_count(); v += 64) {
+        p.push_back(mesh.positions[v]);
+        n.push_back(mesh.normals[v]);
+    }
+    const Receivers rx = Receivers::all(ReceiverDomain::vertex, p.data(), n.data(), p.size());
+    std::printf(
+        "\n1. variance over %d seeds of the luminance of %zu receivers (every 64th vertex), "
+        "K = %d\n\n",
+        a.seeds, p.size(), a.K);
+    std::printf(
+        "| set | S | rays/receiver | mean variance | mean var. / sphere's at S | "
+        "median per-receiver ratio sphere/local |\n|---|---:|---:|---:|---:|---:|\n");
+    auto variances = [&](DirectionFrame frame, std::uint32_t S, double& rays) {
+        std::vector<double> sum(p.size(), 0.0), sum2(p.size(), 0.0);
+        rays = 0;
+        for (int seed = 1; seed <= a.seeds; ++seed) {
+            HostSink sink;
+            BakeJob job{&mesh, rx, &sink, nullptr, &tracer, nullptr};
+            const TransferInfo info = bake(job, options_for(a, frame, S, std::uint64_t(seed)));
+            rays += double(info.stats.rays_cast) / double(p.size()) / a.seeds;
+            const std::vector<double> y = luminance(sink.take_rows(), a.K, light);
+            for (std::size_t r = 0; r < y.size(); ++r) {
+                sum[r] += y[r];
+                sum2[r] += y[r] * y[r];
+            }
+        }
+        std::vector<double> var(p.size());
+        for (std::size_t r = 0; r < p.size(); ++r) {
+            const double m = sum[r] / a.seeds;
+            var[r] = std::max(0.0, (sum2[r] / a.seeds - m * m) * a.seeds / (a.seeds - 1));
+        }
+        return var;
+    };
+    auto mean = [](const std::vector<double>& v) {
+        double s = 0;
+        for (double x : v) s += x;
+        return s / double(v.size());
+    };
+    for (const std::uint32_t S : {256u, 1024u, 4096u}) {
+        double rays_s = 0, rays_l = 0, rays_h = 0;
+        const std::vector<double> vs = variances(DirectionFrame::sphere, S, rays_s);
+        const std::vector<double> vl = variances(DirectionFrame::local, S, rays_l);
+        const std::vector<double> vh = variances(DirectionFrame::local, S / 2, rays_h);
+        auto median_ratio = [&](const std::vector<double>& local) {
+            std::vector<double> r;
+            for (std::size_t i = 0; i < vs.size(); ++i)
+                if (local[i] > 0 && vs[i] > 0) r.push_back(vs[i] / local[i]);
+            std::sort(r.begin(), r.end());
+            return r.empty() ? 0.0 : r[r.size() / 2];
+        };
+        std::printf("| sphere | %u | %.0f | %.4g | 1 | 1 |\n", S, rays_s, mean(vs));
+        std::printf("| local | %u | %.0f | %.4g | %.3f | %.2f |\n", S, rays_l, mean(vl),
+                    mean(vl) / mean(vs), median_ratio(vl));
+        std::printf("| local (equal rays) | %u | %.0f | %.4g | %.3f | %.2f |\n", S / 2, rays_h,
+                    mean(vh), mean(vh) / mean(vs), median_ratio(vh));
+        std::fflush(stdout);
+    }
+}
+
+// 2. Error against time.
+struct Point {
+    std::uint32_t S;
+    double seconds, error;  // seconds: wall or CPU, as the curve is
+};
+
+double time_to(const std::vector<Point>& curve, double target) {
+    for (std::size_t i = 1; i < curve.size(); ++i) {
+        const Point &a = curve[i - 1], &b = curve[i];
+        if (a.error >= target && b.error <= target) {
+            const double t = std::log(a.error / target) / std::log(a.error / b.error);
+            return std::exp(std::log(a.seconds) + t * std::log(b.seconds / a.seconds));
+        }
+    }
+    if (curve.size() >= 2 && curve.back().error > target) {  // past the curve: extrapolated
+        const Point &a = curve[curve.size() - 2], &b = curve.back();
+        const double t = std::log(a.error / target) / std::log(a.error / b.error);
+        return -std::exp(std::log(a.seconds) + t * std::log(b.seconds / a.seconds));
+    }
+    return curve.empty() ? NAN : curve.front().seconds;
+}
+
+void error_curve(const Args& a, const Mesh& mesh, const Tracer& tracer, const ShLight& light) {
+    std::vector<double> ref;
+    {
+        std::ifstream in(a.reference_cache, std::ios::binary);
+        std::uint64_t header[3] = {};
+        if (in && in.read(reinterpret_cast<char*>(header), sizeof(header)) &&
+            header[0] == mesh.vertex_count() && header[1] == std::uint64_t(a.K) &&
+            header[2] == a.reference_samples) {
+            ref.resize(mesh.vertex_count());
+            in.read(reinterpret_cast<char*>(ref.data()), std::streamsize(ref.size() * 8));
+            std::printf("\nreference: %s (cached)\n", a.reference_cache.c_str());
+        }
+    }
+    if (ref.empty()) {
+        const auto start = Clock::now();
+        const BakeOptions o =
+            options_for(a, DirectionFrame::sphere, a.reference_samples, 7919);  // another seed
+        ref =
+            luminance(bake_with_tracer(mesh, o, bake_direction_set(o), tracer).coeffs, a.K, light);
+        std::printf("\nreference: sphere Sobol S = %u, seed 7919, %.1f s\n", a.reference_samples,
+                    std::chrono::duration<double>(Clock::now() - start).count());
+        std::ofstream out(a.reference_cache, std::ios::binary);
+        const std::uint64_t header[3] = {mesh.vertex_count(), std::uint64_t(a.K),
+                                         a.reference_samples};
+        out.write(reinterpret_cast<const char*>(header), sizeof(header));
+        out.write(reinterpret_cast<const char*>(ref.data()), std::streamsize(ref.size() * 8));
+    }
+    std::printf(
+        "\n2. relative RMS luminance error against the reference, K = %d, %d threads, "
+        "min wall of %d runs (sphere and local interleaved)\n\n",
+        a.K, a.threads, a.reps);
+    std::printf(
+        "| S | sphere: wall s | sphere: CPU s | sphere: error | sphere: Mrays | local: wall s "
+        "| local: CPU s | local: error | local: Mrays |\n"
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    std::vector<Point> curves[2], cpu_curves[2];
+    for (std::uint32_t S = 64; S <= a.max_samples; S *= 2) {
+        double best[2] = {1e30, 1e30}, cpu[2] = {1e30, 1e30}, error[2] = {0, 0}, rays[2] = {0, 0};
+        for (int rep = 0; rep < a.reps; ++rep)
+            for (int f = 0; f < 2; ++f) {
+                const DirectionFrame frame =
+                    f == 0 ? DirectionFrame::sphere : DirectionFrame::local;
+                const BakeOptions o = options_for(a, frame, S, 1);
+                const auto start = Clock::now();
+                const double cpu_start = process_cpu_seconds();
+                const TransferSet t = bake_with_tracer(mesh, o, bake_direction_set(o), tracer);
+                const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+                best[f] = std::min(best[f], wall);
+                cpu[f] = std::min(cpu[f], process_cpu_seconds() - cpu_start);
+                if (rep == 0) {
+                    error[f] = relative_rms(luminance(t.coeffs, a.K, light), ref);
+                    rays[f] = double(t.stats.rays_cast) * 1e-6;
+                }
+            }
+        for (int f = 0; f < 2; ++f) {
+            curves[f].push_back({S, best[f], error[f]});
+            cpu_curves[f].push_back({S, cpu[f], error[f]});
+        }
+        std::printf("| %u | %.3f | %.3f | %.3f %% | %.1f | %.3f | %.3f | %.3f %% | %.1f |\n", S,
+                    best[0], cpu[0], 100 * error[0], rays[0], best[1], cpu[1], 100 * error[1],
+                    rays[1]);
+        std::fflush(stdout);
+    }
+    std::printf("\n");
+    for (const double target : {0.02, 0.01}) {
+        double ts = time_to(curves[0], target), tl = time_to(curves[1], target);
+        double cs = time_to(cpu_curves[0], target), cl = time_to(cpu_curves[1], target);
+        const bool extrapolated = ts < 0 || tl < 0;
+        ts = std::fabs(ts), tl = std::fabs(tl), cs = std::fabs(cs), cl = std::fabs(cl);
+        std::printf(
+            "time to %.0f %% (log-log interpolation%s): wall sphere %.3f s, local %.3f s "
+            "(%.2fx); CPU sphere %.3f s, local %.3f s (%.2fx)\n",
+            100 * target, extrapolated ? ", one extrapolated past the last S" : "", ts, tl, ts / tl,
+            cs, cl, cs / cl);
+    }
+}
+
+}  // namespace
+}  // namespace shprt
+
+int main(int argc, char** argv) {
+    using namespace shprt;
+    Args a;
+    CLI::App app{"The sphere direction set against the local one (bench/RESULTS.md)"};
+    app.add_option("--K", a.K, "basis size (default 256)");
+    app.add_option("--max-samples", a.max_samples, "largest S of the curve (default 8192)");
+    app.add_option("--reference-samples", a.reference_samples, "default 65536");
+    app.add_option("--reps", a.reps, "runs per point, min wall time (default 2)");
+    app.add_option("--threads", a.threads, "default 2");
+    app.add_option("--seeds", a.seeds, "seeds of the variance study (default 16)");
+    app.add_option("--reference-cache", a.reference_cache, "the reference's luminance");
+    bool skip_variance = false, skip_curve = false;
+    app.add_flag("--skip-variance", skip_variance);
+    app.add_flag("--skip-curve", skip_curve);
+    CLI11_PARSE(app, argc, argv);
+
+    std::printf("bench_local_directions: builtin:room, K = %d, %d threads, OPENBLAS_CORETYPE=%s\n",
+                a.K, a.threads,
+                std::getenv("OPENBLAS_CORETYPE") ? std::getenv("OPENBLAS_CORETYPE") : "(unset)");
+    std::printf("host: %s\n", host_cpu().c_str());
+    print_load("at start");
+    const Mesh mesh = make_builtin("room");
+    std::printf(
+        "room: %zu vertices, %zu triangles; light: gradient sky + 2 degree sun "
+        "(sun:0.4,0.8,-0.3,2), projected to K = %d\n",
+        mesh.vertex_count(), mesh.triangle_count(), a.K);
+    const ShLight light = make_light({"gradient", "sun:0.4,0.8,-0.3,2"}, a.K);
+    const auto tracer = make_embree_tracer(mesh);
+    if (!skip_variance) variance_study(a, mesh, *tracer, light);
+    if (!skip_curve) error_curve(a, mesh, *tracer, light);
+    print_load("at end");
+    return 0;
+}
