@@ -108,7 +108,6 @@ def save(
     transfer: ArrayLike,
     kind: str = "shadowed",
     sampler: str = "sobol",
-    directions: str = "sphere",
     samples: int = 0,
     seed: int = 0,
     encoding: str = "float32",

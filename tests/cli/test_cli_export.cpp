@@ -61,7 +61,7 @@ TEST_F(CliExport, GlossyMatricesExportTheirDiffuseTransfer) {
     write_shprt(diffuse, file.mesh, glossy_to_diffuse(file.mesh, file.transfer));
     r = shprt("export '" + glossy + "' -o '" + out("g.glb") + "' --light sun:0,1,0");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_THAT(r.out, ::testing::HasSubstr("K=9, float32, the glossy matrices' diffuse transfer"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("K=9, float32, custom attributes, the glossy matrices' diffuse transfer"));
     r = shprt("export '" + diffuse + "' -o '" + out("d.glb") + "' --light sun:0,1,0");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(test_support::slurp(out("g.glb")), test_support::slurp(out("d.glb")));
