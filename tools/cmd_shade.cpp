@@ -61,8 +61,8 @@ void run(const ShadeArgs& a) {
                 "--quantity is for texel files; {} holds vertex transfer", a.input);
     SHPRT_CHECK(
         texel || !image_output, unsupported,
-        "{}: .exr and .png output are for texel files; {} holds vertex transfer (use .csv, .ply or "
-        ".npy)",
+        "{}: .exr and .png output are for texel files; {} holds vertex transfer (use .csv, .ply, "
+        ".npy or .npz)",
         a.output, a.input);
     std::optional<PreparedSun> sun;
     if (plan.sun) sun = prepare_sun(setup, file.transfer.layout.K);
@@ -95,7 +95,7 @@ const bool shade_registered = register_command(
          auto args = std::make_shared<ShadeArgs>();
          app.add_option("file", args->input, "Baked .shprt file")->required();
          app.add_option("-o,--output", args->output,
-                        "Output .csv, .ply or .npy (texel files: .npy or .exr)")
+                        "Output .csv, .ply, .npy or .npz (texel files: .npy, .exr or .png)")
              ->required();
          add_light_options(app, args->light);
          add_shading_options(app, args->shading,

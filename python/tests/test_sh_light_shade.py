@@ -177,3 +177,17 @@ def test_a_texel_file_shades_per_texel_as_the_command_line_shades_it(tmp_path, c
     E, R = shprt.shade(f, shprt.light("builtin", K=4))
     assert E.shape == (f.transfer.shape[0], 3) == (covered.sum(), 3)
     np.testing.assert_allclose(E, image[covered], rtol=1e-6, atol=1e-6)
+
+
+def test_shade_writes_named_arrays_to_npz_and_exact_floats_to_ply(box, tmp_path, cli):
+    # `shprt shade -o OUT.npz`: numpy.load gives position, irradiance and radiance by name, the
+    # numbers Python's shade() returns; the PLY's float properties hold the same values.
+    path, npz = str(tmp_path / "b.shprt"), str(tmp_path / "s.npz")
+    cli("bake", "builtin:box_on_plane", "--bands", "3", "--samples", "64", "-o", path)
+    cli("shade", path, "--light", "builtin", "-o", npz)
+    E, R = shprt.shade(shprt.load(path), shprt.light("builtin", K=9))
+    with np.load(npz) as arrays:
+        assert sorted(arrays.files) == ["irradiance", "position", "radiance"]
+        np.testing.assert_allclose(arrays["irradiance"], E, rtol=1e-6, atol=1e-6)
+        np.testing.assert_allclose(arrays["radiance"], R, rtol=1e-6, atol=1e-6)
+        assert arrays["position"].shape == (box.vertex_count, 3)

@@ -35,7 +35,8 @@ std::string one_line(std::string_view s) {
 }  // namespace
 
 void write_ply(const Mesh& mesh, const std::string& path,
-               const std::vector<std::array<std::uint8_t, 3>>* colours, std::string_view comment) {
+               const std::vector<std::array<std::uint8_t, 3>>* colours, std::string_view comment,
+               const std::vector<PlyFloatProperty>& floats) {
     const std::size_t nv = mesh.positions.size();
     SHPRT_CHECK(mesh.normals.empty() || mesh.normals.size() == nv, invalid_argument,
                 "{}: {} normals for {} vertices", path, mesh.normals.size(), nv);
@@ -43,6 +44,9 @@ void write_ply(const Mesh& mesh, const std::string& path,
                 "{}: {} albedo values for {} vertices", path, mesh.albedo.size(), nv);
     SHPRT_CHECK(!colours || colours->size() == nv, invalid_argument,
                 "{}: {} colours for {} vertices", path, colours ? colours->size() : 0, nv);
+    for (const PlyFloatProperty& f : floats)
+        SHPRT_CHECK(f.values.size() == nv, invalid_argument, "{}: {} values of {} for {} vertices",
+                    path, f.values.size(), f.name, nv);
     const bool has_normals = !mesh.normals.empty();
     const bool has_colours = colours || !mesh.albedo.empty();
     const bool has_uvs = mesh.uvs.size() == nv && nv > 0;
@@ -55,6 +59,7 @@ void write_ply(const Mesh& mesh, const std::string& path,
     if (has_normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
     if (has_colours) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
     if (has_uvs) header += "property float s\nproperty float t\n";  // Assimp reads them as UV set 0
+    for (const PlyFloatProperty& f : floats) header += "property float " + one_line(f.name) + "\n";
     header += fmt::format("element face {}\nproperty list uchar uint vertex_indices\nend_header\n",
                           mesh.triangles.size());
 
@@ -93,6 +98,7 @@ void write_ply(const Mesh& mesh, const std::string& path,
             put32(buffer, mesh.uvs[v][0]);
             put32(buffer, mesh.uvs[v][1]);
         }
+        for (const PlyFloatProperty& f : floats) put32(buffer, f.values[v]);
         flush_if_full();
     }
     for (const auto& t : mesh.triangles) {

@@ -1,5 +1,5 @@
-// Writers of per-vertex shading results: CSV, numpy .npy (format 1.0) and binary PLY with
-// display-encoded vertex colours. All through AtomicFile.
+// Writers of per-vertex shading results: CSV, numpy .npy (format 1.0) and .npz (named arrays), and
+// binary PLY with display-encoded vertex colours and the exact values. All through AtomicFile.
 #include "shprt/shade/shade_export.hpp"
 
 #include "shprt/core/error.hpp"
@@ -8,6 +8,7 @@
 #include "shprt/shade/tonemap.hpp"
 
 #include <fmt/format.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -59,8 +60,9 @@ ShadeFormat shade_format_for_path(const std::string& path) {
     if (ext == ".csv") return ShadeFormat::csv;
     if (ext == ".ply") return ShadeFormat::ply;
     if (ext == ".npy") return ShadeFormat::npy;
-    fail(ErrorCode::invalid_argument, "output {}: unknown format (expected .csv, .ply or .npy)",
-         path);
+    if (ext == ".npz") return ShadeFormat::npz;
+    fail(ErrorCode::invalid_argument,
+         "output {}: unknown format (expected .csv, .ply, .npy or .npz)", path);
 }
 
 void write_shade_csv(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
@@ -83,8 +85,11 @@ void write_shade_csv(const std::string& path, const Mesh& mesh, const ShadeResul
     file.commit();
 }
 
-void write_npy_f32(const std::string& path, const std::vector<std::size_t>& shape,
-                   const std::vector<float>& data) {
+namespace {
+
+// The bytes of a NumPy .npy file (format 1.0) of float32 `data` with `shape`.
+std::string npy_f32_bytes(const std::string& path, const std::vector<std::size_t>& shape,
+                          const std::vector<float>& data) {
     require_little_endian();
     std::size_t count = 1;
     std::string dims;
@@ -105,20 +110,93 @@ void write_npy_f32(const std::string& path, const std::vector<std::size_t>& shap
     header.push_back('\n');
     SHPRT_CHECK(header.size() <= 65535, invalid_argument, "npy header too long");
     const auto len = static_cast<std::uint16_t>(header.size());
-    const unsigned char magic[10] = {0x93,
-                                     'N',
-                                     'U',
-                                     'M',
-                                     'P',
-                                     'Y',
-                                     1,
-                                     0,
-                                     static_cast<unsigned char>(len & 0xff),
-                                     static_cast<unsigned char>(len >> 8)};
+    std::string out = "\x93NUMPY";
+    out += {char(1), char(0), char(len & 0xff), char(len >> 8)};
+    out += header;
+    out.append(reinterpret_cast<const char*>(data.data()), data.size() * sizeof(float));
+    return out;
+}
+
+void put16(std::string& out, std::uint32_t x) { out += {char(x & 0xff), char((x >> 8) & 0xff)}; }
+void put32(std::string& out, std::uint32_t x) {
+    put16(out, x & 0xffff);
+    put16(out, x >> 16);
+}
+
+// A ZIP archive of `members` stored without compression, as numpy.savez writes (.npz): local
+// headers, the data, the central directory and its end record (PKWARE APPNOTE 6.3, §4.3). No
+// ZIP64: an archive past 4 GiB is refused.
+std::string stored_zip(const std::string& path,
+                       const std::vector<std::pair<std::string, std::string>>& members) {
+    std::string out, central;
+    for (const auto& [name, bytes] : members) {
+        SHPRT_CHECK(out.size() + bytes.size() < 0xffffffffu, invalid_argument,
+                    "cannot write {}: more than the 4 GiB a .npz without ZIP64 holds", path);
+        const auto crc = static_cast<std::uint32_t>(
+            crc32(0, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size())));
+        const auto offset = static_cast<std::uint32_t>(out.size());
+        const auto size = static_cast<std::uint32_t>(bytes.size());
+        // version 2.0, no flags, stored, time and date 0 (1980-01-01; the same bytes every run)
+        std::string fields;
+        put16(fields, 20);
+        put16(fields, 0);
+        put16(fields, 0);
+        put32(fields, 0);
+        put32(fields, crc);
+        put32(fields, size);
+        put32(fields, size);
+        put16(fields, std::uint32_t(name.size()));
+        put16(fields, 0);  // extra field length
+        put32(out, 0x04034b50);
+        out += fields + name + bytes;
+        put32(central, 0x02014b50);
+        put16(central, 20);  // made by
+        central += fields;
+        put16(central, 0);  // comment length
+        put16(central, 0);  // disk
+        put16(central, 0);  // internal attributes
+        put32(central, 0);  // external attributes
+        put32(central, offset);
+        central += name;
+    }
+    const auto directory = static_cast<std::uint32_t>(out.size());
+    out += central;
+    put32(out, 0x06054b50);
+    put16(out, 0);
+    put16(out, 0);
+    put16(out, std::uint32_t(members.size()));
+    put16(out, std::uint32_t(members.size()));
+    put32(out, std::uint32_t(central.size()));
+    put32(out, directory);
+    put16(out, 0);
+    return out;
+}
+
+std::vector<float> columns(const std::vector<Vec3f>& values) {
+    std::vector<float> out(values.size() * 3);
+    if (!values.empty()) std::memcpy(out.data(), values.data(), out.size() * sizeof(float));
+    return out;
+}
+
+}  // namespace
+
+void write_npy_f32(const std::string& path, const std::vector<std::size_t>& shape,
+                   const std::vector<float>& data) {
+    const std::string bytes = npy_f32_bytes(path, shape, data);
     AtomicFile file(path);
-    file.write(magic, sizeof(magic));
-    file.write(header);
-    file.write(data.data(), data.size() * sizeof(float));
+    file.write(bytes);
+    file.commit();
+}
+
+void write_shade_npz(const std::string& path, const Mesh& mesh, const ShadeResult& result) {
+    check_result(path, mesh, result);
+    const std::vector<std::size_t> shape{mesh.vertex_count(), 3};
+    const std::string zip = stored_zip(
+        path, {{"position.npy", npy_f32_bytes(path, shape, columns(mesh.positions))},
+               {"irradiance.npy", npy_f32_bytes(path, shape, columns(result.irradiance))},
+               {"radiance.npy", npy_f32_bytes(path, shape, columns(result.radiance))}});
+    AtomicFile file(path);
+    file.write(zip);
     file.commit();
 }
 
@@ -144,8 +222,22 @@ void write_shade_ply(const std::string& path, const Mesh& mesh, const ShadeResul
         colours[v] = {display_encode8(l.x, exposure), display_encode8(l.y, exposure),
                       display_encode8(l.z, exposure)};
     }
-    write_ply(mesh, path, &colours,
-              fmt::format("shprt shade: radiance L, filmic tone map, sRGB, exposure {}", exposure));
+    // The exact values too, as floats (linear, no exposure): what the colours cannot hold.
+    std::vector<PlyFloatProperty> floats;
+    for (const auto& [quantity, values] :
+         {std::pair{"irradiance", &result.irradiance}, std::pair{"radiance", &result.radiance}})
+        for (int c = 0; c < 3; ++c) {
+            PlyFloatProperty& f = floats.emplace_back();
+            f.name = fmt::format("{}_{}", quantity, "rgb"[c]);
+            f.values.resize(V);
+            for (std::size_t v = 0; v < V; ++v) f.values[v] = (&(*values)[v].x)[c];
+        }
+    write_ply(
+        mesh, path, &colours,
+        fmt::format("shprt shade: colours are radiance L, filmic tone map, sRGB, exposure {}; "
+                    "irradiance_* and radiance_* are E and L, linear floats",
+                    exposure),
+        floats);
 }
 
 void write_shade(const std::string& path, const Mesh& mesh, const ShadeResult& result,
@@ -156,6 +248,9 @@ void write_shade(const std::string& path, const Mesh& mesh, const ShadeResult& r
             break;
         case ShadeFormat::npy:
             write_shade_npy(path, mesh, result);
+            break;
+        case ShadeFormat::npz:
+            write_shade_npz(path, mesh, result);
             break;
         case ShadeFormat::ply:
             write_shade_ply(path, mesh, result, exposure);

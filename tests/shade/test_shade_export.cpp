@@ -110,7 +110,9 @@ TEST(ShadeExport, PlyCarriesPositionsNormalsDisplayColoursAndFaces) {
     const std::string expect_props =
         "property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float "
         "ny\n"
-        "property float nz\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n";
+        "property float nz\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+        "property float irradiance_r\nproperty float irradiance_g\nproperty float irradiance_b\n"
+        "property float radiance_r\nproperty float radiance_g\nproperty float radiance_b\n";
     EXPECT_NE(header.find("element vertex " + std::to_string(f.mesh.vertex_count()) + "\n" +
                           expect_props),
               std::string::npos)
@@ -120,8 +122,8 @@ TEST(ShadeExport, PlyCarriesPositionsNormalsDisplayColoursAndFaces) {
               std::string::npos);
     const char* p = bytes.data() + end + std::strlen("end_header\n");
     const std::size_t V = f.mesh.vertex_count();
-    ASSERT_EQ(bytes.size() - (p - bytes.data()), V * 27 + f.mesh.triangle_count() * 13);
-    for (std::size_t v = 0; v < V; ++v, p += 27) {
+    ASSERT_EQ(bytes.size() - (p - bytes.data()), V * 51 + f.mesh.triangle_count() * 13);
+    for (std::size_t v = 0; v < V; ++v, p += 51) {
         float xyzn[6];
         std::memcpy(xyzn, p, sizeof(xyzn));
         ASSERT_EQ(xyzn[0], f.mesh.positions[v].x);
@@ -131,6 +133,12 @@ TEST(ShadeExport, PlyCarriesPositionsNormalsDisplayColoursAndFaces) {
             ASSERT_EQ(static_cast<unsigned char>(p[24 + c]),
                       display_encode8(f.result.radiance[v][c], exposure))
                 << v;
+        float exact[6];  // E and L, linear, without the exposure
+        std::memcpy(exact, p + 27, sizeof(exact));
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_EQ(exact[c], f.result.irradiance[v][c]) << v;
+            ASSERT_EQ(exact[3 + c], f.result.radiance[v][c]) << v;
+        }
     }
     for (std::size_t t = 0; t < f.mesh.triangle_count(); ++t, p += 13) {
         ASSERT_EQ(p[0], 3);
@@ -139,7 +147,8 @@ TEST(ShadeExport, PlyCarriesPositionsNormalsDisplayColoursAndFaces) {
         for (int k = 0; k < 3; ++k) ASSERT_EQ(idx[k], f.mesh.triangles[t][k]);
     }
     // What the colours mean, in the header; and the file loads as a scene, vertex for vertex.
-    EXPECT_NE(header.find("\ncomment shprt shade: radiance L, filmic tone map, sRGB, exposure 2\n"),
+    EXPECT_NE(header.find("\ncomment shprt shade: colours are radiance L, filmic tone map, sRGB, "
+                          "exposure 2; irradiance_* and radiance_* are E and L, linear floats\n"),
               std::string::npos)
         << header;
     const Mesh back = load_scene(dir.file("out.ply"));
@@ -160,6 +169,7 @@ TEST(ShadeExport, BadPathsThrowAndLeaveNothing) {
     EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
     EXPECT_EQ(shade_format_for_path("a/b.Csv"), ShadeFormat::csv);
     EXPECT_EQ(shade_format_for_path("b.ply"), ShadeFormat::ply);
+    EXPECT_EQ(shade_format_for_path("b.NPZ"), ShadeFormat::npz);
     try {
         shade_format_for_path("result.json");
         FAIL();
@@ -178,7 +188,7 @@ TEST(ShadeExport, NonFiniteResultsAreRefusedInEveryFormat) {
         for (const bool in_radiance : {false, true}) {
             Fixture f = make_fixture();
             (in_radiance ? f.result.radiance : f.result.irradiance)[7].y = value;
-            for (const char* name : {"out.csv", "out.npy", "out.ply"}) {
+            for (const char* name : {"out.csv", "out.npy", "out.npz", "out.ply"}) {
                 try {
                     write_shade(dir.file(name), f.mesh, f.result);
                     ADD_FAILURE() << name << ": a non-finite value was written";

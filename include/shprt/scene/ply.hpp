@@ -23,8 +23,14 @@ namespace shprt {
 // Comment lines record mesh.source and, when not empty, `comment` (one line; control characters
 // become '?'), e.g. what the colours mean. Throws Error(invalid_argument) when colours, normals or
 // albedo have the wrong count, Error(io) when the file cannot be written.
+// `floats`: more per-vertex float properties, after the others, in order (each `values` holds
+// one number per vertex), e.g. the exact shaded values beside display colours.
+struct PlyFloatProperty {
+    std::string name;
+    std::vector<float> values;
+};
 void write_ply(const Mesh& mesh, const std::string& path,
                const std::vector<std::array<std::uint8_t, 3>>* colours = nullptr,
-               std::string_view comment = {});
+               std::string_view comment = {}, const std::vector<PlyFloatProperty>& floats = {});
 
 }  // namespace shprt
