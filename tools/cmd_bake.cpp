@@ -155,12 +155,14 @@ void print_refinement(const RefineResult& r, const RefineOptions& refine,
     if (r.budget_reached)
         log_warn(
             "refinement stopped at --max-vertices {}: {} edges still differ by more than {} "
-            "(largest {:.3g})",
+            "(largest {:.3g}); the mesh is refined as far as that budget allows, as asked (a "
+            "larger --max-vertices refines further)",
             V, r.edges_over, refine.tolerance, r.largest_difference);
     else if (r.depth_reached)
         log_warn(
             "refinement stopped at --max-edge-split-depth {}: {} edges still differ by more "
-            "than {} (largest {:.3g})",
+            "than {} (largest {:.3g}); they are as short as that depth allows, as asked (a "
+            "larger --max-edge-split-depth splits further)",
             refine.max_depth, r.edges_over, refine.tolerance, r.largest_difference);
     std::printf(
         "refined: %zu -> %zu vertices, %zu -> %zu triangles in %d pass%s; largest edge "

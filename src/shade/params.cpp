@@ -149,18 +149,40 @@ SunShadeResult shade_file(const ShprtFile& file, const ShLight& sky, const Shadi
     return shade_with_sun(file.mesh, file.transfer, sky, *sun, plan.options, sun_options);
 }
 
+namespace {
+
+// What a large zonal fit error means, for the summary line: nothing is wrong; a lobe sharper than
+// the bands can hold, or cut off at the horizon, is shaded as its fit (blurred, as the paper's
+// glossy term is). More bands shrink it, up to 8 (the most a glossy bake holds).
+std::string fit_note(const Brdf& worst, double error, int bands) {
+    if (error < 0.1 || bands >= 8) return {};
+    return fmt::format(
+        " (expected of a zonal lobe in {} bands: it is shaded as fitted, blurred; {:.1f}% at 8 "
+        "bands)",
+        bands, 100 * brdf_lobe(worst, 8).fit_error);
+}
+
+}  // namespace
+
 std::string describe_terms(const ShadingPlan& plan, const Mesh& mesh, int K_used) {
     if (!plan.glossy) return fmt::format("gloss={}", plan.options.gloss);
     const GlossyShadeOptions& g = *plan.glossy;
     const int bands = sh_bands_for(K_used);
-    if (!g.material_brdfs || mesh.brdf_index.empty())
-        return fmt::format("brdf={}, zonal fit error {:.1f}% at {} bands", to_string(g.brdf),
-                           100 * brdf_lobe(g.brdf, bands).fit_error, bands);
-    double worst = 0;
-    for (const Brdf& b : brdf_table(mesh, true, g.brdf))
-        worst = std::max(worst, brdf_lobe(b, bands).fit_error);
-    return fmt::format("brdf=materials: {}; none = {}; worst zonal fit error {:.1f}% at {} bands",
-                       describe_brdfs(mesh), to_string(g.brdf), 100 * worst, bands);
+    if (!g.material_brdfs || mesh.brdf_index.empty()) {
+        const double error = brdf_lobe(g.brdf, bands).fit_error;
+        return fmt::format("brdf={}, zonal fit error {:.1f}% at {} bands{}", to_string(g.brdf),
+                           100 * error, bands, fit_note(g.brdf, error, bands));
+    }
+    double worst = -1;
+    Brdf worst_brdf = g.brdf;
+    for (const Brdf& b : brdf_table(mesh, true, g.brdf)) {
+        const double error = brdf_lobe(b, bands).fit_error;
+        if (error > worst) worst = error, worst_brdf = b;
+    }
+    return fmt::format(
+        "brdf=materials: {}; none = {}; worst zonal fit error {:.1f}% at {} bands{}",
+        describe_brdfs(mesh), to_string(g.brdf), 100 * worst, bands,
+        fit_note(worst_brdf, worst, bands));
 }
 
 }  // namespace shprt

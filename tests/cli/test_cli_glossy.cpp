@@ -70,6 +70,22 @@ TEST_F(CliGlossy, BakeInfoAndStreamAndShardsGiveTheSameRows) {
     EXPECT_EQ(read_shprt(merged).transfer.coeffs, f.transfer.coeffs);
 }
 
+// A lobe whose zonal fit is poor gets a word on what its error means (issue 40: the README's own
+// example printed "zonal fit error 47.5 %" with none); a smooth one (phong:2, 2.9 %) does not.
+TEST_F(CliGlossy, ALargeZonalFitErrorSaysItIsExpected) {
+    const std::string file = bake_plane("plane.shprt");
+    const std::string csv = (m_dir / "s.csv").string();
+    auto r = shprt("shade '" + file + "' --brdf phong:64 --k 0.5 -o '" + csv + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::MatchesRegex(
+                           ".*zonal fit error [0-9.]+% at 4 bands \\(expected of a zonal lobe in "
+                           "4 bands: it is shaded as fitted, blurred; [0-9.]+% at 8 bands\\).*"));
+    r = shprt("shade '" + file + "' --brdf phong:2 --k 0.5 -o '" + csv + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("zonal fit error"));
+    EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("expected:")));
+}
+
 #if SHPRT_HAS_RENDER
 TEST_F(CliGlossy, ShadeWhiteFurnaceCompressAndRender) {
     const std::string file = bake_plane("plane.shprt");

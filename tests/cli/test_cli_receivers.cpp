@@ -95,6 +95,8 @@ TEST_F(CliReceivers, RefineWritesTheRefinedMeshAndWarnsAtTheBudget) {
     EXPECT_THAT(r.out, ::testing::HasSubstr("refined: 1214 -> 1300 vertices"));
     EXPECT_THAT(r.err, ::testing::HasSubstr("shprt: warning: refinement stopped at --max-vertices "
                                             "1300"));
+    // ... and says that this is the budget doing its job, not a failure (issue 40).
+    EXPECT_THAT(r.err, ::testing::HasSubstr("as asked (a larger --max-vertices refines further)"));
     const ShprtFile f = read_shprt(file);
     EXPECT_EQ(f.mesh.vertex_count(), 1300u);
     ASSERT_EQ(f.mesh.parents.size(), 1300u);
