@@ -26,10 +26,13 @@ class CMakeBuild(build_ext):
         configure = ["cmake", "-S", str(SOURCE), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
                      f"-DPython_EXECUTABLE={sys.executable}", "-DSHPRT_PYTHON=ON",
                      "-DSHPRT_BUILD_TESTS=OFF", "-DSHPRT_BUILD_BENCH=OFF",
-                     "-DSHPRT_BUILD_VIEWER=OFF"]
+                     "-DSHPRT_BUILD_VIEWER=OFF", "-DCMAKE_UNITY_BUILD=ON"]
         if shutil.which("ninja") and not (build / "CMakeCache.txt").exists():
             configure += ["-G", "Ninja"]
         configure += os.environ.get("SHPRT_CMAKE_ARGS", "").split()
+        # pip shows this only with -v; without it, one spinner line for the whole build.
+        print(f"shprt: building the C++ extension with CMake in {build} (a few minutes on 2 "
+              "cores)", file=sys.stderr, flush=True)
         subprocess.check_call(configure)
         subprocess.check_call(["cmake", "--build", str(build), "--target", "shprt_python",
                                "-j", str(os.cpu_count() or 2)])
