@@ -79,7 +79,8 @@ const bool render_registered = register_command(
                         "Output image: .png (tone mapped), .exr or .hdr (linear)")
              ->required();
          add_light_options(app, args->light);
-         add_shading_options(app, args->shading, kCoeffsOption | kAlbedoOption | kViewOption,
+         add_shading_options(app, args->shading,
+                             kCoeffsOption | kDeprecatedCoeffsOption | kAlbedoOption | kViewOption,
                              "Exposure multiplier for PNG (default 1)",
                              "Interreflected bakes: the direct light only (the file's T_0), "
                              "without the bounces");

@@ -99,7 +99,8 @@ const bool shade_registered = register_command(
              ->required();
          add_light_options(app, args->light);
          add_shading_options(app, args->shading,
-                             kCoeffsOption | kAlbedoOption | kEyeOption | kSunSamplesOption,
+                             kCoeffsOption | kDeprecatedCoeffsOption | kAlbedoOption | kEyeOption |
+                                 kSunSamplesOption,
                              "Exposure of the PLY colours (default 1)",
                              "Interreflected bakes: the direct light only (the file's T_0), "
                              "without the bounces");

@@ -99,11 +99,9 @@ void run(const ViewArgs& a) {
         shading.albedo = a.bake.albedo;
         bake_args.albedo.clear();
     }
-    if (!a.do_bake && a.bake.coeffs) {
-        SHPRT_CHECK(*a.bake.coeffs >= 0, invalid_argument, "--coeffs {}: must be ≥ 1 (0 = all)",
-                    *a.bake.coeffs);
-        shading.params.coeffs = static_cast<int>(std::min<long long>(*a.bake.coeffs, 1 << 20));
-    }
+    if (!a.do_bake && a.bake.coeffs)  // the K' shown first: its deprecated name here
+        shading.deprecated_coeffs =
+            static_cast<int>(std::clamp<long long>(*a.bake.coeffs, -1, 1 << 20));
     const LightSetup setup = light_setup_from(a.light);
     ShadingParams params = shading_params(shading, setup);
     const ShadeView view = params.view;
@@ -250,7 +248,8 @@ const bool view_registered = register_command(
          add_light_options(app, args->light);
          add_camera_options(app, args->camera);
          app.add_option("--size", args->size, "Window or image size WxH (default 1280x720)");
-         add_shading_options(app, args->shading, kViewOption, "Exposure multiplier (default 1)",
+         add_shading_options(app, args->shading, kViewOption | kCoeffsOption,
+                             "Exposure multiplier (default 1)",
                              "Interreflected bakes: show the direct light only (the file's T_0; "
                              "the panel toggles it)");
          app.add_flag("--background", args->background, "Draw the light behind the scene");
@@ -263,11 +262,11 @@ const bool view_registered = register_command(
          app.add_flag("--bake", args->do_bake,
                       "FILE is a scene: bake it here and show it while it refines");
          add_bake_options(app, args->bake);
-         // Without --bake, --coeffs is the initial K' (the first K' coefficients are used).
+         // Without --bake, --coeffs is the initial K' (deprecated: --shading-coeffs).
          app.get_option("--coeffs")
              ->description(
-                 "With --bake: basis size K to bake (1 to 1024, default 16); otherwise: use the "
-                 "first K' coefficients (default: all)");
+                 "With --bake: basis size K to bake (1 to 1024, default 16); otherwise the "
+                 "deprecated name of --shading-coeffs");
          app.get_option("--albedo")
              ->description(
                  "With --bake, interreflected: the albedo R,G,B of every vertex; without --bake or "

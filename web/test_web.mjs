@@ -65,7 +65,7 @@ run("export", "room.shprt", "-o", "room_half.glb", "--half", ...lights);
 const cases = [
     { name: "file light, K'=K", model: "room.glb", page: "", render: [] },
     { name: "rotated light, K'=16", model: "room.glb", page: "&rotate=40,25,-10&coeffs=16",
-      render: ["--rotate", "40,25,-10", "--coeffs", "16"] },
+      render: ["--rotate", "40,25,-10", "--shading-coeffs", "16"] },
     { name: "--half export, file light", model: "room_half.glb", page: "", render: [] },
 ];
 cases.forEach((c, i) => {

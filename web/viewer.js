@@ -12,7 +12,7 @@
 //   fov=DEG                  vertical field of view (default 60, or the file's camera's)
 //   size=WxH                 canvas size in pixels (default: the window)
 //   exposure=E               as `shprt render --exposure` (default 1)
-//   coeffs=K′                as `shprt render --coeffs` (default: all of the file's K)
+//   coeffs=K′                as `shprt render --shading-coeffs` (default: all of the file's K)
 //   rotate=Y,P,R             as `shprt render --rotate`: the light turned by Ry·Rx·Rz (degrees)
 //   msaa=0|1                 antialiasing (default 1)
 import * as THREE from "three";

@@ -39,6 +39,8 @@ struct ShadingKeywords {
     std::string view = "radiance";
 };
 ShadingParams shading_params(const ShadingKeywords& keywords);
+// K′ from shading_coeffs=, or from the deprecated coeffs= (a DeprecationWarning; both: an error).
+int shading_coeffs_arg(std::optional<int> coeffs, int shading_coeffs);
 
 // The mesh a Python call gives: a shprt.Mesh as it is, or arrays (vertices (V, 3) float,
 // faces (T, 3) int, normals (V, 3) or None = computed, albedo (V, 3) or None = kDefaultAlbedo)

@@ -25,12 +25,13 @@ void bind_render(py::module_& m) {
         "render",
         [](const ShprtFile& given, ArrayLike light, int width, int height,
            std::optional<std::array<float, 6>> camera, std::optional<double> fov, double k,
-           double gloss, int coeffs, const std::string& view, bool background, bool wireframe,
-           int samples, std::optional<std::string> brdf, std::optional<std::array<float, 3>> albedo,
-           bool direct, const std::string& glossy) {
+           double gloss, int shading_coeffs, std::optional<int> coeffs, const std::string& view,
+           bool background, bool wireframe, int samples, std::optional<std::string> brdf,
+           std::optional<std::array<float, 3>> albedo, bool direct, const std::string& glossy) {
             const ShLight l = light_arg(light);
             const ShadingParams params =
-                shading_params({k, gloss, coeffs, brdf, albedo, direct, glossy, view});
+                shading_params({k, gloss, shading_coeffs_arg(coeffs, shading_coeffs), brdf, albedo,
+                                direct, glossy, view});
             SHPRT_CHECK(width >= 1 && width <= 16384 && height >= 1 && height <= 16384,
                         invalid_argument, "size {}x{}: width and height must be 1 to 16384", width,
                         height);
@@ -60,9 +61,9 @@ void bind_render(py::module_& m) {
         },
         "file"_a, "light"_a, py::kw_only(), "width"_a = 1280, "height"_a = 720,
         "camera"_a = py::none(), "fov"_a = py::none(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
-        "coeffs"_a = 0, "view"_a = "radiance", "background"_a = false, "wireframe"_a = false,
-        "samples"_a = 4, "brdf"_a = py::none(), "albedo"_a = py::none(), "direct"_a = false,
-        "glossy"_a = "matrix",
+        "shading_coeffs"_a = 0, "coeffs"_a = py::none(), "view"_a = "radiance",
+        "background"_a = false, "wireframe"_a = false, "samples"_a = 4, "brdf"_a = py::none(),
+        "albedo"_a = py::none(), "direct"_a = false, "glossy"_a = "matrix",
         R"(Renders the baked scene headless (OpenGL through EGL, the renderer of `shprt render`):
 returns linear RGB (height, width, 3) float32, row 0 at the top. camera (ex, ey, ez, tx, ty, tz)
 or None for the default view; view 'radiance', 'irradiance' or 'transfer'. brdf and albedo as

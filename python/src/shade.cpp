@@ -41,6 +41,20 @@ Sun sun_arg(const SunArg& arg) {
 
 }  // namespace
 
+int shading_coeffs_arg(std::optional<int> coeffs, int shading_coeffs) {
+    if (!coeffs) return shading_coeffs;
+    SHPRT_CHECK(shading_coeffs == 0, invalid_argument,
+                "coeffs={} and shading_coeffs={}: give shading_coeffs alone (coeffs is its "
+                "deprecated name here)",
+                *coeffs, shading_coeffs);
+    if (PyErr_WarnEx(PyExc_DeprecationWarning,
+                     "coeffs= is deprecated in shade() and render(): it means K' here and K in "
+                     "bake(); use shading_coeffs=",
+                     1) != 0)
+        throw py::error_already_set();
+    return *coeffs;
+}
+
 ShadingParams shading_params(const ShadingKeywords& w) {
     ShadingParams p;
     p.view = parse_view(w.view, Spelling::python);
@@ -59,11 +73,12 @@ void bind_shade(py::module_& m) {
     m.def(
         "shade",
         [](const ShprtFile& given, ArrayLike light, double k, double gloss,
-           std::optional<std::array<float, 3>> eye, int coeffs, std::optional<std::string> brdf,
-           std::optional<std::array<float, 3>> albedo, bool direct, const std::string& glossy,
-           std::optional<SunArg> sun, int sun_samples) {
+           std::optional<std::array<float, 3>> eye, int shading_coeffs, std::optional<int> coeffs,
+           std::optional<std::string> brdf, std::optional<std::array<float, 3>> albedo, bool direct,
+           const std::string& glossy, std::optional<SunArg> sun, int sun_samples) {
             const ShLight sky = light_arg(light);
-            ShadingKeywords keywords{k, gloss, coeffs, brdf, albedo, direct, glossy};
+            ShadingKeywords keywords{
+                k, gloss, shading_coeffs_arg(coeffs, shading_coeffs), brdf, albedo, direct, glossy};
             ShadingParams params = shading_params(keywords);
             if (eye) params.eye = Vec3f{(*eye)[0], (*eye)[1], (*eye)[2]};
             if (sun) params.sun = sun_arg(*sun);
@@ -84,14 +99,14 @@ void bind_shade(py::module_& m) {
                                   vec3_array(std::move(result.radiance)));
         },
         "file"_a, "light"_a, py::kw_only(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
-        "eye"_a = py::none(), "coeffs"_a = 0, "brdf"_a = py::none(), "albedo"_a = py::none(),
-        "direct"_a = false, "glossy"_a = "matrix", "sun"_a = py::none(),
-        "sun_samples"_a = kDefaultSunSamples,
+        "eye"_a = py::none(), "shading_coeffs"_a = 0, "coeffs"_a = py::none(),
+        "brdf"_a = py::none(), "albedo"_a = py::none(), "direct"_a = false, "glossy"_a = "matrix",
+        "sun"_a = py::none(), "sun_samples"_a = kDefaultSunSamples,
         R"(Per-vertex shading on the CPU (shade/shade.hpp): returns (irradiance, radiance), each
 (V, 3) float32, under light (3, K) — for a texel file (N, 3), one row per covered texel in the
 atlas's order (shade/texel_shade.hpp). k is the diffuse share (1 = diffuse only), gloss the Phong
 exponent, eye the viewer for the glossy term (None: the default camera's eye, as `shprt shade`),
-coeffs the K' used (0 = all). The keywords are `shprt shade`'s options, with the same limits and
+shading_coeffs the K' used (0 = all; coeffs= is its deprecated name, a DeprecationWarning). The keywords are `shprt shade`'s options, with the same limits and
 defaults (shade/params.hpp).
 
 A file of glossy transfer matrices (bake(transfer='glossy')) is shaded with its BRDF

@@ -8,6 +8,7 @@ the command line takes the default camera's, and had no `glossy='paper'`.)
 Every option found in both must have a row in PROBES: a new shared option without one fails here.
 """
 import re
+import warnings
 from typing import Any
 
 import numpy as np
@@ -24,7 +25,8 @@ GLOSSY: dict[str, Any] = dict(file="glossy")
 PROBES: dict[str, tuple[dict[str, Any], list[Any]]] = {
     "k": ({}, [-0.1, 0, 0.35, 1, 1.5]),
     "gloss": (dict(k=0.5), [-1, 0, 3.5, 1e4]),
-    "coeffs": ({}, [-1, 0, 1, 4, 9, 100]),
+    "shading_coeffs": ({}, [-1, 0, 1, 4, 9, 100]),
+    "coeffs": ({}, [-1, 0, 4]),  # the deprecated name of shading_coeffs in both
     "eye": (dict(k=0.5), [(1, 2, 3), (0, 0, 0)]),
     "direct": (dict(file="interreflected"), [True]),
     "brdf": (GLOSSY, ["phong:16", "ggx:0.3:1,0.7,0.2", "blinn:40", "ggx:-1", "lambert:1"]),
@@ -53,7 +55,7 @@ def python_options():
 
 def test_every_shared_option_is_probed(cli_process):
     shared = (cli_options(cli_process) & python_options()) - set(NOT_THE_SAME) - HARNESS
-    assert {"k", "gloss", "coeffs", "brdf", "sun_samples"} <= shared, shared
+    assert {"k", "gloss", "shading_coeffs", "brdf", "sun_samples"} <= shared, shared
     assert shared <= set(PROBES), f"shared options without a probe: {sorted(shared - set(PROBES))}"
 
 
@@ -92,7 +94,9 @@ def shade_cli(cli_process, path, out, options):
 
 def shade_python(path, options):
     try:
-        return shprt.shade(shprt.load(path), shprt.light(LIGHT, K=K), **options), ""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)  # coeffs=: tested below
+            return shprt.shade(shprt.load(path), shprt.light(LIGHT, K=K), **options), ""
     except (shprt.Error, TypeError, ValueError, OverflowError) as e:
         return None, str(e)
 
@@ -125,3 +129,19 @@ def test_defaults_agree(cli_process, files, tmp_path, kind):
     options = dict(k=0.5)
     agree(shade_cli(cli_process, files[kind], str(tmp_path / "s.npy"), options),
           shade_python(files[kind], options), f"{kind} with k=0.5")
+
+
+def test_coeffs_is_the_deprecated_name_of_shading_coeffs(cli_process, files, tmp_path):
+    # K' is --shading-coeffs / shading_coeffs= (bake's --coeffs is K); the old name still works,
+    # with one warning on each side, and both names at once are refused on each side.
+    path, out = files["shadowed"], str(tmp_path / "s.npy")
+    done = cli_process("shade", path, "--light", LIGHT, "--coeffs", "4", "-o", out)
+    assert done.returncode == 0 and "--coeffs 4 is deprecated" in done.stderr, done.stderr
+    with pytest.warns(DeprecationWarning, match="shading_coeffs="):
+        old = shprt.shade(shprt.load(path), shprt.light(LIGHT, K=K), coeffs=4)
+    new = shprt.shade(shprt.load(path), shprt.light(LIGHT, K=K), shading_coeffs=4)
+    np.testing.assert_array_equal(old[0], new[0])
+    both = cli_process("shade", path, "--coeffs", "4", "--shading-coeffs", "4", "-o", out)
+    assert both.returncode != 0 and "give --shading-coeffs alone" in both.stderr
+    with pytest.raises(shprt.Error, match="give shading_coeffs alone"):
+        shprt.shade(shprt.load(path), shprt.light(LIGHT, K=K), coeffs=4, shading_coeffs=4)

@@ -48,7 +48,7 @@ void check(const ShadingParams& p, Spelling s) {
     SHPRT_CHECK(p.exposure > 0 && std::isfinite(p.exposure), invalid_argument,
                 "{}: must be positive", option_text(s, "exposure", number(p.exposure)));
     SHPRT_CHECK(p.coeffs >= 0, invalid_argument, "{}: must be ≥ 1 (0 = all)",
-                option_text(s, "coeffs", std::to_string(p.coeffs)));
+                option_text(s, "shading_coeffs", std::to_string(p.coeffs)));
     if (p.brdf) check_brdf(*p.brdf);
     if (p.glossy == GlossyTerm::paper && p.brdf) {
         const std::string paper = option_text(s, "glossy", "paper");
@@ -179,10 +179,9 @@ std::string describe_terms(const ShadingPlan& plan, const Mesh& mesh, int K_used
         const double error = brdf_lobe(b, bands).fit_error;
         if (error > worst) worst = error, worst_brdf = b;
     }
-    return fmt::format(
-        "brdf=materials: {}; none = {}; worst zonal fit error {:.1f}% at {} bands{}",
-        describe_brdfs(mesh), to_string(g.brdf), 100 * worst, bands,
-        fit_note(worst_brdf, worst, bands));
+    return fmt::format("brdf=materials: {}; none = {}; worst zonal fit error {:.1f}% at {} bands{}",
+                       describe_brdfs(mesh), to_string(g.brdf), 100 * worst, bands,
+                       fit_note(worst_brdf, worst, bands));
 }
 
 }  // namespace shprt

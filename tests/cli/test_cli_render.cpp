@@ -109,7 +109,7 @@ TEST_F(CliRender, ShadeWhiteFurnaceCsvIsPiAtEveryVertexInInputOrder) {
 TEST_F(CliRender, ShadeAgreesWithTheLibraryAndWritesNpyAndPly) {
     const std::string opts =
         " --light builtin --light constant:0.2 --rotate 30,10,0 --window hann "
-        "--k 0.5 --gloss 8 --eye 0.5,2,3 --coeffs 12";
+        "--k 0.5 --gloss 8 --eye 0.5,2,3 --shading-coeffs 12";
     ASSERT_EQ(shprt("shade '" + m_file + "'" + opts + " -o '" + out("s.csv") + "'").exit_code, 0);
     ASSERT_EQ(shprt("shade '" + m_file + "'" + opts + " -o '" + out("s.npy") + "'").exit_code, 0);
     const RunResult ply = shprt("shade '" + m_file + "'" + opts + " -o '" + out("s.ply") + "'");

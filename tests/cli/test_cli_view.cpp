@@ -122,7 +122,7 @@ TEST_F(CliView, ScreenshotEqualsRender) {
         " --size 120x80",
         " --size 96x64 --light builtin --rotate 40,10,0 --k 0.4 --exposure 1.6 --camera "
         "3,2.5,3.5,0,0.3,0 --fov 45",
-        " --size 64x64 --light sun:1,2,1,6 --light constant:0.2 --coeffs 20 --view irradiance "
+        " --size 64x64 --light sun:1,2,1,6 --light constant:0.2 --shading-coeffs 20 --view irradiance "
         "--window hann"};
     for (const std::string& options : common) {
         const RunResult v =
@@ -174,7 +174,7 @@ TEST_F(CliView, DirectShowsTheDirectPartAsRenderDoes) {
 // refused with one line, as in `render`.
 TEST_F(CliView, ATexelFileShowsAsRenderDrawsIt) {
     const std::string texel = bake_texel_file();
-    const std::string options = " --size 96x64 --light sun:1,2,1,6 --coeffs 7";
+    const std::string options = " --size 96x64 --light sun:1,2,1,6 --shading-coeffs 7";
     const RunResult v = shprt("view '" + texel + "' --screenshot '" + out("v.png") + "'" + options);
     ASSERT_EQ(v.exit_code, 0) << v.err;
     const RunResult r = shprt("render '" + texel + "' -o '" + out("r.png") + "'" + options);

@@ -3,6 +3,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/log.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
@@ -111,7 +112,11 @@ void add_shading_options(CLI::App& app, ShadingArgs& args, unsigned extra,
                    "matrix (default: transfer matrices, needs a glossy bake) or paper (the "
                    "paper's zonal term; a glossy bake is turned into diffuse transfer)");
     if (extra & kCoeffsOption)
-        app.add_option("--coeffs", p.coeffs, "Use the first K' coefficients (default: all)");
+        app.add_option("--shading-coeffs", args.shading_coeffs,
+                       "Shade with the first K' coefficients (default: all)");
+    if (extra & kDeprecatedCoeffsOption)
+        app.add_option("--coeffs", args.deprecated_coeffs,
+                       "Deprecated here: --shading-coeffs (bake's --coeffs is the K baked)");
     if (extra & kAlbedoOption)
         app.add_option("--albedo", args.albedo,
                        "Glossy shading: R,G,B (linear, 0 to 1) overriding the diffuse and "
@@ -133,6 +138,16 @@ void add_shading_options(CLI::App& app, ShadingArgs& args, unsigned extra,
 ShadingParams shading_params(const ShadingArgs& args, const LightSetup& light) {
     constexpr Spelling cli = Spelling::command_line;
     ShadingParams p = args.params;
+    SHPRT_CHECK(!(args.shading_coeffs && args.deprecated_coeffs), invalid_argument,
+                "--coeffs {} and --shading-coeffs {}: give --shading-coeffs alone (--coeffs is "
+                "its deprecated name here)",
+                args.deprecated_coeffs.value_or(0), args.shading_coeffs.value_or(0));
+    if (args.deprecated_coeffs)
+        log_warn(
+            "--coeffs {0} is deprecated in shading: it means K' here and K in bake; use "
+            "--shading-coeffs {0}",
+            *args.deprecated_coeffs);
+    p.coeffs = args.shading_coeffs.value_or(args.deprecated_coeffs.value_or(p.coeffs));
     p.view = parse_view(args.view, cli);
     p.glossy = parse_glossy_term(args.glossy, cli);
     if (!args.brdf.empty()) p.brdf = parse_brdf(args.brdf);

@@ -65,19 +65,24 @@ Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect,
 struct ShadingArgs {
     ShadingParams params;  // the numbers and flags, parsed straight in
     std::string brdf, glossy = "matrix", albedo, view = "radiance", eye;
+    // K′: --shading-coeffs, or the deprecated --coeffs of `shade` and `render` (in `bake` and
+    // `view --bake`, --coeffs is the K baked).
+    std::optional<int> shading_coeffs, deprecated_coeffs;
 };
 enum ShadingExtra : unsigned {
     kViewOption = 1,
     kEyeOption = 2,
     kSunSamplesOption = 4,
     kAlbedoOption = 8,
-    kCoeffsOption = 16,
+    kCoeffsOption = 16,            // --shading-coeffs
+    kDeprecatedCoeffsOption = 32,  // --coeffs as well, which says it is deprecated
 };
 // Adds them, with the command's own help for --exposure and --direct.
 void add_shading_options(CLI::App& app, ShadingArgs& args, unsigned extra,
                          const std::string& exposure_help, const std::string& direct_help);
 // The parsed options, with the light's --sun (light_setup_from), as ShadingParams checked
-// (shade/params.hpp: one line naming the option) before any file is read.
+// (shade/params.hpp: one line naming the option) before any file is read. The deprecated --coeffs
+// gives one warning line, and with --shading-coeffs an error.
 ShadingParams shading_params(const ShadingArgs& args, const LightSetup& light);
 
 // A diffuse texel file (docs/texels.md) is drawn per fragment without the paper's glossy term:
