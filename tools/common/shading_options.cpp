@@ -18,10 +18,11 @@ void add_light_options(CLI::App& app, LightArgs& args) {
     app.add_option("--light", args.lights,
                    "Light spec, repeatable and summed: FILE.hdr|.exr, constant[:R,G,B], "
                    "gradient, sun:X,Y,Z[,RADIUS[,R,G,B]], builtin (default)");
-    app.add_option("--sun", args.sun,
-                   "X,Y,Z[,RADIUS_DEG[,R,G,B]]: a sun kept out of the SH sum, its direct light "
-                   "traced (sharp shadows), its bounces from an interreflected file (shade only); "
-                   "without --light, no sky");
+    app.add_option(
+        "--sun", args.sun,
+        "X,Y,Z[,RADIUS_DEG[,R,G,B]]: a sun kept out of the SH sum, its direct light "
+        "traced (shade) or shadow-mapped (render, view): sharp shadows; its bounces from "
+        "an interreflected file; without --light, no sky");
     app.add_option("--rotate", args.rotate, "Rotate the light: YAW,PITCH,ROLL in degrees");
     app.add_option("--window", args.window, "SH window of the light: none, hann, lanczos, sloan");
     app.add_option("--window-strength", args.window_strength,
