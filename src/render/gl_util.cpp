@@ -99,6 +99,19 @@ unsigned make_buffer(unsigned target, std::size_t bytes, const void* data, unsig
     return buffer;
 }
 
+unsigned make_texture_2d(int width, int height, unsigned internal_format) {
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexStorage2D(GL_TEXTURE_2D, 1, internal_format, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return texture;
+}
+
 unsigned upload_draw_orders(const Mesh& mesh, int& lists) {
     const std::size_t list_bytes = mesh.triangles.size() * 3 * sizeof(std::uint32_t);
     const std::vector<std::uint32_t> orders = draw_orders_fit(mesh.triangles.size())

@@ -17,7 +17,6 @@
 #include <vector>
 
 namespace shprt {
-namespace {}  // namespace
 
 int RenderTarget::supported_samples(int requested) {
     if (requested <= 1) return 1;
@@ -33,19 +32,6 @@ int RenderTarget::supported_samples(int requested) {
 }
 
 namespace {
-
-GLuint make_texture_2d(int width, int height) {
-    GLuint texture = 0;
-    glGenTextures(1, &texture);
-    glBindTexture(GL_TEXTURE_2D, texture);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width, height);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    return texture;
-}
 
 void check_target_size(const char* what, int width, int height) {
     GLint max_size = 0;
@@ -75,7 +61,7 @@ RenderTarget::RenderTarget(int width, int height, int samples)
                                   GL_TRUE);
         glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
     } else {
-        m_color_texture = make_texture_2d(width, height);
+        m_color_texture = gl::make_texture_2d(width, height, GL_RGBA32F);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
     glFramebufferTexture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, m_color_texture, 0);
@@ -84,7 +70,7 @@ RenderTarget::RenderTarget(int width, int height, int samples)
 
     GLenum resolve_status = GL_FRAMEBUFFER_COMPLETE;
     if (m_samples > 1) {
-        m_resolved_texture = make_texture_2d(width, height);
+        m_resolved_texture = gl::make_texture_2d(width, height, GL_RGBA32F);
         glGenFramebuffers(1, &m_resolve_fbo);
         glBindFramebuffer(GL_FRAMEBUFFER, m_resolve_fbo);
         glFramebufferTexture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, m_resolved_texture, 0);

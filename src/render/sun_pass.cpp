@@ -136,16 +136,8 @@ void main() {}
 
 SunPass::SunPass() {
     m_program = gl::compile_program(gl::kDepthVertexShader, gl::kDepthFragmentShader, "sun depth");
-    glGenTextures(1, &m_map);
-    glBindTexture(GL_TEXTURE_2D, m_map);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, kShadowMapSize, kShadowMapSize);
-    // Nearest: the filter compares depths itself (PCF over its own taps).
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
-    glBindTexture(GL_TEXTURE_2D, 0);
+    // Nearest, no compare mode: the filter compares depths itself (PCF over its own taps).
+    m_map = gl::make_texture_2d(kShadowMapSize, kShadowMapSize, GL_DEPTH_COMPONENT32F);
     GLint bound = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
     glGenFramebuffers(1, &m_fbo);

@@ -138,6 +138,14 @@ Camera shadow_camera(const Mesh& mesh) {
 // up to 2 · 1.4 m · tan 2° ≈ 10 cm, several pixels), E = (3, 2.5, 2) at normal incidence.
 Sun test_sun() { return make_sun({1, 1.2, 0.3}, 2, sun_radiance_for_irradiance({3, 2.5, 2}, 2)); }
 
+// builtin:box_on_plane with analytic (unshadowed) transfer of 4 coefficients, under test_sun().
+struct DirectScene {
+    Mesh mesh = make_builtin("box_on_plane");
+    TransferSet transfer = test::analytic_transfer(mesh, 4);
+    Sun sun = test_sun();
+    PreparedSun prepared{sun, sun_light(sun, 4)};
+};
+
 // With no sky, each pixel is ρ/π · E_sun. Away from shadow edges it is the traced value to
 // float precision; across the penumbra, the map's visibility V_gl = pixel / (ρ/π · E_full)
 // follows the traced fraction of the disc: the mean |V_gl − V_traced| over the floor, times
@@ -145,10 +153,11 @@ Sun test_sun() { return make_sun({1, 1.2, 0.3}, 2, sun_radiance_for_irradiance({
 // penumbra's pixel count (an edge a pixel off all along would be 1).
 TEST(GlSun, DirectSunMatchesTheTracedSunAtEveryPixel) {
     REQUIRE_GL(context);
-    const Mesh mesh = make_builtin("box_on_plane");
-    const TransferSet transfer = test::analytic_transfer(mesh, 4);
-    const Sun sun = test_sun();
-    const PreparedSun prepared{sun, sun_light(sun, 4)};
+    const DirectScene scene;
+    const Mesh& mesh = scene.mesh;
+    const TransferSet& transfer = scene.transfer;
+    const Sun& sun = scene.sun;
+    const PreparedSun& prepared = scene.prepared;
     DrawSettings settings;
     settings.camera = shadow_camera(mesh);
     const int w = 192, h = 144;
@@ -340,10 +349,10 @@ TEST(GlSun, GlossyMatricesGetTheSunThroughTheirLobe) {
 // again only when the sun's direction changes.
 TEST(GlSun, TheSunTurnsWithTheLightAndTheMapFollows) {
     REQUIRE_GL(context);
-    const Mesh mesh = make_builtin("box_on_plane");
-    const TransferSet transfer = test::analytic_transfer(mesh, 4);
-    const Sun sun = test_sun();
-    const PreparedSun prepared{sun, sun_light(sun, 4)};
+    const DirectScene scene;
+    const Mesh& mesh = scene.mesh;
+    const TransferSet& transfer = scene.transfer;
+    const PreparedSun& prepared = scene.prepared;
     Renderer renderer;
     renderer.set_sun(&prepared);
     renderer.set_scene(mesh, transfer);
