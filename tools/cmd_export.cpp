@@ -1,5 +1,5 @@
-// `shprt export FILE.shprt -o SCENE.glb [--light L ...] [--bands n] [--half] [--exposure E]`:
-// the mesh, its colours baked under the light and the transfer coefficients as a glTF 2.0
+// `shprt export FILE.shprt -o SCENE.glb [--light L ...] [--sun S] [--bands n] [--half] [--exposure
+// E]`: the mesh, its colours baked under the light and the transfer coefficients as a glTF 2.0
 // binary (shade/gltf_export.hpp); a glossy bake as its matrices' diffuse transfer. Thin: checks
 // the options, reads the file, calls write_glb.
 #include "common/command.hpp"
@@ -13,6 +13,7 @@
 #include "shprt/shade/gltf_export.hpp"
 #include "shprt/shade/texel_shade.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -34,7 +35,6 @@ struct ExportArgs {
 };
 
 void run(const ExportArgs& a) {
-    refuse_sun(a.light, "export");
     const auto start = std::chrono::steady_clock::now();
     const std::string ext = lower_extension(a.output);
     const bool image = ext == ".exr" || ext == ".png";  // texel files only
@@ -113,6 +113,13 @@ void run(const ExportArgs& a) {
                 a.half ? "int16 normalized" : "float32", to_string(options.attributes),
                 from_matrices, seconds, a.output.c_str(),
                 static_cast<std::uintmax_t>(std::filesystem::file_size(a.output)));
+    if (options.light.sun) {
+        const Vec3d E = sun_irradiance(*options.light.sun);
+        std::printf(
+            "sun: a KHR_lights_punctual directional light of %.4g lux (node \"sun\"); the "
+            "SH light holds the sky only\n",
+            std::max({E.x, E.y, E.z}));
+    }
 }
 
 const bool export_registered = register_command(

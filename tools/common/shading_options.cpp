@@ -20,7 +20,8 @@ void add_light_options(CLI::App& app, LightArgs& args) {
                    "gradient, sun:X,Y,Z[,RADIUS[,R,G,B]], builtin (default)");
     app.add_option("--sun", args.sun,
                    "X,Y,Z[,RADIUS_DEG[,R,G,B]]: a sun kept out of the SH sum, its direct light "
-                   "traced (sharp shadows), its bounces from an interreflected file (shade only); "
+                   "traced (sharp shadows), its bounces from an interreflected file (shade; export "
+                   "writes a glTF KHR_lights_punctual light); "
                    "without --light, no sky");
     app.add_option("--rotate", args.rotate, "Rotate the light: YAW,PITCH,ROLL in degrees");
     app.add_option("--window", args.window, "SH window of the light: none, hann, lanczos, sloan");
