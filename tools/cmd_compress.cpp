@@ -1,14 +1,17 @@
-// `shprt compress F.shprt -o G.shprt --cpca CLUSTERS,VECTORS [--half]`: clustered PCA of a
-// file's transfer rows (transfer/cpca.hpp), written as a CPCA .shprt file (format version 3),
-// with the error of exit radiance under test lights and views and the bytes per vertex. Thin:
+// `shprt compress F.shprt -o G.shprt --cpca CLUSTERS,VECTORS [--half] [--light L ...]`:
+// clustered PCA of a file's transfer rows (transfer/cpca.hpp), written as a CPCA .shprt file
+// (format version 3), with the error of exit radiance under test lights and views (and under
+// the --light given, a --sun kept out of it) and the bytes per vertex. Thin:
 // parses, reads, calls compress_transfer, writes atomically, prints.
 #include "common/command.hpp"
+#include "common/shading_options.hpp"
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/transfer/cpca.hpp"
 
 #include <algorithm>
@@ -25,7 +28,16 @@ struct CompressArgs {
     bool half = false, reproducible = false;
     std::uint64_t seed = 1;
     int iterations = 16, threads = 0;
+    LightArgs light;  // the error under this light too (common/shading_options.hpp)
 };
+
+// "--light a --light b" as given, and the sun kept out of it.
+std::string describe_light(const LightArgs& a) {
+    std::string out;
+    for (const std::string& spec : a.lights) out += (out.empty() ? "--light " : " --light ") + spec;
+    if (!a.sun.empty()) out += " (the sun of --sun " + a.sun + " kept out of the SH sum)";
+    return out;
+}
 
 void run(const CompressArgs& a) {
     const std::vector<double> cv = parse_numbers(a.cpca, 2, "--cpca CLUSTERS,VECTORS");
@@ -37,7 +49,11 @@ void run(const CompressArgs& a) {
     // As bake's --threads (common/bake_options.cpp).
     SHPRT_CHECK(a.threads >= 0 && a.threads <= kMaxBakeThreads, invalid_argument,
                 "--threads {}: must be 0 (all) to {}", a.threads, kMaxBakeThreads);
-    check_output_is_not_input(a.output, {a.input});
+    const bool with_light = !a.light.lights.empty();
+    SHPRT_CHECK(with_light || a.light.sun.empty(), invalid_argument,
+                "--sun {}: the error is reported under --light SKY; give the sky", a.light.sun);
+    const LightSetup setup = light_setup_from(a.light);
+    check_output_is_not_input(a.output, input_files(a.input, a.light));
     check_output_writable(a.output);  // a directory, a device: refused before the work
     const ShprtFile file = read_shprt(a.input);
     const TransferSet& t = file.transfer;
@@ -59,7 +75,11 @@ void run(const CompressArgs& a) {
     options.seed = a.seed;
     options.iterations = a.iterations;
     options.threads = a.threads;
-    const CpcaResult r = compress_transfer(t, receiver_normals(file.mesh, t), options, a.half);
+    // The light's SH (never the --sun: prepare_light keeps it out) at the transfer's K.
+    std::optional<std::vector<float>> light;
+    if (with_light) light = prepare_light(setup, t.layout.K).coeffs;
+    const CpcaResult r = compress_transfer(t, receiver_normals(file.mesh, t), options, a.half,
+                                           light ? &*light : nullptr);
     WriteOptions write;
     write.reproducible = a.reproducible;
     write_shprt(a.output, file.mesh, r.compressed, write);
@@ -89,6 +109,10 @@ void run(const CompressArgs& a) {
         "scene RMS): median %.3f%%, p99 %.3f%%, max %.3f%%\n",
         100.0 * e.relative_rmse, t.layout.shape == TransferShape::vector ? "diffuse" : "5 views",
         unit, pct(0.5), pct(0.99), pct(1.0));
+    if (r.light_error)
+        std::printf("error under %s: exit radiance relative RMSE %.3f%% (%s)\n",
+                    describe_light(a.light).c_str(), 100.0 * r.light_error->relative_rmse,
+                    t.layout.shape == TransferShape::vector ? "diffuse" : "5 views");
     std::string worst;
     for (std::size_t i = 0; i < std::min<std::size_t>(5, e.worst.size()); ++i)
         worst += fmt::format("{}{} ({:.2f}%)", i ? ", " : "", e.worst[i],
@@ -109,6 +133,8 @@ const bool compress_registered = register_command(
                         "per cluster (1 to the floats per vertex)")
              ->required();
          app.add_flag("--half", args->half, "Store the code as float16");
+         // --light, --sun, --rotate, --window: the error under that light too.
+         add_light_options(app, args->light);
          app.add_option("--seed", args->seed, "Seed of the k-means++ seeding (default 1)");
          app.add_option("--iterations", args->iterations, "Lloyd iterations at most (default 16)");
          app.add_option("--threads", args->threads, "Worker threads (default 0 = all)");

@@ -37,7 +37,6 @@ struct RenderArgs {
 };
 
 void run(const RenderArgs& a) {
-    refuse_sun(a.light, "render");
     const auto start = std::chrono::steady_clock::now();
     check_image_extension(a.output);
     SHPRT_CHECK(a.samples >= 1 && a.samples <= 64, invalid_argument,
@@ -54,18 +53,27 @@ void run(const RenderArgs& a) {
     const ShadingPlan plan = resolve_shading(params, file, a.input, Spelling::command_line);
     check_texel_view(a.input, file.transfer, params.k, params.view);
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
+    std::optional<PreparedSun> sun;
+    if (plan.sun) sun = prepare_sun(setup, file.transfer.layout.K);
     DrawSettings settings = draw_settings(plan, params.view);
     settings.camera = camera_from(a.camera, file.mesh, float(width) / float(height), a.input);
     settings.background = a.background;
     settings.wireframe = a.wireframe;
-    const Image image =
-        render_image(file.mesh, file.transfer, light, settings, width, height, a.samples);
+    const Image image = render_image(file.mesh, file.transfer, light, settings, width, height,
+                                     a.samples, sun ? &*sun : nullptr);
     save_image(a.output, image, static_cast<float>(params.exposure));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const int K_used = effective_basis_size(file.transfer, light, params.coeffs);
     const std::string term =
         plan.glossy ? ", " + describe_terms(plan, file.mesh, K_used) : std::string();
+    if (sun)
+        std::printf("sun: direct light from a %dx%d shadow map (soft: %g° radius), %s\n",
+                    kShadowMapSize, kShadowMapSize, sun->sun.radius_deg,
+                    !file.transfer.direct.empty()
+                        ? "bounced light from the file's T - T_0"
+                        : "no bounced light (the file has no direct part: not an interreflected "
+                          "bake, or --direct)");
     std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used, params.k,
                 term.c_str(), seconds, a.output.c_str());
 }

@@ -80,7 +80,6 @@ TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
 }
 
 void run(const ViewArgs& a) {
-    refuse_sun(a.light, "view");
     const auto start = Clock::now();
     // ---- Every option is checked before any work.
     SHPRT_CHECK(a.msaa >= 0 && a.msaa <= 64, invalid_argument,
@@ -188,9 +187,11 @@ void run(const ViewArgs& a) {
 
     if (!a.screenshot.empty()) {
         const ShLight light = rig.light();
+        std::optional<PreparedSun> sun;  // turned as `light`
+        if (setup.sun) sun = prepare_sun(setup, rig.K());
         std::string context;
-        const Image image =
-            viewer::render_screenshot(file.mesh, file.transfer, light, config, backend, &context);
+        const Image image = viewer::render_screenshot(file.mesh, file.transfer, light, config,
+                                                      backend, &context, sun ? &*sun : nullptr);
         save_image(a.screenshot, image, config.exposure);
         std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", width, height,
                     effective_basis_size(file.transfer, light, params.coeffs), params.k,

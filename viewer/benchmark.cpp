@@ -48,6 +48,7 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
 
     LightRig light = rig;  // turned when options.rotate_light
     Renderer renderer;
+    renderer.set_sun(light.sun());
     renderer.set_scene(mesh, transfer);
     renderer.set_light(light.source(), light.rotation());
     if (renderer.scene_has_matrices())

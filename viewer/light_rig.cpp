@@ -38,8 +38,15 @@ LightRig::LightRig(int K) : m_K(K) {
 
 void LightRig::set_source(const LightSetup& setup) {
     ShLight source = light_source(setup, m_K);
+    std::optional<PreparedSun> sun;
+    if (setup.sun) {
+        LightSetup unturned = setup;
+        unturned.yaw_pitch_roll_deg = {0, 0, 0};
+        sun = prepare_sun(unturned, m_K);
+    }
     m_base = light_rotation(setup);
     m_source = std::move(source);
+    m_sun = std::move(sun);
     m_setup = setup;
     m_has_source = true;
 }

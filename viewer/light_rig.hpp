@@ -15,6 +15,8 @@
 #include "shprt/light/light.hpp"
 #include "shprt/light/light_setup.hpp"
 
+#include <optional>
+
 namespace shprt::viewer {
 
 // Radians of light rotation per pixel of drag.
@@ -58,6 +60,9 @@ public:
     // rotation(), what Renderer::set_light takes so that it turns the background without
     // rebuilding it. Needs a source.
     const ShLight& source() const;
+    // The setup's sun kept out of the SH sum (--sun) in the source's frame — prepare_sun without
+    // the base rotation, which Renderer::set_light applies to it with rotation() — or nullptr.
+    const PreparedSun* sun() const { return m_sun ? &*m_sun : nullptr; }
     int K() const { return m_K; }
 
 private:
@@ -65,6 +70,7 @@ private:
     bool m_has_source = false;
     LightSetup m_setup;
     ShLight m_source;  // full bands, windowed, not rotated
+    std::optional<PreparedSun> m_sun;
     Mat3d m_base = Mat3d::identity();
     Mat3d m_drag = Mat3d::identity();
 };

@@ -162,6 +162,7 @@ App::~App() {
 
 // Uploads the transfer the panel asks for (the whole, or an interreflected bake's direct part).
 void App::show_transfer() {
+    m_renderer.set_sun(m_light.sun());
     m_renderer.set_scene(m_mesh, m_panel.direct_only ? m_direct : m_transfer);
     m_renderer.set_light(m_light.source(), m_light.rotation());
 }
@@ -224,6 +225,7 @@ void App::set_light_source() {
     setup.window_strength = m_panel.window_strength;
     try {
         m_light.set_source(setup);
+        m_renderer.set_sun(m_light.sun());
         m_renderer.set_light(m_light.source(), m_light.rotation());
         m_panel.light_error.clear();
     } catch (const Error& e) {

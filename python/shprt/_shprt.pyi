@@ -257,5 +257,6 @@ def render(
     albedo: Sequence[float] | None = None,
     direct: bool = False,
     glossy: str = "matrix",
+    sun: str | Sequence[float] | None = None,
 ) -> NDArray[np.float32]: ...
 def save_image(path: str, image: ArrayLike, exposure: float = 1.0) -> None: ...

@@ -296,11 +296,10 @@ void bind_bake(py::module_& m) {
            double tolerance, bool two_sided, std::int64_t indirect_samples,
            const Loose<SpacingName>& source_spacing, std::int64_t bounce_coeffs, int threads,
            const std::string& device, Loose<ProgressName> progress, const std::string& domain,
-           Size resolution, int uv_set,
-           std::optional<double> refine, std::optional<long long> max_vertices,
-           std::optional<long long> max_edge_split_depth, Size shard, const Path& output, bool half,
-           bool float32, bool stream, bool reproducible, const Path& checkpoint, const Path& resume,
-           double checkpoint_every, Size max_memory) {
+           Size resolution, int uv_set, std::optional<double> refine,
+           std::optional<long long> max_vertices, std::optional<long long> max_edge_split_depth,
+           Size shard, const Path& output, bool half, bool float32, bool stream, bool reproducible,
+           const Path& checkpoint, const Path& resume, double checkpoint_every, Size max_memory) {
             const Receivers rx{
                 domain,       std::move(resolution.value), std::move(shard.value), uv_set, refine,
                 max_vertices, max_edge_split_depth};

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "shprt/light/light.hpp"
+#include "shprt/light/sun.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/shade/params.hpp"
 
@@ -12,6 +13,8 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <variant>
+#include <vector>
 
 namespace shprt::python {
 
@@ -41,6 +44,10 @@ struct ShadingKeywords {
 ShadingParams shading_params(const ShadingKeywords& keywords);
 // K′ from shading_coeffs=, or from the deprecated coeffs= (a DeprecationWarning; both: an error).
 int shading_coeffs_arg(std::optional<int> coeffs, int shading_coeffs);
+// sun= as the command line's --sun: "X,Y,Z[,RADIUS_DEG[,R,G,B]]" or the same 3, 4 or 7 numbers
+// (shade(), render()).
+using SunArg = std::variant<std::string, std::vector<double>>;
+Sun sun_arg(const SunArg& arg);
 
 // The mesh a Python call gives: a shprt.Mesh as it is, or arrays (vertices (V, 3) float,
 // faces (T, 3) int, normals (V, 3) or None = computed, albedo (V, 3) or None = kDefaultAlbedo)

@@ -12,6 +12,8 @@
 #include "shprt/shade/camera.hpp"
 #include "shprt/shade/params.hpp"
 
+#include "shprt/light/sun.hpp"
+
 #include <pybind11/stl.h>
 #endif
 
@@ -27,11 +29,14 @@ void bind_render(py::module_& m) {
            std::optional<std::array<float, 6>> camera, std::optional<double> fov, double k,
            double gloss, int shading_coeffs, std::optional<int> coeffs, const std::string& view,
            bool background, bool wireframe, int samples, std::optional<std::string> brdf,
-           std::optional<std::array<float, 3>> albedo, bool direct, const std::string& glossy) {
+           std::optional<std::array<float, 3>> albedo, bool direct, const std::string& glossy,
+           std::optional<SunArg> sun) {
             const ShLight l = light_arg(light);
-            const ShadingParams params =
+            ShadingParams params =
                 shading_params({k, gloss, shading_coeffs_arg(coeffs, shading_coeffs), brdf, albedo,
                                 direct, glossy, view});
+            if (sun) params.sun = sun_arg(*sun);
+            check(params, Spelling::python);
             SHPRT_CHECK(width >= 1 && width <= 16384 && height >= 1 && height <= 16384,
                         invalid_argument, "size {}x{}: width and height must be 1 to 16384", width,
                         height);
@@ -52,10 +57,14 @@ void bind_render(py::module_& m) {
                 settings.camera = default_camera(file.mesh, aspect);
             }
             if (fov) settings.camera.fov_y_deg = float(*fov);
+            // The sun's own SH projection at the sky's K (its bounced light), as shade() makes it.
+            std::optional<PreparedSun> prepared;
+            if (plan.sun) prepared = PreparedSun{*plan.sun, sun_light(*plan.sun, l.K)};
             Image image;
             {
                 py::gil_scoped_release release;
-                image = render_image(file.mesh, file.transfer, l, settings, width, height, samples);
+                image = render_image(file.mesh, file.transfer, l, settings, width, height, samples,
+                                     prepared ? &*prepared : nullptr);
             }
             return take_vector(std::move(image.rgb), {image.height, image.width, 3});
         },
@@ -63,12 +72,13 @@ void bind_render(py::module_& m) {
         "camera"_a = py::none(), "fov"_a = py::none(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
         "shading_coeffs"_a = 0, "coeffs"_a = py::none(), "view"_a = "radiance",
         "background"_a = false, "wireframe"_a = false, "samples"_a = 4, "brdf"_a = py::none(),
-        "albedo"_a = py::none(), "direct"_a = false, "glossy"_a = "matrix",
+        "albedo"_a = py::none(), "direct"_a = false, "glossy"_a = "matrix", "sun"_a = py::none(),
         R"(Renders the baked scene headless (OpenGL through EGL, the renderer of `shprt render`):
 returns linear RGB (height, width, 3) float32, row 0 at the top. camera (ex, ey, ez, tx, ty, tz)
 or None for the default view; view 'radiance', 'irradiance' or 'transfer'. brdf and albedo as
 for shade(): the glossy term of transfer matrices, shaded on the GPU; direct and glossy as for
-shade().)");
+shade(). sun as for shade(): a sun kept out of the SH sum, drawn with a shadow map (its
+bounced light from an interreflected file's T - T0); `light` is then the sky alone.)");
 #else
     (void)m;
 #endif

@@ -26,8 +26,8 @@ py::array_t<float> vec3_array(std::vector<Vec3f>&& rows) {
     return take_vector(std::move(flat), {n, 3});
 }
 
-// sun= as the command line's --sun: "X,Y,Z[,RADIUS_DEG[,R,G,B]]" or the same 3, 4 or 7 numbers.
-using SunArg = std::variant<std::string, std::vector<double>>;
+}  // namespace
+
 Sun sun_arg(const SunArg& arg) {
     std::string text;
     if (const auto* s = std::get_if<std::string>(&arg)) {
@@ -38,8 +38,6 @@ Sun sun_arg(const SunArg& arg) {
     }
     return parse_sun(text, "sun='" + text + "'", "X,Y,Z[,RADIUS_DEG[,R,G,B]]");
 }
-
-}  // namespace
 
 int shading_coeffs_arg(std::optional<int> coeffs, int shading_coeffs) {
     if (!coeffs) return shading_coeffs;

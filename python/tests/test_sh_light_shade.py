@@ -166,6 +166,28 @@ def test_a_sun_kept_out_of_the_sh_sum_shades_as_the_command_line_shades_it(box, 
         shprt.shade(f, sky, sun_samples=9)
 
 
+@pytest.mark.skipif(not shprt.HAS_RENDER, reason="this build has no renderer (render/)")
+def test_render_draws_a_sun_kept_out_of_the_sh_sum(box):
+    # render(sun=) is `shprt render --sun` (tests/cli/test_cli_view.cpp compares that with the
+    # viewer's picture): the shadow-mapped sun beside the sky, its shadow on the floor.
+    f = shprt.File(box, shprt.bake(box, bands=3, samples=128))
+    sky = shprt.light("gradient", K=9)
+    camera = (-0.4, 2.6, 1.7, -1.0, 0.0, 0.0)  # above the shadow, which falls toward -x
+    with_sun = shprt.render(f, sky, sun="1,1.2,0.3,2", width=96, height=64, samples=1,
+                            camera=camera)
+    assert np.array_equal(with_sun, shprt.render(f, sky, sun=[1, 1.2, 0.3, 2], width=96,
+                                                 height=64, samples=1, camera=camera))
+    sky_only = shprt.render(f, sky, width=96, height=64, samples=1, camera=camera)
+    added = (with_sun - sky_only)[:, :, 0]
+    assert added.min() >= -1e-6
+    # Lit floor gains the sun; the shadow gains nothing: both are large parts of the picture.
+    assert (added > 0.1).mean() > 0.2 and (np.abs(added) < 1e-6).mean() > 0.03
+    with pytest.raises(shprt.Error, match=r"sun='1,2': expected X,Y,Z"):
+        shprt.render(f, sky, sun="1,2")
+    with pytest.raises(shprt.Error, match="lights diffuse receivers only"):
+        shprt.render(f, sky, sun="1,1,1", k=0.5)
+
+
 def test_a_texel_file_shades_per_texel_as_the_command_line_shades_it(tmp_path, cli):
     path, npy = str(tmp_path / "t.shprt"), str(tmp_path / "e.npy")
     cli("bake", "builtin:quad_box", "--domain", "texel", "--resolution", "16", "--coeffs", "4",

@@ -6,6 +6,7 @@
 // 2002), and y_lm(r) comes from the three-term recurrence of sh/basis.hpp (sh_eval_k), ported
 // line by line and fused with the two dot products so that no K-sized array is needed.
 #include "gl_util.hpp"
+#include "sun_pass.hpp"
 
 #include <string>
 
@@ -173,21 +174,37 @@ vec3 shade(uint v) {
 const char* const kSceneVertexShader = R"glsl(
 #version 430 core
 layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec3 a_albedo;
 layout(location = 3) in vec4 a_color;  // from the shading pass
+// From the sun's pass: T_0 · c_sun, the sun's direct light through SH, which the colours of
+// T · (c_sky + c_sun) hold and the shadow-mapped sun replaces (0 when there is none).
+layout(location = 4) in vec4 a_sun_sh;
 layout(location = 0) uniform mat4 u_view_proj;
 out vec3 v_color;
+out vec3 v_position;
+out vec3 v_normal;
+out vec3 v_albedo;
 void main() {
     gl_Position = u_view_proj * vec4(a_position, 1.0);
-    v_color = a_color.rgb;
+    v_color = a_color.rgb - a_sun_sh.rgb;
+    v_position = a_position;
+    v_normal = a_normal;
+    v_albedo = a_albedo;
 }
 )glsl";
 
 const char* const kSceneFragmentShader = R"glsl(
 #version 430 core
 in vec3 v_color;
+in vec3 v_position;
+in vec3 v_normal;
+in vec3 v_albedo;
 layout(location = 0) out vec4 frag_color;
+const float kPi = 3.14159265358979324;
 // @output
-void main() { frag_color = output_colour(v_color); }
+// @sun
+void main() { frag_color = output_colour(v_color + sun_term(v_position, v_normal, v_albedo)); }
 )glsl";
 
 const char* const kFullscreenVertexShader = R"glsl(
@@ -284,7 +301,10 @@ std::string fragment_shader(const char* source, bool display) {
                   ") uniform float u_display_exposure;\n"
                   "vec4 output_colour(vec3 c) { return display_encode(c * u_display_exposure); }\n"
             : std::string("vec4 output_colour(vec3 c) { return vec4(c, 1.0); }\n");
-    return splice(source, "// @output", output);
+    const std::string with_output = splice(source, "// @output", output);
+    return with_output.find("// @sun") == std::string::npos
+               ? with_output
+               : splice(with_output, "// @sun", kSunFunctions);
 }
 
 }  // namespace shprt::gl

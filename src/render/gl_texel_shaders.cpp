@@ -10,13 +10,18 @@ const char* const kTexelVertexShader = R"glsl(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec2 a_uv;
 layout(location = 2) in vec3 a_albedo;
+layout(location = 3) in vec3 a_normal;
 layout(location = 0) uniform mat4 u_view_proj;
 out vec2 v_uv;
 out vec3 v_albedo;
+out vec3 v_position;
+out vec3 v_normal;
 void main() {
     gl_Position = u_view_proj * vec4(a_position, 1.0);
     v_uv = a_uv;
     v_albedo = a_albedo;
+    v_position = a_position;
+    v_normal = a_normal;
 }
 )glsl";
 
@@ -24,6 +29,8 @@ const char* const kTexelFragmentShader = R"glsl(
 #version 430 core
 in vec2 v_uv;
 in vec3 v_albedo;
+in vec3 v_position;
+in vec3 v_normal;
 // The Renderer's light block (gl_shaders.cpp): channel c's coefficient i at c · u_light_stride
 // + i, u_light_stride a multiple of 4.
 layout(std140, binding = 0) uniform LightBlock { vec4 light4[768]; };
@@ -37,6 +44,7 @@ layout(location = 5) uniform int u_view;    // 0 radiance, 1 irradiance, 2 trans
 layout(location = 0) out vec4 frag_color;
 const float kPi = 3.14159265358979324;
 // @output
+// @sun
 
 vec4 plane(int layer, vec2 st) { return textureLod(u_planes, vec3(st, float(layer)), 0.0); }
 
@@ -62,7 +70,8 @@ void main() {
             E += vec3(dot(t, r), dot(plane(u_layers + j, st), g),
                       dot(plane(2 * u_layers + j, st), b));
     }
-    frag_color = output_colour(u_view == 1 ? E : v_albedo / kPi * E);
+    frag_color = output_colour((u_view == 1 ? E : v_albedo / kPi * E) +
+                               sun_term(v_position, v_normal, v_albedo));
 }
 )glsl";
 

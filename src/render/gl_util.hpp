@@ -33,7 +33,8 @@ std::string present_shader();
 // `source` (a fragment shader with a "// @output" line) writing linear radiance (display =
 // false: into a float target), or (display = true) the code the present pass would write for it:
 // radiance × the uniform at loc::kDisplayExposure, tone mapped and sRGB-encoded by the same GLSL
-// as present_shader() — for drawing straight into an 8-bit display framebuffer.
+// as present_shader() — for drawing straight into an 8-bit display framebuffer. A "// @sun" line
+// (after "// @output") gets the sun's direct light, sun_term (sun_pass.hpp).
 std::string fragment_shader(const char* source, bool display);
 // `source` with the line that holds `marker` replaced by `code`.
 std::string splice(const std::string& source, const char* marker, const std::string& code);

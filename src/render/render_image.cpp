@@ -8,9 +8,10 @@ namespace shprt {
 
 Image render_image_in_current_context(const Mesh& mesh, const TransferSet& transfer,
                                       const ShLight& light, const DrawSettings& settings, int width,
-                                      int height, int samples) {
+                                      int height, int samples, const PreparedSun* sun) {
     // GL objects die before the function returns, while the caller's context is still current.
     Renderer renderer;
+    renderer.set_sun(sun);
     renderer.set_scene(mesh, transfer);
     renderer.set_light(light);
     RenderTarget target(width, height, samples);
@@ -21,9 +22,11 @@ Image render_image_in_current_context(const Mesh& mesh, const TransferSet& trans
 }
 
 Image render_image(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
-                   const DrawSettings& settings, int width, int height, int samples) {
+                   const DrawSettings& settings, int width, int height, int samples,
+                   const PreparedSun* sun) {
     HeadlessGlContext context;
-    return render_image_in_current_context(mesh, transfer, light, settings, width, height, samples);
+    return render_image_in_current_context(mesh, transfer, light, settings, width, height, samples,
+                                           sun);
 }
 
 }  // namespace shprt

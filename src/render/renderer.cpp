@@ -12,11 +12,13 @@
 #include "shprt/light/light.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/gl_context.hpp"
+#include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
 #include "shprt/shade/texel_shade.hpp"
 #include "shprt/shade/tonemap.hpp"
 #include "shprt/transfer/cpca.hpp"
+#include "sun_pass.hpp"
 #include "texel_pass.hpp"
 
 #include <epoxy/gl.h>
@@ -160,6 +162,8 @@ Renderer::~Renderer() {
     delete_buffer(m_light_ubo);
     delete_buffer(m_recurrence_ubo);
     delete_buffer(m_lobe_ubo);
+    delete_buffer(m_sun_ubo);
+    delete_buffer(m_sky_sun_ubo);
     if (m_background_texture) glDeleteTextures(1, &m_background_texture);
     if (m_vao) glDeleteVertexArrays(1, &m_vao);
     if (m_empty_vao) glDeleteVertexArrays(1, &m_empty_vao);
@@ -195,13 +199,23 @@ unsigned Renderer::glossy_program(int K, int vectors, bool cluster_pass, bool ma
 }
 
 void Renderer::release_scene_buffers() {
-    for (unsigned* b : {&m_position_vbo, &m_normal_vbo, &m_albedo_vbo, &m_index_buffer,
-                        &m_color_buffer, &m_transfer_ssbo, &m_cluster_ssbo, &m_weight_ssbo,
-                        &m_cluster_light_ssbo, &m_cluster_vertex_ssbo, &m_brdf_index_ssbo})
+    for (unsigned* b :
+         {&m_position_vbo, &m_normal_vbo, &m_albedo_vbo, &m_index_buffer, &m_color_buffer,
+          &m_transfer_ssbo, &m_cluster_ssbo, &m_weight_ssbo, &m_cluster_light_ssbo,
+          &m_cluster_vertex_ssbo, &m_brdf_index_ssbo, &m_direct_ssbo, &m_sun_color_buffer})
         delete_buffer(*b);
 }
 
 void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
+    SHPRT_CHECK(!m_sun_source || transfer.layout.shape == TransferShape::vector, unsupported,
+                "a sun kept out of the SH sum lights diffuse transfer only: {} transfer (glossy "
+                "matrices) is not drawn with it; a sun: light projects the sun into SH for it",
+                to_string(transfer.layout.shape));
+    // The sun's shadow map covers the scene's bounding sphere.
+    const Bounds bounds = mesh_bounds(mesh);
+    m_bounds_centre = (bounds.lo + bounds.hi) * 0.5f;
+    m_bounds_radius = 0.5f * length(bounds.hi - bounds.lo);
+    ++m_geometry_generation;
     if (transfer.layout.domain == ReceiverDomain::texel) return set_texel_scene(mesh, transfer);
     m_texel.reset();
     SHPRT_CHECK(mesh.triangle_count() > 0, invalid_argument, "mesh {} has no triangles to draw",
@@ -261,15 +275,31 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
         gl::make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.positions.data(), GL_STATIC_DRAW);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
     glEnableVertexAttribArray(0);
-    // Normals and albedo are read by the shading pass only (as storage buffers).
+    // Normals and albedo: read by the shading pass (as storage buffers) and by the draw's sun.
     m_normal_vbo = gl::make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.normals.data(), GL_STATIC_DRAW);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
+    glEnableVertexAttribArray(1);
     m_albedo_vbo = gl::make_buffer(GL_ARRAY_BUFFER, vec_bytes, mesh.albedo.data(), GL_STATIC_DRAW);
+    glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
+    glEnableVertexAttribArray(2);
     // The shading pass writes one vec4 per vertex; the draw reads it as attribute 3.
     m_color_buffer =
         gl::make_buffer(GL_ARRAY_BUFFER, V * 4 * sizeof(float), nullptr, GL_DYNAMIC_COPY);
     glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
     glEnableVertexAttribArray(3);
     m_index_buffer = gl::upload_draw_orders(mesh, m_draw_orders);
+    // The sun's T_0 · c_sun per vertex (attribute 4), when the transfer has a direct part: the
+    // sun pass writes it, the draw subtracts it. Without one the attribute is off and reads 0.
+    const bool direct_part = !matrices && !transfer.direct.empty();
+    if (direct_part) {
+        m_sun_color_buffer =
+            gl::make_buffer(GL_ARRAY_BUFFER, V * 4 * sizeof(float), nullptr, GL_DYNAMIC_COPY);
+        glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+        m_direct_ssbo =
+            gl::make_buffer(GL_SHADER_STORAGE_BUFFER, transfer.direct.size() * sizeof(float),
+                            transfer.direct.data(), GL_STATIC_DRAW);
+    }
+    glDisableVertexAttribArray(4);
     glBindVertexArray(0);
     // Dynamic: a progressive bake rewrites it chunk by chunk (update_transfer).
     m_transfer_ssbo =
@@ -329,6 +359,67 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
     ++m_transfer_generation;
     m_shading_valid = false;
     gl::check("Renderer::upload_receivers");
+}
+
+void Renderer::set_sun(const PreparedSun* sun) {
+    if (!sun) {
+        m_sun_source.reset();
+        ++m_sun_generation;
+        return;
+    }
+    SHPRT_CHECK(!m_matrices, unsupported,
+                "a sun kept out of the SH sum lights diffuse transfer only: glossy matrices are "
+                "not drawn with it; a sun: light projects the sun into SH for them");
+    SHPRT_CHECK(sun->sh.K >= 1 && sun->sh.K <= kMaxLightK &&
+                    sun->sh.coeffs.size() == 3 * std::size_t(sun->sh.K),
+                invalid_argument, "the sun's SH projection has K = {} and {} coefficients",
+                sun->sh.K, sun->sh.coeffs.size());
+    m_sun_source = *sun;
+    if (!m_sun_pass) m_sun_pass = std::make_unique<SunPass>();
+    update_world_sun();
+}
+
+bool Renderer::sun_bounced() const { return m_sun_source && m_direct_ssbo != 0; }
+
+std::uint64_t Renderer::sun_map_builds() const { return m_sun_pass ? m_sun_pass->map_builds() : 0; }
+
+void Renderer::update_world_sun() {
+    if (!m_sun_source || !m_has_light) return;
+    m_world_sun = m_sun_source->sun;
+    const bool turned = !(m_light_rotation == Mat3d::identity());
+    if (turned) m_world_sun.direction = normalize(m_light_rotation * m_world_sun.direction);
+    // Its SH projection in the scene's frame, in the light block's layout for the sky's K; and
+    // added to the sky, the light of the pass over T (its T_0 part is taken out again).
+    const ShLight sh = turned
+                           ? rotated_light(m_sun_source->sh, m_light_rotation, m_sun_source->sh.K)
+                           : m_sun_source->sh;
+    const int stride = light_stride(m_light.K), K = std::min(sh.K, m_light.K);
+    std::vector<float> sun(3 * std::size_t(stride), 0.0f), sum(sun.size(), 0.0f);
+    for (int c = 0; c < 3; ++c) {
+        std::copy_n(sh.channel(c), K, sun.begin() + std::ptrdiff_t(c) * stride);
+        for (int i = 0; i < m_light.K; ++i)
+            sum[std::size_t(c) * stride + i] =
+                m_light.channel(c)[i] + sun[std::size_t(c) * stride + i];
+    }
+    for (auto [ubo, data] : {std::pair{&m_sun_ubo, &sun}, std::pair{&m_sky_sun_ubo, &sum}}) {
+        if (!*ubo)
+            *ubo = gl::make_buffer(GL_UNIFORM_BUFFER, kLightBlockBytes, nullptr, GL_DYNAMIC_DRAW);
+        glBindBuffer(GL_UNIFORM_BUFFER, *ubo);
+        glBufferSubData(GL_UNIFORM_BUFFER, 0, GLsizeiptr(data->size() * sizeof(float)),
+                        data->data());
+    }
+    glBindBuffer(GL_UNIFORM_BUFFER, 0);
+    ++m_sun_generation;
+    gl::check("Renderer::update_world_sun");
+}
+
+void Renderer::update_sun_map() {
+    m_sun_pass->update(m_world_sun, m_bounds_centre, m_bounds_radius, m_geometry_generation, [&] {
+        if (m_texel) return m_texel->draw_triangles();
+        glBindVertexArray(m_vao);
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
+        glBindVertexArray(0);
+    });
 }
 
 void Renderer::set_texel_scene(const Mesh& mesh, const TransferSet& transfer) {
@@ -393,6 +484,7 @@ void Renderer::set_light(const ShLight& light, const Mat3d& rotation) {
     glBindBuffer(GL_UNIFORM_BUFFER, 0);
     m_has_light = true;
     ++m_light_generation;
+    update_world_sun();
     gl::check("Renderer::set_light");
 }
 
@@ -474,9 +566,21 @@ void Renderer::run_shading(const ShadingKey& key) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kNormalBinding, m_normal_vbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kAlbedoBinding, m_albedo_vbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, m_color_buffer);
-    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_light_ubo);
+    // With the sun's bounced light: T · (c_sky + c_sun) here, T_0 · c_sun below; the draw takes
+    // the difference, (T − T_0) · c_sun + T · c_sky.
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding,
+                     key.bounced_sun ? m_sky_sun_ubo : m_light_ubo);
     glBindBufferBase(GL_UNIFORM_BUFFER, gl::kRecurrenceBlockBinding, m_recurrence_ubo);
     dispatch_per_vertex();
+    if (key.bounced_sun) {
+        glUniform1i(gl::loc::kStrideK, m_K);
+        glUniform1i(gl::loc::kChannels, 1);
+        glUniform1i(gl::loc::kGlossy, 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_direct_ssbo);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, m_sun_color_buffer);
+        glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_sun_ubo);
+        dispatch_per_vertex();
+    }
     finish_shading_pass(key, "Renderer::run_shading");
 }
 
@@ -633,6 +737,16 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
                 s.k);
     const int K = effective_K(s.K_used);
     const Mat4f view_proj = view_projection_matrix(s.camera, float(width) / float(height));
+    // The sun: drawn in the radiance and irradiance views (the transfer view has no light).
+    const SunMode sun_mode = !m_sun_source                     ? SunMode::none
+                             : s.view == ShadeView::radiance   ? SunMode::radiance
+                             : s.view == ShadeView::irradiance ? SunMode::irradiance
+                                                               : SunMode::none;
+    SHPRT_CHECK(sun_mode != SunMode::radiance || s.k == 1, unsupported,
+                "a sun kept out of the SH sum lights diffuse receivers only (k = 1, got {}): the "
+                "glossy term under it is not implemented; a sun: light projects the sun into SH",
+                s.k);
+    if (sun_mode != SunMode::none) update_sun_map();
 
     glViewport(0, 0, width, height);
     glDisable(GL_SCISSOR_TEST);
@@ -679,6 +793,8 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     }
     key.light_generation = m_light_generation;
     key.transfer_generation = m_transfer_generation;
+    key.bounced_sun = sun_mode != SunMode::none && sun_bounced();
+    key.sun_generation = key.bounced_sun ? m_sun_generation : 0;
     if ((!m_texel || m_matrices) && (s.reshade || !m_shading_valid || !(key == m_shading_key))) {
         if (m_matrices)
             run_glossy_shading(key);
@@ -691,16 +807,31 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     glUseProgram(m_scene_program[display]);
     glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
     if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
+    if (sun_mode != SunMode::none)
+        m_sun_pass->bind(sun_mode);
+    else
+        SunPass::bind_none();
     glBindVertexArray(m_vao);
+    if (m_sun_color_buffer) {  // the sun's T_0 · c_sun, subtracted, or 0
+        if (key.bounced_sun)
+            glEnableVertexAttribArray(4);
+        else
+            glDisableVertexAttribArray(4);
+    }
+    glVertexAttrib4f(4, 0.0f, 0.0f, 0.0f, 0.0f);
     glPolygonMode(GL_FRONT_AND_BACK, s.wireframe ? GL_LINE : GL_FILL);
     if (m_texel)  // per fragment, from the coefficient planes
         m_texel->draw(view_proj, s, K, m_light_ubo, light_stride(m_light.K), exposure,
-                      m_color_buffer);
+                      m_color_buffer, sun_mode != SunMode::none ? m_sun_pass.get() : nullptr,
+                      sun_mode);
     else
         glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT,
                        gl::draw_order_offset(m_draw_orders, m_index_count, s));
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glBindVertexArray(0);
+    glActiveTexture(GL_TEXTURE0 + gl::kShadowMapUnit);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glActiveTexture(GL_TEXTURE0);
 
     if (s.background) {
         const Mat3d rotation = upload_background(K);

@@ -22,7 +22,7 @@ TexelPass::TexelPass() {
 }
 
 TexelPass::~TexelPass() {
-    for (unsigned* b : {&m_position_vbo, &m_uv_vbo, &m_albedo_vbo, &m_index_buffer})
+    for (unsigned* b : {&m_position_vbo, &m_uv_vbo, &m_albedo_vbo, &m_normal_vbo, &m_index_buffer})
         if (*b) glDeleteBuffers(1, b);
     for (unsigned* t : {&m_planes, &m_receivers})
         if (*t) glDeleteTextures(1, t);
@@ -62,7 +62,7 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
         "textures ({} texels a side, {} layers)",
         mesh.source, atlas.width, atlas.height, C * per_channel, max_size, max_layers);
 
-    for (unsigned* b : {&m_position_vbo, &m_uv_vbo, &m_albedo_vbo, &m_index_buffer})
+    for (unsigned* b : {&m_position_vbo, &m_uv_vbo, &m_albedo_vbo, &m_normal_vbo, &m_index_buffer})
         if (*b) glDeleteBuffers(1, b), *b = 0;
     for (unsigned* t : {&m_planes, &m_receivers})
         if (*t) glDeleteTextures(1, t), *t = 0;
@@ -80,6 +80,10 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
         gl::make_buffer(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.albedo.data(), GL_STATIC_DRAW);
     glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
     glEnableVertexAttribArray(2);
+    m_normal_vbo =
+        gl::make_buffer(GL_ARRAY_BUFFER, V * sizeof(Vec3f), mesh.normals.data(), GL_STATIC_DRAW);
+    glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3f), nullptr);
+    glEnableVertexAttribArray(3);
     m_index_buffer = gl::upload_draw_orders(mesh, m_draw_orders);
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
@@ -139,8 +143,15 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     gl::check("TexelPass::set_scene");
 }
 
+void TexelPass::draw_triangles() const {
+    glBindVertexArray(m_vao);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+}
+
 void TexelPass::draw(const Mat4f& view_proj, const DrawSettings& s, int K, unsigned light_ubo,
-                     int light_stride, float exposure, unsigned colour_buffer) {
+                     int light_stride, float exposure, unsigned colour_buffer, const SunPass* sun,
+                     SunMode sun_mode) {
     SHPRT_CHECK(m_planes != 0 || m_receivers != 0, invalid_argument,
                 "TexelPass::draw before set_scene");
     SHPRT_CHECK(m_colours || s.k >= 1 || s.view != ShadeView::radiance, unsupported,
@@ -164,6 +175,10 @@ void TexelPass::draw(const Mat4f& view_proj, const DrawSettings& s, int K, unsig
         glUniform1i(gl::texel_loc::kLightStride, light_stride);
         glUniform1i(gl::texel_loc::kView, static_cast<int>(s.view));
         glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, light_ubo);
+        if (sun)
+            sun->bind(sun_mode);
+        else
+            SunPass::bind_none();
         glActiveTexture(GL_TEXTURE0 + gl::kTexelPlanesUnit);
         glBindTexture(GL_TEXTURE_2D_ARRAY, m_planes);
     }

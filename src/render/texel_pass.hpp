@@ -9,6 +9,7 @@
 #include "shprt/scene/mesh.hpp"
 #include "shprt/shade/camera.hpp"
 #include "shprt/transfer/transfer.hpp"
+#include "sun_pass.hpp"
 
 #include <cstddef>
 
@@ -39,9 +40,9 @@ public:
     TexelPass(const TexelPass&) = delete;
     TexelPass& operator=(const TexelPass&) = delete;
 
-    // Uploads the mesh (positions, UVs, albedo, triangles) and the coefficient planes: for each
-    // channel c and each group j of four coefficients (4j … 4j+3, zero past K), one RGBA layer of
-    // the atlas's width × height, layer c·⌈K/4⌉ + j; RGBA16F when the transfer's encoding is f16
+    // Uploads the mesh (positions, UVs, albedo, normals, triangles) and the coefficient planes: for
+    // each channel c and each group j of four coefficients (4j … 4j+3, zero past K), one RGBA layer
+    // of the atlas's width × height, layer c·⌈K/4⌉ + j; RGBA16F when the transfer's encoding is f16
     // (the file's values are exact in it), else RGBA32F. Texel (x, y) (row 0 at the top) is GL
     // texel (x, y), so a fragment samples at (u, 1 − v). Empty texels take the nearest chart
     // texel's row up to kTexelGutter rings away (dilate_texels), 0 beyond, so linear filtering
@@ -65,8 +66,14 @@ public:
     // the bilinear filtering, at its UV, of the per-texel colours in `colour_buffer` (vec4 per
     // receiver, as the Renderer's shading passes write them; texels outside the map are black).
     // `exposure` > 0: display codes instead of radiance, as Renderer::draw_to_display.
+    // `sun`: the sun's direct light per fragment (Renderer::set_sun), bound as SunPass::bind(
+    // sun_mode); nullptr: none. Not with per-texel colours (glossy matrices have no sun).
     void draw(const Mat4f& view_proj, const DrawSettings& settings, int K, unsigned light_ubo,
-              int light_stride, float exposure, unsigned colour_buffer);
+              int light_stride, float exposure, unsigned colour_buffer,
+              const SunPass* sun = nullptr, SunMode sun_mode = SunMode::none);
+    // Draws the triangles in the mesh's order with the vertex array's positions (attribute 0)
+    // and the current program: the sun's depth pass.
+    void draw_triangles() const;
 
 private:
     unsigned m_program[2] = {0, 0};  // linear radiance, display codes (gl::fragment_shader)
@@ -74,7 +81,8 @@ private:
     unsigned m_colour_program[2] = {0, 0};
     unsigned m_vao = 0, m_planes = 0, m_receivers = 0;
     bool m_colours = false;  // glossy matrices: draw filters per-texel colours
-    unsigned m_position_vbo = 0, m_uv_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
+    unsigned m_position_vbo = 0, m_uv_vbo = 0, m_albedo_vbo = 0, m_normal_vbo = 0,
+             m_index_buffer = 0;
     std::size_t m_index_count = 0;
     int m_draw_orders = 1;  // index lists in m_index_buffer (gl::upload_draw_orders)
     int m_channels = 0, m_layers_per_channel = 0;

@@ -291,8 +291,13 @@ double cpca_bytes_per_receiver(const CpcaCode& code, std::size_t D, std::size_t 
            shared / double(std::max<std::size_t>(1, receivers));
 }
 
-TransferError transfer_error(const TransferSet& exact, const TransferSet& approx,
-                             const std::vector<Vec3f>& normals, std::uint64_t seed) {
+namespace {
+
+// transfer_error under `lights`: each K coefficients (one for every colour) or 3·K (channel-major
+// RGB; a grey transfer is then lit by each colour in turn).
+TransferError error_under(const TransferSet& exact, const TransferSet& approx,
+                          const std::vector<Vec3f>& normals,
+                          const std::vector<std::vector<double>>& lights) {
     SHPRT_CHECK(exact.layout == approx.layout || (exact.layout.K == approx.layout.K &&
                                                   exact.layout.shape == approx.layout.shape &&
                                                   exact.layout.channels == approx.layout.channels),
@@ -305,15 +310,17 @@ TransferError transfer_error(const TransferSet& exact, const TransferSet& approx
     const int K = layout.K;
     const int bands = sh_bands_for(K);
     const bool matrix = layout.shape != TransferShape::vector;
-    constexpr int kLights = 8;
-    std::mt19937_64 rng(seed);
-    std::vector<double> lights(std::size_t(kLights) * K);
-    for (int l = 0; l < kLights; ++l)
-        for (int i = 0; i < K; ++i) {
-            const int band = int(std::sqrt(double(i)));
-            lights[std::size_t(l) * K + i] =
-                (i == 0 ? 3.0 : 0.0) + (2 * uniform01(rng) - 1) / (1.0 + band);
-        }
+    for (const std::vector<double>& light : lights)
+        SHPRT_CHECK(light.size() == std::size_t(K) || light.size() == 3 * std::size_t(K),
+                    invalid_argument, "transfer_error: a light of {} coefficients for K = {}",
+                    light.size(), K);
+    // The (transfer channel, light colour) pairs lit: colour c of an RGB light lights channel c,
+    // or the one grey channel.
+    const auto colours = [&](const std::vector<double>& light, int c) {
+        const bool rgb = light.size() == 3 * std::size_t(K);
+        return std::pair{rgb ? (layout.channels == 3 ? c : 0) : 0,
+                         rgb ? (layout.channels == 3 ? c + 1 : 3) : 1};
+    };
     const std::vector<double> phong = phong_lobe_zonal(bands, 16.0);
     const std::vector<double> cosine = clamped_cosine_zonal(bands);
 
@@ -327,15 +334,19 @@ TransferError transfer_error(const TransferSet& exact, const TransferSet& approx
                 const float* e = exact.receiver(r, c);
                 const float* a = approx.receiver(r, c);
                 if (!matrix) {
-                    for (int l = 0; l < kLights; ++l) {
-                        double se = 0, sa = 0;
-                        for (int i = 0; i < K; ++i) {
-                            se += double(e[i]) * lights[std::size_t(l) * K + i];
-                            sa += double(a[i]) * lights[std::size_t(l) * K + i];
+                    for (const std::vector<double>& light : lights) {
+                        const auto [first_colour, end_colour] = colours(light, c);
+                        for (int lc = first_colour; lc < end_colour; ++lc) {
+                            const double* L = light.data() + std::size_t(lc) * K;
+                            double se = 0, sa = 0;
+                            for (int i = 0; i < K; ++i) {
+                                se += double(e[i]) * L[i];
+                                sa += double(a[i]) * L[i];
+                            }
+                            err2[r] += (se - sa) * (se - sa);
+                            ref2[r] += se * se;
+                            ++values[r];
                         }
-                        err2[r] += (se - sa) * (se - sa);
-                        ref2[r] += se * se;
-                        ++values[r];
                     }
                     continue;
                 }
@@ -363,24 +374,27 @@ TransferError transfer_error(const TransferSet& exact, const TransferSet& approx
                     rotate_zonal(phong.data(), K, normalize(dirs[v]), lobes[v].data());
                 rotate_zonal(cosine.data(), K, n, lobes[4].data());
                 std::vector<double> te(K), ta(K);
-                for (int l = 0; l < kLights; ++l) {
-                    const double* L = lights.data() + std::size_t(l) * K;
-                    for (int i = 0; i < K; ++i) {
-                        te[i] = ta[i] = 0;
-                        for (int j = 0; j < K; ++j) {
-                            te[i] += Me[i * K + j] * L[j];
-                            ta[i] += Ma[i * K + j] * L[j];
-                        }
-                    }
-                    for (const std::vector<double>& g : lobes) {
-                        double se = 0, sa = 0;
+                for (const std::vector<double>& light : lights) {
+                    const auto [first_colour, end_colour] = colours(light, c);
+                    for (int lc = first_colour; lc < end_colour; ++lc) {
+                        const double* L = light.data() + std::size_t(lc) * K;
                         for (int i = 0; i < K; ++i) {
-                            se += g[i] * te[i];
-                            sa += g[i] * ta[i];
+                            te[i] = ta[i] = 0;
+                            for (int j = 0; j < K; ++j) {
+                                te[i] += Me[i * K + j] * L[j];
+                                ta[i] += Ma[i * K + j] * L[j];
+                            }
                         }
-                        err2[r] += (se - sa) * (se - sa);
-                        ref2[r] += se * se;
-                        ++values[r];
+                        for (const std::vector<double>& g : lobes) {
+                            double se = 0, sa = 0;
+                            for (int i = 0; i < K; ++i) {
+                                se += g[i] * te[i];
+                                sa += g[i] * ta[i];
+                            }
+                            err2[r] += (se - sa) * (se - sa);
+                            ref2[r] += se * se;
+                            ++values[r];
+                        }
                     }
                 }
             }
@@ -410,8 +424,34 @@ TransferError transfer_error(const TransferSet& exact, const TransferSet& approx
     return out;
 }
 
+}  // namespace
+
+TransferError transfer_error(const TransferSet& exact, const TransferSet& approx,
+                             const std::vector<Vec3f>& normals, std::uint64_t seed) {
+    const int K = exact.layout.K;
+    constexpr int kLights = 8;
+    std::mt19937_64 rng(seed);
+    std::vector<std::vector<double>> lights(kLights, std::vector<double>(std::size_t(K)));
+    for (int l = 0; l < kLights; ++l)
+        for (int i = 0; i < K; ++i) {
+            const int band = int(std::sqrt(double(i)));
+            lights[std::size_t(l)][std::size_t(i)] =
+                (i == 0 ? 3.0 : 0.0) + (2 * uniform01(rng) - 1) / (1.0 + band);
+        }
+    return error_under(exact, approx, normals, lights);
+}
+
+TransferError transfer_error(const TransferSet& exact, const TransferSet& approx,
+                             const std::vector<Vec3f>& normals, std::span<const float> light) {
+    SHPRT_CHECK(light.size() == 3 * std::size_t(exact.layout.K), invalid_argument,
+                "transfer_error: a light of {} coefficients for transfer of K = {} (3 K)",
+                light.size(), exact.layout.K);
+    return error_under(exact, approx, normals, {std::vector<double>(light.begin(), light.end())});
+}
+
 CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3f>& normals,
-                             const CpcaOptions& options, bool half) {
+                             const CpcaOptions& options, bool half,
+                             const std::vector<float>* light) {
     const std::size_t N = transfer.receiver_count();
     const std::size_t D = transfer.layout.floats_per_receiver();
     CpcaResult out;
@@ -435,6 +475,7 @@ CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3
         N > 0 ? double(out.compressed.direct.size()) * (half ? 2 : 4) / double(N) : 0.0;
     start = Clock::now();
     out.error = transfer_error(transfer, out.compressed, normals, options.seed);
+    if (light) out.light_error = transfer_error(transfer, out.compressed, normals, *light);
     out.seconds_error = seconds_since(start);
     out.bytes_per_receiver = cpca_bytes_per_receiver(out.compressed.cpca, D, N, half ? 2 : 4);
     out.raw_bytes_per_receiver = 4.0 * double(D);

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -353,7 +354,30 @@ TEST_F(CliGlossy, CompressRefusesBadParameters) {
                           "137 vectors, more than the 136 floats");
     expect_one_line_error(shprt("compress '" + file + "' -o '" + o + "' --cpca 4"),
                           "--cpca CLUSTERS,VECTORS");
+    expect_one_line_error(shprt("compress '" + file + "' -o '" + o + "' --cpca 4,8 --sun 1,1,1"),
+                          "the error is reported under --light SKY");
+    expect_one_line_error(
+        shprt("compress '" + file + "' -o '" + o + "' --cpca 4,8 --light nothing.hdr"),
+        "nothing.hdr");
     EXPECT_TRUE(out_dir_empty());
+}
+
+// --light: the error under that light too, a --sun kept out of it (named in the line).
+TEST_F(CliGlossy, CompressReportsTheErrorUnderAGivenLight) {
+    // Not the plane: its transfer is the same at every vertex, which one vector holds exactly.
+    const std::string file = out("bp.shprt");
+    ASSERT_EQ(shprt("bake builtin:box_on_plane --transfer glossy --samples 64 -q -o '" + file + "'")
+                  .exit_code,
+              0);
+    const auto r = shprt("compress '" + file + "' -o '" + out("c.shprt") +
+                         "' --cpca 2,1 --light gradient --sun 1,1,1");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::regex line(
+        "error under --light gradient \\(the sun of --sun 1,1,1 kept out of the SH sum\\): exit "
+        "radiance relative RMSE ([0-9.]+)% \\(5 views\\)\n");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.out, m, line)) << r.out;
+    EXPECT_GT(std::stod(m[1].str()), 0.0);
 }
 
 }  // namespace

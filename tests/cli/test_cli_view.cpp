@@ -122,7 +122,8 @@ TEST_F(CliView, ScreenshotEqualsRender) {
         " --size 120x80",
         " --size 96x64 --light builtin --rotate 40,10,0 --k 0.4 --exposure 1.6 --camera "
         "3,2.5,3.5,0,0.3,0 --fov 45",
-        " --size 64x64 --light sun:1,2,1,6 --light constant:0.2 --shading-coeffs 20 --view irradiance "
+        " --size 64x64 --light sun:1,2,1,6 --light constant:0.2 --shading-coeffs 20 --view "
+        "irradiance "
         "--window hann"};
     for (const std::string& options : common) {
         const RunResult v =
@@ -168,6 +169,28 @@ TEST_F(CliView, DirectShowsTheDirectPartAsRenderDoes) {
         shprt("view '" + s_file + "' --direct --screenshot '" + out("x.png") + "'"),
         "has no direct part");
     EXPECT_FALSE(fs::exists(out("x.png")));
+}
+
+// A sun kept out of the SH sum (--sun): the viewer's screenshot is `render`'s picture, turned with
+// --rotate in both; it differs from the picture without it; the interreflected file says its
+// bounced light comes from T − T_0; a glossy draw is refused with one line.
+TEST_F(CliView, ASunKeptOutOfTheShSumShowsAsRenderDrawsIt) {
+    const std::string ir = (s_dir / "ir.shprt").string();
+    const std::string options = " --size 96x64 --light gradient --sun 1,1.2,0.3,2 --rotate 20,0,0";
+    const RunResult v = shprt("view '" + ir + "' --screenshot '" + out("sv.png") + "'" + options);
+    ASSERT_EQ(v.exit_code, 0) << v.err;
+    const RunResult r = shprt("render '" + ir + "' -o '" + out("sr.png") + "'" + options);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("bounced light from the file's T - T_0"), std::string::npos) << r.out;
+    EXPECT_EQ(slurp(out("sv.png")), slurp(out("sr.png")));
+    ASSERT_EQ(shprt("render '" + ir + "' -o '" + out("nosun.png") +
+                    "' --size 96x64 --light gradient --rotate 20,0,0")
+                  .exit_code,
+              0);
+    EXPECT_NE(slurp(out("sr.png")), slurp(out("nosun.png")));
+    expect_one_line_error(shprt("render '" + ir + "' -o '" + out("g.png") + "' --k 0.5" + options),
+                          "lights diffuse receivers only");
+    EXPECT_FALSE(fs::exists(out("g.png")));
 }
 
 // A texel file (per-fragment shading): --screenshot is `render`'s picture; the glossy term is

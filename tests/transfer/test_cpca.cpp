@@ -159,6 +159,55 @@ TEST(Cpca, WorksOnDiffuseVectors) {
     EXPECT_EQ(r.error.relative_rmse, 0.0);
 }
 
+// The error under a given light (`shprt compress --light`): an approximation that is the exact
+// rows × 1.01 is 1 % off under any light, matrices or vectors, RGB light on grey rows or on RGB
+// rows; a colour the transfer is not lit by changes nothing; the light's size is checked.
+TEST(Cpca, TheErrorUnderAGivenLightIsItsRelativeRmse) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.1f, 1);
+    for (const bool matrices : {true, false})
+        for (const int channels : {1, 3}) {
+            TransferSet exact = synthetic(40, 9, 7);
+            if (!matrices || channels == 3) {
+                TransferInfo info;
+                info.layout.K = 9;
+                info.layout.channels = channels;
+                if (matrices) {
+                    info.kind = TransferKind::glossy;
+                    info.layout.shape = TransferShape::symmetric_matrix;
+                }
+                exact = TransferSet::zeros(info, 40);
+                for (float& x : exact.coeffs) x = u(rng);
+            }
+            TransferSet approx = exact;
+            for (float& x : approx.coeffs) x *= 1.01f;
+            std::vector<float> light(27);
+            for (float& x : light) x = u(rng);
+            const TransferError e = transfer_error(exact, approx, up_normals(40), light);
+            EXPECT_NEAR(e.relative_rmse, 0.01, 1e-5) << matrices << " " << channels;
+            EXPECT_EQ(transfer_error(exact, exact, up_normals(40), light).relative_rmse, 0.0);
+            // Only channel 0's rows off, and a light that is red only: 1 % for RGB rows (the
+            // red channel), 1 % for grey ones (lit by the red part).
+            TransferSet red_off = exact;
+            for (std::size_t r = 0; r < 40; ++r)
+                for (std::size_t i = 0; i < exact.layout.floats_per_channel(); ++i)
+                    red_off.receiver(r, 0)[i] *= 1.01f;
+            std::vector<float> red(27, 0.0f);
+            for (int i = 0; i < 9; ++i) red[std::size_t(i)] = light[std::size_t(i)];
+            EXPECT_NEAR(transfer_error(exact, red_off, up_normals(40), red).relative_rmse, 0.01,
+                        1e-5);
+            // ... and a light without red does not see the red channel's error (RGB rows).
+            std::vector<float> green_blue = light;
+            for (int i = 0; i < 9; ++i) green_blue[std::size_t(i)] = 0;
+            if (channels == 3)
+                EXPECT_EQ(transfer_error(exact, red_off, up_normals(40), green_blue).relative_rmse,
+                          0.0);
+            EXPECT_THROW(transfer_error(exact, approx, up_normals(40),
+                                        std::vector<float>(light.begin(), light.begin() + 9)),
+                         Error);
+        }
+}
+
 // An interreflected set's direct part goes with the code as it is (rounded to float16 with half),
 // so that a compressed file still shows "direct only".
 TEST(Cpca, TheDirectPartIsKept) {

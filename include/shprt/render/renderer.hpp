@@ -32,6 +32,7 @@
 
 #include "shprt/light/image.hpp"
 #include "shprt/light/light.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/shade/camera.hpp"
 #include "shprt/shade/glossy.hpp"
@@ -51,6 +52,10 @@
 namespace shprt {
 
 class TexelPass;  // src/render/texel_pass.hpp
+class SunPass;    // src/render/sun_pass.hpp
+
+// Texels a side of the sun's shadow map (Renderer::set_sun; render/sun_pass.hpp).
+inline constexpr int kShadowMapSize = 2048;
 
 struct DrawSettings {
     Camera camera;
@@ -180,6 +185,22 @@ public:
     // of `light` change: for a full-band K' a turned light is drawn by turning the lookup
     // direction; for a partial band (not rotation invariant) it is rebuilt from the rotated light.
     void set_light(const ShLight& light, const Mat3d& rotation = Mat3d::identity());
+    // A sun kept out of the SH sum (docs/lights.md; the CPU twin is shade_with_sun, shade/
+    // sun_shade.hpp), or none (nullptr). `sun` is in the light's own frame, as set_light's light:
+    // its direction and its SH projection (prepare_sun) turn with set_light's rotation. Drawn as
+    //   direct   per fragment, E_n · V · max(0, n·s) with V from a shadow map filtered so that the
+    //            penumbra follows the sun's angular radius (render/sun_pass.hpp);
+    //   bounced  per vertex, (T − T_0) · c_sun, for a transfer with a direct part (an
+    //            interreflected bake: sun_bounced()); without one the sun is direct only;
+    // beside the sky (set_light's light, which must not hold the sun), in the radiance (ρ/π · E)
+    // and irradiance views; the transfer view has no light and no sun. Diffuse only, as
+    // shade_with_sun: a scene of glossy matrices is refused here (Error(unsupported)) and a draw
+    // with k < 1 in the radiance view throws Error(unsupported). Per-vertex and per-texel scenes.
+    void set_sun(const PreparedSun* sun);
+    // The sun's bounced light is drawn (set_sun with a transfer that has a direct part).
+    bool sun_bounced() const;
+    // How many times the sun's shadow map has been drawn (it is redrawn when the sun turns).
+    std::uint64_t sun_map_builds() const;
 
     int scene_K() const { return m_K; }
     int scene_channels() const { return m_channels; }
@@ -232,6 +253,8 @@ private:
         Vec3f albedo{0, 0, 0};
         Vec3f eye{0, 0, 0};
         std::uint64_t light_generation = 0, transfer_generation = 0;
+        bool bounced_sun = false;  // the sun's bounced light is in the colours (set_sun)
+        std::uint64_t sun_generation = 0;
         bool operator==(const ShadingKey&) const = default;
     };
     void set_texel_scene(const Mesh& mesh, const TransferSet& transfer);
@@ -245,6 +268,11 @@ private:
     // The cluster pass of a CPCA code, if its light or K' changed since it last ran.
     void update_cluster_light(int K, bool white_sky);
     void release_scene_buffers();
+    // The sun in the scene's frame (set_sun's, turned by the light's rotation) and its SH
+    // uniform blocks; called by set_sun and set_light.
+    void update_world_sun();
+    // The sun's shadow map, redrawn if the sun or the scene changed (sun_pass.hpp).
+    void update_sun_map();
     // Dispatches the bound compute program once per vertex, then the barrier the draw needs.
     void dispatch_per_vertex();
     // After a shading pass: unbinds its buffers and program, records `key`, checks for errors.
@@ -323,20 +351,34 @@ private:
     ShadingKey m_shading_key;
     bool m_shading_valid = false;
     std::unique_ptr<TexelPass> m_texel;  // a texel-domain scene: drawn per fragment
+    // The sun (set_sun): as given, and turned into the scene's frame; its SH projection alone
+    // and added to the sky (uniform blocks in the light block's layout); the transfer's direct
+    // part T_0 (one channel per vertex) and the pass's T_0 · c_sun per vertex, subtracted by the
+    // draw from the colours of T · (c_sky + c_sun).
+    std::optional<PreparedSun> m_sun_source;
+    Sun m_world_sun{};
+    std::unique_ptr<SunPass> m_sun_pass;
+    unsigned m_sun_ubo = 0, m_sky_sun_ubo = 0, m_direct_ssbo = 0, m_sun_color_buffer = 0;
+    std::uint64_t m_sun_generation = 0, m_geometry_generation = 0;
+    Vec3f m_bounds_centre{0, 0, 0};
+    float m_bounds_radius = 0;
 };
 
 // One frame, headless: creates a HeadlessGlContext and calls render_image_in_current_context.
 // What `shprt render` does (then save_image).
 Image render_image(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
-                   const DrawSettings& settings, int width, int height, int samples = 4);
+                   const DrawSettings& settings, int width, int height, int samples = 4,
+                   const PreparedSun* sun = nullptr);
 
 // One frame in the OpenGL context current on the calling thread (4.3 core; e.g. the viewer's
 // offscreen context for --screenshot, which may be a hidden window): a Renderer with `light`
-// (unrotated: set_light(light)) and a RenderTarget with `samples` samples; draws, resolves and
-// reads back linear RGB (row 0 top). Its GL objects are released before it returns. Throws what
-// Renderer and RenderTarget throw.
+// (unrotated: set_light(light)) and `sun` (set_sun; in the light's frame, so prepared with the
+// light's rotation), and a RenderTarget with `samples` samples; draws, resolves and reads back
+// linear RGB (row 0 top). Its GL objects are released before it returns. Throws what Renderer
+// and RenderTarget throw.
 Image render_image_in_current_context(const Mesh& mesh, const TransferSet& transfer,
                                       const ShLight& light, const DrawSettings& settings, int width,
-                                      int height, int samples = 4);
+                                      int height, int samples = 4,
+                                      const PreparedSun* sun = nullptr);
 
 }  // namespace shprt

@@ -32,6 +32,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
+#include <span>
 #include <vector>
 
 namespace shprt {
@@ -72,6 +74,11 @@ struct TransferError {
 // `approx` must have `exact`'s layout and receiver count; `normals` one per receiver.
 TransferError transfer_error(const TransferSet& exact, const TransferSet& approx,
                              const std::vector<Vec3f>& normals, std::uint64_t seed = 1);
+// The same views under one given light instead of the test lights (`shprt compress --light`):
+// 3·K coefficients, channel-major RGB (an ShLight's), K the transfer's; colour c lights channel c
+// (a grey transfer: each colour in turn).
+TransferError transfer_error(const TransferSet& exact, const TransferSet& approx,
+                             const std::vector<Vec3f>& normals, std::span<const float> light);
 
 // What `shprt compress` does: the code of `transfer` (compress_cpca), stored as float16 when
 // `half` (the code's floats rounded as a file stores them), the rows rebuilt from it, and the error
@@ -81,6 +88,7 @@ struct CpcaResult {
                              // .cpca and the rebuilt rows in .coeffs; an interreflected input's
                              // direct part (.direct) kept as is (rounded to float16 when half)
     TransferError error;
+    std::optional<TransferError> light_error;  // under compress_transfer's `light`, if given
     double seconds_fit = 0, seconds_error = 0;
     double bytes_per_receiver = 0;           // the code (cpca_bytes_per_receiver)
     double raw_bytes_per_receiver = 0;       // the input's rows as float32
@@ -88,7 +96,10 @@ struct CpcaResult {
                                              // else the rows as float32
     double direct_bytes_per_receiver = 0;    // the direct part kept beside the code (0: none)
 };
+// `light` (optional, 3·K floats as transfer_error takes): the error under it too, in
+// CpcaResult::light_error.
 CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3f>& normals,
-                             const CpcaOptions& options, bool half);
+                             const CpcaOptions& options, bool half,
+                             const std::vector<float>* light = nullptr);
 
 }  // namespace shprt

@@ -1,0 +1,209 @@
+// The sun's shadow map and its per-fragment filter (sun_pass.hpp). PCSS: R. Fernando, "Percentage-
+// closer soft shadows", SIGGRAPH 2005 sketch; taps on a Vogel (golden-angle) disc; receiver-plane
+// depth bias from the surface normal (the plane's depth slope in map space).
+#include "sun_pass.hpp"
+
+#include "gl_util.hpp"
+#include "shprt/core/error.hpp"
+
+#include <epoxy/gl.h>
+
+#include <cmath>
+
+namespace shprt {
+
+namespace gl {
+
+const char* const kSunFunctions = R"glsl(
+layout(binding = 2) uniform sampler2D u_shadow_map;  // depth in [0, 1], 0 nearest the sun
+layout(location = 20) uniform int u_sun_mode;        // 0 none, 1 radiance, 2 irradiance
+layout(location = 21) uniform mat3 u_sun_basis;      // columns: the map's u and v, toward the sun
+layout(location = 24) uniform vec3 u_sun_irradiance;  // E_n: the disc's, at normal incidence
+layout(location = 25) uniform mat4 u_sun_to_map;     // world → (s, t, depth)
+// x: a texel's width (world), y: tan(angular radius), z: the depth range (world), w: texels a side
+layout(location = 29) uniform vec4 u_sun_filter;
+
+const int kSunBlockerTaps = 16, kSunFilterTaps = 32;
+
+// Tap i of n on the unit disc, evenly spread (golden-angle spiral).
+vec2 sun_tap(int i, int n) {
+    float r = sqrt((float(i) + 0.5) / float(n));
+    float a = float(i) * 2.39996322972865332;
+    return r * vec2(cos(a), sin(a));
+}
+
+// The fraction of the sun's disc the point sees, through the map.
+float sun_visibility(vec3 p, vec3 n) {
+    float texel = u_sun_filter.x, tan_r = u_sun_filter.y, range = u_sun_filter.z;
+    vec3 q = (u_sun_to_map * vec4(p + n * texel, 1.0)).xyz;
+    if (any(lessThan(q, vec3(0.0))) || any(greaterThan(q, vec3(1.0)))) return 1.0;
+    // The receiver's plane in map space: depth(q.xy + o) = q.z + dot(slope, o).
+    float ns = max(dot(n, u_sun_basis[2]), 0.1);
+    vec2 slope = vec2(dot(n, u_sun_basis[0]), dot(n, u_sun_basis[1])) / ns;
+    float bias = texel / range;
+    float uv_per_world = 1.0 / range;  // the map is as wide as it is deep
+    // Blockers lie between the map's near side and the receiver: search the disc the sun's
+    // radius opens over that distance.
+    float search = max(q.z * range * tan_r, texel) * uv_per_world;
+    float sum = 0.0;
+    int count = 0;
+    for (int i = 0; i <= kSunBlockerTaps; ++i) {
+        vec2 o = i == kSunBlockerTaps ? vec2(0.0) : search * sun_tap(i, kSunBlockerTaps);
+        float d = textureLod(u_shadow_map, q.xy + o, 0.0).r;
+        if (d < q.z + dot(slope, o) - bias) {
+            sum += d;
+            ++count;
+        }
+    }
+    if (count == 0) return 1.0;
+    float distance = max(q.z - sum / float(count), 0.0) * range;
+    float radius = max(distance * tan_r, 0.5 * texel) * uv_per_world;
+    float lit = 0.0;
+    for (int i = 0; i < kSunFilterTaps; ++i) {
+        vec2 o = radius * sun_tap(i, kSunFilterTaps);
+        float d = textureLod(u_shadow_map, q.xy + o, 0.0).r;
+        lit += d >= q.z + dot(slope, o) - bias ? 1.0 : 0.0;
+    }
+    return lit / float(kSunFilterTaps);
+}
+
+vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo) {
+    if (u_sun_mode == 0) return vec3(0.0);
+    vec3 n = normalize(n_in);
+    float c = dot(n, u_sun_basis[2]);
+    if (!(c > 0.0)) return vec3(0.0);
+    vec3 E = u_sun_irradiance * (c * sun_visibility(p, n));
+    return u_sun_mode == 1 ? albedo / kPi * E : E;
+}
+)glsl";
+
+namespace {
+
+const char* const kDepthVertexShader = R"glsl(
+#version 430 core
+layout(location = 0) in vec3 a_position;
+layout(location = 0) uniform mat4 u_light_clip;
+void main() { gl_Position = u_light_clip * vec4(a_position, 1.0); }
+)glsl";
+
+const char* const kDepthFragmentShader = R"glsl(
+#version 430 core
+void main() {}
+)glsl";
+
+}  // namespace
+}  // namespace gl
+
+SunPass::SunPass() {
+    m_program = gl::compile_program(gl::kDepthVertexShader, gl::kDepthFragmentShader, "sun depth");
+    glGenTextures(1, &m_map);
+    glBindTexture(GL_TEXTURE_2D, m_map);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, kShadowMapSize, kShadowMapSize);
+    // Nearest: the filter compares depths itself (PCF over its own taps).
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    GLint bound = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+    glGenFramebuffers(1, &m_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, m_map, 0);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, GLuint(bound));
+    SHPRT_CHECK(status == GL_FRAMEBUFFER_COMPLETE, unsupported,
+                "the sun's {}x{} shadow map framebuffer is incomplete (status 0x{:x})",
+                kShadowMapSize, kShadowMapSize, status);
+    gl::check("SunPass");
+}
+
+SunPass::~SunPass() {
+    if (m_fbo) glDeleteFramebuffers(1, &m_fbo);
+    if (m_map) glDeleteTextures(1, &m_map);
+    if (m_program) glDeleteProgram(m_program);
+}
+
+void SunPass::update(const Sun& sun, Vec3f centre, float radius, std::uint64_t geometry,
+                     const std::function<void()>& draw_triangles) {
+    if (m_builds > 0 && sun.direction == m_sun.direction && sun.radius_deg == m_sun.radius_deg &&
+        centre == m_centre && radius == m_radius && geometry == m_geometry) {
+        m_sun = sun;  // its radiance does not change the map
+        return;
+    }
+    m_sun = sun;
+    m_centre = centre;
+    m_radius = radius;
+    m_geometry = geometry;
+    // The map's axes: u and v across the sun's direction s, in double.
+    const Vec3d s = normalize(sun.direction);
+    const Vec3d helper = std::abs(s.y) < 0.9 ? Vec3d{0, 1, 0} : Vec3d{1, 0, 0};
+    const Vec3d u = normalize(cross(helper, s)), v = cross(s, u);
+    // A margin so that the sphere's own rim is inside, and never a zero-size map.
+    const double R = std::max(double(radius) * 1.01, 1e-6);
+    const Vec3d c = cast<double>(centre);
+    // Clip space: x = u·(p − c)/R, y = v·(p − c)/R, z = −s·(p − c)/R (−1 nearest the sun).
+    float clip[16] = {};
+    const Vec3d rows[3] = {u / R, v / R, -s / R};
+    for (int r = 0; r < 3; ++r) {
+        clip[0 * 4 + r] = float(rows[r].x);
+        clip[1 * 4 + r] = float(rows[r].y);
+        clip[2 * 4 + r] = float(rows[r].z);
+        clip[3 * 4 + r] = float(-dot(rows[r], c));
+    }
+    clip[15] = 1.0f;
+    // The map's coordinates: (clip + 1)/2 on each axis.
+    for (int col = 0; col < 4; ++col)
+        for (int r = 0; r < 3; ++r)
+            m_to_map[col * 4 + r] = 0.5f * clip[col * 4 + r] + (col == 3 ? 0.5f : 0.0f);
+    m_to_map[15] = 1.0f;
+    const Vec3d basis[3] = {u, v, s};
+    for (int col = 0; col < 3; ++col) {
+        m_basis[col * 3 + 0] = float(basis[col].x);
+        m_basis[col * 3 + 1] = float(basis[col].y);
+        m_basis[col * 3 + 2] = float(basis[col].z);
+    }
+
+    GLint bound = 0, viewport[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+    glViewport(0, 0, kShadowMapSize, kShadowMapSize);
+    glDisable(GL_CULL_FACE);  // both faces cast
+    glDisable(GL_SCISSOR_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glClearDepth(1.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glUseProgram(m_program);
+    glUniformMatrix4fv(0, 1, GL_FALSE, clip);
+    draw_triangles();
+    glUseProgram(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, GLuint(bound));
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    ++m_builds;
+    gl::check("SunPass::update");
+}
+
+void SunPass::bind(SunMode mode) const {
+    const double R = std::max(double(m_radius) * 1.01, 1e-6);
+    const Vec3d E = sun_irradiance(m_sun);
+    glUniform1i(gl::sun_loc::kMode, static_cast<int>(mode));
+    glUniformMatrix3fv(gl::sun_loc::kBasis, 1, GL_FALSE, m_basis);
+    glUniform3f(gl::sun_loc::kIrradiance, float(E.x), float(E.y), float(E.z));
+    glUniformMatrix4fv(gl::sun_loc::kToMap, 1, GL_FALSE, m_to_map);
+    glUniform4f(gl::sun_loc::kFilter, float(2 * R / kShadowMapSize),
+                float(std::tan(m_sun.radius_deg * kPi / 180)), float(2 * R), float(kShadowMapSize));
+    glActiveTexture(GL_TEXTURE0 + gl::kShadowMapUnit);
+    glBindTexture(GL_TEXTURE_2D, m_map);
+    glActiveTexture(GL_TEXTURE0);
+}
+
+void SunPass::bind_none() { glUniform1i(gl::sun_loc::kMode, 0); }
+
+}  // namespace shprt

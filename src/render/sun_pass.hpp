@@ -1,0 +1,81 @@
+// The sun's direct light drawn per fragment with a shadow map: the renderer's twin of
+// sun_direct_irradiance (shade/sun_shade.hpp, traced with Embree), for a sun kept out of the SH
+// sum (`--sun`, docs/lights.md "A sun kept out of the SH sum"). Private to render/: the Renderer
+// owns one while it has a sun, redraws the map when the sun turns or the scene changes, and
+// binds it to the scene and texel programs, whose fragment shaders splice in kSunFunctions.
+//
+// The map: one orthographic depth map of kShadowMapSize² texels along the sun's direction, fitted
+// to the scene's bounding sphere (the scenes are bounded; a large scene gets coarser texels,
+// 2·radius/kShadowMapSize each — one map, no cascades). Both faces of every triangle cast.
+//
+// The filter (percentage-closer soft shadows, Fernando 2005, for a directional light): a
+// blocker search over the disc that the sun's angular radius r opens from the receiver toward
+// the map (radius = depth·tan r), then percentage-closer filtering over the disc whose radius
+// is the receiver's mean distance to its blockers × tan r — the disc of directions the traced
+// sun samples, cut through the blockers' plane. So a penumbra widens with the distance to the
+// occluder as the traced one does; a point sun's edge is one texel wide. Receivers are offset
+// along their normal by one texel before the lookup, every tap is compared with the receiver's
+// plane extended to it (receiver-plane depth bias: a lit slope does not shadow itself across the
+// filter's width), and the comparison keeps a texel of depth bias.
+#pragma once
+
+#include "shprt/core/vec.hpp"
+#include "shprt/light/sun.hpp"
+#include "shprt/render/renderer.hpp"
+
+#include <cstdint>
+#include <functional>
+
+namespace shprt {
+
+namespace gl {
+// GLSL 4.30: `vec3 sun_term(vec3 p, vec3 n, vec3 albedo)`, the direct sun at world point p with
+// (unnormalised) normal n: albedo/π · E (mode 1), E (mode 2) or 0 (mode 0), E = E_n · V ·
+// max(0, n·s), E_n the disc's irradiance at normal incidence. Spliced at "// @sun" (after
+// "// @output" in the same shader; needs kPi).
+extern const char* const kSunFunctions;
+// Its uniform locations (layout(location = N)) and the shadow map's texture unit.
+// kBasis is a mat3 (columns u, v, s: the map's axes and the direction toward the sun), three
+// locations; kToMap a mat4, four.
+namespace sun_loc {
+inline constexpr int kMode = 20, kBasis = 21, kIrradiance = 24, kToMap = 25, kFilter = 29;
+}
+inline constexpr unsigned kShadowMapUnit = 2;
+}  // namespace gl
+
+// The sun_term mode for a view: 1 radiance, 2 irradiance, 0 (no sun) for the transfer view.
+enum class SunMode { none = 0, radiance = 1, irradiance = 2 };
+
+class SunPass {
+public:
+    // Compiles the depth program and makes the map. Needs a current OpenGL 4.3 core context.
+    SunPass();
+    ~SunPass();
+    SunPass(const SunPass&) = delete;
+    SunPass& operator=(const SunPass&) = delete;
+
+    // Redraws the map when the sun's direction, the sphere or `geometry` (a generation the caller
+    // bumps whenever the triangles change) differ from the last call: binds the map's
+    // framebuffer, sets the depth program's matrix and calls `draw_triangles` (which binds a
+    // vertex array with positions at attribute 0 and draws), then restores the framebuffer and
+    // viewport that were bound. `sun` is in the scene's frame (already turned with the light).
+    void update(const Sun& sun, Vec3f centre, float radius, std::uint64_t geometry,
+                const std::function<void()>& draw_triangles);
+    // Sets sun_term's uniforms on the program in use and binds the map at kShadowMapUnit.
+    void bind(SunMode mode) const;
+    // Sets sun_term's mode to none on the program in use (a program without a sun).
+    static void bind_none();
+
+    std::uint64_t map_builds() const { return m_builds; }  // for tests and statistics
+
+private:
+    unsigned m_program = 0, m_fbo = 0, m_map = 0;
+    Sun m_sun{};
+    Vec3f m_centre{0, 0, 0};
+    float m_radius = 0;
+    std::uint64_t m_geometry = ~std::uint64_t(0), m_builds = 0;
+    float m_to_map[16] = {};  // world → (s, t, depth) in [0, 1], column-major
+    float m_basis[9] = {};    // u, v, s as columns
+};
+
+}  // namespace shprt
