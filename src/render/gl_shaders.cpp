@@ -180,12 +180,15 @@ layout(location = 3) in vec4 a_color;  // from the shading pass
 // From the sun's pass: T_0 · c_sun, the sun's direct light through SH, which the colours of
 // T · (c_sky + c_sun) hold and the shadow-mapped sun replaces (0 when there is none).
 layout(location = 4) in vec4 a_sun_sh;
+layout(location = 5) in uint a_brdf;  // glossy matrices with material BRDFs: the table entry
 layout(location = 0) uniform mat4 u_view_proj;
 out vec3 v_color;
 out vec3 v_position;
 out vec3 v_normal;
 out vec3 v_albedo;
+flat out uint v_brdf;
 void main() {
+    v_brdf = a_brdf;
     gl_Position = u_view_proj * vec4(a_position, 1.0);
     v_color = a_color.rgb - a_sun_sh.rgb;
     v_position = a_position;
@@ -200,11 +203,14 @@ in vec3 v_color;
 in vec3 v_position;
 in vec3 v_normal;
 in vec3 v_albedo;
+flat in uint v_brdf;
 layout(location = 0) out vec4 frag_color;
 const float kPi = 3.14159265358979324;
 // @output
 // @sun
-void main() { frag_color = output_colour(v_color + sun_term(v_position, v_normal, v_albedo)); }
+void main() {
+    frag_color = output_colour(v_color + sun_term(v_position, v_normal, v_albedo, v_brdf));
+}
 )glsl";
 
 const char* const kFullscreenVertexShader = R"glsl(

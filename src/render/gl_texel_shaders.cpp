@@ -71,7 +71,7 @@ void main() {
                       dot(plane(2 * u_layers + j, st), b));
     }
     frag_color = output_colour((u_view == 1 ? E : v_albedo / kPi * E) +
-                               sun_term(v_position, v_normal, v_albedo));
+                               sun_term(v_position, v_normal, v_albedo, 0u));
 }
 )glsl";
 

@@ -207,10 +207,11 @@ void Renderer::release_scene_buffers() {
 }
 
 void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
-    SHPRT_CHECK(!m_sun_source || transfer.layout.shape == TransferShape::vector, unsupported,
-                "a sun kept out of the SH sum lights diffuse transfer only: {} transfer (glossy "
-                "matrices) is not drawn with it; a sun: light projects the sun into SH for it",
-                to_string(transfer.layout.shape));
+    SHPRT_CHECK(!m_sun_source || transfer.layout.shape == TransferShape::vector ||
+                    transfer.layout.domain == ReceiverDomain::vertex,
+                unsupported,
+                "a sun kept out of the SH sum lights glossy matrices per vertex only: texel "
+                "matrices are not drawn with it; a sun: light projects the sun into SH for them");
     // The sun's shadow map covers the scene's bounding sphere.
     const Bounds bounds = mesh_bounds(mesh);
     m_bounds_centre = (bounds.lo + bounds.hi) * 0.5f;
@@ -346,6 +347,12 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
         for (std::size_t v = 0; v < V; ++v) index[v] = brdf_table_index(mesh, true, v);
         m_brdf_index_ssbo = gl::make_buffer(GL_SHADER_STORAGE_BUFFER, V * sizeof(std::uint32_t),
                                             index.data(), GL_STATIC_DRAW);
+        // ... and attribute 5 of the draw, for the sun's glossy term (switched on per draw).
+        glBindVertexArray(m_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, m_brdf_index_ssbo);
+        glVertexAttribIPointer(5, 1, GL_UNSIGNED_INT, sizeof(std::uint32_t), nullptr);
+        glBindVertexArray(0);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
     }
     m_lobe_key = LobeKey{Brdf{}, -1, false};
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
@@ -367,9 +374,9 @@ void Renderer::set_sun(const PreparedSun* sun) {
         ++m_sun_generation;
         return;
     }
-    SHPRT_CHECK(!m_matrices, unsupported,
-                "a sun kept out of the SH sum lights diffuse transfer only: glossy matrices are "
-                "not drawn with it; a sun: light projects the sun into SH for them");
+    SHPRT_CHECK(!(m_texel && m_matrices), unsupported,
+                "a sun kept out of the SH sum lights glossy matrices per vertex only: texel "
+                "matrices are not drawn with it; a sun: light projects the sun into SH for them");
     SHPRT_CHECK(sun->sh.K >= 1 && sun->sh.K <= kMaxLightK &&
                     sun->sh.coeffs.size() == 3 * std::size_t(sun->sh.K),
                 invalid_argument, "the sun's SH projection has K = {} and {} coefficients",
@@ -742,9 +749,10 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
                              : s.view == ShadeView::radiance   ? SunMode::radiance
                              : s.view == ShadeView::irradiance ? SunMode::irradiance
                                                                : SunMode::none;
-    SHPRT_CHECK(sun_mode != SunMode::radiance || s.k == 1, unsupported,
-                "a sun kept out of the SH sum lights diffuse receivers only (k = 1, got {}): the "
-                "glossy term under it is not implemented; a sun: light projects the sun into SH",
+    SHPRT_CHECK(sun_mode != SunMode::radiance || s.k == 1 || m_matrices, unsupported,
+                "a sun kept out of the SH sum lights diffuse receivers only (k = 1, got {}) or "
+                "glossy matrices: the paper's glossy term is not linear in the light, so the sun "
+                "cannot be taken out of it; a sun: light projects the sun into SH",
                 s.k);
     if (sun_mode != SunMode::none) update_sun_map();
 
@@ -811,7 +819,23 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
         m_sun_pass->bind(sun_mode);
     else
         SunPass::bind_none();
+    const bool sun_glossy = sun_mode == SunMode::radiance && m_matrices;
+    if (sun_glossy) {
+        std::vector<Brdf> table{key.brdf};
+        if (key.material_brdfs)
+            table.insert(table.end(), m_material_brdfs.begin(), m_material_brdfs.end());
+        m_sun_pass->bind_glossy(
+            s.camera.eye, key.k,
+            key.override_albedo ? std::optional<Vec3f>(key.albedo) : std::nullopt, table);
+    }
     glBindVertexArray(m_vao);
+    if (m_brdf_index_ssbo) {  // the vertices' BRDF entries, or entry 0
+        if (sun_glossy && key.material_brdfs)
+            glEnableVertexAttribArray(5);
+        else
+            glDisableVertexAttribArray(5);
+    }
+    glVertexAttribI4ui(5, 0, 0, 0, 0);
     if (m_sun_color_buffer) {  // the sun's T_0 · c_sun, subtracted, or 0
         if (key.bounced_sun)
             glEnableVertexAttribArray(4);

@@ -5,6 +5,7 @@
 
 #include "gl_util.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/shade/glossy.hpp"
 
 #include <epoxy/gl.h>
 
@@ -22,6 +23,15 @@ layout(location = 24) uniform vec3 u_sun_irradiance;  // E_n: the disc's, at nor
 layout(location = 25) uniform mat4 u_sun_to_map;     // world → (s, t, depth)
 // x: a texel's width (world), y: tan(angular radius), z: the depth range (world), w: texels a side
 layout(location = 29) uniform vec4 u_sun_filter;
+// Glossy matrices (SunPass::bind_glossy): the exit radiance k·ρ_d/π·E + (1 − k)·ρ_s·L·Ω·f(r·s)·V
+// with f the vertex's BRDF lobe profile (shade/glossy.hpp, brdf_profile) about its reflection.
+layout(location = 30) uniform int u_sun_glossy;          // 0: diffuse (ρ/π · E)
+layout(location = 31) uniform vec3 u_sun_eye;
+layout(location = 32) uniform float u_sun_k;
+layout(location = 33) uniform vec4 u_sun_albedo;         // xyz replaces both colours when w > 0
+layout(location = 34) uniform vec3 u_sun_radiance_omega;  // L · Ω per channel
+layout(location = 35) uniform vec4 u_sun_brdf[32];       // model, parameter, scale (brdf_table)
+layout(location = 67) uniform vec3 u_sun_specular[32];   // each BRDF's specular colour
 
 const int kSunBlockerTaps = 16, kSunFilterTaps = 32;
 
@@ -67,13 +77,43 @@ float sun_visibility(vec3 p, vec3 n) {
     return lit / float(kSunFilterTaps);
 }
 
-vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo) {
+// The normalised lobe profile f(x) of brdf_profile (shade/glossy.cpp), x = cos θ from the axis.
+float sun_lobe(vec4 b, float x) {
+    if (!(x > 0.0)) return 0.0;
+    int model = int(b.x);
+    float e = b.y, scale = b.z;
+    if (model == 0) return scale * (e + 1.0) / (2.0 * kPi) * pow(x, e);
+    if (model == 1) return scale * pow(0.5 * (1.0 + x), 0.5 * e);
+    float a2 = e * e * e * e, c2 = 0.5 * (1.0 + x), d = c2 * (a2 - 1.0) + 1.0;
+    return scale * a2 / (kPi * d * d);
+}
+
+vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo, uint brdf) {
     if (u_sun_mode == 0) return vec3(0.0);
     vec3 n = normalize(n_in);
     float c = dot(n, u_sun_basis[2]);
     if (!(c > 0.0)) return vec3(0.0);
-    vec3 E = u_sun_irradiance * (c * sun_visibility(p, n));
-    return u_sun_mode == 1 ? albedo / kPi * E : E;
+    float V = sun_visibility(p, n);
+    vec3 E = u_sun_irradiance * (c * V);
+    if (u_sun_mode == 2) return E;
+    if (u_sun_glossy == 0) return albedo / kPi * E;
+    vec3 rd = u_sun_albedo.w > 0.0 ? u_sun_albedo.xyz : albedo;
+    vec3 rs = u_sun_albedo.w > 0.0 ? u_sun_albedo.xyz : u_sun_specular[brdf];
+    vec3 to_eye = u_sun_eye - p;
+    vec3 w = dot(to_eye, to_eye) > 0.0 ? normalize(to_eye) : n;
+    vec3 r = 2.0 * dot(n, w) * n - w;
+    // The lobe's mean over the disc: the centre (weight 1/4) and six points at sqrt(2/3) of its
+    // radius (1/8 each), a rule exact for polynomials of degree 3 over the disc.
+    vec4 b = u_sun_brdf[brdf];
+    vec3 s = u_sun_basis[2];
+    float f = 0.25 * sun_lobe(b, dot(r, s));
+    float ring = 0.816496580927726 * u_sun_filter.y;  // sqrt(2/3) · tan(radius)
+    for (int i = 0; i < 6; ++i) {
+        float a = float(i) * 1.04719755119659775;
+        vec3 d = normalize(s + ring * (cos(a) * u_sun_basis[0] + sin(a) * u_sun_basis[1]));
+        f += 0.125 * sun_lobe(b, dot(r, d));
+    }
+    return u_sun_k * rd / kPi * E + (1.0 - u_sun_k) * rs * u_sun_radiance_omega * (f * V);
 }
 )glsl";
 
@@ -191,6 +231,7 @@ void SunPass::update(const Sun& sun, Vec3f centre, float radius, std::uint64_t g
 }
 
 void SunPass::bind(SunMode mode) const {
+    glUniform1i(gl::sun_loc::kGlossy, 0);
     const double R = std::max(double(m_radius) * 1.01, 1e-6);
     const Vec3d E = sun_irradiance(m_sun);
     glUniform1i(gl::sun_loc::kMode, static_cast<int>(mode));
@@ -205,5 +246,31 @@ void SunPass::bind(SunMode mode) const {
 }
 
 void SunPass::bind_none() { glUniform1i(gl::sun_loc::kMode, 0); }
+
+void SunPass::bind_glossy(Vec3f eye, double k, const std::optional<Vec3f>& albedo,
+                          const std::vector<Brdf>& brdfs) const {
+    SHPRT_CHECK(!brdfs.empty() && brdfs.size() <= std::size_t(gl::kSunMaxBrdfs), unsupported,
+                "{} distinct BRDFs under a sun kept out of the SH sum (at most {} are drawn)",
+                brdfs.size(), gl::kSunMaxBrdfs);
+    std::vector<float> table(4 * brdfs.size(), 0.0f), specular(3 * brdfs.size());
+    for (std::size_t b = 0; b < brdfs.size(); ++b) {
+        table[4 * b] = float(static_cast<int>(brdfs[b].model));
+        table[4 * b + 1] = float(brdfs[b].parameter);
+        // Phong's profile is normalised as written; the others by brdf_profile's scale.
+        table[4 * b + 2] = float(brdf_profile(brdfs[b]).scale);
+        specular[3 * b] = brdfs[b].specular.x;
+        specular[3 * b + 1] = brdfs[b].specular.y;
+        specular[3 * b + 2] = brdfs[b].specular.z;
+    }
+    const Vec3d LO = m_sun.radiance * sun_solid_angle(m_sun);
+    glUniform1i(gl::sun_loc::kGlossy, 1);
+    glUniform3f(gl::sun_loc::kEye, eye.x, eye.y, eye.z);
+    glUniform1f(gl::sun_loc::kDiffuseShare, float(k));
+    const Vec3f a = albedo.value_or(Vec3f{0, 0, 0});
+    glUniform4f(gl::sun_loc::kAlbedo, a.x, a.y, a.z, albedo ? 1.0f : 0.0f);
+    glUniform3f(gl::sun_loc::kRadianceOmega, float(LO.x), float(LO.y), float(LO.z));
+    glUniform4fv(gl::sun_loc::kBrdfs, GLsizei(brdfs.size()), table.data());
+    glUniform3fv(gl::sun_loc::kSpecular, GLsizei(brdfs.size()), specular.data());
+}
 
 }  // namespace shprt

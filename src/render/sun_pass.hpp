@@ -25,21 +25,30 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <vector>
 
 namespace shprt {
 
 namespace gl {
-// GLSL 4.30: `vec3 sun_term(vec3 p, vec3 n, vec3 albedo)`, the direct sun at world point p with
-// (unnormalised) normal n: albedo/π · E (mode 1), E (mode 2) or 0 (mode 0), E = E_n · V ·
-// max(0, n·s), E_n the disc's irradiance at normal incidence. Spliced at "// @sun" (after
+// GLSL 4.30: `vec3 sun_term(vec3 p, vec3 n, vec3 albedo, uint brdf)`, the direct sun at world
+// point p with (unnormalised) normal n: albedo/π · E (mode 1), E (mode 2) or 0 (mode 0), E = E_n
+// · V · max(0, n·s), E_n the disc's irradiance at normal incidence; for glossy matrices
+// (bind_glossy) k·ρ_d/π·E + (1 − k)·ρ_s·L·Ω·f̄·V, f̄ the mean over the disc of the lobe of BRDF
+// `brdf` of the table about the reflection direction (a 7-point disc rule; shade_glossy_with_sun
+// sums it over the disc's traced directions). Spliced at "// @sun"
+// (after
 // "// @output" in the same shader; needs kPi).
 extern const char* const kSunFunctions;
 // Its uniform locations (layout(location = N)) and the shadow map's texture unit.
 // kBasis is a mat3 (columns u, v, s: the map's axes and the direction toward the sun), three
 // locations; kToMap a mat4, four.
 namespace sun_loc {
-inline constexpr int kMode = 20, kBasis = 21, kIrradiance = 24, kToMap = 25, kFilter = 29;
+inline constexpr int kMode = 20, kBasis = 21, kIrradiance = 24, kToMap = 25, kFilter = 29,
+                     kGlossy = 30, kEye = 31, kDiffuseShare = 32, kAlbedo = 33, kRadianceOmega = 34,
+                     kBrdfs = 35, kSpecular = 67;
 }
+inline constexpr int kSunMaxBrdfs = 32;  // BRDFs a glossy draw under the sun holds (u_sun_brdf)
 inline constexpr unsigned kShadowMapUnit = 2;
 }  // namespace gl
 
@@ -65,6 +74,11 @@ public:
     void bind(SunMode mode) const;
     // Sets sun_term's mode to none on the program in use (a program without a sun).
     static void bind_none();
+    // After bind(SunMode::radiance): glossy matrices' sun term, as shade_glossy_with_sun, with
+    // the eye, diffuse share k, the albedo override and the BRDF table (brdf_table order: the
+    // vertices' brdf indices point into it; at most kSunMaxBrdfs, else Error(unsupported)).
+    void bind_glossy(Vec3f eye, double k, const std::optional<Vec3f>& albedo,
+                     const std::vector<Brdf>& brdfs) const;
 
     std::uint64_t map_builds() const { return m_builds; }  // for tests and statistics
 

@@ -48,13 +48,13 @@ double normalisation(const Brdf& b) {
     return 1 / (z0[0] * std::sqrt(4 * kPi));  // ∫ f dω = z_0 · √(4π)
 }
 
+}  // namespace
+
 Vec3d reflect_view(const Vec3d& n, const Vec3d& p, const Vec3d& eye) {
     const Vec3d to_eye = eye - p;
     const Vec3d w = length(to_eye) > 0 ? normalize(to_eye) : n;  // at the eye: along n
     return n * (2 * dot(n, w)) - w;
 }
-
-}  // namespace
 
 double BrdfProfile::operator()(double x) const { return scale * raw_profile(brdf, x); }
 

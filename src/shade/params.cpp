@@ -119,9 +119,6 @@ ShadingPlan resolve_shading(const ShadingParams& p, ShprtFile& file, const std::
                 "or use {}",
                 source, to_string(file.transfer.kind), brdf_option,
                 option_text(s, "transfer", "glossy"), option_text(s, "gloss"));
-    SHPRT_CHECK(!p.sun, unsupported,
-                "{}: a traced sun lights diffuse transfer only; {} holds glossy transfer matrices",
-                option_text(s, "sun"), source);
     GlossyShadeOptions g;
     g.material_brdfs = materials;  // then g.brdf (gloss's Phong lobe) where a material gives none
     g.brdf = p.brdf ? *p.brdf : Brdf{BrdfModel::phong, p.gloss};
@@ -146,6 +143,9 @@ SunShadeResult shade_file(const ShprtFile& file, const ShLight& sky, const Shadi
     }
     SunShadeOptions sun_options;
     sun_options.disc_samples = plan.sun_samples;
+    if (plan.glossy)
+        return shade_glossy_with_sun(file.mesh, file.transfer, sky, *sun, *plan.glossy,
+                                     sun_options);
     return shade_with_sun(file.mesh, file.transfer, sky, *sun, plan.options, sun_options);
 }
 

@@ -39,50 +39,54 @@ TransferSet indirect_part(const TransferSet& transfer) {
     return out;
 }
 
+// Traces the sun's disc directions `dirs` above each receiver's horizon (the rest bring nothing)
+// and calls visit(v, d) for each unoccluded one, in order, per receiver on one thread: the same
+// bits for any thread count.
+template <class Visit>
+void trace_disc(const Tracer& tracer, const std::vector<Vec3f>& positions,
+                const std::vector<Vec3f>& normals, const std::vector<Vec3d>& dirs, Visit&& visit) {
+    SHPRT_CHECK(positions.size() == normals.size(), invalid_argument,
+                "the sun's trace: {} positions but {} normals", positions.size(), normals.size());
+    const int N = static_cast<int>(dirs.size());
+    std::vector<Vec3f> dirs_f(dirs.size());
+    for (std::size_t j = 0; j < dirs.size(); ++j) dirs_f[j] = cast<float>(dirs[j]);
+    const float inf = std::numeric_limits<float>::infinity();
+    parallel_for(0, positions.size(), 64, Split::automatic,
+                 [&](std::size_t first, std::size_t last) {
+                     std::vector<Vec3f> up(N);
+                     std::vector<int> index(N);
+                     std::vector<std::uint8_t> hit(N);
+                     for (std::size_t v = first; v != last; ++v) {
+                         const Vec3d n = normalize(cast<double>(normals[v]));
+                         int m = 0;
+                         for (int j = 0; j < N; ++j)
+                             if (dot(n, dirs[j]) > 0) {
+                                 up[m] = dirs_f[j];
+                                 index[m++] = j;
+                             }
+                         if (m == 0) continue;
+                         tracer.occluded(offset_ray_origin(positions[v], cast<float>(n)), up.data(),
+                                         m, 0.0f, inf, hit.data());
+                         for (int j = 0; j < m; ++j)
+                             if (!hit[j]) visit(v, dirs[std::size_t(index[j])]);
+                     }
+                 });
+}
+
 }  // namespace
 
 std::vector<Vec3f> sun_direct_irradiance(const Tracer& tracer, const std::vector<Vec3f>& positions,
                                          const std::vector<Vec3f>& normals, const Sun& sun,
                                          const SunShadeOptions& options) {
-    SHPRT_CHECK(positions.size() == normals.size(), invalid_argument,
-                "sun_direct_irradiance: {} positions but {} normals", positions.size(),
-                normals.size());
     const std::vector<Vec3d> dirs = sun_disc_directions(sun, options.disc_samples, options.seed);
-    const int N = static_cast<int>(dirs.size());
-    std::vector<Vec3f> dirs_f(dirs.size());
-    for (std::size_t j = 0; j < dirs.size(); ++j) dirs_f[j] = cast<float>(dirs[j]);
     // Each direction stands for Ω/N of the disc (sun_disc_directions: uniform in solid angle).
-    const Vec3d weight = sun.radiance * (sun_solid_angle(sun) / N);
-    const float inf = std::numeric_limits<float>::infinity();
-
+    const Vec3d weight = sun.radiance * (sun_solid_angle(sun) / double(dirs.size()));
+    std::vector<double> sum(positions.size(), 0.0);
+    trace_disc(tracer, positions, normals, dirs, [&](std::size_t v, const Vec3d& d) {
+        sum[v] += dot(normalize(cast<double>(normals[v])), d);
+    });
     std::vector<Vec3f> out(positions.size());
-    parallel_for(0, positions.size(), 64, Split::automatic,
-                 [&](std::size_t first, std::size_t last) {
-                     std::vector<Vec3f> up(N);
-                     std::vector<double> cosines(N);
-                     std::vector<std::uint8_t> hit(N);
-                     for (std::size_t v = first; v != last; ++v) {
-                         const Vec3d n = normalize(cast<double>(normals[v]));
-                         // Only directions above the receiver's horizon are traced (the rest bring
-                         // nothing).
-                         int m = 0;
-                         for (int j = 0; j < N; ++j) {
-                             const double c = dot(n, dirs[j]);
-                             if (c > 0) {
-                                 up[m] = dirs_f[j];
-                                 cosines[m++] = c;
-                             }
-                         }
-                         double sum = 0;
-                         if (m > 0) {
-                             tracer.occluded(offset_ray_origin(positions[v], cast<float>(n)),
-                                             up.data(), m, 0.0f, inf, hit.data());
-                             for (int j = 0; j < m; ++j)
-                                 if (!hit[j]) sum += cosines[j];
-                         }
-                         out[v] = cast<float>(weight * sum);
-                     }
-                 });
+    for (std::size_t v = 0; v < out.size(); ++v) out[v] = cast<float>(weight * sum[v]);
     return out;
 }
 
@@ -131,6 +135,52 @@ SunShadeResult shade_with_sun(const Mesh& mesh, const TransferSet& transfer, con
         }
         result.irradiance[r] = cast<float>(E);
         result.radiance[r] = cast<float>(L);
+    }
+    return result;
+}
+
+SunShadeResult shade_glossy_with_sun(const Mesh& mesh, const TransferSet& transfer,
+                                     const ShLight& sky, const PreparedSun& sun,
+                                     const GlossyShadeOptions& options,
+                                     const SunShadeOptions& sun_options) {
+    SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::vertex, unsupported,
+                "a sun kept out of the SH sum lights glossy matrices per vertex only: texel "
+                "matrices are not implemented with it; a sun: light projects the sun into SH");
+    SunShadeResult result;
+    static_cast<ShadeResult&>(result) = shade_glossy(mesh, transfer, sky, options);
+    const std::vector<Brdf> brdfs = brdf_table(mesh, options.material_brdfs, options.brdf);
+    std::vector<BrdfProfile> profiles;
+    for (const Brdf& b : brdfs) profiles.push_back(brdf_profile(b));
+    const std::vector<Vec3d> dirs =
+        sun_disc_directions(sun.sun, sun_options.disc_samples, sun_options.seed);
+    const double share = sun_solid_angle(sun.sun) / double(dirs.size());  // Ω/N
+    // Per vertex: Σ n·d_j and Σ f(r·d_j) over the unoccluded disc directions.
+    const std::size_t V = mesh.vertex_count();
+    std::vector<double> cosines(V, 0.0), lobe(V, 0.0);
+    std::vector<Vec3d> reflected(V);
+    const Vec3d eye = cast<double>(options.eye);
+    for (std::size_t v = 0; v < V; ++v)
+        reflected[v] = reflect_view(normalize(cast<double>(mesh.normals[v])),
+                                    cast<double>(mesh.positions[v]), eye);
+    const std::unique_ptr<Tracer> tracer = make_embree_tracer(mesh);
+    trace_disc(*tracer, mesh.positions, mesh.normals, dirs, [&](std::size_t v, const Vec3d& d) {
+        cosines[v] += dot(normalize(cast<double>(mesh.normals[v])), d);
+        lobe[v] +=
+            profiles[brdf_table_index(mesh, options.material_brdfs, v)](dot(reflected[v], d));
+    });
+    result.sun_direct.resize(V);
+    for (std::size_t v = 0; v < V; ++v) {
+        // E as the diffuse split adds it: rounded to its float first.
+        result.sun_direct[v] = cast<float>(sun.sun.radiance * (share * cosines[v]));
+        const Vec3d E = cast<double>(result.sun_direct[v]);
+        const Vec3d S = sun.sun.radiance * (share * lobe[v]);
+        const std::uint32_t b = brdf_table_index(mesh, options.material_brdfs, v);
+        const Vec3d rd = cast<double>(options.albedo.value_or(mesh.albedo[v])) * options.k / kPi;
+        const Vec3d rs = cast<double>(options.albedo.value_or(brdfs[b].specular)) * (1 - options.k);
+        result.irradiance[v] = cast<float>(cast<double>(result.irradiance[v]) + E);
+        result.radiance[v] = cast<float>(
+            cast<double>(result.radiance[v]) +
+            Vec3d{rd.x * E.x + rs.x * S.x, rd.y * E.y + rs.y * S.y, rd.z * E.z + rs.z * S.z});
     }
     return result;
 }

@@ -10,6 +10,7 @@
 #include "shprt/scene/builder.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/sh/sampler.hpp"
+#include "shprt/shade/glossy.hpp"
 #include "shprt/shade/shade.hpp"
 #include "shprt/shade/sun_shade.hpp"
 #include "shprt/shade/texel_shade.hpp"
@@ -547,6 +548,62 @@ TEST(ShadeSun, SameBitsForAnyThreadCountAndDiffuseOnly) {
     SunShadeOptions bad;
     bad.disc_samples = 10;
     EXPECT_THROW(shade_with_sun(mesh, t, sky, prepared, {}, bad), Error);
+}
+
+// Glossy matrices under a sun kept out of the SH sum (shade_glossy_with_sun): the sky through M
+// as shade_glossy shades it, the sun's irradiance exactly sun_direct_irradiance's, nothing from the
+// sun in its shadow, and at a floor vertex that mirrors the sun to the eye a highlight of the
+// exact Phong-16 lobe's height — (1 − k)·L·Ω·(E + 1)/(2π) — where the 5-band zonal fit of the
+// same lobe, lit by the sun through SH, stays far below it.
+TEST(ShadeSun, GlossyMatricesGetTheExactLobeOfTheTracedSun) {
+    const Mesh mesh = make_builtin("box_on_plane");
+    BakeOptions options;
+    options.transfer = TransferKind::glossy;
+    options.K = 25;
+    options.samples = 256;
+    const TransferSet t = bake(mesh, options);
+    const Sun sun = make_sun({1, 1, 0}, 1, sun_radiance_for_irradiance({3, 3, 3}, 1));
+    const PreparedSun prepared{sun, sun_light(sun, 25)};
+    const ShLight sky = gradient_light(GradientSky{}, 25);
+    // The floor vertex at (1.5, 0, 0) and an eye on its mirror ray of the sun (45° up toward −X).
+    std::size_t mirror = mesh.vertex_count();
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        if (mesh.positions[v] == (Vec3f{1.5f, 0, 0}) && mesh.normals[v].y == 1) mirror = v;
+    ASSERT_LT(mirror, mesh.vertex_count());
+    GlossyShadeOptions g;
+    g.brdf = Brdf{BrdfModel::phong, 16};
+    g.k = 0.5;
+    g.eye = Vec3f{1.5f, 0, 0} + Vec3f{-1, 1, 0} * 2.0f;
+    SunShadeOptions sun_options;
+    sun_options.disc_samples = 256;
+    const SunShadeResult r = shade_glossy_with_sun(mesh, t, sky, prepared, g, sun_options);
+    const ShadeResult s = shade_glossy(mesh, t, sky, g);
+    const std::unique_ptr<Tracer> tracer = make_embree_tracer(mesh);
+    EXPECT_EQ(r.sun_direct,
+              sun_direct_irradiance(*tracer, mesh.positions, mesh.normals, sun, sun_options));
+    int shadowed = 0;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(r.irradiance[v][c], float(double(s.irradiance[v][c]) + r.sun_direct[v][c]));
+        if (r.sun_direct[v].x == 0) {
+            EXPECT_EQ(r.radiance[v], s.radiance[v]) << v;
+            ++shadowed;
+        }
+    }
+    EXPECT_GT(shadowed, 20);
+    const double peak = 0.5 * sun.radiance.x * sun_solid_angle(sun) * 17 / (2 * kPi);
+    const double diffuse = 0.5 * mesh.albedo[mirror].x / kPi * r.sun_direct[mirror].x;
+    const double highlight = r.radiance[mirror].x - s.radiance[mirror].x - diffuse;
+    EXPECT_NEAR(highlight, peak, 0.02 * peak);
+    // The same sun through SH (K = 25) and the 5-band lobe: a blur of the highlight.
+    ShLight both = sky;
+    add_light(both, prepared.sh);
+    const ShadeResult all_sh = shade_glossy(mesh, t, both, g);
+    const double blurred = all_sh.radiance[mirror].x - s.radiance[mirror].x - diffuse;
+    std::printf("highlight at the mirror vertex: traced %.4f, exact lobe's peak %.4f, through SH "
+                "%.4f\n",
+                highlight, peak, blurred);
+    EXPECT_LT(blurred, 0.5 * peak);
 }
 
 }  // namespace

@@ -55,6 +55,10 @@ struct BrdfProfile {
 };
 BrdfProfile brdf_profile(const Brdf& brdf);
 
+// The reflection r = 2(n·w)n − w of the view direction w = normalize(eye − p) about unit n (w = n
+// at the eye itself): the axis of a vertex's lobe.
+Vec3d reflect_view(const Vec3d& n, const Vec3d& p, const Vec3d& eye);
+
 struct BrdfLobe {
     std::vector<double> zonal;  // z_l, l < bands (sh/zonal.hpp convention)
     double fit_error = 0;       // ‖f − f_n‖ / ‖f‖ (L2 over the sphere) of the n-band lobe

@@ -80,7 +80,7 @@ struct ShadingPlan {
 // to what is shaded: with `direct`, its direct part (an error for a file without one); with the
 // paper's term, glossy matrices become their diffuse transfer. A diffuse file given a BRDF, or
 // glossy matrices without a BRDF, materials or the paper's term, is a one-line Error naming
-// `source`; so is a traced sun on glossy matrices. check(params) first.
+// `source`. check(params) first.
 ShadingPlan resolve_shading(const ShadingParams& params, ShprtFile& file, const std::string& source,
                             Spelling spelling);
 

@@ -29,6 +29,7 @@
 #include "shprt/light/light_setup.hpp"
 #include "shprt/light/sun.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/shade/glossy.hpp"
 #include "shprt/shade/shade.hpp"
 #include "shprt/transfer/transfer.hpp"
 
@@ -61,11 +62,24 @@ struct SunShadeResult : ShadeResult {  // irradiance E and radiance ρ/π·E, th
 
 // The sum above for every receiver of `transfer` (vertices, or texels in atlas order as
 // shade_texels), occluders = `mesh`'s triangles (Embree). `sky` and `sun.sh` are shaded with the
-// first K' coefficients (options.K_used, effective_basis_size). Diffuse only: Error(unsupported)
-// for options.k < 1 or transfer matrices (the glossy term under a traced sun is not implemented;
-// a `sun:` light projects the sun into SH for those). Throws what shade_receivers throws.
+// first K' coefficients (options.K_used, effective_basis_size). Vector transfer: diffuse only,
+// Error(unsupported) for options.k < 1 (the paper's glossy term is a product of two sums over
+// the light, not linear in it: the sun cannot be taken out of it; a `sun:` light projects the
+// sun into SH for it). Throws what shade_receivers throws.
 SunShadeResult shade_with_sun(const Mesh& mesh, const TransferSet& transfer, const ShLight& sky,
                               const PreparedSun& sun, const ShadeOptions& options,
                               const SunShadeOptions& sun_options);
+
+// Glossy transfer matrices (shade/glossy.hpp) under a sky and a sun kept out of the SH sum: the
+// sky through M (shade_glossy), and the sun's direct light traced over its disc with the BRDF's
+// exact lobe, not its zonal fit — so the highlight is as sharp as the BRDF, and shadowed:
+//   L_c += ρ_d,c/π · E_sun,c + ρ_s,c · L_sun,c · Ω/N · Σ_j f(r · d_j) · V(p, d_j)   (n·d_j > 0)
+// with f the vertex's normalised lobe profile (brdf_profile) about its reflection direction r
+// and ρ_d, ρ_s as shade_glossy's. Glossy files have no direct part: no bounced sun. Vertices
+// only (Error(unsupported) for texel matrices). Throws what shade_glossy throws.
+SunShadeResult shade_glossy_with_sun(const Mesh& mesh, const TransferSet& transfer,
+                                     const ShLight& sky, const PreparedSun& sun,
+                                     const GlossyShadeOptions& options,
+                                     const SunShadeOptions& sun_options);
 
 }  // namespace shprt
