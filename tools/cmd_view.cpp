@@ -79,8 +79,17 @@ TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
     return t;
 }
 
-void run(const ViewArgs& a) {
-    const auto start = Clock::now();
+// Everything the command line decides, checked before any work.
+struct ViewSetup {
+    LightSetup setup;
+    ShadingParams params;
+    viewer::OffscreenBackend backend = viewer::OffscreenBackend::automatic;
+    int width = 0, height = 0;
+    bool windowed = false;                    // neither --screenshot nor --benchmark
+    std::optional<BakeOptions> bake_options;  // --bake
+};
+
+ViewSetup check_view(const ViewArgs& a) {
     // ---- Every option is checked before any work.
     SHPRT_CHECK(a.msaa >= 0 && a.msaa <= 64, invalid_argument,
                 "--msaa {}: MSAA samples must be 1 to 64 (or 0: automatic)", a.msaa);
@@ -103,7 +112,6 @@ void run(const ViewArgs& a) {
             static_cast<int>(std::clamp<long long>(*a.bake.coeffs, -1, 1 << 20));
     const LightSetup setup = light_setup_from(a.light);
     ShadingParams params = shading_params(shading, setup);
-    const ShadeView view = params.view;
     const viewer::OffscreenBackend backend = viewer::parse_offscreen_backend(a.offscreen);
     SHPRT_CHECK(!(a.benchmark && !a.screenshot.empty()), invalid_argument,
                 "--benchmark and --screenshot both given; use one");
@@ -142,89 +150,82 @@ void run(const ViewArgs& a) {
         resolve_device(bake_options->device, bake_options->device_index);  // fail before a window
     }
 
-    // ---- The scene: a file, or (with --bake) baked here. The window shows a bake from all-zero
-    // rows, refined as they arrive.
+    return {setup, params, backend, width, height, windowed, std::move(bake_options)};
+}
+
+// The scene (a file, or with --bake one baked here or, for the window, all-zero rows refined as
+// they arrive); a glossy file without a BRDF gets --gloss's Phong lobe in v.params.
+ShprtFile view_scene(const ViewArgs& a, ViewSetup& v) {
     ShprtFile file;
     if (a.do_bake) {
         file.mesh = load_scene(a.input);
-        file.transfer =
-            windowed ? TransferSet::zeros(bake_description(*bake_options), file.mesh.vertex_count())
-                     : bake_now(file.mesh, *bake_options);
+        file.transfer = v.windowed ? TransferSet::zeros(bake_description(*v.bake_options),
+                                                        file.mesh.vertex_count())
+                                   : bake_now(file.mesh, *v.bake_options);
     } else {
         // The window keeps the whole transfer (its panel toggles the direct part); a screenshot
         // or a benchmark shows what --direct asks for.
         file = read_shprt(a.input);
-        if (params.direct && windowed)
+        if (v.params.direct && v.windowed)
             SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
                         "--direct: {} has no direct part (only interreflected bakes keep one)",
                         a.input);
-        check_texel_view(a.input, file.transfer, params.k, view);
+        check_texel_view(a.input, file.transfer, v.params.k, v.params.view);
     }
     // Glossy matrices are shaded with --brdf, else with the materials' BRDFs, else with --gloss's
     // Phong lobe (the panel changes the BRDF live); --glossy paper turns them into the paper's
     // term.
-    if (file.transfer.layout.shape == TransferShape::symmetric_matrix && !params.brdf &&
-        params.glossy == GlossyTerm::matrix && file.mesh.brdf_index.empty())
-        params.brdf = Brdf{BrdfModel::phong, params.gloss};
-    // The window keeps the whole transfer (its panel toggles the direct part); a screenshot or a
-    // benchmark shows what --direct asks for.
-    ShadingParams resolved = params;
-    resolved.direct = params.direct && !windowed;
-    const ShadingPlan plan = resolve_shading(resolved, file, a.input, Spelling::command_line);
-    viewer::LightRig rig(std::min(file.transfer.layout.K, kMaxLightK));
-    rig.set_source(setup);  // a missing light file fails here, before any window
+    if (file.transfer.layout.shape == TransferShape::symmetric_matrix && !v.params.brdf &&
+        v.params.glossy == GlossyTerm::matrix && file.mesh.brdf_index.empty())
+        v.params.brdf = Brdf{BrdfModel::phong, v.params.gloss};
+    return file;
+}
 
-    viewer::FrameConfig config;
-    config.width = width;
-    config.height = height;
-    config.msaa = a.msaa;
-    config.exposure = static_cast<float>(params.exposure);
-    config.draw = draw_settings(plan, view);
-    config.draw.camera = camera_from(a.camera, file.mesh, float(width) / float(height), a.input);
-    config.draw.background = a.background;
-    config.draw.wireframe = a.wireframe;
-    const std::string name = std::filesystem::path(a.input).filename().string();
+void take_screenshot(const ViewArgs& a, const ViewSetup& v, const ShprtFile& file,
+                     const viewer::LightRig& rig, const viewer::FrameConfig& config,
+                     Clock::time_point start) {
+    const ShLight light = rig.light();
+    std::optional<PreparedSun> sun;  // turned as `light`
+    if (v.setup.sun) sun = prepare_sun(v.setup, rig.K());
+    std::string context;
+    const Image image = viewer::render_screenshot(file.mesh, file.transfer, light, config,
+                                                  v.backend, &context, sun ? &*sun : nullptr);
+    save_image(a.screenshot, image, config.exposure);
+    std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", v.width, v.height,
+                effective_basis_size(file.transfer, light, v.params.coeffs), v.params.k,
+                seconds_since(start), a.screenshot.c_str());
+}
 
-    if (!a.screenshot.empty()) {
-        const ShLight light = rig.light();
-        std::optional<PreparedSun> sun;  // turned as `light`
-        if (setup.sun) sun = prepare_sun(setup, rig.K());
-        std::string context;
-        const Image image = viewer::render_screenshot(file.mesh, file.transfer, light, config,
-                                                      backend, &context, sun ? &*sun : nullptr);
-        save_image(a.screenshot, image, config.exposure);
-        std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", width, height,
-                    effective_basis_size(file.transfer, light, params.coeffs), params.k,
-                    seconds_since(start), a.screenshot.c_str());
-        return;
-    }
-    if (a.benchmark) {
-        viewer::BenchmarkOptions options;
-        options.frames = *a.benchmark;
-        options.rotate_light = a.benchmark_light;
-        // Glossy matrices have at most 8 bands: measure the file's own K.
-        if (file.transfer.layout.shape == TransferShape::symmetric_matrix)
-            options.K_values = {file.transfer.layout.K};
-        options.backend = backend;
-        const viewer::BenchmarkReport report =
-            viewer::run_benchmark(file.mesh, file.transfer, rig, config, options);
-        std::printf("%s: ", name.c_str());
-        std::fputs(viewer::format_benchmark(report).c_str(), stdout);
-        return;
-    }
+void run_view_benchmark(const ViewArgs& a, const ViewSetup& v, const ShprtFile& file,
+                        const viewer::LightRig& rig, const viewer::FrameConfig& config,
+                        const std::string& name) {
+    viewer::BenchmarkOptions options;
+    options.frames = *a.benchmark;
+    options.rotate_light = a.benchmark_light;
+    // Glossy matrices have at most 8 bands: measure the file's own K.
+    if (file.transfer.layout.shape == TransferShape::symmetric_matrix)
+        options.K_values = {file.transfer.layout.K};
+    options.backend = v.backend;
+    const viewer::BenchmarkReport report =
+        viewer::run_benchmark(file.mesh, file.transfer, rig, config, options);
+    std::printf("%s: ", name.c_str());
+    std::fputs(viewer::format_benchmark(report).c_str(), stdout);
+}
 
+void run_view_window(const ViewArgs& a, const ViewSetup& v, const ShprtFile& file,
+                     const viewer::FrameConfig& config, const std::string& name) {
     viewer::WindowOptions options;
     options.frame = config;
-    options.light = setup;
+    options.light = v.setup;
     options.title = "shprt view — " + name;
     options.scene_label = name;
     options.max_frames = a.frames.value_or(0);
     options.window_screenshot = a.window_screenshot;
     options.vsync = !a.no_vsync;
-    options.direct_only = params.direct;
+    options.direct_only = v.params.direct;
     viewer::WindowReport report;
     try {
-        report = viewer::run_window(file.mesh, file.transfer, options, bake_options);
+        report = viewer::run_window(file.mesh, file.transfer, options, v.bake_options);
     } catch (const Error& e) {
         const std::string what = e.what();
         if (what.rfind("cannot open a window", 0) == 0)
@@ -236,8 +237,39 @@ void run(const ViewArgs& a) {
                 report.seconds > 0 ? report.frames / report.seconds : 0.0, report.context.c_str());
     if (a.do_bake && report.bake_finished)
         std::printf("baked %zu vertices, K=%d in %.2f s\n", file.mesh.vertex_count(),
-                    bake_options->K, report.bake_seconds);
+                    v.bake_options->K, report.bake_seconds);
     SHPRT_CHECK(report.bake_error.empty(), unsupported, "bake failed: {}", report.bake_error);
+}
+
+void run(const ViewArgs& a) {
+    const auto start = Clock::now();
+    ViewSetup v = check_view(a);
+    ShprtFile file = view_scene(a, v);
+    // The window keeps the whole transfer (its panel toggles the direct part); a screenshot or a
+    // benchmark shows what --direct asks for.
+    ShadingParams resolved = v.params;
+    resolved.direct = v.params.direct && !v.windowed;
+    const ShadingPlan plan = resolve_shading(resolved, file, a.input, Spelling::command_line);
+    viewer::LightRig rig(std::min(file.transfer.layout.K, kMaxLightK));
+    rig.set_source(v.setup);  // a missing light file fails here, before any window
+
+    viewer::FrameConfig config;
+    config.width = v.width;
+    config.height = v.height;
+    config.msaa = a.msaa;
+    config.exposure = static_cast<float>(v.params.exposure);
+    config.draw = draw_settings(plan, v.params.view);
+    config.draw.camera =
+        camera_from(a.camera, file.mesh, float(v.width) / float(v.height), a.input);
+    config.draw.background = a.background;
+    config.draw.wireframe = a.wireframe;
+    const std::string name = std::filesystem::path(a.input).filename().string();
+    if (!a.screenshot.empty())
+        take_screenshot(a, v, file, rig, config, start);
+    else if (a.benchmark)
+        run_view_benchmark(a, v, file, rig, config, name);
+    else
+        run_view_window(a, v, file, config, name);
 }
 
 const bool view_registered = register_command(

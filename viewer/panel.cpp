@@ -53,6 +53,14 @@ void light_section(PanelState& s) {
         s.light_source_changed = true;
     if (s.window != 0)
         help_marker("0 = the window's default (width for hann/lanczos, lambda for sloan)");
+    if (!s.sun_label.empty()) {
+        ImGui::TextWrapped("%s", s.sun_label.c_str());
+        help_marker(
+            "--sun: the sun's direct light is drawn per pixel with a shadow map whose penumbra "
+            "follows the sun's radius, beside the SH sky; its bounced light comes from an "
+            "interreflected file's T - T0. It turns with the light: Shift+drag moves the sun, "
+            "its shadows and its bounces in the same frame.");
+    }
     if (ImGui::Button("reset rotation")) s.reset_light_rotation = true;
     help_marker(
         "Shift+drag or Ctrl+drag in the picture turns the light (an SH rotation of the "
@@ -104,7 +112,10 @@ void shading_section(PanelState& s) {
                        ImGuiSliderFlags_Logarithmic);
     if (s.diffuse_only) {
         ImGui::TextDisabled("k = 1 (diffuse)");
-        help_marker("Texel transfer is shaded per fragment without the glossy term.");
+        help_marker(
+            "Texel transfer is shaded per fragment without the glossy term; under a sun kept "
+            "out of the SH sum (--sun), diffuse transfer is shaded without the paper's glossy "
+            "term, which is not linear in the light.");
     } else {
         ImGui::SliderFloat("k (diffuse)", &s.k, 0.0f, 1.0f, "%.2f");
         help_marker("L = k·L_D + (1-k)·L_S: 1 = pure diffuse, 0 = pure glossy");

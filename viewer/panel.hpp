@@ -49,6 +49,7 @@ struct PanelState {
     bool override_albedo = false;   // --albedo: one colour for the diffuse and specular parts
     float albedo[3] = {1, 1, 1};
     std::string transfer_label;  // what the GPU holds: bytes per vertex, the CPCA settings
+    std::string sun_label;       // --sun: how the sun kept out of the SH sum is drawn (or empty)
 
     // Light.
     std::vector<LightChoice> choices;

@@ -178,8 +178,10 @@ void App::init_state() {
     s.K_used =
         m_options.frame.draw.K_used > 0 ? std::min(m_options.frame.draw.K_used, s.K_max) : s.K_max;
     s.exposure = m_options.frame.exposure;
-    s.diffuse_only = m_transfer.layout.domain == ReceiverDomain::texel &&
-                     m_transfer.layout.shape == TransferShape::vector;
+    // Diffuse texels, and vector transfer under a sun kept out of the SH sum (the paper's glossy
+    // term is not linear in the light: Renderer::set_sun), are drawn with k = 1.
+    s.diffuse_only = m_transfer.layout.shape == TransferShape::vector &&
+                     (m_transfer.layout.domain == ReceiverDomain::texel || m_light.sun());
     s.k = s.diffuse_only ? 1.0f : static_cast<float>(m_options.frame.draw.k);
     s.gloss = static_cast<float>(m_options.frame.draw.gloss);
     s.matrices = m_renderer.scene_has_matrices();
@@ -198,6 +200,12 @@ void App::init_state() {
         s.albedo[2] = a->z;
     }
     s.transfer_label = describe_gpu_transfer(m_transfer, m_renderer.transfer_bytes_per_vertex());
+    if (const PreparedSun* sun = m_light.sun())
+        s.sun_label = fmt::format("sun: {:g}° kept out of the SH sum, a {}² shadow map; {}",
+                                  sun->sun.radius_deg, kShadowMapSize,
+                                  m_renderer.sun_bounced() ? "bounced light from T - T0"
+                                                           : "direct only (no direct part in "
+                                                             "the file: not interreflected)");
     s.view = static_cast<int>(m_options.frame.draw.view);
     s.wireframe = m_options.frame.draw.wireframe;
     s.background = m_options.frame.draw.background;

@@ -227,6 +227,27 @@ public:
     ShprtFile read(bool allow_part);
 
 private:
+    // What the metadata says of the scene and the rows, for the sections and the checks.
+    struct Counts {
+        std::uint64_t V = 0, T = 0;  // vertices, triangles
+        std::uint64_t rows = 0;      // receivers stored (all, or a part's)
+        std::uint64_t total = 0;     // receivers of the whole domain (vertices or texels)
+        std::uint64_t clusters = 0, vectors = 0;  // a CPCA code's, or 0
+        std::string recorded_hash;
+    };
+    // The steps of read(), in order (each ends the read with one corrupt() line on failure).
+    ShprtHeader read_header();
+    std::string read_metadata_text(const ShprtHeader& h);
+    void check_format(const Fields& m, const ShprtHeader& h);
+    void read_description(const Fields& m, const ShprtHeader& h, TransferSet& t);
+    Counts read_scene(const Fields& m, bool allow_part, ShprtFile& out);
+    void read_stats(const Fields& m, TransferSet& t);
+    void read_cpca_description(const Fields& m, const ShprtHeader& h, TransferSet& t, Counts& c);
+    std::vector<SectionSpec> read_section_table(const Fields& m, const ShprtHeader& h,
+                                                const TransferLayout& layout, const Counts& c);
+    void read_arrays(const std::vector<SectionSpec>& specs, const ShprtHeader& h, ShprtFile& out);
+    void check_content(const Counts& c, ShprtFile& out);
+
     void check_zero_gap(std::uint64_t from, std::uint64_t to, const char* before);
     // Reads a section's bytes into `dst` (spec.length bytes), checking its CRC.
     void read_section(const SectionSpec& spec, void* dst);
@@ -238,6 +259,7 @@ private:
 
     std::string m_path;
     InputFile m_file;
+    std::uint64_t m_size = 0;  // of the file
 };
 
 void Reader::check_zero_gap(std::uint64_t from, std::uint64_t to, const char* before) {
@@ -285,10 +307,8 @@ void Reader::read_section_chunks(const SectionSpec& spec, Sink&& sink) {
     check_crc(spec, crc);
 }
 
-ShprtFile Reader::read(bool allow_part) {
-    const std::uint64_t size = m_file.size();
-
-    // ---- header ----
+ShprtHeader Reader::read_header() {
+    const std::uint64_t size = m_size;
     unsigned char head[kShprtHeaderSize] = {};
     const std::size_t got =
         static_cast<std::size_t>(std::min<std::uint64_t>(size, kShprtHeaderSize));
@@ -327,16 +347,21 @@ ShprtFile Reader::read(bool allow_part) {
         corrupt(m_path, "metadata length {} exceeds the limit of {} bytes", h.metadata_length,
                 kShprtMaxMetadataBytes);
 
-    // ---- metadata ----
+    return h;
+}
+
+// The metadata's text (its checksum checked) and its top-level checks.
+std::string Reader::read_metadata_text(const ShprtHeader& h) {
     std::string text(static_cast<std::size_t>(h.metadata_length), '\0');
     m_file.read(h.metadata_offset, text.data(), text.size(), "the metadata");
     const std::uint32_t meta_crc = crc32(text.data(), text.size());
     if (meta_crc != h.metadata_crc32 && !io_fuzzing::checksums_advisory())
         corrupt(m_path, "corrupt: the metadata fails its checksum (CRC-32 {:08x}, recorded {:08x})",
                 meta_crc, h.metadata_crc32);
-    const Json meta = parse_metadata(m_path, text);
-    const Fields m{m_path, meta, "metadata"};
+    return text;
+}
 
+void Reader::check_format(const Fields& m, const ShprtHeader& h) {
     if (m.string("format") != "shprt") corrupt(m_path, "metadata: format is not 'shprt'");
     if (m.u64("format_version") != h.version)
         corrupt(m_path, "metadata: format_version {} differs from the header's {}",
@@ -344,9 +369,11 @@ ShprtFile Reader::read(bool allow_part) {
     const std::string basis = m.object("convention").string("basis");
     if (basis != kShprtConventionBasis)
         corrupt(m_path, "metadata: unsupported SH convention '{}'", basis);
+}
 
-    ShprtFile out;
-    TransferSet& t = out.transfer;
+// What the transfer is: kind, sampler, frame, domain, shape, encoding, K, channels, samples, seed.
+void Reader::read_description(const Fields& m, const ShprtHeader& h, TransferSet& t) {
+    const Json& meta = m.obj;
     TransferLayout& layout = t.layout;
     try {
         t.kind = parse_transfer_kind(m.string("transfer_kind"));
@@ -382,12 +409,20 @@ ShprtFile Reader::read(bool allow_part) {
     if (const char* why = samples_refusal(t.kind, t.samples))
         corrupt(m_path, "metadata: samples = 0 for {} transfer, but {}", to_string(t.kind), why);
     t.seed = m.u64("seed");
+}
 
+// The scene's counts, hash and BRDFs, and the receivers the rows are (vertices or texels, all
+// or a part).
+Reader::Counts Reader::read_scene(const Fields& m, bool allow_part, ShprtFile& out) {
+    const Json& meta = m.obj;
+    TransferSet& t = out.transfer;
+    const TransferLayout& layout = t.layout;
+    Counts c;
     const Fields scene = m.object("scene");
     out.mesh.source = scene.string("source");
-    const std::string recorded_hash = scene.string("hash");
-    const std::uint64_t V = scene.u64("vertices");
-    const std::uint64_t T = scene.u64("triangles");
+    c.recorded_hash = scene.string("hash");
+    const std::uint64_t V = c.V = scene.u64("vertices");
+    c.T = scene.u64("triangles");
     // The materials' BRDFs (with a brdf_index section only).
     if (scene.obj.contains("brdfs")) {
         const Json& brdfs = scene.get("brdfs");
@@ -405,11 +440,11 @@ ShprtFile Reader::read(bool allow_part) {
         }
     }
     // The rows' receivers (version 2; absent in version 1 files: all vertices).
-    std::uint64_t rows = V;
+    std::uint64_t& rows = c.rows = V;
     // The texel domain's receivers are texels (docs/texels.md): their count is receivers.total,
     // bounded by the image's size; the vertex domain's are the vertices.
     const bool texel = layout.domain == ReceiverDomain::texel;
-    std::uint64_t total = V;
+    std::uint64_t& total = c.total = V;
     if (texel) {
         if (!meta.contains("receivers") || !meta.contains("texels"))
             corrupt(m_path, "metadata: a texel transfer needs 'receivers' and 'texels'");
@@ -436,6 +471,12 @@ ShprtFile Reader::read(bool allow_part) {
                     first, first + rows, total);
     }
 
+    return c;
+}
+
+// The bake's statistics and an interreflected bake's description (both optional).
+void Reader::read_stats(const Fields& m, TransferSet& t) {
+    const Json& meta = m.obj;
     if (meta.contains("stats")) {
         const Fields s = m.object("stats");
         BakeStats& st = t.stats;
@@ -475,9 +516,17 @@ ShprtFile Reader::read(bool allow_part) {
                 ir.bounce_coeffs = std::uint64_t(f.integer("bounce_coeffs", 1, t.layout.K));
         }
     }
+}
 
+// A CPCA code's clusters and vectors (0, 0 for rows), bounded by the file's size.
+void Reader::read_cpca_description(const Fields& m, const ShprtHeader& h, TransferSet& t,
+                                   Counts& counts) {
+    const Json& meta = m.obj;
+    const TransferLayout& layout = t.layout;
+    const std::uint64_t rows = counts.rows, size = m_size;
     // A CPCA code instead of the rows (version 3 only).
-    std::uint64_t clusters = 0, vectors = 0;
+    std::uint64_t& clusters = counts.clusters;
+    std::uint64_t& vectors = counts.vectors;
     if (h.version >= kShprtCpcaFormatVersion) {
         const Fields c = m.object("cpca");
         clusters = c.u64("clusters", 1, rows);
@@ -497,8 +546,15 @@ ShprtFile Reader::read(bool allow_part) {
         corrupt(m_path, "metadata: 'cpca' in a version {} file (CPCA files are version {})",
                 h.version, kShprtCpcaFormatVersion);
     }
+}
 
-    // ---- section table ----
+// The section table matched to the rules (every required section, optional ones, nothing else)
+// and the canonical layout: each section at the first aligned offset after the previous one, the
+// file ending with the last.
+std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const ShprtHeader& h,
+                                                    const TransferLayout& layout, const Counts& c) {
+    const std::uint64_t size = m_size, V = c.V, T = c.T, rows = c.rows, clusters = c.clusters,
+                        vectors = c.vectors;
     const Json& table = m.get("sections");
     if (!table.is_array() || table.size() > kMaxSections)
         corrupt(m_path, "metadata: 'sections' must be an array of at most {} entries",
@@ -542,9 +598,15 @@ ShprtFile Reader::read(bool allow_part) {
     }
     if (size != end) corrupt(m_path, "{} unexpected bytes after the last section", size - end);
 
-    // ---- arrays (all lengths now proven to lie inside the file) ----
+    return specs;
+}
+
+// The sections' arrays into the mesh and the transfer (all lengths proven to lie in the file).
+void Reader::read_arrays(const std::vector<SectionSpec>& specs, const ShprtHeader& h,
+                         ShprtFile& out) {
+    TransferSet& t = out.transfer;
     Mesh& mesh = out.mesh;
-    end = kShprtHeaderSize + h.metadata_length;
+    std::uint64_t end = kShprtHeaderSize + h.metadata_length;
     for (const SectionSpec& s : specs) {
         check_zero_gap(end, s.offset, s.name);
         end = s.offset + s.length;
@@ -559,8 +621,16 @@ ShprtFile Reader::read(bool allow_part) {
             });
         }
     }
+}
 
-    // ---- content ----
+// What the arrays hold: indices in range, finite values, albedo, normals, texels, BRDF indices,
+// parents, and the scene's hash.
+void Reader::check_content(const Counts& c, ShprtFile& out) {
+    Mesh& mesh = out.mesh;
+    TransferSet& t = out.transfer;
+    const TransferLayout& layout = t.layout;
+    const std::uint64_t V = c.V, total = c.total, clusters = c.clusters;
+    const bool texel = layout.domain == ReceiverDomain::texel;
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
         for (std::uint32_t index : mesh.triangles[i])
             if (index >= V)
@@ -624,9 +694,25 @@ ShprtFile Reader::read(bool allow_part) {
                 corrupt(m_path, "vertex_parents: vertex {} has parent {} (parents come first)", i,
                         p);
     const std::string hash = format_mesh_hash(mesh_hash(mesh));
-    if (hash != recorded_hash)
-        corrupt(m_path, "scene hash {} differs from the recorded {}", hash, recorded_hash);
+    if (hash != c.recorded_hash)
+        corrupt(m_path, "scene hash {} differs from the recorded {}", hash, c.recorded_hash);
+}
 
+ShprtFile Reader::read(bool allow_part) {
+    m_size = m_file.size();
+    const ShprtHeader h = read_header();
+    std::string text = read_metadata_text(h);
+    const Json meta = parse_metadata(m_path, text);
+    const Fields m{m_path, meta, "metadata"};
+    check_format(m, h);
+    ShprtFile out;
+    read_description(m, h, out.transfer);
+    Counts counts = read_scene(m, allow_part, out);
+    read_stats(m, out.transfer);
+    read_cpca_description(m, h, out.transfer, counts);
+    const std::vector<SectionSpec> specs = read_section_table(m, h, out.transfer.layout, counts);
+    read_arrays(specs, h, out);
+    check_content(counts, out);
     out.metadata_json = std::move(text);
     return out;
 }
