@@ -1,7 +1,8 @@
 // Validates .glb files with the Khronos glTF Validator (npm gltf-validator) and fails unless each
 // has no errors and no warnings. Infos and hints are printed, not counted: they are suggestions,
 // not defects. With --shprt and --work it first exports the built-in room (baked small) as
-// float32, as --half and with the standard attributes, and validates those: the CTest test web_gltf_validator.
+// float32, as --half, with the standard attributes and with a --sun (KHR_lights_punctual), and
+// validates those: the CTest test web_gltf_validator.
 //
 //   node web/test_gltf.mjs [--shprt PATH/shprt --work DIR] [FILE.glb ...]
 //   exit 0: all valid; 1: a finding; 77: skipped (`npm ci` not run in web/)
@@ -34,8 +35,10 @@ if (shprt && work) {
         "sun:0.4,0.8,-0.3,5", "--rotate", "30,0,0");
     run("export", "room.shprt", "-o", "room_standard.glb", "--attributes", "standard", "--bands",
         "3");
+    run("export", "room.shprt", "-o", "room_sun.glb", "--sun", "0.4,0.8,-0.3,1", "--light",
+        "gradient", "--bands", "2");
     files.push(path.join(work, "room.glb"), path.join(work, "room_half.glb"),
-               path.join(work, "room_standard.glb"));
+               path.join(work, "room_standard.glb"), path.join(work, "room_sun.glb"));
 }
 
 let failed = files.length === 0;

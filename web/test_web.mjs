@@ -5,8 +5,10 @@
 // sample per pixel) pixel by pixel on the 8-bit sRGB codes, three times: the file's light with all
 // K coefficients, the light turned by --rotate (the page's JavaScript SH rotation) with K′ < K
 // (the page's K′), and the file's light from an `export --half` file (int16 decoding). Also
-// checks that a mouse drag and the K′ slider change the picture and that the page reports its
-// frame rate. Used by the CTest test web_viewer (tests/CMakeLists.txt).
+// checks that a mouse drag and the K′ slider change the picture, that the page reports its
+// frame rate, that its loading indicator shows while the model loads and goes at the first frame,
+// and that a sun exported with --sun is drawn with a shadow map (a point in the box's shadow keeps
+// the sky's colour, a lit one brightens). Used by the CTest test web_viewer (tests/CMakeLists.txt).
 //
 //   node web/test_web.mjs --shprt PATH/shprt --work DIR [--screenshot OUT.png]
 //
@@ -170,6 +172,67 @@ try {
     const label = await page.$eval("#fps", (e) => e.textContent);
     console.log(`ok   frame rate reported: "${label}"`);
     if (!(fps > 0) || !label.startsWith("fps: ")) failed = true;
+
+    // The sun (export --sun): a KHR_lights_punctual light the page draws with a shadow map beside
+    // the SH sky. A box on a plane, the sun 45° up from +X: the floor at x = −1 is in the box's
+    // shadow, at x = +1 in the sun. Against the same file drawn without its sun (sun=0): the lit
+    // point brightens, the shadowed one stays the sky's.
+    run("bake", "builtin:box_on_plane", "-o", "box.shprt", "--coeffs", "16", "--samples", "64");
+    run("export", "box.shprt", "-o", "box_sun.glb", "--sun", "1,1,0,1", "--light", "gradient");
+    const sunPage = "&camera=0,5,4,0,0,0&size=320x180&msaa=0";
+    const codes = async () => {
+        const px = await page.evaluate("Array.from(window.shprtPixels())");
+        const at = async (p) => {
+            const [x, y] = (await page.evaluate(`window.shprtProject([${p}])`)).map(Math.round);
+            let sum = 0;  // the mean of a 3 × 3 block's RGB codes
+            for (let dy = -1; dy <= 1; ++dy)
+                for (let dx = -1; dx <= 1; ++dx)
+                    for (let c = 0; c < 3; ++c) sum += px[4 * ((y + dy) * 320 + x + dx) + c];
+            return sum / 27;
+        };
+        return { shadow: await at("-1,0,0"), lit: await at("1,0,0"),
+                 sun: await page.evaluate("window.shprt.sun") };
+    };
+
+    // First the loading indicator, on the sun's page: the model's response held back 400 ms, the
+    // indicator is on the page while it loads and gone at the first frame.
+    await page.setViewport({ width: 320, height: 180 });
+    await page.setRequestInterception(true);
+    const hold = (request) => {
+        if (request.isInterceptResolutionHandled()) return;
+        if (request.url().endsWith(".glb")) setTimeout(() => request.continue(), 400);
+        else request.continue();
+    };
+    page.on("request", hold);
+    await page.goto(`${base}?model=files/box_sun.glb${sunPage}`, { waitUntil: "domcontentloaded" });
+    const whileLoading = await page.$eval("#loading", (e) =>
+        [getComputedStyle(e).display !== "none" && e.offsetWidth > 0, e.textContent]);
+    await page.waitForFunction("window.shprt.error || window.shprt.frames >= 3", { timeout: 60000 });
+    const afterLoad = await page.evaluate(() =>
+        [getComputedStyle(document.getElementById("loading")).display, window.shprt.loading.log]);
+    page.off("request", hold);
+    await page.setRequestInterception(false);
+    const loadingOk = whileLoading[0] && whileLoading[1].startsWith("loading the model") &&
+        afterLoad[0] === "none" && afterLoad[1].at(-1) === "hidden" &&
+        afterLoad[1].some((t) => / %/.test(t));
+    console.log(`${loadingOk ? "ok  " : "FAIL"} loading indicator: shown while the model loads ` +
+                `("${whileLoading[1]}"), then display ${afterLoad[0]}; it said ` +
+                `${JSON.stringify([...afterLoad[1].slice(0, 2), "…", ...afterLoad[1].slice(-2)])}`);
+    if (!loadingOk) failed = true;
+
+    const withSun = await codes();
+    await open("box_sun.glb", sunPage + "&sun=0", { width: 320, height: 180 });
+    const without = await codes();
+    const d = withSun.sun?.direction ?? [0, 0, 0];
+    const sunOk = withSun.sun !== null && without.sun === null &&
+        Math.abs(d[0] - Math.SQRT1_2) < 1e-3 && Math.abs(d[1] - Math.SQRT1_2) < 1e-3 &&
+        Math.abs(withSun.sun.intensity - 3) < 1e-3 &&
+        withSun.lit > without.lit + 20 && Math.abs(withSun.shadow - without.shadow) <= 3;
+    console.log(`${sunOk ? "ok  " : "FAIL"} sun: the page reports ${JSON.stringify(withSun.sun)}; ` +
+                `floor in the sun ${withSun.lit.toFixed(1)} (sky alone ${without.lit.toFixed(1)}), ` +
+                `in the box's shadow ${withSun.shadow.toFixed(1)} (sky alone ` +
+                `${without.shadow.toFixed(1)}): lit > sky + 20, shadow = sky ± 3`);
+    if (!sunOk) failed = true;
 
     if (screenshot) {
         // The README's picture: the room as scripts/demo bakes it (K = 256, S = 4096).

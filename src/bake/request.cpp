@@ -219,6 +219,10 @@ BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
     out.seconds_write = output.finish(info, out);
     if (checkpoint) checkpoint->remove();  // the output is in place
     out.info = info;
+    // The rows held in memory for the file are part of the peak, as finish() counted them for the
+    // file's own stats: the bake line and `shprt info` state one number (a --stream bake holds
+    // no rows, and neither counts them).
+    if (!streamed(r)) out.info.stats.peak_bytes_host = out.transfer.stats.peak_bytes_host;
     if (r.output) out.info.layout.encoding = r.output->encoding.value_or(TransferEncoding::f32);
     return out;
 }

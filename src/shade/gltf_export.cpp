@@ -11,6 +11,9 @@
 #include "shprt/sh/basis.hpp"
 #include "shprt/shade/camera.hpp"
 #include "shprt/shade/shade.hpp"
+#include "shprt/shade/sun_shade.hpp"
+
+#include "shade/sh_convention.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -19,6 +22,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace shprt {
@@ -121,12 +125,16 @@ int check_exportable(const std::string& path, const Mesh& mesh, const TransferSe
 // COLOR_0: exposure × the radiance under `light`, clamped to [0, 1]. glTF requires float colours
 // in [0, 1] (the validator's ACCESSOR_NON_CLAMPED is an error), as a display without a tone map
 // would show them; the exact radiance is what relighting with the transfer gives.
+// With a sun kept out of the SH sum: the sky through the transfer plus the sun traced at every
+// vertex (and its bounced light from T − T_0), what `shprt shade --sun` gives (sun_shade.hpp).
 std::vector<Vec3f> baked_colours(const std::string& path, const Mesh& mesh,
-                                 const TransferSet& transfer, const ShLight& light, float exposure,
-                                 std::size_t& clipped) {
+                                 const TransferSet& transfer, const ShLight& light,
+                                 const PreparedSun* sun, float exposure, std::size_t& clipped) {
     ShadeOptions shade_options;
     shade_options.K_used = light.K;
-    const ShadeResult shaded = shade_vertices(mesh, transfer, light, shade_options);
+    const ShadeResult shaded =
+        sun ? shade_with_sun(mesh, transfer, light, *sun, shade_options, SunShadeOptions{})
+            : shade_vertices(mesh, transfer, light, shade_options);
     std::vector<Vec3f> colour(mesh.vertex_count());
     clipped = 0;
     const auto clamp01 = [](float x) { return std::clamp(x, 0.0f, 1.0f); };
@@ -238,6 +246,52 @@ Json add_standard_transfer(GlbBuilder& glb, Json& attributes, const TransferSet&
     return names;
 }
 
+// The glTF node rotation that turns the light's local −Z (KHR_lights_punctual: a directional light
+// shines along −Z) into −s, s the unit direction toward the sun: the rotation taking +Z to s, by
+// acos(s_z) about +Z × s (about +X for s = −Z). Quaternion (x, y, z, w), glTF's order.
+Json sun_node_rotation(Vec3d s) {
+    const Vec3d axis{-s.y, s.x, 0.0};  // +Z × s
+    const double sine = std::sqrt(axis.x * axis.x + axis.y * axis.y);
+    const double angle = std::atan2(sine, s.z);
+    if (sine < 1e-12) return s.z > 0 ? Json::array({0, 0, 0, 1}) : Json::array({1, 0, 0, 0});
+    const double h = std::sin(angle / 2) / sine;
+    return Json::array({axis.x * h, axis.y * h, 0.0, std::cos(angle / 2)});
+}
+
+// KHR_lights_punctual's light of the sun: colour = E / max(E) (glTF wants it in [0, 1]),
+// intensity = max(E) in lux, E the disc's irradiance at normal incidence (sun_irradiance). The
+// sky's coefficients are in the same radiometric unit (radiance·sr), so an engine lights with
+// both as written: 1 unit of shprt irradiance = 1 lux (gltf_export.hpp).
+Json sun_light_json(const Sun& sun) {
+    const Vec3d E = sun_irradiance(sun);
+    const double peak = std::max({E.x, E.y, E.z});
+    const Vec3d colour = peak > 0 ? E / peak : Vec3d{1, 1, 1};
+    return {{"type", "directional"},
+            {"name", "sun"},
+            {"color", Json::array({colour.x, colour.y, colour.z})},
+            {"intensity", peak}};
+}
+
+// extras.shprt.sun: the sun as shprt models it, and what is and is not in the file.
+Json sun_extras(const Sun& sun) {
+    const Vec3d E = sun_irradiance(sun);
+    return {{"direction", Json::array({sun.direction.x, sun.direction.y, sun.direction.z})},
+            {"radius_deg", sun.radius_deg},
+            {"radiance", Json::array({sun.radiance.x, sun.radiance.y, sun.radiance.z})},
+            {"irradiance", Json::array({E.x, E.y, E.z})},
+            {"solid_angle_sr", sun_solid_angle(sun)},
+            {"light",
+             "KHR_lights_punctual light 0 (node 1): directional, intensity = max "
+             "irradiance in lux, color = irradiance / intensity"},
+            {"sky", "light.coeffs hold the sky only: the sun is not in the SH sum"},
+            {"color_0",
+             "sky through the transfer + the sun traced at every vertex (and its "
+             "bounced light for an interreflected bake), as shprt shade --sun"},
+            {"direct",
+             "E_sun = irradiance * max(0, n . direction) * visibility; radiance = "
+             "albedo / pi * E_sun"}};
+}
+
 // extras.shprt: everything a relighting engine needs (gltf_export.hpp).
 Json convention_block(const Mesh& mesh, const TransferSet& transfer, int K,
                       const GltfExportOptions& options, const ShLight& full, std::size_t clipped,
@@ -251,13 +305,7 @@ Json convention_block(const Mesh& mesh, const TransferSet& transfer, int K,
         {"format", "shprt-gltf"},
         {"version", 1},
         {"generator", std::string("shprt ") + SHPRT_VERSION_STRING},
-        {"sh",
-         {{"basis", "real spherical harmonics, Green 2003 (the paper's)"},
-          {"condon_shortley_phase", true},
-          {"index", "i = l*(l+1) + m"},
-          {"direction", "unit world vector (x, y, z); theta from +Z, phi from +X toward +Y"},
-          {"world", "right-handed, +Y up"},
-          {"normalization", "orthonormal over the unit sphere"}}},
+        {"sh", detail::sh_convention_json()},
         {"K", K},
         {"bands", sh_bands_for(K)},
         {"full_bands", K == sh_count(sh_bands_for(K))},
@@ -340,9 +388,13 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
     const ShLight source = light_source(options.light, K);
     const ShLight full = rotated_light(source, light_rotation(options.light), source.K);
     const ShLight light = rotated_light(full, Mat3d::identity(), K);
+    // A --sun stays out of the SH sum (light_source never includes it): the file's light is the
+    // sky, the sun a KHR_lights_punctual directional light beside it.
+    std::optional<PreparedSun> sun;
+    if (options.light.sun) sun = prepare_sun(options.light, K);
     std::size_t clipped = 0;
-    const std::vector<Vec3f> colour =
-        baked_colours(path, mesh, transfer, light, options.exposure, clipped);
+    const std::vector<Vec3f> colour = baked_colours(
+        path, mesh, transfer, light, sun ? &*sun : nullptr, options.exposure, clipped);
 
     GlbBuilder glb;
     Json attributes = add_geometry(glb, mesh, colour);
@@ -368,6 +420,7 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
                 kUnsignedInt, "SCALAR", mesh.triangle_count() * 3);
     // Index buffer views carry no byteStride; targets are given so loaders need not guess.
     Json shprt = convention_block(mesh, transfer, K, options, full, clipped, std::move(layout));
+    if (sun) shprt["sun"] = sun_extras(sun->sun);
     if (options.half) {
         shprt["scale"] = scales;
         shprt["decode"] = "T_c[i] = max(q / 32767, -1) * scale[c][i] (what normalized SHORT gives)";
@@ -401,6 +454,14 @@ void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& tra
         {"bufferViews", glb.buffer_views},
         {"accessors", glb.accessors},
     };
+    if (sun) {
+        gltf["extensionsUsed"].push_back("KHR_lights_punctual");
+        gltf["extensions"] = {{"KHR_lights_punctual", {{"lights", {sun_light_json(sun->sun)}}}}};
+        gltf["nodes"].push_back({{"name", "sun"},
+                                 {"rotation", sun_node_rotation(sun->sun.direction)},
+                                 {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+        gltf["scenes"][0]["nodes"].push_back(1);
+    }
     write_container(path, gltf, glb.bin);
 }
 

@@ -1,5 +1,7 @@
 // Picture files (save_image.hpp): OpenEXR through tinyexr, Radiance RGBE and PNG through
-// stb_image_write. References: Greg Ward, "Real Pixels" (Graphics Gems II, 1991) for RGBE;
+// stb_image_write; 16-bit PNG data (save_png16) through zlib, after the PNG specification
+// (W3C, 2nd edition, 2003: §5 chunk layout and CRC, §11.2.2 IHDR, §9 filter type 0, §10 zlib).
+// References: Greg Ward, "Real Pixels" (Graphics Gems II, 1991) for RGBE;
 // IEC 61966-2-1 for sRGB; Narkowicz 2016 for the filmic tone map (shade/tonemap.hpp).
 #include "shprt/shade/save_image.hpp"
 
@@ -9,6 +11,7 @@
 
 #include <stb_image_write.h>
 #include <tinyexr.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cctype>
@@ -102,6 +105,52 @@ std::string encode_png(const std::string& path, const Rgb8Image& image) {
     return out;
 }
 
+// One PNG chunk: big-endian length, type, data, CRC-32 of type and data (PNG §5.3).
+void append_png_chunk(std::string& out, const char type[4], const std::string& data) {
+    const auto be32 = [&out](std::uint32_t x) {
+        for (int s = 24; s >= 0; s -= 8) out.push_back(static_cast<char>((x >> s) & 0xff));
+    };
+    be32(static_cast<std::uint32_t>(data.size()));
+    const std::size_t start = out.size();
+    out.append(type, 4);
+    out += data;
+    be32(static_cast<std::uint32_t>(
+        crc32(0, reinterpret_cast<const Bytef*>(out.data() + start), uInt(out.size() - start))));
+}
+
+std::string encode_png16(const std::string& path, int width, int height, int channels,
+                         const std::vector<std::uint16_t>& samples) {
+    static constexpr int kColourType[5] = {0, 0, 4, 2, 6};  // by channel count
+    const std::size_t row = std::size_t(width) * std::size_t(channels);
+    std::string raw;  // filter byte 0, then the row's samples big-endian
+    raw.reserve((2 * row + 1) * std::size_t(height));
+    for (std::size_t y = 0; y < std::size_t(height); ++y) {
+        raw.push_back(0);
+        for (std::size_t i = 0; i < row; ++i) {
+            const std::uint16_t q = samples[y * row + i];
+            raw.push_back(static_cast<char>(q >> 8));
+            raw.push_back(static_cast<char>(q & 0xff));
+        }
+    }
+    uLongf size = compressBound(uLong(raw.size()));
+    std::string idat(size, '\0');
+    SHPRT_CHECK(compress2(reinterpret_cast<Bytef*>(idat.data()), &size,
+                          reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()),
+                          Z_DEFAULT_COMPRESSION) == Z_OK,
+                io, "cannot encode image {} as a 16-bit .png", path);
+    idat.resize(size);
+    std::string ihdr;
+    for (const std::uint32_t x : {std::uint32_t(width), std::uint32_t(height)})
+        for (int s = 24; s >= 0; s -= 8) ihdr.push_back(static_cast<char>((x >> s) & 0xff));
+    // Bit depth 16, the colour type, compression 0, filter method 0, no interlace.
+    ihdr += std::string{16, static_cast<char>(kColourType[channels]), 0, 0, 0};
+    std::string out("\x89PNG\r\n\x1a\n", 8);
+    append_png_chunk(out, "IHDR", ihdr);
+    append_png_chunk(out, "IDAT", idat);
+    append_png_chunk(out, "IEND", "");
+    return out;
+}
+
 void write_atomically(const std::string& path, const std::string& bytes) {
     AtomicFile file(path);
     file.write(bytes.data(), bytes.size());
@@ -160,6 +209,17 @@ void save_png(const std::string& path, const Rgb8Image& image) {
                 invalid_argument, "cannot write image {}: {} bytes for {}x{} RGB pixels", path,
                 image.rgb.size(), image.width, image.height);
     write_atomically(path, encode_png(path, image));
+}
+
+void save_png16(const std::string& path, int width, int height, int channels,
+                const std::vector<std::uint16_t>& samples) {
+    SHPRT_CHECK(
+        width > 0 && height > 0 && width <= kMaxImageSide && height <= kMaxImageSide &&
+            channels >= 1 && channels <= 4 &&
+            samples.size() == std::size_t(width) * std::size_t(height) * std::size_t(channels),
+        invalid_argument, "cannot write image {}: {} samples for {}x{} pixels of {} channel(s)",
+        path, samples.size(), width, height, channels);
+    write_atomically(path, encode_png16(path, width, height, channels, samples));
 }
 
 }  // namespace shprt

@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <string>
 
 namespace shprt {
@@ -57,6 +58,18 @@ TEST_F(CliReceivers, TexelBakeShadeExport) {
         shprt("shade '" + file + "' --light constant -o '" + (m_dir / "e.csv").string() + "'"),
         ".npy (H x W x 3), .exr or .png");
 #endif
+    // The standard images: one RGBA image per 4 coefficients (K = 4, grey: one), a sidecar.
+    r = shprt("export '" + file + "' -o '" + (m_dir / "i.png").string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("-> 1 RGBA PNG images"));
+    EXPECT_TRUE(std::filesystem::exists(m_dir / "i_Y000.png"));
+    EXPECT_THAT(test_support::slurp((m_dir / "i.json").string()),
+                ::testing::HasSubstr("\"encoding\": \"png16_unorm\""));
+    r = shprt("export '" + file + "' -o '" + (m_dir / "s.exr").string() +
+              "' --attributes standard");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(m_dir / "s_Y000.exr"));
+    EXPECT_TRUE(std::filesystem::exists(m_dir / "s.json"));
 }
 
 // CPCA of a texel file: the error report is measured at the texels (their normals from the

@@ -5,10 +5,12 @@
 #include "shade_test_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/rotation3.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/shade/gltf_export.hpp"
 #include "shprt/shade/shade.hpp"
+#include "shprt/shade/sun_shade.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -185,6 +187,58 @@ TEST(GltfExport, Color0IsTheShadedRadianceAndTheLightIsInTheExtras) {
     EXPECT_EQ(extras["light"]["rotate_yaw_pitch_roll_deg"][0], 30.0);
     EXPECT_TRUE(extras["camera"]["eye"].is_array());
     EXPECT_EQ(glb.json["materials"][0]["extensions"].count("KHR_materials_unlit"), 1u);
+}
+
+// --sun: a KHR_lights_punctual directional light whose node turns −Z into the direction of travel
+// (−s, after --rotate), intensity and colour from the disc's irradiance; the SH light in the
+// extras is the sky alone (the sun counted once), and COLOR_0 is shade_with_sun's radiance.
+TEST(GltfExport, SunIsAPunctualLightAndNotInTheShLight) {
+    test::TempDir dir;
+    const Scene s = scene(16);
+    GltfExportOptions o = options_with({"gradient"});
+    o.light.sun = make_sun({0.3, 0.9, -0.2}, 3.0, {2e4, 1.8e4, 1.5e4});
+    o.light.yaw_pitch_roll_deg = {40, 0, 0};
+    o.exposure = 0.3f;
+    write_glb(dir.file("a.glb"), s.mesh, s.transfer, o);
+    const Glb glb = read_glb(dir.file("a.glb"));
+
+    const PreparedSun sun = prepare_sun(o.light, 16);  // its direction turned by --rotate
+    const Json& lights = glb.json["extensions"]["KHR_lights_punctual"]["lights"];
+    ASSERT_EQ(lights.size(), 1u);
+    EXPECT_EQ(lights[0]["type"], "directional");
+    const Vec3d E = sun_irradiance(sun.sun);
+    EXPECT_NEAR(lights[0]["intensity"].get<double>(), E.x, 1e-9 * E.x);
+    EXPECT_NEAR(lights[0]["color"][2].get<double>(), E.z / E.x, 1e-12);
+    const Json& node = glb.json["nodes"][1];
+    EXPECT_EQ(node["extensions"]["KHR_lights_punctual"]["light"], 0);
+    EXPECT_EQ(glb.json["scenes"][0]["nodes"][1], 1);
+    EXPECT_EQ(glb.json["extensionsUsed"][1], "KHR_lights_punctual");
+    const Json& q = node["rotation"];  // (x, y, z, w)
+    const Mat3d R = matrix_from_quat(
+        {q[3].get<double>(), q[0].get<double>(), q[1].get<double>(), q[2].get<double>()});
+    const Vec3d shines = R * Vec3d{0, 0, -1};
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(shines[j], -sun.sun.direction[j], 1e-12) << j;
+    EXPECT_GT(std::abs(sun.sun.direction.x - 0.3 / std::sqrt(0.94)), 0.1) << "--rotate turned it";
+
+    const ShLight sky = prepare_light(o.light, 16);  // the gradient alone
+    const Json& extras = glb.primitive()["extras"]["shprt"];
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < 16; ++i)
+            EXPECT_EQ(extras["light"]["coeffs"][c][i].get<float>(), sky.channel(c)[i]);
+    EXPECT_EQ(extras["sun"]["radius_deg"], 3.0);
+    ShadeOptions so;
+    so.K_used = 16;
+    const SunShadeResult want = shade_with_sun(s.mesh, s.transfer, sky, sun, so, {});
+    const auto colour = glb.attribute("COLOR_0");
+    std::size_t sunlit = 0;
+    for (std::size_t v = 0; v < s.mesh.vertex_count(); ++v) {
+        sunlit += want.sun_direct[v].x > 0;
+        for (int j = 0; j < 3; ++j)
+            ASSERT_EQ(colour[3 * v + j],
+                      std::clamp((&want.radiance[v].x)[j] * o.exposure, 0.0f, 1.0f))
+                << v;
+    }
+    EXPECT_GT(sunlit, s.mesh.vertex_count() / 4);
 }
 
 TEST(GltfExport, Color0IsExposedAndClampedToTheUnitRangeGltfAllows) {

@@ -19,7 +19,9 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
                                kMaxComputeBands));
     app.add_option(
         "--coeffs", args.coeffs,
-        fmt::format("Basis size K, 1 to {} (need not be a square); default 16", kMaxBakeCoeffs));
+        fmt::format("Basis size K, 1 to {} (need not be a square); default 16 (4 bands: smooth "
+                    "skies; a sun projected into SH wants more, e.g. the paper's 256)",
+                    kMaxBakeCoeffs));
     app.add_option("--samples", args.samples, "Directions per vertex S (default 1024)");
     app.add_option("--sampler", args.sampler,
                    "sobol (default: 7x lower error than the paper's set at the same cost), "

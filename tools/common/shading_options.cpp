@@ -22,7 +22,8 @@ void add_light_options(CLI::App& app, LightArgs& args) {
         "--sun", args.sun,
         "X,Y,Z[,RADIUS_DEG[,R,G,B]]: a sun kept out of the SH sum, its direct light "
         "traced (shade) or shadow-mapped (render, view): sharp shadows; its bounces from "
-        "an interreflected file; without --light, no sky");
+        "an interreflected file; without --light, no sky; export writes it as a glTF "
+        "KHR_lights_punctual light");
     app.add_option("--rotate", args.rotate, "Rotate the light: YAW,PITCH,ROLL in degrees");
     app.add_option("--window", args.window, "SH window of the light: none, hann, lanczos, sloan");
     app.add_option("--window-strength", args.window_strength,
@@ -38,13 +39,6 @@ LightSetup light_setup_from(const LightArgs& args) {
     setup.window_strength = args.window_strength;
     if (!args.rotate.empty()) setup.yaw_pitch_roll_deg = parse_yaw_pitch_roll(args.rotate);
     return setup;
-}
-
-void refuse_sun(const LightArgs& args, const std::string& command) {
-    SHPRT_CHECK(args.sun.empty(), unsupported,
-                "--sun: `shprt {}` does not draw a sun kept out of the SH sum yet (issue 36); "
-                "`shprt shade --sun` traces it, --light sun:{} projects it into SH",
-                command, args.sun);
 }
 
 std::vector<std::string> input_files(const std::string& file, const LightArgs& args) {

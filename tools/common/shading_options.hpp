@@ -33,9 +33,6 @@ void add_light_options(CLI::App& app, LightArgs& args);
 // The LightSetup of the parsed options; throws Error(invalid_argument) naming a bad --sun, window
 // or rotation. Light files are only read later, by prepare_light.
 LightSetup light_setup_from(const LightArgs& args);
-// The commands that do not draw a sun kept out of the SH sum yet (`render`, `view`, `export`):
-// a one-line Error(unsupported) naming `command` when --sun was given.
-void refuse_sun(const LightArgs& args, const std::string& command);
 
 struct CameraArgs {
     std::string camera;         // "EX,EY,EZ,TX,TY,TZ" or empty (default camera)

@@ -33,6 +33,20 @@
 // light of COLOR_0 (its full-band coefficients as 3 lists, already rotated and windowed, so that an
 // engine may rotate it further exactly before cutting it to K), and the camera `shprt render` uses
 // by default. web/ (the browser viewer) relights from exactly this.
+//
+// A sun kept out of the SH sum (`--sun`, LightSetup::sun; shade/sun_shade.hpp) is written as a
+// KHR_lights_punctual directional light on a second node "sun", whose rotation turns the light's
+// −Z (the direction it shines along) into −s, s the unit direction toward the sun after --rotate;
+// colour = E / max(E) and intensity = max(E) in lux, E the disc's irradiance at normal incidence
+// (sun_irradiance). shprt's light is in relative radiometric units (radiance, and irradiance =
+// radiance·sr): the file takes 1 unit of irradiance as 1 lux, the unit of the sky's coefficients
+// too, so an engine that lights with both as written keeps their ratio (three.js:
+// DirectionalLight.intensity is that lux, and a Lambertian surface of albedo ρ sends ρ/π·E, as
+// here). The sun is not in the SH sum: extras.shprt.light is the sky alone, so a viewer that adds
+// the directional light counts the sun once; extras.shprt.sun repeats it in shprt's terms.
+// COLOR_0 is then the sky plus the sun traced at every vertex (shade_with_sun, as `shprt shade
+// --sun`; with an interreflected bake, the sun's bounced light too). The material stays unlit, so
+// viewers that show COLOR_0 do not add the light a second time.
 #pragma once
 
 #include "shprt/light/light_setup.hpp"
@@ -71,7 +85,8 @@ struct GltfExportOptions {
 // transfer.layout.K and K ≤ kMaxLightK (Error(invalid_argument)), half only with the custom
 // attributes and channels·K within the standard attributes' room, finite coefficients and
 // colours (Error(invalid_argument) naming the vertex); throws what light_source throws for a bad
-// light. CPU only (the shading is shade_vertices).
+// light, and with a sun what shade_with_sun throws. CPU only (the shading is shade_vertices, or
+// shade_with_sun with its Embree trace).
 void write_glb(const std::string& path, const Mesh& mesh, const TransferSet& transfer,
                const GltfExportOptions& options);
 

@@ -56,4 +56,12 @@ struct Rgb8Image {
 // inconsistent image and Error(io) naming the path if writing fails.
 void save_png(const std::string& path, const Rgb8Image& image);
 
+// Data, not a picture: width·height pixels of `channels` (1 to 4: grey, grey + alpha, RGB, RGBA)
+// 16-bit samples each, rows top first, written unchanged as a 16-bit PNG (colour type 0, 4, 2 or
+// 6, no gamma or colour-space chunk) through AtomicFile. stb_image_write has no 16-bit PNG; this
+// is the PNG specification's minimum (IHDR, one zlib-compressed IDAT, IEND, filter 0 on every
+// row). Throws Error(invalid_argument) for a bad size or channel count, Error(io).
+void save_png16(const std::string& path, int width, int height, int channels,
+                const std::vector<std::uint16_t>& samples);
+
 }  // namespace shprt

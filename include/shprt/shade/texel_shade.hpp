@@ -61,4 +61,28 @@ void write_texel_image(const std::string& path, const TexelAtlas& atlas,
 void write_texel_coefficients_exr(const std::string& path, const TransferSet& transfer,
                                   int gutter = kTexelGutter);
 
+// The same coefficients as standard images that engines import as textures (`shprt export
+// TEXELS.shprt -o OUT.png|OUT.exr --attributes standard`): per colour channel c (Y for grey
+// transfer, else R, G, B), ceil(K/4) RGBA images OUT_<c><a>.png|.exr (a = 000, 001, …), image a
+// holding coefficients 4a … 4a+3 in R, G, B, A (0 past K) — the layout of the renderer's texture
+// array and of the .glb's _SHPRT_T attributes — dilated as above. Each value decodes as
+//     T_c[4a + j] = offset[j] + scale[j] · v,
+// v the pixel's channel j as a texture sampler returns it: for .png, 16-bit unsigned normalized
+// (v = q/65535), offset = the coefficient's smallest value over the texels, scale = its range, so
+// the error is at most scale/131070 (plus float rounding of offset and scale); for .exr, the
+// coefficient itself as float (float16 when the transfer's encoding is f16, else float32), with
+// scale 1 and offset 0 — one decode for both. Texels beyond the gutters hold the value nearest 0.
+// A sidecar OUT.json (written last) lists the images with their offsets and scales, the SH
+// convention, K, channels, size, the UV convention and the radiometry. Every file through
+// AtomicFile; when one fails, those already written are removed. Returns the paths written, the
+// sidecar first. Throws what write_texel_coefficients_exr throws, Error(unsupported) for another
+// extension, Error(invalid_argument) for a non-finite coefficient.
+std::vector<std::string> write_texel_coefficient_images(const std::string& path,
+                                                        const TransferSet& transfer,
+                                                        int gutter = kTexelGutter);
+// The paths write_texel_coefficient_images writes for `path` and `layout`, the sidecar first (so
+// that a command can check them before the work).
+std::vector<std::string> texel_coefficient_image_paths(const std::string& path,
+                                                       const TransferLayout& layout);
+
 }  // namespace shprt

@@ -91,8 +91,11 @@ struct TransferLayout {
 // Timings (seconds) and counters of one bake, stored in the file's metadata.
 struct BakeStats {
     double seconds_bvh = 0, seconds_trace = 0, seconds_project = 0, seconds_total = 0;
-    std::uint64_t rays_cast = 0;        // rays actually traced (below-horizon rays are not cast)
-    std::uint64_t peak_bytes_host = 0;  // bake's peak working memory with its BVH, host
+    std::uint64_t rays_cast = 0;  // rays actually traced (below-horizon rays are not cast)
+    // The bake's peak host memory: its working memory with the BVH, plus the rows held for the
+    // output (all V·K floats, unless streamed to the file as chunks finish). The bake's summary
+    // line ("peak") and `shprt info` ("peak memory … host") print this one number.
+    std::uint64_t peak_bytes_host = 0;
     std::uint64_t peak_bytes_device = 0;
     std::string device_name;  // "cpu: 2 threads" or the GPU's name
     // Interreflected transfer only: merging the closest hits into the transport operator A (the
