@@ -21,6 +21,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace shprt {
@@ -46,5 +47,15 @@ struct TexelSamples {
 // texel centre strictly inside both: "triangles A and B overlap in UV space at texel (x, y)":
 // per-texel transfer needs a unique atlas). CPU, one thread; deterministic.
 TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_set = 0);
+
+// Two triangles of one UV atlas that overlap: a texel centre strictly inside both.
+struct UvOverlap {
+    std::uint32_t first = 0, second = 0;  // triangle indices, first < second
+    int x = 0, y = 0;                     // the texel
+};
+// The first overlap rasterize_texels would refuse at width × height (in triangle order), or none:
+// the same coverage, without the samples. Throws what rasterize_texels throws for a mesh without
+// UVs, a bad side or a non-finite UV.
+std::optional<UvOverlap> find_uv_overlap(const Mesh& mesh, int width, int height);
 
 }  // namespace shprt
