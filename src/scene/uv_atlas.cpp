@@ -69,9 +69,63 @@ double pack(std::vector<ChartBox>& boxes, const std::vector<std::size_t>& order,
     return y + shelf + gap / 2;
 }
 
+// Skyline bottom-left packing (J. Jylänki, "A Thousand Ways to Pack the Bin", 2010, §4) of
+// `boxes` in `order` into a square of side `side` metres, `gap` metres between boxes and gap/2 to
+// the border: each box goes where its top is lowest (then leftmost) on the skyline of those
+// before it, which fills the room a shelf leaves above shorter boxes. False when one does not fit.
+bool skyline(std::vector<ChartBox>& boxes, const std::vector<std::size_t>& order, double side,
+             double gap) {
+    struct Segment {
+        double x, y, w;  // [x, x + w) at height y
+    };
+    std::vector<Segment> sky{{0, 0, side}}, next;
+    for (std::size_t i : order) {
+        ChartBox& b = boxes[i];
+        const double w = b.width() + gap, h = b.height() + gap;
+        double best_top = std::numeric_limits<double>::infinity(), best_x = 0, best_y = 0;
+        for (std::size_t s = 0; s < sky.size(); ++s) {
+            const double x = sky[s].x;
+            if (x + w > side) break;  // segments run left to right
+            double y = 0;
+            for (std::size_t k = s; k < sky.size() && sky[k].x < x + w; ++k)
+                y = std::max(y, sky[k].y);
+            if (y + h <= side && y + h < best_top) best_top = y + h, best_x = x, best_y = y;
+        }
+        if (!std::isfinite(best_top)) return false;
+        b.x = best_x + gap / 2, b.y = best_y + gap / 2;
+        // The skyline with [best_x, best_x + w) raised to best_top.
+        const double x0 = best_x, x1 = best_x + w;
+        next.clear();
+        bool placed = false;
+        const auto add = [&](Segment g) {
+            if (g.w <= 0) return;
+            if (!next.empty() && next.back().y == g.y)
+                next.back().w = g.x + g.w - next.back().x;
+            else
+                next.push_back(g);
+        };
+        for (const Segment& g : sky) {
+            const double end = g.x + g.w;
+            if (end <= x0) {
+                add(g);
+                continue;
+            }
+            if (g.x < x0) add({g.x, g.y, x0 - g.x});
+            if (!placed) add({x0, best_top, w}), placed = true;
+            if (end > x1) add({std::max(g.x, x1), g.y, end - std::max(g.x, x1)});
+        }
+        sky.swap(next);
+    }
+    return true;
+}
+
+// How pack_square places boxes: shelves (the generated room's atlas, whose numbers the docs and
+// tests quote) or the skyline (conformal atlases).
+enum class Packer { shelves, skyline };
+
 // The side (metres) of the square the boxes pack into with `gap` metres between them (fixed
 // gap) or gap_share × side between them (gap_share > 0); packs them there.
-double pack_square(std::vector<ChartBox>& boxes, double gap, double gap_share) {
+double pack_square(std::vector<ChartBox>& boxes, double gap, double gap_share, Packer packer) {
     std::vector<std::size_t> order(boxes.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -83,7 +137,9 @@ double pack_square(std::vector<ChartBox>& boxes, double gap, double gap_share) {
     double side = std::max(std::sqrt(area), widest) * (1 + 2 * gap_share) + gap + 1e-9;
     for (;;) {
         const double g = gap_share > 0 ? gap_share * side : gap;
-        if (widest + g <= side && pack(boxes, order, side, g) <= side) return side;
+        if (widest + g <= side && (packer == Packer::skyline ? skyline(boxes, order, side, g)
+                                                             : pack(boxes, order, side, g) <= side))
+            return side;
         side *= 1.02;
     }
 }
@@ -436,9 +492,11 @@ void turn_for_packing(Chart& chart) {
 // options.texels_per_metre needs more than kMaxTexelSide.
 std::pair<int, double> pack_atlas(std::vector<ChartBox>& boxes, const UvAtlasOptions& options,
                                   const std::string& name) {
+    const Packer packer =
+        options.layout == ChartLayout::conformal ? Packer::skyline : Packer::shelves;
     if (options.texels_per_metre > 0) {
         const double tpm = options.texels_per_metre;
-        const double side = pack_square(boxes, options.gutter_texels / tpm, 0);
+        const double side = pack_square(boxes, options.gutter_texels / tpm, 0, packer);
         const double texels = std::ceil(side * tpm);
         SHPRT_CHECK(texels <= kMaxTexelSide, invalid_argument,
                     "{}: {:g} texels per metre needs a {:.0f}x{:.0f} atlas (its charts pack into "
@@ -451,7 +509,7 @@ std::pair<int, double> pack_atlas(std::vector<ChartBox>& boxes, const UvAtlasOpt
                      resolution, resolution, double(resolution) * resolution * 1e-6);
         return {resolution, tpm};
     }
-    const double side = pack_square(boxes, 0, options.gutter_texels / options.resolution);
+    const double side = pack_square(boxes, 0, options.gutter_texels / options.resolution, packer);
     return {options.resolution, options.resolution / side};
 }
 

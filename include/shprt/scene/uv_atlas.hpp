@@ -25,11 +25,12 @@
 // Stretch of a triangle: max(σ₁, 1/σ₂), σ₁ ≥ σ₂ the singular values of the linear map from the
 // triangle (metres) to its UVs (metres at the atlas's one scale): 1 when the map is an isometry.
 //
-// Packing: charts' bounding boxes (conformal charts first turned to their smallest box, lying
-// flat) on shelves, tallest first, at least `gutter_texels` texels apart at the atlas's resolution
-// (half that from the border), so dilation and bilinear filtering never mix two charts at that
-// resolution. The scale is `texels_per_metre` when set (the image side is then chosen to hold the
-// atlas), else the largest at which the charts fit a `resolution`² image.
+// Packing: charts' bounding boxes, tallest first, at least `gutter_texels` texels apart at the
+// atlas's resolution (half that from the border) — projected charts on shelves (the room's atlas,
+// as its tests and docs quote it), conformal charts turned to their smallest box, lying flat, on
+// a skyline (each where its top is lowest) — so dilation and bilinear filtering never mix two
+// charts at that resolution. The scale is `texels_per_metre` when set (the image side is then
+// chosen to hold the atlas), else the largest at which the charts fit a `resolution`² image.
 #pragma once
 
 #include "shprt/scene/mesh.hpp"
