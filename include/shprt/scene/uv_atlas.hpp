@@ -25,12 +25,15 @@
 // Stretch of a triangle: max(σ₁, 1/σ₂), σ₁ ≥ σ₂ the singular values of the linear map from the
 // triangle (metres) to its UVs (metres at the atlas's one scale): 1 when the map is an isometry.
 //
-// Packing: charts' bounding boxes, tallest first, at least `gutter_texels` texels apart at the
-// atlas's resolution (half that from the border) — projected charts on shelves (the room's atlas,
-// as its tests and docs quote it), conformal charts turned to their smallest box, lying flat, on
-// a skyline (each where its top is lowest) — so dilation and bilinear filtering never mix two
-// charts at that resolution. The scale is `texels_per_metre` when set (the image side is then
-// chosen to hold the atlas), else the largest at which the charts fit a `resolution`² image.
+// Packing, at one scale, at least `gutter_texels` texels apart at the atlas's resolution (half
+// that from the border), so dilation and bilinear filtering never mix two charts there. Projected
+// charts: bounding boxes on shelves, tallest first (the room's atlas, as its tests and docs quote
+// it). Conformal charts, turned to their smallest box lying flat: boxes on shelves or a skyline
+// (whichever needs less room) and then, when it does better, by their texels — each chart's
+// conservative coverage dropped from above onto the columns' filled heights where its top stays
+// lowest, its coverage grown by the gutter, so charts settle into each other's dents. The scale
+// is `texels_per_metre` when set (the image side is then the smallest that holds the atlas), else
+// the largest at which the charts fit a `resolution`² image (to 1 %).
 #pragma once
 
 #include "shprt/scene/mesh.hpp"
