@@ -173,6 +173,39 @@ double triangle_stretch(const Vec3d& p0, const Vec3d& p1, const Vec3d& p2, const
     return std::max(s1, 1 / s2);
 }
 
+// One vertex per (vertex, chart) of `mesh`, `chart` per triangle: the first chart (by triangle
+// order) keeps a vertex's index, each other chart gets a copy appended (position, normal and the
+// per-vertex arrays present) and its triangles renumbered to it. Returns, per vertex, the one it
+// is a copy of (itself for the originals).
+std::vector<std::uint32_t> split_vertices(Mesh& mesh, const std::vector<std::uint32_t>& chart) {
+    const std::size_t V = mesh.vertex_count();
+    std::vector<std::uint32_t> owner(V, kNone), origin(V);
+    std::iota(origin.begin(), origin.end(), std::uint32_t{0});
+    std::unordered_map<std::uint64_t, std::uint32_t> copy;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        const std::uint32_t c = chart[t];
+        for (std::uint32_t& v : mesh.triangles[t]) {
+            if (owner[v] == kNone) owner[v] = c;
+            if (owner[v] == c) continue;
+            const std::uint64_t key = (std::uint64_t(v) << 32) | c;
+            auto it = copy.find(key);
+            if (it == copy.end()) {
+                it = copy.emplace(key, std::uint32_t(mesh.positions.size())).first;
+                mesh.positions.push_back(mesh.positions[v]);
+                mesh.normals.push_back(mesh.normals[v]);
+                if (!mesh.albedo.empty()) mesh.albedo.push_back(mesh.albedo[v]);
+                if (!mesh.source_vertex.empty())
+                    mesh.source_vertex.push_back(mesh.source_vertex[v]);
+                if (!mesh.parents.empty()) mesh.parents.push_back(mesh.parents[v]);
+                if (!mesh.brdf_index.empty()) mesh.brdf_index.push_back(mesh.brdf_index[v]);
+                origin.push_back(v);
+            }
+            v = it->second;
+        }
+    }
+    return origin;
+}
+
 // --- conformal charts ------------------------------------------------------------------------
 
 // The mesh as the conformal layout sees it: welded vertices (same position bits), face normals,
@@ -796,32 +829,7 @@ UvAtlasInfo conformal_atlas(Mesh& mesh, const UvAtlasOptions& options, const std
         info.chart.assign(T, kNone);
         for (std::size_t c = 0; c < done.size(); ++c)
             for (std::uint32_t t : done[c].triangles) info.chart[t] = std::uint32_t(c);
-        // One vertex per (vertex, chart), as in the projected atlas.
-        std::vector<std::uint32_t> owner(V, kNone), origin(V);
-        std::iota(origin.begin(), origin.end(), std::uint32_t{0});
-        std::unordered_map<std::uint64_t, std::uint32_t> copy;
-        for (std::size_t t = 0; t < T; ++t) {
-            const std::uint32_t c = info.chart[t];
-            for (std::uint32_t& v : trial.triangles[t]) {
-                if (owner[v] == kNone) owner[v] = c;
-                if (owner[v] == c) continue;
-                const std::uint64_t key = (std::uint64_t(v) << 32) | c;
-                auto it = copy.find(key);
-                if (it == copy.end()) {
-                    const auto n = std::uint32_t(trial.positions.size());
-                    trial.positions.push_back(trial.positions[v]);
-                    trial.normals.push_back(trial.normals[v]);
-                    if (!trial.albedo.empty()) trial.albedo.push_back(trial.albedo[v]);
-                    if (!trial.source_vertex.empty())
-                        trial.source_vertex.push_back(trial.source_vertex[v]);
-                    if (!trial.parents.empty()) trial.parents.push_back(trial.parents[v]);
-                    if (!trial.brdf_index.empty()) trial.brdf_index.push_back(trial.brdf_index[v]);
-                    origin.push_back(v);
-                    it = copy.emplace(key, n).first;
-                }
-                v = it->second;
-            }
-        }
+        const std::vector<std::uint32_t> origin = split_vertices(trial, info.chart);
         trial.uvs.assign(trial.vertex_count(), {0.0f, 0.0f});
         for (std::size_t c = 0; c < done.size(); ++c) {
             const Chart& chart = done[c];
@@ -905,30 +913,7 @@ UvAtlasInfo projected_atlas(Mesh& mesh, const UvAtlasOptions& options, const std
     }
     info.charts = axis.size();
 
-    // One vertex per (vertex, chart): the first chart keeps the index, the others get copies.
-    std::vector<std::uint32_t> owner(V, kNone);
-    std::unordered_map<std::uint64_t, std::uint32_t> copy;
-    const auto append_copy = [&](std::uint32_t v) {
-        const auto n = std::uint32_t(mesh.positions.size());
-        mesh.positions.push_back(mesh.positions[v]);
-        mesh.normals.push_back(mesh.normals[v]);
-        if (!mesh.albedo.empty()) mesh.albedo.push_back(mesh.albedo[v]);
-        if (!mesh.source_vertex.empty()) mesh.source_vertex.push_back(mesh.source_vertex[v]);
-        if (!mesh.parents.empty()) mesh.parents.push_back(mesh.parents[v]);
-        if (!mesh.brdf_index.empty()) mesh.brdf_index.push_back(mesh.brdf_index[v]);
-        return n;
-    };
-    for (std::size_t t = 0; t < T; ++t) {
-        const std::uint32_t c = info.chart[t];
-        for (std::uint32_t& v : mesh.triangles[t]) {
-            if (owner[v] == kNone) owner[v] = c;
-            if (owner[v] == c) continue;
-            const std::uint64_t key = (std::uint64_t(v) << 32) | c;
-            auto it = copy.find(key);
-            if (it == copy.end()) it = copy.emplace(key, append_copy(v)).first;
-            v = it->second;
-        }
-    }
+    split_vertices(mesh, info.chart);
     info.added_vertices = mesh.positions.size() - V;
 
     // Each chart projected along its axis (metres), then packed.
