@@ -66,9 +66,12 @@ constexpr double kStrictlyInside = 1e-4;
 constexpr double kInside = -1e-9;
 
 // Coverage of a width × height image by `mesh`'s triangles in UV space: each texel's owner (see
-// the top of texel_raster.hpp), or the first overlap found (owner then incomplete).
-std::optional<UvOverlap> cover_texels(const Mesh& mesh, int width, int height,
-                                      const std::string& name, std::vector<std::int32_t>& owner) {
+// the top of texel_raster.hpp), and the overlaps found, in triangle order, up to `most` (owner
+// is then incomplete).
+std::vector<UvOverlap> cover_texels(const Mesh& mesh, int width, int height,
+                                    const std::string& name, std::vector<std::int32_t>& owner,
+                                    std::size_t most) {
+    std::vector<UvOverlap> overlaps;
     SHPRT_CHECK(
         mesh.uvs.size() == mesh.vertex_count() && mesh.normals.size() == mesh.vertex_count(),
         invalid_argument, "{}: {} UVs and {} normals for {} vertices", name, mesh.uvs.size(),
@@ -102,8 +105,11 @@ std::optional<UvOverlap> cover_texels(const Mesh& mesh, int width, int height,
                 const double least = std::min({l[0], l[1], l[2]});
                 const bool inside = least >= kInside, strict = least > kStrictlyInside;
                 const std::size_t i = std::size_t(y) * W + std::size_t(x);
-                if (strict && owner_strict[i])
-                    return UvOverlap{std::uint32_t(owner[i]), std::uint32_t(t), int(x), int(y)};
+                if (strict && owner_strict[i]) {
+                    overlaps.push_back({std::uint32_t(owner[i]), std::uint32_t(t), int(x), int(y)});
+                    if (overlaps.size() >= most) return overlaps;
+                    continue;
+                }
                 if (owner[i] < 0 || (inside && !owner_inside[i])) {
                     owner[i] = static_cast<std::int32_t>(t);
                     owner_inside[i] = inside;
@@ -111,7 +117,7 @@ std::optional<UvOverlap> cover_texels(const Mesh& mesh, int width, int height,
                 owner_strict[i] |= strict;
             }
     }
-    return std::nullopt;
+    return overlaps;
 }
 
 std::string mesh_name(const Mesh& mesh) {
@@ -120,11 +126,11 @@ std::string mesh_name(const Mesh& mesh) {
 
 }  // namespace
 
-std::optional<UvOverlap> find_uv_overlap(const Mesh& mesh, int width, int height) {
+std::vector<UvOverlap> find_uv_overlaps(const Mesh& mesh, int width, int height, std::size_t most) {
     SHPRT_CHECK(!mesh.uvs.empty(), invalid_argument, "{}: has no texture coordinates",
                 mesh_name(mesh));
     std::vector<std::int32_t> owner;
-    return cover_texels(mesh, width, height, mesh_name(mesh), owner);
+    return cover_texels(mesh, width, height, mesh_name(mesh), owner, most);
 }
 
 TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_set) {
@@ -134,11 +140,13 @@ TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_se
                 "(--unwrap makes one)",
                 name, uv_set);
     std::vector<std::int32_t> owner;
-    if (const auto o = cover_texels(mesh, width, height, name, owner))
+    if (const auto found = cover_texels(mesh, width, height, name, owner, 1); !found.empty()) {
+        const UvOverlap* o = &found[0];
         fail(ErrorCode::invalid_argument,
              "{}: triangles {} and {} overlap in UV space at texel ({}, {}) of {}x{}; per-texel "
              "transfer needs a UV atlas without overlaps",
              name, o->first, o->second, o->x, o->y, width, height);
+    }
     const std::size_t W = std::size_t(width), H = std::size_t(height);
     const auto uv_triangle = [&](std::size_t t) { return shprt::uv_triangle(mesh, t, W, H); };
 

@@ -206,6 +206,30 @@ std::vector<std::uint32_t> split_vertices(Mesh& mesh, const std::vector<std::uin
     return origin;
 }
 
+// Stretch and the charts' share of the square, from each triangle's UVs in metres at the atlas's
+// scale (`uv`, in double: float UVs round a millimetre triangle of a large atlas to nothing).
+void measure(const Mesh& mesh, const std::vector<std::array<Uv, 3>>& uv, UvAtlasInfo& info) {
+    const double side = info.resolution / info.texels_per_metre;  // metres per unit of UV
+    double worst = 1, sum = 0, weight = 0, uv_area = 0;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        const auto& tri = mesh.triangles[t];
+        const auto& q = uv[t];
+        std::array<Vec3d, 3> p{};
+        for (int k = 0; k < 3; ++k) p[std::size_t(k)] = cast<double>(mesh.positions[tri[k]]);
+        const double area = 0.5 * length(cross(p[1] - p[0], p[2] - p[0]));
+        const double longest =
+            std::max({length2(p[1] - p[0]), length2(p[2] - p[1]), length2(p[0] - p[2])});
+        uv_area += 0.5 * std::abs(uv_area2(q[0], q[1], q[2]));
+        if (!(2 * area > kDegenerate * longest)) continue;
+        const double st = triangle_stretch(p[0], p[1], p[2], q[0], q[1], q[2]);
+        worst = std::max(worst, st);
+        if (std::isfinite(st)) sum += st * area, weight += area;
+    }
+    info.max_stretch = worst;
+    info.mean_stretch = weight > 0 ? sum / weight : 1;
+    info.chart_share = uv_area / (side * side);
+}
+
 // --- conformal charts ------------------------------------------------------------------------
 
 // The mesh as the conformal layout sees it: welded vertices (same position bits), face normals,
@@ -844,31 +868,54 @@ UvAtlasInfo conformal_atlas(Mesh& mesh, const UvAtlasOptions& options, const std
                 }
             for (std::uint32_t w : chart.vertices) slot[w] = kNone;
         }
-        const std::optional<UvOverlap> overlap = find_uv_overlap(trial, resolution, resolution);
-        if (!overlap && !by_texels) {
+        // The boxes' pass checks on a finer grid than its own: the texels' pass packs at a larger
+        // scale, where a chart may overlap itself in texels it did not cover before.
+        const int grid =
+            by_texels ? resolution : std::min(kMaxTexelSide, int(std::ceil(resolution * 1.5)));
+        const std::vector<UvOverlap> overlaps =
+            find_uv_overlaps(trial, grid, grid, std::size_t{1} << 20);
+        if (overlaps.empty() && !by_texels) {
             by_texels = true;
             continue;
         }
-        if (!overlap) {
+        if (overlaps.empty()) {
             mesh = std::move(trial);
             info.charts = done.size();
             info.added_vertices = mesh.vertex_count() - V;
             info.resolution = resolution;
             info.texels_per_metre = tpm;
             info.overlaps_checked = true;
+            std::vector<std::array<Uv, 3>> uv(T);
+            for (std::size_t c = 0; c < done.size(); ++c)
+                for (std::size_t i = 0; i < done[c].triangles.size(); ++i)
+                    uv[done[c].triangles[i]] = triangles[c][i];
+            measure(mesh, uv, info);
             return info;
         }
-        const std::uint32_t c = info.chart[overlap->first];
-        SHPRT_CHECK(c == info.chart[overlap->second], invalid_argument,
-                    "{}: UV atlas: charts {} and {} overlap (a packing fault)", name, c,
-                    info.chart[overlap->second]);
-        ++info.split_overlapping;
-        Chart chart = std::move(done[c]);
-        done.erase(done.begin() + std::ptrdiff_t(c));
-        tag += 3;
-        for (std::uint32_t t : chart.triangles) member[t] = tag;
-        auto halves = split(s, chart, overlap->first, overlap->second, member, tag);
-        settle({std::move(halves.second), std::move(halves.first)});
+        // Each chart that overlaps itself is split once, between the first two triangles found.
+        std::vector<std::array<std::uint32_t, 2>> seeds(done.size(), {kNone, kNone});
+        for (const UvOverlap& o : overlaps) {
+            const std::uint32_t c = info.chart[o.first];
+            SHPRT_CHECK(c == info.chart[o.second], invalid_argument,
+                        "{}: UV atlas: charts {} and {} overlap (a packing fault)", name, c,
+                        info.chart[o.second]);
+            if (seeds[c][0] == kNone) seeds[c] = {o.first, o.second};
+        }
+        std::vector<Chart> kept, work;
+        for (std::size_t c = 0; c < done.size(); ++c) {
+            if (seeds[c][0] == kNone) {
+                kept.push_back(std::move(done[c]));
+                continue;
+            }
+            ++info.split_overlapping;
+            tag += 3;
+            for (std::uint32_t t : done[c].triangles) member[t] = tag;
+            auto halves = split(s, done[c], seeds[c][0], seeds[c][1], member, tag);
+            work.push_back(std::move(halves.second));
+            work.push_back(std::move(halves.first));
+        }
+        done = std::move(kept);
+        settle(std::move(work));
     }
 }
 
@@ -947,32 +994,11 @@ UvAtlasInfo projected_atlas(Mesh& mesh, const UvAtlasOptions& options, const std
     }
     info.resolution = resolution;
     info.texels_per_metre = tpm;
+    std::vector<std::array<Uv, 3>> uv(T);
+    for (std::size_t t = 0; t < T; ++t)
+        for (int k = 0; k < 3; ++k) uv[t][std::size_t(k)] = local[mesh.triangles[t][k]];
+    measure(mesh, uv, info);
     return info;
-}
-
-// Stretch and the charts' share of the square, from the final UVs.
-void measure(const Mesh& mesh, UvAtlasInfo& info) {
-    const double side = info.resolution / info.texels_per_metre;  // metres per unit of UV
-    double worst = 1, sum = 0, weight = 0, uv_area = 0;
-    for (const auto& tri : mesh.triangles) {
-        std::array<Vec3d, 3> p{};
-        std::array<Uv, 3> q{};
-        for (int k = 0; k < 3; ++k) {
-            p[k] = cast<double>(mesh.positions[tri[k]]);
-            q[k] = {mesh.uvs[tri[k]][0] * side, mesh.uvs[tri[k]][1] * side};
-        }
-        const double area = 0.5 * length(cross(p[1] - p[0], p[2] - p[0]));
-        const double longest =
-            std::max({length2(p[1] - p[0]), length2(p[2] - p[1]), length2(p[0] - p[2])});
-        uv_area += 0.5 * std::abs(uv_area2(q[0], q[1], q[2]));
-        if (!(2 * area > kDegenerate * longest)) continue;
-        const double st = triangle_stretch(p[0], p[1], p[2], q[0], q[1], q[2]);
-        worst = std::max(worst, st);
-        if (std::isfinite(st)) sum += st * area, weight += area;
-    }
-    info.max_stretch = worst;
-    info.mean_stretch = weight > 0 ? sum / weight : 1;
-    info.chart_share = uv_area / (side * side);
 }
 
 }  // namespace
@@ -999,11 +1025,8 @@ UvAtlasInfo make_uv_atlas(Mesh& mesh, const UvAtlasOptions& options) {
     for (const Vec3f& p : mesh.positions)
         SHPRT_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z),
                     invalid_argument, "{}: a vertex position is not finite", name);
-    UvAtlasInfo info = options.layout == ChartLayout::conformal
-                           ? conformal_atlas(mesh, options, name)
-                           : projected_atlas(mesh, options, name);
-    measure(mesh, info);
-    return info;
+    return options.layout == ChartLayout::conformal ? conformal_atlas(mesh, options, name)
+                                                    : projected_atlas(mesh, options, name);
 }
 
 std::string describe(const UvAtlasInfo& info) {

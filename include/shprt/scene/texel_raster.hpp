@@ -21,7 +21,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <vector>
 
 namespace shprt {
@@ -53,9 +52,11 @@ struct UvOverlap {
     std::uint32_t first = 0, second = 0;  // triangle indices, first < second
     int x = 0, y = 0;                     // the texel
 };
-// The first overlap rasterize_texels would refuse at width × height (in triangle order), or none:
-// the same coverage, without the samples. Throws what rasterize_texels throws for a mesh without
-// UVs, a bad side or a non-finite UV.
-std::optional<UvOverlap> find_uv_overlap(const Mesh& mesh, int width, int height);
+// The overlaps rasterize_texels would refuse at width × height (it refuses the first), in
+// triangle order, at most `most` (the texel of one is not looked at again): the same coverage,
+// without the samples. Throws what rasterize_texels throws for a mesh without UVs, a bad side or
+// a non-finite UV.
+std::vector<UvOverlap> find_uv_overlaps(const Mesh& mesh, int width, int height,
+                                        std::size_t most = 1);
 
 }  // namespace shprt
