@@ -632,9 +632,9 @@ Footprint footprint(const std::vector<std::array<Uv, 3>>& triangles, const Chart
             for (int y = y0; y <= y1; ++y)
                 if (touches(q[0], q[1], q[2], x, y, 1e-3)) {
                     int& b = f.bottom[std::size_t(x)];
-                    int& t = f.top[std::size_t(x)];
+                    int& top = f.top[std::size_t(x)];
                     b = b == Footprint::kEmpty ? y : std::min(b, y);
-                    t = std::max(t, y + 1);
+                    top = std::max(top, y + 1);
                 }
     }
     return f;
