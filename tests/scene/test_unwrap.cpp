@@ -183,11 +183,11 @@ TEST(Unwrap, AMessyMeshGetsAnAtlasWithoutOverlaps) {
     UvAtlasOptions options;
     options.layout = ChartLayout::conformal;
     options.max_angle_deg = kUnwrapMaxAngle;
-    options.resolution = 512;
+    options.resolution = 256;
     const UvAtlasInfo info = make_uv_atlas(mesh, options);
     expect_sound_atlas(before, mesh, info, options);
     EXPECT_EQ(info.degenerate_triangles, 1u);
-    EXPECT_EQ(info.resolution, 512);
+    EXPECT_EQ(info.resolution, 256);
     EXPECT_LE(info.mean_stretch, 1.1);
     // Deterministic.
     Mesh again = before;
