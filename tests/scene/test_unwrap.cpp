@@ -125,6 +125,15 @@ double world_area(const Mesh& m, const std::array<std::uint32_t, 3>& t) {
            length(cross(cast<double>(m.positions[t[1]]) - a, cast<double>(m.positions[t[2]]) - a));
 }
 
+// The options `shprt bake --unwrap --resolution R` uses (R = 0: set a density instead).
+UvAtlasOptions unwrap_options(int resolution) {
+    UvAtlasOptions options;
+    options.layout = ChartLayout::conformal;
+    options.max_angle_deg = kUnwrapMaxAngle;
+    if (resolution > 0) options.resolution = resolution;
+    return options;
+}
+
 // What every conformal atlas must be, whatever the mesh.
 void expect_sound_atlas(const Mesh& before, const Mesh& after, const UvAtlasInfo& info,
                         const UvAtlasOptions& options) {
@@ -180,10 +189,7 @@ void expect_sound_atlas(const Mesh& before, const Mesh& after, const UvAtlasInfo
 TEST(Unwrap, AMessyMeshGetsAnAtlasWithoutOverlaps) {
     const Mesh before = messy_mesh();
     Mesh mesh = before;
-    UvAtlasOptions options;
-    options.layout = ChartLayout::conformal;
-    options.max_angle_deg = kUnwrapMaxAngle;
-    options.resolution = 256;
+    const UvAtlasOptions options = unwrap_options(256);
     const UvAtlasInfo info = make_uv_atlas(mesh, options);
     expect_sound_atlas(before, mesh, info, options);
     EXPECT_EQ(info.degenerate_triangles, 1u);
@@ -200,9 +206,7 @@ TEST(Unwrap, SplitVerticesAreWeldedForCharts) {
     // A flat panel stored with three vertices per triangle is one chart, not 72.
     Mesh mesh;
     add_panel(mesh, 6, 1.0f, {0, 0, 0}, true);
-    UvAtlasOptions options;
-    options.layout = ChartLayout::conformal;
-    options.resolution = 64;
+    const UvAtlasOptions options = unwrap_options(64);
     const UvAtlasInfo info = make_uv_atlas(mesh, options);
     EXPECT_EQ(info.charts, 1u);
     EXPECT_EQ(info.added_vertices, 0u);
@@ -212,8 +216,7 @@ TEST(Unwrap, SplitVerticesAreWeldedForCharts) {
 TEST(Unwrap, TexelDensityChoosesTheResolution) {
     const Mesh before = messy_mesh();
     Mesh mesh = before;
-    UvAtlasOptions options;
-    options.layout = ChartLayout::conformal;
+    UvAtlasOptions options = unwrap_options(0);
     options.texels_per_metre = 40;
     const UvAtlasInfo info = make_uv_atlas(mesh, options);
     EXPECT_EQ(info.texels_per_metre, 40.0);
@@ -240,9 +243,7 @@ TEST(Unwrap, TexelDensityChoosesTheResolution) {
 
 TEST(Unwrap, GuttersAreDilatedFromTheirOwnChart) {
     Mesh mesh = messy_mesh();
-    UvAtlasOptions options;
-    options.layout = ChartLayout::conformal;
-    options.resolution = 256;
+    const UvAtlasOptions options = unwrap_options(256);
     const UvAtlasInfo info = make_uv_atlas(mesh, options);
     const TexelSamples texels = rasterize_texels(mesh, 256, 256);
     TexelAtlas atlas;
@@ -272,8 +273,7 @@ TEST(Unwrap, GuttersAreDilatedFromTheirOwnChart) {
 }
 
 TEST(Unwrap, BadInputIsRefused) {
-    UvAtlasOptions options;
-    options.layout = ChartLayout::conformal;
+    UvAtlasOptions options = unwrap_options(256);
     Mesh empty;
     empty.source = "empty.obj";
     EXPECT_THROW(make_uv_atlas(empty, options), Error);
@@ -298,10 +298,7 @@ TEST_P(UnwrapCorpus, HasAnAtlasWithoutOverlaps) {
         GTEST_SKIP() << path << " is missing (scripts/setup installs assimp-testmodels)";
     const Mesh before = load_scene(path);
     Mesh mesh = before;
-    UvAtlasOptions options;
-    options.layout = ChartLayout::conformal;
-    options.max_angle_deg = kUnwrapMaxAngle;
-    options.resolution = 256;
+    const UvAtlasOptions options = unwrap_options(256);
     const UvAtlasInfo info = make_uv_atlas(mesh, options);
     expect_sound_atlas(before, mesh, info, options);
     EXPECT_LE(info.mean_stretch, 1.25) << describe(info);
