@@ -10,7 +10,8 @@ find_package(TBB REQUIRED)
 find_package(embree 3 REQUIRED)
 find_package(assimp REQUIRED)
 find_package(tinyexr REQUIRED)
-# Eigen 3 (header-only): the sparse transport operator of interreflected transfer (src/bake).
+# Eigen 3 (header-only): the sparse transport operator of interreflected transfer (src/bake), the
+# conformal UV charts (src/scene/uv_atlas.cpp).
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 
 pkg_check_modules(OPENBLAS REQUIRED IMPORTED_TARGET openblas)

@@ -175,10 +175,13 @@ void print_summary(const BakeArgs& args, const BakeRequest& request, const Mesh&
                    const BakeResult& r, double seconds_load) {
     const TransferInfo& transfer = r.info;
     if (const auto* grid = std::get_if<TexelGrid>(&request.receivers)) {
-        std::printf("texels: %dx%d, %llu covered (%.1f%%), UV set %d, %s\n", grid->width,
-                    grid->height, static_cast<unsigned long long>(r.covered_texels),
-                    100.0 * double(r.covered_texels) / (double(grid->width) * grid->height),
-                    grid->uv_set, to_string(transfer.layout.encoding));
+        if (r.unwrap) std::printf("unwrap: %s\n", describe(*r.unwrap).c_str());
+        const int width = r.unwrap ? r.unwrap->resolution : grid->width;
+        const int height = r.unwrap ? r.unwrap->resolution : grid->height;
+        std::printf("texels: %dx%d, %llu covered (%.1f%%), UV set %d, %s\n", width, height,
+                    static_cast<unsigned long long>(r.covered_texels),
+                    100.0 * double(r.covered_texels) / (double(width) * height),
+                    r.unwrap ? 0 : grid->uv_set, to_string(transfer.layout.encoding));
         return print_bake_line("texels", r, args.output);
     }
     if (const auto* refined = std::get_if<RefinedVertices>(&request.receivers)) {

@@ -105,6 +105,8 @@ struct Receivers {
     int uv_set = 0;
     std::optional<double> refine;
     std::optional<long long> max_vertices, max_edge_split_depth;
+    bool unwrap = false;
+    std::optional<double> texel_density;
 };
 // The output keywords: a .shprt file (with its encoding, streaming, reproducibility), the
 // checkpoint, the memory limit.
@@ -143,6 +145,8 @@ void fill_request(const Receivers& rx, const Output& out, BakeRequest& request) 
     choice.max_vertices = rx.max_vertices;
     choice.max_edge_split_depth = rx.max_edge_split_depth;
     choice.shard = spelled(rx.shard, "/", "shard");
+    choice.unwrap = rx.unwrap;
+    choice.texel_density = rx.texel_density;
     request.receivers = parse_receivers(choice);
     const bool texels = std::holds_alternative<TexelGrid>(request.receivers);
     SHPRT_CHECK(!out.float32 || texels, invalid_argument, "float32=True needs domain='texel'");
@@ -191,6 +195,17 @@ py::dict summary(const BakeResult& r, const BakeRequest& request) {
     d["peak_bytes"] = r.info.stats.peak_bytes_host;
     if (std::holds_alternative<TexelGrid>(request.receivers))
         d["covered_texels"] = r.covered_texels;
+    if (r.unwrap) {  // the atlas unwrap=True made (scene/uv_atlas.hpp)
+        py::dict u;
+        u["charts"] = r.unwrap->charts;
+        u["resolution"] = r.unwrap->resolution;
+        u["texels_per_metre"] = r.unwrap->texels_per_metre;
+        u["max_stretch"] = r.unwrap->max_stretch;
+        u["mean_stretch"] = r.unwrap->mean_stretch;
+        u["added_vertices"] = r.unwrap->added_vertices;
+        u["summary"] = describe(*r.unwrap);
+        d["unwrap"] = u;
+    }
     if (r.refined_mesh) d["vertices"] = r.refined_mesh->vertex_count();
     return d;
 }
@@ -296,13 +311,20 @@ void bind_bake(py::module_& m) {
            double tolerance, bool two_sided, std::int64_t indirect_samples,
            const Loose<SpacingName>& source_spacing, std::int64_t bounce_coeffs, int threads,
            const std::string& device, Loose<ProgressName> progress, const std::string& domain,
-           Size resolution, int uv_set, std::optional<double> refine,
-           std::optional<long long> max_vertices, std::optional<long long> max_edge_split_depth,
-           Size shard, const Path& output, bool half, bool float32, bool stream, bool reproducible,
-           const Path& checkpoint, const Path& resume, double checkpoint_every, Size max_memory) {
-            const Receivers rx{
-                domain,       std::move(resolution.value), std::move(shard.value), uv_set, refine,
-                max_vertices, max_edge_split_depth};
+           Size resolution, int uv_set, bool unwrap, std::optional<double> texel_density,
+           std::optional<double> refine, std::optional<long long> max_vertices,
+           std::optional<long long> max_edge_split_depth, Size shard, const Path& output, bool half,
+           bool float32, bool stream, bool reproducible, const Path& checkpoint, const Path& resume,
+           double checkpoint_every, Size max_memory) {
+            const Receivers rx{domain,
+                               std::move(resolution.value),
+                               std::move(shard.value),
+                               uv_set,
+                               refine,
+                               max_vertices,
+                               max_edge_split_depth,
+                               unwrap,
+                               texel_density};
             const Output out{path_of(output.value),
                              path_of(checkpoint.value),
                              path_of(resume.value),
@@ -323,11 +345,11 @@ void bind_bake(py::module_& m) {
         "bounces"_a = 1, "tolerance"_a = 1e-4, "two_sided"_a = false, "indirect_samples"_a = 0,
         "source_spacing"_a = py::none(), "bounce_coeffs"_a = 0, "threads"_a = 0, "device"_a = "cpu",
         "progress"_a = py::none(), "domain"_a = "vertex", "resolution"_a = py::none(),
-        "uv_set"_a = 0, "refine"_a = py::none(), "max_vertices"_a = py::none(),
-        "max_edge_split_depth"_a = py::none(), "shard"_a = py::none(), "output"_a = py::none(),
-        "half"_a = false, "float32"_a = false, "stream"_a = false, "reproducible"_a = false,
-        "checkpoint"_a = py::none(), "resume"_a = py::none(), "checkpoint_every"_a = 30.0,
-        "max_memory"_a = py::none(),
+        "uv_set"_a = 0, "unwrap"_a = false, "texel_density"_a = py::none(), "refine"_a = py::none(),
+        "max_vertices"_a = py::none(), "max_edge_split_depth"_a = py::none(),
+        "shard"_a = py::none(), "output"_a = py::none(), "half"_a = false, "float32"_a = false,
+        "stream"_a = false, "reproducible"_a = false, "checkpoint"_a = py::none(),
+        "resume"_a = py::none(), "checkpoint_every"_a = 30.0, "max_memory"_a = py::none(),
         R"(Bakes per-vertex SH transfer (bake/bake.hpp) and returns it as a float32 array of
 shape (V, K) — (V, 3, K) for RGB transfer — with K = bands² or coeffs (default 16; 25 for glossy).
 
@@ -345,7 +367,9 @@ options and seed give the same bits as `shprt bake`.
 
 The rest is `shprt bake`'s, with the same names and values (bake/request.hpp):
 receivers — shard 'I/N' or (I, N) (that part of the vertices: the array holds its rows);
-domain 'texel' with resolution W, (W, H) or 'WxH' and uv_set; refine (a tolerance) with
+domain 'texel' with resolution W, (W, H) or 'WxH' and uv_set, or unwrap=True (a new conformal
+atlas, the file keeps the unwrapped mesh; the dict's 'unwrap' describes it) with resolution W or
+texel_density (texels per metre); refine (a tolerance) with
 max_vertices and max_edge_split_depth. Output — output= a .shprt path writes the file (needed for
 texels and refinement) and returns a dict (path, receivers, K, samples, encoding, seconds, ...)
 in place of the array; with half, float32 (texels), stream (rows into the file as they finish)

@@ -134,3 +134,19 @@ def test_rgb_transfer_shape(box):
     f = shprt.File(box, rgb)
     assert f.channels == 3 and f.transfer.shape == rgb.shape
     assert np.array_equal(f.transfer, rgb)
+
+
+def test_unwrap_bakes_a_mesh_without_uvs(tmp_path):
+    """unwrap=True lays out a new atlas (the dict says how: charts, resolution, texels per metre,
+    stretch) and the file keeps the unwrapped mesh with its UVs."""
+    out = tmp_path / "u.shprt"
+    mesh = shprt.load_scene("builtin:sphere")
+    result: Any = shprt.bake(mesh, coeffs=4, samples=16, domain="texel", unwrap=True,
+                             texel_density=20, output=out)
+    unwrap = result["unwrap"]
+    assert unwrap["texels_per_metre"] == 20
+    assert 1 <= unwrap["max_stretch"] <= 2
+    assert "overlap 0" in unwrap["summary"]
+    f = shprt.load(str(out))
+    assert f.mesh.vertex_count == mesh.vertex_count + unwrap["added_vertices"]
+    assert result["covered_texels"] > 0

@@ -42,6 +42,8 @@ PROBES: dict[str, tuple[dict[str, Any], list[Any]]] = {
     "resolution": (dict(scene=TEXEL_SCENE, domain="texel"), ["8", "8x4", "0", "16385", "x"]),
     "uv_set": (TEXELS, [0, 1, -1]),
     "float32": (TEXELS, [True]),
+    "unwrap": (dict(domain="texel", resolution="16"), [True]),
+    "texel_density": (dict(domain="texel", unwrap=True), [4, 0, -1]),
     "refine": ({}, [0.2, 0, -1]),
     "max_vertices": (dict(refine=0.2), [1, 100000, 0]),
     "max_edge_split_depth": (dict(refine=0.2), [0, 1, 30, 31]),

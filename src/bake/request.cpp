@@ -77,15 +77,22 @@ double write_file(const BakeRequest& r, const Mesh& mesh, TransferSet& transfer,
     return seconds_since(start);
 }
 
-BakeResult run_texels(const BakeRequest& r, const Mesh& mesh, const TexelGrid& grid) {
-    const auto [width, height, uv_set] = grid;
+BakeResult run_texels(const BakeRequest& r, const Mesh& input, const TexelGrid& grid) {
+    BakeResult out;
+    auto [width, height, uv_set, unwrap] = grid;
+    if (unwrap) {  // a new atlas on a copy of the mesh: the mesh baked and written
+        out.unwrapped_mesh = input;
+        out.unwrap = make_uv_atlas(*out.unwrapped_mesh, *unwrap);
+        width = height = out.unwrap->resolution;
+        uv_set = 0;
+    }
+    const Mesh& mesh = out.unwrapped_mesh ? *out.unwrapped_mesh : input;
     BakeOptions options = r.options;
     // The rasteriser's coverage image alone (6 bytes a texel) must fit before anything runs.
     const std::uint64_t image_bytes = std::uint64_t(width) * std::uint64_t(height) * 6;
     check_memory(r, image_bytes, fmt::format("rasterising {}x{} texels", width, height).c_str(),
                  "lower --resolution");
     const TexelSamples texels = rasterize_texels(mesh, width, height, uv_set);
-    BakeResult out;
     out.estimated_bytes =
         texel_bake_bytes(texels.count(), width, height, bake_description(options).layout,
                          options.samples, options.threads) +
@@ -107,12 +114,17 @@ BakeResult run_texels(const BakeRequest& r, const Mesh& mesh, const TexelGrid& g
     out.transfer.stats.peak_bytes_host += out.transfer.coeffs.size() * sizeof(float);
     out.receivers = texels.count();
     out.covered_texels = texels.count();
+    nlohmann::json kept = {
+        {"texel_bake", {{"resolution", {width, height}}, {"covered_texels", texels.count()}}}};
+    if (out.unwrap)
+        kept["texel_bake"]["unwrap"] = {{"charts", out.unwrap->charts},
+                                        {"texels_per_metre", out.unwrap->texels_per_metre},
+                                        {"max_stretch", out.unwrap->max_stretch},
+                                        {"mean_stretch", out.unwrap->mean_stretch},
+                                        {"added_vertices", out.unwrap->added_vertices}};
     const WriteOptions write =
-        r.output ? with_metadata(
-                       r.output->write,
-                       {{"texel_bake",
-                         {{"resolution", {width, height}}, {"covered_texels", texels.count()}}}},
-                       {{"texel_bake", {{"estimated_bytes", out.estimated_bytes}}}})
+        r.output ? with_metadata(r.output->write, kept,
+                                 {{"texel_bake", {{"estimated_bytes", out.estimated_bytes}}}})
                  : WriteOptions{};
     out.seconds_write = write_file(r, mesh, out.transfer, write, TransferEncoding::f16);
     out.info = out.transfer;
@@ -265,20 +277,45 @@ CheckpointKept::CheckpointKept(const Error& cause, std::size_t done_, std::size_
 
 ReceiverSet parse_receivers(const ReceiverChoice& c) {
     const bool texel = parse_receiver_domain(c.domain) == ReceiverDomain::texel;
-    SHPRT_CHECK(!texel || !c.resolution.empty(), invalid_argument,
-                "--domain texel needs --resolution W or WxH");
+    SHPRT_CHECK(!texel || !c.resolution.empty() || c.texel_density, invalid_argument,
+                "--domain texel needs --resolution W or WxH (or --unwrap --texel-density T)");
     SHPRT_CHECK(texel || (c.resolution.empty() && c.uv_set == 0), invalid_argument,
                 "--resolution and --uv-set need --domain texel");
+    SHPRT_CHECK(texel || !c.unwrap, invalid_argument, "--unwrap needs --domain texel");
+    SHPRT_CHECK(c.unwrap || !c.texel_density, invalid_argument,
+                "--texel-density needs --unwrap (it sets the scale of a new atlas)");
+    SHPRT_CHECK(!(c.texel_density && !c.resolution.empty()), invalid_argument,
+                "--texel-density and --resolution: give one (the density chooses the resolution)");
     SHPRT_CHECK(!(texel && c.refine), invalid_argument,
                 "--refine refines vertices: it does not go with --domain texel");
     SHPRT_CHECK(c.refine || (!c.max_vertices && !c.max_edge_split_depth), invalid_argument,
                 "--max-vertices and --max-edge-split-depth need --refine");
     SHPRT_CHECK(c.shard.empty() || (!texel && !c.refine), invalid_argument,
                 "--shard does not go with {}", texel ? "--domain texel" : "--refine");
+    if (texel && c.unwrap) {
+        SHPRT_CHECK(c.uv_set == 0, invalid_argument,
+                    "--uv-set {}: --unwrap makes a new atlas (UV set 0)", c.uv_set);
+        UvAtlasOptions atlas;
+        atlas.layout = ChartLayout::conformal;
+        atlas.max_angle_deg = kUnwrapMaxAngle;
+        TexelGrid grid;
+        if (c.texel_density) {
+            SHPRT_CHECK(*c.texel_density > 0 && std::isfinite(*c.texel_density), invalid_argument,
+                        "--texel-density {}: expected texels per metre, > 0", *c.texel_density);
+            atlas.texels_per_metre = *c.texel_density;
+        } else {
+            const auto [width, height] = parse_resolution(c.resolution);
+            SHPRT_CHECK(width == height, invalid_argument,
+                        "--resolution {}: --unwrap lays out a square atlas (give W)", c.resolution);
+            grid.width = grid.height = atlas.resolution = width;
+        }
+        grid.unwrap = atlas;
+        return grid;
+    }
     if (texel) {
         const auto [width, height] = parse_resolution(c.resolution);
         SHPRT_CHECK(c.uv_set >= 0, invalid_argument, "--uv-set {}: must be 0 or more", c.uv_set);
-        return TexelGrid{width, height, c.uv_set};
+        return TexelGrid{width, height, c.uv_set, std::nullopt};
     }
     if (!c.shard.empty()) return parse_shard(c.shard);
     if (!c.refine) return AllVertices{};
@@ -392,7 +429,8 @@ void check(const BakeRequest& r) {
     if (const auto* shard = std::get_if<VertexShard>(&r.receivers))
         SHPRT_CHECK(shard->count >= 1 && shard->index < shard->count, invalid_argument,
                     "--shard {}/{}: expected I/N with 0 <= I < N", shard->index, shard->count);
-    if (const auto* grid = std::get_if<TexelGrid>(&r.receivers))
+    if (const auto* grid = std::get_if<TexelGrid>(&r.receivers);
+        grid && !(grid->unwrap && grid->unwrap->texels_per_metre > 0))
         SHPRT_CHECK(grid->width >= 1 && grid->height >= 1 && grid->width <= kMaxTexelSide &&
                         grid->height <= kMaxTexelSide && grid->uv_set >= 0,
                     invalid_argument, "--resolution {}x{}: each side must be 1 to {}", grid->width,

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace shprt {
@@ -47,18 +48,30 @@ struct UvTriangle {
     }
 };
 
+// Triangle `t` of `mesh` in the texel space of a W × H image.
+UvTriangle uv_triangle(const Mesh& mesh, std::size_t t, std::size_t W, std::size_t H) {
+    UvTriangle tri;
+    for (int k = 0; k < 3; ++k) {
+        const auto& uv = mesh.uvs[mesh.triangles[t][k]];
+        tri.p[k] = {double(uv[0]) * double(W), (1.0 - double(uv[1])) * double(H)};
+    }
+    tri.area2 = cross2(sub(tri.p[1], tri.p[0]), sub(tri.p[2], tri.p[0]));
+    tri.sign = tri.area2 < 0 ? -1.0 : 1.0;
+    return tri;
+}
+
 // A centre with every barycentric above this lies strictly inside (not on a shared edge).
 constexpr double kStrictlyInside = 1e-4;
 // A centre with every barycentric above this lies inside or on the boundary.
 constexpr double kInside = -1e-9;
 
-}  // namespace
-
-TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_set) {
-    const std::string name = mesh.source.empty() ? std::string("mesh") : mesh.source;
-    SHPRT_CHECK(!mesh.uvs.empty(), invalid_argument,
-                "{}: has no texture coordinates (UV set {}); per-texel transfer needs a UV atlas",
-                name, uv_set);
+// Coverage of a width × height image by `mesh`'s triangles in UV space: each texel's owner (see
+// the top of texel_raster.hpp), and the overlaps found, in triangle order, up to `most` (owner
+// is then incomplete).
+std::vector<UvOverlap> cover_texels(const Mesh& mesh, int width, int height,
+                                    const std::string& name, std::vector<std::int32_t>& owner,
+                                    std::size_t most) {
+    std::vector<UvOverlap> overlaps;
     SHPRT_CHECK(
         mesh.uvs.size() == mesh.vertex_count() && mesh.normals.size() == mesh.vertex_count(),
         invalid_argument, "{}: {} UVs and {} normals for {} vertices", name, mesh.uvs.size(),
@@ -67,22 +80,10 @@ TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_se
                 invalid_argument, "texel resolution {}x{}: each side must be 1 to {}", width,
                 height, kMaxTexelSide);
     const std::size_t W = std::size_t(width), H = std::size_t(height);
-    std::vector<std::int32_t> owner(W * H, -1);
+    owner.assign(W * H, -1);
     std::vector<std::uint8_t> owner_inside(W * H, 0), owner_strict(W * H, 0);
-
-    const auto uv_triangle = [&](std::size_t t) {
-        UvTriangle tri;
-        for (int k = 0; k < 3; ++k) {
-            const auto& uv = mesh.uvs[mesh.triangles[t][k]];
-            tri.p[k] = {double(uv[0]) * double(W), (1.0 - double(uv[1])) * double(H)};
-        }
-        tri.area2 = cross2(sub(tri.p[1], tri.p[0]), sub(tri.p[2], tri.p[0]));
-        tri.sign = tri.area2 < 0 ? -1.0 : 1.0;
-        return tri;
-    };
-
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        const UvTriangle tri = uv_triangle(t);
+        const UvTriangle tri = uv_triangle(mesh, t, W, H);
         for (const UvPoint& q : tri.p)
             SHPRT_CHECK(std::isfinite(q.x) && std::isfinite(q.y), invalid_argument,
                         "{}: triangle {} has a non-finite texture coordinate", name, t);
@@ -104,10 +105,11 @@ TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_se
                 const double least = std::min({l[0], l[1], l[2]});
                 const bool inside = least >= kInside, strict = least > kStrictlyInside;
                 const std::size_t i = std::size_t(y) * W + std::size_t(x);
-                SHPRT_CHECK(!(strict && owner_strict[i]), invalid_argument,
-                            "{}: triangles {} and {} overlap in UV space at texel ({}, {}) of "
-                            "{}x{}; per-texel transfer needs a UV atlas without overlaps",
-                            name, owner[i], t, x, y, width, height);
+                if (strict && owner_strict[i]) {
+                    overlaps.push_back({std::uint32_t(owner[i]), std::uint32_t(t), int(x), int(y)});
+                    if (overlaps.size() >= most) return overlaps;
+                    continue;
+                }
                 if (owner[i] < 0 || (inside && !owner_inside[i])) {
                     owner[i] = static_cast<std::int32_t>(t);
                     owner_inside[i] = inside;
@@ -115,6 +117,38 @@ TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_se
                 owner_strict[i] |= strict;
             }
     }
+    return overlaps;
+}
+
+std::string mesh_name(const Mesh& mesh) {
+    return mesh.source.empty() ? std::string("mesh") : mesh.source;
+}
+
+}  // namespace
+
+std::vector<UvOverlap> find_uv_overlaps(const Mesh& mesh, int width, int height, std::size_t most) {
+    SHPRT_CHECK(!mesh.uvs.empty(), invalid_argument, "{}: has no texture coordinates",
+                mesh_name(mesh));
+    std::vector<std::int32_t> owner;
+    return cover_texels(mesh, width, height, mesh_name(mesh), owner, most);
+}
+
+TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_set) {
+    const std::string name = mesh_name(mesh);
+    SHPRT_CHECK(!mesh.uvs.empty(), invalid_argument,
+                "{}: has no texture coordinates (UV set {}); per-texel transfer needs a UV atlas "
+                "(--unwrap makes one)",
+                name, uv_set);
+    std::vector<std::int32_t> owner;
+    if (const auto found = cover_texels(mesh, width, height, name, owner, 1); !found.empty()) {
+        const UvOverlap* o = &found[0];
+        fail(ErrorCode::invalid_argument,
+             "{}: triangles {} and {} overlap in UV space at texel ({}, {}) of {}x{}; per-texel "
+             "transfer needs a UV atlas without overlaps",
+             name, o->first, o->second, o->x, o->y, width, height);
+    }
+    const std::size_t W = std::size_t(width), H = std::size_t(height);
+    const auto uv_triangle = [&](std::size_t t) { return shprt::uv_triangle(mesh, t, W, H); };
 
     TexelSamples out;
     out.width = width;

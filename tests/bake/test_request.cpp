@@ -51,7 +51,7 @@ std::string refusal(const BakeRequest& r) { return request_refusal(r).value_or("
 TEST_F(BakeRequestTest, TheOneListOfRefusals) {
     EXPECT_EQ(refusal(request()), "");
     BakeRequest r = request();
-    r.receivers = TexelGrid{64, 64, 0};
+    r.receivers = TexelGrid{64, 64, 0, std::nullopt};
     r.output = file(path("a.shprt"));
     r.output->stream = true;
     EXPECT_EQ(refusal(r), "--stream does not go with --domain texel");
@@ -99,7 +99,7 @@ TEST_F(BakeRequestTest, TheOneListOfRefusals) {
     BakeRequest bad = request();
     bad.receivers = VertexShard{2, 2};
     EXPECT_THROW(check(bad), Error);
-    bad.receivers = TexelGrid{0, 16, 0};
+    bad.receivers = TexelGrid{0, 16, 0, std::nullopt};
     EXPECT_THROW(check(bad), Error);
     bad.receivers = AllVertices{};
     bad.output = file(path("same.shprt"));
@@ -175,7 +175,7 @@ TEST_F(BakeRequestTest, CancelledCheckpointedBakeResumesToTheSameBits) {
 TEST_F(BakeRequestTest, TexelBakePastTheMemoryLimitIsRefusedFirst) {
     const Mesh room = make_builtin("room");
     BakeRequest r = request();
-    r.receivers = TexelGrid{4096, 4096, 0};
+    r.receivers = TexelGrid{4096, 4096, 0, std::nullopt};
     r.max_memory = 128ull << 20;  // above the coverage image's 96 MiB, below the whole bake's
     r.output = file(path("t.shprt"));
     try {
@@ -189,7 +189,7 @@ TEST_F(BakeRequestTest, TexelBakePastTheMemoryLimitIsRefusedFirst) {
     }
     EXPECT_FALSE(fs::exists(path("t.shprt")));
     // Within the limit it runs, and the file carries the atlas.
-    r.receivers = TexelGrid{32, 32, 0};
+    r.receivers = TexelGrid{32, 32, 0, std::nullopt};
     r.max_memory = 1ull << 30;
     const BakeResult ok = run(r, room);
     EXPECT_GT(ok.covered_texels, 0u);

@@ -4,6 +4,7 @@
 // refusals (no UVs, bad options, options that do not go together) as one line on stderr.
 #include "shprt/config.hpp"
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/scene/builtin.hpp"
 
 #include "cli/cli_test.hpp"
 
@@ -147,6 +148,48 @@ TEST_F(CliReceivers, ReproducibleKeepsRefinementAndTexelMetadata) {
         bytes[threads - 1] = test_support::slurp(file);
     }
     EXPECT_EQ(bytes[0], bytes[1]);
+}
+
+// `--unwrap`: a mesh without UVs gets a conformal atlas at the asked density; the file keeps the
+// unwrapped mesh (more vertices, its UVs) and the atlas's record; `scene unwrap` writes the same
+// atlas as PLY, and bad input is one line.
+TEST_F(CliReceivers, UnwrapBakesAMeshWithoutUvs) {
+    const std::string file = (m_dir / "u.shprt").string();
+    auto r = shprt(
+        "bake builtin:box_on_plane --domain texel --unwrap --texel-density 12 --samples 16 "
+        "--coeffs 4 --reproducible -o '" +
+        file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("unwrap: "));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("at 12 texels/m"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("overlap 0"));
+    const ShprtFile f = read_shprt(file);
+    EXPECT_EQ(f.transfer.layout.domain, ReceiverDomain::texel);
+    EXPECT_EQ(f.mesh.uvs.size(), f.mesh.vertex_count());
+    EXPECT_GE(f.mesh.vertex_count(), make_builtin("box_on_plane").vertex_count());
+    EXPECT_EQ(f.transfer.texels.width, f.transfer.texels.height);
+    EXPECT_THAT(f.metadata_json, ::testing::HasSubstr("\"texels_per_metre\": 12"));
+
+    const std::string ply = (m_dir / "u.ply").string();
+    r = shprt("scene unwrap builtin:box_on_plane --texel-density 12 -o '" + ply + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("overlap 0"));
+    r = shprt("bake '" + ply + "' --domain texel --resolution 64 --samples 16 --coeffs 4 -o '" +
+              (m_dir / "v.shprt").string() + "'");
+    EXPECT_EQ(r.exit_code, 0) << r.err;  // the PLY's s, t are a valid atlas
+
+    const std::string base = "bake --samples 16 --coeffs 4 -o '" + file + "' builtin:plane ";
+    expect_one_line_error(shprt(base + "--unwrap"), "--unwrap needs --domain texel");
+    expect_one_line_error(shprt(base + "--domain texel --texel-density 4"),
+                          "--texel-density needs --unwrap");
+    expect_one_line_error(shprt(base + "--domain texel --unwrap --resolution 16x8"),
+                          "square atlas");
+    expect_one_line_error(shprt(base + "--domain texel --unwrap --texel-density -2"),
+                          "--texel-density -2");
+    expect_one_line_error(shprt(base + "--domain texel --unwrap --texel-density 1e6"),
+                          "texels per metre at most");
+    expect_one_line_error(
+        shprt("scene unwrap '" + (m_dir / "none.obj").string() + "' -o '" + ply + "'"), "none.obj");
 }
 
 TEST_F(CliReceivers, RefusalsAreOneLine) {

@@ -6,8 +6,13 @@ namespace shprt::tools {
 void add_receiver_options(CLI::App& app, ReceiverArgs& args) {
     app.add_option("--domain", args.choice.domain,
                    "Receivers: vertex (default) or texel (the texel centres of the scene's UV "
-                   "atlas; needs --resolution)");
+                   "atlas; needs --resolution, or --unwrap --texel-density)");
     app.add_option("--resolution", args.choice.resolution, "Texel domain: image size W or WxH");
+    app.add_flag("--unwrap", args.choice.unwrap,
+                 "Texel domain: make a new UV atlas (conformal charts, packed with gutters) "
+                 "instead of the scene's UVs; the file keeps the unwrapped mesh");
+    app.add_option("--texel-density", args.choice.texel_density,
+                   "Texel domain with --unwrap: texels per metre (chooses the resolution)");
     app.add_option("--uv-set", args.choice.uv_set,
                    "Texel domain: which UV set of the scene (default 0)");
     app.add_flag("--float32", args.float32,

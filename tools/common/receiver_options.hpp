@@ -1,5 +1,5 @@
 // `shprt bake`'s receiver options: per-texel transfer (--domain texel --resolution W[xH]
-// --uv-set N --float32), adaptive refinement of per-vertex transfer (--refine TOL --max-vertices N
+// --uv-set N --float32 --unwrap --texel-density T), adaptive refinement of per-vertex transfer (--refine TOL --max-vertices N
 // --max-edge-split-depth D) and a shard of the vertices (--shard I/N), bound into the library's
 // ReceiverChoice (bake/request.hpp), whose one parser Python shares.
 #pragma once

@@ -20,6 +20,7 @@
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_stream.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/scene/uv_atlas.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>
@@ -41,10 +42,14 @@ struct VertexShard {
     std::size_t index = 0, count = 1;
 };
 // The texel centres of the mesh's UV set `uv_set` in a width × height image (bake/texels.hpp),
-// each side 1..kMaxTexelSide.
+// each side 1..kMaxTexelSide. With `unwrap`, run() first lays out a new atlas on a copy of the
+// mesh (make_uv_atlas, conformal; scene/uv_atlas.hpp), replacing its UVs, and bakes and writes
+// that mesh: the image is its resolution² (texels_per_metre > 0: chosen by the atlas; width and
+// height are then 0), the UV set 0.
 struct TexelGrid {
     int width = 0, height = 0;
     int uv_set = 0;
+    std::optional<UvAtlasOptions> unwrap;
 };
 // The vertices, refined where the transfer changes too much across an edge (bake/refine.hpp).
 struct RefinedVertices {
@@ -61,10 +66,14 @@ struct ReceiverChoice {
     int uv_set = 0;                 // texel: the UV set
     std::optional<double> refine;   // vertex: the refinement's tolerance (> 0)
     std::optional<long long> max_vertices, max_edge_split_depth;  // refinement's limits
-    std::string shard;  // vertex: "I/N", part I of N (0 ≤ I < N), or empty
+    std::string shard;                    // vertex: "I/N", part I of N (0 ≤ I < N), or empty
+    bool unwrap = false;                  // texel: a new atlas (TexelGrid::unwrap)
+    std::optional<double> texel_density;  // texel with unwrap: texels per metre (> 0)
 };
 // The ReceiverSet of `choice`; one-line Error(invalid_argument) naming the option for a bad value
 // or options that need another (--resolution without --domain texel, --shard with texels, ...).
+// --domain texel needs --resolution, or --unwrap with --texel-density (not both); --unwrap takes a
+// square --resolution and no --uv-set.
 ReceiverSet parse_receivers(const ReceiverChoice& choice);
 
 // A .shprt file as the output.
@@ -127,7 +136,9 @@ struct BakeResult {
     std::optional<Mesh> refined_mesh;  // RefinedVertices: the mesh the rows belong to
     RefineResult refinement;           // RefinedVertices: the summary (its mesh and rows moved out)
     std::uint64_t covered_texels = 0;  // TexelGrid: texels covered by the atlas
-    std::uint64_t estimated_bytes = 0;  // the estimate checked against the memory limit
+    std::optional<UvAtlasInfo> unwrap;   // TexelGrid with unwrap: the atlas made
+    std::optional<Mesh> unwrapped_mesh;  // ... and the mesh it was made on (rows are its texels)
+    std::uint64_t estimated_bytes = 0;   // the estimate checked against the memory limit
     double seconds_bake = 0, seconds_write = 0;
 };
 

@@ -47,4 +47,16 @@ struct TexelSamples {
 // per-texel transfer needs a unique atlas). CPU, one thread; deterministic.
 TexelSamples rasterize_texels(const Mesh& mesh, int width, int height, int uv_set = 0);
 
+// Two triangles of one UV atlas that overlap: a texel centre strictly inside both.
+struct UvOverlap {
+    std::uint32_t first = 0, second = 0;  // triangle indices, first < second
+    int x = 0, y = 0;                     // the texel
+};
+// The overlaps rasterize_texels would refuse at width × height (it refuses the first), in
+// triangle order, at most `most` (the texel of one is not looked at again): the same coverage,
+// without the samples. Throws what rasterize_texels throws for a mesh without UVs, a bad side or
+// a non-finite UV.
+std::vector<UvOverlap> find_uv_overlaps(const Mesh& mesh, int width, int height,
+                                        std::size_t most = 1);
+
 }  // namespace shprt
