@@ -3,6 +3,7 @@
 #include "shprt/bake/request.hpp"
 
 #include "shprt/bake/bounce_sources.hpp"
+#include "shprt/bake/interreflect.hpp"
 #include "shprt/bake/remaining.hpp"
 #include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
