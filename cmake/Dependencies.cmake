@@ -33,7 +33,9 @@ if(NOT SHPRT_RENDER STREQUAL "OFF")
     endif()
     find_package(OpenGL ${shprt_gl_required} COMPONENTS OpenGL EGL)
     pkg_check_modules(EPOXY ${shprt_gl_required} IMPORTED_TARGET epoxy)
-    if(OpenGL_OpenGL_FOUND AND OpenGL_EGL_FOUND AND EPOXY_FOUND)
+    # OPENGL_FOUND too: without libOpenGL.so (libopengl-dev) FindOpenGL still reports the
+    # components it found but makes no imported targets, and the render area could not link.
+    if(OPENGL_FOUND AND OpenGL_OpenGL_FOUND AND OpenGL_EGL_FOUND AND EPOXY_FOUND)
         set(SHPRT_HAS_RENDER 1)
         set(SHPRT_GL_LIBS PkgConfig::EPOXY OpenGL::EGL OpenGL::OpenGL)
     endif()
