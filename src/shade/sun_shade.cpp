@@ -145,7 +145,7 @@ SunShadeResult shade_glossy_with_sun(const Mesh& mesh, const TransferSet& transf
                                      const SunShadeOptions& sun_options) {
     SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::vertex, unsupported,
                 "a sun kept out of the SH sum lights glossy matrices per vertex only: texel "
-                "matrices are not implemented with it; a sun: light projects the sun into SH");
+                "matrices are refused with it; a sun: light projects the sun into SH");
     SunShadeResult result;
     static_cast<ShadeResult&>(result) = shade_glossy(mesh, transfer, sky, options);
     const std::vector<Brdf> brdfs = brdf_table(mesh, options.material_brdfs, options.brdf);
