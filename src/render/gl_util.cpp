@@ -5,10 +5,12 @@
 #include "shprt/render/draw_order.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/sh/basis.hpp"
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -134,6 +136,25 @@ const void* draw_order_offset(int lists, std::size_t index_count, const DrawSett
     const int order = draw_order_for(settings.camera.target - settings.camera.eye);
     return reinterpret_cast<const void*>(std::size_t(1 + order) * index_count *
                                          sizeof(std::uint32_t));
+}
+
+// The constants of sh_eval_k's recurrence (sh/basis.hpp) for every (l, m ≥ 0), l < bands, at
+// flat index l(l+1)+m, two floats each, in the layout the shading shader reads (see there).
+std::vector<float> recurrence_table(int bands) {
+    std::vector<float> t(std::size_t(2) * sh_count(bands), 0.0f);
+    for (int m = 0; m < bands; ++m)
+        for (int l = m; l < bands; ++l) {
+            const std::size_t i = 2 * std::size_t(sh_index(l, m));
+            if (l == m) {
+                t[i] = m > 0 ? static_cast<float>(-std::sqrt((2.0 * m + 1) / (2.0 * m))) : 1.0f;
+            } else {
+                const double ll = l, mm = m;
+                t[i] = static_cast<float>(std::sqrt((4 * ll * ll - 1) / (ll * ll - mm * mm)));
+                t[i + 1] = static_cast<float>(
+                    std::sqrt(((ll - 1) * (ll - 1) - mm * mm) / (4 * (ll - 1) * (ll - 1) - 1)));
+            }
+        }
+    return t;
 }
 
 }  // namespace shprt::gl

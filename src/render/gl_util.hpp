@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace shprt {
 struct DrawSettings;
@@ -51,6 +52,9 @@ unsigned make_buffer(unsigned target, std::size_t bytes, const void* data, unsig
 // A width × height 2D texture of one level in `internal_format` (GL_RGBA32F, a depth format...),
 // nearest filtering, clamped to the edge; left unbound.
 unsigned make_texture_2d(int width, int height, unsigned internal_format);
+// The constants of sh_eval_k's recurrence (sh/basis.hpp) for every (l, m ≥ 0), l < bands, two
+// floats each at flat index l(l+1)+m: the shading shader's recurrence block.
+std::vector<float> recurrence_table(int bands);
 
 // The element buffer of a mesh's draws (bound to the current vertex array): its own triangle
 // list, then, where draw_orders_fit, the kDrawOrderCount front-to-back orders of
@@ -100,6 +104,9 @@ inline constexpr unsigned kLightBlockBinding = 0, kRecurrenceBlockBinding = 1,
 // GL_MAX_UNIFORM_BLOCK_SIZE).
 inline constexpr int kLobeVec4sPerBrdf = 3, kLobeBlockVec4s = 1024;
 inline constexpr int kLightBlockVec4s = 768, kRecurrenceBlockVec4s = 512;
+// The light's uniform block: per channel, K coefficients padded to a multiple of 4.
+inline int light_stride(int K) { return (K + 3) / 4 * 4; }
+inline constexpr int kLightBlockBytes = kLightBlockVec4s * 16;
 
 // Invocations per work group of the shading pass (local_size_x in the shader).
 inline constexpr unsigned kShadeGroupSize = 64;

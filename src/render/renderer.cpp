@@ -49,9 +49,8 @@ namespace {
 // 32 bands, features ≳ 5°), so 256 × 128 texels (1.4° each) resolve it.
 constexpr int kBackgroundWidth = 256, kBackgroundHeight = 128;
 
-// The light's uniform block (gl_util.hpp): per channel, K coefficients padded to a multiple of 4.
-int light_stride(int K) { return (K + 3) / 4 * 4; }
-constexpr int kLightBlockBytes = gl::kLightBlockVec4s * 16;
+using gl::kLightBlockBytes;
+using gl::light_stride;
 // The glossy shaders keep K' coefficients per colour in a local array of this size (8 bands),
 // and their lobe uniforms hold this many bands.
 constexpr int kMaxMatrixK = 64;
@@ -61,67 +60,6 @@ static_assert(gl::kRecurrenceBlockVec4s * 2 == kMaxLightK, "recurrence block: (a
 void delete_buffer(unsigned& buffer) {
     if (buffer) glDeleteBuffers(1, &buffer);
     buffer = 0;
-}
-
-// Inverse of a 4×4 matrix by cofactors (double inside; the camera matrices are well conditioned).
-Mat4f inverse(const Mat4f& a) {
-    double m[16], inv[16];
-    for (int i = 0; i < 16; ++i) m[i] = a.m[i];
-    inv[0] = m[5] * m[10] * m[15] - m[5] * m[11] * m[14] - m[9] * m[6] * m[15] +
-             m[9] * m[7] * m[14] + m[13] * m[6] * m[11] - m[13] * m[7] * m[10];
-    inv[4] = -m[4] * m[10] * m[15] + m[4] * m[11] * m[14] + m[8] * m[6] * m[15] -
-             m[8] * m[7] * m[14] - m[12] * m[6] * m[11] + m[12] * m[7] * m[10];
-    inv[8] = m[4] * m[9] * m[15] - m[4] * m[11] * m[13] - m[8] * m[5] * m[15] +
-             m[8] * m[7] * m[13] + m[12] * m[5] * m[11] - m[12] * m[7] * m[9];
-    inv[12] = -m[4] * m[9] * m[14] + m[4] * m[10] * m[13] + m[8] * m[5] * m[14] -
-              m[8] * m[6] * m[13] - m[12] * m[5] * m[10] + m[12] * m[6] * m[9];
-    inv[1] = -m[1] * m[10] * m[15] + m[1] * m[11] * m[14] + m[9] * m[2] * m[15] -
-             m[9] * m[3] * m[14] - m[13] * m[2] * m[11] + m[13] * m[3] * m[10];
-    inv[5] = m[0] * m[10] * m[15] - m[0] * m[11] * m[14] - m[8] * m[2] * m[15] +
-             m[8] * m[3] * m[14] + m[12] * m[2] * m[11] - m[12] * m[3] * m[10];
-    inv[9] = -m[0] * m[9] * m[15] + m[0] * m[11] * m[13] + m[8] * m[1] * m[15] -
-             m[8] * m[3] * m[13] - m[12] * m[1] * m[11] + m[12] * m[3] * m[9];
-    inv[13] = m[0] * m[9] * m[14] - m[0] * m[10] * m[13] - m[8] * m[1] * m[14] +
-              m[8] * m[2] * m[13] + m[12] * m[1] * m[10] - m[12] * m[2] * m[9];
-    inv[2] = m[1] * m[6] * m[15] - m[1] * m[7] * m[14] - m[5] * m[2] * m[15] + m[5] * m[3] * m[14] +
-             m[13] * m[2] * m[7] - m[13] * m[3] * m[6];
-    inv[6] = -m[0] * m[6] * m[15] + m[0] * m[7] * m[14] + m[4] * m[2] * m[15] -
-             m[4] * m[3] * m[14] - m[12] * m[2] * m[7] + m[12] * m[3] * m[6];
-    inv[10] = m[0] * m[5] * m[15] - m[0] * m[7] * m[13] - m[4] * m[1] * m[15] +
-              m[4] * m[3] * m[13] + m[12] * m[1] * m[7] - m[12] * m[3] * m[5];
-    inv[14] = -m[0] * m[5] * m[14] + m[0] * m[6] * m[13] + m[4] * m[1] * m[14] -
-              m[4] * m[2] * m[13] - m[12] * m[1] * m[6] + m[12] * m[2] * m[5];
-    inv[3] = -m[1] * m[6] * m[11] + m[1] * m[7] * m[10] + m[5] * m[2] * m[11] -
-             m[5] * m[3] * m[10] - m[9] * m[2] * m[7] + m[9] * m[3] * m[6];
-    inv[7] = m[0] * m[6] * m[11] - m[0] * m[7] * m[10] - m[4] * m[2] * m[11] + m[4] * m[3] * m[10] +
-             m[8] * m[2] * m[7] - m[8] * m[3] * m[6];
-    inv[11] = -m[0] * m[5] * m[11] + m[0] * m[7] * m[9] + m[4] * m[1] * m[11] - m[4] * m[3] * m[9] -
-              m[8] * m[1] * m[7] + m[8] * m[3] * m[5];
-    inv[15] = m[0] * m[5] * m[10] - m[0] * m[6] * m[9] - m[4] * m[1] * m[10] + m[4] * m[2] * m[9] +
-              m[8] * m[1] * m[6] - m[8] * m[2] * m[5];
-    const double det = m[0] * inv[0] + m[1] * inv[4] + m[2] * inv[8] + m[3] * inv[12];
-    Mat4f r{};
-    for (int i = 0; i < 16; ++i) r.m[i] = static_cast<float>(inv[i] / det);
-    return r;
-}
-
-// The constants of sh_eval_k's recurrence (sh/basis.hpp) for every (l, m ≥ 0), l < bands, at
-// flat index l(l+1)+m, two floats each, in the layout the shading shader reads (see there).
-std::vector<float> recurrence_table(int bands) {
-    std::vector<float> t(std::size_t(2) * sh_count(bands), 0.0f);
-    for (int m = 0; m < bands; ++m)
-        for (int l = m; l < bands; ++l) {
-            const std::size_t i = 2 * std::size_t(sh_index(l, m));
-            if (l == m) {
-                t[i] = m > 0 ? static_cast<float>(-std::sqrt((2.0 * m + 1) / (2.0 * m))) : 1.0f;
-            } else {
-                const double ll = l, mm = m;
-                t[i] = static_cast<float>(std::sqrt((4 * ll * ll - 1) / (ll * ll - mm * mm)));
-                t[i + 1] = static_cast<float>(
-                    std::sqrt(((ll - 1) * (ll - 1) - mm * mm) / (4 * (ll - 1) * (ll - 1) - 1)));
-            }
-        }
-    return t;
 }
 
 }  // namespace
@@ -149,7 +87,7 @@ Renderer::Renderer() {
                 "this OpenGL's uniform blocks hold {} bytes; the light needs {}", max_block,
                 kLightBlockBytes);
     // Enough bands for any K' (K' ≤ light K ≤ kMaxLightK).
-    const std::vector<float> table = recurrence_table(sh_bands_for(kMaxLightK));
+    const std::vector<float> table = gl::recurrence_table(sh_bands_for(kMaxLightK));
     m_recurrence_ubo = gl::make_buffer(GL_UNIFORM_BUFFER, table.size() * sizeof(float),
                                        table.data(), GL_STATIC_DRAW);
     m_light_ubo = gl::make_buffer(GL_UNIFORM_BUFFER, kLightBlockBytes, nullptr, GL_DYNAMIC_DRAW);
@@ -366,67 +304,6 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
     ++m_transfer_generation;
     m_shading_valid = false;
     gl::check("Renderer::upload_receivers");
-}
-
-void Renderer::set_sun(const PreparedSun* sun) {
-    if (!sun) {
-        m_sun_source.reset();
-        ++m_sun_generation;
-        return;
-    }
-    SHPRT_CHECK(!(m_texel && m_matrices), unsupported,
-                "a sun kept out of the SH sum lights glossy matrices per vertex only: texel "
-                "matrices are not drawn with it; a sun: light projects the sun into SH for them");
-    SHPRT_CHECK(sun->sh.K >= 1 && sun->sh.K <= kMaxLightK &&
-                    sun->sh.coeffs.size() == 3 * std::size_t(sun->sh.K),
-                invalid_argument, "the sun's SH projection has K = {} and {} coefficients",
-                sun->sh.K, sun->sh.coeffs.size());
-    m_sun_source = *sun;
-    if (!m_sun_pass) m_sun_pass = std::make_unique<SunPass>();
-    update_world_sun();
-}
-
-bool Renderer::sun_bounced() const { return m_sun_source && m_direct_ssbo != 0; }
-
-std::uint64_t Renderer::sun_map_builds() const { return m_sun_pass ? m_sun_pass->map_builds() : 0; }
-
-void Renderer::update_world_sun() {
-    if (!m_sun_source || !m_has_light) return;
-    m_world_sun = m_sun_source->sun;
-    const bool turned = !(m_light_rotation == Mat3d::identity());
-    if (turned) m_world_sun.direction = normalize(m_light_rotation * m_world_sun.direction);
-    // Its SH projection in the scene's frame, in the light block's layout for the sky's K; and
-    // added to the sky, the light of the pass over T (its T_0 part is taken out again).
-    const ShLight sh = turned
-                           ? rotated_light(m_sun_source->sh, m_light_rotation, m_sun_source->sh.K)
-                           : m_sun_source->sh;
-    const int stride = light_stride(m_light.K), K = std::min(sh.K, m_light.K);
-    std::vector<float> sun(3 * std::size_t(stride), 0.0f), sum(sun.size(), 0.0f);
-    for (int c = 0; c < 3; ++c) {
-        std::copy_n(sh.channel(c), K, sun.begin() + std::ptrdiff_t(c) * stride);
-        for (int i = 0; i < m_light.K; ++i)
-            sum[std::size_t(c) * stride + i] =
-                m_light.channel(c)[i] + sun[std::size_t(c) * stride + i];
-    }
-    for (auto [ubo, data] : {std::pair{&m_sun_ubo, &sun}, std::pair{&m_sky_sun_ubo, &sum}}) {
-        if (!*ubo)
-            *ubo = gl::make_buffer(GL_UNIFORM_BUFFER, kLightBlockBytes, nullptr, GL_DYNAMIC_DRAW);
-        glBindBuffer(GL_UNIFORM_BUFFER, *ubo);
-        glBufferSubData(GL_UNIFORM_BUFFER, 0, GLsizeiptr(data->size() * sizeof(float)),
-                        data->data());
-    }
-    glBindBuffer(GL_UNIFORM_BUFFER, 0);
-    ++m_sun_generation;
-    gl::check("Renderer::update_world_sun");
-}
-
-void Renderer::update_sun_map() {
-    m_sun_pass->update(m_world_sun, m_bounds_centre, m_bounds_radius, m_geometry_generation, [&] {
-        if (m_texel) return m_texel->draw_triangles();
-        glBindVertexArray(m_vao);
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
-        glBindVertexArray(0);
-    });
 }
 
 void Renderer::set_texel_scene(const Mesh& mesh, const TransferSet& transfer) {

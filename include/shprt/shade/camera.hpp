@@ -37,6 +37,8 @@ Mat4f view_matrix(const Camera& camera);
 // Eye → clip space (gluPerspective) for width/height = `aspect`.
 Mat4f projection_matrix(const Camera& camera, float aspect);
 Mat4f view_projection_matrix(const Camera& camera, float aspect);
+// The inverse of a 4×4 matrix, by cofactors in double (camera matrices are well conditioned).
+Mat4f inverse(const Mat4f& a);
 
 // The camera `shprt render` uses when none is given. For an enclosure (a room: geometry near all
 // four vertical sides of the bounds facing inward) the eye sits inside near a raised corner and
