@@ -14,6 +14,7 @@
 #pragma once
 
 #include "shprt/scene/texel_raster.hpp"
+#include "shprt/transfer/probes.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
 
@@ -205,6 +206,9 @@ struct TransferSet : TransferInfo {
     std::vector<float> direct;
     // The CPCA code the rows were reconstructed from (or are to be stored as); empty otherwise.
     CpcaCode cpca;
+    // Transfer probes baked beside the receivers (`shprt bake --probes`, transfer/probes.hpp);
+    // empty (no counts) otherwise.
+    ProbeGrid probes;
 
     // An all-zero set of `receivers` rows with the given description (what a progressive display
     // starts from before the first chunk arrives).
