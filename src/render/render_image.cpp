@@ -8,12 +8,14 @@ namespace shprt {
 
 Image render_image_in_current_context(const Mesh& mesh, const TransferSet& transfer,
                                       const ShLight& light, const DrawSettings& settings, int width,
-                                      int height, int samples, const PreparedSun* sun) {
+                                      int height, int samples, const PreparedSun* sun,
+                                      const DrawnObject* object) {
     // GL objects die before the function returns, while the caller's context is still current.
     Renderer renderer;
     renderer.set_sun(sun);
     renderer.set_scene(mesh, transfer);
     renderer.set_light(light);
+    if (object) renderer.set_object(object->mesh, object->shading);
     RenderTarget target(width, height, samples);
     target.bind();
     renderer.draw(settings, width, height);
@@ -23,10 +25,10 @@ Image render_image_in_current_context(const Mesh& mesh, const TransferSet& trans
 
 Image render_image(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                    const DrawSettings& settings, int width, int height, int samples,
-                   const PreparedSun* sun) {
+                   const PreparedSun* sun, const DrawnObject* object) {
     HeadlessGlContext context;
     return render_image_in_current_context(mesh, transfer, light, settings, width, height, samples,
-                                           sun);
+                                           sun, object);
 }
 
 }  // namespace shprt

@@ -6,6 +6,7 @@
 #include "shprt/render/renderer.hpp"
 
 #include "gl_util.hpp"
+#include "object_pass.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/parallel.hpp"
 #include "shprt/light/equirect.hpp"
@@ -728,6 +729,18 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     else
         glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT,
                        gl::draw_order_offset(m_draw_orders, m_index_count, s));
+    if (m_object) {
+        // The object through the scene's program (the texel pass has its own): its colours and
+        // the sun's direct term. Attributes 4 and 5 are off in its vertex array and read 0.
+        glUseProgram(m_scene_program[display]);
+        glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
+        if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
+        if (sun_mode != SunMode::none)
+            m_sun_pass->bind(sun_mode);
+        else
+            SunPass::bind_none();
+        m_object->draw();
+    }
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glBindVertexArray(0);
     glActiveTexture(GL_TEXTURE0 + gl::kShadowMapUnit);

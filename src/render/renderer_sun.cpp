@@ -2,6 +2,7 @@
 // with the light, its SH projection's uniform blocks for the bounced term, and the shadow map
 // pass (sun_pass.hpp) it owns. The draw's use of them is in renderer.cpp (draw_scene).
 #include "gl_util.hpp"
+#include "object_pass.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/renderer.hpp"
@@ -73,11 +74,23 @@ void Renderer::update_world_sun() {
 
 void Renderer::update_sun_map() {
     m_sun_pass->update(m_world_sun, m_bounds_centre, m_bounds_radius, m_geometry_generation, [&] {
+        if (m_object) m_object->draw_triangles();  // the object casts too
         if (m_texel) return m_texel->draw_triangles();
         glBindVertexArray(m_vao);
         glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
         glBindVertexArray(0);
     });
+}
+
+void Renderer::set_object(const Mesh* mesh, const ObjectShading* shading) {
+    if (!mesh || !shading) {
+        if (m_object) ++m_geometry_generation;  // the sun's map loses the object
+        m_object.reset();
+        return;
+    }
+    if (!m_object) m_object = std::make_unique<ObjectPass>();
+    m_object->set(mesh->triangles, *shading);
+    ++m_geometry_generation;  // the object moved: the sun's map is redrawn (when there is one)
 }
 
 }  // namespace shprt

@@ -36,6 +36,7 @@
 #include "shprt/scene/mesh.hpp"
 #include "shprt/shade/camera.hpp"
 #include "shprt/shade/glossy.hpp"
+#include "shprt/shade/object_shade.hpp"
 #include "shprt/shade/params.hpp"
 #include "shprt/shade/save_image.hpp"
 #include "shprt/shade/shade.hpp"
@@ -51,8 +52,9 @@
 
 namespace shprt {
 
-class TexelPass;  // src/render/texel_pass.hpp
-class SunPass;    // src/render/sun_pass.hpp
+class TexelPass;   // src/render/texel_pass.hpp
+class SunPass;     // src/render/sun_pass.hpp
+class ObjectPass;  // src/render/object_pass.hpp
 
 // Texels a side of the sun's shadow map (Renderer::set_sun; render/sun_pass.hpp).
 inline constexpr int kShadowMapSize = 2048;
@@ -202,6 +204,15 @@ public:
     // How many times the sun's shadow map has been drawn (it is redrawn when the sun turns).
     std::uint64_t sun_map_builds() const;
 
+    // A dynamic object lit from the scene's probes (shade/object_shade.hpp, docs/probes.md
+    // "Lighting objects"), drawn with the scene, or none (nullptr): `mesh`'s triangles over
+    // `shading`'s vertices (world positions, normals, albedo) with its colours as computed on the
+    // CPU (ObjectShading::radiance: what the view shows), plus, with a sun (set_sun), the sun's
+    // direct light per fragment through the shadow map, into which the object casts. Call it
+    // again whenever the object or the light moves (an upload of 48 bytes a vertex; the triangles
+    // only when they change). Throws Error(invalid_argument) for arrays that disagree.
+    void set_object(const Mesh* mesh, const ObjectShading* shading);
+
     int scene_K() const { return m_K; }
     int scene_channels() const { return m_channels; }
     // The scene's transfer is glossy matrices (drawn with DrawSettings::brdf and albedo).
@@ -350,7 +361,8 @@ private:
                   m_shading_passes = 0, m_background_builds = 0, m_cluster_passes = 0;
     ShadingKey m_shading_key;
     bool m_shading_valid = false;
-    std::unique_ptr<TexelPass> m_texel;  // a texel-domain scene: drawn per fragment
+    std::unique_ptr<TexelPass> m_texel;    // a texel-domain scene: drawn per fragment
+    std::unique_ptr<ObjectPass> m_object;  // a probe-lit object (set_object), or none
     // The sun (set_sun): as given, and turned into the scene's frame; its SH projection alone
     // and added to the sky (uniform blocks in the light block's layout); the transfer's direct
     // part T_0 (one channel per vertex) and the pass's T_0 · c_sun per vertex, subtracted by the
@@ -366,9 +378,14 @@ private:
 
 // One frame, headless: creates a HeadlessGlContext and calls render_image_in_current_context.
 // What `shprt render` does (then save_image).
+// `object`: a probe-lit object drawn with the scene (Renderer::set_object), or none.
+struct DrawnObject {
+    const Mesh* mesh = nullptr;  // its triangles
+    const ObjectShading* shading = nullptr;
+};
 Image render_image(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                    const DrawSettings& settings, int width, int height, int samples = 4,
-                   const PreparedSun* sun = nullptr);
+                   const PreparedSun* sun = nullptr, const DrawnObject* object = nullptr);
 
 // One frame in the OpenGL context current on the calling thread (4.3 core; e.g. the viewer's
 // offscreen context for --screenshot, which may be a hidden window): a Renderer with `light`
@@ -378,7 +395,7 @@ Image render_image(const Mesh& mesh, const TransferSet& transfer, const ShLight&
 // and RenderTarget throw.
 Image render_image_in_current_context(const Mesh& mesh, const TransferSet& transfer,
                                       const ShLight& light, const DrawSettings& settings, int width,
-                                      int height, int samples = 4,
-                                      const PreparedSun* sun = nullptr);
+                                      int height, int samples = 4, const PreparedSun* sun = nullptr,
+                                      const DrawnObject* object = nullptr);
 
 }  // namespace shprt
