@@ -3,14 +3,18 @@
 // the options, reads the file, prepares the light, calls render_image, saves (PNG: exposure +
 // filmic tone map + sRGB; EXR/HDR: linear).
 #include "common/command.hpp"
+#include "common/object_options.hpp"
 #include "common/shading_options.hpp"
 
+#include "shprt/bake/object_bake.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/log.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/shade/camera.hpp"
+#include "shprt/shade/object_shade.hpp"
 #include "shprt/shade/save_image.hpp"
 
 #include <algorithm>
@@ -31,6 +35,7 @@ struct RenderArgs {
     LightArgs light;  // common/shading_options.hpp, shared with `shade`, `view` and `export`
     ShadingArgs shading;
     CameraArgs camera;
+    ObjectArgs object;  // common/object_options.hpp, shared with `view`
     std::string size = "1280x720";
     int samples = 4;
     bool background = false, wireframe = false;
@@ -46,10 +51,14 @@ void run(const RenderArgs& a) {
     parse_size(a.size, width, height);
     const LightSetup setup = light_setup_from(a.light);
     const ShadingParams params = shading_params(a.shading, setup);
-    check_output_is_not_input(a.output, input_files(a.input, a.light));
+    const std::optional<ObjectPose> pose = object_pose_from(a.object);
+    std::vector<std::string> inputs = input_files(a.input, a.light);
+    if (pose) inputs.push_back(a.object.object);
+    check_output_is_not_input(a.output, inputs);
     check_output_writable(a.output);  // a directory, a device: refused before the work
 
     ShprtFile file = read_shprt(a.input);
+    if (pose) check_probes(file.transfer.probes, a.input);
     const ShadingPlan plan = resolve_shading(params, file, a.input, Spelling::command_line);
     check_texel_view(a.input, file.transfer, params.k, params.view);
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
@@ -59,8 +68,23 @@ void run(const RenderArgs& a) {
     settings.camera = camera_from(a.camera, file.mesh, float(width) / float(height), a.input);
     settings.background = a.background;
     settings.wireframe = a.wireframe;
+    // The object: baked for its self-shadowing once, lit by the probes under the light.
+    std::optional<DynamicObject> object;
+    ObjectShading object_shading;
+    if (pose) {
+        const ProbeGrid& probes = file.transfer.probes;
+        ObjectBakeOptions bake_options;
+        bake_options.K = probes.K;
+        object = load_dynamic_object(a.object.object, bake_options);
+        ObjectShadeOptions options = object_shade_options(plan, params.view);
+        options.eye = settings.camera.eye;
+        object_shading =
+            shade_object(*object, *pose, probes, prepare_light(setup, probes.K), options);
+        if (object_shading.clamped) log_warn("{}", clamped_warning(probes, pose->position, "--at"));
+    }
+    const DrawnObject drawn{object ? &object->mesh : nullptr, &object_shading};
     const Image image = render_image(file.mesh, file.transfer, light, settings, width, height,
-                                     a.samples, sun ? &*sun : nullptr);
+                                     a.samples, sun ? &*sun : nullptr, object ? &drawn : nullptr);
     save_image(a.output, image, static_cast<float>(params.exposure));
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -74,6 +98,12 @@ void run(const RenderArgs& a) {
                         ? "bounced light from the file's T - T_0"
                         : "no bounced light (the file has no direct part: not an interreflected "
                           "bake, or --direct)");
+    if (object)
+        std::printf("object: %s (%zu vertices, %s) at %g,%g,%g lit from %zu probes (K'=%d)\n",
+                    a.object.object.c_str(), object->mesh.vertex_count(),
+                    object->self.coeffs.empty() ? "no self-shadowing" : "self-shadowing baked",
+                    pose->position.x, pose->position.y, pose->position.z,
+                    file.transfer.probes.count(), object_shading.K_used);
     std::printf("rendered %dx%d (K'=%d, k=%g%s) in %.2f s -> %s\n", width, height, K_used, params.k,
                 term.c_str(), seconds, a.output.c_str());
 }
@@ -93,6 +123,7 @@ const bool render_registered = register_command(
                              "Interreflected bakes: the direct light only (the file's T_0), "
                              "without the bounces");
          add_camera_options(app, args->camera);
+         add_object_options(app, args->object);
          app.add_option("--size", args->size, "Image size WxH (default 1280x720)");
          app.add_flag("--background", args->background,
                       "Draw the light (its SH projection) behind the scene");

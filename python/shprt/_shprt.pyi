@@ -262,5 +262,9 @@ def render(
     direct: bool = False,
     glossy: str = "matrix",
     sun: str | Sequence[float] | None = None,
+    object: str | None = None,
+    at: Sequence[float] | None = None,
+    object_scale: float = 1.0,
+    object_rotate: Sequence[float] | None = None,
 ) -> NDArray[np.float32]: ...
 def save_image(path: str, image: ArrayLike, exposure: float = 1.0) -> None: ...
