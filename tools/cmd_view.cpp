@@ -12,12 +12,14 @@
 
 #include "common/bake_options.hpp"
 #include "common/command.hpp"
+#include "common/object_options.hpp"
 #include "common/progress_bar.hpp"
 #include "common/shading_options.hpp"
 
 #include "viewer.hpp"
 
 #include "shprt/bake/gpu.hpp"
+#include "shprt/bake/object_bake.hpp"
 #include "shprt/bake/request.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -25,6 +27,7 @@
 #include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/load.hpp"
+#include "shprt/shade/object_shade.hpp"
 #include "shprt/shade/save_image.hpp"
 #include "shprt/shade/shade.hpp"
 
@@ -45,6 +48,7 @@ struct ViewArgs {
     std::string input;
     LightArgs light;
     CameraArgs camera;
+    ObjectArgs object;  // common/object_options.hpp, shared with `render`
     BakeOptionArgs bake;
     bool do_bake = false;
     std::string size = "1280x720";
@@ -87,6 +91,7 @@ struct ViewSetup {
     int width = 0, height = 0;
     bool windowed = false;                    // neither --screenshot nor --benchmark
     std::optional<BakeOptions> bake_options;  // --bake
+    std::optional<ObjectPose> object_pose;    // --object
 };
 
 ViewSetup check_view(const ViewArgs& a) {
@@ -144,13 +149,17 @@ ViewSetup check_view(const ViewArgs& a) {
     SHPRT_CHECK(!(bake_glossy && windowed && params.glossy == GlossyTerm::paper), unsupported,
                 "--glossy paper: the window shows a glossy bake's matrices while they refine "
                 "(use --brdf phong:E, or bake the file first and view it with --glossy paper)");
+    const std::optional<ObjectPose> object_pose = object_pose_from(a.object);
+    SHPRT_CHECK(!(object_pose && a.do_bake), invalid_argument,
+                "--object is lit from a baked file's probes: bake FILE with shprt bake --probes "
+                "first, then view it without --bake");
     std::optional<BakeOptions> bake_options;
     if (a.do_bake) {
         bake_options = bake_options_from(bake_args);
         resolve_device(bake_options->device, bake_options->device_index);  // fail before a window
     }
 
-    return {setup, params, backend, width, height, windowed, std::move(bake_options)};
+    return {setup, params, backend, width, height, windowed, std::move(bake_options), object_pose};
 }
 
 // The scene (a file, or with --bake one baked here or, for the window, all-zero rows refined as
@@ -183,13 +192,21 @@ ShprtFile view_scene(const ViewArgs& a, ViewSetup& v) {
 
 void take_screenshot(const ViewArgs& a, const ViewSetup& v, const ShprtFile& file,
                      const viewer::LightRig& rig, const viewer::FrameConfig& config,
-                     Clock::time_point start) {
+                     const viewer::ViewerObject& object, Clock::time_point start) {
     const ShLight light = rig.light();
     std::optional<PreparedSun> sun;  // turned as `light`
     if (v.setup.sun) sun = prepare_sun(v.setup, rig.K());
+    ObjectShading lit;
+    if (object.object) {
+        ObjectShadeOptions options = object.options;
+        options.eye = config.draw.camera.eye;
+        lit = shade_object(*object.object, object.pose, *object.probes, light, options);
+    }
+    const DrawnObject drawn{object.object ? &object.object->mesh : nullptr, &lit};
     std::string context;
-    const Image image = viewer::render_screenshot(file.mesh, file.transfer, light, config,
-                                                  v.backend, &context, sun ? &*sun : nullptr);
+    const Image image =
+        viewer::render_screenshot(file.mesh, file.transfer, light, config, v.backend, &context,
+                                  sun ? &*sun : nullptr, object.object ? &drawn : nullptr);
     save_image(a.screenshot, image, config.exposure);
     std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", v.width, v.height,
                 effective_basis_size(file.transfer, light, v.params.coeffs), v.params.k,
@@ -198,13 +215,16 @@ void take_screenshot(const ViewArgs& a, const ViewSetup& v, const ShprtFile& fil
 
 void run_view_benchmark(const ViewArgs& a, const ViewSetup& v, const ShprtFile& file,
                         const viewer::LightRig& rig, const viewer::FrameConfig& config,
-                        const std::string& name) {
+                        const viewer::ViewerObject& object, const std::string& name) {
     viewer::BenchmarkOptions options;
     options.frames = *a.benchmark;
     options.rotate_light = a.benchmark_light;
     // Glossy matrices have at most 8 bands: measure the file's own K.
     if (file.transfer.layout.shape == TransferShape::symmetric_matrix)
         options.K_values = {file.transfer.layout.K};
+    // With an object: the file's own K, the object moving every frame.
+    options.object = object;
+    if (object.object) options.K_values = {std::min(file.transfer.layout.K, rig.K())};
     options.backend = v.backend;
     const viewer::BenchmarkReport report =
         viewer::run_benchmark(file.mesh, file.transfer, rig, config, options);
@@ -213,7 +233,8 @@ void run_view_benchmark(const ViewArgs& a, const ViewSetup& v, const ShprtFile& 
 }
 
 void run_view_window(const ViewArgs& a, const ViewSetup& v, const ShprtFile& file,
-                     const viewer::FrameConfig& config, const std::string& name) {
+                     const viewer::FrameConfig& config, const viewer::ViewerObject& object,
+                     const std::string& name) {
     viewer::WindowOptions options;
     options.frame = config;
     options.light = v.setup;
@@ -223,6 +244,7 @@ void run_view_window(const ViewArgs& a, const ViewSetup& v, const ShprtFile& fil
     options.window_screenshot = a.window_screenshot;
     options.vsync = !a.no_vsync;
     options.direct_only = v.params.direct;
+    options.object = object;
     viewer::WindowReport report;
     try {
         report = viewer::run_window(file.mesh, file.transfer, options, v.bake_options);
@@ -245,6 +267,7 @@ void run(const ViewArgs& a) {
     const auto start = Clock::now();
     ViewSetup v = check_view(a);
     ShprtFile file = view_scene(a, v);
+    if (v.object_pose) check_probes(file.transfer.probes, a.input);
     // The window keeps the whole transfer (its panel toggles the direct part); a screenshot or a
     // benchmark shows what --direct asks for.
     ShadingParams resolved = v.params;
@@ -264,12 +287,31 @@ void run(const ViewArgs& a) {
     config.draw.background = a.background;
     config.draw.wireframe = a.wireframe;
     const std::string name = std::filesystem::path(a.input).filename().string();
+    // The object: baked for its self-shadowing once, then lit by the probes every time it or
+    // the light moves.
+    std::optional<DynamicObject> object;
+    viewer::ViewerObject shown;
+    if (v.object_pose) {
+        const ProbeGrid& probes = file.transfer.probes;
+        ObjectBakeOptions bake_options;
+        bake_options.K = probes.K;
+        object = load_dynamic_object(a.object.object, bake_options);
+        shown = {&*object, &probes, *v.object_pose, object_shade_options(plan, v.params.view),
+                 std::filesystem::path(a.object.object).filename().string()};
+        if (sample_probes(probes, v.object_pose->position).clamped)
+            log_warn("{}", clamped_warning(probes, v.object_pose->position, "--at"));
+        std::printf("object: %s (%zu vertices, %s) at %g,%g,%g lit from %zu probes\n",
+                    a.object.object.c_str(), object->mesh.vertex_count(),
+                    object->self.coeffs.empty() ? "no self-shadowing" : "self-shadowing baked",
+                    v.object_pose->position.x, v.object_pose->position.y, v.object_pose->position.z,
+                    probes.count());
+    }
     if (!a.screenshot.empty())
-        take_screenshot(a, v, file, rig, config, start);
+        take_screenshot(a, v, file, rig, config, shown, start);
     else if (a.benchmark)
-        run_view_benchmark(a, v, file, rig, config, name);
+        run_view_benchmark(a, v, file, rig, config, shown, name);
     else
-        run_view_window(a, v, file, config, name);
+        run_view_window(a, v, file, config, shown, name);
 }
 
 const bool view_registered = register_command(
@@ -280,6 +322,12 @@ const bool view_registered = register_command(
              ->required();
          add_light_options(app, args->light);
          add_camera_options(app, args->camera);
+         add_object_options(app, args->object);
+         app.get_option("--object")
+             ->description(
+                 "A mesh (any scene file) lit from the file's transfer probes (docs/probes.md); "
+                 "in the window the arrow keys move it horizontally and Page Up/Down vertically, "
+                 "and the panel shows and edits its position");
          app.add_option("--size", args->size, "Window or image size WxH (default 1280x720)");
          add_shading_options(app, args->shading, kViewOption | kCoeffsOption,
                              "Exposure multiplier (default 1)",

@@ -11,6 +11,7 @@
 
 #include "frame.hpp"
 #include "light_rig.hpp"
+#include "lit_object.hpp"
 #include "offscreen_context.hpp"
 
 #include "shprt/scene/mesh.hpp"
@@ -30,6 +31,10 @@ struct BenchmarkOptions {
     // user drags it: measures the cost of a light change, not only of a camera change.
     bool rotate_light = false;
     OffscreenBackend backend = OffscreenBackend::automatic;
+    // A probe-lit object (docs/probes.md), moved every frame along a line of the grid through its
+    // start position (±0.5 m in x) and so shaded on the CPU and uploaded every frame: the cost of
+    // dragging it. None: object.object null.
+    ViewerObject object;
 };
 
 struct BenchmarkRow {
@@ -57,6 +62,8 @@ struct BenchmarkReport {
     double k = 1;          // diffuse share drawn
     std::string transfer;  // glossy: describe_gpu_transfer and the BRDF ("" for vectors)
     bool rotate_light = false;
+    std::size_t object_vertices = 0;  // the moving object's, 0 = none
+    double object_ms = 0;             // its mean CPU shading + upload per frame, milliseconds
     std::vector<BenchmarkRow> rows;
     // Mean frame time at K' = 256 over that at K' = 32; 0 when either was skipped.
     double ratio_256_32 = 0;

@@ -70,6 +70,17 @@ void light_section(PanelState& s) {
         ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s", s.light_error.c_str());
 }
 
+// The probe-lit object: where it is (drag the numbers, or the keys in the help).
+void object_section(PanelState& s) {
+    ImGui::TextWrapped("%s", s.object_label.c_str());
+    ImGui::DragFloat3("position", s.object_position, 0.01f, -1e4f, 1e4f, "%.2f");
+    help_marker(
+        "Drag the numbers, or move the object with the arrow keys (horizontally, relative to the "
+        "camera) and Page Up/Page Down (vertically). It is lit per vertex from the file's "
+        "transfer probes under the current light, which Shift+drag still turns.");
+    if (!s.object_status.empty()) ImGui::TextWrapped("%s", s.object_status.c_str());
+}
+
 // Glossy matrices: the BRDF's zonal lobe and the colour override, and what the GPU holds.
 void brdf_controls(PanelState& s) {
     if (s.has_material_brdfs) {
@@ -210,6 +221,8 @@ void draw_panel(PanelState& s) {
     }
     if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_section(s);
     if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) shading_section(s);
+    if (s.has_object && ImGui::CollapsingHeader("Object", ImGuiTreeNodeFlags_DefaultOpen))
+        object_section(s);
     if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) camera_section(s);
     if (ImGui::CollapsingHeader("Display")) display_section(s);
     ImGui::End();

@@ -59,6 +59,12 @@ struct PanelState {
     float window_strength = 0;
     std::string light_error;  // last failure to make a light, shown in red ("" = none)
 
+    // A probe-lit object (--object, docs/probes.md): its position, dragged here or moved with the
+    // arrow keys (horizontally, relative to the camera) and Page Up/Down (vertically).
+    bool has_object = false;
+    std::string object_label;  // file and vertex count
+    float object_position[3] = {0, 0, 0};
+    std::string object_status;  // shading time; "outside the probe grid" when clamped
     // Camera.
     int camera_mode = 0;  // CameraMode: 0 orbit, 1 fly
     float fly_speed = 1;  // world units per second

@@ -20,11 +20,12 @@ namespace shprt::viewer {
 // by choose_samples(config.msaa, false), camera…) with render_image_in_current_context; returns
 // the linear picture, for save_image with config.exposure. `context_description` (if non-null)
 // receives the context's description. `sun`: a sun kept out of the SH sum, in `light`'s frame
-// (Renderer::set_sun). Throws what OffscreenContext, Renderer and RenderTarget throw.
+// (Renderer::set_sun); `object` a probe-lit object (Renderer::set_object). Throws what
+// OffscreenContext, Renderer and RenderTarget throw.
 Image render_screenshot(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                         const FrameConfig& config,
                         OffscreenBackend backend = OffscreenBackend::automatic,
                         std::string* context_description = nullptr,
-                        const PreparedSun* sun = nullptr);
+                        const PreparedSun* sun = nullptr, const DrawnObject* object = nullptr);
 
 }  // namespace shprt::viewer

@@ -103,6 +103,7 @@ private:
     void start_bake(const BakeOptions& options);
     void show_transfer();
     DrawSettings draw_settings() const;
+    void update_object(const DrawSettings& settings);
 
     const Mesh& m_mesh;
     const TransferSet& m_transfer;
@@ -116,6 +117,7 @@ private:
     CameraController m_camera;
     Camera m_start_camera;
     LightRig m_light;
+    LitObject m_object;
     PanelState m_panel;
     // Declared before the bake: the bake (which may write into the mapped buffer) ends first.
     std::unique_ptr<GlBufferInterop> m_interop;
@@ -139,7 +141,8 @@ App::App(const Mesh& mesh, const TransferSet& transfer, const WindowOptions& opt
       m_imgui(m_window.get()),
       m_camera(options.frame.draw.camera, mesh_bounds(mesh)),
       m_start_camera(options.frame.draw.camera),
-      m_light(std::min(transfer.layout.K, kMaxLightK)) {
+      m_light(std::min(transfer.layout.K, kMaxLightK)),
+      m_object(options.object) {
     glfwSwapInterval(options.vsync ? 1 : 0);
     if (!transfer.direct.empty()) m_direct = transfer.direct_only();
     m_panel.has_direct = !m_direct.coeffs.empty();
@@ -221,6 +224,14 @@ void App::init_state() {
     s.fly_speed = m_camera.speed();
     s.vsync = m_options.vsync;
     s.msaa = choose_samples(m_options.frame.msaa, true);
+    s.has_object = m_object.present();
+    if (s.has_object) {
+        const ViewerObject& o = m_object.object();
+        s.object_label = fmt::format(
+            "{}: {} vertices, {}", o.label, o.object->mesh.vertex_count(),
+            o.object->self.coeffs.empty() ? "no self-shadowing" : "self-shadowing baked");
+        for (int a = 0; a < 3; ++a) s.object_position[a] = o.pose.position[a];
+    }
 }
 
 void App::set_light_source() {
@@ -298,6 +309,24 @@ void App::handle_input(float seconds) {
 
     if (io.WantCaptureKeyboard) return;
     auto down = [w](int key) { return glfwGetKey(w, key) == GLFW_PRESS; };
+    if (m_object.present()) {
+        // The object: arrows along the camera's right and forward (kept horizontal), Page Up and
+        // Down along +Y, at the fly speed.
+        Vec3f right = m_camera.right(), forward = m_camera.forward();
+        right.y = 0;
+        forward.y = 0;
+        if (length(right) > 0) right = normalize(right);
+        if (length(forward) > 0) forward = normalize(forward);
+        Vec3f step{0, 0, 0};
+        if (down(GLFW_KEY_RIGHT)) step += right;
+        if (down(GLFW_KEY_LEFT)) step += right * -1.0f;
+        if (down(GLFW_KEY_UP)) step += forward;
+        if (down(GLFW_KEY_DOWN)) step += forward * -1.0f;
+        if (down(GLFW_KEY_PAGE_UP)) step.y += 1;
+        if (down(GLFW_KEY_PAGE_DOWN)) step.y -= 1;
+        step = step * (0.5f * m_camera.speed() * seconds);
+        for (int a = 0; a < 3; ++a) m_panel.object_position[a] += step[a];
+    }
     Vec3f motion{0, 0, 0};
     if (down(GLFW_KEY_W)) motion.z += 1;
     if (down(GLFW_KEY_S)) motion.z -= 1;
@@ -404,6 +433,19 @@ DrawSettings App::draw_settings() const {
     return s;
 }
 
+// The object at the panel's position, shaded again when it or the light moved.
+void App::update_object(const DrawSettings& settings) {
+    if (!m_object.present()) return;
+    ObjectPose& pose = m_object.pose();
+    pose.position = {m_panel.object_position[0], m_panel.object_position[1],
+                     m_panel.object_position[2]};
+    if (!m_object.update(m_renderer, m_light.light(), settings)) return;
+    const ObjectShading& lit = m_object.shading();
+    m_panel.object_status =
+        fmt::format("shaded in {:.1f} ms (K'={}){}", m_object.last_shade_ms(), lit.K_used,
+                    lit.clamped ? "; outside the probe grid: lit from its edge" : "");
+}
+
 WindowReport App::run() {
     GLFWwindow* w = m_window.get();
     const auto start = Clock::now();
@@ -438,6 +480,7 @@ WindowReport App::run() {
             if (!buffer_mapped) {
                 DrawSettings settings = draw_settings();
                 settings.reshade = std::exchange(m_reshade_once, false);
+                update_object(settings);
                 draw_frame(m_renderer, m_target, settings, m_panel.exposure, 0, width, height);
             } else {
                 // The GPU bake owns the transfer buffer until it ends: show the panel only.

@@ -6,10 +6,13 @@
 //
 // Controls: left drag turns the camera; Shift or Ctrl + left drag turns the light; right or
 // middle drag pans; the wheel zooms (orbit) or moves forward (fly); W/A/S/D/Q/E move; Tab
-// switches orbit/fly; R resets the camera; Esc closes.
+// switches orbit/fly; R resets the camera; Esc closes. With an object (--object, docs/probes.md):
+// the arrow keys move it horizontally (relative to the camera), Page Up/Down vertically; the
+// panel shows and edits its position.
 #pragma once
 
 #include "frame.hpp"
+#include "lit_object.hpp"
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/light/light_setup.hpp"
@@ -34,6 +37,7 @@ struct WindowOptions {
     bool vsync = true;
     bool show_panel = true;
     bool direct_only = false;  // an interreflected transfer: start with its direct part shown
+    ViewerObject object;       // a probe-lit object (none: object.object null)
 };
 
 struct WindowReport {

@@ -1,0 +1,50 @@
+#include "lit_object.hpp"
+
+#include <chrono>
+
+namespace shprt::viewer {
+
+namespace {
+bool same(const ObjectPose& a, const ObjectPose& b) {
+    return a.position == b.position && a.scale == b.scale &&
+           a.yaw_pitch_roll_deg == b.yaw_pitch_roll_deg;
+}
+bool same(const ObjectShadeOptions& a, const ObjectShadeOptions& b) {
+    return a.view == b.view && a.k == b.k && a.brdf == b.brdf &&
+           a.material_brdfs == b.material_brdfs && a.albedo == b.albedo && a.eye == b.eye &&
+           a.K_used == b.K_used;
+}
+}  // namespace
+
+bool LitObject::update(Renderer& renderer, const ShLight& light, const DrawSettings& settings) {
+    if (!present()) return false;
+    ObjectShadeOptions options = m_object.options;
+    options.view = settings.view;
+    options.k = settings.k;
+    options.K_used = settings.K_used;
+    if (renderer.scene_has_matrices()) {
+        options.brdf = settings.brdf;
+        options.material_brdfs = settings.material_brdfs;
+        options.albedo = settings.albedo;
+    } else {
+        options.brdf = Brdf{BrdfModel::phong, settings.gloss};
+    }
+    // The eye matters to the glossy term only.
+    options.eye =
+        options.k < 1 && options.view == ShadeView::radiance ? settings.camera.eye : Vec3f{0, 0, 0};
+    if (m_valid && same(m_pose, m_object.pose) && same(m_options, options) &&
+        m_light == light.coeffs)
+        return false;
+    const auto start = std::chrono::steady_clock::now();
+    m_shading = shade_object(*m_object.object, m_object.pose, *m_object.probes, light, options);
+    renderer.set_object(&m_object.object->mesh, &m_shading);
+    m_shade_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    m_valid = true;
+    m_pose = m_object.pose;
+    m_options = options;
+    m_light = light.coeffs;
+    return true;
+}
+
+}  // namespace shprt::viewer

@@ -1,0 +1,53 @@
+// A probe-lit dynamic object in the viewer (docs/probes.md "Lighting objects"): shaded on the CPU
+// (shade_object, shade/object_shade.hpp) and uploaded (Renderer::set_object) again only when its
+// pose, the light or the shading it depends on changed since the last frame — the window while
+// the user drags it or turns the light, --benchmark with the object moving every frame.
+#pragma once
+
+#include "shprt/render/renderer.hpp"
+#include "shprt/shade/object_shade.hpp"
+#include "shprt/transfer/object.hpp"
+#include "shprt/transfer/probes.hpp"
+
+#include <string>
+#include <vector>
+
+namespace shprt::viewer {
+
+// What the command line gives: the object (made ready: bake/object_bake.hpp), the file's probes,
+// the start pose and the shading choices (k, BRDF, K′: object_shade_options; the eye is each
+// frame's camera). No object: `object` null.
+struct ViewerObject {
+    const DynamicObject* object = nullptr;
+    const ProbeGrid* probes = nullptr;
+    ObjectPose pose;
+    ObjectShadeOptions options;
+    std::string label;  // e.g. the file name, for the panel
+};
+
+class LitObject {
+public:
+    explicit LitObject(const ViewerObject& object) : m_object(object) {}
+    bool present() const { return m_object.object != nullptr; }
+    ObjectPose& pose() { return m_object.pose; }
+    const ViewerObject& object() const { return m_object; }
+
+    // Shades and uploads the object when its pose, `light` (the rotated light the scene is
+    // shaded with) or what it depends on in `settings` (view, k, K′, and the eye for k < 1)
+    // changed; returns true when it did. Nothing without an object.
+    bool update(Renderer& renderer, const ShLight& light, const DrawSettings& settings);
+    // The last shading (positions, colours, whether the pose is outside the grid).
+    const ObjectShading& shading() const { return m_shading; }
+    double last_shade_ms() const { return m_shade_ms; }
+
+private:
+    ViewerObject m_object;
+    ObjectShading m_shading;
+    bool m_valid = false;
+    ObjectPose m_pose;
+    ObjectShadeOptions m_options;
+    std::vector<float> m_light;
+    double m_shade_ms = 0;
+};
+
+}  // namespace shprt::viewer
