@@ -1,0 +1,68 @@
+// `shprt render --object` and `shprt view --object` (docs/probes.md "Lighting objects") run as
+// programs: bad input gives one line each, a non-zero exit and no picture — a file without
+// probes, an object that does not load, a bad or missing --at — before anything is baked.
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/scene/builtin.hpp"
+#include "shprt/sh/basis.hpp"
+#include "shprt/sh/zonal.hpp"
+
+#include "cli/cli_test.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+using test_support::expect_one_line_error;
+
+class CliObject : public test_support::CliTest {
+protected:
+    void SetUp() override {
+        CliTest::SetUp();
+        // The unit sphere with unshadowed transfer and no probes.
+        const Mesh mesh = make_builtin("sphere");
+        TransferSet t;
+        t.kind = TransferKind::unshadowed;
+        t.layout.K = 9;
+        t.coeffs.resize(mesh.vertex_count() * 9);
+        const std::vector<double> z = clamped_cosine_zonal(3);
+        std::vector<double> c(9);
+        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+            rotate_zonal(z.data(), 9, normalize(cast<double>(mesh.normals[v])), c.data());
+            for (int i = 0; i < 9; ++i) t.coeffs[v * 9 + i] = float(c[i]);
+        }
+        m_file = (m_dir / "sphere.shprt").string();
+        write_shprt(m_file, mesh, t);
+    }
+    std::string render(const std::string& options, const std::string& image = "o.png") {
+        return "render '" + m_file + "' " + options + " -o '" + out(image) + "'";
+    }
+    std::string m_file;
+};
+
+TEST_F(CliObject, BadInputGivesOneLineBeforeAnyWork) {
+    // A file without probes, named, before the object is read.
+    expect_one_line_error(shprt(render("--object builtin:sphere --at 0,0,0")),
+                          "sphere.shprt: the file has no transfer probes (bake it with shprt "
+                          "bake --probes)");
+    // The object's placement, checked before the file is read.
+    expect_one_line_error(shprt(render("--object builtin:sphere")),
+                          "--object builtin:sphere: give its position with --at X,Y,Z");
+    expect_one_line_error(shprt(render("--object builtin:sphere --at 1,2")), "--at X,Y,Z");
+    expect_one_line_error(shprt(render("--object builtin:sphere --at 0,0,0 --object-scale 0")),
+                          "--object-scale 0: must be a finite number > 0");
+    expect_one_line_error(shprt(render("--object builtin:sphere --at 0,0,0 --object-rotate 1,x,3")),
+                          "1,x,3");
+    expect_one_line_error(shprt(render("--at 0,0,0")), "give --object MESH");
+    expect_one_line_error(
+        shprt("view '" + m_file + "' --object builtin:sphere --at 0,0,0 --screenshot '" +
+              out("v.png") + "'"),
+        "sphere.shprt: the file has no transfer probes");
+    EXPECT_TRUE(out_dir_empty());
+}
+
+}  // namespace
+}  // namespace shprt
