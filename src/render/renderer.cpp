@@ -690,13 +690,18 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glUseProgram(m_scene_program[display]);
-    glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
-    if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
-    if (sun_mode != SunMode::none)
-        m_sun_pass->bind(sun_mode);
-    else
-        SunPass::bind_none();
+    // The scene's program with the frame's matrix, exposure and sun: for the scene, and again for
+    // the object after a texel scene (whose pass has its own program).
+    const auto use_scene_program = [&] {
+        glUseProgram(m_scene_program[display]);
+        glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
+        if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
+        if (sun_mode != SunMode::none)
+            m_sun_pass->bind(sun_mode);
+        else
+            SunPass::bind_none();
+    };
+    use_scene_program();
     const bool sun_glossy = sun_mode == SunMode::radiance && m_matrices;
     if (sun_glossy) {
         std::vector<Brdf> table{key.brdf};
@@ -730,15 +735,9 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
         glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT,
                        gl::draw_order_offset(m_draw_orders, m_index_count, s));
     if (m_object) {
-        // The object through the scene's program (the texel pass has its own): its colours and
-        // the sun's direct term. Attributes 4 and 5 are off in its vertex array and read 0.
-        glUseProgram(m_scene_program[display]);
-        glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
-        if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
-        if (sun_mode != SunMode::none)
-            m_sun_pass->bind(sun_mode);
-        else
-            SunPass::bind_none();
+        // The object through the scene's program: its colours and the sun's direct term.
+        // Attributes 4 and 5 are off in its vertex array and read 0.
+        if (m_texel) use_scene_program();
         m_object->draw();
     }
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);

@@ -74,5 +74,47 @@ TEST(GlObject, ObjectPixelsAreTheCpuShadingInterpolated) {
     EXPECT_LE(bad, (object_pixels + scene_pixels) / 100);
 }
 
+// Under a sun kept out of the SH sum (and a black sky) the object is lit by the sun's direct term
+// alone, and it casts into the sun's shadow map: the plane under it darkens.
+TEST(GlObject, TheSunLightsTheObjectAndTheObjectCastsIntoItsShadowMap) {
+    REQUIRE_GL(context);
+    constexpr int K = 9;
+    const Mesh scene = make_builtin("plane");
+    const TransferSet transfer = test::analytic_transfer(scene, K);
+    const ShLight black = ShLight::zero(K);
+    const Sun sun = make_sun({0, 1, 0}, 1, {3, 3, 3});
+    const PreparedSun prepared{sun, sun_light(sun, K)};
+    ObjectBakeOptions o;
+    o.K = K;
+    o.self_shadow = false;
+    const DynamicObject object = make_dynamic_object(make_builtin("sphere"), o);
+    const ProbeGrid grid = test::identity_probe_grid({-1, 0, -1}, {1, 1, 1}, {3, 2, 3}, K);
+    ObjectPose pose;
+    pose.position = {0, 0.6f, 0};
+    pose.scale = 0.3f;
+    DrawSettings settings;
+    settings.camera = look_at_camera({0, 1.2f, 2.5f}, {0, 0.2f, 0}, 45, mesh_bounds(scene));
+    const ObjectShading lit = shade_object(object, pose, grid, black, {});
+    const DrawnObject drawn{&object.mesh, &lit};
+    const int w = 64, h = 48;
+    const Image bare = render_image(scene, transfer, black, settings, w, h, 1, &prepared);
+    const Image with = render_image(scene, transfer, black, settings, w, h, 1, &prepared, &drawn);
+    // The sun's direct radiance on the plane: ρ/π · E_n, E_n ≈ radiance · disc solid angle.
+    double lit_plane = 0;
+    for (int i = 0; i < w * h; ++i) lit_plane = std::max(lit_plane, double(bare.rgb[3 * i]));
+    ASSERT_GT(lit_plane, 0);
+    std::size_t shadowed = 0, sunlit_object = 0;
+    for (int i = 0; i < w * h; ++i) {
+        const double a = bare.rgb[3 * i], b = with.rgb[3 * i];
+        if (a > 0.9 * lit_plane && b < 0.1 * lit_plane) ++shadowed;  // plane, now in shadow
+        if (a != b && b > 0.5 * lit_plane) ++sunlit_object;          // the object's sunlit top
+    }
+    std::printf("%zu plane pixels in the object's shadow, %zu sunlit object pixels\n", shadowed,
+                sunlit_object);
+    for (const Vec3f& c : lit.radiance) ASSERT_EQ(c.x, 0.0f);  // no sky: the CPU colours are 0
+    EXPECT_GT(shadowed, 30u) << "the object's shadow on the plane";
+    EXPECT_GT(sunlit_object, 20u) << "the sun on the object";
+}
+
 }  // namespace
 }  // namespace shprt
