@@ -10,8 +10,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <string>
 #include <vector>
+
+namespace fs = std::filesystem;
 
 namespace shprt {
 namespace {
@@ -38,7 +42,7 @@ protected:
         write_shprt(m_file, mesh, t);
     }
     std::string render(const std::string& options, const std::string& image = "o.png") {
-        return "render '" + m_file + "' " + options + " -o '" + out(image) + "'";
+        return "render '" + m_file + "' --size 64x36 " + options + " -o '" + out(image) + "'";
     }
     std::string m_file;
 };
@@ -62,6 +66,37 @@ TEST_F(CliObject, BadInputGivesOneLineBeforeAnyWork) {
               out("v.png") + "'"),
         "sphere.shprt: the file has no transfer probes");
     EXPECT_TRUE(out_dir_empty());
+}
+
+// End to end from a real baked file: builtin:box_on_plane with a 4×2×4 grid of probes (skipped
+// where `shprt bake` has no --probes yet: the bake half of issue 37).
+TEST_F(CliObject, ARealBakedFileLightsTheObject) {
+    if (shprt("bake --help").out.find("--probes") == std::string::npos)
+        GTEST_SKIP() << "this shprt bakes no probes (shprt bake --probes)";
+    const std::string file = (m_dir / "box.shprt").string();
+    const auto baked =
+        shprt("bake builtin:box_on_plane --bands 3 --samples 32 --probes 4,2,4 -o '" + file + "'");
+    ASSERT_EQ(baked.exit_code, 0) << baked.err;
+    m_file = file;
+    const auto r = shprt(render("--object builtin:sphere --at 1.2,0.5,1.2 --object-scale 0.3"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_NE(r.out.find("object: builtin:sphere (642 vertices, self-shadowing baked) at "
+                         "1.2,0.5,1.2 lit from 32 probes"),
+              std::string::npos)
+        << r.out;
+    // Outside the grid: the picture, and exactly one warning line.
+    const auto outside =
+        shprt(render("--object builtin:sphere --at 9,0.5,0 --object-scale 0.3", "outside.png"));
+    ASSERT_EQ(outside.exit_code, 0) << outside.err;
+    EXPECT_EQ(std::count(outside.err.begin(), outside.err.end(), '\n'), 1) << outside.err;
+    EXPECT_EQ(outside.err.rfind("shprt: warning: --at 9,0.5,0 is outside the probe grid (", 0), 0u)
+        << outside.err;
+    EXPECT_TRUE(fs::exists(out("outside.png")));
+    // An object file that does not load: one line naming it, no picture.
+    expect_one_line_error(shprt(render("--object /no/such/object.ply --at 0,0.5,0", "n.png")),
+                          "/no/such/object.ply");
+    EXPECT_FALSE(fs::exists(out("n.png")));
 }
 
 }  // namespace
