@@ -49,6 +49,12 @@ inline std::string without_leak_check() {
                : "";
 }
 
+// Whether `name` is a program on the PATH (xvfb-run, mpirun, ...).
+inline bool has_program(const char* name) {
+    const std::string cmd = std::string("command -v ") + name + " >/dev/null 2>&1";
+    return std::system(cmd.c_str()) == 0;
+}
+
 inline std::string slurp(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::ostringstream ss;

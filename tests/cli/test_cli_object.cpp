@@ -99,5 +99,33 @@ TEST_F(CliObject, ARealBakedFileLightsTheObject) {
     EXPECT_FALSE(fs::exists(out("n.png")));
 }
 
+// `shprt view --object`: the screenshot shows the object, and the window (under Xvfb, when
+// xvfb-run exists) runs its frames with the object shaded and uploaded.
+TEST_F(CliObject, TheViewerShowsTheObject) {
+    if (shprt("bake --help").out.find("--probes") == std::string::npos)
+        GTEST_SKIP() << "this shprt bakes no probes (shprt bake --probes)";
+    const std::string file = (m_dir / "box.shprt").string();
+    ASSERT_EQ(
+        shprt("bake builtin:box_on_plane --bands 3 --samples 32 --probes 4,2,4 -o '" + file + "'")
+            .exit_code,
+        0);
+    const std::string view = "view '" + file + "' --size 320x200 ";
+    const std::string object = " --object builtin:sphere --at 1.2,0.5,1.2 --object-scale 0.4";
+    const auto with = shprt(view + "--screenshot '" + out("with.png") + "'" + object);
+    ASSERT_EQ(with.exit_code, 0) << with.err;
+    EXPECT_NE(with.out.find("object: builtin:sphere (642 vertices"), std::string::npos) << with.out;
+    ASSERT_EQ(shprt(view + "--screenshot '" + out("without.png") + "'").exit_code, 0);
+    EXPECT_NE(test_support::slurp(out("with.png")), test_support::slurp(out("without.png")));
+    if (!test_support::has_program("xvfb-run"))
+        GTEST_SKIP() << "xvfb-run is missing: the window is not tested";
+    const auto window =
+        shprt(view + "--frames 3 --window-screenshot '" + out("window.png") + "'" + object,
+              {.prefix = test_support::without_leak_check() +
+                         " xvfb-run -a -s '-screen 0 1280x1024x24'"});
+    ASSERT_EQ(window.exit_code, 0) << window.err;
+    EXPECT_NE(window.out.find("view: 3 frames"), std::string::npos) << window.out;
+    EXPECT_TRUE(fs::exists(out("window.png")));
+}
+
 }  // namespace
 }  // namespace shprt

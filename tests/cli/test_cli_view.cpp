@@ -22,6 +22,7 @@ namespace fs = std::filesystem;
 namespace {
 
 using shprt::test_support::expect_one_line_error;
+using shprt::test_support::has_program;
 using shprt::test_support::RunOptions;
 using shprt::test_support::RunResult;
 using shprt::test_support::slurp;
@@ -72,11 +73,6 @@ Diff compare(const Png& a, const Png& b, int x0, int y0, int x1, int y1) {
             }
     d.mean = n ? sum / double(n) : 0;
     return d;
-}
-
-bool has_program(const char* name) {
-    const std::string cmd = std::string("command -v ") + name + " >/dev/null 2>&1";
-    return std::system(cmd.c_str()) == 0;
 }
 
 // Each test runs in its own directory (CliTest); the suite bakes one file for all of them.
