@@ -170,7 +170,7 @@ SourceFill plan_source_fill(const Mesh& mesh, const BounceSources& sources,
     // back copy's are the front's plus the offset.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
     for_each_cell(mesh, sources, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        for (const auto [x, y] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+        for (const auto& [x, y] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
             if (x == y) continue;
             pairs.emplace_back(x, y);
             pairs.emplace_back(y, x);

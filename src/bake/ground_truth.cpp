@@ -13,6 +13,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/parallel.hpp"
+#include "shprt/core/timer.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rng.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -33,8 +34,6 @@
 
 namespace shprt {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // Vertices per task: small enough to balance, large enough that scheduling is free.
 constexpr std::size_t kGrain = 64;

@@ -528,7 +528,6 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
     const auto start = Clock::now();
     check_interreflected_job(job);
     const Mesh& mesh = *job.occluders;
-    const int K = options.K;
     const int wanted = options.converge ? options.max_bounces : options.bounces;
 
     // T_0: the shadowed bake itself, with every direction (same stages, same bits).

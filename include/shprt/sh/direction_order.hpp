@@ -61,7 +61,7 @@ SHPRT_HD_INLINE std::uint32_t octahedral_hilbert_key(float x, float y, float z) 
         v = fv;
     }
     constexpr float kSide = float(std::uint32_t(1) << kHilbertOrder);
-    const auto cell = [kSide](float t) {
+    const auto cell = [](float t) {
         const float c = (t + 1.0f) * 0.5f * kSide;
         return static_cast<std::uint32_t>(c < 0.0f ? 0.0f : c > kSide - 1.0f ? kSide - 1.0f : c);
     };
