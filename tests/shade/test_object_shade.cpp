@@ -77,6 +77,28 @@ TEST(ObjectShade, WithoutSelfTransferAConstantSkyGivesPi) {
     for (const Vec3f& e : lit.irradiance) ASSERT_NEAR(e.x, kPi, 1e-4);
 }
 
+// The glossy term under a uniform white sky (radiance 1): the normalised lobe reflects ρ_s, so
+// L = k·ρ + (1 − k)·ρ_s at every vertex (a white furnace), whatever the eye and the lobe.
+TEST(ObjectShade, GlossyWhiteFurnaceReflectsTheSpecularColour) {
+    ObjectBakeOptions o;
+    o.K = kK;
+    o.self_shadow = false;
+    const DynamicObject object = make_dynamic_object(make_builtin("sphere"), o);
+    ShLight sky = ShLight::zero(kK);
+    for (int c = 0; c < 3; ++c) sky.channel(c)[0] = float(std::sqrt(4 * kPi));
+    ObjectShadeOptions options;
+    options.k = 0.3;
+    options.eye = {0.5f, 2, 3};
+    options.brdf = Brdf{BrdfModel::ggx, 0.4, {1, 0.5f, 0.25f}};
+    const ObjectShading lit = shade_object(object, {}, unit_grid(), sky, options);
+    for (std::size_t v = 0; v < lit.radiance.size(); ++v) {
+        const Vec3f rho = object.mesh.albedo[v];
+        ASSERT_NEAR(lit.radiance[v].x, 0.3 * rho.x + 0.7 * 1.0, 1e-5);
+        ASSERT_NEAR(lit.radiance[v].y, 0.3 * rho.y + 0.7 * 0.5, 1e-5);
+        ASSERT_NEAR(lit.radiance[v].z, 0.3 * rho.z + 0.7 * 0.25, 1e-5);
+    }
+}
+
 // The mesh turned by R about its pivot, as the pose places it (position = pivot).
 Mesh turned(const Mesh& mesh, Vec3f pivot, const Mat3d& R) {
     Mesh out = mesh;
