@@ -133,8 +133,10 @@ ViewSetup check_view(const ViewArgs& a) {
     SHPRT_CHECK(a.window_screenshot.empty() || (a.frames && has_png_extension(a.window_screenshot)),
                 invalid_argument, "--window-screenshot {}: needs --frames N and a .png name",
                 a.window_screenshot);
+    std::vector<std::string> inputs = input_files(a.input, a.light);
+    if (!a.object.object.empty()) inputs.push_back(a.object.object);
     for (const std::string& out : {a.screenshot, a.window_screenshot})
-        if (!out.empty()) check_output_is_not_input(out, input_files(a.input, a.light));
+        if (!out.empty()) check_output_is_not_input(out, inputs);
     if (!a.do_bake && !a.bake_only_given.empty())
         fail(ErrorCode::invalid_argument, "{} is a bake option: add --bake (FILE is then a scene)",
              a.bake_only_given.front());
