@@ -81,6 +81,19 @@ struct TexelIndexArray {
     }
 };
 
+// One array of the transfer probes (TransferSet::probes: its matrices, its validity).
+template <auto Member>
+struct ProbeArray {
+    static const void* data(const Mesh&, const TransferSet& t) { return (t.probes.*Member).data(); }
+    static std::uint64_t count(const Mesh&, const TransferSet& t) {
+        return (t.probes.*Member).size();
+    }
+    static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
+        (t.probes.*Member).resize(static_cast<std::size_t>(n));
+        return (t.probes.*Member).data();
+    }
+};
+
 template <class A>
 constexpr SectionRule rule(const char* name, SectionType type, SectionRows rows, std::uint64_t cols,
                            bool required) {
@@ -105,6 +118,11 @@ const std::array kRules = {
     // Texel domain (docs/texels.md): the mesh's UVs and each receiver's texel.
     rule<UvArray>("uvs", S::f32, R::vertices, 2, kOptional),
     rule<TexelIndexArray>("texel_index", S::u32, R::receivers, 1, kOptional),
+    // Transfer probes (docs/probes.md): per probe, channels K×K matrices (row-major, [out][in]),
+    // and its validity (1, or 0 inside geometry). Metadata "probes" describes the grid.
+    rule<ProbeArray<&ProbeGrid::matrices>>("probe_matrices", S::f32, R::probes,
+                                           SectionRule::kProbeFloats, kOptional),
+    rule<ProbeArray<&ProbeGrid::valid>>("probe_valid", S::u8, R::probes, 1, kOptional),
     // Interreflected transfer's direct part, one channel per receiver: before "transfer", which
     // stays last (a streamed bake writes it in place).
     rule<DirectArray>("transfer_direct", S::transfer, R::receivers, SectionRule::kPerChannel,
@@ -127,6 +145,8 @@ std::string SectionRule::dtype(const TransferLayout& layout) const {
             return "float32";
         case SectionType::u32:
             return "uint32";
+        case SectionType::u8:
+            return "uint8";
         case SectionType::transfer:
             break;
     }
@@ -134,6 +154,7 @@ std::string SectionRule::dtype(const TransferLayout& layout) const {
 }
 
 std::uint64_t SectionRule::element_size(const TransferLayout& layout) const {
+    if (type == SectionType::u8) return 1;
     return type == SectionType::transfer && layout.encoding == TransferEncoding::f16 ? 2 : 4;
 }
 
@@ -147,6 +168,8 @@ std::uint64_t SectionRule::row_count(const SectionCounts& counts) const {
             return counts.clusters;
         case SectionRows::basis_rows:
             return counts.clusters * counts.vectors;
+        case SectionRows::probes:
+            return counts.probes;
         case SectionRows::receivers:
             break;
     }
