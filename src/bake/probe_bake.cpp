@@ -133,10 +133,11 @@ ProbeGrid probe_grid_layout(const ProbeSpec& spec, const Mesh& mesh, bool interr
         const std::size_t i = std::size_t(a);
         const float extent = hi[a] - lo[a];
         const int n = automatic ? count_along(a, spacing) : spec.counts[i];
-        // Counts without a spacing: the centres of n cells that fill the box.
-        const float s = !automatic && spec.spacing == 0
-                            ? (extent > 0 ? extent / float(n) : kDefaultProbeSpacing)
-                            : spacing;
+        // Counts with a spacing: that grid, centred on the box. Otherwise the centres of n equal
+        // cells that fill the box (automatic: n = ⌈extent / spacing⌉, so cells of at most the
+        // spacing) — never on the box's own faces, which are a scene's outer surfaces.
+        const bool centred = !automatic && spec.spacing > 0;
+        const float s = centred ? spacing : (extent > 0 ? extent / float(n) : spacing);
         grid.counts[i] = n;
         grid.spacing[a] = s;
         grid.origin[a] = 0.5f * (lo[a] + hi[a]) - 0.5f * float(n - 1) * s;
@@ -168,6 +169,10 @@ std::uint64_t bake_probe_grid(ProbeGrid& grid, const Mesh& occluders, const Bake
 
     detail::BakeProgress progress(options.progress, tracer != nullptr, P, S);
     progress.set_stage("probes");
+    // The stage's first report, so that a display times it from its start.
+    if (options.progress &&
+        !options.progress(ProgressInfo{"probes", 0, P * S, tracer ? "rays" : "samples"}))
+        fail(ErrorCode::cancelled, "bake cancelled before its probes");
     tbb::enumerable_thread_specific<Scratch> scratch;
     constexpr float kInf = std::numeric_limits<float>::infinity();
     const std::size_t chunks = (P + kProbeChunk - 1) / kProbeChunk;

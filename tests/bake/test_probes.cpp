@@ -206,7 +206,7 @@ TEST(BakeProbes, ShadowedProbesAgreeWithBruteForce) {
 }
 
 TEST(BakeProbes, InterreflectedProbesAgreeWithBruteForce) {
-    constexpr int kS = 2048, kRays = 6000;
+    constexpr int kS = 2048, kRays = 4000;
     const BakeResult result = bake_room_probes(room(), TransferKind::interreflected, kS);
     const ProbeGrid& g = result.transfer.probes;
     ASSERT_EQ(g.count(), 8u);
@@ -217,7 +217,7 @@ TEST(BakeProbes, InterreflectedProbesAgreeWithBruteForce) {
     for (std::size_t probe = 0; probe < g.count(); ++probe) {
         ASSERT_EQ(g.valid[probe], 1) << probe;
         const Vec3f p = g.position(int(probe % 2), int(probe / 2 % 2), int(probe / 4));
-        const Estimate want = brute_force(room(), *tracer, p, L, kRays, true, 32, probe);
+        const Estimate want = brute_force(room(), *tracer, p, L, kRays, true, 24, probe);
         const Estimate direct = brute_force(room(), *tracer, p, L, kRays, false, 0, probe + 100);
         const double units = noise_units(probe_radiance(g, probe, L), want, kRays, kS);
         worst = std::max(worst, units);

@@ -43,8 +43,8 @@ struct DirectionSet;
 struct Mesh;
 class Tracer;
 
-// The spacing `--probes auto` takes: half a metre between probes (the room's 8 × 3 × 8 m: 16 ×
-// 6 × 16 probes), grown until the grid holds at most kMaxAutoProbes.
+// The spacing `--probes auto` takes: probes at most half a metre apart (builtin:room's bounds,
+// 6.4 × 3 × 5.4 m: 13 × 6 × 11 probes), grown until the grid holds at most kMaxAutoProbes.
 inline constexpr float kDefaultProbeSpacing = 0.5f;
 inline constexpr std::size_t kMaxAutoProbes = std::size_t(1) << 15;
 // Most bands (K = bands²) of a probe's matrices (kMaxProbeSide and kMaxProbes bound the grid:
@@ -74,9 +74,10 @@ std::optional<ProbeSpec> parse_probes(const std::string& probes, const std::stri
                                       std::optional<long long> bands);
 
 // The grid `spec` lays over `mesh` (its bounds, or the spec's box): counts, spacing and origin,
-// K = bands², channels (3 for interreflected transfer, else 1); no matrices yet. With counts and
-// no spacing the probes sit at the centres of counts cells that fill the box; otherwise the grid
-// of the spacing is centred on the box (auto: as many probes as cover it, at least one per axis).
+// K = bands², channels (3 for interreflected transfer, else 1); no matrices yet. Counts with a
+// spacing: that grid, centred on the box. Otherwise the probes sit at the centres of n equal cells
+// that fill the box, never on its faces (automatic: n = ⌈extent / spacing⌉ per axis, at least 1,
+// so the cells are at most the spacing — kDefaultProbeSpacing unless given).
 // Throws Error(invalid_argument) for more than kMaxProbes probes.
 ProbeGrid probe_grid_layout(const ProbeSpec& spec, const Mesh& mesh, bool interreflected);
 
