@@ -334,6 +334,8 @@ SHPRT_PY_NAME(BouncesName, "Union[int, str]");
 SHPRT_PY_NAME(SpacingName, "Union[float, str, None]");
 SHPRT_PY_NAME(ProgressName, "Optional[Callable[[int, int], Optional[bool]]]");
 SHPRT_PY_NAME(SizeName, "Union[int, str, Tuple[int, int], None]");
+SHPRT_PY_NAME(ProbesName, "Union[str, Tuple[int, int, int], None]");
+SHPRT_PY_NAME(ProbeBoxName, "Union[str, Tuple[float, float, float, float, float, float], None]");
 SHPRT_PY_NAME(PathName, "Union[str, os.PathLike[str], None]");
 #undef SHPRT_PY_NAME
 using Path = Loose<PathName>;
@@ -351,8 +353,8 @@ void bind_bake(py::module_& m) {
            const std::string& device, Loose<ProgressName> progress, const std::string& domain,
            Size resolution, int uv_set, bool unwrap, std::optional<double> texel_density,
            std::optional<double> refine, std::optional<long long> max_vertices,
-           std::optional<long long> max_edge_split_depth, Size shard, const py::object& probes,
-           const py::object& probe_box, std::optional<long long> probe_bands, const Path& output,
+           std::optional<long long> max_edge_split_depth, Size shard, Loose<ProbesName> probes,
+           Loose<ProbeBoxName> probe_box, std::optional<long long> probe_bands, const Path& output,
            bool half, bool float32, bool stream, bool reproducible, const Path& checkpoint,
            const Path& resume, double checkpoint_every, Size max_memory) {
             const Receivers rx{domain,
@@ -364,8 +366,8 @@ void bind_bake(py::module_& m) {
                                max_edge_split_depth,
                                unwrap,
                                texel_density,
-                               probes,
-                               probe_box,
+                               std::move(probes.value),
+                               std::move(probe_box.value),
                                probe_bands};
             const Output out{path_of(output.value),
                              path_of(checkpoint.value),
