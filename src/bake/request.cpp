@@ -86,10 +86,13 @@ ProbeGrid request_probes(const BakeRequest& r, const Mesh& mesh) {
     return probe_grid_layout(*r.probes, mesh, r.options.transfer == TransferKind::interreflected);
 }
 
-// What the probes add to a bake's peak: their matrices, and each worker's buffers (a chunk's
-// W and packed matrices, one probe's hits and bounced light).
-std::uint64_t probe_bytes(const ProbeGrid& probes, const BakeOptions& options) {
+// What the probes add to a bake's peak: their matrices, each worker's buffers (a chunk's W and
+// packed matrices, one probe's hits and bounced light) and, interreflected, the bounce sources'
+// light they read (3K floats a source).
+std::uint64_t probe_bytes(const ProbeGrid& probes, const Mesh& mesh, const BakeOptions& options) {
     if (probes.empty()) return 0;
+    const std::uint64_t light = std::uint64_t(bake_bounce_source_count(mesh, options)) * 3 *
+                                std::uint64_t(options.K) * sizeof(float);
     const std::uint64_t KK = std::uint64_t(probes.K) * std::uint64_t(probes.K);
     const std::uint64_t S = options.samples;
     const std::uint64_t per_worker =
@@ -97,7 +100,7 @@ std::uint64_t probe_bytes(const ProbeGrid& probes, const BakeOptions& options) {
             sizeof(float) +
         S * sizeof(Hit);
     return probes.count() * (std::uint64_t(probes.channels) * KK * sizeof(float) + 1) +
-           std::uint64_t(thread_count(options.threads)) * per_worker;
+           std::uint64_t(thread_count(options.threads)) * per_worker + light;
 }
 
 BakeResult run_texels(const BakeRequest& r, const Mesh& input, const TexelGrid& grid) {
@@ -121,7 +124,7 @@ BakeResult run_texels(const BakeRequest& r, const Mesh& input, const TexelGrid& 
         texel_bake_bytes(texels.count(), width, height, bake_description(options).layout,
                          options.samples, options.threads) +
         estimate_bake_peak_bytes(mesh.triangle_count(), 0, options, false) +
-        probe_bytes(probes, options);
+        probe_bytes(probes, mesh, options);
     check_memory(r, out.estimated_bytes,
                  fmt::format("{}x{} texels ({} covered), K={}, the BVH and per-thread buffers",
                              width, height, texels.count(), options.K)
@@ -246,7 +249,7 @@ BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
     out.estimated_bytes =
         estimate_bake_peak_bytes(mesh.triangle_count(), receivers.count, options, !streamed(r),
                                  bake_bounce_source_count(mesh, options)) +
-        probe_bytes(probes, options);
+        probe_bytes(probes, mesh, options);
     // An interreflected bake counts its operator against the limit and spills the rest beside
     // the output.
     options.memory_budget =

@@ -200,6 +200,14 @@ TEST_F(CliBake, ProbesGoIntoTheFileAndInfoAndCompressKeepThem) {
     const std::string small = out("small.shprt");
     ASSERT_EQ(shprt("compress '" + file + "' -o '" + small + "' --cpca 2,4").exit_code, 0);
     EXPECT_TRUE(shprt::read_shprt(small).transfer.probes == f.transfer.probes);
+    // Beside texels too.
+    const std::string texels = out("texels.shprt");
+    ASSERT_EQ(shprt("bake builtin:quad_box --domain texel --resolution 8 --samples 16 --probes "
+                    "2,2,2 -o '" +
+                    texels + "'")
+                  .exit_code,
+              0);
+    EXPECT_EQ(shprt::read_shprt(texels).transfer.probes.count(), 8u);
 }
 
 TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
