@@ -45,18 +45,23 @@ struct DirectArray {
     }
 };
 
-// One array of the CPCA code (TransferSet::cpca).
-template <auto Member>
-struct CpcaArray {
-    static const void* data(const Mesh&, const TransferSet& t) { return (t.cpca.*Member).data(); }
+// One std::vector member of a part of the transfer: the CPCA code's arrays (TransferSet::cpca),
+// the probes' (TransferSet::probes).
+template <auto Part, auto Member>
+struct PartArray {
+    static const void* data(const Mesh&, const TransferSet& t) { return (t.*Part.*Member).data(); }
     static std::uint64_t count(const Mesh&, const TransferSet& t) {
-        return (t.cpca.*Member).size();
+        return (t.*Part.*Member).size();
     }
     static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
-        (t.cpca.*Member).resize(static_cast<std::size_t>(n));
-        return (t.cpca.*Member).data();
+        (t.*Part.*Member).resize(static_cast<std::size_t>(n));
+        return (t.*Part.*Member).data();
     }
 };
+template <auto Member>
+using CpcaArray = PartArray<&TransferSet::cpca, Member>;
+template <auto Member>
+using ProbeArray = PartArray<&TransferSet::probes, Member>;
 
 // The mesh's UVs, stored with texel-domain transfer only (the texels were rasterised in them).
 struct UvArray {
@@ -78,19 +83,6 @@ struct TexelIndexArray {
     static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
         t.texels.texel.resize(static_cast<std::size_t>(n));
         return t.texels.texel.data();
-    }
-};
-
-// One array of the transfer probes (TransferSet::probes: its matrices, its validity).
-template <auto Member>
-struct ProbeArray {
-    static const void* data(const Mesh&, const TransferSet& t) { return (t.probes.*Member).data(); }
-    static std::uint64_t count(const Mesh&, const TransferSet& t) {
-        return (t.probes.*Member).size();
-    }
-    static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
-        (t.probes.*Member).resize(static_cast<std::size_t>(n));
-        return (t.probes.*Member).data();
     }
 };
 

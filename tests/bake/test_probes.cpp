@@ -332,6 +332,18 @@ TEST(BakeProbes, RequestsThatCannotCarryProbesAreRefused) {
     EXPECT_NE(request_refusal(r)->find("--stream"), std::string::npos);
     r.output->stream = false;
     EXPECT_FALSE(request_refusal(r));
+    // Interreflected probes read the bounce light in their K: the bake needs as many.
+    r.options.transfer = TransferKind::interreflected;
+    r.options.K = 4;
+    try {
+        check(r);
+        ADD_FAILURE() << "3-band interreflected probes of a K = 4 bake were accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("give --bands 3 or more"), std::string::npos)
+            << e.what();
+    }
+    r.options.K = 9;
+    EXPECT_NO_THROW(check(r));
 }
 
 }  // namespace
