@@ -5,6 +5,7 @@
 
 #include "gl_util.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/math.hpp"
 #include "shprt/shade/glossy.hpp"
 
 #include <epoxy/gl.h>
