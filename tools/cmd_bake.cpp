@@ -87,6 +87,8 @@ BakeRequest request_from(const BakeArgs& args) {
     BakeRequest r;
     r.options = bake_options_from(args.bake);
     r.receivers = parse_receivers(args.receivers.choice);
+    const ReceiverChoice& c = args.receivers.choice;
+    r.probes = parse_probes(c.probes, c.probe_box, c.probe_bands);
     SHPRT_CHECK(!args.receivers.float32 || std::holds_alternative<TexelGrid>(r.receivers),
                 invalid_argument, "--float32 needs --domain texel");
     FileOutput file;
@@ -174,6 +176,8 @@ void print_refinement(const RefineResult& r, const RefineOptions& refine,
 void print_summary(const BakeArgs& args, const BakeRequest& request, const Mesh& mesh,
                    const BakeResult& r, double seconds_load) {
     const TransferInfo& transfer = r.info;
+    if (!r.transfer.probes.empty())
+        std::printf("probes: %s\n", describe_probes(r.transfer.probes).c_str());
     if (const auto* grid = std::get_if<TexelGrid>(&request.receivers)) {
         if (r.unwrap) std::printf("unwrap: %s\n", describe(*r.unwrap).c_str());
         const int width = r.unwrap ? r.unwrap->resolution : grid->width;

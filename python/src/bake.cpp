@@ -107,6 +107,8 @@ struct Receivers {
     std::optional<long long> max_vertices, max_edge_split_depth;
     bool unwrap = false;
     std::optional<double> texel_density;
+    py::object probes, probe_box;
+    std::optional<long long> probe_bands;
 };
 // The output keywords: a .shprt file (with its encoding, streaming, reproducibility), the
 // checkpoint, the memory limit.
@@ -136,6 +138,24 @@ std::string spelled(const py::object& value, const char* separator, const char* 
          py::str(py::type::of(value).attr("__name__")).cast<std::string>());
 }
 
+// "auto", "16,8,16:0.5", (16, 8, 16) or a box's six numbers as the command line's text (None:
+// empty); a tuple of `count` numbers.
+std::string spelled_probes(const py::object& value, const char* name, std::size_t count) {
+    if (value.is_none()) return {};
+    if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+    if ((py::isinstance<py::tuple>(value) || py::isinstance<py::list>(value)) &&
+        py::len(value) == count) {
+        std::string text;
+        for (const py::handle item : value) {
+            if (!text.empty()) text += ',';
+            text += py::str(item).cast<std::string>();
+        }
+        return text;
+    }
+    fail(ErrorCode::invalid_argument, "{}: expected a str or {} numbers, got {}", name, count,
+         py::str(py::repr(value)).cast<std::string>());
+}
+
 void fill_request(const Receivers& rx, const Output& out, BakeRequest& request) {
     ReceiverChoice choice;
     choice.domain = rx.domain;
@@ -148,6 +168,8 @@ void fill_request(const Receivers& rx, const Output& out, BakeRequest& request) 
     choice.unwrap = rx.unwrap;
     choice.texel_density = rx.texel_density;
     request.receivers = parse_receivers(choice);
+    request.probes = parse_probes(spelled_probes(rx.probes, "probes", 3),
+                                  spelled_probes(rx.probe_box, "probe_box", 6), rx.probe_bands);
     const bool texels = std::holds_alternative<TexelGrid>(request.receivers);
     SHPRT_CHECK(!out.float32 || texels, invalid_argument, "float32=True needs domain='texel'");
     SHPRT_CHECK(
@@ -155,6 +177,9 @@ void fill_request(const Receivers& rx, const Output& out, BakeRequest& request) 
         invalid_argument,
         "a texel or refined bake writes a .shprt file (its atlas or its new mesh go "
         "with the rows): give output=, then read it with shprt.load");
+    SHPRT_CHECK(out.path || !request.probes, invalid_argument,
+                "probes: the probes are written into the .shprt file beside the rows: give "
+                "output=, then read it with shprt.load");
     SHPRT_CHECK(out.path || (!out.half && !out.stream && !out.reproducible), invalid_argument,
                 "half, stream and reproducible describe the file: give output=");
     if (out.path) {
@@ -207,6 +232,19 @@ py::dict summary(const BakeResult& r, const BakeRequest& request) {
         d["unwrap"] = u;
     }
     if (r.refined_mesh) d["vertices"] = r.refined_mesh->vertex_count();
+    if (const ProbeGrid& g = r.transfer.probes; !g.empty()) {  // bake/probe_bake.hpp
+        py::dict p;
+        std::size_t valid = 0;
+        for (std::uint8_t v : g.valid) valid += v;
+        p["counts"] = py::make_tuple(g.counts[0], g.counts[1], g.counts[2]);
+        p["origin"] = py::make_tuple(g.origin.x, g.origin.y, g.origin.z);
+        p["spacing"] = py::make_tuple(g.spacing.x, g.spacing.y, g.spacing.z);
+        p["K"] = g.K;
+        p["channels"] = g.channels;
+        p["valid"] = valid;
+        p["summary"] = describe_probes(g);
+        d["probes"] = p;
+    }
     return d;
 }
 
@@ -296,6 +334,8 @@ SHPRT_PY_NAME(BouncesName, "Union[int, str]");
 SHPRT_PY_NAME(SpacingName, "Union[float, str, None]");
 SHPRT_PY_NAME(ProgressName, "Optional[Callable[[int, int], Optional[bool]]]");
 SHPRT_PY_NAME(SizeName, "Union[int, str, Tuple[int, int], None]");
+SHPRT_PY_NAME(ProbesName, "Union[str, Tuple[int, int, int], None]");
+SHPRT_PY_NAME(ProbeBoxName, "Union[str, Tuple[float, float, float, float, float, float], None]");
 SHPRT_PY_NAME(PathName, "Union[str, os.PathLike[str], None]");
 #undef SHPRT_PY_NAME
 using Path = Loose<PathName>;
@@ -313,9 +353,10 @@ void bind_bake(py::module_& m) {
            const std::string& device, Loose<ProgressName> progress, const std::string& domain,
            Size resolution, int uv_set, bool unwrap, std::optional<double> texel_density,
            std::optional<double> refine, std::optional<long long> max_vertices,
-           std::optional<long long> max_edge_split_depth, Size shard, const Path& output, bool half,
-           bool float32, bool stream, bool reproducible, const Path& checkpoint, const Path& resume,
-           double checkpoint_every, Size max_memory) {
+           std::optional<long long> max_edge_split_depth, Size shard, Loose<ProbesName> probes,
+           Loose<ProbeBoxName> probe_box, std::optional<long long> probe_bands, const Path& output,
+           bool half, bool float32, bool stream, bool reproducible, const Path& checkpoint,
+           const Path& resume, double checkpoint_every, Size max_memory) {
             const Receivers rx{domain,
                                std::move(resolution.value),
                                std::move(shard.value),
@@ -324,7 +365,10 @@ void bind_bake(py::module_& m) {
                                max_vertices,
                                max_edge_split_depth,
                                unwrap,
-                               texel_density};
+                               texel_density,
+                               std::move(probes.value),
+                               std::move(probe_box.value),
+                               probe_bands};
             const Output out{path_of(output.value),
                              path_of(checkpoint.value),
                              path_of(resume.value),
@@ -347,9 +391,11 @@ void bind_bake(py::module_& m) {
         "progress"_a = py::none(), "domain"_a = "vertex", "resolution"_a = py::none(),
         "uv_set"_a = 0, "unwrap"_a = false, "texel_density"_a = py::none(), "refine"_a = py::none(),
         "max_vertices"_a = py::none(), "max_edge_split_depth"_a = py::none(),
-        "shard"_a = py::none(), "output"_a = py::none(), "half"_a = false, "float32"_a = false,
-        "stream"_a = false, "reproducible"_a = false, "checkpoint"_a = py::none(),
-        "resume"_a = py::none(), "checkpoint_every"_a = 30.0, "max_memory"_a = py::none(),
+        "shard"_a = py::none(), "probes"_a = py::none(), "probe_box"_a = py::none(),
+        "probe_bands"_a = py::none(), "output"_a = py::none(), "half"_a = false,
+        "float32"_a = false, "stream"_a = false, "reproducible"_a = false,
+        "checkpoint"_a = py::none(), "resume"_a = py::none(), "checkpoint_every"_a = 30.0,
+        "max_memory"_a = py::none(),
         R"(Bakes per-vertex SH transfer (bake/bake.hpp) and returns it as a float32 array of
 shape (V, K) — (V, 3, K) for RGB transfer — with K = bands² or coeffs (default 16; 25 for glossy).
 
@@ -370,7 +416,10 @@ receivers — shard 'I/N' or (I, N) (that part of the vertices: the array holds 
 domain 'texel' with resolution W, (W, H) or 'WxH' and uv_set, or unwrap=True (a new conformal
 atlas, the file keeps the unwrapped mesh; the dict's 'unwrap' describes it) with resolution W or
 texel_density (texels per metre); refine (a tolerance) with
-max_vertices and max_edge_split_depth. Output — output= a .shprt path writes the file (needed for
+max_vertices and max_edge_split_depth; probes 'auto', 'auto:S', 'NX,NY,NZ[:S]' or (NX, NY, NZ)
+with probe_box (X0, Y0, Z0, X1, Y1, Z1) and probe_bands (default 3): transfer probes written into
+the file beside the rows (needs output=; the dict's 'probes' describes them; docs/probes.md).
+Output — output= a .shprt path writes the file (needed for
 texels and refinement) and returns a dict (path, receivers, K, samples, encoding, seconds, ...)
 in place of the array; with half, float32 (texels), stream (rows into the file as they finish)
 and reproducible. checkpoint= a path keeps finished rows so that a cancelled bake continues with

@@ -150,3 +150,21 @@ def test_unwrap_bakes_a_mesh_without_uvs(tmp_path):
     f = shprt.load(str(out))
     assert f.mesh.vertex_count == mesh.vertex_count + unwrap["added_vertices"]
     assert result["covered_texels"] > 0
+
+
+def test_probes_go_into_the_file_as_the_command_line_bakes_them(box, tmp_path, cli):
+    # The same grid spelled as a tuple and as the command line's text: the same bytes.
+    out = tmp_path / "p.shprt"
+    done = shprt.bake(box, bands=2, samples=64, probes=(3, 2, 3), probe_box=(-1, 0, -1, 1, 1, 1),
+                      probe_bands=2, output=out, reproducible=True)
+    assert done["probes"]["counts"] == (3, 2, 3)
+    assert done["probes"]["K"] == 4 and done["probes"]["channels"] == 1
+    assert 0 < done["probes"]["valid"] <= 18
+    cli("bake", "builtin:box_on_plane", "--bands", "2", "--samples", "64", "--probes", "3,2,3",
+        "--probe-box", "-1,0,-1,1,1,1", "--probe-bands", "2", "--reproducible", "-o",
+        tmp_path / "c.shprt")
+    assert out.read_bytes() == (tmp_path / "c.shprt").read_bytes()
+    with pytest.raises(shprt.Error, match="probes: the probes are written into the .shprt file"):
+        shprt.bake(box, bands=2, samples=64, probes="auto")
+    with pytest.raises(shprt.Error, match="probes: expected a str or 3 numbers"):
+        shprt.bake(box, bands=2, samples=64, probes=(3, 2), output=out)

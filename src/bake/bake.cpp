@@ -84,13 +84,22 @@ TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device bac
     if (backend == Device::cuda) {
         SHPRT_CHECK(job.tracer == nullptr, unsupported,
                     "a caller-built tracer runs on the CPU only (device 'cuda' was asked for)");
+        SHPRT_CHECK(!(interreflected && job.probes), unsupported,
+                    "--probes with interreflected transfer: the probes read the CPU bake's "
+                    "bounce sources; bake on the CPU (--device cpu)");
         if (interreflected) return detail::bake_interreflected_gpu(job, options, directions);
-        return detail::bake_gpu(job, options, directions);
+        TransferInfo info = detail::bake_gpu(job, options, directions);
+        detail::bake_job_probes(job, options, directions, nullptr, nullptr, info);
+        return info;
     }
+    // The interreflected bake bakes its probes itself (they need its bounce sources' light).
     if (interreflected && job.tracer)
         return detail::bake_interreflected(job, options, directions, job.tracer, 0.0);
-    if (job.tracer || options.transfer == TransferKind::unshadowed)  // unshadowed: no rays
-        return detail::bake_cpu(job, options, directions, job.tracer, 0.0);
+    if (job.tracer || options.transfer == TransferKind::unshadowed) {  // unshadowed: no rays
+        TransferInfo info = detail::bake_cpu(job, options, directions, job.tracer, 0.0);
+        detail::bake_job_probes(job, options, directions, job.tracer, nullptr, info);
+        return info;
+    }
     // Embree builds with TBB tasks in the caller's arena: limit it to the bake's threads.
     std::unique_ptr<Tracer> tracer;
     const auto start = Clock::now();
@@ -98,7 +107,10 @@ TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device bac
     if (interreflected)
         return detail::bake_interreflected(job, options, directions, tracer.get(),
                                            seconds_since(start));
-    return detail::bake_cpu(job, options, directions, tracer.get(), seconds_since(start));
+    TransferInfo info =
+        detail::bake_cpu(job, options, directions, tracer.get(), seconds_since(start));
+    detail::bake_job_probes(job, options, directions, tracer.get(), nullptr, info);
+    return info;
 }
 
 // A bake into host memory: the convenience entry points' body.

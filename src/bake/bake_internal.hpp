@@ -4,6 +4,7 @@
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/bounce_sources.hpp"
 #include "shprt/bake/interreflect.hpp"
+#include "shprt/bake/probe_bake.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -93,6 +94,14 @@ using BounceProduct = std::function<void(const BounceRows& rows, BakeProgress& p
 void apply_transport_rows(const TransportOperator& A, const BounceRows& rows, int threads,
                           TransportKernel kernel, BakeProgress* progress);
 void check_interreflected_job(const BakeJob& job);
+// The probes of `job` (BakeJob::probes; nothing when null) baked with the bake's direction set (a
+// local bake: the sphere set of its sampler and seed) and `tracer` (null: built here for
+// shadowed kinds), after its receivers; `info`'s stats gain their rays and seconds.
+void bake_job_probes(const BakeJob& job, const BakeOptions& options, const DirectionSet& directions,
+                     const Tracer* tracer, const ProbeBounce* bounce, TransferInfo& info);
+// Whether a ray along `dir` that hit triangle `t` met its back (one-sided: counter-clockwise is
+// the front), as transport_hit_entries decides; the bounce sources' and the probes' validity.
+bool meets_back_face(const Mesh& mesh, std::uint32_t t, Vec3f dir);
 // What the operator's pass learnt of the bounce sources: which are valid (source_is_valid), the
 // directions each traced, and how many receivers saw a back face.
 struct BounceSourceRays {
@@ -103,12 +112,15 @@ struct BounceSourceRays {
 };
 // The bounces over the sources (A: N × N, `bounce` over N × 3K floats), from T_0 (the receivers',
 // V × K) and T0_sources (N × K; its first V rows are replaced by T0's); with no bounces wanted A
-// and the sources are empty.
+// and the sources are empty. With `source_light`, it gets each source's light as the probes read
+// it (ProbeBounce::light: N rows of 3 × K, T_0 + … + T_{N−1} after the fill of invalid sources;
+// empty with no bounces).
 TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& options,
                                    TransferInfo info, std::vector<float> T0,
                                    std::vector<float> T0_sources, const BounceSourceRays& rays,
                                    const TransportOperator& A, const BounceProduct& bounce,
-                                   std::uint64_t other_bytes, double seconds_so_far);
+                                   std::uint64_t other_bytes, double seconds_so_far,
+                                   std::vector<float>* source_light = nullptr);
 // The operator of an interreflected bake over its bounce sources, traced on the CPU from the
 // indirect directions (indirect_direction_set): A, each source's T_0 from the same rays (the
 // receivers' rows are replaced by the full bake's in finish_interreflected), what the rays met;

@@ -39,6 +39,13 @@
 namespace shprt {
 namespace detail {
 
+bool meets_back_face(const Mesh& mesh, std::uint32_t t, Vec3f dir) {
+    const auto& tri = mesh.triangles[t];
+    const Vec3f p0 = mesh.positions[tri[0]];
+    const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
+    return dot(face, dir) >= 0.0f;
+}
+
 // Merges rows of A; one per worker (it keeps a dense accumulator over the vertices: 25 bytes
 // each).
 class TransportRowBuilder {
@@ -129,15 +136,6 @@ std::vector<Vec3f> cosine_gather_directions(const detail::DirectionTable& table)
         out[s] = Vec3f{d.x * r, d.y * r, std::sqrt(0.5f * up)};
     }
     return out;
-}
-
-// Whether a ray along `dir` that hit triangle `t` met its back (one-sided: counter-clockwise is
-// the front), as transport_hit_entries decides.
-bool meets_back_face(const Mesh& mesh, std::uint32_t t, Vec3f dir) {
-    const auto& tri = mesh.triangles[t];
-    const Vec3f p0 = mesh.positions[tri[0]];
-    const Vec3f face = cross(mesh.positions[tri[1]] - p0, mesh.positions[tri[2]] - p0);
-    return dot(face, dir) >= 0.0f;
 }
 
 // What one point's rays met, for its validity (source_is_valid).
@@ -236,7 +234,7 @@ TransportOperator trace_transport(const Mesh& mesh, const RowPoints& points,
             const Hit& h = sc.hits[r];
             sc.sample_hits[r] = SampleHit{h.hit ? h.triangle : kNoTriangle, h.u, h.v};
             if (!gather) weight[sc.ray_index[r]] *= kKeep[h.hit ? 1 : 0];
-            if (counts && h.hit && meets_back_face(mesh, h.triangle, sc.ray_dirs[r])) {
+            if (counts && h.hit && detail::meets_back_face(mesh, h.triangle, sc.ray_dirs[r])) {
                 ++met.back;
                 met.near_back += h.t < points.reach[v] ? 1u : 0u;
             }
@@ -537,26 +535,37 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
     direct_job.sink = &direct_sink;
     TransferInfo info = bake_cpu(direct_job, direct_options, directions, tracer, seconds_bvh);
     std::vector<float> T0 = direct_sink.take_rows();
-    if (wanted == 0)
-        return finish_interreflected(job, options, std::move(info), std::move(T0), {},
+    if (wanted == 0) {
+        info = finish_interreflected(job, options, std::move(info), std::move(T0), {},
                                      BounceSourceRays{}, TransportOperator{}, {}, 0,
                                      seconds_since(start) + seconds_bvh);
+        bake_job_probes(job, options, directions, tracer, nullptr, info);
+        return info;
+    }
 
     SourceOperator op = trace_source_operator(mesh, options, directions, *tracer, info.stats);
     const TransportOperator& A = op.A;
-    return finish_interreflected(
+    std::vector<float> light;  // the probes' light at the sources
+    info = finish_interreflected(
         job, options, std::move(info), std::move(T0), std::move(op.T0_sources), op.rays, A,
         [&](const BounceRows& rows, BakeProgress& progress) {
             apply_transport_rows(A, rows, options.threads, TransportKernel::automatic, &progress);
         },
-        op.pass_bytes + (tracer ? tracer->memory_bytes() : 0), seconds_bvh + seconds_since(start));
+        op.pass_bytes + (tracer ? tracer->memory_bytes() : 0), seconds_bvh + seconds_since(start),
+        job.probes ? &light : nullptr);
+    if (job.probes) {
+        const ProbeBounce bounce{op.sources->view(mesh), light.data(), K, options.two_sided};
+        bake_job_probes(job, options, directions, tracer, &bounce, info);
+    }
+    return info;
 }
 
 TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& options,
                                    TransferInfo info, std::vector<float> T0,
                                    std::vector<float> T0_sources, const BounceSourceRays& rays,
                                    const TransportOperator& A, const BounceProduct& bounce,
-                                   std::uint64_t other_bytes, double seconds_so_far) {
+                                   std::uint64_t other_bytes, double seconds_so_far,
+                                   std::vector<float>* source_light) {
     const auto start = Clock::now();
     const Mesh& mesh = *job.occluders;
     const std::size_t V = mesh.vertex_count();
@@ -611,6 +620,22 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
         // One bar over the bounces' rows (with --bounces converged the total is unknown).
         BakeProgress progress(options.progress, "bounces", "rows",
                               options.converge ? 0 : std::uint64_t(wanted - 1) * N + wide_rows);
+        // The probes' light at the sources: each bounce's input, filled, summed in K columns.
+        if (source_light) {
+            source_light->assign(N * row, 0.0f);
+            buffers_bytes += source_light->size() * sizeof(float);
+        }
+        const auto add_light = [&](const float* in, int in_channels, int in_K) {
+            if (!source_light) return;
+            for (std::size_t q = 0; q < N; ++q)
+                for (int c = 0; c < 3; ++c) {
+                    const float* from = in + (q * std::size_t(in_channels) +
+                                              std::size_t(in_channels == 1 ? 0 : c)) *
+                                                 std::size_t(in_K);
+                    float* to = source_light->data() + q * row + std::size_t(c) * K;
+                    for (int k = 0; k < in_K; ++k) to[k] += from[k];
+                }
+        };
         for (int b = 1; b <= wanted; ++b) {
             // Invalid sources (inside or under geometry) send their valid neighbours' light.
             // The last of a fixed number of bounces is needed at the receivers alone (the final
@@ -618,6 +643,7 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
             const bool last = !options.converge && b == wanted;
             if (b == 1) {
                 fill.apply(first.data(), std::size_t(K), options.threads);
+                add_light(first.data(), 1, K);
                 bounce(BounceRows{first.data(), 1, K, 0, wide_rows, wide.data(), K, K}, progress);
                 if (!last)
                     bounce(BounceRows{first.data(), 1, K, wide_rows, N,
@@ -625,6 +651,7 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
                            progress);
             } else {
                 fill.apply(previous.data(), narrow_row, options.threads);
+                add_light(previous.data(), 3, narrow);
                 bounce(BounceRows{previous.data(), 3, narrow, 0, last ? wide_rows : N,
                                   current.data(), narrow, narrow},
                        progress);

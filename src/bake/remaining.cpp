@@ -24,6 +24,9 @@ TransferInfo bake_remaining(const BakeJob& job, const BakeOptions& options,
     SHPRT_CHECK(job.sink != nullptr && job.occluders != nullptr, invalid_argument,
                 "bake: a job needs occluders and a sink");
     if (const auto why = resume_unsupported(options)) fail(ErrorCode::unsupported, "{}", *why);
+    SHPRT_CHECK(job.probes == nullptr, unsupported,
+                "--checkpoint: a bake with probes cannot be checkpointed yet (its gaps would each "
+                "bake the probes); bake without --checkpoint");
     const Receivers& all = job.receivers;
     const std::vector<ReceiverSpan> gaps = remaining_spans(all.first, all.count, done);
     if (gaps.empty()) {

@@ -9,10 +9,12 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/memory.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/checkpoint.hpp"
 #include "shprt/io/shprt_stream.hpp"
+#include "shprt/trace/ray.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -78,6 +80,29 @@ double write_file(const BakeRequest& r, const Mesh& mesh, TransferSet& transfer,
     return seconds_since(start);
 }
 
+// The request's probe grid laid over `mesh` (no matrices yet), or an empty grid.
+ProbeGrid request_probes(const BakeRequest& r, const Mesh& mesh) {
+    if (!r.probes) return {};
+    return probe_grid_layout(*r.probes, mesh, r.options.transfer == TransferKind::interreflected);
+}
+
+// What the probes add to a bake's peak: their matrices, each worker's buffers (a chunk's W and
+// packed matrices, one probe's hits and bounced light) and, interreflected, the bounce sources'
+// light they read (3K floats a source).
+std::uint64_t probe_bytes(const ProbeGrid& probes, const Mesh& mesh, const BakeOptions& options) {
+    if (probes.empty()) return 0;
+    const std::uint64_t light = std::uint64_t(bake_bounce_source_count(mesh, options)) * 3 *
+                                std::uint64_t(options.K) * sizeof(float);
+    const std::uint64_t KK = std::uint64_t(probes.K) * std::uint64_t(probes.K);
+    const std::uint64_t S = options.samples;
+    const std::uint64_t per_worker =
+        (kProbeChunk * S + kProbeChunk * KK + 3 * S * std::uint64_t(probes.K) + 3 * KK) *
+            sizeof(float) +
+        S * sizeof(Hit);
+    return probes.count() * (std::uint64_t(probes.channels) * KK * sizeof(float) + 1) +
+           std::uint64_t(thread_count(options.threads)) * per_worker + light;
+}
+
 BakeResult run_texels(const BakeRequest& r, const Mesh& input, const TexelGrid& grid) {
     BakeResult out;
     auto [width, height, uv_set, unwrap] = grid;
@@ -94,10 +119,12 @@ BakeResult run_texels(const BakeRequest& r, const Mesh& input, const TexelGrid& 
     check_memory(r, image_bytes, fmt::format("rasterising {}x{} texels", width, height).c_str(),
                  "lower --resolution");
     const TexelSamples texels = rasterize_texels(mesh, width, height, uv_set);
+    ProbeGrid probes = request_probes(r, mesh);
     out.estimated_bytes =
         texel_bake_bytes(texels.count(), width, height, bake_description(options).layout,
                          options.samples, options.threads) +
-        estimate_bake_peak_bytes(mesh.triangle_count(), 0, options, false);
+        estimate_bake_peak_bytes(mesh.triangle_count(), 0, options, false) +
+        probe_bytes(probes, mesh, options);
     check_memory(r, out.estimated_bytes,
                  fmt::format("{}x{} texels ({} covered), K={}, the BVH and per-thread buffers",
                              width, height, texels.count(), options.K)
@@ -106,9 +133,11 @@ BakeResult run_texels(const BakeRequest& r, const Mesh& input, const TexelGrid& 
     HostSink sink;
     if (r.before_bake) r.before_bake();
     const auto start = Clock::now();
-    out.info =
-        bake(BakeJob{&mesh, texel_receivers(texels), &sink, nullptr, nullptr, nullptr}, options);
+    out.info = bake(BakeJob{&mesh, texel_receivers(texels), &sink, nullptr, nullptr, nullptr,
+                            r.probes ? &probes : nullptr},
+                    options);
     out.seconds_bake = seconds_since(start);
+    out.transfer.probes = std::move(probes);
     static_cast<TransferInfo&>(out.transfer) = out.info;
     out.transfer.texels = texel_atlas(texels, uv_set);
     out.transfer.coeffs = sink.take_rows();
@@ -209,10 +238,18 @@ BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
     out.receivers = receivers.count;
     BakeOptions options = r.options;
     BakeOutput output(r, mesh, receivers, write);
-    const BakeJob job{&mesh, receivers, &output.sink(), nullptr, nullptr, output.direct()};
+    ProbeGrid probes = request_probes(r, mesh);
+    const BakeJob job{&mesh,
+                      receivers,
+                      &output.sink(),
+                      nullptr,
+                      nullptr,
+                      output.direct(),
+                      r.probes ? &probes : nullptr};
     out.estimated_bytes =
         estimate_bake_peak_bytes(mesh.triangle_count(), receivers.count, options, !streamed(r),
-                                 bake_bounce_source_count(mesh, options));
+                                 bake_bounce_source_count(mesh, options)) +
+        probe_bytes(probes, mesh, options);
     // An interreflected bake counts its operator against the limit and spills the rest beside
     // the output.
     options.memory_budget =
@@ -229,6 +266,7 @@ BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
     const TransferInfo info =
         checkpoint ? bake_checkpointed(*checkpoint, job, options) : bake(job, options);
     out.seconds_bake = seconds_since(start);
+    out.transfer.probes = std::move(probes);
     out.seconds_write = output.finish(info, out);
     if (checkpoint) checkpoint->remove();  // the output is in place
     out.info = info;
@@ -404,6 +442,19 @@ std::optional<std::string> request_refusal(const BakeRequest& r) {
             "{}: interreflected transfer bakes the scene's own vertices (bake "
             "shadowed or unshadowed transfer)",
             receivers);
+    if (r.probes) {
+        const char* with = is_shard(r)     ? "--shard (a shard holds part of the vertices)"
+                           : streamed(r)   ? "--stream (the rows go to the file as they finish)"
+                           : is_refined(r) ? "--refine"
+                           : r.distributed ? "MPI"
+                           : r.checkpoint  ? "--checkpoint or --resume"
+                                           : nullptr;
+        if (with)
+            return fmt::format(
+                "--probes does not go with {} yet; bake the probes in a plain "
+                "bake of the scene",
+                with);
+    }
     if (r.options.direction_frame == DirectionFrame::local && r.options.device == Device::cuda)
         return kLocalDirectionsOnGpu;
     if (r.distributed && is_shard(r))
@@ -445,6 +496,13 @@ void check(const BakeRequest& r) {
                     invalid_argument, "{} {}: the checkpoint cannot be the output file", option,
                     c.path);
     }
+    if (r.probes)
+        SHPRT_CHECK(r.options.transfer != TransferKind::interreflected ||
+                        sh_count(r.probes->bands) <= r.options.K,
+                    invalid_argument,
+                    "--probe-bands {}: interreflected probes read the bake's bounce light in "
+                    "their {} coefficients, but the bake has K = {} (give --bands {} or more)",
+                    r.probes->bands, sh_count(r.probes->bands), r.options.K, r.probes->bands);
     if (const auto why = request_refusal(r)) fail(ErrorCode::unsupported, "{}", *why);
 }
 

@@ -37,6 +37,13 @@ ShprtFile merge_shprt_parts(std::vector<ShprtFile> parts, const std::vector<std:
     SHPRT_CHECK(!parts.empty(), invalid_argument, "merge: no parts given");
     SHPRT_CHECK(names.size() == parts.size(), invalid_argument, "merge: {} names for {} parts",
                 names.size(), parts.size());
+    // Shards have no probes (`shprt bake --probes` refuses --shard): a part with probes is a
+    // whole bake's file, and merging would drop or duplicate its grid.
+    for (std::size_t i = 0; i < parts.size(); ++i)
+        SHPRT_CHECK(parts[i].transfer.probes.empty(), invalid_argument,
+                    "{}: has transfer probes, which no part of a sharded bake has (merge the "
+                    "parts of `shprt bake --shard`)",
+                    names[i]);
     const std::string hash = format_mesh_hash(mesh_hash(parts[0].mesh));
     for (std::size_t i = 1; i < parts.size(); ++i) {
         SHPRT_CHECK(format_mesh_hash(mesh_hash(parts[i].mesh)) == hash, invalid_argument,

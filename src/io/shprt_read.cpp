@@ -232,7 +232,8 @@ private:
         std::uint64_t V = 0, T = 0;  // vertices, triangles
         std::uint64_t rows = 0;      // receivers stored (all, or a part's)
         std::uint64_t total = 0;     // receivers of the whole domain (vertices or texels)
-        std::uint64_t clusters = 0, vectors = 0;  // a CPCA code's, or 0
+        std::uint64_t clusters = 0, vectors = 0;                       // a CPCA code's, or 0
+        std::uint64_t probes = 0, probe_floats = 0, probes_valid = 0;  // the probe grid's, or 0
         std::string recorded_hash;
     };
     // The steps of read(), in order (each ends the read with one corrupt() line on failure).
@@ -243,6 +244,7 @@ private:
     Counts read_scene(const Fields& m, bool allow_part, ShprtFile& out);
     void read_stats(const Fields& m, TransferSet& t);
     void read_cpca_description(const Fields& m, const ShprtHeader& h, TransferSet& t, Counts& c);
+    void read_probe_description(const Fields& m, TransferSet& t, Counts& c);
     std::vector<SectionSpec> read_section_table(const Fields& m, const ShprtHeader& h,
                                                 const TransferLayout& layout, const Counts& c);
     void read_arrays(const std::vector<SectionSpec>& specs, const ShprtHeader& h, ShprtFile& out);
@@ -548,6 +550,48 @@ void Reader::read_cpca_description(const Fields& m, const ShprtHeader& h, Transf
     }
 }
 
+// The probe grid's description (metadata "probes": origin, spacing, counts, K, channels, valid),
+// its counts bounded (kMaxProbeSide, kMaxProbes) before any array is sized.
+void Reader::read_probe_description(const Fields& m, TransferSet& t, Counts& c) {
+    if (!m.obj.contains("probes")) return;
+    const Fields p = m.object("probes");
+    ProbeGrid& g = t.probes;
+    const auto vec3 = [&](const char* key, bool positive) {
+        const Json& v = p.get(key);
+        if (!v.is_array() || v.size() != 3)
+            corrupt(m_path, "metadata.probes: '{}' must be 3 numbers", key);
+        Vec3f out;
+        for (int a = 0; a < 3; ++a) {
+            const Json& x = v[std::size_t(a)];
+            if (!x.is_number() || !std::isfinite(x.get<double>()) ||
+                !std::isfinite(float(x.get<double>())) || (positive && !(x.get<float>() > 0)))
+                corrupt(m_path, "metadata.probes: '{}' must be 3 finite{} numbers, not {}", key,
+                        positive ? " positive" : "", v.dump());
+            out[a] = x.get<float>();
+        }
+        return out;
+    };
+    g.origin = vec3("origin", false);
+    g.spacing = vec3("spacing", true);
+    const Json& n = p.get("counts");
+    if (!n.is_array() || n.size() != 3)
+        corrupt(m_path, "metadata.probes: 'counts' must be 3 whole numbers");
+    for (std::size_t a = 0; a < 3; ++a) {
+        if (!n[a].is_number_unsigned() || n[a].get<std::uint64_t>() < 1 ||
+            n[a].get<std::uint64_t>() > std::uint64_t(kMaxProbeSide))
+            corrupt(m_path, "metadata.probes: counts {} (each 1 to {})", n.dump(), kMaxProbeSide);
+        g.counts[a] = int(n[a].get<std::uint64_t>());
+    }
+    if (g.count() > kMaxProbes)
+        corrupt(m_path, "metadata.probes: {} probes (at most {})", g.count(), kMaxProbes);
+    g.K = p.integer("K", 1, kMaxTransferK);
+    g.channels = p.integer("channels", 1, 3);
+    if (g.channels == 2) corrupt(m_path, "metadata.probes: channels must be 1 or 3, not 2");
+    c.probes = g.count();
+    c.probe_floats = std::uint64_t(g.channels) * std::uint64_t(g.K) * std::uint64_t(g.K);
+    c.probes_valid = p.u64("valid", 0, c.probes);  // checked against the section once read
+}
+
 // The section table matched to the rules (every required section, optional ones, nothing else)
 // and the canonical layout: each section at the first aligned offset after the previous one, the
 // file ending with the last.
@@ -561,13 +605,15 @@ std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const Shprt
                 kMaxSections);
     // Match the listed sections to the table's rules in order: every required one present,
     // optional ones present or absent, nothing else.
-    const detail::SectionCounts counts{V, T, rows, layout, clusters, vectors};
+    const detail::SectionCounts counts{V,        T,       rows,     layout,
+                                       clusters, vectors, c.probes, c.probe_floats};
     std::vector<SectionSpec> specs;
     std::size_t listed = 0;
     for (const detail::SectionRule& rule : detail::section_rules()) {
         // A CPCA file has every cpca_* section and no "transfer"; other files the reverse.
         if (clusters > 0 ? rule.is_transfer() : rule.is_cpca()) continue;
-        const bool required = rule.required || (clusters > 0 && rule.is_cpca());
+        if (rule.is_probe() && c.probes == 0) continue;  // no metadata "probes": no arrays
+        const bool required = rule.required || (clusters > 0 && rule.is_cpca()) || rule.is_probe();
         const bool present = listed < table.size() && table[listed].is_object() &&
                              table[listed].contains("name") &&
                              table[listed]["name"] == std::string(rule.name);
@@ -575,7 +621,7 @@ std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const Shprt
         if (!present && listed >= table.size())
             corrupt(m_path, "metadata: sections: required section '{}' is missing", rule.name);
         specs.push_back({&rule, rule.name, rule.dtype(layout), rule.row_count(counts),
-                         rule.col_count(layout, vectors), rule.element_size(layout)});
+                         rule.col_count(counts), rule.element_size(layout)});
         check_section_entry(m_path, table[listed], specs.back(), size);
         ++listed;
     }
@@ -611,7 +657,7 @@ void Reader::read_arrays(const std::vector<SectionSpec>& specs, const ShprtHeade
         check_zero_gap(end, s.offset, s.name);
         end = s.offset + s.length;
         void* dst = s.rule->resize(mesh, t, s.rows * s.cols);
-        if (s.element_size == 4) {
+        if (s.element_size != 2) {
             read_section(s, dst);
         } else {  // float16 transfer, widened to float32
             auto* f = static_cast<float*>(dst);
@@ -667,6 +713,18 @@ void Reader::check_content(const Counts& c, ShprtFile& out) {
     if (const auto v = zero_normal(mesh)) corrupt(m_path, "normals: vertex {} is zero", *v);
     check_finite(t.coeffs.data(), t.coeffs.size(), "transfer");
     check_finite(t.direct.data(), t.direct.size(), "transfer_direct");
+    if (c.probes > 0) {
+        check_finite(t.probes.matrices.data(), t.probes.matrices.size(), "probe_matrices");
+        std::uint64_t valid = 0;
+        for (std::size_t i = 0; i < t.probes.valid.size(); ++i) {
+            if (t.probes.valid[i] > 1)
+                corrupt(m_path, "probe_valid: probe {} is {} (0 or 1)", i, t.probes.valid[i]);
+            valid += t.probes.valid[i];
+        }
+        if (valid != c.probes_valid)
+            corrupt(m_path, "probe_valid: {} valid probes, metadata.probes.valid says {}", valid,
+                    c.probes_valid);
+    }
     // Texel domain: the UVs and every receiver's texel, in order and inside the image; and
     // neither for vertex transfer.
     if (texel != !t.texels.texel.empty() || texel != !mesh.uvs.empty())
@@ -710,6 +768,7 @@ ShprtFile Reader::read(bool allow_part) {
     Counts counts = read_scene(m, allow_part, out);
     read_stats(m, out.transfer);
     read_cpca_description(m, h, out.transfer, counts);
+    read_probe_description(m, out.transfer, counts);
     const std::vector<SectionSpec> specs = read_section_table(m, h, out.transfer.layout, counts);
     read_arrays(specs, h, out);
     check_content(counts, out);

@@ -45,18 +45,23 @@ struct DirectArray {
     }
 };
 
-// One array of the CPCA code (TransferSet::cpca).
-template <auto Member>
-struct CpcaArray {
-    static const void* data(const Mesh&, const TransferSet& t) { return (t.cpca.*Member).data(); }
+// One std::vector member of a part of the transfer: the CPCA code's arrays (TransferSet::cpca),
+// the probes' (TransferSet::probes).
+template <auto Part, auto Member>
+struct PartArray {
+    static const void* data(const Mesh&, const TransferSet& t) { return (t.*Part.*Member).data(); }
     static std::uint64_t count(const Mesh&, const TransferSet& t) {
-        return (t.cpca.*Member).size();
+        return (t.*Part.*Member).size();
     }
     static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
-        (t.cpca.*Member).resize(static_cast<std::size_t>(n));
-        return (t.cpca.*Member).data();
+        (t.*Part.*Member).resize(static_cast<std::size_t>(n));
+        return (t.*Part.*Member).data();
     }
 };
+template <auto Member>
+using CpcaArray = PartArray<&TransferSet::cpca, Member>;
+template <auto Member>
+using ProbeArray = PartArray<&TransferSet::probes, Member>;
 
 // The mesh's UVs, stored with texel-domain transfer only (the texels were rasterised in them).
 struct UvArray {
@@ -105,6 +110,11 @@ const std::array kRules = {
     // Texel domain (docs/texels.md): the mesh's UVs and each receiver's texel.
     rule<UvArray>("uvs", S::f32, R::vertices, 2, kOptional),
     rule<TexelIndexArray>("texel_index", S::u32, R::receivers, 1, kOptional),
+    // Transfer probes (docs/probes.md): per probe, channels K×K matrices (row-major, [out][in]),
+    // and its validity (1, or 0 inside geometry). Metadata "probes" describes the grid.
+    rule<ProbeArray<&ProbeGrid::matrices>>("probe_matrices", S::f32, R::probes,
+                                           SectionRule::kProbeFloats, kOptional),
+    rule<ProbeArray<&ProbeGrid::valid>>("probe_valid", S::u8, R::probes, 1, kOptional),
     // Interreflected transfer's direct part, one channel per receiver: before "transfer", which
     // stays last (a streamed bake writes it in place).
     rule<DirectArray>("transfer_direct", S::transfer, R::receivers, SectionRule::kPerChannel,
@@ -127,6 +137,8 @@ std::string SectionRule::dtype(const TransferLayout& layout) const {
             return "float32";
         case SectionType::u32:
             return "uint32";
+        case SectionType::u8:
+            return "uint8";
         case SectionType::transfer:
             break;
     }
@@ -134,6 +146,7 @@ std::string SectionRule::dtype(const TransferLayout& layout) const {
 }
 
 std::uint64_t SectionRule::element_size(const TransferLayout& layout) const {
+    if (type == SectionType::u8) return 1;
     return type == SectionType::transfer && layout.encoding == TransferEncoding::f16 ? 2 : 4;
 }
 
@@ -147,6 +160,8 @@ std::uint64_t SectionRule::row_count(const SectionCounts& counts) const {
             return counts.clusters;
         case SectionRows::basis_rows:
             return counts.clusters * counts.vectors;
+        case SectionRows::probes:
+            return counts.probes;
         case SectionRows::receivers:
             break;
     }

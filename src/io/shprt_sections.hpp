@@ -18,15 +18,17 @@
 
 namespace shprt::detail {
 
-enum class SectionType { f32, u32, transfer };  // transfer: the layout's encoding
-// clusters and basis_rows (clusters × vectors): the CPCA code's arrays (TransferSet::cpca).
-enum class SectionRows { vertices, triangles, receivers, clusters, basis_rows };
+enum class SectionType { f32, u32, u8, transfer };  // transfer: the layout's encoding
+// clusters and basis_rows (clusters × vectors): the CPCA code's arrays (TransferSet::cpca);
+// probes: the transfer probes' (TransferSet::probes).
+enum class SectionRows { vertices, triangles, receivers, clusters, basis_rows, probes };
 
 // What the sizes of a file's sections follow from (all from the metadata).
 struct SectionCounts {
     std::uint64_t vertices = 0, triangles = 0, receivers = 0;
     TransferLayout layout;
-    std::uint64_t clusters = 0, vectors = 0;  // a CPCA code's (0: none)
+    std::uint64_t clusters = 0, vectors = 0;     // a CPCA code's (0: none)
+    std::uint64_t probes = 0, probe_floats = 0;  // the probe grid's probes, channels·K² (0: none)
 };
 
 struct SectionRule {
@@ -34,7 +36,8 @@ struct SectionRule {
     SectionType type;
     SectionRows rows;
     std::uint64_t cols;  // 0 = layout.floats_per_receiver(), kPerChannel = floats_per_channel(),
-                         // kVectors = the CPCA code's vectors
+                         // kVectors = the CPCA code's vectors, kProbeFloats = channels·K² of
+                         // the probes
     bool required;
     // The array in memory: its data and scalar element count (rows·cols when present; an empty
     // optional array means "absent"); `resize` sizes it for reading and returns its data.
@@ -47,10 +50,12 @@ struct SectionRule {
     std::uint64_t row_count(const SectionCounts& counts) const;
     static constexpr std::uint64_t kPerChannel = ~std::uint64_t(0);
     static constexpr std::uint64_t kVectors = ~std::uint64_t(1);
-    std::uint64_t col_count(const TransferLayout& layout, std::uint64_t vectors = 0) const {
-        if (cols == kPerChannel) return layout.floats_per_channel();
-        if (cols == kVectors) return vectors;
-        return cols != 0 ? cols : std::uint64_t(layout.floats_per_receiver());
+    static constexpr std::uint64_t kProbeFloats = ~std::uint64_t(2);
+    std::uint64_t col_count(const SectionCounts& counts) const {
+        if (cols == kPerChannel) return counts.layout.floats_per_channel();
+        if (cols == kVectors) return counts.vectors;
+        if (cols == kProbeFloats) return counts.probe_floats;
+        return cols != 0 ? cols : std::uint64_t(counts.layout.floats_per_receiver());
     }
     // The transfer itself (the streamed section, always last), not the optional direct part.
     bool is_transfer() const {
@@ -59,6 +64,8 @@ struct SectionRule {
     // One of the CPCA code's arrays: present exactly when the file has a code (then "transfer"
     // is absent).
     bool is_cpca() const;
+    // One of the probe grid's arrays: present exactly when the metadata has "probes".
+    bool is_probe() const { return rows == SectionRows::probes; }
 };
 
 // The table, in file order.

@@ -109,6 +109,7 @@ std::string shprt_summary(const ShprtFile& file) {
         line("cpca", fmt::format("{} clusters x {} vectors (k-means++ seed {}); rows rebuilt on "
                                  "reading",
                                  t.cpca.clusters, t.cpca.vectors, t.cpca.seed));
+    if (!t.probes.empty()) line("probes", describe_probes(t.probes));
     if (t.kind == TransferKind::interreflected) {
         const InterreflectionInfo& ir = t.interreflection;
         const std::string bounces = fmt::format("{} (stored: T_0 + ... + T_{}), {}", ir.bounces,

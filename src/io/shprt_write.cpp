@@ -72,7 +72,8 @@ Json stats_json(const BakeStats& s) {
 
 Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
                     const WriteOptions& options, const Json& extra,
-                    const std::vector<SectionOut>& sections, const CpcaCode* cpca) {
+                    const std::vector<SectionOut>& sections, const CpcaCode* cpca,
+                    const ProbeGrid* probes) {
     const int bands = sh_bands_for(t.layout.K);
     Json m;
     m["format"] = "shprt";
@@ -165,6 +166,25 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
                        {"origin",
                         "row 0 at v = 1 (top); texel (x, y) centre u = (x + 0.5) / "
                         "width, v = 1 - (y + 0.5) / height"}};
+    // Transfer probes (docs/probes.md); their arrays are sections "probe_matrices" and
+    // "probe_valid".
+    if (probes && !probes->empty()) {
+        std::size_t valid = 0;
+        for (std::uint8_t v : probes->valid) valid += v;
+        const auto xyz = [](Vec3f v) { return Json::array({v.x, v.y, v.z}); };
+        m["probes"] = {
+            {"origin", xyz(probes->origin)},
+            {"spacing", xyz(probes->spacing)},
+            {"counts", probes->counts},
+            {"K", probes->K},
+            {"channels", probes->channels},
+            {"valid", valid},
+            {"layout",
+             "probe (x, y, z) at origin + (x, y, z) * spacing is number x + nx*(y + ny*z); "
+             "probe_matrices[(probe*channels + c)*K*K + i*K + j]: radiance coefficient i from "
+             "light coefficient j (row-major)"},
+        };
+    }
     merge_extra(m, parse_extra(options.kept_metadata_json), "");
     if (!options.reproducible) {
         m["stats"] = stats_json(t.stats);
@@ -278,7 +298,11 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
                                        rows,
                                        info.layout,
                                        std::uint64_t(std::max(parts.cpca.clusters, 0)),
-                                       std::uint64_t(std::max(parts.cpca.vectors, 0))};
+                                       std::uint64_t(std::max(parts.cpca.vectors, 0)),
+                                       parts.probes.count(),
+                                       std::uint64_t(parts.probes.channels) *
+                                           std::uint64_t(parts.probes.K) *
+                                           std::uint64_t(parts.probes.K)};
     std::vector<SectionOut> sections;
     for (const detail::SectionRule& rule : detail::section_rules()) {
         const bool is_transfer = rule.is_transfer();
@@ -286,8 +310,7 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
         if (!rule.required && !is_transfer && rule.count(mesh, parts) == 0) continue;
         const bool to_half = rule.element_size(info.layout) == 2;  // float32 stored as f16
         sections.push_back({rule.name, rule.dtype(info.layout), rule.row_count(counts),
-                            rule.col_count(info.layout, counts.vectors),
-                            rule.element_size(info.layout),
+                            rule.col_count(counts), rule.element_size(info.layout),
                             is_transfer ? coeffs : rule.data(mesh, parts), to_half});
         sections.back().streamed = is_transfer && coeffs == nullptr;
     }
@@ -299,9 +322,10 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
 
 std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInfo& info,
                     std::size_t rows, const WriteOptions& options, const Json& extra,
-                    std::vector<SectionOut>& sections, std::size_t reserve, const CpcaCode* cpca) {
+                    std::vector<SectionOut>& sections, std::size_t reserve, const CpcaCode* cpca,
+                    const ProbeGrid* probes) {
     const auto render = [&] {
-        return build_metadata(mesh, info, rows, options, extra, sections, cpca)
+        return build_metadata(mesh, info, rows, options, extra, sections, cpca, probes)
                    .dump(2, ' ', false, Json::error_handler_t::replace) +
                '\n';
     };
@@ -392,12 +416,25 @@ void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& t
         detail::check_coefficients(path, transfer.direct.data(), transfer.direct.size(), direct,
                                    options.receiver_first);
     }
+    if (!transfer.probes.empty()) {
+        try {
+            transfer.probes.validate();
+        } catch (const Error& e) {
+            fail(ErrorCode::invalid_argument, "{}: {}", path, e.what());
+        }
+        const auto& p = transfer.probes.matrices;
+        const auto bad =
+            std::find_if(p.begin(), p.end(), [](float v) { return !std::isfinite(v); });
+        SHPRT_CHECK(bad == p.end(), invalid_argument, "{}: probe matrix value {} is not finite",
+                    path, bad - p.begin());
+    }
     const detail::Json extra = detail::parse_extra(options);
     const std::size_t rows = transfer.receiver_count();
     std::vector<detail::SectionOut> sections =
         detail::plan_sections(mesh, transfer, rows, transfer.coeffs.data(), &transfer);
-    const std::string text = detail::lay_out(path, mesh, transfer, rows, options, extra, sections,
-                                             0, transfer.cpca.empty() ? nullptr : &transfer.cpca);
+    const std::string text =
+        detail::lay_out(path, mesh, transfer, rows, options, extra, sections, 0,
+                        transfer.cpca.empty() ? nullptr : &transfer.cpca, &transfer.probes);
     AtomicFile file(path);
     detail::write_file_body(file, text, sections);
     file.commit();

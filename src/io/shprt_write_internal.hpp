@@ -63,7 +63,7 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
 std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInfo& info,
                     std::size_t rows, const WriteOptions& options, const Json& extra,
                     std::vector<SectionOut>& sections, std::size_t reserve,
-                    const CpcaCode* cpca = nullptr);
+                    const CpcaCode* cpca = nullptr, const ProbeGrid* probes = nullptr);
 // The 48 header bytes for metadata `text` of a file of format `version`.
 void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize],
                    std::uint32_t version = kShprtFormatVersion);

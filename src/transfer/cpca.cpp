@@ -469,6 +469,9 @@ CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3
     // The direct part is small (one channel of vectors) and is what "direct only" shows: kept,
     // in the file's encoding.
     out.compressed.direct = transfer.direct;
+    // Transfer probes are carried as they are (float32, not clustered): a grid is small beside
+    // the receivers' rows.
+    out.compressed.probes = transfer.probes;
     if (half)
         for (float& x : out.compressed.direct) x = half_to_float(float_to_half(x));
     out.direct_bytes_per_receiver =

@@ -3,6 +3,8 @@
 #include "shprt/core/error.hpp"
 #include "shprt/transfer/transfer.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -28,6 +30,18 @@ void ProbeGrid::validate() const {
         valid.size() != count()) {
         throw Error(ErrorCode::invalid_argument, "probe grid: arrays do not match the grid's size");
     }
+}
+
+std::string describe_probes(const ProbeGrid& g) {
+    std::size_t valid = 0;
+    for (std::uint8_t v : g.valid) valid += v;
+    const Vec3f far = g.far_corner();
+    return fmt::format(
+        "{}x{}x{} = {} ({} valid), spacing {:.3g} x {:.3g} x {:.3g} m, from ({:.3g}, {:.3g}, "
+        "{:.3g}) to ({:.3g}, {:.3g}, {:.3g}); K = {} ({}x{} matrices), {} channel{}",
+        g.counts[0], g.counts[1], g.counts[2], g.count(), valid, g.spacing.x, g.spacing.y,
+        g.spacing.z, g.origin.x, g.origin.y, g.origin.z, far.x, far.y, far.z, g.K, g.K, g.K,
+        g.channels, g.channels == 1 ? "" : "s");
 }
 
 ProbeSample sample_probes(const ProbeGrid& grid, Vec3f p) {

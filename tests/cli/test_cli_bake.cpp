@@ -183,6 +183,33 @@ TEST_F(CliBake, HalfPrecisionFileIsSmaller) {
     EXPECT_EQ(shprt::read_shprt(half).transfer.kind, shprt::TransferKind::unshadowed);
 }
 
+TEST_F(CliBake, ProbesGoIntoTheFileAndInfoAndCompressKeepThem) {
+    const std::string file = out("probes.shprt");
+    const RunResult r = shprt("bake builtin:box_on_plane -o '" + file +
+                              "' --coeffs 9 --samples 64 --probes 3,2,3 --probe-bands 2");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("probes: 3x2x3 = 18"), std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("probes: 100%"), std::string::npos) << "the probes' own bar: " << r.err;
+    const shprt::ShprtFile f = shprt::read_shprt(file);
+    EXPECT_EQ(f.transfer.probes.count(), 18u);
+    EXPECT_EQ(f.transfer.probes.K, 4);
+    if (shprt("info --help").exit_code == 0) {
+        const RunResult info = shprt("info '" + file + "'");
+        EXPECT_NE(info.out.find("probes       3x2x3 = 18"), std::string::npos) << info.out;
+    }
+    const std::string small = out("small.shprt");
+    ASSERT_EQ(shprt("compress '" + file + "' -o '" + small + "' --cpca 2,4").exit_code, 0);
+    EXPECT_TRUE(shprt::read_shprt(small).transfer.probes == f.transfer.probes);
+    // Beside texels too.
+    const std::string texels = out("texels.shprt");
+    ASSERT_EQ(shprt("bake builtin:quad_box --domain texel --resolution 8 --samples 16 --probes "
+                    "2,2,2 -o '" +
+                    texels + "'")
+                  .exit_code,
+              0);
+    EXPECT_EQ(shprt::read_shprt(texels).transfer.probes.count(), 8u);
+}
+
 TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
     const std::string file = out("bad.shprt");
     const std::string base = "bake builtin:box_on_plane -o '" + file + "' ";

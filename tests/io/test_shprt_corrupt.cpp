@@ -388,6 +388,78 @@ TEST_F(IoShprtCorrupt, CountsInconsistentWithVKAndChannels) {
     EXPECT_EQ(read_shprt(analytic).transfer.samples, 0);
 }
 
+TEST_F(IoShprtCorrupt, ProbeGridsAreCheckedBeforeTheyAreSized) {
+    // The small file with a 2×2×1 grid of 4×4 matrices, probe 3 invalid.
+    {
+        TransferSet t = read_shprt(m_path).transfer;
+        ProbeGrid& g = t.probes;
+        g.counts = {2, 2, 1};
+        g.K = 4;
+        g.valid = {1, 1, 1, 0};
+        g.matrices.assign(4 * 16, 0.5f);
+        std::fill_n(g.matrices.begin() + 48, 16, 0.0f);
+        write_shprt(m_path, small_mesh(), t);
+        m_good = read_file(m_path);
+        m_meta = Json::parse(m_good.substr(kShprtHeaderSize, header().metadata_length));
+        ASSERT_EQ(read_shprt(m_path).transfer.probes, g);
+    }
+    const struct {
+        const char* what;
+        void (*apply)(Json&);
+        const char* message;
+    } edits[] = {
+        {"counts huge",
+         [](Json& m) {
+             m["probes"]["counts"] = {1u << 20, 1u << 20, 1u << 20};
+         },
+         "metadata.probes: counts"},
+        {"counts past the limit",
+         [](Json& m) {
+             m["probes"]["counts"] = {1024, 1024, 1024};
+         },
+         "probes (at most"},
+        {"counts zero",
+         [](Json& m) {
+             m["probes"]["counts"] = {0, 2, 1};
+         },
+         "metadata.probes: counts"},
+        {"counts too many",
+         [](Json& m) {
+             m["probes"]["counts"] = {4, 2, 1};
+         },
+         "section 'probe_matrices' has shape"},
+        {"K", [](Json& m) { m["probes"]["K"] = 9; }, "section 'probe_matrices' has shape"},
+        {"K huge", [](Json& m) { m["probes"]["K"] = 1u << 30; }, "field 'K'"},
+        {"channels", [](Json& m) { m["probes"]["channels"] = 2; }, "channels must be 1 or 3"},
+        {"spacing",
+         [](Json& m) {
+             m["probes"]["spacing"] = {1, 0, 1};
+         },
+         "'spacing' must be 3 finite positive numbers"},
+        {"origin",
+         [](Json& m) {
+             m["probes"]["origin"] = {1, "x", 1};
+         },
+         "'origin' must be 3"},
+        {"valid", [](Json& m) { m["probes"]["valid"] = 4; }, "3 valid probes, metadata"},
+        {"no description", [](Json& m) { m.erase("probes"); },
+         "section 'probe_matrices' where 'transfer' was expected"},
+    };
+    for (const auto& e : edits) {
+        Json meta = m_meta;
+        e.apply(meta);
+        expect_error(with_metadata(meta), e.message, e.what);
+    }
+    expect_error(with_section_patch("probe_valid", [](char* p) { p[1] = 2; }),
+                 "probe_valid: probe 1 is 2", "a validity of 2");
+    expect_error(with_section_patch("probe_matrices",
+                                    [](char* p) {
+                                        const float inf = INFINITY;
+                                        std::memcpy(p + 8, &inf, 4);
+                                    }),
+                 "probe_matrices: value 2 is not finite", "an infinite matrix entry");
+}
+
 TEST_F(IoShprtCorrupt, BadJson) {
     const std::size_t length = header().metadata_length;
     const auto padded = [length](std::string s) {

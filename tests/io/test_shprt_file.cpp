@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstring>
@@ -141,6 +142,71 @@ TEST_F(IoShprtFile, RoundTripFloat32IsBitExact) {
             EXPECT_EQ(r.metadata_json,
                       read_file(file).substr(kShprtHeaderSize, r.metadata_json.size()));
         }
+}
+
+// A probe grid of 3×2×2 probes with `channels` K×K matrices of noise, probe 5 invalid (zero).
+ProbeGrid noise_probes(int K, int channels) {
+    ProbeGrid g;
+    g.origin = {-1.5f, 0.25f, 0.1f};
+    g.spacing = {0.5f, 0.75f, 1.0f / 3.0f};  // not exact in binary or decimal
+    g.counts = {3, 2, 2};
+    g.K = K;
+    g.channels = channels;
+    g.valid.assign(g.count(), 1);
+    g.valid[5] = 0;
+    g.matrices.resize(g.count() * std::size_t(channels * K * K));
+    std::mt19937 rng(5);
+    std::normal_distribution<float> normal(0.0f, 1.0f);
+    for (float& v : g.matrices) v = normal(rng);
+    std::fill_n(g.matrices.begin() + 5 * channels * K * K, channels * K * K, 0.0f);
+    return g;
+}
+
+TEST_F(IoShprtFile, ProbesRoundTripBitExactBesideEveryEncoding) {
+    for (const auto encoding : {TransferEncoding::f32, TransferEncoding::f16})
+        for (const int channels : {1, 3}) {
+            Scene s = make_scene(5, 9, channels, false);
+            s.transfer.layout.encoding = encoding;
+            for (float& c : s.transfer.coeffs) c = std::clamp(c, -100.0f, 100.0f);
+            s.transfer.probes = noise_probes(9, channels);
+            const std::string file = path("p.shprt");
+            write_shprt(file, s.mesh, s.transfer);
+            const ShprtFile r = read_shprt(file);
+            EXPECT_TRUE(r.transfer.probes == s.transfer.probes);  // float32 whatever the rows
+            EXPECT_TRUE(same_bytes(r.transfer.probes.matrices, s.transfer.probes.matrices));
+            const nlohmann::json meta = nlohmann::json::parse(r.metadata_json);
+            EXPECT_EQ(meta["probes"]["valid"], 11);
+            EXPECT_EQ(meta["probes"]["counts"], nlohmann::json::array({3, 2, 2}));
+            EXPECT_NE(
+                shprt_summary(r).find("probes       3x2x2 = 12 (11 valid), spacing 0.5 x 0.75 x "
+                                      "0.333 m"),
+                std::string::npos)
+                << shprt_summary(r);
+        }
+    // Without probes: no metadata, no sections, and an empty grid read back.
+    const Scene s = make_scene(5, 9, 1, false);
+    write_shprt(path("n.shprt"), s.mesh, s.transfer);
+    const ShprtFile r = read_shprt(path("n.shprt"));
+    EXPECT_TRUE(r.transfer.probes.empty());
+    EXPECT_EQ(r.metadata_json.find("probe"), std::string::npos);
+}
+
+TEST_F(IoShprtFile, WriterRefusesInconsistentProbes) {
+    Scene s = make_scene(5, 9, 1, false);
+    s.transfer.probes = noise_probes(9, 1);
+    s.transfer.probes.valid.pop_back();
+    EXPECT_THROW(write_shprt(path("p.shprt"), s.mesh, s.transfer), Error);
+    s.transfer.probes = noise_probes(9, 1);
+    s.transfer.probes.matrices[7] = std::nanf("");
+    try {
+        write_shprt(path("p.shprt"), s.mesh, s.transfer);
+        ADD_FAILURE() << "a NaN probe matrix was written";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("probe matrix value 7 is not finite"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_TRUE(dir_entries().empty());
 }
 
 TEST_F(IoShprtFile, MaterialBrdfsRoundTripAndAreDescribed) {

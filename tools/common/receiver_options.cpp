@@ -24,6 +24,13 @@ void add_receiver_options(CLI::App& app, ReceiverArgs& args) {
                    "Refinement: stop at this many vertices (default 16x the scene's)");
     app.add_option("--max-edge-split-depth", args.choice.max_edge_split_depth,
                    "Refinement: how many times an edge may be halved (1 to 30, default 6)");
+    app.add_option("--probes", args.choice.probes,
+                   "Transfer probes beside the receivers, for objects that move: auto (every "
+                   "0.5 m over the scene's bounds), auto:SPACING, NX,NY,NZ or NX,NY,NZ:SPACING");
+    app.add_option("--probe-box", args.choice.probe_box,
+                   "Probes: the grid's box X0,Y0,Z0,X1,Y1,Z1 (default: the scene's bounds)");
+    app.add_option("--probe-bands", args.choice.probe_bands,
+                   "Probes: SH bands of their matrices (1 to 8, default 3: 9x9)");
     app.add_option("--shard", args.choice.shard,
                    "Bake part I of N (I/N, 0-based) of the vertices, for job arrays; join the "
                    "parts with `shprt merge`");

@@ -197,6 +197,11 @@ struct BakeJob {
     // one channel of K each: TransferSet::direct), given its rows once the bounces are done;
     // nullptr = not kept.
     TransferSink* direct = nullptr;
+    // Transfer probes baked beside the receivers (bake/probe_bake.hpp): the grid's layout in
+    // (counts, spacing, origin, K, channels: 3 for interreflected transfer), its matrices and
+    // validity filled once the receivers are done, on the CPU (a GPU bake traces them with
+    // Embree); nullptr = none.
+    ProbeGrid* probes = nullptr;
 };
 
 // Glossy transfer (TransferKind::glossy, docs/glossy.md) is the same pipeline with two changes:

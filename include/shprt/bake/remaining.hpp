@@ -19,7 +19,8 @@ namespace shprt {
 // io/checkpoint.hpp's CheckpointSink). When nothing is left the sink sees begin() and finish()
 // for the whole range and no write(). The progress callback sees one bake whose rays run over the
 // whole range (the done receivers counted as done). Returns the description with the stats
-// summed over the gaps (times, rays; the largest peak). Throws what bake() throws.
+// summed over the gaps (times, rays; the largest peak). Throws what bake() throws, and
+// Error(unsupported) for a job with probes (each gap would bake them).
 TransferInfo bake_remaining(const BakeJob& job, const BakeOptions& options,
                             const std::vector<ReceiverSpan>& done);
 

@@ -15,6 +15,7 @@
 #pragma once
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/probe_bake.hpp"
 #include "shprt/bake/refine.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/io/shprt_file.hpp"
@@ -69,6 +70,10 @@ struct ReceiverChoice {
     std::string shard;                    // vertex: "I/N", part I of N (0 ≤ I < N), or empty
     bool unwrap = false;                  // texel: a new atlas (TexelGrid::unwrap)
     std::optional<double> texel_density;  // texel with unwrap: texels per metre (> 0)
+    // Transfer probes beside the receivers (`--probes --probe-box --probe-bands`): parsed by
+    // parse_probes (bake/probe_bake.hpp) into BakeRequest::probes.
+    std::string probes, probe_box;
+    std::optional<long long> probe_bands;
 };
 // The ReceiverSet of `choice`; one-line Error(invalid_argument) naming the option for a bad value
 // or options that need another (--resolution without --domain texel, --shard with texels, ...).
@@ -107,6 +112,10 @@ struct BakeRequest {
     // The most bytes the bake may take, checked against its estimate before any work; 0 = the
     // machine's available memory (core/memory.hpp), unchecked where that cannot be read.
     std::uint64_t max_memory = 0;
+    // Transfer probes baked beside the receivers into the same file (bake/probe_bake.hpp): the
+    // grid laid over the scene's bounds or the spec's box; none = no probes. BakeResult's
+    // transfer.probes holds them (with a file output too).
+    std::optional<ProbeSpec> probes;
     // Run across the ranks of an MPI job (dist/mpi_bake.hpp runs such a request); here it only
     // decides what cannot combine.
     bool distributed = false;
@@ -121,6 +130,7 @@ struct BakeRequest {
 // `shprt bake` spells them), or nothing: a checkpoint of an MPI, texel, refined or interreflected
 // bake, or one that is the output file; texels or refinement with a shard, streaming or MPI;
 // interreflected transfer sharded, streamed, refined or across ranks; streaming without a file;
+// probes with a shard, streaming, refinement, a checkpoint or MPI;
 // options the request's receivers cannot take (a shard of more parts than vertices is checked by
 // run(), which knows the mesh).
 std::optional<std::string> request_refusal(const BakeRequest& request);

@@ -86,7 +86,8 @@ TransferError transfer_error(const TransferSet& exact, const TransferSet& approx
 struct CpcaResult {
     TransferSet compressed;  // the input's description, layout encoding f16 when half, the code in
                              // .cpca and the rebuilt rows in .coeffs; an interreflected input's
-                             // direct part (.direct) kept as is (rounded to float16 when half)
+                             // direct part (.direct) kept as is (rounded to float16 when half);
+                             // the probes (.probes) kept as they are (float32)
     TransferError error;
     std::optional<TransferError> light_error;  // under compress_transfer's `light`, if given
     double seconds_fit = 0, seconds_error = 0;

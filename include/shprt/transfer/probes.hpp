@@ -18,9 +18,14 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace shprt {
+
+// Most probes along one axis and in all (the bake's and the file reader's bound).
+inline constexpr int kMaxProbeSide = 1024;
+inline constexpr std::size_t kMaxProbes = std::size_t(1) << 22;
 
 struct ProbeGrid {
     Vec3f origin{0, 0, 0};
@@ -53,6 +58,10 @@ struct ProbeGrid {
     void validate() const;
     bool operator==(const ProbeGrid&) const = default;
 };
+
+// The grid in one line, for people (`shprt info`, `shprt bake`): "16x6x16 = 1536 (1212 valid),
+// spacing 0.5 x 0.5 x 0.5 m, from (x, y, z) to (x, y, z); K = 9 (9x9 matrices), 1 channel".
+std::string describe_probes(const ProbeGrid& grid);
 
 // The probes' matrices interpolated at `p`: trilinear over the (up to 8) probes of the cell that
 // holds p, the weights of invalid probes dropped and the rest renormalised. A point outside the
