@@ -554,7 +554,8 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
         op.pass_bytes + (tracer ? tracer->memory_bytes() : 0), seconds_bvh + seconds_since(start),
         job.probes ? &light : nullptr);
     if (job.probes) {
-        const ProbeBounce bounce{op.sources->view(mesh), light.data(), K, options.two_sided};
+        const ProbeBounce bounce{op.sources->view(mesh), light.data(), options.K,
+                                 options.two_sided};
         bake_job_probes(job, options, directions, tracer, &bounce, info);
     }
     return info;
