@@ -167,4 +167,4 @@ def test_probes_go_into_the_file_as_the_command_line_bakes_them(box, tmp_path, c
     with pytest.raises(shprt.Error, match="probes: the probes are written into the .shprt file"):
         shprt.bake(box, bands=2, samples=64, probes="auto")
     with pytest.raises(shprt.Error, match="probes: expected a str or 3 numbers"):
-        shprt.bake(box, bands=2, samples=64, probes=(3, 2), output=out)
+        shprt.bake(box, bands=2, samples=64, probes=(3, 2), output=out)  # type: ignore[arg-type]

@@ -79,6 +79,9 @@ bool cpu_has_avx2() {
     return has;
 }
 
+// Multiply-adds below which a product runs on the calling thread (apply_transport_rows).
+constexpr std::uint64_t kSerialWork = std::uint64_t(1) << 18;
+
 }  // namespace
 
 namespace detail {
@@ -126,7 +129,14 @@ void apply_transport_rows(const TransportOperator& A, const BounceRows& p, int t
     while (from < A.blocks.size() && A.blocks[from].first < p.first) ++from;
     std::size_t to = from;
     while (to < A.blocks.size() && A.blocks[to].first < p.end) ++to;
-    if (thread_count(threads) == 1 || to - from == 1) {
+    // A product too small to share (fewer multiply-adds than kSerialWork) stays on this thread:
+    // a fork and join per bounce costs more than it saves, and far more when another process
+    // holds the cores and a worker waits for a time slice (a thousand bounces of a small scene
+    // took seconds, not a tenth of one, beside a busy neighbour). Same bits either way.
+    std::uint64_t work = 0;
+    for (std::size_t b = from; b < to; ++b) work += A.blocks[b].nnz();
+    work *= 3 * std::uint64_t(p.columns);
+    if (thread_count(threads) == 1 || to - from == 1 || work < kSerialWork) {
         for (std::size_t b = from; b < to; ++b) run_block(A.blocks[b]);
         return;
     }
