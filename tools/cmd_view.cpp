@@ -328,8 +328,9 @@ const bool view_registered = register_command(
          app.get_option("--object")
              ->description(
                  "A mesh (any scene file) lit from the file's transfer probes (docs/probes.md); "
-                 "in the window the arrow keys move it horizontally and Page Up/Down vertically, "
-                 "and the panel shows and edits its position");
+                 "in the window G+drag carries it (left button: over the floor, right: up and "
+                 "down), the arrow keys move it horizontally and Page Up/Down vertically, and the "
+                 "panel shows and edits its position");
          app.add_option("--size", args->size, "Window or image size WxH (default 1280x720)");
          add_shading_options(app, args->shading, kViewOption | kCoeffsOption,
                              "Exposure multiplier (default 1)",

@@ -16,6 +16,17 @@ bool same(const ObjectShadeOptions& a, const ObjectShadeOptions& b) {
 }
 }  // namespace
 
+Vec3f object_step(Vec3f camera_right, Vec3f camera_forward, float along, float ahead, float up) {
+    const auto horizontal = [](Vec3f v) {
+        v.y = 0;
+        const float n = length(v);
+        return n > 1e-6f ? v * (1.0f / n) : Vec3f{0, 0, 0};
+    };
+    Vec3f step = horizontal(camera_right) * along + horizontal(camera_forward) * ahead;
+    step.y += up;
+    return step;
+}
+
 bool LitObject::update(Renderer& renderer, const ShLight& light, const DrawSettings& settings) {
     if (!present()) return false;
     ObjectShadeOptions options = m_object.options;

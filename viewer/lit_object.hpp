@@ -25,6 +25,16 @@ struct ViewerObject {
     std::string label;  // e.g. the file name, for the panel
 };
 
+// The object's move in the world for `along` metres to the camera's right, `ahead` metres the way
+// it looks and `up` metres along +Y: right and forward are kept horizontal (a camera looking down
+// still moves the object over the floor) and normalised, and a direction with no horizontal part
+// (looking straight down: forward) moves nothing. The arrow keys, Page Up/Down and G+drag.
+Vec3f object_step(Vec3f camera_right, Vec3f camera_forward, float along, float ahead, float up);
+
+// Metres a G+drag moves the object per pixel, at the camera's fly speed (m/s): 400 pixels at
+// the default 2 m/s carry it 2 m.
+inline constexpr float kObjectDragMetresPerPixelPerSpeed = 0.0025f;
+
 class LitObject {
 public:
     explicit LitObject(const ViewerObject& object) : m_object(object) {}

@@ -75,8 +75,10 @@ void object_section(PanelState& s) {
     ImGui::TextWrapped("%s", s.object_label.c_str());
     ImGui::DragFloat3("position", s.object_position, 0.01f, -1e4f, 1e4f, "%.2f");
     help_marker(
-        "Drag the numbers, or move the object with the arrow keys (horizontally, relative to the "
-        "camera) and Page Up/Page Down (vertically). It is lit per vertex from the file's "
+        "Drag the numbers; or hold G and drag the object in the window (left button: over the "
+        "floor, right button: up and down); or move it with the arrow keys (horizontally, "
+        "relative to the camera) and Page Up/Page Down (vertically). It is lit per vertex from "
+        "the file's "
         "transfer probes under the current light, which Shift+drag still turns.");
     if (!s.object_status.empty()) ImGui::TextWrapped("%s", s.object_status.c_str());
 }

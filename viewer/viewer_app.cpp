@@ -293,7 +293,18 @@ void App::handle_input(float seconds) {
                               glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS ||
                               glfwGetKey(w, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS ||
                               glfwGetKey(w, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
-        if (left && modifier && (dx != 0 || dy != 0)) {
+        // G held ("grab", as in Blender; Alt+drag belongs to many window managers) and a drag
+        // carry the object: the left button over the floor (right and away as the cursor goes
+        // right and up), the right button up and down.
+        const bool grab = !io.WantCaptureKeyboard && glfwGetKey(w, GLFW_KEY_G) == GLFW_PRESS;
+        if (grab && m_object.present() && (left || right)) {
+            const float metres = kObjectDragMetresPerPixelPerSpeed * m_camera.speed();
+            const Vec3f step =
+                left ? object_step(m_camera.right(), m_camera.forward(), float(dx) * metres,
+                                   float(-dy) * metres, 0)
+                     : object_step(m_camera.right(), m_camera.forward(), 0, 0, float(-dy) * metres);
+            for (int a = 0; a < 3; ++a) m_panel.object_position[a] += step[a];
+        } else if (left && modifier && (dx != 0 || dy != 0)) {
             m_light.drag(dx, dy, cast<double>(m_camera.right()));
             m_renderer.set_light(m_light.source(), m_light.rotation());
         } else if (left) {
@@ -311,20 +322,14 @@ void App::handle_input(float seconds) {
     auto down = [w](int key) { return glfwGetKey(w, key) == GLFW_PRESS; };
     if (m_object.present()) {
         // The object: arrows along the camera's right and forward (kept horizontal), Page Up and
-        // Down along +Y, at the fly speed.
-        Vec3f right = m_camera.right(), forward = m_camera.forward();
-        right.y = 0;
-        forward.y = 0;
-        if (length(right) > 0) right = normalize(right);
-        if (length(forward) > 0) forward = normalize(forward);
-        Vec3f step{0, 0, 0};
-        if (down(GLFW_KEY_RIGHT)) step += right;
-        if (down(GLFW_KEY_LEFT)) step += right * -1.0f;
-        if (down(GLFW_KEY_UP)) step += forward;
-        if (down(GLFW_KEY_DOWN)) step += forward * -1.0f;
-        if (down(GLFW_KEY_PAGE_UP)) step.y += 1;
-        if (down(GLFW_KEY_PAGE_DOWN)) step.y -= 1;
-        step = step * (0.5f * m_camera.speed() * seconds);
+        // Down along +Y, at half the fly speed.
+        const float metres = 0.5f * m_camera.speed() * seconds;
+        const auto axis = [&](int plus, int minus) {
+            return float(int(down(plus)) - int(down(minus))) * metres;
+        };
+        const Vec3f step = object_step(
+            m_camera.right(), m_camera.forward(), axis(GLFW_KEY_RIGHT, GLFW_KEY_LEFT),
+            axis(GLFW_KEY_UP, GLFW_KEY_DOWN), axis(GLFW_KEY_PAGE_UP, GLFW_KEY_PAGE_DOWN));
         for (int a = 0; a < 3; ++a) m_panel.object_position[a] += step[a];
     }
     Vec3f motion{0, 0, 0};
