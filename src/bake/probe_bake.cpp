@@ -31,7 +31,7 @@ constexpr const char* kProbesForm =
     "expected auto, auto:SPACING, NX,NY,NZ or NX,NY,NZ:SPACING (e.g. 16,8,16 or auto:0.5)";
 
 // One worker's buffers.
-struct Scratch {
+struct ProbeScratch {
     std::vector<float> w;             // W[chunk×S]: weight_s where the ray escapes
     std::vector<float> c;             // the chunk's packed matrices, K(K+1)/2 each
     std::vector<Hit> hits;            // one probe's closest hits, in the trace order
@@ -173,13 +173,13 @@ std::uint64_t bake_probe_grid(ProbeGrid& grid, const Mesh& occluders, const Bake
     if (options.progress &&
         !options.progress(ProgressInfo{"probes", 0, P * S, tracer ? "rays" : "samples"}))
         fail(ErrorCode::cancelled, "bake cancelled before its probes");
-    tbb::enumerable_thread_specific<Scratch> scratch;
+    tbb::enumerable_thread_specific<ProbeScratch> scratch;
     constexpr float kInf = std::numeric_limits<float>::infinity();
     const std::size_t chunks = (P + kProbeChunk - 1) / kProbeChunk;
 
     auto run_chunk = [&](std::size_t chunk) {
         if (progress.stopped()) return;
-        Scratch& sc = scratch.local();
+        ProbeScratch& sc = scratch.local();
         sc.w.assign(kProbeChunk * S, 0.0f);
         sc.c.resize(kProbeChunk * F);
         sc.hits.resize(S);
