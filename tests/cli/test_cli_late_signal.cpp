@@ -14,10 +14,13 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -33,6 +36,17 @@ using shprt::test_support::RunResult;
 using shprt::test_support::slurp;
 using shprt::test_support::StartOptions;
 using shprt::test_support::wait_stopped;
+
+// Sends `signal` to the stopped program's main thread (its thread id is its pid), where
+// AtomicFile::commit holds the signals across the rename: it is delivered when commit lets them
+// go, before the run goes on — the window this test means. A kill() to the process may instead be
+// taken by one of its worker threads, whose handler can then run after the main thread has
+// printed its summary: the warning line is missing, or follows a second signal's error line
+// (the output is complete and nothing says otherwise either way). That race in the program is
+// known and not yet fixed (issue note, 2026-12-05); the timed test below keeps kill().
+void signal_main_thread(pid_t pid, int signal) {
+    ASSERT_EQ(::syscall(SYS_tgkill, pid, pid, signal), 0) << std::strerror(errno);
+}
 
 class CliLateSignal : public shprt::test_support::CliTest {
 protected:
@@ -96,7 +110,7 @@ TEST_F(CliLateSignal, SignalRightAfterTheRenameLetsTheRunFinish) {
             const pid_t pid = start(with_output(args, output), {.stop_at = "renamed"});
             ASSERT_TRUE(wait_stopped(pid)) << "the test hook did not stop the process";
             EXPECT_TRUE(fs::exists(output));  // renamed into place
-            ::kill(pid, signal);
+            signal_main_thread(pid, signal);
             ::kill(pid, SIGCONT);
             const RunResult r = finish(pid);
             EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -114,8 +128,8 @@ TEST_F(CliLateSignal, SignalRightAfterTheRenameLetsTheRunFinish) {
         fs::remove(output);
         const pid_t pid = start(with_output(args, output), {.stop_at = "renamed"});
         ASSERT_TRUE(wait_stopped(pid));
-        ::kill(pid, SIGTERM);
-        ::kill(pid, SIGINT);
+        signal_main_thread(pid, SIGTERM);
+        signal_main_thread(pid, SIGINT);
         ::kill(pid, SIGCONT);
         const RunResult r = finish(pid);
         EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 130 || r.exit_code == 143) << r.err;
