@@ -23,10 +23,11 @@ namespace {
 
 BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
                          const std::string& sampler, const std::string& directions,
-                         const std::string& transfer, std::uint64_t seed, int threads,
-                         const std::string& device, const py::object& bounces, double tolerance,
-                         bool two_sided, std::int64_t indirect_samples,
-                         const py::object& source_spacing, std::int64_t bounce_coeffs) {
+                         double target_error, std::int64_t max_samples, const std::string& transfer,
+                         std::uint64_t seed, int threads, const std::string& device,
+                         const py::object& bounces, double tolerance, bool two_sided,
+                         std::int64_t indirect_samples, const py::object& source_spacing,
+                         std::int64_t bounce_coeffs) {
     BakeOptions o;
     SHPRT_CHECK(!(bands && coeffs), invalid_argument,
                 "bands and coeffs both given; use one (K = bands²)");
@@ -45,6 +46,7 @@ BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, st
     o.samples = std::uint32_t(samples);
     o.sampler = parse_sampler_kind(sampler);
     o.direction_frame = parse_direction_frame(directions);
+    set_error_bound(o, target_error, max_samples, "target_error=", "max_samples=");
     o.transfer = parse_transfer_kind(transfer);
     o.seed = seed;
     o.threads = threads;
@@ -250,16 +252,16 @@ py::dict summary(const BakeResult& r, const BakeRequest& request) {
 
 py::object bake_py(py::handle vertices, py::handle faces, py::handle normals, py::handle albedo,
                    std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
-                   const std::string& sampler, const std::string& directions,
-                   const std::string& transfer, std::uint64_t seed, const py::object& bounces,
-                   double tolerance, bool two_sided, std::int64_t indirect_samples,
-                   const py::object& source_spacing, std::int64_t bounce_coeffs, int threads,
-                   const std::string& device, py::object progress, const Receivers& receivers,
-                   const Output& out) {
+                   const std::string& sampler, const std::string& directions, double target_error,
+                   std::int64_t max_samples, const std::string& transfer, std::uint64_t seed,
+                   const py::object& bounces, double tolerance, bool two_sided,
+                   std::int64_t indirect_samples, const py::object& source_spacing,
+                   std::int64_t bounce_coeffs, int threads, const std::string& device,
+                   py::object progress, const Receivers& receivers, const Output& out) {
     BakeRequest request;
-    request.options = bake_options(bands, coeffs, samples, sampler, directions, transfer, seed,
-                                   threads, device, bounces, tolerance, two_sided, indirect_samples,
-                                   source_spacing, bounce_coeffs);
+    request.options = bake_options(bands, coeffs, samples, sampler, directions, target_error,
+                                   max_samples, transfer, seed, threads, device, bounces, tolerance,
+                                   two_sided, indirect_samples, source_spacing, bounce_coeffs);
     fill_request(receivers, out, request);
     BakeOptions& options = request.options;
     // A shprt.Mesh is used in place; arrays become a Mesh (one copy, checked).
@@ -347,16 +349,17 @@ void bind_bake(py::module_& m) {
         [](Loose<MeshOrArrayName> vertices, OptionalArrayLike faces, OptionalArrayLike normals,
            OptionalArrayLike albedo, std::optional<int> bands, std::optional<int> coeffs,
            std::int64_t samples, const std::string& sampler, const std::string& directions,
-           const std::string& transfer, std::uint64_t seed, const Loose<BouncesName>& bounces,
-           double tolerance, bool two_sided, std::int64_t indirect_samples,
-           const Loose<SpacingName>& source_spacing, std::int64_t bounce_coeffs, int threads,
-           const std::string& device, Loose<ProgressName> progress, const std::string& domain,
-           Size resolution, int uv_set, bool unwrap, std::optional<double> texel_density,
-           std::optional<double> refine, std::optional<long long> max_vertices,
-           std::optional<long long> max_edge_split_depth, Size shard, Loose<ProbesName> probes,
-           Loose<ProbeBoxName> probe_box, std::optional<long long> probe_bands, const Path& output,
-           bool half, bool float32, bool stream, bool reproducible, const Path& checkpoint,
-           const Path& resume, double checkpoint_every, Size max_memory) {
+           double target_error, std::int64_t max_samples, const std::string& transfer,
+           std::uint64_t seed, const Loose<BouncesName>& bounces, double tolerance, bool two_sided,
+           std::int64_t indirect_samples, const Loose<SpacingName>& source_spacing,
+           std::int64_t bounce_coeffs, int threads, const std::string& device,
+           Loose<ProgressName> progress, const std::string& domain, Size resolution, int uv_set,
+           bool unwrap, std::optional<double> texel_density, std::optional<double> refine,
+           std::optional<long long> max_vertices, std::optional<long long> max_edge_split_depth,
+           Size shard, Loose<ProbesName> probes, Loose<ProbeBoxName> probe_box,
+           std::optional<long long> probe_bands, const Path& output, bool half, bool float32,
+           bool stream, bool reproducible, const Path& checkpoint, const Path& resume,
+           double checkpoint_every, Size max_memory) {
             const Receivers rx{domain,
                                std::move(resolution.value),
                                std::move(shard.value),
@@ -379,14 +382,15 @@ void bind_bake(py::module_& m) {
                              checkpoint_every,
                              std::move(max_memory.value)};
             return bake_py(vertices, faces, normals, albedo, bands, coeffs, samples, sampler,
-                           directions, transfer, seed, bounces.value, tolerance, two_sided,
-                           indirect_samples, source_spacing.value, bounce_coeffs, threads, device,
-                           std::move(progress.value), rx, out);
+                           directions, target_error, max_samples, transfer, seed, bounces.value,
+                           tolerance, two_sided, indirect_samples, source_spacing.value,
+                           bounce_coeffs, threads, device, std::move(progress.value), rx, out);
         },
         "vertices"_a, "faces"_a = py::none(), "normals"_a = py::none(), "albedo"_a = py::none(),
         py::kw_only(), "bands"_a = py::none(), "coeffs"_a = py::none(), "samples"_a = 1024,
-        "sampler"_a = "sobol", "directions"_a = "sphere", "transfer"_a = "shadowed", "seed"_a = 1,
-        "bounces"_a = 1, "tolerance"_a = 1e-4, "two_sided"_a = false, "indirect_samples"_a = 0,
+        "sampler"_a = "sobol", "directions"_a = "sphere", "target_error"_a = 0.0,
+        "max_samples"_a = 0, "transfer"_a = "shadowed", "seed"_a = 1, "bounces"_a = 1,
+        "tolerance"_a = 1e-4, "two_sided"_a = false, "indirect_samples"_a = 0,
         "source_spacing"_a = py::none(), "bounce_coeffs"_a = 0, "threads"_a = 0, "device"_a = "cpu",
         "progress"_a = py::none(), "domain"_a = "vertex", "resolution"_a = py::none(),
         "uv_set"_a = 0, "unwrap"_a = false, "texel_density"_a = py::none(), "refine"_a = py::none(),
@@ -404,6 +408,9 @@ normals=None computes them; albedo=None is 0.8 grey. samples S directions per ve
 sampler 'sobol' (default), 'uniform' (the paper's), 'stratified' or 'fibonacci' with seed;
 directions 'sphere' (default: one set on the sphere, the paper's) or 'local' (one cosine-weighted
 set in each receiver's tangent frame, every ray above the horizon: docs/sampling.md);
+target_error E (0 = off) gives each vertex the smallest nested prefix 64, 128, ... up to
+max_samples (0 = 16384; samples is then not used) whose estimated relative error is at most E
+(shadowed or unshadowed, sobol or uniform, CPU: docs/sampling.md, "Error-bounded bakes");
 transfer 'shadowed' (default), 'unshadowed' or 'interreflected' (RGB, shape (V, 3, K); with
 bounces N or 'converged' until the largest relative change is under tolerance, two_sided,
 indirect_samples (0 = the default), source_spacing (metres, 'vertices' or None = the

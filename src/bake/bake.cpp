@@ -129,6 +129,8 @@ TransferSet bake_to_host(const Mesh& mesh, const Receivers& receivers, const Bak
     static_cast<TransferInfo&>(out) = bake(job, options);
     out.coeffs = sink.take_rows();
     out.direct = direct.take_rows();
+    out.receiver_samples = sink.take_samples();
+    out.receiver_error = sink.take_errors();
     out.stats.peak_bytes_host += out.coeffs.size() * sizeof(float);
     return out;
 }
@@ -154,15 +156,16 @@ TransferInfo bake_description(const BakeOptions& options) {
     info.layout.encoding = TransferEncoding::f32;
     info.sampler = options.sampler;
     info.direction_frame = options.direction_frame;
-    info.samples = static_cast<int>(options.samples);
+    info.samples = static_cast<int>(bake_set_size(options));
     info.seed = options.seed;
+    info.target_error = options.target_error;
     return info;
 }
 
 std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receivers,
                                        const BakeOptions& options, bool rows_in_memory,
                                        std::size_t bounce_sources) {
-    const std::uint64_t S = options.samples, K = std::uint64_t(std::max(options.K, 0));
+    const std::uint64_t S = bake_set_size(options), K = std::uint64_t(std::max(options.K, 0));
     const std::uint64_t V = receivers;
     const std::uint64_t chunk = options.chunk_receivers > 0
                                     ? options.chunk_receivers
@@ -202,6 +205,33 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
     return bytes;
 }
 
+void set_error_bound(BakeOptions& options, double target_error, long long max_samples,
+                     std::string_view target_name, std::string_view max_name) {
+    // The names come with their front end's separator ("--max-samples ", "max_samples="); the
+    // option alone is the name without it.
+    const auto bare = [](std::string_view name) {
+        while (!name.empty() && (name.back() == ' ' || name.back() == '=')) name.remove_suffix(1);
+        return name;
+    };
+    SHPRT_CHECK(target_error >= 0 && target_error <= 1, invalid_argument,
+                "{}{}: must be 0 (off) or a relative error above 0, at most 1 (e.g. 0.01)",
+                target_name, target_error);
+    const auto max = static_cast<unsigned long long>(max_samples);
+    SHPRT_CHECK(max_samples == 0 || (max_samples >= kTargetFirstSamples &&
+                                     max_samples <= kMaxBakeSamples && (max & (max - 1)) == 0),
+                invalid_argument, "{}{}: must be a power of two, {} to {} (0: {})", max_name,
+                max_samples, kTargetFirstSamples, kMaxBakeSamples, kDefaultMaxSamples);
+    SHPRT_CHECK(max_samples == 0 || target_error > 0, invalid_argument, "{} needs {}",
+                bare(max_name), bare(target_name));
+    options.target_error = target_error;
+    options.max_samples = static_cast<std::uint32_t>(max_samples);
+}
+
+std::uint32_t bake_set_size(const BakeOptions& options) {
+    if (options.target_error <= 0) return options.samples;
+    return options.max_samples > 0 ? options.max_samples : kDefaultMaxSamples;
+}
+
 int default_coeffs(TransferKind kind) { return kind == TransferKind::glossy ? sh_count(5) : 16; }
 
 void validate(const BakeOptions& options) {
@@ -233,6 +263,29 @@ void validate(const BakeOptions& options) {
     SHPRT_CHECK(options.bounce_coeffs >= 0 && options.bounce_coeffs <= options.K, invalid_argument,
                 "bounce coefficients = {} must be 0 (automatic) to K = {} (the bake's basis size)",
                 options.bounce_coeffs, options.K);
+    SHPRT_CHECK(options.target_error >= 0 && options.target_error <= 1, invalid_argument,
+                "target error = {} must be 0 (off) or a relative error above 0, at most 1",
+                options.target_error);
+    const std::uint32_t max = options.max_samples;
+    SHPRT_CHECK(max == 0 || options.target_error > 0, invalid_argument,
+                "max samples = {} needs a target error (an error-bounded bake)", max);
+    SHPRT_CHECK(max == 0 || (max >= kTargetFirstSamples && max <= kMaxBakeSamples &&
+                             (max & (max - 1)) == 0),
+                invalid_argument, "max samples = {} must be a power of two, {} to {}", max,
+                kTargetFirstSamples, kMaxBakeSamples);
+    if (options.target_error > 0) {
+        SHPRT_CHECK(
+            options.sampler == SamplerKind::sobol || options.sampler == SamplerKind::uniform,
+            invalid_argument,
+            "target error: sampler '{}' has no nested prefixes (use sobol or uniform)",
+            to_string(options.sampler));
+        SHPRT_CHECK(options.transfer == TransferKind::shadowed ||
+                        options.transfer == TransferKind::unshadowed,
+                    unsupported,
+                    "target error: {} transfer has no error-bounded bake yet (unshadowed or "
+                    "shadowed only)",
+                    to_string(options.transfer));
+    }
     SHPRT_CHECK(options.source_spacing >= 0 && !std::isnan(options.source_spacing),
                 invalid_argument,
                 "source spacing = {} must be 0 (automatic), a positive number of metres or inf",
@@ -275,9 +328,18 @@ TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
         checked.samples = static_cast<std::uint32_t>(job.directions->size());
     }
     validate(checked);
+    SHPRT_CHECK(checked.target_error <= 0 || job.directions == nullptr, unsupported,
+                "target error: the error-bounded bake makes its own nested set (no caller's "
+                "direction set)");
+    // The error-bounded bake's set is max_samples long (the prefixes are taken from it).
+    checked.samples = bake_set_size(checked);
     detail::validate_job(job, checked);
     SHPRT_CHECK(job.sink != nullptr, invalid_argument, "a bake needs a sink for its rows");
     Device backend = resolve_device(checked.device, checked.device_index);
+    if (backend == Device::cuda && checked.target_error > 0) {
+        SHPRT_CHECK(checked.device == Device::automatic, unsupported, "{}", kTargetErrorOnGpu);
+        backend = Device::cpu;
+    }
     if (backend == Device::cuda && checked.direction_frame == DirectionFrame::local) {
         // The GPU bake has no local sets yet: automatic means "the GPU where it can run".
         SHPRT_CHECK(checked.device == Device::automatic, unsupported, "{}", kLocalDirectionsOnGpu);

@@ -14,6 +14,7 @@
 // bit-identical results for any thread count.
 #include "bake/bake_internal.hpp"
 #include "bake/bake_progress.hpp"
+#include "bake/error_bound.hpp"
 #include "bake/stages.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/parallel.hpp"
@@ -42,6 +43,7 @@ struct Scratch {
     std::vector<float> c;        // C[chunk×K] when the sink has no host rows to project into
     std::vector<float> c_local;  // C'[chunk×KL] in the receivers' frames (local sets)
     TraceScratch trace;
+    ErrorBoundScratch bound;     // the error-bounded bake's buffers
     double trace_seconds = 0;    // CPU time in weighting and tracing (this worker)
     double project_seconds = 0;  // CPU time in SGEMM (this worker)
 };
@@ -71,13 +73,19 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     // A chunk that the range only partly covers is projected whole, the rows outside the range
     // with zero weights (a row's bits do not depend on the other rows' values), and only the
     // range's rows are kept.
+    // The error-bounded bake sizes its grid by its first prefix, the W that every row needs.
+    const bool bounded = options.target_error > 0;
     const std::size_t chunk =
-        options.chunk_receivers > 0 ? options.chunk_receivers : auto_chunk_receivers(rx.total, S);
+        options.chunk_receivers > 0
+            ? options.chunk_receivers
+            : auto_chunk_receivers(rx.total,
+                                   bounded ? std::min<std::size_t>(S, kTargetFirstSamples) : S);
     const std::size_t first_chunk = rx.first / chunk;
     const std::size_t chunk_count = (rx.end() + chunk - 1) / chunk - first_chunk;
 
     const bool local = options.direction_frame == DirectionFrame::local;
-    const DirectionTable table = make_direction_table(directions, options.direction_frame);
+    const DirectionTable table = make_direction_table(directions, options.direction_frame,
+                                                      bounded ? kTargetFirstSamples : 0);
     // The basis table, once for all receivers: Y[s*KL + i] = y_i(w_s), KL = K (a local set: the
     // full bands that hold K, in the frame; rotated to K in world space after the product).
     // Glossy transfer projects onto the pair-product table instead (stages.hpp): its F =
@@ -91,14 +99,49 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     TransferInfo info = bake_info(options, rx, S);
     TransferSink& sink = *job.sink;
     sink.begin(info.layout, rx.first, rx.count);
+    if (bounded) sink.begin_estimates();
 
     BakeProgress progress(options.progress, shadowed, rx.count, S);
     tbb::enumerable_thread_specific<Scratch> scratch;
 
+    ErrorBound bound;
+    bound.table = &table;
+    bound.Y = Y.data();
+    bound.KL = KL;
+    bound.first_samples = std::min<std::size_t>(kTargetFirstSamples, S);
+    bound.max_samples = S;
+    bound.target = options.target_error;
+    bound.open_norm = open_transfer_norm(KL);
+    bound.shadowed = shadowed;
+    // The error-bounded chunk: every row of the grid's chunk baked to the bound (error_bound.hpp
+    // says why the whole chunk), the range's rows rotated (local) or copied to the sink.
+    auto run_bounded_chunk = [&](std::size_t grid_first, std::size_t height, std::size_t first,
+                                 std::size_t count, Scratch& sc) {
+        ErrorBoundScratch& eb = sc.bound;
+        bake_chunk_to_error(bound, tracer, rx, grid_first, height, eb, progress);
+        if (progress.stopped()) return;
+        const std::size_t lead = first - grid_first;
+        const double rows_start = thread_cpu_seconds();
+        float* C = sink.host_rows(first, count);
+        if (C == nullptr) {
+            if (sc.c.size() < count * std::size_t(F)) sc.c.resize(count * std::size_t(F));
+            C = sc.c.data();
+        }
+        const float* rows = eb.acc.data() + lead * std::size_t(KL);
+        if (local)
+            rotate_rows_to_world(rx.normals + first, count, KL, K, false, rows, C);
+        else
+            std::copy(rows, rows + count * std::size_t(K), C);
+        sc.project_seconds += thread_cpu_seconds() - rows_start;
+        progress.add(count, 0);
+        sink.write(first, count, C);
+        sink.write_estimates(first, count, eb.samples.data() + lead, eb.error.data() + lead);
+    };
+
     auto run_chunk = [&](std::size_t c) {
         if (progress.stopped()) return;
         Scratch& sc = scratch.local();
-        if (sc.w.empty()) sc.w.resize(chunk * S);
+        if (!bounded && sc.w.empty()) sc.w.resize(chunk * S);
         // The grid's chunk [grid_first, grid_first + height) and the range's part of it.
         const std::size_t grid_first = (first_chunk + c) * chunk;
         const std::size_t height = std::min(chunk, rx.total - grid_first);
@@ -106,6 +149,7 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
         const std::size_t count = std::min(grid_first + height, rx.end()) - first;
         const std::size_t lead = first - grid_first;  // rows of the chunk before the range
         const bool whole = count == height;
+        if (bounded) return run_bounded_chunk(grid_first, height, first, count, sc);
         if (!whole) std::fill(sc.w.begin(), sc.w.begin() + std::ptrdiff_t(height * S), 0.0f);
         const double trace_start = thread_cpu_seconds();
         std::uint64_t local_rays = 0;
@@ -163,8 +207,8 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     double trace_acc = 0, project_acc = 0;
     std::size_t c_bytes = 0;
     for (const Scratch& sc : scratch) {
-        trace_acc += sc.trace_seconds;
-        project_acc += sc.project_seconds;
+        trace_acc += sc.trace_seconds + sc.bound.trace_seconds;
+        project_acc += sc.project_seconds + sc.bound.project_seconds;
         c_bytes += (sc.c.size() + sc.c_local.size()) * sizeof(float);
     }
     const double busy = trace_acc + project_acc;

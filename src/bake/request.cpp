@@ -94,7 +94,7 @@ std::uint64_t probe_bytes(const ProbeGrid& probes, const Mesh& mesh, const BakeO
     const std::uint64_t light = std::uint64_t(bake_bounce_source_count(mesh, options)) * 3 *
                                 std::uint64_t(options.K) * sizeof(float);
     const std::uint64_t KK = std::uint64_t(probes.K) * std::uint64_t(probes.K);
-    const std::uint64_t S = options.samples;
+    const std::uint64_t S = bake_set_size(options);
     const std::uint64_t per_worker =
         (kProbeChunk * S + kProbeChunk * KK + 3 * S * std::uint64_t(probes.K) + 3 * KK) *
             sizeof(float) +
@@ -122,7 +122,7 @@ BakeResult run_texels(const BakeRequest& r, const Mesh& input, const TexelGrid& 
     ProbeGrid probes = request_probes(r, mesh);
     out.estimated_bytes =
         texel_bake_bytes(texels.count(), width, height, bake_description(options).layout,
-                         options.samples, options.threads) +
+                         bake_set_size(options), options.threads) +
         estimate_bake_peak_bytes(mesh.triangle_count(), 0, options, false) +
         probe_bytes(probes, mesh, options);
     check_memory(r, out.estimated_bytes,
@@ -457,6 +457,7 @@ std::optional<std::string> request_refusal(const BakeRequest& r) {
     }
     if (r.options.direction_frame == DirectionFrame::local && r.options.device == Device::cuda)
         return kLocalDirectionsOnGpu;
+    if (r.options.target_error > 0 && r.options.device == Device::cuda) return kTargetErrorOnGpu;
     if (r.distributed && is_shard(r))
         return "--shard and MPI: the ranks already share the bake (use one or the other)";
     if (streamed(r) && r.output->path.empty()) return "--stream needs an output file";

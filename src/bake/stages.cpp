@@ -18,7 +18,8 @@
 
 namespace shprt::detail {
 
-DirectionTable make_direction_table(const DirectionSet& directions, DirectionFrame frame) {
+DirectionTable make_direction_table(const DirectionSet& directions, DirectionFrame frame,
+                                    std::size_t first_prefix) {
     const std::size_t S = directions.size();
     DirectionTable t;
     t.frame = frame;
@@ -34,7 +35,8 @@ DirectionTable make_direction_table(const DirectionSet& directions, DirectionFra
         t.weight[s] = directions.weights[s];
         t.dirs[s] = Vec3f{t.x[s], t.y[s], t.z[s]};
     }
-    t.trace_order = coherent_order(directions);
+    t.trace_order =
+        first_prefix > 0 ? coherent_order(directions, first_prefix) : coherent_order(directions);
     t.trace_dirs.resize(S);
     for (std::size_t i = 0; i < S; ++i) t.trace_dirs[i] = t.dirs[t.trace_order[i]];
     return t;
@@ -73,11 +75,16 @@ void TraceScratch::reserve(std::size_t samples) {
 }
 
 void weight_row(Vec3f n, const DirectionTable& d, float* row, bool hemisphere) {
-    const std::size_t S = d.size();
-    const float* dx = d.x.data();
-    const float* dy = d.y.data();
-    const float* dz = d.z.data();
-    const float* weight = d.weight.data();
+    weight_row(n, d, DirectionRange{0, d.size()}, row, hemisphere);
+}
+
+void weight_row(Vec3f n, const DirectionTable& d, DirectionRange range, float* row,
+                bool hemisphere) {
+    const std::size_t S = range.end - range.begin;
+    const float* dx = d.x.data() + range.begin;
+    const float* dy = d.y.data() + range.begin;
+    const float* dz = d.z.data() + range.begin;
+    const float* weight = d.weight.data() + range.begin;
     if (d.frame == DirectionFrame::local) {
         std::copy(weight, weight + S, row);
         return;
@@ -108,25 +115,32 @@ std::vector<float> pair_product_table(const std::vector<float>& Y, std::size_t S
 
 std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionTable& d, float* row,
                         TraceScratch& scratch) {
-    const std::size_t S = d.size();
+    return trace_row(tracer, p, n, d, DirectionRange{0, d.size()}, row, scratch);
+}
+
+std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionTable& d,
+                        DirectionRange range, float* row, TraceScratch& scratch) {
+    const std::size_t S = range.end - range.begin;
     scratch.reserve(S);
     // Compaction of the above-horizon directions in the coherent trace order, branch-free: a
     // branch here mispredicts often (it cost more than 10% of the tracing time in the set's
-    // random order).
-    const std::uint32_t* order = d.trace_order.data();
-    const Vec3f* dirs = d.trace_dirs.data();
+    // random order). The range's positions of the order hold its indices (make_direction_table),
+    // which index `row` from range.begin.
+    const std::uint32_t* order = d.trace_order.data() + range.begin;
+    const Vec3f* dirs = d.trace_dirs.data() + range.begin;
+    const std::uint32_t base = static_cast<std::uint32_t>(range.begin);
     std::uint32_t m = 0;
     if (d.frame == DirectionFrame::local) {
         // Every direction is above the horizon: no compaction, the frame turns them.
         const LocalFrame f = local_frame(n);
         for (std::size_t i = 0; i < S; ++i) {
-            scratch.ray_index[i] = order[i];
+            scratch.ray_index[i] = order[i] - base;
             scratch.ray_dirs[i] = to_world(f, dirs[i]);
         }
         m = static_cast<std::uint32_t>(S);
     } else {
         for (std::size_t i = 0; i < S; ++i) {
-            const std::uint32_t s = order[i];
+            const std::uint32_t s = order[i] - base;
             scratch.ray_index[m] = s;
             scratch.ray_dirs[m] = dirs[i];
             m += row[s] != 0.0f ? 1u : 0u;

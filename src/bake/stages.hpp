@@ -50,8 +50,17 @@ struct DirectionTable {
     static constexpr std::size_t kBytesPerDirection =
         4 * sizeof(float) + 2 * sizeof(Vec3f) + sizeof(std::uint32_t);
 };
+// first_prefix > 0 (the error-bounded bake): the trace order is coherent within each new
+// segment of the nested prefixes [0, P), [P, 2P), … instead (coherent_order(set, P)), so that a
+// segment is traced on its own.
 DirectionTable make_direction_table(const DirectionSet& directions,
-                                    DirectionFrame frame = DirectionFrame::sphere);
+                                    DirectionFrame frame = DirectionFrame::sphere,
+                                    std::size_t first_prefix = 0);
+
+// Directions [begin, end) of a table: a segment of nested prefixes (the error-bounded bake).
+struct DirectionRange {
+    std::size_t begin = 0, end = 0;
+};
 
 // The basis size a bake projects onto: K, or for a local set the full bands that hold K (a
 // partial last band is rotated whole, then truncated: sh/rotation.hpp).
@@ -72,6 +81,9 @@ struct TraceScratch {
 // row[s] = weight_s where n·w_s > 0, else 0 (the hemisphere, no cosine). A local table:
 // row[s] = weight_s (every direction is above the horizon, the density is in the weight).
 void weight_row(Vec3f n, const DirectionTable& directions, float* row, bool hemisphere = false);
+// The same for directions [range.begin, range.end) only: row[s − range.begin].
+void weight_row(Vec3f n, const DirectionTable& directions, DirectionRange range, float* row,
+                bool hemisphere = false);
 
 // The glossy projection table: P[s·F + p(i,j)] = y_i(w_s)·y_j(w_s) for 0 ≤ i ≤ j < K, with
 // F = K(K+1)/2 and p(i,j) the packed upper-triangle index (row by row), from the basis table
@@ -83,6 +95,10 @@ std::vector<float> pair_product_table(const std::vector<float>& Y, std::size_t S
 // into n's frame by to_world(local_frame(n), ·)). Returns the rays cast.
 std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionTable& directions,
                         float* row, TraceScratch& scratch);
+// The same for directions [range.begin, range.end) only (row[s − range.begin]); the range must be
+// whole segments of the table's trace order (the whole set, or [a, b) of its nested prefixes).
+std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionTable& directions,
+                        DirectionRange range, float* row, TraceScratch& scratch);
 
 // project: C[count×K] = W[count×S]·Y[S×K], all row-major, one single-threaded cblas_sgemm (the
 // caller keeps OpenBLAS at one thread: SingleThreadedBlas).

@@ -411,6 +411,10 @@ void Reader::read_description(const Fields& m, const ShprtHeader& h, TransferSet
     if (const char* why = samples_refusal(t.kind, t.samples))
         corrupt(m_path, "metadata: samples = 0 for {} transfer, but {}", to_string(t.kind), why);
     t.seed = m.u64("seed");
+    // Absent before error-bounded bakes and for bakes without one: 0.
+    t.target_error = m.number_or_zero("target_error");
+    if (!(t.target_error >= 0 && t.target_error <= 1))
+        corrupt(m_path, "metadata: target_error = {} is outside [0, 1]", t.target_error);
 }
 
 // The scene's counts, hash and BRDFs, and the receivers the rows are (vertices or texels, all

@@ -63,6 +63,18 @@ using CpcaArray = PartArray<&TransferSet::cpca, Member>;
 template <auto Member>
 using ProbeArray = PartArray<&TransferSet::probes, Member>;
 
+// One std::vector member of the transfer set itself: an error-bounded bake's per-receiver
+// estimates (TransferSet::receiver_samples, receiver_error).
+template <auto Member>
+struct SetArray {
+    static const void* data(const Mesh&, const TransferSet& t) { return (t.*Member).data(); }
+    static std::uint64_t count(const Mesh&, const TransferSet& t) { return (t.*Member).size(); }
+    static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
+        (t.*Member).resize(static_cast<std::size_t>(n));
+        return (t.*Member).data();
+    }
+};
+
 // The mesh's UVs, stored with texel-domain transfer only (the texels were rasterised in them).
 struct UvArray {
     static bool stored(const TransferSet& t) { return t.layout.domain == ReceiverDomain::texel; }
@@ -115,6 +127,12 @@ const std::array kRules = {
     rule<ProbeArray<&ProbeGrid::matrices>>("probe_matrices", S::f32, R::probes,
                                            SectionRule::kProbeFloats, kOptional),
     rule<ProbeArray<&ProbeGrid::valid>>("probe_valid", S::u8, R::probes, 1, kOptional),
+    // An error-bounded bake (docs/sampling.md, "Error-bounded bakes"): each receiver's
+    // directions and estimated error. Metadata "target_error" is the bound.
+    rule<SetArray<&TransferSet::receiver_samples>>("receiver_samples", S::u32, R::receivers, 1,
+                                                   kOptional),
+    rule<SetArray<&TransferSet::receiver_error>>("receiver_error", S::f32, R::receivers, 1,
+                                                 kOptional),
     // Interreflected transfer's direct part, one channel per receiver: before "transfer", which
     // stays last (a streamed bake writes it in place).
     rule<DirectArray>("transfer_direct", S::transfer, R::receivers, SectionRule::kPerChannel,

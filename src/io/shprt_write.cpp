@@ -105,6 +105,8 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
     if (t.direction_frame != DirectionFrame::sphere) m["directions"] = to_string(t.direction_frame);
     m["samples"] = t.samples;
     m["seed"] = t.seed;
+    // Written only for an error-bounded bake (its samples are the most a receiver has).
+    if (t.target_error > 0) m["target_error"] = t.target_error;
     if (t.kind == TransferKind::interreflected) {
         const InterreflectionInfo& ir = t.interreflection;
         m["interreflection"] = {

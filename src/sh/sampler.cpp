@@ -194,6 +194,10 @@ DirectionSet to_float(const DirectionSetD& set) {
 }
 
 std::vector<std::uint32_t> coherent_order(const DirectionSet& set) {
+    return coherent_order(set, std::max<std::size_t>(set.size(), 1));
+}
+
+std::vector<std::uint32_t> coherent_order(const DirectionSet& set, std::size_t first_prefix) {
     const std::size_t S = set.size();
     std::vector<std::uint64_t> keyed(S);
     for (std::size_t s = 0; s < S; ++s) {
@@ -201,7 +205,10 @@ std::vector<std::uint32_t> coherent_order(const DirectionSet& set) {
             octahedral_hilbert_key(set.dirs[3 * s], set.dirs[3 * s + 1], set.dirs[3 * s + 2]);
         keyed[s] = key << 32 | static_cast<std::uint32_t>(s);  // ties by index: a total order
     }
-    std::sort(keyed.begin(), keyed.end());
+    // Each segment [a, b) sorted on its own: the segments are index ranges, in order.
+    for (std::size_t a = 0, b = std::min(S, std::max<std::size_t>(first_prefix, 1)); a < S;
+         a = b, b = std::min(S, 2 * b))
+        std::sort(keyed.begin() + std::ptrdiff_t(a), keyed.begin() + std::ptrdiff_t(b));
     std::vector<std::uint32_t> order(S);
     for (std::size_t i = 0; i < S; ++i) order[i] = static_cast<std::uint32_t>(keyed[i]);
     return order;

@@ -30,6 +30,8 @@ void HostSink::begin(const TransferLayout& layout, std::size_t first, std::size_
     m_first = first;
     m_count = count;
     m_rows.assign(layout.floats(count), 0.0f);
+    m_samples.clear();
+    m_errors.clear();
 }
 
 float* HostSink::host_rows(std::size_t first, std::size_t count) {
@@ -41,6 +43,20 @@ void HostSink::write(std::size_t first, std::size_t count, const float* rows) {
     float* target = host_rows(first, count);
     if (rows != nullptr && rows != target)
         std::memcpy(target, rows, m_layout.floats(count) * sizeof(float));
+}
+
+void HostSink::begin_estimates() {
+    m_samples.assign(m_count, 0);
+    m_errors.assign(m_count, 0.0f);
+}
+
+void HostSink::write_estimates(std::size_t first, std::size_t count, const std::uint32_t* samples,
+                               const float* errors) {
+    check_range(first, count, m_first, m_count);
+    SHPRT_CHECK(m_samples.size() == m_count, invalid_argument,
+                "host sink: estimates written before begin_estimates()");
+    std::copy(samples, samples + count, m_samples.begin() + std::ptrdiff_t(first - m_first));
+    std::copy(errors, errors + count, m_errors.begin() + std::ptrdiff_t(first - m_first));
 }
 
 void FileRegionSink::begin(const TransferLayout& layout, std::size_t first, std::size_t count) {

@@ -22,7 +22,19 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
         fmt::format("Basis size K, 1 to {} (need not be a square); default 16 (4 bands: smooth "
                     "skies; a sun projected into SH wants more, e.g. the paper's 256)",
                     kMaxBakeCoeffs));
-    app.add_option("--samples", args.samples, "Directions per vertex S (default 1024)");
+    app.add_option("--samples", args.samples,
+                   "Directions per vertex S (default 1024; not used with --target-error)");
+    app.add_option("--target-error", args.target_error,
+                   fmt::format("Error-bounded bake: each receiver gets the smallest prefix {}, "
+                               "{}, ... of the nested set whose estimated relative error is at "
+                               "most E (e.g. 0.01; above 0, at most 1; default 0 = off: every "
+                               "receiver gets --samples). Shadowed or unshadowed, sobol or "
+                               "uniform, CPU; docs/sampling.md",
+                               kTargetFirstSamples, 2 * kTargetFirstSamples));
+    app.add_option("--max-samples", args.max_samples,
+                   fmt::format("--target-error: the most directions a receiver gets, a power of "
+                               "two {} to {} (default 0 = {})",
+                               kTargetFirstSamples, kMaxBakeSamples, kDefaultMaxSamples));
     app.add_option("--sampler", args.sampler,
                    "sobol (default: 7x lower error than the paper's set at the same cost), "
                    "uniform (the paper's), stratified or fibonacci");
@@ -103,6 +115,7 @@ BakeOptions bake_options_from(const BakeOptionArgs& a) {
     SHPRT_CHECK(a.samples >= 1 && a.samples <= kMaxBakeSamples, invalid_argument,
                 "--samples {}: must be 1 to {}", a.samples, kMaxBakeSamples);
     o.samples = static_cast<std::uint32_t>(a.samples);
+    set_error_bound(o, a.target_error, a.max_samples, "--target-error ", "--max-samples ");
     o.seed = a.seed;
     SHPRT_CHECK(a.threads >= 0 && a.threads <= kMaxBakeThreads, invalid_argument,
                 "--threads {}: must be 0 (all) to {}", a.threads, kMaxBakeThreads);

@@ -31,6 +31,9 @@ struct BakeOptionArgs {
     std::optional<long long> indirect_samples;  // --indirect-samples S'
     std::string source_spacing;                 // --source-spacing METRES|vertices
     std::optional<long long> bounce_coeffs;     // --bounce-coeffs K2
+    // The error-bounded bake: --target-error E (0 = off), --max-samples N (0 = the default).
+    double target_error = 0;
+    long long max_samples = 0;
 };
 
 // Adds the options above, writing into `args` (which must outlive the parse).

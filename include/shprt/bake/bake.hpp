@@ -49,6 +49,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace shprt {
@@ -78,6 +79,19 @@ inline constexpr int kMaxBounces = 10000;
 inline constexpr const char* kLocalDirectionsOnGpu =
     "--directions local: the GPU bake has no local direction sets yet; bake on the CPU "
     "(--device cpu) or with --directions sphere";
+// The error-bounded bake (BakeOptions::target_error, docs/sampling.md "Error-bounded bakes"):
+// every receiver starts with the first kTargetFirstSamples directions of the nested set (its
+// halves give the first estimate) and doubles while its estimated error is over the target, up
+// to max_samples (0: kDefaultMaxSamples). A power of two, so that every prefix is a balanced
+// Sobol net; 64 because a smaller first prefix can miss a small occluder in both halves and
+// stop there (the estimate sees no difference), and a larger one spends more on the open
+// receivers that need no more (measured: bench/RESULTS.md, "Error-bounded bakes").
+inline constexpr std::uint32_t kTargetFirstSamples = 64;
+inline constexpr std::uint32_t kDefaultMaxSamples = 16384;
+// The one line with which a GPU bake refuses an error bound (bake() with Device::cuda,
+// request_refusal).
+inline constexpr const char* kTargetErrorOnGpu =
+    "--target-error: the GPU bake has no error-bounded bake yet; bake on the CPU (--device cpu)";
 
 // The basis size K of a bake when the caller gives neither bands nor K: 16 (4 bands), and 25 (5
 // bands: 25×25 matrices) for glossy transfer. The command line and Python both ask here.
@@ -105,6 +119,16 @@ struct BakeOptions {
     // the visibility alone (the cosine, if any, folded in). Interreflected transfer: T_0 uses it;
     // the bounce sources keep the sphere set (their final gather is cosine-distributed already).
     DirectionFrame direction_frame = DirectionFrame::sphere;
+    // The error-bounded bake (docs/sampling.md, "Error-bounded bakes"): 0 = off (every receiver
+    // gets `samples`); E in (0, 1]: each receiver gets the smallest nested prefix
+    // kTargetFirstSamples·2^k ≤ max_samples whose estimated error (‖ĉ_S − ĉ_{S/2}‖ over the
+    // norm of a fully open receiver's transfer) is at most E, and `samples` is not used: the set
+    // is max_samples long (what the file records as its samples). Vectors only (unshadowed,
+    // shadowed; vertices or texels), a nested sampler (sobol, uniform), the CPU, the bake's own
+    // set (no caller's DirectionSet). max_samples: 0 (kDefaultMaxSamples) or a power of two,
+    // kTargetFirstSamples to kMaxBakeSamples; only with target_error.
+    double target_error = 0;
+    std::uint32_t max_samples = 0;
     std::uint64_t seed = 1;
     int threads = 0;  // worker threads, 0..kMaxBakeThreads; 0 = all hardware threads
     // cpu; cuda (the GPU bake; Error(unsupported) with the reason where it cannot run); or
@@ -159,10 +183,30 @@ struct BakeOptions {
     ProgressFn progress;
 };
 
+// The error bound as a front end takes it (`shprt bake --target-error E --max-samples N`,
+// Python's target_error=, max_samples=), checked with the same limits for both and named as the
+// front end spells them with their separator ("--target-error ", "target_error="): E = 0 (off) or
+// in (0, 1]; N = 0 (kDefaultMaxSamples) or a power of two kTargetFirstSamples to kMaxBakeSamples,
+// and only with E > 0. One-line Error(invalid_argument) otherwise.
+void set_error_bound(BakeOptions& options, double target_error, long long max_samples,
+                     std::string_view target_name, std::string_view max_name);
+
+// ‖c_open‖, the error-bounded bake's unit: the norm of a fully open receiver's diffuse transfer
+// (the clamped cosine about its normal) over the full bands that hold `coeffs` coefficients; it
+// depends on the bands only. A receiver's error is ‖ĉ − c‖ / ‖c_open‖ (docs/sampling.md).
+double open_transfer_norm(int coeffs);
+
+// The size of the direction set a bake with `options` makes: samples, or with target_error the
+// error-bounded bake's max_samples (kDefaultMaxSamples when 0).
+std::uint32_t bake_set_size(const BakeOptions& options);
+
 // The one check of bake options, made at the boundary (every bake entry point calls it once):
 // Error(invalid_argument) naming the option for K outside 1..kMaxBakeCoeffs (1..kMaxGlossyCoeffs
 // for glossy transfer), samples outside
-// 1..kMaxBakeSamples, threads outside 0..kMaxBakeThreads, a negative device index.
+// 1..kMaxBakeSamples, threads outside 0..kMaxBakeThreads, a negative device index, a target
+// error outside [0, 1] or max_samples that is not 0 or a power of two kTargetFirstSamples to
+// kMaxBakeSamples (or without a target error), a target error with a sampler whose prefixes are
+// not nested; Error(unsupported) for a target error with glossy or interreflected transfer.
 void validate(const BakeOptions& options);
 
 // The one place a bake's backend is chosen: Device::cpu → cpu; Device::cuda → cuda when

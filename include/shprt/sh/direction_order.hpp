@@ -72,5 +72,9 @@ SHPRT_HD_INLINE std::uint32_t octahedral_hilbert_key(float x, float y, float z) 
 // index in `set` of the i-th direction to trace. Host only, single-threaded (a sort of S keys);
 // the same set gives the same order on every machine.
 std::vector<std::uint32_t> coherent_order(const DirectionSet& set);
+// The same within each new segment of the nested prefixes [0, P), [P, 2P), [2P, 4P), … (the
+// last one cut at the set's size): positions [a, b) of the order hold the indices [a, b), sorted
+// by key, so that an error-bounded bake traces one segment as one coherent stream. P ≥ 1.
+std::vector<std::uint32_t> coherent_order(const DirectionSet& set, std::size_t first_prefix);
 
 }  // namespace shprt

@@ -67,6 +67,13 @@ public:
     // `rows`, valid only during the call (the pointer host_rows() gave, when it gave one), or
     // nullptr when they were written to device_rows().
     virtual void write(std::size_t first, std::size_t count, const float* rows) = 0;
+    // An error-bounded bake (BakeOptions::target_error) calls begin_estimates() once after
+    // begin(), then hands over with each write() each of the same receivers' sample count and
+    // estimated error, valid only during the call (from any worker thread, as write()). The
+    // default drops them.
+    virtual void begin_estimates() {}
+    virtual void write_estimates(std::size_t /*first*/, std::size_t /*count*/,
+                                 const std::uint32_t* /*samples*/, const float* /*errors*/) {}
     // Called once after the last write() of a bake that succeeded (not after a failure or a
     // cancel).
     virtual void finish() {}
@@ -79,16 +86,24 @@ public:
     void begin(const TransferLayout& layout, std::size_t first, std::size_t count) override;
     float* host_rows(std::size_t first, std::size_t count) override;
     void write(std::size_t first, std::size_t count, const float* rows) override;
+    void begin_estimates() override;
+    void write_estimates(std::size_t first, std::size_t count, const std::uint32_t* samples,
+                         const float* errors) override;
 
     const TransferLayout& layout() const { return m_layout; }
     std::size_t first() const { return m_first; }
     const std::vector<float>& rows() const { return m_rows; }
     std::vector<float> take_rows() { return std::move(m_rows); }
+    // An error-bounded bake's estimates, one per receiver of the range (empty otherwise).
+    std::vector<std::uint32_t> take_samples() { return std::move(m_samples); }
+    std::vector<float> take_errors() { return std::move(m_errors); }
 
 private:
     TransferLayout m_layout;
     std::size_t m_first = 0, m_count = 0;
     std::vector<float> m_rows;
+    std::vector<std::uint32_t> m_samples;
+    std::vector<float> m_errors;
 };
 
 // Rows as float32 (little-endian, this host's floats) into the file `fd` (open for writing,

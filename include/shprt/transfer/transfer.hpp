@@ -14,9 +14,9 @@
 #pragma once
 
 #include "shprt/scene/texel_raster.hpp"
-#include "shprt/transfer/probes.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
+#include "shprt/transfer/probes.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -177,6 +177,9 @@ struct TransferInfo {
     DirectionFrame direction_frame = DirectionFrame::sphere;  // the set's frame (sampler.hpp)
     int samples = 0;
     std::uint64_t seed = 0;
+    // An error-bounded bake's target error E (0: none; then every receiver has `samples`, and
+    // with one, `samples` is the most a receiver has: docs/sampling.md).
+    double target_error = 0;
     BakeStats stats;
     InterreflectionInfo interreflection;  // kind == interreflected only
     TexelAtlas texels;                    // layout.domain == texel only: which texel each
@@ -209,6 +212,10 @@ struct TransferSet : TransferInfo {
     // Transfer probes baked beside the receivers (`shprt bake --probes`, transfer/probes.hpp);
     // empty (no counts) otherwise.
     ProbeGrid probes;
+    // An error-bounded bake's per-receiver directions and estimated errors (receiver_count()
+    // each); empty otherwise: every receiver then has `samples`.
+    std::vector<std::uint32_t> receiver_samples;
+    std::vector<float> receiver_error;
 
     // An all-zero set of `receivers` rows with the given description (what a progressive display
     // starts from before the first chunk arrives).

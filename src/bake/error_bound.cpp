@@ -1,0 +1,115 @@
+// The estimate stage of the error-bounded bake (error_bound.hpp).
+#include "bake/error_bound.hpp"
+
+#include "bake/bake_progress.hpp"
+#include "shprt/bake/bake.hpp"
+#include "shprt/core/timer.hpp"
+#include "shprt/sh/basis.hpp"
+#include "shprt/sh/zonal.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace shprt::detail {
+
+namespace {
+// Rows of one segment's GEMM: W of a block stays about 1 MiB (bake.hpp's chunk rule), at least
+// one row. A function of the segment's length only.
+std::size_t block_rows(std::size_t length, std::size_t height) {
+    constexpr std::size_t kBlockFloats = std::size_t(1) << 18;
+    return std::clamp<std::size_t>(kBlockFloats / length, 1, height);
+}
+
+double distance(const float* a, const float* b, int n) {
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+        const double d = double(a[i]) - double(b[i]);
+        sum += d * d;
+    }
+    return std::sqrt(sum);
+}
+}  // namespace
+
+std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
+                                  const Receivers& rx, std::size_t first, std::size_t height,
+                                  ErrorBoundScratch& sc, BakeProgress& progress) {
+    const std::size_t KL = std::size_t(bound.KL);
+    const std::size_t S0 = bound.first_samples, Smax = bound.max_samples;
+    sc.acc.resize(height * KL);
+    sc.samples.assign(height, 0);
+    sc.error.assign(height, 0.0f);
+    sc.active.resize(height);
+    std::iota(sc.active.begin(), sc.active.end(), std::uint32_t(0));
+    std::uint64_t rays = 0;
+    for (std::size_t a = 0, b = std::min(S0, Smax); a < Smax && !sc.active.empty();
+         a = b, b = std::min(2 * b, Smax)) {
+        const std::size_t length = b - a;
+        const std::size_t B = block_rows(length, height);
+        if (sc.w.size() < B * length) sc.w.resize(B * length);
+        if (sc.g.size() < B * KL) sc.g.resize(B * KL), sc.g0.resize(B * KL);
+        // The estimate's scale: ĉ_b − ĉ_{b/2} = (Smax/b)·(new half's sum − old half's sum).
+        const double scale = double(Smax) / double(b) / bound.open_norm;
+        std::size_t kept = 0;  // sc.active is compacted in place as rows finish
+        for (std::size_t k = 0; k < sc.active.size(); k += B) {
+            const std::size_t m = std::min(B, sc.active.size() - k);
+            const double trace_start = thread_cpu_seconds();
+            std::uint64_t block_rays = 0;
+            for (std::size_t i = 0; i < m; ++i) {
+                const std::size_t r = first + sc.active[k + i];
+                float* row = sc.w.data() + i * length;
+                weight_row(rx.normals[r], *bound.table, DirectionRange{a, b}, row);
+                if (bound.shadowed)
+                    block_rays += trace_row(*tracer, rx.positions[r], rx.normals[r], *bound.table,
+                                            DirectionRange{a, b}, row, sc.trace);
+            }
+            rays += block_rays;
+            progress.add(0, block_rays);
+            if (!progress.poll()) return rays;
+            const double project_start = thread_cpu_seconds();
+            const float* Ya = bound.Y + a * KL;
+            if (a == 0) {  // the first prefix: its two halves
+                const std::size_t half = length / 2;
+                project_rows(sc.w.data(), m, length, half, Ya, bound.KL, sc.g0.data());
+                project_rows(sc.w.data() + half, m, length, length - half, Ya + half * KL, bound.KL,
+                             sc.g.data());
+            } else {
+                project_rows(sc.w.data(), m, length, length, Ya, bound.KL, sc.g.data());
+            }
+            for (std::size_t i = 0; i < m; ++i) {
+                const std::uint32_t j = sc.active[k + i];
+                float* A = sc.acc.data() + j * KL;
+                const float* G = sc.g.data() + i * KL;
+                const float* old = a == 0 ? sc.g0.data() + i * KL : A;
+                const double err = scale * distance(G, old, bound.KL);
+                if (a == 0) std::copy(old, old + KL, A);
+                for (std::size_t c = 0; c < KL; ++c) A[c] += G[c];
+                sc.samples[j] = std::uint32_t(b);
+                sc.error[j] = float(err);
+                if (err > bound.target && b < Smax) sc.active[kept++] = j;
+            }
+            sc.trace_seconds += project_start - trace_start;
+            sc.project_seconds += thread_cpu_seconds() - project_start;
+        }
+        sc.active.resize(kept);
+    }
+    // ĉ_S = (Smax/S)·A_S: a power of two, so exactly the fixed-S bake's weights (π/S, 4π/S).
+    for (std::size_t j = 0; j < height; ++j) {
+        const float f = float(Smax / std::max<std::size_t>(sc.samples[j], 1));
+        float* A = sc.acc.data() + j * KL;
+        for (std::size_t c = 0; c < KL; ++c) A[c] *= f;
+    }
+    return rays;
+}
+
+}  // namespace shprt::detail
+
+namespace shprt {
+
+double open_transfer_norm(int coeffs) {
+    double sum = 0;
+    for (double z : clamped_cosine_zonal(sh_bands_for(coeffs))) sum += z * z;
+    return std::sqrt(sum);
+}
+
+}  // namespace shprt

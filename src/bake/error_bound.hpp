@@ -1,0 +1,62 @@
+// The estimate stage of the error-bounded bake (BakeOptions::target_error, docs/sampling.md
+// "Error-bounded bakes"): weight → trace → project → estimate, repeated on the new segment of the
+// nested set for the receivers whose estimated error is still over the target.
+//
+// Per chunk of the grid (bake_cpu.cpp), with the set of max_samples directions and its basis
+// table Y (the set's weights are those of the whole set, e.g. π/Smax):
+//   pass 0   every row traces directions [0, S0) and projects the halves [0, S0/2) and
+//            [S0/2, S0) as two GEMMs over the chunk's rows: A = G0 + G1;
+//   pass k   the rows still over the target trace [S, 2S) only and project it, G = W_seg·Y[S, 2S)
+//            (one GEMM per block of rows of the same count), A += G;
+//   estimate ĉ_S = (Smax/S)·A_S, and err = ‖ĉ_2S − ĉ_S‖ / ‖c_open‖ = (Smax/2S)·‖G − A_S‖ /
+//            ‖c_open‖ (pass 0: (Smax/S0)·‖G1 − G0‖ / ‖c_open‖).
+// Every row of the chunk is baked, also those outside the bake's range: which rows share a GEMM
+// (and so a row's last bits: bake.hpp, "Determinism") then depends on the chunk's receivers only,
+// never on the range, the shard or the thread that runs it.
+#pragma once
+
+#include "bake/stages.hpp"
+#include "shprt/bake/receivers.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace shprt {
+class Tracer;
+}
+
+namespace shprt::detail {
+
+class BakeProgress;
+
+struct ErrorBound {
+    const DirectionTable* table = nullptr;  // the whole nested set (max_samples directions)
+    const float* Y = nullptr;               // its basis table, Smax × KL
+    int KL = 0;                             // columns of Y
+    std::size_t first_samples = 0, max_samples = 0;  // S0 and Smax, powers of two
+    double target = 0;                               // E
+    double open_norm = 1;                            // open_transfer_norm (bake.hpp)
+    bool shadowed = true;                            // rays are cast
+};
+
+// One worker's buffers, reused across chunks.
+struct ErrorBoundScratch {
+    std::vector<float> w;      // W of a block of rows over one segment
+    std::vector<float> g, g0;  // the block's segment sums (pass 0: its two halves)
+    std::vector<float> acc;    // the chunk's rows: A, then ĉ (height × KL)
+    std::vector<std::uint32_t> active, samples;  // rows still refining; each row's prefix
+    std::vector<float> error;                    // each row's estimated error
+    TraceScratch trace;
+    double trace_seconds = 0, project_seconds = 0;  // CPU time (this worker)
+};
+
+// Bakes receivers [first, first + height) of `receivers` (the whole chunk: see above) to the
+// bound: afterwards sc.acc holds their coefficient rows ĉ in the table's frame (KL each),
+// sc.samples their prefixes and sc.error their estimated errors. Returns the rays cast (also added
+// to `progress`); stops early, with rows unfinished, once progress.poll() says stop.
+std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
+                                  const Receivers& receivers, std::size_t first, std::size_t height,
+                                  ErrorBoundScratch& sc, BakeProgress& progress);
+
+}  // namespace shprt::detail

@@ -1,0 +1,181 @@
+// The error-bounded bake (BakeOptions::target_error, docs/sampling.md "Error-bounded bakes"):
+// every receiver gets the smallest nested prefix whose estimated error ‖ĉ_S − ĉ_{S/2}‖/‖c_open‖
+// is at most E. Tested against the true error (a bake of another seed at 4× the most samples as
+// the reference), for the normalisation of the stopped rows (the same as a fixed-S bake), for
+// determinism (threads, a shard) and for its refusals.
+#include "shprt/bake/bake.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/scene/builtin.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <numeric>
+
+namespace shprt {
+namespace {
+
+BakeOptions bounded_options(DirectionFrame frame, double E, std::uint32_t max_samples) {
+    BakeOptions o;
+    o.K = 16;
+    o.threads = 2;
+    o.direction_frame = frame;
+    o.target_error = E;
+    o.max_samples = max_samples;
+    return o;
+}
+
+// ‖a_r − b_r‖ / ‖c_open‖ per receiver.
+std::vector<double> errors_per_receiver(const TransferSet& a, const TransferSet& b) {
+    const std::size_t K = std::size_t(a.layout.K);
+    const double open = open_transfer_norm(a.layout.K);
+    std::vector<double> e(a.receiver_count());
+    for (std::size_t r = 0; r < e.size(); ++r) {
+        double sum = 0;
+        for (std::size_t i = 0; i < K; ++i) {
+            const double d = double(a.coeffs[r * K + i]) - double(b.coeffs[r * K + i]);
+            sum += d * d;
+        }
+        e[r] = std::sqrt(sum) / open;
+    }
+    return e;
+}
+
+TEST(ErrorBound, EstimateTracksTheTrueError) {
+    constexpr double E = 0.03;
+    for (const char* name : {"box_on_plane", "corner"}) {
+        for (const DirectionFrame frame : {DirectionFrame::local, DirectionFrame::sphere}) {
+            const Mesh mesh = make_builtin(name);
+            // The sphere set wastes half its directions below the horizon: it needs more.
+            const std::uint32_t most = frame == DirectionFrame::local ? 512 : 1024;
+            const TransferSet got = bake(mesh, bounded_options(frame, E, most));
+            BakeOptions reference = bounded_options(frame, 0, 0);
+            reference.samples = 4 * most;
+            reference.seed = 7;  // independent of the bounded bake's prefixes
+            const std::vector<double> truth = errors_per_receiver(got, bake(mesh, reference));
+            ASSERT_EQ(got.receiver_error.size(), truth.size());
+            ASSERT_EQ(got.receiver_samples.size(), truth.size());
+            std::size_t over = 0, met = 0;
+            double mean_truth = 0, mean_estimate = 0, mean_samples = 0;
+            for (std::size_t r = 0; r < truth.size(); ++r) {
+                // Those that met the bound (the others stopped at the most).
+                if (got.receiver_error[r] <= E) {
+                    ++met;
+                    over += truth[r] > 2 * E ? 1 : 0;
+                }
+                mean_samples += got.receiver_samples[r] / double(truth.size());
+                mean_truth += truth[r] / double(truth.size());
+                mean_estimate += got.receiver_error[r] / double(truth.size());
+                // Each receiver stopped at its first prefix under E, or at the most.
+                const std::uint32_t s = got.receiver_samples[r];
+                EXPECT_TRUE(got.receiver_error[r] <= E || s == most) << name << " receiver " << r;
+                EXPECT_TRUE(s >= 64 && s <= most && (s & (s - 1)) == 0) << s;
+            }
+            const char* label = frame == DirectionFrame::local ? "local" : "sphere";
+            EXPECT_LE(double(over), 0.01 * double(met))
+                << name << ' ' << label << ": " << over << " of " << met
+                << " receivers that met the bound are over 2E";
+            EXPECT_GT(double(met), 0.9 * double(truth.size())) << name << ' ' << label;
+            std::printf(
+                "%s %s: %zu of %zu met E, %zu over 2E; mean samples %.0f, mean error "
+                "%.4f, estimate %.4f\n",
+                name, label, met, truth.size(), over, mean_samples, mean_truth, mean_estimate);
+            EXPECT_GT(mean_estimate, mean_truth / 3) << name << ' ' << label;
+            EXPECT_LT(mean_estimate, mean_truth * 3) << name << ' ' << label;
+            // Some refine, some do not: the bound does choose.
+            const auto [lo, hi] =
+                std::minmax_element(got.receiver_samples.begin(), got.receiver_samples.end());
+            EXPECT_LT(*lo, *hi) << name << ' ' << label;
+        }
+    }
+}
+
+TEST(ErrorBound, StoppedRowsAreTheFixedBakesRows) {
+    // A bound no receiver meets: every receiver takes all 256 (but those whose halves agree
+    // exactly, all rays blocked: their estimate is 0), and its row is the 256-sample bake's up
+    // to the summation order of the segments' GEMMs.
+    const Mesh mesh = make_builtin("box_on_plane");
+    for (const DirectionFrame frame : {DirectionFrame::local, DirectionFrame::sphere}) {
+        const TransferSet got = bake(mesh, bounded_options(frame, 1e-9, 256));
+        BakeOptions fixed = bounded_options(frame, 0, 0);
+        fixed.samples = 256;
+        const TransferSet want = bake(mesh, fixed);
+        ASSERT_EQ(got.coeffs.size(), want.coeffs.size());
+        for (std::size_t i = 0; i < got.coeffs.size(); ++i)
+            ASSERT_NEAR(got.coeffs[i], want.coeffs[i], 2e-5) << i;
+        for (std::size_t r = 0; r < got.receiver_count(); ++r)
+            ASSERT_TRUE(got.receiver_samples[r] == 256u || got.receiver_error[r] == 0.0f) << r;
+        EXPECT_EQ(got.samples, 256);
+        EXPECT_EQ(got.target_error, 1e-9);
+    }
+}
+
+TEST(ErrorBound, SameBitsForOneAndTwoThreadsAndForAShard) {
+    const Mesh mesh = make_builtin("corner");
+    BakeOptions one = bounded_options(DirectionFrame::local, 0.02, 512);
+    one.threads = 1;
+    one.chunk_receivers = 48;
+    BakeOptions two = one;
+    two.threads = 2;
+    const TransferSet a = bake(mesh, one), b = bake(mesh, two);
+    ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
+    EXPECT_EQ(std::memcmp(a.coeffs.data(), b.coeffs.data(), a.coeffs.size() * sizeof(float)), 0);
+    EXPECT_EQ(a.receiver_samples, b.receiver_samples);
+    EXPECT_EQ(a.receiver_error, b.receiver_error);
+    // A range that cuts chunks gives the whole bake's rows and estimates.
+    const std::size_t first = 30, count = std::min<std::size_t>(100, a.receiver_count() - 30);
+    const TransferSet part = bake(mesh, vertex_receivers(mesh).range(first, count), two);
+    const std::size_t K = 16;
+    EXPECT_EQ(
+        std::memcmp(part.coeffs.data(), a.coeffs.data() + first * K, count * K * sizeof(float)), 0);
+    EXPECT_TRUE(std::equal(part.receiver_samples.begin(), part.receiver_samples.end(),
+                           a.receiver_samples.begin() + std::ptrdiff_t(first)));
+}
+
+TEST(ErrorBound, RefusesWhatItCannotDo) {
+    const Mesh mesh = make_builtin("plane");
+    const auto refused = [&](BakeOptions o) {
+        try {
+            bake(mesh, o);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    BakeOptions o = bounded_options(DirectionFrame::local, 0.01, 0);
+    o.max_samples = 100;
+    EXPECT_NE(refused(o).find("power of two"), std::string::npos);
+    o.max_samples = 32;
+    EXPECT_NE(refused(o).find("power of two"), std::string::npos);
+    o.max_samples = 0;
+    o.target_error = 2;
+    EXPECT_NE(refused(o).find("at most 1"), std::string::npos);
+    o.target_error = 0.01;
+    o.sampler = SamplerKind::stratified;
+    EXPECT_NE(refused(o).find("nested"), std::string::npos);
+    o.sampler = SamplerKind::sobol;
+    o.transfer = TransferKind::glossy;
+    o.K = 9;
+    EXPECT_NE(refused(o).find("glossy"), std::string::npos);
+    o.transfer = TransferKind::interreflected;
+    EXPECT_NE(refused(o).find("interreflected"), std::string::npos);
+    o = bounded_options(DirectionFrame::local, 0, 256);
+    EXPECT_NE(refused(o).find("needs a target error"), std::string::npos);
+    // The front ends' check names their options.
+    BakeOptions f;
+    EXPECT_THROW(set_error_bound(f, 0.01, 1000, "--target-error ", "--max-samples "), Error);
+    try {
+        set_error_bound(f, 0, 1024, "--target-error ", "--max-samples ");
+        ADD_FAILURE();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("--max-samples needs --target-error"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace shprt
