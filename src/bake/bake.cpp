@@ -129,8 +129,7 @@ TransferSet bake_to_host(const Mesh& mesh, const Receivers& receivers, const Bak
     static_cast<TransferInfo&>(out) = bake(job, options);
     out.coeffs = sink.take_rows();
     out.direct = direct.take_rows();
-    out.receiver_samples = sink.take_samples();
-    out.receiver_error = sink.take_errors();
+    sink.take_estimates(out);
     out.stats.peak_bytes_host += out.coeffs.size() * sizeof(float);
     return out;
 }

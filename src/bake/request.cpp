@@ -141,6 +141,7 @@ BakeResult run_texels(const BakeRequest& r, const Mesh& input, const TexelGrid& 
     static_cast<TransferInfo&>(out.transfer) = out.info;
     out.transfer.texels = texel_atlas(texels, uv_set);
     out.transfer.coeffs = sink.take_rows();
+    sink.take_estimates(out.transfer);
     out.transfer.stats.peak_bytes_host += out.transfer.coeffs.size() * sizeof(float);
     out.receivers = texels.count();
     out.covered_texels = texels.count();
@@ -401,6 +402,7 @@ double BakeOutput::finish(const TransferInfo& info, BakeResult& out) {
     static_cast<TransferInfo&>(out.transfer) = info;
     out.transfer.coeffs = m_host.take_rows();
     out.transfer.direct = m_direct.take_rows();
+    m_host.take_estimates(out.transfer);
     out.transfer.stats.peak_bytes_host += out.transfer.coeffs.size() * sizeof(float);
     const double seconds =
         write_file(m_request, m_mesh, out.transfer, m_write, TransferEncoding::f32);

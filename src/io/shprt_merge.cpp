@@ -24,10 +24,12 @@ std::string difference(const TransferSet& a, const TransferSet& b) {
                            to_string(b.layout.encoding), a.layout.K, a.layout.channels,
                            to_string(a.layout.shape), to_string(a.layout.encoding));
     if (a.sampler != b.sampler || a.samples != b.samples || a.seed != b.seed ||
-        a.direction_frame != b.direction_frame)
+        a.direction_frame != b.direction_frame || a.target_error != b.target_error)
         return fmt::format("sampling {} ({}) S = {} seed {} instead of {} ({}) S = {} seed {}",
                            to_string(b.sampler), to_string(b.direction_frame), b.samples, b.seed,
                            to_string(a.sampler), to_string(a.direction_frame), a.samples, a.seed);
+    if (a.receiver_samples.empty() != b.receiver_samples.empty())
+        return "per-receiver sample counts in one part and not the other";
     return {};
 }
 
@@ -93,6 +95,10 @@ ShprtFile merge_shprt_parts(std::vector<ShprtFile> parts, const std::vector<std:
     for (std::size_t i : order) {
         const TransferSet& t = parts[i].transfer;
         out.transfer.coeffs.insert(out.transfer.coeffs.end(), t.coeffs.begin(), t.coeffs.end());
+        out.transfer.receiver_samples.insert(out.transfer.receiver_samples.end(),
+                                             t.receiver_samples.begin(), t.receiver_samples.end());
+        out.transfer.receiver_error.insert(out.transfer.receiver_error.end(),
+                                           t.receiver_error.begin(), t.receiver_error.end());
         add_stats(st, t.stats);
         parts[i].transfer.coeffs = {};  // release as we go
     }

@@ -73,6 +73,21 @@ public:
         m_chunks.push_back({first, n * element, crc});
     }
 
+    // An error-bounded bake's estimates go to the writer's arrays (`estimates`, laid out as
+    // sections before the bake and written at commit; 8 bytes a receiver in memory).
+    void keep_estimates(TransferSet* estimates) { m_estimates = estimates; }
+    void write_estimates(std::size_t first, std::size_t count, const std::uint32_t* samples,
+                         const float* errors) override {
+        SHPRT_CHECK(
+            m_estimates != nullptr && first >= m_first && first + count <= m_first + m_count,
+            invalid_argument, "{}: estimates for receivers [{}, {}) the file has no room for",
+            m_path, first, first + count);
+        const std::size_t at = first - m_first;
+        std::copy(samples, samples + count,
+                  m_estimates->receiver_samples.begin() + std::ptrdiff_t(at));
+        std::copy(errors, errors + count, m_estimates->receiver_error.begin() + std::ptrdiff_t(at));
+    }
+
     // The CRC-32 of the whole section, from its chunks' (zlib's crc32_combine); every receiver
     // must have been written exactly once.
     std::uint32_t section_crc() {
@@ -109,6 +124,7 @@ private:
     std::size_t m_first, m_count;
     std::mutex m_mutex;
     std::vector<Chunk> m_chunks;
+    TransferSet* m_estimates = nullptr;
 };
 
 }  // namespace detail
@@ -124,6 +140,7 @@ struct ShprtStreamWriter::State {
     std::vector<detail::SectionOut> sections;
     AtomicFile file;
     std::unique_ptr<detail::SectionSink> sink;
+    TransferSet estimates;  // an error-bounded bake's per-receiver sections, filled by the sink
 
     State(const std::string& p, const Mesh& m, const TransferInfo& i, std::size_t f, std::size_t c,
           WriteOptions o)
@@ -149,7 +166,11 @@ ShprtStreamWriter::ShprtStreamWriter(const std::string& path, const Mesh& mesh,
     m_state = std::make_unique<State>(path, mesh, info, first, count, options);
     State& s = *m_state;
     s.extra = detail::parse_extra(s.options);
-    s.sections = detail::plan_sections(mesh, info, count, nullptr);
+    if (info.target_error > 0) {  // laid out (as zeros) now, written at commit
+        s.estimates.receiver_samples.assign(count, 0);
+        s.estimates.receiver_error.assign(count, 0.0f);
+    }
+    s.sections = detail::plan_sections(mesh, info, count, nullptr, &s.estimates);
     // Lay out with a generous reserve for the metadata: with a placeholder CRC and stats now,
     // and the real ones at commit(), the metadata keeps this length.
     const std::string draft =
@@ -163,6 +184,7 @@ ShprtStreamWriter::ShprtStreamWriter(const std::string& path, const Mesh& mesh,
     const detail::SectionOut& transfer = s.sections.back();
     s.sink = std::make_unique<detail::SectionSink>(path, ::fileno(s.file.handle()), transfer.offset,
                                                    info.layout, first, count);
+    if (info.target_error > 0) s.sink->keep_estimates(&s.estimates);
 }
 
 ShprtStreamWriter::~ShprtStreamWriter() = default;
@@ -175,16 +197,24 @@ void ShprtStreamWriter::commit(const TransferInfo& info) {
     final_info.layout.encoding = s.info.layout.encoding;  // the file's choice, as in begin()
     SHPRT_CHECK(info.kind == s.info.kind && final_info.layout == s.info.layout &&
                     info.sampler == s.info.sampler && info.samples == s.info.samples &&
-                    info.direction_frame == s.info.direction_frame && info.seed == s.info.seed,
+                    info.direction_frame == s.info.direction_frame && info.seed == s.info.seed &&
+                    info.target_error == s.info.target_error,
                 invalid_argument, "{}: the bake's description differs from the file's layout",
                 s.path);
     detail::SectionOut& transfer = s.sections.back();
     transfer.crc = s.sink->section_crc();
+    const int fd = ::fileno(s.file.handle());
+    // The estimates' sections, filled now (their data points into s.estimates).
+    for (detail::SectionOut& section : s.sections) {
+        const std::string_view name = section.name;
+        if (name != "receiver_samples" && name != "receiver_error") continue;
+        section.crc = crc32(section.data, section.length());
+        pwrite_all(fd, section.data, section.length(), section.offset, s.path);
+    }
     const std::string text = detail::lay_out(s.path, s.mesh, final_info, s.count, s.options,
                                              s.extra, s.sections, s.reserve);
     unsigned char header[kShprtHeaderSize];
     detail::encode_header(text, header);
-    const int fd = ::fileno(s.file.handle());
     pwrite_all(fd, header, sizeof header, 0, s.path);
     pwrite_all(fd, text.data(), text.size(), kShprtHeaderSize, s.path);
     s.file.commit();

@@ -3,6 +3,7 @@
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
+#include "shprt/transfer/estimates.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -101,9 +102,18 @@ std::string shprt_summary(const ShprtFile& file) {
                                   "band l = {}; only the first {} bands rotate exactly)",
                                   K, bands, K - sh_count(full), 2 * full + 1, full, full));
     line("sampling",
-         fmt::format("{}{}, {} samples, seed {}", to_string(t.sampler),
+         fmt::format("{}{}, {}{} samples, seed {}", to_string(t.sampler),
                      t.direction_frame == DirectionFrame::local ? " (local: tangent frames)" : "",
-                     t.samples, t.seed));
+                     t.target_error > 0 ? "at most " : "", t.samples, t.seed));
+    if (t.target_error > 0) {
+        line("target error",
+             fmt::format("{:.3g} per receiver (error-bounded: docs/sampling.md)", t.target_error));
+        const EstimateSummary estimates = summarize_estimates(t);
+        if (!estimates.receivers_per_samples.empty()) {
+            line("samples", "receivers per prefix " + samples_histogram_text(estimates));
+            line("est. error", error_spread_text(estimates.error));
+        }
+    }
     line("precision", to_string(t.layout.encoding));
     if (!t.cpca.empty())
         line("cpca", fmt::format("{} clusters x {} vectors (k-means++ seed {}); rows rebuilt on "

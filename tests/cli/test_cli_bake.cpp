@@ -232,6 +232,13 @@ TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
         {"--device cuda --max-device-memory lots", "--max-device-memory 'lots': expected a size"},
         {"--device auto --max-device-memory 0", "--max-device-memory '0'"},
         {"--max-device-memory 1G", "--max-device-memory needs --device cuda or auto"},
+        {"--target-error 1.5", "--target-error 1.5: must be 0 (off) or a relative error"},
+        {"--target-error -0.1", "--target-error -0.1"},
+        {"--target-error 0.01 --max-samples 1000", "--max-samples 1000: must be a power of two"},
+        {"--max-samples 1024", "--max-samples needs --target-error"},
+        {"--target-error 0.01 --sampler stratified", "has no nested prefixes"},
+        {"--target-error 0.01 --transfer glossy", "glossy transfer has no error-bounded bake"},
+        {"--target-error 0.01 --device cuda", "--target-error: the GPU bake has no error-bounded"},
     };
     for (const auto& [option, message] : bad) {
         expect_one_line_error(shprt(base + option), message);

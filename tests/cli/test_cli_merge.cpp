@@ -12,6 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace shprt {
@@ -31,6 +33,46 @@ protected:
     }
     std::string part(int i, int n) const { return out(fmt::format("part_{}_of_{}.shprt", i, n)); }
 };
+
+// The error-bounded bake (docs/sampling.md, "Error-bounded bakes"): the same file for one and two
+// threads (cmp), and the same rows and per-receiver estimates from two shards merged and from a
+// streamed bake (their metadata differ: the parts' stats, the stream's padding).
+TEST_F(CliMerge, ErrorBoundedBakeSameBitsForThreadsShardsAndStream) {
+    const std::string bake =
+        "bake builtin:box_on_plane --coeffs 16 --directions local --target-error 0.03 "
+        "--max-samples 512 --reproducible";
+    const auto file_bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    for (int threads : {1, 2}) {
+        const RunResult r = shprt(fmt::format("{} --threads {} -o '{}'", bake, threads,
+                                              out(fmt::format("t{}.shprt", threads))));
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_NE(r.out.find("error bound: receivers per prefix"), std::string::npos) << r.out;
+    }
+    EXPECT_EQ(file_bytes(out("t1.shprt")), file_bytes(out("t2.shprt")));
+    for (int i : {0, 1})
+        ASSERT_EQ(shprt(fmt::format("{} --shard {}/2 -o '{}'", bake, i, part(i, 2))).exit_code, 0);
+    ASSERT_EQ(shprt(fmt::format("merge '{}' '{}' -o '{}'", part(1, 2), part(0, 2), out("m.shprt")))
+                  .exit_code,
+              0);
+    ASSERT_EQ(shprt(fmt::format("{} --stream -o '{}'", bake, out("s.shprt"))).exit_code, 0);
+    const ShprtFile whole = read_shprt(out("t1.shprt"));
+    EXPECT_EQ(whole.transfer.target_error, 0.03);
+    ASSERT_EQ(whole.transfer.receiver_samples.size(), 1214u);
+    for (const char* name : {"m.shprt", "s.shprt"}) {
+        const ShprtFile other = read_shprt(out(name));
+        EXPECT_TRUE(other.transfer.coeffs == whole.transfer.coeffs) << name;
+        EXPECT_EQ(other.transfer.receiver_samples, whole.transfer.receiver_samples) << name;
+        EXPECT_EQ(other.transfer.receiver_error, whole.transfer.receiver_error) << name;
+        EXPECT_EQ(other.transfer.target_error, 0.03) << name;
+    }
+    const RunResult info = shprt(fmt::format("info '{}'", out("m.shprt")));
+    EXPECT_NE(info.out.find("samples      receivers per prefix 64: "), std::string::npos)
+        << info.out;
+    EXPECT_NE(info.out.find("est. error   worst 0.0"), std::string::npos) << info.out;
+}
 
 TEST_F(CliMerge, PartsInAnyOrderMergeToTheSingleBakeBitForBit) {
     ASSERT_EQ(shprt(fmt::format("{} -o '{}'", kBake, out("whole.shprt"))).exit_code, 0);

@@ -94,9 +94,12 @@ public:
     std::size_t first() const { return m_first; }
     const std::vector<float>& rows() const { return m_rows; }
     std::vector<float> take_rows() { return std::move(m_rows); }
-    // An error-bounded bake's estimates, one per receiver of the range (empty otherwise).
-    std::vector<std::uint32_t> take_samples() { return std::move(m_samples); }
-    std::vector<float> take_errors() { return std::move(m_errors); }
+    // An error-bounded bake's estimates, one per receiver of the range, moved into `set`'s
+    // receiver_samples and receiver_error (empty for other bakes).
+    void take_estimates(TransferSet& set) {
+        set.receiver_samples = std::move(m_samples);
+        set.receiver_error = std::move(m_errors);
+    }
 
 private:
     TransferLayout m_layout;
