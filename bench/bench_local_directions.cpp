@@ -9,6 +9,12 @@
 //     up, sphere and local interleaved (min wall time of --reps runs each), and the time each
 //     needs for 1 % by log–log interpolation between the bracketing S.
 //
+//  3. the error-bounded bake (docs/sampling.md, "Error-bounded bakes"), local Sobol at
+//     --target-error E for E = 0.04, 0.02, 0.01, 0.005: its wall time and luminance error on the
+//     same curve's terms, and each receiver's true error ‖ĉ − c‖/‖c_open‖ against a local bake of
+//     --bound-reference-samples with another seed (worst, 99th percentile, mean), on the room and
+//     on two small builtin scenes.
+//
 //     build/bench/bench_local_directions [--K 256] [--max-samples 8192] [--reps 2]
 //
 // Wall times are the bake's own (the direction set made, traced and projected; the BVH is built
@@ -19,7 +25,9 @@
 #include "shprt/light/light.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/estimates.hpp"
 
+#include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
 #include <ctime>
@@ -50,6 +58,7 @@ struct Args {
     std::uint32_t max_samples = 8192, reference_samples = 65536;
     int reps = 2, threads = 2, seeds = 16;
     std::string reference_cache = "/tmp/bench_local_directions_reference.bin";
+    std::uint32_t bound_reference_samples = 16384, bound_max_samples = kDefaultMaxSamples;
 };
 
 // Luminance of every receiver's irradiance under the light: Y = 0.2126 R + 0.7152 G + 0.0722 B.
@@ -179,7 +188,8 @@ double time_to(const std::vector<Point>& curve, double target) {
     return curve.empty() ? NAN : curve.front().seconds;
 }
 
-void error_curve(const Args& a, const Mesh& mesh, const Tracer& tracer, const ShLight& light) {
+std::vector<double> error_curve(const Args& a, const Mesh& mesh, const Tracer& tracer,
+                                const ShLight& light, bool measure) {
     std::vector<double> ref;
     {
         std::ifstream in(a.reference_cache, std::ios::binary);
@@ -206,6 +216,7 @@ void error_curve(const Args& a, const Mesh& mesh, const Tracer& tracer, const Sh
         out.write(reinterpret_cast<const char*>(header), sizeof(header));
         out.write(reinterpret_cast<const char*>(ref.data()), std::streamsize(ref.size() * 8));
     }
+    if (!measure) return ref;
     std::printf(
         "\n2. relative RMS luminance error against the reference, K = %d, %d threads, "
         "min wall of %d runs (sphere and local interleaved)\n\n",
@@ -254,6 +265,96 @@ void error_curve(const Args& a, const Mesh& mesh, const Tracer& tracer, const Sh
             100 * target, extrapolated ? ", one extrapolated past the last S" : "", ts, tl, ts / tl,
             cs, cl, cs / cl);
     }
+    return ref;
+}
+
+// 3. The error-bounded bake.
+std::vector<float> bound_reference(const Args& a, const Mesh& mesh, const Tracer& tracer) {
+    BakeOptions o = options_for(a, DirectionFrame::local, a.bound_reference_samples, 7919);
+    return bake_with_tracer(mesh, o, bake_direction_set(o), tracer).coeffs;
+}
+
+// Each receiver's true error ‖ĉ − c‖ / ‖c_open‖ (docs/sampling.md).
+std::vector<double> true_errors(const std::vector<float>& got, const std::vector<float>& ref,
+                                int K) {
+    const double open = open_transfer_norm(K);
+    std::vector<double> e(got.size() / std::size_t(K));
+    for (std::size_t r = 0; r < e.size(); ++r) {
+        double sum = 0;
+        for (std::size_t i = r * std::size_t(K); i < (r + 1) * std::size_t(K); ++i)
+            sum += (double(got[i]) - ref[i]) * (double(got[i]) - ref[i]);
+        e[r] = std::sqrt(sum) / open;
+    }
+    return e;
+}
+
+TransferSet bake_bounded(const Args& a, const Mesh& mesh, const Tracer& tracer, double E,
+                         double& wall, double& cpu) {
+    BakeOptions o = options_for(a, DirectionFrame::local, 0, 1);
+    o.samples = 1;
+    o.target_error = E;
+    o.max_samples = a.bound_max_samples;
+    HostSink sink;
+    BakeJob job{&mesh, vertex_receivers(mesh), &sink, nullptr, &tracer, nullptr};
+    const auto start = Clock::now();
+    const double cpu_start = process_cpu_seconds();
+    TransferSet t;
+    static_cast<TransferInfo&>(t) = bake(job, o);
+    wall = std::chrono::duration<double>(Clock::now() - start).count();
+    cpu = process_cpu_seconds() - cpu_start;
+    t.coeffs = sink.take_rows();
+    sink.take_estimates(t);
+    return t;
+}
+
+void bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer, const ShLight& light,
+                 const std::vector<double>& ref_luminance) {
+    const double targets[] = {0.04, 0.02, 0.01, 0.005};
+    std::printf(
+        "\n3. error-bounded bake (local Sobol, --target-error E, at most %u samples), K = %d, %d "
+        "threads; luminance error against the reference of 2.; true per-receiver error against a "
+        "local Sobol bake of S = %u, seed 7919\n\n",
+        a.bound_max_samples, a.K, a.threads, a.bound_reference_samples);
+    struct Scene {
+        const char* name;
+        const Mesh* mesh;
+        const Tracer* tracer;
+    };
+    const Mesh box = make_builtin("box_on_plane"), corner = make_builtin("corner");
+    const auto box_tracer = make_embree_tracer(box), corner_tracer = make_embree_tracer(corner);
+    const Scene scenes[] = {{"room", &room, &room_tracer},
+                            {"box_on_plane", &box, box_tracer.get()},
+                            {"corner", &corner, corner_tracer.get()}};
+    std::printf(
+        "| scene | E | wall s | CPU s | mean S | luminance error | true error: worst | 99th "
+        "pct | mean | estimate: worst | mean | over 2E | Mrays |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (const Scene& sc : scenes) {
+        const auto start = Clock::now();
+        const std::vector<float> ref = bound_reference(a, *sc.mesh, *sc.tracer);
+        std::printf("<!-- %s reference: %.1f s -->\n", sc.name,
+                    std::chrono::duration<double>(Clock::now() - start).count());
+        for (const double E : targets) {
+            double wall = 0, cpu = 0;
+            const TransferSet t = bake_bounded(a, *sc.mesh, *sc.tracer, E, wall, cpu);
+            const std::vector<double> truth = true_errors(t.coeffs, ref, a.K);
+            std::size_t over = 0;
+            for (double e : truth) over += e > 2 * E ? 1 : 0;
+            const ErrorSpread spread = error_spread(truth);
+            const EstimateSummary est = summarize_estimates(t);
+            const bool room = sc.mesh == &room;
+            const double lum =
+                room ? relative_rms(luminance(t.coeffs, a.K, light), ref_luminance) : NAN;
+            std::printf(
+                "| %s | %.3g | %.3f | %.3f | %.0f | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %zu "
+                "of %zu | %.1f |\n",
+                sc.name, E, wall, cpu, est.mean_samples,
+                room ? fmt::format("{:.3f} %", 100 * lum).c_str() : "–", spread.worst, spread.p99,
+                spread.mean, est.error.worst, est.error.mean, over, truth.size(),
+                double(t.stats.rays_cast) * 1e-6);
+            std::fflush(stdout);
+        }
+    }
 }
 
 }  // namespace
@@ -270,9 +371,14 @@ int main(int argc, char** argv) {
     app.add_option("--threads", a.threads, "default 2");
     app.add_option("--seeds", a.seeds, "seeds of the variance study (default 16)");
     app.add_option("--reference-cache", a.reference_cache, "the reference's luminance");
-    bool skip_variance = false, skip_curve = false;
+    app.add_option("--bound-reference-samples", a.bound_reference_samples,
+                   "3.: the local reference's S (default 16384)");
+    app.add_option("--bound-max-samples", a.bound_max_samples,
+                   "3.: the error-bounded bake's --max-samples (default 16384)");
+    bool skip_variance = false, skip_curve = false, skip_bound = false;
     app.add_flag("--skip-variance", skip_variance);
     app.add_flag("--skip-curve", skip_curve);
+    app.add_flag("--skip-bound", skip_bound);
     CLI11_PARSE(app, argc, argv);
 
     std::printf("bench_local_directions: builtin:room, K = %d, %d threads, OPENBLAS_CORETYPE=%s\n",
@@ -288,7 +394,10 @@ int main(int argc, char** argv) {
     const ShLight light = make_light({"gradient", "sun:0.4,0.8,-0.3,2"}, a.K);
     const auto tracer = make_embree_tracer(mesh);
     if (!skip_variance) variance_study(a, mesh, *tracer, light);
-    if (!skip_curve) error_curve(a, mesh, *tracer, light);
+    if (!skip_curve || !skip_bound) {
+        const std::vector<double> ref = error_curve(a, mesh, *tracer, light, !skip_curve);
+        if (!skip_bound) bound_study(a, mesh, *tracer, light, ref);
+    }
     print_load("at end");
     return 0;
 }

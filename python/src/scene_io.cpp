@@ -188,6 +188,29 @@ for glossy matrices (each vertex's packed upper triangle), float32.)")
         .def_property_readonly("samples", [](const ShprtFile& f) { return f.transfer.samples; })
         .def_property_readonly("seed", [](const ShprtFile& f) { return f.transfer.seed; })
         .def_property_readonly(
+            "target_error", [](const ShprtFile& f) { return f.transfer.target_error; },
+            "An error-bounded bake's bound E (0: none; docs/sampling.md).")
+        .def_property_readonly(
+            "receiver_samples",
+            [](py::object self) -> py::object {
+                auto& f = self.cast<ShprtFile&>();
+                if (f.transfer.receiver_samples.empty()) return py::none();
+                return view_of(f.transfer.receiver_samples.data(),
+                               {py::ssize_t(f.transfer.receiver_samples.size())}, self);
+            },
+            "An error-bounded bake's directions per receiver (R,) uint32, a view; None for other "
+            "files (every receiver has `samples`).")
+        .def_property_readonly(
+            "receiver_error",
+            [](py::object self) -> py::object {
+                auto& f = self.cast<ShprtFile&>();
+                if (f.transfer.receiver_error.empty()) return py::none();
+                return view_of(f.transfer.receiver_error.data(),
+                               {py::ssize_t(f.transfer.receiver_error.size())}, self);
+            },
+            "An error-bounded bake's estimated error per receiver (R,) float32, a view; None for "
+            "other files.")
+        .def_property_readonly(
             "encoding", [](const ShprtFile& f) { return to_string(f.transfer.layout.encoding); })
         .def_property_readonly("metadata_json", [](const ShprtFile& f) { return f.metadata_json; })
         .def("summary", &shprt_summary, "What `shprt info` prints.")

@@ -28,6 +28,8 @@ PROBES: dict[str, tuple[dict[str, Any], list[Any]]] = {
     "samples": ({}, [0, 1, 17, 16777217]),
     "sampler": ({}, ["sobol", "uniform", "stratified", "fibonacci", "halton"]),
     "directions": ({}, ["sphere", "local", "tangent"]),
+    "target_error": ({}, [0, 0.05, 1, 1.5, -0.1]),
+    "max_samples": (dict(target_error=0.05), [0, 64, 128, 100, 32, 33554432]),
     "transfer": ({}, ["unshadowed", "shadowed", "glossy", "interreflected", "specular"]),
     "seed": ({}, [0, 7, 2**64 - 1]),
     "threads": ({}, [-1, 0, 1, 4097]),
