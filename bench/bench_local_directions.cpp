@@ -342,14 +342,14 @@ void bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer, con
             for (double e : truth) over += e > 2 * E ? 1 : 0;
             const ErrorSpread spread = error_spread(truth);
             const EstimateSummary est = summarize_estimates(t);
-            const bool room = sc.mesh == &room;
+            const bool is_room = sc.mesh == &room;
             const double lum =
-                room ? relative_rms(luminance(t.coeffs, a.K, light), ref_luminance) : NAN;
+                is_room ? relative_rms(luminance(t.coeffs, a.K, light), ref_luminance) : NAN;
             std::printf(
                 "| %s | %.3g | %.3f | %.3f | %.0f | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %zu "
                 "of %zu | %.1f |\n",
                 sc.name, E, wall, cpu, est.mean_samples,
-                room ? fmt::format("{:.3f} %", 100 * lum).c_str() : "–", spread.worst, spread.p99,
+                is_room ? fmt::format("{:.3f} %", 100 * lum).c_str() : "–", spread.worst, spread.p99,
                 spread.mean, est.error.worst, est.error.mean, over, truth.size(),
                 double(t.stats.rays_cast) * 1e-6);
             std::fflush(stdout);

@@ -92,6 +92,15 @@ ShprtFile make_file(const Mesh& mesh, py::handle transfer, const std::string& ki
     return file;
 }
 
+// A per-receiver array of a file's transfer (an error-bounded bake's estimates) as a view that
+// keeps the file alive; None when the file has none.
+template <auto Member>
+py::object per_receiver_view(py::object self) {
+    auto& values = self.cast<ShprtFile&>().transfer.*Member;
+    if (values.empty()) return py::none();
+    return view_of(values.data(), {py::ssize_t(values.size())}, self);
+}
+
 }  // namespace
 
 void bind_scene(py::module_& m) {
@@ -191,23 +200,11 @@ for glossy matrices (each vertex's packed upper triangle), float32.)")
             "target_error", [](const ShprtFile& f) { return f.transfer.target_error; },
             "An error-bounded bake's bound E (0: none; docs/sampling.md).")
         .def_property_readonly(
-            "receiver_samples",
-            [](py::object self) -> py::object {
-                auto& f = self.cast<ShprtFile&>();
-                if (f.transfer.receiver_samples.empty()) return py::none();
-                return view_of(f.transfer.receiver_samples.data(),
-                               {py::ssize_t(f.transfer.receiver_samples.size())}, self);
-            },
+            "receiver_samples", &per_receiver_view<&TransferSet::receiver_samples>,
             "An error-bounded bake's directions per receiver (R,) uint32, a view; None for other "
             "files (every receiver has `samples`).")
         .def_property_readonly(
-            "receiver_error",
-            [](py::object self) -> py::object {
-                auto& f = self.cast<ShprtFile&>();
-                if (f.transfer.receiver_error.empty()) return py::none();
-                return view_of(f.transfer.receiver_error.data(),
-                               {py::ssize_t(f.transfer.receiver_error.size())}, self);
-            },
+            "receiver_error", &per_receiver_view<&TransferSet::receiver_error>,
             "An error-bounded bake's estimated error per receiver (R,) float32, a view; None for "
             "other files.")
         .def_property_readonly(

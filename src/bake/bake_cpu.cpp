@@ -133,6 +133,7 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
         else
             std::copy(rows, rows + count * std::size_t(K), C);
         sc.project_seconds += thread_cpu_seconds() - rows_start;
+        progress.add_errors(eb.error.data() + lead, count);
         progress.add(count, 0);
         sink.write(first, count, C);
         sink.write_estimates(first, count, eb.samples.data() + lead, eb.error.data() + lead);

@@ -2,6 +2,7 @@
 #include "bake/bake_progress.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace shprt::detail {
 
@@ -29,6 +30,32 @@ BakeProgress::BakeProgress(const ProgressFn& callback, std::string_view stage,
       m_caller(std::this_thread::get_id()),
       m_last(std::chrono::steady_clock::now()) {}
 
+namespace {
+constexpr double kSmallestError = 1e-6;
+}
+
+void BakeProgress::add_errors(const float* errors, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) {
+        const double e = std::max(double(errors[i]), kSmallestError);
+        const int b = std::clamp(int(4.0 * std::log2(e / kSmallestError)), 0, kErrorBuckets - 1);
+        m_errors[std::size_t(b)].fetch_add(1, std::memory_order_relaxed);
+    }
+    m_has_errors.store(true, std::memory_order_relaxed);
+}
+
+// The upper edge of the bucket where the top 1 % of the counted errors begins.
+double BakeProgress::error_p99() const {
+    if (!m_has_errors.load(std::memory_order_relaxed)) return -1;
+    std::uint64_t total = 0;
+    for (const auto& c : m_errors) total += c.load(std::memory_order_relaxed);
+    std::uint64_t above = 0;
+    for (int b = kErrorBuckets - 1; b >= 0; --b) {
+        above += m_errors[std::size_t(b)].load(std::memory_order_relaxed);
+        if (100 * above > total || b == 0) return kSmallestError * std::exp2(double(b + 1) / 4.0);
+    }
+    return -1;
+}
+
 bool BakeProgress::report(bool final) {
     const std::uint64_t done = m_receivers.load(std::memory_order_relaxed);
     if (!m_unit.empty()) return m_callback(ProgressInfo{m_stage, done, m_total, m_unit, m_then});
@@ -41,7 +68,8 @@ bool BakeProgress::report(bool final) {
         final
             ? rays
             : rays + std::uint64_t(per_receiver * double(m_total - std::min(done, m_total)) + 0.5);
-    return m_callback(ProgressInfo{m_stage, rays, std::max(total, rays), "rays", m_then});
+    return m_callback(
+        ProgressInfo{m_stage, rays, std::max(total, rays), "rays", m_then, error_p99()});
 }
 
 bool BakeProgress::poll() {

@@ -6,8 +6,10 @@
 
 #include "shprt/core/progress.hpp"
 
+#include <array>
 #include <atomic>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 #include <thread>
@@ -29,6 +31,10 @@ public:
         m_rays.fetch_add(rays, std::memory_order_relaxed);
         m_receivers.fetch_add(receivers, std::memory_order_relaxed);
     }
+    // Thread-safe: an error-bounded bake's finished receivers' estimated errors, for
+    // ProgressInfo::error_p99 (a histogram of quarter octaves from 1e-6).
+    void add_errors(const float* errors, std::size_t count);
+
     // On the calling thread only (others return at once): reports when the last report is
     // ≥ 50 ms old. Returns false once the callback asked to stop (and from then on).
     bool poll();
@@ -56,6 +62,10 @@ private:
     std::uint64_t m_total, m_samples;
     std::atomic<std::uint64_t> m_rays{0}, m_receivers{0};
     std::atomic<bool> m_stop{false};
+    static constexpr int kErrorBuckets = 112;  // 28 octaves above 1e-6
+    std::array<std::atomic<std::uint64_t>, kErrorBuckets> m_errors{};
+    std::atomic<bool> m_has_errors{false};
+    double error_p99() const;
     std::thread::id m_caller;
     std::chrono::steady_clock::time_point m_last;
 };

@@ -41,6 +41,13 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
     sc.error.assign(height, 0.0f);
     sc.active.resize(height);
     std::iota(sc.active.begin(), sc.active.end(), std::uint32_t(0));
+    // One visible sample of weight w at S samples adds w·(Smax/S)·y(ω) to ĉ_S, whose norm over
+    // full bands is w·(Smax/S)·√(KL/4π) (the addition theorem: Σ_i y_i(ω)² = KL/4π).
+    const float max_weight =
+        *std::max_element(bound.table->weight.begin(), bound.table->weight.end());
+    const double resolution = double(max_weight) * double(Smax) *
+                              std::sqrt(double(KL) / (4.0 * 3.14159265358979323846)) /
+                              bound.open_norm;
     std::uint64_t rays = 0;
     for (std::size_t a = 0, b = std::min(S0, Smax); a < Smax && !sc.active.empty();
          a = b, b = std::min(2 * b, Smax)) {
@@ -81,9 +88,17 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
                 float* A = sc.acc.data() + j * KL;
                 const float* G = sc.g.data() + i * KL;
                 const float* old = a == 0 ? sc.g0.data() + i * KL : A;
-                const double err = scale * distance(G, old, bound.KL);
+                double err = scale * distance(G, old, bound.KL);
                 if (a == 0) std::copy(old, old + KL, A);
-                for (std::size_t c = 0; c < KL; ++c) A[c] += G[c];
+                bool closed = true;  // every ray so far blocked: the sum is exactly zero
+                for (std::size_t c = 0; c < KL; ++c) {
+                    A[c] += G[c];
+                    closed = closed && A[c] == 0.0f;
+                }
+                // Zero halves agree exactly, but a receiver that saw nothing in b rays may still
+                // see something between them: its error is taken as what one visible ray would
+                // make, the resolution of b samples (error_bound.hpp).
+                if (closed) err = std::max(err, resolution / double(b));
                 sc.samples[j] = std::uint32_t(b);
                 sc.error[j] = float(err);
                 if (err > bound.target && b < Smax) sc.active[kept++] = j;

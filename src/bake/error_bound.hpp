@@ -9,7 +9,9 @@
 //   pass k   the rows still over the target trace [S, 2S) only and project it, G = W_seg·Y[S, 2S)
 //            (one GEMM per block of rows of the same count), A += G;
 //   estimate ĉ_S = (Smax/S)·A_S, and err = ‖ĉ_2S − ĉ_S‖ / ‖c_open‖ = (Smax/2S)·‖G − A_S‖ /
-//            ‖c_open‖ (pass 0: (Smax/S0)·‖G1 − G0‖ / ‖c_open‖).
+//            ‖c_open‖ (pass 0: (Smax/S0)·‖G1 − G0‖ / ‖c_open‖); a row that is still exactly zero
+//            (every ray blocked) gets at least the error one visible ray would make,
+//            w_max·(Smax/S)·√(KL/4π)/‖c_open‖: its halves agree, but only because both missed.
 // Every row of the chunk is baked, also those outside the bake's range: which rows share a GEMM
 // (and so a row's last bits: bake.hpp, "Determinism") then depends on the chunk's receivers only,
 // never on the range, the shard or the thread that runs it.

@@ -74,6 +74,11 @@ bool ProgressBar::update(const ProgressInfo& info) {
     return !interrupted();
 }
 
+// "  err 99%: 0.8 %": an error-bounded bake's estimated error (ProgressInfo::error_p99).
+std::string ProgressBar::error_text(const ProgressInfo& info) {
+    return fmt::format("  err 99%: {:.2g} %", 100 * info.error_p99);
+}
+
 void ProgressBar::draw_terminal(const ProgressInfo& info, double elapsed) {
     const std::string label = this->label(info.stage);
     const double fraction =
@@ -81,6 +86,7 @@ void ProgressBar::draw_terminal(const ProgressInfo& info, double elapsed) {
     const double rate = elapsed > 0 ? double(info.done) / elapsed : 0.0;
     std::string tail = fmt::format(" {:3d}%", static_cast<int>(fraction * 100));
     if (rate > 0) tail += fmt::format("  {}{}/s", format_si(rate), info.unit);
+    if (info.error_p99 >= 0) tail += error_text(info);
     if (info.total > 0 && rate > 0 && info.done < info.total) {
         tail += "  ETA " + format_duration(double(info.total - info.done) / rate);
         if (!info.then.empty()) tail += " + " + std::string(info.then);
@@ -108,10 +114,11 @@ void ProgressBar::print_plain(const ProgressInfo& info, double elapsed, int perc
     const std::string label = this->label(info.stage);
     const double rate = elapsed > 0 ? double(info.done) / elapsed : 0.0;
     const std::string unit(info.unit);
-    std::fprintf(m_out, "shprt: %s: %d%% (%s of %s %s, %s%s/s, %s)\n", label.c_str(),
+    std::fprintf(m_out, "shprt: %s: %d%% (%s of %s %s, %s%s/s, %s)%s\n", label.c_str(),
                  std::min(percent, 100), format_si(double(info.done)).c_str(),
                  format_si(double(info.total)).c_str(), unit.c_str(), format_si(rate).c_str(),
-                 unit.c_str(), format_duration(elapsed).c_str());
+                 unit.c_str(), format_duration(elapsed).c_str(),
+                 info.error_p99 >= 0 ? error_text(info).c_str() : "");
     std::fflush(m_out);
 }
 

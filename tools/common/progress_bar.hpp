@@ -58,6 +58,7 @@ public:
 private:
     void draw_terminal(const ProgressInfo& info, double elapsed);
     void print_plain(const ProgressInfo& info, double elapsed, int percent);
+    static std::string error_text(const ProgressInfo& info);
     std::string label(std::string_view stage) const;
 
     std::string m_label;

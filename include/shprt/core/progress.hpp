@@ -19,6 +19,10 @@ struct ProgressInfo {
     // e.g. "3 bounces". Empty: this stage's ETA is the operation's. A display says so after the
     // ETA ("ETA 3.1 s + 3 bounces") instead of predicting what it has not measured.
     std::string_view then = {};
+    // An error-bounded bake (bake.hpp, BakeOptions::target_error): the estimated error that 99 %
+    // of the receivers finished so far are under (to a quarter octave); negative: none. A display
+    // shows it ("err 99%: 0.8 %").
+    double error_p99 = -1;
 };
 
 // Called from one thread at a time, at most a few dozen times per second.
