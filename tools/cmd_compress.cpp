@@ -50,15 +50,21 @@ std::vector<double> parse_cpca(const std::string& option, const std::string& tex
     return cv;
 }
 
-// The probes' CPCA (--probe-cpca), printed in two lines; the file's probes replaced by the code.
-void compress_file_probes(const CompressArgs& a, const std::vector<double>& cv,
-                          const LightSetup& setup, TransferSet& out, const ProbeGrid& probes) {
+// The CPCA options of CLUSTERS,VECTORS `cv` and the shared --seed, --iterations, --threads.
+CpcaOptions cpca_options(const CompressArgs& a, const std::vector<double>& cv) {
     CpcaOptions options;
     options.clusters = int(cv[0]);
     options.vectors = int(cv[1]);
     options.seed = a.seed;
     options.iterations = a.iterations;
     options.threads = a.threads;
+    return options;
+}
+
+// The probes' CPCA (--probe-cpca), printed in two lines; the file's probes replaced by the code.
+void compress_file_probes(const CompressArgs& a, const std::vector<double>& cv,
+                          const LightSetup& setup, TransferSet& out, const ProbeGrid& probes) {
+    const CpcaOptions options = cpca_options(a, cv);
     std::optional<std::vector<float>> light;
     if (!a.light.lights.empty()) light = prepare_light(setup, probes.K).coeffs;
     ProbeCpcaResult r;
@@ -128,12 +134,7 @@ void run(const CompressArgs& a) {
                     a.input, a.probe_cpca, valid, floats, t.probes.channels, t.probes.K,
                     t.probes.K);
     }
-    CpcaOptions options;
-    options.clusters = int(cv[0]);
-    options.vectors = int(cv[1]);
-    options.seed = a.seed;
-    options.iterations = a.iterations;
-    options.threads = a.threads;
+    const CpcaOptions options = cpca_options(a, cv);
     // The light's SH (never the --sun: prepare_light keeps it out) at the transfer's K.
     std::optional<std::vector<float>> light;
     if (with_light) light = prepare_light(setup, t.layout.K).coeffs;
