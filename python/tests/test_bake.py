@@ -188,3 +188,23 @@ def test_probes_compress_as_the_command_line_compresses_them(box, tmp_path, cli)
     shprt.bake(box, bands=2, samples=16, output=tmp_path / "n.shprt")
     with pytest.raises(shprt.Error, match="the file has no probes"):
         shprt.compress(shprt.load(str(tmp_path / "n.shprt")), 8, 2, probe_cpca=(2, 2))
+
+
+def test_error_bounded_bake_records_its_estimates(tmp_path):
+    """target_error= writes each receiver's samples and estimated error (docs/sampling.md,
+    "Error-bounded bakes"); a file without them reads None."""
+    scene = shprt.load_scene("builtin:box_on_plane")
+    bounded = tmp_path / "bounded.shprt"
+    shprt.bake(scene, directions="local", target_error=0.05, max_samples=256, output=bounded)
+    f = shprt.load(str(bounded))
+    assert f.target_error == 0.05
+    assert f.samples == 256
+    samples, error = f.receiver_samples, f.receiver_error
+    assert samples is not None and error is not None
+    assert samples.dtype == np.uint32 and samples.shape == (f.transfer.shape[0],)
+    assert set(np.unique(samples)) <= {64, 128, 256}
+    assert np.all((error <= 0.05) | (samples == 256))
+    plain = tmp_path / "plain.shprt"
+    shprt.bake(scene, samples=16, output=plain)
+    p = shprt.load(str(plain))
+    assert p.receiver_samples is None and p.receiver_error is None and p.target_error == 0

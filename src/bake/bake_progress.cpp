@@ -37,7 +37,7 @@ constexpr double kSmallestError = 1e-6;
 void BakeProgress::add_errors(const float* errors, std::size_t count) {
     for (std::size_t i = 0; i < count; ++i) {
         const double e = std::max(double(errors[i]), kSmallestError);
-        const int b = std::clamp(int(4.0 * std::log2(e / kSmallestError)), 0, kErrorBuckets - 1);
+        const int b = std::clamp(int(8.0 * std::log2(e / kSmallestError)), 0, kErrorBuckets - 1);
         m_errors[std::size_t(b)].fetch_add(1, std::memory_order_relaxed);
     }
     m_has_errors.store(true, std::memory_order_relaxed);
@@ -51,7 +51,7 @@ double BakeProgress::error_p99() const {
     std::uint64_t above = 0;
     for (int b = kErrorBuckets - 1; b >= 0; --b) {
         above += m_errors[std::size_t(b)].load(std::memory_order_relaxed);
-        if (100 * above > total || b == 0) return kSmallestError * std::exp2(double(b + 1) / 4.0);
+        if (100 * above > total || b == 0) return kSmallestError * std::exp2(double(b + 1) / 8.0);
     }
     return -1;
 }

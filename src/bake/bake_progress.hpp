@@ -32,7 +32,7 @@ public:
         m_receivers.fetch_add(receivers, std::memory_order_relaxed);
     }
     // Thread-safe: an error-bounded bake's finished receivers' estimated errors, for
-    // ProgressInfo::error_p99 (a histogram of quarter octaves from 1e-6).
+    // ProgressInfo::error_p99 (a histogram of eighth octaves from 1e-6).
     void add_errors(const float* errors, std::size_t count);
 
     // On the calling thread only (others return at once): reports when the last report is
@@ -62,7 +62,7 @@ private:
     std::uint64_t m_total, m_samples;
     std::atomic<std::uint64_t> m_rays{0}, m_receivers{0};
     std::atomic<bool> m_stop{false};
-    static constexpr int kErrorBuckets = 112;  // 28 octaves above 1e-6
+    static constexpr int kErrorBuckets = 224;  // 28 octaves above 1e-6, 8 an octave
     std::array<std::atomic<std::uint64_t>, kErrorBuckets> m_errors{};
     std::atomic<bool> m_has_errors{false};
     double error_p99() const;

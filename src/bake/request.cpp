@@ -460,6 +460,13 @@ std::optional<std::string> request_refusal(const BakeRequest& r) {
     if (r.options.direction_frame == DirectionFrame::local && r.options.device == Device::cuda)
         return kLocalDirectionsOnGpu;
     if (r.options.target_error > 0 && r.options.device == Device::cuda) return kTargetErrorOnGpu;
+    if (r.options.target_error > 0 && (r.distributed || r.checkpoint || is_refined(r)))
+        return fmt::format(
+            "--target-error does not go with {} yet (its per-receiver estimates are not carried "
+            "there); bake without it",
+            r.distributed  ? "MPI"
+            : r.checkpoint ? "--checkpoint or --resume"
+                           : "--refine");
     if (r.distributed && is_shard(r))
         return "--shard and MPI: the ranks already share the bake (use one or the other)";
     if (streamed(r) && r.output->path.empty()) return "--stream needs an output file";

@@ -239,6 +239,7 @@ TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
         {"--target-error 0.01 --sampler stratified", "has no nested prefixes"},
         {"--target-error 0.01 --transfer glossy", "glossy transfer has no error-bounded bake"},
         {"--target-error 0.01 --device cuda", "--target-error: the GPU bake has no error-bounded"},
+        {"--target-error 0.01 --refine 0.1", "--target-error does not go with --refine yet"},
     };
     for (const auto& [option, message] : bad) {
         expect_one_line_error(shprt(base + option), message);

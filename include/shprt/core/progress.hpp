@@ -20,8 +20,8 @@ struct ProgressInfo {
     // ETA ("ETA 3.1 s + 3 bounces") instead of predicting what it has not measured.
     std::string_view then = {};
     // An error-bounded bake (bake.hpp, BakeOptions::target_error): the estimated error that 99 %
-    // of the receivers finished so far are under (to a quarter octave); negative: none. A display
-    // shows it ("err 99%: 0.8 %").
+    // of the receivers finished so far are under (to an eighth of an octave, rounded up); negative:
+    // none. A display shows it ("err 99%: 0.8 %").
     double error_p99 = -1;
 };
 
