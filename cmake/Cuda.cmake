@@ -29,14 +29,14 @@ endif()
 if(SHPRT_HAS_CUDA)
     # Kernels and launchers are .cu (nvcc); the host side of the CUDA backend (device buffers,
     # streams, cuBLAS) is .cpp compiled by the host compiler: nvcc cannot parse fmt's headers.
-    file(GLOB shprt_cuda_sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/cuda/*.cu
-                                                   ${PROJECT_SOURCE_DIR}/src/cuda/*.cpp)
+    file(GLOB shprt_cuda_sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/bake/cuda/*.cu
+                                                   ${PROJECT_SOURCE_DIR}/src/bake/cuda/*.cpp)
     if(shprt_cuda_sources)
         add_library(shprt_cuda STATIC ${shprt_cuda_sources})
         target_include_directories(shprt_cuda PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
                                                      $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/generated>
                                               PRIVATE ${PROJECT_SOURCE_DIR}/src)
-        # cuBLAS and cuSPARSE are not linked but opened on first use (src/cuda/cublas_loader.hpp,
+        # cuBLAS and cuSPARSE are not linked but opened on first use (src/bake/cuda/cublas_loader.hpp,
         # cusparse_loader.hpp): linking them costs every program ~0.3 s of start-up. Their
         # headers come with the toolkit's includes.
         target_link_libraries(shprt_cuda PUBLIC CUDA::cudart_static fmt::fmt ${CMAKE_DL_LIBS}

@@ -1,5 +1,5 @@
 // The GPU bake's host side (gpu.hpp): input checks, the flat BVH and the basis table on the host,
-// the chunk plan, progress and statistics; the device work is src/cuda/gpu_bake_device.cpp.
+// the chunk plan, progress and statistics; the device work is src/bake/cuda/gpu_bake_device.cpp.
 // Built only with CUDA; gpu_fallback.cpp stands in otherwise.
 //
 // Sloan, Kautz & Snyder 2002 (PRT precompute), Green 2003 (Monte Carlo projection with a basis
@@ -10,8 +10,8 @@
 
 #include "bake/bake_internal.hpp"
 #include "bake/bake_progress.hpp"
+#include "bake/cuda/gpu_bake_device.hpp"
 #include "bake/stages.hpp"
-#include "cuda/gpu_bake_device.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"

@@ -292,7 +292,7 @@ TEST(Interreflect, GridCellsInterpolateThePoint) {
     }
 }
 
-// The GPU's build of one block of A (transport_build.hpp; src/cuda/transport_kernels.cu) run on
+// The GPU's build of one block of A (transport_build.hpp; src/bake/cuda/transport_kernels.cu) run on
 // the host: the kernels' per-index steps in loops, std::stable_sort for cub's (stable) radix sort
 // of the keys with their indices, std::exclusive_scan for cub's scan of the kept flags.
 TransportOperator::Block device_build_on_host(const Mesh& mesh, const BounceSources& sources,

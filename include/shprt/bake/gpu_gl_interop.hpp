@@ -30,7 +30,7 @@ public:
     bool mapped() const { return m_mapped; }
 
 private:
-    // cudaGraphicsResource_t; unused where CUDA is not built (src/cuda/gl_interop.cpp is)
+    // cudaGraphicsResource_t; unused where CUDA is not built (src/bake/cuda/gl_interop.cpp is)
     [[maybe_unused]] void* m_resource = nullptr;
     bool m_mapped = false;
 };

@@ -1,5 +1,5 @@
 // One entry of the bake's transfer matrix, W[v][s] = V(p, w_s)·max(0, n·w_s)·weight_s, as SHPRT_HD
-// code: the body of the GPU bake's kernel (src/cuda/transfer_kernels.cu), and what the CPU tests
+// code: the body of the GPU bake's kernel (src/bake/cuda/transfer_kernels.cu), and what the CPU tests
 // run on the host to check that kernel's math without a GPU. Header-only; no std::vector,
 // exceptions or virtual calls.
 //

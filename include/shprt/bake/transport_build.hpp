@@ -1,6 +1,6 @@
 // The entries of the transport operator A (interreflect.hpp) as SHPRT_HD code: what one closest
 // hit adds to its row, shared by the CPU's row builder (src/bake/interreflect.cpp) and the GPU's
-// build of A (src/cuda/transport_kernels.cu), and the per-index steps of that GPU build, which the
+// build of A (src/bake/cuda/transport_kernels.cu), and the per-index steps of that GPU build, which the
 // CPU tests run on the host (tests/bake/test_transport_build.cpp). Header-only; raw pointers and
 // explicit counts (core/hd.hpp).
 //

@@ -1,7 +1,7 @@
 // Lazy loading of cuSPARSE (cusparse_loader.hpp).
-#include "cuda/cusparse_loader.hpp"
+#include "bake/cuda/cusparse_loader.hpp"
 
-#include "cuda/dynamic_library.hpp"
+#include "bake/cuda/dynamic_library.hpp"
 
 #include <memory>
 #include <mutex>

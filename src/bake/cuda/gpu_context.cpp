@@ -1,9 +1,9 @@
 // Device discovery (query_gpu), the shared GPU context, and the CUDA/cuBLAS error checks.
-#include "cuda/gpu_context.hpp"
+#include "bake/cuda/gpu_context.hpp"
 
-#include "cuda/cublas_loader.hpp"
-#include "cuda/cusparse_loader.hpp"
-#include "cuda/device_buffer.hpp"
+#include "bake/cuda/cublas_loader.hpp"
+#include "bake/cuda/cusparse_loader.hpp"
+#include "bake/cuda/device_buffer.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
 

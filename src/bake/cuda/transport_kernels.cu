@@ -2,7 +2,7 @@
 // (vertex, sample) for the entries, cub's radix sort (stable: entries of one row and column stay
 // in ray order) and exclusive scan in between, one thread per sorted entry for the run sums and
 // the compaction, one per row for the row starts. The arithmetic is transport_build.hpp's.
-#include "cuda/transport_kernels.hpp"
+#include "bake/cuda/transport_kernels.hpp"
 
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>

@@ -4,7 +4,7 @@
 // down when static destructors run, and the driver frees everything at process exit.
 #pragma once
 
-#include "cuda/cuda_check.hpp"
+#include "bake/cuda/cuda_check.hpp"
 
 #include <cstdint>
 #include <mutex>

@@ -1,6 +1,6 @@
 // The device side of the GPU bake, as seen from the host orchestration in src/bake/bake_gpu.cpp.
-// CUDA-free (it is included by shprt_bake's .cpp files); implemented in src/cuda/ and built only
-// when SHPRT_HAS_CUDA. All pointers here are host pointers unless named device_*.
+// CUDA-free (it is included by shprt_bake's .cpp files); implemented in src/bake/cuda/ and built
+// only when SHPRT_HAS_CUDA. All pointers here are host pointers unless named device_*.
 #pragma once
 
 #include "shprt/bake/gpu.hpp"

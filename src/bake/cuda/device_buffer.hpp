@@ -3,7 +3,7 @@
 // Host code of the CUDA backend only.
 #pragma once
 
-#include "cuda/cuda_check.hpp"
+#include "bake/cuda/cuda_check.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,7 +1,7 @@
 // Lazy loading of cuBLAS (cublas_loader.hpp).
-#include "cuda/cublas_loader.hpp"
+#include "bake/cuda/cublas_loader.hpp"
 
-#include "cuda/dynamic_library.hpp"
+#include "bake/cuda/dynamic_library.hpp"
 
 #include <atomic>
 #include <memory>

@@ -1,5 +1,5 @@
 // Opening the toolkit's libraries (dynamic_library.hpp).
-#include "cuda/dynamic_library.hpp"
+#include "bake/cuda/dynamic_library.hpp"
 
 #include <string>
 

@@ -2,7 +2,7 @@
 // map it to get a device pointer a GPU bake can write into, unmap to hand it back to OpenGL.
 #include "shprt/bake/gpu_gl_interop.hpp"
 
-#include "cuda/cuda_check.hpp"
+#include "bake/cuda/cuda_check.hpp"
 #include "shprt/core/error.hpp"
 
 #include <GL/gl.h>  // cuda_gl_interop.h needs the GL types first

@@ -7,10 +7,10 @@
 // (channel c of receiver v at (v·3 + c)·K), so channel c of the whole input is a row-major dense
 // V × K matrix at in + c·K with leading dimension 3K, and a block's output rows likewise: cuSPARSE
 // takes row-major dense matrices with ld ≥ cols, so nothing is repacked.
-#include "cuda/cusparse_loader.hpp"
-#include "cuda/device_buffer.hpp"
-#include "cuda/gpu_bake_device.hpp"
-#include "cuda/gpu_context.hpp"
+#include "bake/cuda/cusparse_loader.hpp"
+#include "bake/cuda/device_buffer.hpp"
+#include "bake/cuda/gpu_bake_device.hpp"
+#include "bake/cuda/gpu_context.hpp"
 #include "shprt/core/error.hpp"
 
 #include <algorithm>

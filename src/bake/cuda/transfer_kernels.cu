@@ -2,7 +2,7 @@
 // clamped cosine × Monte Carlo weight, Green 2003), one thread per (vertex, sample), traced over
 // the flat BVH with the while-while traversal of Aila & Laine 2009 (trace/flat_bvh.hpp). The
 // kernels are thin: every value comes from transfer_sample(), which the CPU tests run on the host.
-#include "cuda/transfer_kernels.hpp"
+#include "bake/cuda/transfer_kernels.hpp"
 
 #include "shprt/bake/transfer_sample.hpp"
 

@@ -10,13 +10,13 @@
 // (32 vertices, one direction) store to consecutive addresses. Y[S×K] row-major is Yᵀ column-major
 // (K×S, ld K), and the row-major result C[count×K] is Cᵀ column-major (K×count, ld K). So
 //   Cᵀ = Yᵀ · Wᵀ  is  cublasSgemm(N, T, m = K, n = count, k = S, Y, ld K, Wt, ld count, C, ld K).
-#include "cuda/gpu_bake_device.hpp"
+#include "bake/cuda/gpu_bake_device.hpp"
 
-#include "cuda/cublas_loader.hpp"
-#include "cuda/device_buffer.hpp"
-#include "cuda/gpu_context.hpp"
-#include "cuda/transfer_kernels.hpp"
-#include "cuda/transport_kernels.hpp"
+#include "bake/cuda/cublas_loader.hpp"
+#include "bake/cuda/device_buffer.hpp"
+#include "bake/cuda/gpu_context.hpp"
+#include "bake/cuda/transfer_kernels.hpp"
+#include "bake/cuda/transport_kernels.hpp"
 #include "shprt/core/error.hpp"
 
 #include <algorithm>
