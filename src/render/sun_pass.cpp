@@ -24,6 +24,7 @@ layout(location = 24) uniform vec3 u_sun_irradiance;  // E_n: the disc's, at nor
 layout(location = 25) uniform mat4 u_sun_to_map;     // world → (s, t, depth)
 // x: a texel's width (world), y: tan(angular radius), z: the depth range (world), w: texels a side
 layout(location = 29) uniform vec4 u_sun_filter;
+#ifndef SHPRT_SUN_DIFFUSE
 // Glossy matrices (SunPass::bind_glossy): the exit radiance k·ρ_d/π·E + (1 − k)·ρ_s·L·Ω·f(r·s)·V
 // with f the vertex's BRDF lobe profile (shade/glossy.hpp, brdf_profile) about its reflection.
 layout(location = 30) uniform int u_sun_glossy;          // 0: diffuse (ρ/π · E)
@@ -33,6 +34,7 @@ layout(location = 33) uniform vec4 u_sun_albedo;         // xyz replaces both co
 layout(location = 34) uniform vec3 u_sun_radiance_omega;  // L · Ω per channel
 layout(location = 35) uniform vec4 u_sun_brdf[32];       // model, parameter, scale (brdf_table)
 layout(location = 67) uniform vec3 u_sun_specular[32];   // each BRDF's specular colour
+#endif
 
 const int kSunBlockerTaps = 16, kSunFilterTaps = 32;
 
@@ -78,6 +80,7 @@ float sun_visibility(vec3 p, vec3 n) {
     return lit / float(kSunFilterTaps);
 }
 
+#ifndef SHPRT_SUN_DIFFUSE
 // The normalised lobe profile f(x) of brdf_profile (shade/glossy.cpp), x = cos θ from the axis.
 float sun_lobe(vec4 b, float x) {
     if (!(x > 0.0)) return 0.0;
@@ -88,6 +91,7 @@ float sun_lobe(vec4 b, float x) {
     float a2 = e * e * e * e, c2 = 0.5 * (1.0 + x), d = c2 * (a2 - 1.0) + 1.0;
     return scale * a2 / (kPi * d * d);
 }
+#endif
 
 vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo, uint brdf) {
     if (u_sun_mode == 0) return vec3(0.0);
@@ -97,6 +101,9 @@ vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo, uint brdf) {
     float V = sun_visibility(p, n);
     vec3 E = u_sun_irradiance * (c * V);
     if (u_sun_mode == 2) return E;
+#ifdef SHPRT_SUN_DIFFUSE
+    return albedo / kPi * E;
+#else
     if (u_sun_glossy == 0) return albedo / kPi * E;
     vec3 rd = u_sun_albedo.w > 0.0 ? u_sun_albedo.xyz : albedo;
     vec3 rs = u_sun_albedo.w > 0.0 ? u_sun_albedo.xyz : u_sun_specular[brdf];
@@ -115,6 +122,7 @@ vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo, uint brdf) {
         f += 0.125 * sun_lobe(b, dot(r, d));
     }
     return u_sun_k * rd / kPi * E + (1.0 - u_sun_k) * rs * u_sun_radiance_omega * (f * V);
+#endif
 }
 )glsl";
 
@@ -223,8 +231,8 @@ void SunPass::update(const Sun& sun, Vec3f centre, float radius, std::uint64_t g
     gl::check("SunPass::update");
 }
 
-void SunPass::bind(SunMode mode) const {
-    glUniform1i(gl::sun_loc::kGlossy, 0);
+void SunPass::bind(SunMode mode, gl::SunCode code) const {
+    if (code == gl::SunCode::full) glUniform1i(gl::sun_loc::kGlossy, 0);
     const double R = std::max(double(m_radius) * 1.01, 1e-6);
     const Vec3d E = sun_irradiance(m_sun);
     glUniform1i(gl::sun_loc::kMode, static_cast<int>(mode));

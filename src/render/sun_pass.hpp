@@ -19,6 +19,7 @@
 // filter's width), and the comparison keeps a texel of depth bias.
 #pragma once
 
+#include "gl_util.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/light/sun.hpp"
 #include "shprt/render/renderer.hpp"
@@ -70,8 +71,9 @@ public:
     // viewport that were bound. `sun` is in the scene's frame (already turned with the light).
     void update(const Sun& sun, Vec3f centre, float radius, std::uint64_t geometry,
                 const std::function<void()>& draw_triangles);
-    // Sets sun_term's uniforms on the program in use and binds the map at kShadowMapUnit.
-    void bind(SunMode mode) const;
+    // Sets sun_term's uniforms on the program in use, whose fragment shader has the sun `code`
+    // (gl::fragment_shader; not none), and binds the map at kShadowMapUnit.
+    void bind(SunMode mode, gl::SunCode code = gl::SunCode::full) const;
     // Sets sun_term's mode to none on the program in use (a program without a sun).
     static void bind_none();
     // After bind(SunMode::radiance): glossy matrices' sun term, as shade_glossy_with_sun, with

@@ -294,9 +294,13 @@ private:
     void draw_scene(const DrawSettings& settings, int width, int height, float exposure);
 
     unsigned m_shade_program = 0, m_present_program = 0;
-    // The scene and background programs writing linear radiance [0] or display codes [1]
-    // (gl::fragment_shader).
-    unsigned m_scene_program[2] = {0, 0}, m_background_program[2] = {0, 0};
+    // The background programs writing linear radiance [0] or display codes [1]
+    // (gl::fragment_shader), and the scene programs likewise, [display][sun code]: without the
+    // sun, with a diffuse receivers' sun, with every sun term (gl::SunCode), compiled when first
+    // drawn with (scene_program).
+    unsigned m_background_program[2] = {0, 0};
+    unsigned m_scene_program[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    unsigned scene_program(int display, int sun_code);
     unsigned m_vao = 0, m_empty_vao = 0;
     unsigned m_position_vbo = 0, m_normal_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
     unsigned m_color_buffer = 0;  // V × vec4: the shading pass's output
