@@ -67,6 +67,7 @@ void delete_buffer(unsigned& buffer) {
 
 Renderer::Renderer() {
     require_gl43();
+    m_software = is_software_renderer();
     m_shade_program = gl::compile_compute_program(gl::kShadeComputeShader, "shading");
     for (int display = 0; display < 2; ++display) {
         m_background_program[display] = gl::compile_program(
@@ -562,9 +563,14 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     key.transfer_generation = m_transfer_generation;
     key.bounced_sun = sun_mode != SunMode::none && sun_bounced();
     key.sun_generation = key.bounced_sun ? m_sun_generation : 0;
+    key.host = !m_matrices && !m_texel && !glossy && s.view != ShadeView::transfer &&
+               (m_vertex_shading == VertexShading::host ||
+                (m_vertex_shading == VertexShading::automatic && m_software));
     if ((!m_texel || m_matrices) && (s.reshade || !m_shading_valid || !(key == m_shading_key))) {
         if (m_matrices)
             run_glossy_shading(key);
+        else if (key.host)
+            run_host_shading(key);
         else
             run_shading(key);
     }
@@ -602,7 +608,7 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     }
     glVertexAttribI4ui(5, 0, 0, 0, 0);
     if (m_sun_color_buffer) {  // the sun's T_0 · c_sun, subtracted, or 0
-        if (key.bounced_sun)
+        if (key.bounced_sun && !key.host)
             glEnableVertexAttribArray(4);
         else
             glDisableVertexAttribArray(4);

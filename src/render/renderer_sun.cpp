@@ -52,6 +52,7 @@ void Renderer::update_world_sun() {
     const ShLight sh = turned
                            ? rotated_light(m_sun_source->sh, m_light_rotation, m_sun_source->sh.K)
                            : m_sun_source->sh;
+    m_world_sun_sh = sh;
     const int stride = light_stride(m_light.K), K = std::min(sh.K, m_light.K);
     std::vector<float> sun(3 * std::size_t(stride), 0.0f), sum(sun.size(), 0.0f);
     for (int c = 0; c < 3; ++c) {

@@ -213,6 +213,20 @@ public:
     // only when they change). Throws Error(invalid_argument) for arrays that disagree.
     void set_object(const Mesh* mesh, const ObjectShading* shading);
 
+    // Where the diffuse per-vertex sum (E = T·L in the radiance and irradiance views, with the
+    // sun's bounced light folded in: T·(c_sky + c_sun) − T_0·c_sun) runs: in the compute pass
+    // (device), or on the CPU over the transfer buffer mapped for reading, its colours uploaded
+    // (host: on a software rasteriser the buffer is host memory, and llvmpipe's storage-buffer
+    // loads are a loop over the SIMD lanes — the pass took ~34 ms of CPU a frame for the room at
+    // K' = 256, the CPU's sum ~3 ms, bench/RESULTS.md "The viewer's frame on llvmpipe"). The glossy
+    // term, the transfer view and glossy matrices always run in their compute passes. automatic:
+    // host on a software rasteriser (is_software_renderer()), else device. The same float sums up
+    // to their order (tests/render: HostAndDeviceShadingAgree).
+    enum class VertexShading { automatic, device, host };
+    void set_vertex_shading(VertexShading where);
+    // Whether the last shading pass ran on the host.
+    bool last_shading_on_host() const { return m_shading_valid && m_shading_key.host; }
+
     int scene_K() const { return m_K; }
     int scene_channels() const { return m_channels; }
     // The scene's transfer is glossy matrices (drawn with DrawSettings::brdf and albedo).
@@ -266,6 +280,8 @@ private:
         std::uint64_t light_generation = 0, transfer_generation = 0;
         bool bounced_sun = false;  // the sun's bounced light is in the colours (set_sun)
         std::uint64_t sun_generation = 0;
+        bool host = false;  // shaded on the CPU (set_vertex_shading): T_0 · c_sun subtracted
+                            // there, not by the draw
         bool operator==(const ShadingKey&) const = default;
     };
     void set_texel_scene(const Mesh& mesh, const TransferSet& transfer);
@@ -275,6 +291,10 @@ private:
     // Makes the background texture for K' (if stale); returns the rotation to look it up with.
     Mat3d upload_background(int K);
     void run_shading(const ShadingKey& key);
+    // run_shading's diffuse sum on the CPU (set_vertex_shading), into the colour buffer.
+    void run_host_shading(const ShadingKey& key);
+    VertexShading m_vertex_shading = VertexShading::automatic;
+    bool m_software = false;  // is_software_renderer(), asked once
     void run_glossy_shading(const ShadingKey& key);
     // The cluster pass of a CPCA code, if its light or K' changed since it last ran.
     void update_cluster_light(int K, bool white_sky);
@@ -373,6 +393,7 @@ private:
     // draw from the colours of T · (c_sky + c_sun).
     std::optional<PreparedSun> m_sun_source;
     Sun m_world_sun{};
+    ShLight m_world_sun_sh{};  // its SH projection in the scene's frame (host shading)
     std::unique_ptr<SunPass> m_sun_pass;
     unsigned m_sun_ubo = 0, m_sky_sun_ubo = 0, m_direct_ssbo = 0, m_sun_color_buffer = 0;
     std::uint64_t m_sun_generation = 0, m_geometry_generation = 0;
