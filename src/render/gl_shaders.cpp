@@ -317,11 +317,11 @@ std::string fragment_shader(const char* source, bool display, SunCode sun) {
                 "}\n");
         case SunCode::diffuse:
             return splice(with_output, "// @sun",
-                          std::string("#define SHPRT_SUN_DIFFUSE 1\n") + kSunFunctions);
+                          "#define SHPRT_SUN_DIFFUSE 1\n" + sun_functions());
         case SunCode::full:
             break;
     }
-    return splice(with_output, "// @sun", kSunFunctions);
+    return splice(with_output, "// @sun", sun_functions());
 }
 
 }  // namespace shprt::gl

@@ -9,6 +9,7 @@
 #include "shprt/shade/glossy.hpp"
 
 #include <epoxy/gl.h>
+#include <fmt/format.h>
 
 #include <cmath>
 
@@ -16,7 +17,9 @@ namespace shprt {
 
 namespace gl {
 
-const char* const kSunFunctions = R"glsl(
+namespace {
+
+const char* const kSunFunctionsSource = R"glsl(
 layout(binding = 2) uniform sampler2D u_shadow_map;  // depth in [0, 1], 0 nearest the sun
 layout(location = 20) uniform int u_sun_mode;        // 0 none, 1 radiance, 2 irradiance
 layout(location = 21) uniform mat3 u_sun_basis;      // columns: the map's u and v, toward the sun
@@ -36,14 +39,7 @@ layout(location = 35) uniform vec4 u_sun_brdf[32];       // model, parameter, sc
 layout(location = 67) uniform vec3 u_sun_specular[32];   // each BRDF's specular colour
 #endif
 
-const int kSunBlockerTaps = 16, kSunFilterTaps = 32;
-
-// Tap i of n on the unit disc, evenly spread (golden-angle spiral).
-vec2 sun_tap(int i, int n) {
-    float r = sqrt((float(i) + 0.5) / float(n));
-    float a = float(i) * 2.39996322972865332;
-    return r * vec2(cos(a), sin(a));
-}
+// @sun_taps
 
 // The fraction of the sun's disc the point sees, through the map.
 float sun_visibility(vec3 p, vec3 n) {
@@ -61,19 +57,22 @@ float sun_visibility(vec3 p, vec3 n) {
     float sum = 0.0;
     int count = 0;
     for (int i = 0; i <= kSunBlockerTaps; ++i) {
-        vec2 o = i == kSunBlockerTaps ? vec2(0.0) : search * sun_tap(i, kSunBlockerTaps);
+        vec2 o = i == kSunBlockerTaps ? vec2(0.0) : search * kSunBlockerTap[i];
         float d = textureLod(u_shadow_map, q.xy + o, 0.0).r;
         if (d < q.z + dot(slope, o) - bias) {
             sum += d;
             ++count;
         }
     }
+    // Nothing or everything in the way over the whole search disc, which holds the filter's
+    // (Fernando's early outs): lit, or in the umbra, without the filter's taps.
     if (count == 0) return 1.0;
+    if (count == kSunBlockerTaps + 1) return 0.0;
     float distance = max(q.z - sum / float(count), 0.0) * range;
     float radius = max(distance * tan_r, 0.5 * texel) * uv_per_world;
     float lit = 0.0;
     for (int i = 0; i < kSunFilterTaps; ++i) {
-        vec2 o = radius * sun_tap(i, kSunFilterTaps);
+        vec2 o = radius * kSunFilterTap[i];
         float d = textureLod(u_shadow_map, q.xy + o, 0.0).r;
         lit += d >= q.z + dot(slope, o) - bias ? 1.0 : 0.0;
     }
@@ -126,6 +125,31 @@ vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo, uint brdf) {
 }
 )glsl";
 
+// `const vec2 name[n]`: tap i of n on the unit disc, evenly spread (a golden-angle spiral),
+// r = sqrt((i + 1/2)/n), angle i · 2.39996…; constants, so that no fragment computes them.
+std::string disc_taps(const char* name, int n) {
+    std::string out = fmt::format("const vec2 {}[{}] = vec2[](", name, n);
+    for (int i = 0; i < n; ++i) {
+        const double r = std::sqrt((i + 0.5) / n), a = i * 2.39996322972865332;
+        out +=
+            fmt::format("{}vec2({:.9g}, {:.9g})", i ? ", " : "", r * std::cos(a), r * std::sin(a));
+    }
+    return out + ");\n";
+}
+
+}  // namespace
+
+// The filter's taps: the blocker search's (and the receiver's own texel), the PCF's.
+constexpr int kSunBlockerTaps = 16, kSunFilterTaps = 32;
+
+std::string sun_functions() {
+    return splice(kSunFunctionsSource, "// @sun_taps",
+                  fmt::format("const int kSunBlockerTaps = {}, kSunFilterTaps = {};\n",
+                              kSunBlockerTaps, kSunFilterTaps) +
+                      disc_taps("kSunBlockerTap", kSunBlockerTaps) +
+                      disc_taps("kSunFilterTap", kSunFilterTaps));
+}
+
 namespace {
 
 const char* const kDepthVertexShader = R"glsl(
@@ -143,10 +167,10 @@ void main() {}
 }  // namespace
 }  // namespace gl
 
-SunPass::SunPass() {
+SunPass::SunPass(int size) : m_size(size) {
     m_program = gl::compile_program(gl::kDepthVertexShader, gl::kDepthFragmentShader, "sun depth");
     // Nearest, no compare mode: the filter compares depths itself (PCF over its own taps).
-    m_map = gl::make_texture_2d(kShadowMapSize, kShadowMapSize, GL_DEPTH_COMPONENT32F);
+    m_map = gl::make_texture_2d(m_size, m_size, GL_DEPTH_COMPONENT32F);
     GLint bound = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
     glGenFramebuffers(1, &m_fbo);
@@ -157,8 +181,8 @@ SunPass::SunPass() {
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     glBindFramebuffer(GL_FRAMEBUFFER, GLuint(bound));
     SHPRT_CHECK(status == GL_FRAMEBUFFER_COMPLETE, unsupported,
-                "the sun's {}x{} shadow map framebuffer is incomplete (status 0x{:x})",
-                kShadowMapSize, kShadowMapSize, status);
+                "the sun's {}x{} shadow map framebuffer is incomplete (status 0x{:x})", m_size,
+                m_size, status);
     gl::check("SunPass");
 }
 
@@ -212,7 +236,7 @@ void SunPass::update(const Sun& sun, Vec3f centre, float radius, std::uint64_t g
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
     glGetIntegerv(GL_VIEWPORT, viewport);
     glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
-    glViewport(0, 0, kShadowMapSize, kShadowMapSize);
+    glViewport(0, 0, m_size, m_size);
     glDisable(GL_CULL_FACE);  // both faces cast
     glDisable(GL_SCISSOR_TEST);
     glEnable(GL_DEPTH_TEST);
@@ -231,6 +255,10 @@ void SunPass::update(const Sun& sun, Vec3f centre, float radius, std::uint64_t g
     gl::check("SunPass::update");
 }
 
+double SunPass::texel_size(float radius, int size) {
+    return 2 * std::max(double(radius) * 1.01, 1e-6) / size;
+}
+
 void SunPass::bind(SunMode mode, gl::SunCode code) const {
     if (code == gl::SunCode::full) glUniform1i(gl::sun_loc::kGlossy, 0);
     const double R = std::max(double(m_radius) * 1.01, 1e-6);
@@ -239,8 +267,8 @@ void SunPass::bind(SunMode mode, gl::SunCode code) const {
     glUniformMatrix3fv(gl::sun_loc::kBasis, 1, GL_FALSE, m_basis);
     glUniform3f(gl::sun_loc::kIrradiance, float(E.x), float(E.y), float(E.z));
     glUniformMatrix4fv(gl::sun_loc::kToMap, 1, GL_FALSE, m_to_map);
-    glUniform4f(gl::sun_loc::kFilter, float(2 * R / kShadowMapSize),
-                float(std::tan(m_sun.radius_deg * kPi / 180)), float(2 * R), float(kShadowMapSize));
+    glUniform4f(gl::sun_loc::kFilter, float(texel_size(m_radius, m_size)),
+                float(std::tan(m_sun.radius_deg * kPi / 180)), float(2 * R), float(m_size));
     glActiveTexture(GL_TEXTURE0 + gl::kShadowMapUnit);
     glBindTexture(GL_TEXTURE_2D, m_map);
     glActiveTexture(GL_TEXTURE0);
