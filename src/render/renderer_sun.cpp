@@ -34,8 +34,20 @@ void Renderer::set_sun(const PreparedSun* sun) {
                 invalid_argument, "the sun's SH projection has K = {} and {} coefficients",
                 sun->sh.K, sun->sh.coeffs.size());
     m_sun_source = *sun;
-    if (!m_sun_pass) m_sun_pass = std::make_unique<SunPass>();
+    if (!m_sun_pass) m_sun_pass = std::make_unique<SunPass>(m_shadow_map_size);
     update_world_sun();
+}
+
+void Renderer::set_shadow_map_size(int texels) {
+    SHPRT_CHECK(texels >= 64 && texels <= 8192, invalid_argument,
+                "a shadow map of {} texels a side (64 to 8192)", texels);
+    if (texels == m_shadow_map_size) return;
+    m_shadow_map_size = texels;
+    if (m_sun_pass) m_sun_pass = std::make_unique<SunPass>(texels);  // redrawn at the next draw
+}
+
+double Renderer::shadow_texel_size() const {
+    return SunPass::texel_size(m_bounds_radius, m_shadow_map_size);
 }
 
 bool Renderer::sun_bounced() const { return m_sun_source && m_direct_ssbo != 0; }

@@ -56,7 +56,8 @@ class TexelPass;   // src/render/texel_pass.hpp
 class SunPass;     // src/render/sun_pass.hpp
 class ObjectPass;  // src/render/object_pass.hpp
 
-// Texels a side of the sun's shadow map (Renderer::set_sun; render/sun_pass.hpp).
+// Texels a side of the sun's shadow map by default (Renderer::set_sun, set_shadow_map_size;
+// render/sun_pass.hpp).
 inline constexpr int kShadowMapSize = 2048;
 
 struct DrawSettings {
@@ -199,6 +200,14 @@ public:
     // shade_with_sun: a scene of glossy matrices is refused here (Error(unsupported)) and a draw
     // with k < 1 in the radiance view throws Error(unsupported). Per-vertex and per-texel scenes.
     void set_sun(const PreparedSun* sun);
+    // Texels a side of the sun's shadow map (kShadowMapSize until set; 64 to 8192): its texel is
+    // 2·1.01·r/texels for a scene of bounding radius r. The viewer's continuous frames on a
+    // software rasteriser take 1024 (viewer/frame.hpp, choose_shadow_map_size), where the map is
+    // redrawn whenever the sun or an object moves.
+    void set_shadow_map_size(int texels);
+    int shadow_map_size() const { return m_shadow_map_size; }
+    // A shadow-map texel's width in world units for the scene set (0 before set_scene).
+    double shadow_texel_size() const;
     // The sun's bounced light is drawn (set_sun with a transfer that has a direct part).
     bool sun_bounced() const;
     // How many times the sun's shadow map has been drawn (it is redrawn when the sun turns).
@@ -395,6 +404,7 @@ private:
     Sun m_world_sun{};
     ShLight m_world_sun_sh{};  // its SH projection in the scene's frame (host shading)
     std::unique_ptr<SunPass> m_sun_pass;
+    int m_shadow_map_size = kShadowMapSize;
     unsigned m_sun_ubo = 0, m_sky_sun_ubo = 0, m_direct_ssbo = 0, m_sun_color_buffer = 0;
     std::uint64_t m_sun_generation = 0, m_geometry_generation = 0;
     Vec3f m_bounds_centre{0, 0, 0};
