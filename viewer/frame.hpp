@@ -33,7 +33,7 @@ int choose_samples(int requested, bool continuous);
 // `shprt render` and --screenshot), except for frames drawn continuously on a software
 // rasteriser, where it is 1024 — the map is redrawn whenever the sun or an object moves, and
 // llvmpipe's 2048² depth pass cost ~10-15 ms of CPU a frame more (bench/RESULTS.md, "The
-// viewer's frame on llvmpipe"). The room's texel is then 8.6 mm (4.3 at 2048; `view
+// viewer's frame on llvmpipe"). The room's texel is then 8.7 mm (4.35 at 2048; `view
 // --benchmark` prints it). Needs a current context.
 int choose_shadow_map_size(bool continuous);
 
