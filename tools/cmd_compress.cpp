@@ -1,8 +1,9 @@
-// `shprt compress F.shprt -o G.shprt --cpca CLUSTERS,VECTORS [--half] [--light L ...]`:
-// clustered PCA of a file's transfer rows (transfer/cpca.hpp), written as a CPCA .shprt file
-// (format version 3), with the error of exit radiance under test lights and views (and under
-// the --light given, a --sun kept out of it) and the bytes per vertex. Thin:
-// parses, reads, calls compress_transfer, writes atomically, prints.
+// `shprt compress F.shprt -o G.shprt --cpca CLUSTERS,VECTORS [--probe-cpca C,V] [--half]
+// [--light L ...]`: clustered PCA of a file's transfer rows (transfer/cpca.hpp), written as a CPCA
+// .shprt file (format version 3), with the error of exit radiance under test lights and views
+// (and under the --light given, a --sun kept out of it) and the bytes per vertex; with
+// --probe-cpca, the file's transfer probes too (compress_probes). Thin: parses, reads, calls
+// compress_transfer and compress_probes, writes atomically, prints.
 #include "common/command.hpp"
 #include "common/shading_options.hpp"
 
@@ -24,7 +25,7 @@ namespace shprt::tools {
 namespace {
 
 struct CompressArgs {
-    std::string input, output, cpca;
+    std::string input, output, cpca, probe_cpca;
     bool half = false, reproducible = false;
     std::uint64_t seed = 1;
     int iterations = 16, threads = 0;
@@ -39,12 +40,62 @@ std::string describe_light(const LightArgs& a) {
     return out;
 }
 
-void run(const CompressArgs& a) {
-    const std::vector<double> cv = parse_numbers(a.cpca, 2, "--cpca CLUSTERS,VECTORS");
+// CLUSTERS,VECTORS of --cpca or --probe-cpca: two whole numbers ≥ 1.
+std::vector<double> parse_cpca(const std::string& option, const std::string& text) {
+    const std::vector<double> cv = parse_numbers(text, 2, option + " CLUSTERS,VECTORS");
     SHPRT_CHECK(cv[0] >= 1 && cv[1] >= 1 && cv[0] == std::floor(cv[0]) &&
                     cv[1] == std::floor(cv[1]) && cv[0] < 1e9 && cv[1] < 1e9,
-                invalid_argument, "--cpca {}: CLUSTERS and VECTORS must be whole numbers ≥ 1",
-                a.cpca);
+                invalid_argument, "{} {}: CLUSTERS and VECTORS must be whole numbers ≥ 1", option,
+                text);
+    return cv;
+}
+
+// The CPCA options of CLUSTERS,VECTORS `cv` and the shared --seed, --iterations, --threads.
+CpcaOptions cpca_options(const CompressArgs& a, const std::vector<double>& cv) {
+    CpcaOptions options;
+    options.clusters = int(cv[0]);
+    options.vectors = int(cv[1]);
+    options.seed = a.seed;
+    options.iterations = a.iterations;
+    options.threads = a.threads;
+    return options;
+}
+
+// The probes' CPCA (--probe-cpca), printed in two lines; the file's probes replaced by the code.
+void compress_file_probes(const CompressArgs& a, const std::vector<double>& cv,
+                          const LightSetup& setup, TransferSet& out, const ProbeGrid& probes) {
+    const CpcaOptions options = cpca_options(a, cv);
+    std::optional<std::vector<float>> light;
+    if (!a.light.lights.empty()) light = prepare_light(setup, probes.K).coeffs;
+    ProbeCpcaResult r;
+    try {
+        r = compress_probes(probes, options, light ? &*light : nullptr);
+    } catch (const Error& e) {
+        fail(e.code(), "{}: --probe-cpca {}: {}", a.input, a.probe_cpca, e.what());
+    }
+    const double ratio = r.raw_bytes_per_probe / r.bytes_per_probe;
+    std::printf(
+        "probes: %d clusters x %d vectors, float32, %.1f B/probe (raw %.0f B) = %s, fit %.3f s\n",
+        options.clusters, options.vectors, r.bytes_per_probe, r.raw_bytes_per_probe,
+        ratio >= 1
+            ? fmt::format("{:.1f}x smaller", ratio).c_str()
+            : fmt::format("{:.1f}x larger than the raw matrices: use fewer clusters or vectors",
+                          1 / ratio)
+                  .c_str(),
+        r.seconds_fit);
+    std::printf("probe error: incident radiance relative RMSE %.3f%% (lights of unit coefficients)",
+                100.0 * r.relative_rmse);
+    if (r.light_relative_rmse)
+        std::printf(", %.3f%% under %s", 100.0 * *r.light_relative_rmse,
+                    describe_light(a.light).c_str());
+    std::printf("\n");
+    out.probes = std::move(r.compressed);
+}
+
+void run(const CompressArgs& a) {
+    const std::vector<double> cv = parse_cpca("--cpca", a.cpca);
+    const std::vector<double> probe_cv =
+        a.probe_cpca.empty() ? std::vector<double>{} : parse_cpca("--probe-cpca", a.probe_cpca);
     SHPRT_CHECK(a.iterations >= 0, invalid_argument, "--iterations {}: must be ≥ 0", a.iterations);
     // As bake's --threads (common/bake_options.cpp).
     SHPRT_CHECK(a.threads >= 0 && a.threads <= kMaxBakeThreads, invalid_argument,
@@ -69,20 +120,26 @@ void run(const CompressArgs& a) {
                 "{}: --cpca {}: {} vectors, more than the {} floats of a {} ({} transfer, "
                 "K = {}; a symmetric K×K matrix stores K(K+1)/2 ≤ K²)",
                 a.input, a.cpca, cv[1], D, unit, to_string(t.layout.shape), t.layout.K);
-    CpcaOptions options;
-    options.clusters = int(cv[0]);
-    options.vectors = int(cv[1]);
-    options.seed = a.seed;
-    options.iterations = a.iterations;
-    options.threads = a.threads;
+    // The probes' numbers are checked before the transfer's fit, which may take a while.
+    if (!probe_cv.empty()) {
+        SHPRT_CHECK(!t.probes.empty(), invalid_argument,
+                    "{}: --probe-cpca {}: the file has no probes (bake with --probes)", a.input,
+                    a.probe_cpca);
+        const std::size_t valid =
+            std::size_t(std::count(t.probes.valid.begin(), t.probes.valid.end(), std::uint8_t(1)));
+        const double floats = double(t.probes.channels) * t.probes.K * t.probes.K;
+        SHPRT_CHECK(probe_cv[0] <= double(valid) && probe_cv[1] <= floats, invalid_argument,
+                    "{}: --probe-cpca {}: at most {} clusters (the valid probes) and {} vectors "
+                    "(channels x K x K = {} x {} x {})",
+                    a.input, a.probe_cpca, valid, floats, t.probes.channels, t.probes.K,
+                    t.probes.K);
+    }
+    const CpcaOptions options = cpca_options(a, cv);
     // The light's SH (never the --sun: prepare_light keeps it out) at the transfer's K.
     std::optional<std::vector<float>> light;
     if (with_light) light = prepare_light(setup, t.layout.K).coeffs;
-    const CpcaResult r = compress_transfer(t, receiver_normals(file.mesh, t), options, a.half,
-                                           light ? &*light : nullptr);
-    WriteOptions write;
-    write.reproducible = a.reproducible;
-    write_shprt(a.output, file.mesh, r.compressed, write);
+    CpcaResult r = compress_transfer(t, receiver_normals(file.mesh, t), options, a.half,
+                                     light ? &*light : nullptr);
 
     const TransferError& e = r.error;
     std::vector<float> sorted = e.receiver_rmse;
@@ -118,6 +175,10 @@ void run(const CompressArgs& a) {
         worst += fmt::format("{}{} ({:.2f}%)", i ? ", " : "", e.worst[i],
                              100.0 * e.receiver_rmse[e.worst[i]]);
     std::printf("worst %s: %s\n", units, worst.c_str());
+    if (!probe_cv.empty()) compress_file_probes(a, probe_cv, setup, r.compressed, t.probes);
+    WriteOptions write;
+    write.reproducible = a.reproducible;
+    write_shprt(a.output, file.mesh, r.compressed, write);
     std::printf("wrote %s\n", a.output.c_str());
 }
 
@@ -132,7 +193,11 @@ const bool compress_registered = register_command(
                         "CLUSTERS,VECTORS: clusters (1 to the vertex count) and PCA vectors "
                         "per cluster (1 to the floats per vertex)")
              ->required();
-         app.add_flag("--half", args->half, "Store the code as float16");
+         app.add_option("--probe-cpca", args->probe_cpca,
+                        "CLUSTERS,VECTORS: compress the file's transfer probes too (clusters 1 to "
+                        "the valid probes, vectors 1 to channels x K x K); without it they are "
+                        "kept as they are");
+         app.add_flag("--half", args->half, "Store the code as float16 (not the probes')");
          // --light, --sun, --rotate, --window: the error under that light too.
          add_light_options(app, args->light);
          app.add_option("--seed", args->seed, "Seed of the k-means++ seeding (default 1)");

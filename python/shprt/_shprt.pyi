@@ -97,6 +97,7 @@ def compress(
     seed: int = 1,
     iterations: int = 16,
     threads: int = 0,
+    probe_cpca: tuple[int, int] | None = None,
 ) -> tuple[File, dict[str, Any]]: ...
 def load(path: str) -> File: ...
 @overload

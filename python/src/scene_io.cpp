@@ -200,7 +200,7 @@ for glossy matrices (each vertex's packed upper triangle), float32.)")
     m.def(
         "compress",
         [](const ShprtFile& file, int clusters, int vectors, bool half, std::uint64_t seed,
-           int iterations, int threads) {
+           int iterations, int threads, std::optional<std::pair<int, int>> probe_cpca) {
             CpcaOptions options;
             options.clusters = clusters;
             options.vectors = vectors;
@@ -208,15 +208,32 @@ for glossy matrices (each vertex's packed upper triangle), float32.)")
             options.iterations = iterations;
             options.threads = threads;
             CpcaResult r;
+            std::optional<ProbeCpcaResult> probes;
             {
                 py::gil_scoped_release release;
+                if (probe_cpca) {  // checked before the transfer's fit, as the command line does
+                    SHPRT_CHECK(!file.transfer.probes.empty(), invalid_argument,
+                                "probe_cpca: the file has no probes (bake with probes=)");
+                }
                 r = compress_transfer(file.transfer, receiver_normals(file.mesh, file.transfer),
                                       options, half);
+                if (probe_cpca) {
+                    CpcaOptions p = options;
+                    p.clusters = probe_cpca->first;
+                    p.vectors = probe_cpca->second;
+                    probes = compress_probes(file.transfer.probes, p);
+                    r.compressed.probes = std::move(probes->compressed);
+                }
             }
             ShprtFile out;
             out.mesh = file.mesh;
             out.transfer = std::move(r.compressed);
             py::dict report;
+            if (probes) {
+                report["probe_relative_rmse"] = probes->relative_rmse;
+                report["bytes_per_probe"] = probes->bytes_per_probe;
+                report["raw_bytes_per_probe"] = probes->raw_bytes_per_probe;
+            }
             report["relative_rmse"] = r.error.relative_rmse;
             report["receiver_rmse"] = take_vector(std::move(r.error.receiver_rmse),
                                                   {py::ssize_t(out.transfer.receiver_count())});
@@ -228,12 +245,15 @@ for glossy matrices (each vertex's packed upper triangle), float32.)")
             return py::make_tuple(std::move(out), report);
         },
         "file"_a, "clusters"_a, "vectors"_a, py::kw_only(), "half"_a = false, "seed"_a = 1,
-        "iterations"_a = 16, "threads"_a = 0,
+        "iterations"_a = 16, "threads"_a = 0, "probe_cpca"_a = py::none(),
         R"(Clustered PCA of a file's transfer rows (transfer/cpca.hpp), as `shprt compress`: returns
 (File, report). The File carries the code (save() writes a CPCA file; its transfer holds the
 rebuilt rows) and keeps an interreflected file's direct part. The report: relative_rmse of exit
 radiance under the test lights (and views, for matrices), receiver_rmse per receiver, the worst
-receivers, and bytes per receiver for the code, the raw rows and the kept direct part.)");
+receivers, and bytes per receiver for the code, the raw rows and the kept direct part.
+probe_cpca=(clusters, vectors) compresses the file's transfer probes too (`--probe-cpca`); the
+report then has probe_relative_rmse (of the incident radiance under lights of unit
+coefficients), bytes_per_probe and raw_bytes_per_probe.)");
     m.def(
         "load",
         [](const std::string& path) {

@@ -168,3 +168,23 @@ def test_probes_go_into_the_file_as_the_command_line_bakes_them(box, tmp_path, c
         shprt.bake(box, bands=2, samples=64, probes="auto")
     with pytest.raises(shprt.Error, match="probes: expected a str or 3 numbers"):
         shprt.bake(box, bands=2, samples=64, probes=(3, 2), output=out)  # type: ignore[arg-type]
+
+
+def test_probes_compress_as_the_command_line_compresses_them(box, tmp_path, cli):
+    # compress(probe_cpca=) writes the bytes `shprt compress --probe-cpca` writes.
+    raw = tmp_path / "p.shprt"
+    shprt.bake(box, bands=2, samples=64, probes=(3, 2, 3), probe_box=(-1, 0, -1, 1, 1, 1),
+               probe_bands=2, output=raw, reproducible=True)
+    packed, report = shprt.compress(shprt.load(str(raw)), 8, 2, probe_cpca=(2, 2))
+    assert 0 < report["probe_relative_rmse"] < 1
+    assert report["bytes_per_probe"] < report["raw_bytes_per_probe"] == 64
+    shprt.save(str(tmp_path / "py.shprt"), packed, reproducible=True)
+    cli("compress", raw, "-o", tmp_path / "c.shprt", "--cpca", "8,2", "--probe-cpca", "2,2",
+        "--reproducible")
+    assert (tmp_path / "py.shprt").read_bytes() == (tmp_path / "c.shprt").read_bytes()
+    assert "; CPCA 2 clusters x 2 vectors" in shprt.load(str(tmp_path / "py.shprt")).summary()
+    with pytest.raises(shprt.Error, match="clusters = 99 must be 1 to the valid probes"):
+        shprt.compress(shprt.load(str(raw)), 8, 2, probe_cpca=(99, 3))
+    shprt.bake(box, bands=2, samples=16, output=tmp_path / "n.shprt")
+    with pytest.raises(shprt.Error, match="the file has no probes"):
+        shprt.compress(shprt.load(str(tmp_path / "n.shprt")), 8, 2, probe_cpca=(2, 2))

@@ -234,6 +234,7 @@ private:
         std::uint64_t total = 0;     // receivers of the whole domain (vertices or texels)
         std::uint64_t clusters = 0, vectors = 0;                       // a CPCA code's, or 0
         std::uint64_t probes = 0, probe_floats = 0, probes_valid = 0;  // the probe grid's, or 0
+        std::uint64_t probe_clusters = 0, probe_vectors = 0;  // the probes' CPCA code's, or 0
         std::string recorded_hash;
     };
     // The steps of read(), in order (each ends the read with one corrupt() line on failure).
@@ -590,6 +591,24 @@ void Reader::read_probe_description(const Fields& m, TransferSet& t, Counts& c) 
     c.probes = g.count();
     c.probe_floats = std::uint64_t(g.channels) * std::uint64_t(g.K) * std::uint64_t(g.K);
     c.probes_valid = p.u64("valid", 0, c.probes);  // checked against the section once read
+    // The matrices stored as a CPCA code (one row per valid probe), rebuilt once read: bounded by
+    // the file's size as a transfer's code is.
+    if (p.obj.contains("cpca")) {
+        if (c.probes_valid == 0)
+            corrupt(m_path, "metadata.probes: a CPCA code ('cpca') with no valid probe");
+        const Fields q = p.object("cpca");
+        c.probe_clusters = q.u64("clusters", 1, c.probes_valid);
+        c.probe_vectors = q.u64("vectors", 1, c.probe_floats);
+        g.cpca.clusters = int(c.probe_clusters);
+        g.cpca.vectors = int(c.probe_vectors);
+        g.cpca.seed = q.u64("seed");
+        const double rebuilt = double(c.probes) * double(c.probe_floats) * 4.0;
+        if (rebuilt > double(kMaxCpcaExpansion) * double(m_size))
+            corrupt(m_path,
+                    "metadata.probes: a CPCA code in {} bytes would rebuild {:.0f} bytes of probe "
+                    "matrices (more than {}× the file)",
+                    m_size, rebuilt, kMaxCpcaExpansion);
+    }
 }
 
 // The section table matched to the rules (every required section, optional ones, nothing else)
@@ -605,14 +624,28 @@ std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const Shprt
                 kMaxSections);
     // Match the listed sections to the table's rules in order: every required one present,
     // optional ones present or absent, nothing else.
-    const detail::SectionCounts counts{V,        T,       rows,     layout,
-                                       clusters, vectors, c.probes, c.probe_floats};
+    const detail::SectionCounts counts{V,
+                                       T,
+                                       rows,
+                                       layout,
+                                       clusters,
+                                       vectors,
+                                       c.probes,
+                                       c.probe_floats,
+                                       c.probes_valid,
+                                       c.probe_clusters,
+                                       c.probe_vectors};
     std::vector<SectionSpec> specs;
     std::size_t listed = 0;
     for (const detail::SectionRule& rule : detail::section_rules()) {
         // A CPCA file has every cpca_* section and no "transfer"; other files the reverse.
         if (clusters > 0 ? rule.is_transfer() : rule.is_cpca()) continue;
         if (rule.is_probe() && c.probes == 0) continue;  // no metadata "probes": no arrays
+        // Probes with a code have every probe_cpca_* section and no "probe_matrices"; others
+        // the reverse.
+        if (rule.is_probe() &&
+            (c.probe_clusters > 0 ? rule.is_probe_matrices() : rule.is_probe_cpca()))
+            continue;
         const bool required = rule.required || (clusters > 0 && rule.is_cpca()) || rule.is_probe();
         const bool present = listed < table.size() && table[listed].is_object() &&
                              table[listed].contains("name") &&
@@ -714,7 +747,6 @@ void Reader::check_content(const Counts& c, ShprtFile& out) {
     check_finite(t.coeffs.data(), t.coeffs.size(), "transfer");
     check_finite(t.direct.data(), t.direct.size(), "transfer_direct");
     if (c.probes > 0) {
-        check_finite(t.probes.matrices.data(), t.probes.matrices.size(), "probe_matrices");
         std::uint64_t valid = 0;
         for (std::size_t i = 0; i < t.probes.valid.size(); ++i) {
             if (t.probes.valid[i] > 1)
@@ -724,6 +756,18 @@ void Reader::check_content(const Counts& c, ShprtFile& out) {
         if (valid != c.probes_valid)
             corrupt(m_path, "probe_valid: {} valid probes, metadata.probes.valid says {}", valid,
                     c.probes_valid);
+        if (c.probe_clusters > 0) {
+            ProbeGrid& g = t.probes;
+            check_finite(g.cpca.weights.data(), g.cpca.weights.size(), "probe_cpca_weights");
+            check_finite(g.cpca.means.data(), g.cpca.means.size(), "probe_cpca_means");
+            check_finite(g.cpca.basis.data(), g.cpca.basis.size(), "probe_cpca_basis");
+            try {
+                reconstruct_probes(g);
+            } catch (const Error& e) {
+                corrupt(m_path, "{}", e.what());
+            }
+        }
+        check_finite(t.probes.matrices.data(), t.probes.matrices.size(), "probe_matrices");
     }
     // Texel domain: the UVs and every receiver's texel, in order and inside the image; and
     // neither for vertex transfer.

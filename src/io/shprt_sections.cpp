@@ -63,6 +63,21 @@ using CpcaArray = PartArray<&TransferSet::cpca, Member>;
 template <auto Member>
 using ProbeArray = PartArray<&TransferSet::probes, Member>;
 
+// One std::vector member of the probes' CPCA code (ProbeGrid::cpca).
+template <auto Member>
+struct ProbeCpcaArray {
+    static const void* data(const Mesh&, const TransferSet& t) {
+        return (t.probes.cpca.*Member).data();
+    }
+    static std::uint64_t count(const Mesh&, const TransferSet& t) {
+        return (t.probes.cpca.*Member).size();
+    }
+    static void* resize(Mesh&, TransferSet& t, std::uint64_t n) {
+        (t.probes.cpca.*Member).resize(static_cast<std::size_t>(n));
+        return (t.probes.cpca.*Member).data();
+    }
+};
+
 // The mesh's UVs, stored with texel-domain transfer only (the texels were rasterised in them).
 struct UvArray {
     static bool stored(const TransferSet& t) { return t.layout.domain == ReceiverDomain::texel; }
@@ -115,6 +130,16 @@ const std::array kRules = {
     rule<ProbeArray<&ProbeGrid::matrices>>("probe_matrices", S::f32, R::probes,
                                            SectionRule::kProbeFloats, kOptional),
     rule<ProbeArray<&ProbeGrid::valid>>("probe_valid", S::u8, R::probes, 1, kOptional),
+    // Probes stored as a CPCA code (`shprt compress --probe-cpca`) instead of "probe_matrices":
+    // per valid probe its cluster and weights, per cluster the mean and basis (float32).
+    rule<ProbeCpcaArray<&CpcaCode::cluster>>("probe_cpca_cluster", S::u32, R::valid_probes, 1,
+                                             kOptional),
+    rule<ProbeCpcaArray<&CpcaCode::weights>>("probe_cpca_weights", S::f32, R::valid_probes,
+                                             SectionRule::kProbeVectors, kOptional),
+    rule<ProbeCpcaArray<&CpcaCode::means>>("probe_cpca_means", S::f32, R::probe_clusters,
+                                           SectionRule::kProbeFloats, kOptional),
+    rule<ProbeCpcaArray<&CpcaCode::basis>>("probe_cpca_basis", S::f32, R::probe_basis_rows,
+                                           SectionRule::kProbeFloats, kOptional),
     // Interreflected transfer's direct part, one channel per receiver: before "transfer", which
     // stays last (a streamed bake writes it in place).
     rule<DirectArray>("transfer_direct", S::transfer, R::receivers, SectionRule::kPerChannel,
@@ -162,6 +187,12 @@ std::uint64_t SectionRule::row_count(const SectionCounts& counts) const {
             return counts.clusters * counts.vectors;
         case SectionRows::probes:
             return counts.probes;
+        case SectionRows::valid_probes:
+            return counts.probes_valid;
+        case SectionRows::probe_clusters:
+            return counts.probe_clusters;
+        case SectionRows::probe_basis_rows:
+            return counts.probe_clusters * counts.probe_vectors;
         case SectionRows::receivers:
             break;
     }
@@ -169,6 +200,9 @@ std::uint64_t SectionRule::row_count(const SectionCounts& counts) const {
 }
 
 bool SectionRule::is_cpca() const { return std::string_view(name).starts_with("cpca_"); }
+bool SectionRule::is_probe_cpca() const {
+    return std::string_view(name).starts_with("probe_cpca_");
+}
 
 std::span<const SectionRule> section_rules() { return kRules; }
 

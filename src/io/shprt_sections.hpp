@@ -20,8 +20,19 @@ namespace shprt::detail {
 
 enum class SectionType { f32, u32, u8, transfer };  // transfer: the layout's encoding
 // clusters and basis_rows (clusters × vectors): the CPCA code's arrays (TransferSet::cpca);
-// probes: the transfer probes' (TransferSet::probes).
-enum class SectionRows { vertices, triangles, receivers, clusters, basis_rows, probes };
+// probes: the transfer probes' (TransferSet::probes); valid_probes, probe_clusters and
+// probe_basis_rows: the probes' CPCA code's (ProbeGrid::cpca: one row per valid probe).
+enum class SectionRows {
+    vertices,
+    triangles,
+    receivers,
+    clusters,
+    basis_rows,
+    probes,
+    valid_probes,
+    probe_clusters,
+    probe_basis_rows
+};
 
 // What the sizes of a file's sections follow from (all from the metadata).
 struct SectionCounts {
@@ -29,6 +40,8 @@ struct SectionCounts {
     TransferLayout layout;
     std::uint64_t clusters = 0, vectors = 0;     // a CPCA code's (0: none)
     std::uint64_t probes = 0, probe_floats = 0;  // the probe grid's probes, channels·K² (0: none)
+    std::uint64_t probes_valid = 0;              // its valid probes
+    std::uint64_t probe_clusters = 0, probe_vectors = 0;  // its CPCA code's (0: none)
 };
 
 struct SectionRule {
@@ -37,7 +50,7 @@ struct SectionRule {
     SectionRows rows;
     std::uint64_t cols;  // 0 = layout.floats_per_receiver(), kPerChannel = floats_per_channel(),
                          // kVectors = the CPCA code's vectors, kProbeFloats = channels·K² of
-                         // the probes
+                         // the probes, kProbeVectors = the probes' CPCA code's vectors
     bool required;
     // The array in memory: its data and scalar element count (rows·cols when present; an empty
     // optional array means "absent"); `resize` sizes it for reading and returns its data.
@@ -51,10 +64,12 @@ struct SectionRule {
     static constexpr std::uint64_t kPerChannel = ~std::uint64_t(0);
     static constexpr std::uint64_t kVectors = ~std::uint64_t(1);
     static constexpr std::uint64_t kProbeFloats = ~std::uint64_t(2);
+    static constexpr std::uint64_t kProbeVectors = ~std::uint64_t(3);
     std::uint64_t col_count(const SectionCounts& counts) const {
         if (cols == kPerChannel) return counts.layout.floats_per_channel();
         if (cols == kVectors) return counts.vectors;
         if (cols == kProbeFloats) return counts.probe_floats;
+        if (cols == kProbeVectors) return counts.probe_vectors;
         return cols != 0 ? cols : std::uint64_t(counts.layout.floats_per_receiver());
     }
     // The transfer itself (the streamed section, always last), not the optional direct part.
@@ -64,8 +79,14 @@ struct SectionRule {
     // One of the CPCA code's arrays: present exactly when the file has a code (then "transfer"
     // is absent).
     bool is_cpca() const;
-    // One of the probe grid's arrays: present exactly when the metadata has "probes".
-    bool is_probe() const { return rows == SectionRows::probes; }
+    // One of the probe grid's arrays: present exactly when the metadata has "probes" — its
+    // matrices, or instead its CPCA code's arrays (is_probe_cpca) when metadata.probes has "cpca".
+    bool is_probe() const {
+        return rows == SectionRows::probes || rows == SectionRows::valid_probes ||
+               rows == SectionRows::probe_clusters || rows == SectionRows::probe_basis_rows;
+    }
+    bool is_probe_matrices() const { return rows == SectionRows::probes && cols == kProbeFloats; }
+    bool is_probe_cpca() const;
 };
 
 // The table, in file order.

@@ -184,6 +184,11 @@ Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
              "probe_matrices[(probe*channels + c)*K*K + i*K + j]: radiance coefficient i from "
              "light coefficient j (row-major)"},
         };
+        // Stored as a CPCA code (sections probe_cpca_*, one row per valid probe, in probe order).
+        if (!probes->cpca.empty())
+            m["probes"]["cpca"] = {{"clusters", probes->cpca.clusters},
+                                   {"vectors", probes->cpca.vectors},
+                                   {"seed", probes->cpca.seed}};
     }
     merge_extra(m, parse_extra(options.kept_metadata_json), "");
     if (!options.reproducible) {
@@ -302,11 +307,16 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
                                        parts.probes.count(),
                                        std::uint64_t(parts.probes.channels) *
                                            std::uint64_t(parts.probes.K) *
-                                           std::uint64_t(parts.probes.K)};
+                                           std::uint64_t(parts.probes.K),
+                                       parts.probes.cpca.cluster.size(),
+                                       std::uint64_t(std::max(parts.probes.cpca.clusters, 0)),
+                                       std::uint64_t(std::max(parts.probes.cpca.vectors, 0))};
     std::vector<SectionOut> sections;
     for (const detail::SectionRule& rule : detail::section_rules()) {
         const bool is_transfer = rule.is_transfer();
         if (is_transfer && cpca) continue;  // the code stands for the rows
+        // The probes' code stands for their matrices.
+        if (rule.is_probe_matrices() && !parts.probes.cpca.empty()) continue;
         if (!rule.required && !is_transfer && rule.count(mesh, parts) == 0) continue;
         const bool to_half = rule.element_size(info.layout) == 2;  // float32 stored as f16
         sections.push_back({rule.name, rule.dtype(info.layout), rule.row_count(counts),

@@ -164,20 +164,19 @@ std::vector<std::uint32_t> lloyd(const MatrixF& X, const Eigen::VectorXf& norms,
 
 // 3. Cluster c of `code` from its members `m`: the mean (from the original rows, so a
 // one-member cluster is exact), the principal directions and the members' weights.
-void fit_cluster(const TransferSet& transfer, const std::vector<float>& scale, int c,
+void fit_cluster(const float* rows, std::size_t D, const std::vector<float>& scale, int c,
                  const std::vector<std::size_t>& m, CpcaCode& code) {
-    const std::size_t D = transfer.layout.floats_per_receiver();
     const int V = code.vectors;
     Eigen::VectorXd mean = Eigen::VectorXd::Zero(D);
     for (std::size_t i : m)
-        for (std::size_t d = 0; d < D; ++d) mean[d] += transfer.coeffs[i * D + d];
+        for (std::size_t d = 0; d < D; ++d) mean[d] += rows[i * D + d];
     mean /= double(m.size());
     float* out_mean = code.means.data() + std::size_t(c) * D;
     for (std::size_t d = 0; d < D; ++d) out_mean[d] = float(mean[d]);
     MatrixD A(m.size(), D);  // centred members, Frobenius metric
     for (std::size_t k = 0; k < m.size(); ++k)
         for (std::size_t d = 0; d < D; ++d)
-            A(k, d) = (double(transfer.coeffs[m[k] * D + d]) - double(out_mean[d])) * scale[d];
+            A(k, d) = (double(rows[m[k] * D + d]) - double(out_mean[d])) * scale[d];
     MatrixD B = MatrixD::Zero(V, D);  // rows: orthonormal directions
     if (m.size() > 1) {
         const bool gram = m.size() <= D;
@@ -208,29 +207,15 @@ void fit_cluster(const TransferSet& transfer, const std::vector<float>& scale, i
             out_basis[std::size_t(v) * D + d] = float(B(v, d) / scale[d]);
 }
 
-}  // namespace
-
-CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) {
-    const std::size_t N = transfer.receiver_count();
-    const std::size_t D = transfer.layout.floats_per_receiver();
-    SHPRT_CHECK(N >= 1 && D >= 1, invalid_argument, "CPCA of an empty transfer");
-    SHPRT_CHECK(options.clusters >= 1 && std::size_t(options.clusters) <= N, invalid_argument,
-                "CPCA clusters = {} must be 1 to the receiver count {}", options.clusters, N);
-    SHPRT_CHECK(
-        options.vectors >= 1 && std::size_t(options.vectors) <= D, invalid_argument,
-        "CPCA vectors = {} must be 1 to {} (the floats per receiver: {})", options.vectors, D,
-        transfer.layout.shape == TransferShape::symmetric_matrix ? "K(K+1)/2 for a symmetric matrix"
-                                                                 : "K per channel");
-    SHPRT_CHECK(options.iterations >= 0, invalid_argument, "CPCA iterations = {} must be ≥ 0",
-                options.iterations);
+// The code of N rows of D floats (row-major), in the metric `scale` (one factor per float);
+// the options already checked.
+CpcaCode cpca_of_rows(const float* rows, std::size_t N, std::size_t D,
+                      const std::vector<float>& scale, const CpcaOptions& options) {
     const int C = options.clusters, V = options.vectors;
     Arena arena(options.threads);
-
-    // The rows in the Frobenius metric.
-    const std::vector<float> scale = metric_scale(transfer.layout);
     MatrixF X(N, D);
     for (std::size_t r = 0; r < N; ++r)
-        for (std::size_t d = 0; d < D; ++d) X(r, d) = transfer.coeffs[r * D + d] * scale[d];
+        for (std::size_t d = 0; d < D; ++d) X(r, d) = rows[r * D + d] * scale[d];
     const Eigen::VectorXf norms = X.rowwise().squaredNorm();
 
     const std::vector<std::uint32_t> assign =
@@ -251,10 +236,28 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
                      [&](std::size_t first, std::size_t last) {
                          for (int c = int(first); c != int(last); ++c)
                              if (!members[c].empty())
-                                 fit_cluster(transfer, scale, c, members[c], code);
+                                 fit_cluster(rows, D, scale, c, members[c], code);
                      });
     });
     return code;
+}
+
+}  // namespace
+
+CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) {
+    const std::size_t N = transfer.receiver_count();
+    const std::size_t D = transfer.layout.floats_per_receiver();
+    SHPRT_CHECK(N >= 1 && D >= 1, invalid_argument, "CPCA of an empty transfer");
+    SHPRT_CHECK(options.clusters >= 1 && std::size_t(options.clusters) <= N, invalid_argument,
+                "CPCA clusters = {} must be 1 to the receiver count {}", options.clusters, N);
+    SHPRT_CHECK(
+        options.vectors >= 1 && std::size_t(options.vectors) <= D, invalid_argument,
+        "CPCA vectors = {} must be 1 to {} (the floats per receiver: {})", options.vectors, D,
+        transfer.layout.shape == TransferShape::symmetric_matrix ? "K(K+1)/2 for a symmetric matrix"
+                                                                 : "K per channel");
+    SHPRT_CHECK(options.iterations >= 0, invalid_argument, "CPCA iterations = {} must be ≥ 0",
+                options.iterations);
+    return cpca_of_rows(transfer.coeffs.data(), N, D, metric_scale(transfer.layout), options);
 }
 
 void reconstruct_cpca(const CpcaCode& code, std::size_t D, std::vector<float>& out) {
@@ -487,6 +490,88 @@ CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3
             ? 4.0 * double(D)
             : 4.0 * transfer.layout.channels * double(transfer.layout.K) * transfer.layout.K;
     return out;
+}
+
+ProbeCpcaResult compress_probes(const ProbeGrid& grid, const CpcaOptions& options,
+                                const std::vector<float>* light) {
+    SHPRT_CHECK(!grid.empty(), invalid_argument, "CPCA of probes: the file has no probes");
+    grid.validate();
+    const std::size_t D = std::size_t(grid.channels) * std::size_t(grid.K) * std::size_t(grid.K);
+    std::vector<float> rows;  // the valid probes' matrices, in probe order
+    for (std::size_t p = 0; p < grid.count(); ++p)
+        if (grid.valid[p]) rows.insert(rows.end(), grid.matrix(p), grid.matrix(p) + D);
+    const std::size_t N = rows.size() / D;
+    SHPRT_CHECK(N >= 1, invalid_argument, "CPCA of probes: no probe is valid");
+    SHPRT_CHECK(options.clusters >= 1 && std::size_t(options.clusters) <= N, invalid_argument,
+                "probe CPCA clusters = {} must be 1 to the valid probes, {}", options.clusters, N);
+    SHPRT_CHECK(options.vectors >= 1 && std::size_t(options.vectors) <= D, invalid_argument,
+                "probe CPCA vectors = {} must be 1 to {} (channels x K x K = {} x {} x {})",
+                options.vectors, D, grid.channels, grid.K, grid.K);
+    SHPRT_CHECK(options.iterations >= 0, invalid_argument, "CPCA iterations = {} must be ≥ 0",
+                options.iterations);
+    if (light)
+        SHPRT_CHECK(light->size() == 3 * std::size_t(grid.K), invalid_argument,
+                    "probe CPCA: the light has {} floats, not 3 x K = {}", light->size(),
+                    3 * grid.K);
+    ProbeCpcaResult out;
+    const auto start = Clock::now();
+    out.compressed = grid;
+    out.compressed.cpca = cpca_of_rows(rows.data(), N, D, std::vector<float>(D, 1.0f), options);
+    out.seconds_fit = seconds_since(start);
+    reconstruct_probes(out.compressed);
+
+    // The errors, over the valid probes, in double.
+    const int K = grid.K, channels = grid.channels;
+    double diff2 = 0, norm2 = 0, light_diff2 = 0, light_norm2 = 0;
+    for (std::size_t p = 0; p < grid.count(); ++p) {
+        if (!grid.valid[p]) continue;
+        for (int c = 0; c < channels; ++c) {
+            const float* exact = grid.matrix(p, c);
+            const float* approx = out.compressed.matrix(p, c);
+            for (std::size_t k = 0; k < std::size_t(K) * std::size_t(K); ++k) {
+                const double d = double(exact[k]) - double(approx[k]);
+                diff2 += d * d;
+                norm2 += double(exact[k]) * double(exact[k]);
+            }
+            if (!light) continue;
+            // A grey grid is lit by each colour in turn; an RGB one by its own colour.
+            for (int colour = channels == 1 ? 0 : c; colour < (channels == 1 ? 3 : c + 1);
+                 ++colour) {
+                const float* L = light->data() + std::size_t(colour) * std::size_t(K);
+                for (int i = 0; i < K; ++i) {
+                    double e = 0, a = 0;
+                    for (int j = 0; j < K; ++j) {
+                        e += double(exact[i * K + j]) * double(L[j]);
+                        a += double(approx[i * K + j]) * double(L[j]);
+                    }
+                    light_diff2 += (e - a) * (e - a);
+                    light_norm2 += e * e;
+                }
+            }
+        }
+    }
+    out.relative_rmse = norm2 > 0 ? std::sqrt(diff2 / norm2) : 0.0;
+    if (light)
+        out.light_relative_rmse = light_norm2 > 0 ? std::sqrt(light_diff2 / light_norm2) : 0.0;
+    out.bytes_per_probe = cpca_bytes_per_receiver(out.compressed.cpca, D, N, 4);
+    out.raw_bytes_per_probe = 4.0 * double(D);
+    return out;
+}
+
+void reconstruct_probes(ProbeGrid& grid) {
+    const std::size_t D = std::size_t(grid.channels) * std::size_t(grid.K) * std::size_t(grid.K);
+    std::size_t valid = 0;
+    for (std::uint8_t v : grid.valid) valid += v;
+    SHPRT_CHECK(grid.cpca.cluster.size() == valid, invalid_argument,
+                "probe CPCA code has {} rows for {} valid probes", grid.cpca.cluster.size(), valid);
+    std::vector<float> rows;
+    reconstruct_cpca(grid.cpca, D, rows);
+    grid.matrices.assign(grid.count() * D, 0.0f);
+    for (std::size_t p = 0, r = 0; p < grid.count(); ++p)
+        if (grid.valid[p]) {
+            std::copy_n(rows.data() + r * D, D, grid.matrices.data() + p * D);
+            ++r;
+        }
 }
 
 }  // namespace shprt

@@ -30,6 +30,19 @@ void ProbeGrid::validate() const {
         valid.size() != count()) {
         throw Error(ErrorCode::invalid_argument, "probe grid: arrays do not match the grid's size");
     }
+    if (!cpca.empty()) {
+        std::size_t n = 0;
+        for (std::uint8_t v : valid) n += v;
+        const std::size_t D = std::size_t(channels) * std::size_t(K) * std::size_t(K);
+        const std::size_t C = std::size_t(std::max(cpca.clusters, 0));
+        const std::size_t V = std::size_t(std::max(cpca.vectors, 0));
+        if (cpca.clusters < 1 || cpca.vectors < 1 || cpca.cluster.size() != n ||
+            cpca.weights.size() != n * V || cpca.means.size() != C * D ||
+            cpca.basis.size() != C * V * D) {
+            throw Error(ErrorCode::invalid_argument,
+                        "probe grid: its CPCA code does not match the valid probes and K");
+        }
+    }
 }
 
 std::string describe_probes(const ProbeGrid& g) {
@@ -38,10 +51,13 @@ std::string describe_probes(const ProbeGrid& g) {
     const Vec3f far = g.far_corner();
     return fmt::format(
         "{}x{}x{} = {} ({} valid), spacing {:.3g} x {:.3g} x {:.3g} m, from ({:.3g}, {:.3g}, "
-        "{:.3g}) to ({:.3g}, {:.3g}, {:.3g}); K = {} ({}x{} matrices), {} channel{}",
+        "{:.3g}) to ({:.3g}, {:.3g}, {:.3g}); K = {} ({}x{} matrices), {} channel{}{}",
         g.counts[0], g.counts[1], g.counts[2], g.count(), valid, g.spacing.x, g.spacing.y,
         g.spacing.z, g.origin.x, g.origin.y, g.origin.z, far.x, far.y, far.z, g.K, g.K, g.K,
-        g.channels, g.channels == 1 ? "" : "s");
+        g.channels, g.channels == 1 ? "" : "s",
+        g.cpca.empty()
+            ? std::string()
+            : fmt::format("; CPCA {} clusters x {} vectors", g.cpca.clusters, g.cpca.vectors));
 }
 
 ProbeSample sample_probes(const ProbeGrid& grid, Vec3f p) {

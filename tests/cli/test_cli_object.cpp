@@ -99,6 +99,39 @@ TEST_F(CliObject, ARealBakedFileLightsTheObject) {
     EXPECT_FALSE(fs::exists(out("n.png")));
 }
 
+// `shprt compress --probe-cpca`: the probes stored as a code light the object as the raw ones
+// do (to the code's error), `info` says so, and bad requests are one line before any work.
+TEST_F(CliObject, CompressedProbesLightTheObject) {
+    const std::string raw = (m_dir / "box.shprt").string(), code = out("boxc.shprt");
+    const auto baked =
+        shprt("bake builtin:box_on_plane --bands 3 --samples 32 --probes 4,2,4 -o '" + raw + "'");
+    ASSERT_EQ(baked.exit_code, 0) << baked.err;
+    const auto c = shprt("compress '" + raw + "' -o '" + code + "' --cpca 8,2 --probe-cpca 6,4");
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_NE(c.out.find("probes: 6 clusters x 4 vectors, float32"), std::string::npos) << c.out;
+    EXPECT_NE(c.out.find("probe error: incident radiance relative RMSE"), std::string::npos)
+        << c.out;
+    EXPECT_NE(shprt("info '" + code + "'").out.find("; CPCA 6 clusters x 4 vectors"),
+              std::string::npos);
+    for (const std::string& file : {raw, code}) {
+        m_file = file;
+        const auto r = shprt(render("--object builtin:sphere --at 1.2,0.5,1.2 --object-scale 0.3",
+                                    fs::path(file).stem().string() + ".png"));
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_NE(r.out.find("lit from 32 probes"), std::string::npos) << r.out;
+    }
+    expect_one_line_error(
+        shprt("compress '" + raw + "' -o '" + out("x.shprt") + "' --cpca 8,2 --probe-cpca 33,4"),
+        "at most 32 clusters (the valid probes) and 81 vectors");
+    expect_one_line_error(
+        shprt("compress '" + raw + "' -o '" + out("x.shprt") + "' --cpca 8,2 --probe-cpca 4"),
+        "--probe-cpca");
+    expect_one_line_error(shprt("compress '" + m_dir.string() + "/sphere.shprt' -o '" +
+                                out("x.shprt") + "' --cpca 8,2 --probe-cpca 2,2"),
+                          "the file has no probes (bake with --probes)");
+    EXPECT_FALSE(fs::exists(out("x.shprt")));
+}
+
 // `shprt view --object`: the screenshot shows the object, and the window (under Xvfb, when
 // xvfb-run exists) runs its frames with the object shaded and uploaded.
 TEST_F(CliObject, TheViewerShowsTheObject) {

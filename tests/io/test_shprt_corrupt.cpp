@@ -11,6 +11,7 @@
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_format.hpp"
+#include "shprt/transfer/cpca.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -458,6 +459,61 @@ TEST_F(IoShprtCorrupt, ProbeGridsAreCheckedBeforeTheyAreSized) {
                                         std::memcpy(p + 8, &inf, 4);
                                     }),
                  "probe_matrices: value 2 is not finite", "an infinite matrix entry");
+}
+
+TEST_F(IoShprtCorrupt, ProbeCpcaCodesAreChecked) {
+    // The small file with a 2×2×1 grid of 4×4 matrices, probe 3 invalid, stored as a code of
+    // 2 clusters × 2 vectors.
+    {
+        TransferSet t = read_shprt(m_path).transfer;
+        ProbeGrid g;
+        g.counts = {2, 2, 1};
+        g.K = 4;
+        g.valid = {1, 1, 1, 0};
+        g.matrices.assign(4 * 16, 0.0f);
+        for (int k = 0; k < 48; ++k) g.matrices[std::size_t(k)] = 0.1f * float(k % 7) - 0.2f;
+        CpcaOptions options;
+        options.clusters = 2;
+        options.vectors = 2;
+        t.probes = compress_probes(g, options).compressed;
+        write_shprt(m_path, small_mesh(), t);
+        m_good = read_file(m_path);
+        m_meta = Json::parse(m_good.substr(kShprtHeaderSize, header().metadata_length));
+        ASSERT_EQ(read_shprt(m_path).transfer.probes, t.probes);
+    }
+    const struct {
+        const char* what;
+        void (*apply)(Json&);
+        const char* message;
+    } edits[] = {
+        {"more clusters than valid probes", [](Json& m) { m["probes"]["cpca"]["clusters"] = 4; },
+         "field 'clusters'"},
+        {"vectors past channels x K x K", [](Json& m) { m["probes"]["cpca"]["vectors"] = 17; },
+         "field 'vectors'"},
+        {"clusters changed", [](Json& m) { m["probes"]["cpca"]["clusters"] = 3; },
+         "section 'probe_cpca_means' has shape"},
+        {"no code described", [](Json& m) { m["probes"].erase("cpca"); },
+         "section 'probe_valid' where 'probe_matrices' was expected"},
+        {"a code with no valid probe", [](Json& m) { m["probes"]["valid"] = 0; },
+         "a CPCA code ('cpca') with no valid probe"},
+    };
+    for (const auto& e : edits) {
+        Json meta = m_meta;
+        e.apply(meta);
+        expect_error(with_metadata(meta), e.message, e.what);
+    }
+    expect_error(with_section_patch("probe_cpca_cluster",
+                                    [](char* p) {
+                                        const std::uint32_t bad = 7;
+                                        std::memcpy(p + 4, &bad, 4);
+                                    }),
+                 "CPCA cluster 7 of receiver 1 is not below 2", "a cluster index out of range");
+    expect_error(with_section_patch("probe_cpca_basis",
+                                    [](char* p) {
+                                        const float nan = NAN;
+                                        std::memcpy(p + 12, &nan, 4);
+                                    }),
+                 "probe_cpca_basis: value 3 is not finite", "a NaN in the basis");
 }
 
 TEST_F(IoShprtCorrupt, BadJson) {

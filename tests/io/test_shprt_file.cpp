@@ -7,6 +7,7 @@
 #include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/io/shprt_format.hpp"
+#include "shprt/transfer/cpca.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/resource.h>
@@ -189,6 +190,44 @@ TEST_F(IoShprtFile, ProbesRoundTripBitExactBesideEveryEncoding) {
     const ShprtFile r = read_shprt(path("n.shprt"));
     EXPECT_TRUE(r.transfer.probes.empty());
     EXPECT_EQ(r.metadata_json.find("probe"), std::string::npos);
+}
+
+// Probes stored as a CPCA code (`shprt compress --probe-cpca`): the code's sections instead of
+// "probe_matrices", the code read back bit for bit, the matrices rebuilt from it exactly as
+// compress_probes rebuilt them, invalid probes zero, and metadata.probes.cpca described.
+TEST_F(IoShprtFile, ProbesStoredAsACpcaCodeRoundTrip) {
+    for (const int channels : {1, 3}) {
+        Scene s = make_scene(5, 9, channels, false);
+        CpcaOptions options;
+        options.clusters = 3;
+        options.vectors = 2;
+        const ProbeCpcaResult c = compress_probes(noise_probes(9, channels), options);
+        s.transfer.probes = c.compressed;
+        ASSERT_EQ(s.transfer.probes.cpca.cluster.size(), 11u);  // the valid probes
+        const std::string file = path("pc.shprt");
+        write_shprt(file, s.mesh, s.transfer);
+        const ShprtFile r = read_shprt(file);
+        EXPECT_TRUE(r.transfer.probes == s.transfer.probes);
+        EXPECT_TRUE(same_bytes(r.transfer.probes.matrices, c.compressed.matrices));
+        for (int k = 0; k < channels * 81; ++k)
+            EXPECT_EQ(r.transfer.probes.matrices[5 * channels * 81 + k], 0.0f);
+        const nlohmann::json meta = nlohmann::json::parse(r.metadata_json);
+        EXPECT_EQ(meta["probes"]["cpca"]["clusters"], 3);
+        EXPECT_EQ(meta["probes"]["cpca"]["vectors"], 2);
+        std::vector<std::string> names;
+        for (const auto& section : meta["sections"]) names.push_back(section["name"]);
+        EXPECT_EQ(std::count(names.begin(), names.end(), "probe_matrices"), 0);
+        EXPECT_EQ(std::count(names.begin(), names.end(), "probe_cpca_basis"), 1);
+        EXPECT_NE(shprt_summary(r).find("; CPCA 3 clusters x 2 vectors"), std::string::npos)
+            << shprt_summary(r);
+        // The code's sections are smaller than the matrices they stand for (the whole file is
+        // not, at this size: the four sections' metadata entries weigh as much).
+        std::uint64_t code_bytes = 0;
+        for (const auto& section : meta["sections"])
+            if (section["name"].get<std::string>().starts_with("probe_cpca_"))
+                code_bytes += section["length"].get<std::uint64_t>();
+        EXPECT_LT(code_bytes, 12u * std::uint64_t(channels) * 81u * 4u);
+    }
 }
 
 TEST_F(IoShprtFile, WriterRefusesInconsistentProbes) {

@@ -244,5 +244,91 @@ TEST(Cpca, BadParametersAreRefused) {
     }
 }
 
+// Transfer probes compressed (compress_probes): a 4×3×2 grid of RGB 9×9 matrices drawn from
+// three well-separated families of rank one, probes 4 and 17 invalid.
+ProbeGrid synthetic_probes() {
+    ProbeGrid g;
+    g.counts = {4, 3, 2};
+    g.K = 9;
+    g.channels = 3;
+    g.valid.assign(g.count(), 1);
+    g.valid[4] = g.valid[17] = 0;
+    const std::size_t D = 3 * 81;
+    g.matrices.assign(g.count() * D, 0.0f);
+    std::mt19937 rng(11);
+    std::normal_distribution<float> n(0.0f, 1.0f);
+    std::vector<float> base(3 * D), dir(3 * D);
+    for (float& x : base) x = n(rng);
+    for (float& x : dir) x = n(rng);
+    for (std::size_t p = 0; p < g.count(); ++p) {
+        if (!g.valid[p]) continue;
+        const std::size_t f = p % 3;
+        const float a = n(rng);
+        for (std::size_t d = 0; d < D; ++d)
+            g.matrices[p * D + d] = 5.0f * base[f * D + d] + a * dir[f * D + d] + 0.01f * n(rng);
+    }
+    return g;
+}
+
+TEST(CpcaProbes, OneClusterPerValidProbeIsExactAndFewerAreClose) {
+    const ProbeGrid g = synthetic_probes();
+    CpcaOptions options;
+    options.clusters = 22;  // the valid probes
+    options.vectors = 1;
+    const ProbeCpcaResult exact = compress_probes(g, options);
+    EXPECT_LT(max_abs_diff(exact.compressed.matrices, g.matrices), 1e-5);
+    EXPECT_LT(exact.relative_rmse, 1e-6);
+    // Three families of rank one (plus 1 % noise): 3 clusters × 1 vector hold them to the noise.
+    options.clusters = 3;
+    const std::vector<float> light(3 * 9, 0.5f);
+    const ProbeCpcaResult r = compress_probes(g, options, &light);
+    EXPECT_GT(r.relative_rmse, 1e-4);
+    EXPECT_LT(r.relative_rmse, 0.02);
+    ASSERT_TRUE(r.light_relative_rmse.has_value());
+    EXPECT_GT(*r.light_relative_rmse, 0.0);
+    EXPECT_LT(*r.light_relative_rmse, 0.05);
+    EXPECT_EQ(r.compressed.cpca.cluster.size(), 22u);
+    for (const std::size_t invalid : {4u, 17u})
+        for (std::size_t d = 0; d < 3 * 81; ++d)
+            EXPECT_EQ(r.compressed.matrices[invalid * 3 * 81 + d], 0.0f);
+    EXPECT_LT(r.bytes_per_probe, r.raw_bytes_per_probe);
+    EXPECT_NO_THROW(r.compressed.validate());
+    // The same code from any thread count.
+    options.threads = 1;
+    const ProbeCpcaResult one = compress_probes(g, options);
+    options.threads = 2;
+    EXPECT_TRUE(one.compressed == compress_probes(g, options).compressed);
+}
+
+TEST(CpcaProbes, BadRequestsNameTheirParameter) {
+    const ProbeGrid g = synthetic_probes();
+    const auto message = [&](int clusters, int vectors, const ProbeGrid& grid) {
+        CpcaOptions options;
+        options.clusters = clusters;
+        options.vectors = vectors;
+        try {
+            compress_probes(grid, options);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_NE(message(23, 1, g).find("clusters = 23 must be 1 to the valid probes, 22"),
+              std::string::npos);
+    EXPECT_NE(message(2, 244, g).find("vectors = 244 must be 1 to 243"), std::string::npos);
+    EXPECT_NE(message(1, 1, ProbeGrid{}).find("the file has no probes"), std::string::npos);
+    ProbeGrid none = g;
+    std::fill(none.valid.begin(), none.valid.end(), 0);
+    EXPECT_NE(message(1, 1, none).find("no probe is valid"), std::string::npos);
+    // A code that does not fit the grid is refused when rebuilt.
+    ProbeGrid bad = g;
+    CpcaOptions options;
+    options.clusters = 2;
+    options.vectors = 1;
+    bad.cpca = compress_probes(g, options).compressed.cpca;
+    bad.cpca.cluster.pop_back();
+    EXPECT_THROW(reconstruct_probes(bad), Error);
+}
+
 }  // namespace
 }  // namespace shprt

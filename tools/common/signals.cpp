@@ -6,6 +6,7 @@
 #include "shprt/core/job.hpp"
 
 #include <signal.h>
+#include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -22,6 +23,7 @@ namespace {
 volatile std::sig_atomic_t g_request = 0;   // the signal that arrived as a request, or 0
 volatile std::sig_atomic_t g_requests = 0;  // which signals are requests: 1 SIGINT, 2 all
 pid_t g_main_pid = 0;                       // a forked child (the importer) dies quietly
+pid_t g_main_tid = 0;                       // the thread that installed the handlers (main's)
 volatile std::sig_atomic_t g_quiet = 0;     // no line: after the error
 volatile std::sig_atomic_t g_secondary =
     0;                                  // an MPI rank other than 0: a line only for a lost rank
@@ -80,10 +82,23 @@ constexpr long kQuietRankWaitMs = 2000;
     ::_exit(128 + signal);
 }
 
-// Async-signal-safe: write, unlink (remove_live_temporaries), kill(pid, 0), nanosleep and _exit
-// only.
+// The calling thread's id (async-signal-safe: a bare system call).
+pid_t current_tid() { return static_cast<pid_t>(::syscall(SYS_gettid)); }
+
+// Async-signal-safe: write, unlink (remove_live_temporaries), kill(pid, 0), tgkill, nanosleep and
+// _exit only.
 extern "C" void on_signal(int signal) {
     if (::getpid() != g_main_pid) ::_exit(128 + signal);
+    // A signal sent to the process is taken by any thread that does not hold it: a worker of the
+    // bake's pools, or of Embree's or OpenBLAS's, whenever the main thread holds it (AtomicFile::
+    // commit, across the rename). Handled there, it raced the main thread: a late signal's
+    // warning could come after the summary, or never. So every signal is handed to the main
+    // thread, where it waits until commit lets it go and is then handled in the main thread's
+    // order of events (the test: CliLateSignal.SignalRightAfterTheRenameLetsTheRunFinish). Only if
+    // the main thread cannot take it (it is gone) is it handled here.
+    if (g_main_tid != 0 && current_tid() != g_main_tid &&
+        ::syscall(SYS_tgkill, g_main_pid, g_main_tid, signal) == 0)
+        return;
     if ((g_requests == 2 || (g_requests == 1 && signal == SIGINT)) && g_request == 0) {
         g_request = signal;
         return;
@@ -145,6 +160,7 @@ const char* signal_name(int signal) {
 void install_signal_handlers() {
     if (g_installed.exchange(true)) return;
     g_main_pid = ::getpid();
+    g_main_tid = current_tid();
     if (is_secondary_rank()) g_secondary = 1;
     if (const char* delay = std::getenv("SHPRT_TEST_SIGNAL_LINE_DELAY_MS"))
         g_test_line_delay_ms = std::strtol(delay, nullptr, 10);

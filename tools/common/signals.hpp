@@ -26,6 +26,9 @@
 //   * SIGXFSZ is ignored: a write past `ulimit -f` fails with EFBIG, one error line naming the
 //   file.
 // A signal the process was started with ignored (nohup, a script's background job) stays ignored.
+// Every such signal is handled in the main thread: one that a worker thread takes (the kernel
+// hands a process's signal to any thread that does not hold it) is passed on to the main thread,
+// so that a signal held across a rename is not handled meanwhile, out of order, elsewhere.
 #pragma once
 
 #include <signal.h>

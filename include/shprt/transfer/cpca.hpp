@@ -103,4 +103,31 @@ CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3
                              const CpcaOptions& options, bool half,
                              const std::vector<float>* light = nullptr);
 
+// Transfer probes (transfer/probes.hpp) compressed the same way (`shprt compress --probe-cpca`,
+// docs/probes.md): the rows are the valid probes' matrices, channels·K² floats each, in the
+// Frobenius metric of the general (not symmetric) K×K matrices; invalid probes stay zero and
+// take no row. The grid keeps float32 (it is small beside the receivers; --half does not touch
+// it).
+struct ProbeCpcaResult {
+    ProbeGrid compressed;  // the input grid, the code in .cpca and the rebuilt matrices
+    // ‖P − P̂‖_F / ‖P‖_F over the valid probes: the relative RMS error of the incident
+    // radiance's SH, P·L, under lights of independent unit coefficients.
+    double relative_rmse = 0;
+    // sqrt(Σ ‖(P − P̂)·L‖² / Σ ‖P·L‖²) over the valid probes and channels, under compress_probes'
+    // `light` (3·K floats, channel-major RGB, K the probes'; colour c lights channel c, a grey
+    // grid each colour in turn), when given.
+    std::optional<double> light_relative_rmse;
+    double seconds_fit = 0;
+    double bytes_per_probe = 0;      // the code, float32, per valid probe
+    double raw_bytes_per_probe = 0;  // channels·K² float32
+};
+// Throws Error(invalid_argument) naming the parameter: a grid without probes or without a valid
+// one, clusters outside [1, valid probes], vectors outside [1, channels·K²], iterations < 0.
+ProbeCpcaResult compress_probes(const ProbeGrid& grid, const CpcaOptions& options,
+                                const std::vector<float>* light = nullptr);
+// grid.matrices rebuilt from grid.cpca (the valid probes' rows; invalid probes zero). Throws
+// Error(invalid_argument) when the code does not fit the grid (a file's code is checked by the
+// reader with it).
+void reconstruct_probes(ProbeGrid& grid);
+
 }  // namespace shprt

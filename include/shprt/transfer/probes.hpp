@@ -14,6 +14,7 @@
 #pragma once
 
 #include "shprt/core/vec.hpp"
+#include "shprt/transfer/cpca_code.hpp"
 
 #include <array>
 #include <cstddef>
@@ -35,6 +36,9 @@ struct ProbeGrid {
     int channels = 1;                    // 1, or 3 (RGB: interreflected transfer with an albedo)
     std::vector<float> matrices;         // count() · channels · K · K
     std::vector<std::uint8_t> valid;     // count(): 1 valid, 0 inside geometry
+    // Empty, or the CPCA code the matrices were rebuilt from (compress_probes, transfer/cpca.hpp):
+    // one row per valid probe, in probe order; a file stores it instead of the matrices.
+    CpcaCode cpca;
 
     bool empty() const { return counts[0] == 0; }
     std::size_t count() const {
@@ -60,7 +64,8 @@ struct ProbeGrid {
 };
 
 // The grid in one line, for people (`shprt info`, `shprt bake`): "16x6x16 = 1536 (1212 valid),
-// spacing 0.5 x 0.5 x 0.5 m, from (x, y, z) to (x, y, z); K = 9 (9x9 matrices), 1 channel".
+// spacing 0.5 x 0.5 x 0.5 m, from (x, y, z) to (x, y, z); K = 9 (9x9 matrices), 1 channel", and
+// "; CPCA 64 clusters x 8 vectors" for a grid stored as a code.
 std::string describe_probes(const ProbeGrid& grid);
 
 // The probes' matrices interpolated at `p`: trilinear over the (up to 8) probes of the cell that

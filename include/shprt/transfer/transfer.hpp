@@ -14,9 +14,10 @@
 #pragma once
 
 #include "shprt/scene/texel_raster.hpp"
-#include "shprt/transfer/probes.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/sampler.hpp"
+#include "shprt/transfer/cpca_code.hpp"
+#include "shprt/transfer/probes.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -181,21 +182,6 @@ struct TransferInfo {
     InterreflectionInfo interreflection;  // kind == interreflected only
     TexelAtlas texels;                    // layout.domain == texel only: which texel each
                                           // receiver is (the bake leaves it to its caller)
-};
-
-// A clustered-PCA code of a transfer's rows (Sloan, Hall, Hart & Snyder 2003; transfer/cpca.hpp):
-// receiver r's row ≈ means[c] + Σ_i weights[r][i] · basis[c][i], c = cluster[r]. Each row is
-// layout.floats_per_receiver() floats (D). Empty (clusters == 0) unless the set came from
-// compress_cpca or a CPCA file; a file written from a set with a code stores the code instead of
-// the rows (docs/file_format.md, "CPCA").
-struct CpcaCode {
-    int clusters = 0, vectors = 0;
-    std::vector<std::uint32_t> cluster;  // receivers
-    std::vector<float> weights;          // receivers × vectors
-    std::vector<float> means;            // clusters × D
-    std::vector<float> basis;            // clusters × vectors × D
-    std::uint64_t seed = 0;              // the k-means++ seed
-    bool empty() const { return clusters == 0; }
 };
 
 struct TransferSet : TransferInfo {
