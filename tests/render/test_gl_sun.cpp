@@ -210,15 +210,20 @@ TEST(GlSun, DirectSunMatchesTheTracedSunAtEveryPixel) {
 // is shade_with_sun's sky and bounced sun interpolated from the vertices (the draw's colours)
 // plus the traced direct sun at the pixel — so the draw counts the sun's SH part through T_0
 // once, subtracted, and the bounces once. Irradiance view (E) and radiance view (ρ/π · E).
-TEST(GlSun, SkyAndBouncedSunAreShadeWithSunsVertices) {
-    REQUIRE_GL(context);
-    const Mesh mesh = make_builtin("box_on_plane");
+// Interreflected transfer of K = 16 (one bounce, `samples` directions), with its direct part.
+TransferSet bounced_transfer(const Mesh& mesh, int samples) {
     BakeOptions options;
     options.transfer = TransferKind::interreflected;
     options.K = 16;
-    options.samples = 64;
+    options.samples = samples;
     options.bounces = 1;
-    const TransferSet T = bake(mesh, options);
+    return bake(mesh, options);
+}
+
+TEST(GlSun, SkyAndBouncedSunAreShadeWithSunsVertices) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("box_on_plane");
+    const TransferSet T = bounced_transfer(mesh, 64);
     ASSERT_FALSE(T.direct.empty());
     const Sun sun = test_sun();
     const PreparedSun prepared{sun, sun_light(sun, 16)};
@@ -401,12 +406,7 @@ TEST(GlSun, TheSunTurnsWithTheLightAndTheMapFollows) {
 TEST(GlSun, HostAndDeviceShadingAgree) {
     REQUIRE_GL(context);
     const Mesh mesh = make_builtin("box_on_plane");
-    BakeOptions options;
-    options.transfer = TransferKind::interreflected;
-    options.K = 16;
-    options.samples = 16;
-    options.bounces = 1;
-    const TransferSet T = bake(mesh, options);
+    const TransferSet T = bounced_transfer(mesh, 16);
     const Sun sun = test_sun();
     const PreparedSun prepared{sun, sun_light(sun, 16)};
     const ShLight sky = gradient_light(GradientSky{}, 16);
