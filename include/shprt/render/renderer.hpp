@@ -6,7 +6,8 @@
 // vertex, the TransferSet layout), the light (3 × K floats) in a uniform block; a compute pass
 // evaluates the paper's shading once per vertex (shade/shade.hpp: E, L_D, and the glossy term with
 // the Phong lobe rotated to the reflection direction by the SH recurrence of sh/basis.hpp ported to
-// GLSL) into a colour buffer, and the draw interpolates it. Glossy transfer matrices (a glossy
+// GLSL) into a colour buffer, and the draw interpolates it (on a software rasteriser the diffuse
+// sum runs on the CPU instead: set_vertex_shading). Glossy transfer matrices (a glossy
 // bake, TransferShape::symmetric_matrix) are shaded by their own pass, the twin of shade_glossy
 // (shade/glossy.hpp): M_v·L per vertex, or, for a CPCA file, the light transformed once per
 // cluster matrix by a cluster pass and T = mean·L + Σ w_i (B_i·L) per vertex (only the code is
