@@ -49,6 +49,7 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
 
     LightRig light = rig;  // turned when options.rotate_light
     Renderer renderer;
+    renderer.set_shadow_map_size(choose_shadow_map_size(true));
     renderer.set_sun(light.sun());
     renderer.set_scene(mesh, transfer);
     renderer.set_light(light.source(), light.rotation());
@@ -65,6 +66,10 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
     target.prepare(config.width, config.height, choose_samples(config.msaa, true),
                    display.framebuffer());
     report.msaa = target.samples();
+    if (light.sun()) {
+        report.shadow_map = renderer.shadow_map_size();
+        report.shadow_texel = renderer.shadow_texel_size();
+    }
     report.msaa_auto = config.msaa == kAutoMsaa;
     report.direct = target.float_target() == nullptr;
     const Bounds bounds = mesh_bounds(mesh);
@@ -147,6 +152,9 @@ std::string format_benchmark(const BenchmarkReport& r) {
         r.direct ? "drawn straight to 8 bits" : "float target + present", r.k,
         r.rotate_light ? ", light turned every frame" : "", r.context, r.host);
     if (!r.transfer.empty()) out += r.transfer + "\n";
+    if (r.shadow_map > 0)
+        out += fmt::format("sun: a {}² shadow map, texel {:.1f} mm\n", r.shadow_map,
+                           1e3 * r.shadow_texel);
     if (r.object_vertices > 0)
         out += fmt::format(
             "object: {} vertices moved every frame, lit from the probes: {:.2f} ms "

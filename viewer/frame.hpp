@@ -29,6 +29,14 @@ inline constexpr int kAutoMsaa = 0;
 // current context.
 int choose_samples(int requested, bool continuous);
 
+// Texels a side of the sun's shadow map (Renderer::set_shadow_map_size): kShadowMapSize (2048, as
+// `shprt render` and --screenshot), except for frames drawn continuously on a software
+// rasteriser, where it is 1024 — the map is redrawn whenever the sun or an object moves, and
+// llvmpipe's 2048² depth pass cost ~10-15 ms of CPU a frame more (bench/RESULTS.md, "The
+// viewer's frame on llvmpipe"). The room's texel is then 8.7 mm (4.35 at 2048; `view
+// --benchmark` prints it). Needs a current context.
+int choose_shadow_map_size(bool continuous);
+
 // What the command line and the panel decide about a frame, besides the light.
 struct FrameConfig {
     DrawSettings draw;   // camera, k, gloss, K', view, wireframe, background

@@ -165,6 +165,7 @@ App::~App() {
 
 // Uploads the transfer the panel asks for (the whole, or an interreflected bake's direct part).
 void App::show_transfer() {
+    m_renderer.set_shadow_map_size(choose_shadow_map_size(true));
     m_renderer.set_sun(m_light.sun());
     m_renderer.set_scene(m_mesh, m_panel.direct_only ? m_direct : m_transfer);
     m_renderer.set_light(m_light.source(), m_light.rotation());
@@ -205,7 +206,7 @@ void App::init_state() {
     s.transfer_label = describe_gpu_transfer(m_transfer, m_renderer.transfer_bytes_per_vertex());
     if (const PreparedSun* sun = m_light.sun())
         s.sun_label = fmt::format("sun: {:g}° kept out of the SH sum, a {}² shadow map; {}",
-                                  sun->sun.radius_deg, kShadowMapSize,
+                                  sun->sun.radius_deg, m_renderer.shadow_map_size(),
                                   m_renderer.sun_bounced() ? "bounced light from T - T0"
                                                            : "direct only (no direct part in "
                                                              "the file: not interreflected)");

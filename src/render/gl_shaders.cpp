@@ -299,7 +299,7 @@ std::string present_shader() {
     return splice(kPresentFragmentShader, "// @display_encode", kDisplayEncode);
 }
 
-std::string fragment_shader(const char* source, bool display) {
+std::string fragment_shader(const char* source, bool display, SunCode sun) {
     const std::string output =
         display
             ? std::string(kDisplayEncode) +
@@ -308,9 +308,20 @@ std::string fragment_shader(const char* source, bool display) {
                   "vec4 output_colour(vec3 c) { return display_encode(c * u_display_exposure); }\n"
             : std::string("vec4 output_colour(vec3 c) { return vec4(c, 1.0); }\n");
     const std::string with_output = splice(source, "// @output", output);
-    return with_output.find("// @sun") == std::string::npos
-               ? with_output
-               : splice(with_output, "// @sun", kSunFunctions);
+    if (with_output.find("// @sun") == std::string::npos) return with_output;
+    switch (sun) {
+        case SunCode::none:
+            return splice(
+                with_output, "// @sun",
+                "vec3 sun_term(vec3 p, vec3 n, vec3 albedo, uint brdf) { return vec3(0.0); "
+                "}\n");
+        case SunCode::diffuse:
+            return splice(with_output, "// @sun",
+                          "#define SHPRT_SUN_DIFFUSE 1\n" + sun_functions());
+        case SunCode::full:
+            break;
+    }
+    return splice(with_output, "// @sun", sun_functions());
 }
 
 }  // namespace shprt::gl

@@ -35,8 +35,13 @@ std::string present_shader();
 // false: into a float target), or (display = true) the code the present pass would write for it:
 // radiance × the uniform at loc::kDisplayExposure, tone mapped and sRGB-encoded by the same GLSL
 // as present_shader() — for drawing straight into an 8-bit display framebuffer. A "// @sun" line
-// (after "// @output") gets the sun's direct light, sun_term (sun_pass.hpp).
-std::string fragment_shader(const char* source, bool display);
+// (after "// @output") gets the sun's direct light, sun_term (sun_pass.hpp), as `sun` says:
+// none, a sun_term that returns 0 and reads nothing (the compiler drops the sun's varyings and
+// taps: on llvmpipe a branch on a uniform does not skip the code it guards, so a program without
+// a sun must not carry it); diffuse, the diffuse receivers' term (no BRDF lobes); full, every
+// mode chosen by uniforms (SunPass::bind and bind_glossy).
+enum class SunCode { none, diffuse, full };
+std::string fragment_shader(const char* source, bool display, SunCode sun = SunCode::full);
 // `source` with the line that holds `marker` replaced by `code`.
 std::string splice(const std::string& source, const char* marker, const std::string& code);
 // Glossy transfer matrices (gl_glossy_shaders.cpp), for K' coefficients of matrices stored

@@ -67,11 +67,9 @@ void delete_buffer(unsigned& buffer) {
 
 Renderer::Renderer() {
     require_gl43();
+    m_software = is_software_renderer();
     m_shade_program = gl::compile_compute_program(gl::kShadeComputeShader, "shading");
     for (int display = 0; display < 2; ++display) {
-        m_scene_program[display] = gl::compile_program(
-            gl::kSceneVertexShader,
-            gl::fragment_shader(gl::kSceneFragmentShader, display == 1).c_str(), "scene");
         m_background_program[display] = gl::compile_program(
             gl::kFullscreenVertexShader,
             gl::fragment_shader(gl::kBackgroundFragmentShader, display == 1).c_str(), "background");
@@ -106,10 +104,24 @@ Renderer::~Renderer() {
     if (m_background_texture) glDeleteTextures(1, &m_background_texture);
     if (m_vao) glDeleteVertexArrays(1, &m_vao);
     if (m_empty_vao) glDeleteVertexArrays(1, &m_empty_vao);
-    for (unsigned p : {m_shade_program, m_scene_program[0], m_scene_program[1],
-                       m_background_program[0], m_background_program[1], m_present_program})
+    for (unsigned p :
+         {m_shade_program, m_background_program[0], m_background_program[1], m_present_program})
         if (p) glDeleteProgram(p);
+    for (const auto& programs : m_scene_program)
+        for (unsigned p : programs)
+            if (p) glDeleteProgram(p);
     for (const auto& entry : m_glossy_programs) glDeleteProgram(entry.second);
+}
+
+unsigned Renderer::scene_program(int display, int sun_code) {
+    unsigned& program = m_scene_program[display][sun_code];
+    if (!program)
+        program = gl::compile_program(gl::kSceneVertexShader,
+                                      gl::fragment_shader(gl::kSceneFragmentShader, display == 1,
+                                                          static_cast<gl::SunCode>(sun_code))
+                                          .c_str(),
+                                      "scene");
+    return program;
 }
 
 void Renderer::release_scene_buffers() {
@@ -551,9 +563,14 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     key.transfer_generation = m_transfer_generation;
     key.bounced_sun = sun_mode != SunMode::none && sun_bounced();
     key.sun_generation = key.bounced_sun ? m_sun_generation : 0;
+    key.host = !m_matrices && !m_texel && !glossy && s.view != ShadeView::transfer &&
+               (m_vertex_shading == VertexShading::host ||
+                (m_vertex_shading == VertexShading::automatic && m_software));
     if ((!m_texel || m_matrices) && (s.reshade || !m_shading_valid || !(key == m_shading_key))) {
         if (m_matrices)
             run_glossy_shading(key);
+        else if (key.host)
+            run_host_shading(key);
         else
             run_shading(key);
     }
@@ -562,14 +579,15 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     glDepthFunc(GL_LESS);
     // The scene's program with the frame's matrix, exposure and sun: for the scene, and again for
     // the object after a texel scene (whose pass has its own program).
+    // Without a sun the program carries no sun code; glossy matrices may need the BRDF lobes.
+    const gl::SunCode sun_code = sun_mode == SunMode::none ? gl::SunCode::none
+                                 : m_matrices              ? gl::SunCode::full
+                                                           : gl::SunCode::diffuse;
     const auto use_scene_program = [&] {
-        glUseProgram(m_scene_program[display]);
+        glUseProgram(scene_program(display, static_cast<int>(sun_code)));
         glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
         if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
-        if (sun_mode != SunMode::none)
-            m_sun_pass->bind(sun_mode);
-        else
-            SunPass::bind_none();
+        if (sun_mode != SunMode::none) m_sun_pass->bind(sun_mode, sun_code);
     };
     use_scene_program();
     const bool sun_glossy = sun_mode == SunMode::radiance && m_matrices;
@@ -590,7 +608,7 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     }
     glVertexAttribI4ui(5, 0, 0, 0, 0);
     if (m_sun_color_buffer) {  // the sun's T_0 · c_sun, subtracted, or 0
-        if (key.bounced_sun)
+        if (key.bounced_sun && !key.host)
             glEnableVertexAttribArray(4);
         else
             glDisableVertexAttribArray(4);

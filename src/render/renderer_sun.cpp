@@ -34,8 +34,20 @@ void Renderer::set_sun(const PreparedSun* sun) {
                 invalid_argument, "the sun's SH projection has K = {} and {} coefficients",
                 sun->sh.K, sun->sh.coeffs.size());
     m_sun_source = *sun;
-    if (!m_sun_pass) m_sun_pass = std::make_unique<SunPass>();
+    if (!m_sun_pass) m_sun_pass = std::make_unique<SunPass>(m_shadow_map_size);
     update_world_sun();
+}
+
+void Renderer::set_shadow_map_size(int texels) {
+    SHPRT_CHECK(texels >= 64 && texels <= 8192, invalid_argument,
+                "a shadow map of {} texels a side (64 to 8192)", texels);
+    if (texels == m_shadow_map_size) return;
+    m_shadow_map_size = texels;
+    if (m_sun_pass) m_sun_pass = std::make_unique<SunPass>(texels);  // redrawn at the next draw
+}
+
+double Renderer::shadow_texel_size() const {
+    return SunPass::texel_size(m_bounds_radius, m_shadow_map_size);
 }
 
 bool Renderer::sun_bounced() const { return m_sun_source && m_direct_ssbo != 0; }
@@ -52,6 +64,7 @@ void Renderer::update_world_sun() {
     const ShLight sh = turned
                            ? rotated_light(m_sun_source->sh, m_light_rotation, m_sun_source->sh.K)
                            : m_sun_source->sh;
+    m_world_sun_sh = sh;
     const int stride = light_stride(m_light.K), K = std::min(sh.K, m_light.K);
     std::vector<float> sun(3 * std::size_t(stride), 0.0f), sum(sun.size(), 0.0f);
     for (int c = 0; c < 3; ++c) {

@@ -9,6 +9,7 @@
 #include "shprt/shade/glossy.hpp"
 
 #include <epoxy/gl.h>
+#include <fmt/format.h>
 
 #include <cmath>
 
@@ -16,7 +17,9 @@ namespace shprt {
 
 namespace gl {
 
-const char* const kSunFunctions = R"glsl(
+namespace {
+
+const char* const kSunFunctionsSource = R"glsl(
 layout(binding = 2) uniform sampler2D u_shadow_map;  // depth in [0, 1], 0 nearest the sun
 layout(location = 20) uniform int u_sun_mode;        // 0 none, 1 radiance, 2 irradiance
 layout(location = 21) uniform mat3 u_sun_basis;      // columns: the map's u and v, toward the sun
@@ -24,6 +27,7 @@ layout(location = 24) uniform vec3 u_sun_irradiance;  // E_n: the disc's, at nor
 layout(location = 25) uniform mat4 u_sun_to_map;     // world → (s, t, depth)
 // x: a texel's width (world), y: tan(angular radius), z: the depth range (world), w: texels a side
 layout(location = 29) uniform vec4 u_sun_filter;
+#ifndef SHPRT_SUN_DIFFUSE
 // Glossy matrices (SunPass::bind_glossy): the exit radiance k·ρ_d/π·E + (1 − k)·ρ_s·L·Ω·f(r·s)·V
 // with f the vertex's BRDF lobe profile (shade/glossy.hpp, brdf_profile) about its reflection.
 layout(location = 30) uniform int u_sun_glossy;          // 0: diffuse (ρ/π · E)
@@ -33,15 +37,9 @@ layout(location = 33) uniform vec4 u_sun_albedo;         // xyz replaces both co
 layout(location = 34) uniform vec3 u_sun_radiance_omega;  // L · Ω per channel
 layout(location = 35) uniform vec4 u_sun_brdf[32];       // model, parameter, scale (brdf_table)
 layout(location = 67) uniform vec3 u_sun_specular[32];   // each BRDF's specular colour
+#endif
 
-const int kSunBlockerTaps = 16, kSunFilterTaps = 32;
-
-// Tap i of n on the unit disc, evenly spread (golden-angle spiral).
-vec2 sun_tap(int i, int n) {
-    float r = sqrt((float(i) + 0.5) / float(n));
-    float a = float(i) * 2.39996322972865332;
-    return r * vec2(cos(a), sin(a));
-}
+// @sun_taps
 
 // The fraction of the sun's disc the point sees, through the map.
 float sun_visibility(vec3 p, vec3 n) {
@@ -59,25 +57,29 @@ float sun_visibility(vec3 p, vec3 n) {
     float sum = 0.0;
     int count = 0;
     for (int i = 0; i <= kSunBlockerTaps; ++i) {
-        vec2 o = i == kSunBlockerTaps ? vec2(0.0) : search * sun_tap(i, kSunBlockerTaps);
+        vec2 o = i == kSunBlockerTaps ? vec2(0.0) : search * kSunBlockerTap[i];
         float d = textureLod(u_shadow_map, q.xy + o, 0.0).r;
         if (d < q.z + dot(slope, o) - bias) {
             sum += d;
             ++count;
         }
     }
+    // Nothing or everything in the way over the whole search disc, which holds the filter's
+    // (Fernando's early outs): lit, or in the umbra, without the filter's taps.
     if (count == 0) return 1.0;
+    if (count == kSunBlockerTaps + 1) return 0.0;
     float distance = max(q.z - sum / float(count), 0.0) * range;
     float radius = max(distance * tan_r, 0.5 * texel) * uv_per_world;
     float lit = 0.0;
     for (int i = 0; i < kSunFilterTaps; ++i) {
-        vec2 o = radius * sun_tap(i, kSunFilterTaps);
+        vec2 o = radius * kSunFilterTap[i];
         float d = textureLod(u_shadow_map, q.xy + o, 0.0).r;
         lit += d >= q.z + dot(slope, o) - bias ? 1.0 : 0.0;
     }
     return lit / float(kSunFilterTaps);
 }
 
+#ifndef SHPRT_SUN_DIFFUSE
 // The normalised lobe profile f(x) of brdf_profile (shade/glossy.cpp), x = cos θ from the axis.
 float sun_lobe(vec4 b, float x) {
     if (!(x > 0.0)) return 0.0;
@@ -88,6 +90,7 @@ float sun_lobe(vec4 b, float x) {
     float a2 = e * e * e * e, c2 = 0.5 * (1.0 + x), d = c2 * (a2 - 1.0) + 1.0;
     return scale * a2 / (kPi * d * d);
 }
+#endif
 
 vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo, uint brdf) {
     if (u_sun_mode == 0) return vec3(0.0);
@@ -97,6 +100,9 @@ vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo, uint brdf) {
     float V = sun_visibility(p, n);
     vec3 E = u_sun_irradiance * (c * V);
     if (u_sun_mode == 2) return E;
+#ifdef SHPRT_SUN_DIFFUSE
+    return albedo / kPi * E;
+#else
     if (u_sun_glossy == 0) return albedo / kPi * E;
     vec3 rd = u_sun_albedo.w > 0.0 ? u_sun_albedo.xyz : albedo;
     vec3 rs = u_sun_albedo.w > 0.0 ? u_sun_albedo.xyz : u_sun_specular[brdf];
@@ -115,8 +121,34 @@ vec3 sun_term(vec3 p, vec3 n_in, vec3 albedo, uint brdf) {
         f += 0.125 * sun_lobe(b, dot(r, d));
     }
     return u_sun_k * rd / kPi * E + (1.0 - u_sun_k) * rs * u_sun_radiance_omega * (f * V);
+#endif
 }
 )glsl";
+
+// `const vec2 name[n]`: tap i of n on the unit disc, evenly spread (a golden-angle spiral),
+// r = sqrt((i + 1/2)/n), angle i · 2.39996…; constants, so that no fragment computes them.
+std::string disc_taps(const char* name, int n) {
+    std::string out = fmt::format("const vec2 {}[{}] = vec2[](", name, n);
+    for (int i = 0; i < n; ++i) {
+        const double r = std::sqrt((i + 0.5) / n), a = i * 2.39996322972865332;
+        out +=
+            fmt::format("{}vec2({:.9g}, {:.9g})", i ? ", " : "", r * std::cos(a), r * std::sin(a));
+    }
+    return out + ");\n";
+}
+
+}  // namespace
+
+// The filter's taps: the blocker search's (and the receiver's own texel), the PCF's.
+constexpr int kSunBlockerTaps = 16, kSunFilterTaps = 32;
+
+std::string sun_functions() {
+    return splice(kSunFunctionsSource, "// @sun_taps",
+                  fmt::format("const int kSunBlockerTaps = {}, kSunFilterTaps = {};\n",
+                              kSunBlockerTaps, kSunFilterTaps) +
+                      disc_taps("kSunBlockerTap", kSunBlockerTaps) +
+                      disc_taps("kSunFilterTap", kSunFilterTaps));
+}
 
 namespace {
 
@@ -135,10 +167,10 @@ void main() {}
 }  // namespace
 }  // namespace gl
 
-SunPass::SunPass() {
+SunPass::SunPass(int size) : m_size(size) {
     m_program = gl::compile_program(gl::kDepthVertexShader, gl::kDepthFragmentShader, "sun depth");
     // Nearest, no compare mode: the filter compares depths itself (PCF over its own taps).
-    m_map = gl::make_texture_2d(kShadowMapSize, kShadowMapSize, GL_DEPTH_COMPONENT32F);
+    m_map = gl::make_texture_2d(m_size, m_size, GL_DEPTH_COMPONENT32F);
     GLint bound = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
     glGenFramebuffers(1, &m_fbo);
@@ -149,8 +181,8 @@ SunPass::SunPass() {
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     glBindFramebuffer(GL_FRAMEBUFFER, GLuint(bound));
     SHPRT_CHECK(status == GL_FRAMEBUFFER_COMPLETE, unsupported,
-                "the sun's {}x{} shadow map framebuffer is incomplete (status 0x{:x})",
-                kShadowMapSize, kShadowMapSize, status);
+                "the sun's {}x{} shadow map framebuffer is incomplete (status 0x{:x})", m_size,
+                m_size, status);
     gl::check("SunPass");
 }
 
@@ -204,7 +236,7 @@ void SunPass::update(const Sun& sun, Vec3f centre, float radius, std::uint64_t g
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
     glGetIntegerv(GL_VIEWPORT, viewport);
     glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
-    glViewport(0, 0, kShadowMapSize, kShadowMapSize);
+    glViewport(0, 0, m_size, m_size);
     glDisable(GL_CULL_FACE);  // both faces cast
     glDisable(GL_SCISSOR_TEST);
     glEnable(GL_DEPTH_TEST);
@@ -223,16 +255,20 @@ void SunPass::update(const Sun& sun, Vec3f centre, float radius, std::uint64_t g
     gl::check("SunPass::update");
 }
 
-void SunPass::bind(SunMode mode) const {
-    glUniform1i(gl::sun_loc::kGlossy, 0);
+double SunPass::texel_size(float radius, int size) {
+    return 2 * std::max(double(radius) * 1.01, 1e-6) / size;
+}
+
+void SunPass::bind(SunMode mode, gl::SunCode code) const {
+    if (code == gl::SunCode::full) glUniform1i(gl::sun_loc::kGlossy, 0);
     const double R = std::max(double(m_radius) * 1.01, 1e-6);
     const Vec3d E = sun_irradiance(m_sun);
     glUniform1i(gl::sun_loc::kMode, static_cast<int>(mode));
     glUniformMatrix3fv(gl::sun_loc::kBasis, 1, GL_FALSE, m_basis);
     glUniform3f(gl::sun_loc::kIrradiance, float(E.x), float(E.y), float(E.z));
     glUniformMatrix4fv(gl::sun_loc::kToMap, 1, GL_FALSE, m_to_map);
-    glUniform4f(gl::sun_loc::kFilter, float(2 * R / kShadowMapSize),
-                float(std::tan(m_sun.radius_deg * kPi / 180)), float(2 * R), float(kShadowMapSize));
+    glUniform4f(gl::sun_loc::kFilter, float(texel_size(m_radius, m_size)),
+                float(std::tan(m_sun.radius_deg * kPi / 180)), float(2 * R), float(m_size));
     glActiveTexture(GL_TEXTURE0 + gl::kShadowMapUnit);
     glBindTexture(GL_TEXTURE_2D, m_map);
     glActiveTexture(GL_TEXTURE0);

@@ -2,11 +2,12 @@
 // sun_direct_irradiance (shade/sun_shade.hpp, traced with Embree), for a sun kept out of the SH
 // sum (`--sun`, docs/lights.md "A sun kept out of the SH sum"). Private to render/: the Renderer
 // owns one while it has a sun, redraws the map when the sun turns or the scene changes, and
-// binds it to the scene and texel programs, whose fragment shaders splice in kSunFunctions.
+// binds it to the scene and texel programs, whose fragment shaders splice in sun_functions().
 //
-// The map: one orthographic depth map of kShadowMapSize² texels along the sun's direction, fitted
-// to the scene's bounding sphere (the scenes are bounded; a large scene gets coarser texels,
-// 2·radius/kShadowMapSize each — one map, no cascades). Both faces of every triangle cast.
+// The map: one orthographic depth map of size² texels (kShadowMapSize by default) along the sun's
+// direction, fitted to the scene's bounding sphere (the scenes are bounded; a large scene gets
+// coarser texels, 2·1.01·radius/size each — one map, no cascades). Both faces of every triangle
+// cast.
 //
 // The filter (percentage-closer soft shadows, Fernando 2005, for a directional light): a
 // blocker search over the disc that the sun's angular radius r opens from the receiver toward
@@ -19,6 +20,7 @@
 // filter's width), and the comparison keeps a texel of depth bias.
 #pragma once
 
+#include "gl_util.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/light/sun.hpp"
 #include "shprt/render/renderer.hpp"
@@ -26,6 +28,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace shprt {
@@ -39,7 +42,7 @@ namespace gl {
 // sums it over the disc's traced directions). Spliced at "// @sun"
 // (after
 // "// @output" in the same shader; needs kPi).
-extern const char* const kSunFunctions;
+std::string sun_functions();
 // Its uniform locations (layout(location = N)) and the shadow map's texture unit.
 // kBasis is a mat3 (columns u, v, s: the map's axes and the direction toward the sun), three
 // locations; kToMap a mat4, four.
@@ -57,8 +60,9 @@ enum class SunMode { none = 0, radiance = 1, irradiance = 2 };
 
 class SunPass {
 public:
-    // Compiles the depth program and makes the map. Needs a current OpenGL 4.3 core context.
-    SunPass();
+    // Compiles the depth program and makes the map, `size` texels a side. Needs a current
+    // OpenGL 4.3 core context.
+    explicit SunPass(int size = kShadowMapSize);
     ~SunPass();
     SunPass(const SunPass&) = delete;
     SunPass& operator=(const SunPass&) = delete;
@@ -70,8 +74,9 @@ public:
     // viewport that were bound. `sun` is in the scene's frame (already turned with the light).
     void update(const Sun& sun, Vec3f centre, float radius, std::uint64_t geometry,
                 const std::function<void()>& draw_triangles);
-    // Sets sun_term's uniforms on the program in use and binds the map at kShadowMapUnit.
-    void bind(SunMode mode) const;
+    // Sets sun_term's uniforms on the program in use, whose fragment shader has the sun `code`
+    // (gl::fragment_shader; not none), and binds the map at kShadowMapUnit.
+    void bind(SunMode mode, gl::SunCode code = gl::SunCode::full) const;
     // Sets sun_term's mode to none on the program in use (a program without a sun).
     static void bind_none();
     // After bind(SunMode::radiance): glossy matrices' sun term, as shade_glossy_with_sun, with
@@ -81,9 +86,12 @@ public:
                      const std::vector<Brdf>& brdfs) const;
 
     std::uint64_t map_builds() const { return m_builds; }  // for tests and statistics
+    // A texel's width (world) of a `size`² map fitted to a sphere of `radius`.
+    static double texel_size(float radius, int size);
 
 private:
     unsigned m_program = 0, m_fbo = 0, m_map = 0;
+    int m_size = kShadowMapSize;
     Sun m_sun{};
     Vec3f m_centre{0, 0, 0};
     float m_radius = 0;

@@ -210,15 +210,20 @@ TEST(GlSun, DirectSunMatchesTheTracedSunAtEveryPixel) {
 // is shade_with_sun's sky and bounced sun interpolated from the vertices (the draw's colours)
 // plus the traced direct sun at the pixel — so the draw counts the sun's SH part through T_0
 // once, subtracted, and the bounces once. Irradiance view (E) and radiance view (ρ/π · E).
-TEST(GlSun, SkyAndBouncedSunAreShadeWithSunsVertices) {
-    REQUIRE_GL(context);
-    const Mesh mesh = make_builtin("box_on_plane");
+// Interreflected transfer of K = 16 (one bounce, `samples` directions), with its direct part.
+TransferSet bounced_transfer(const Mesh& mesh, int samples) {
     BakeOptions options;
     options.transfer = TransferKind::interreflected;
     options.K = 16;
-    options.samples = 64;
+    options.samples = samples;
     options.bounces = 1;
-    const TransferSet T = bake(mesh, options);
+    return bake(mesh, options);
+}
+
+TEST(GlSun, SkyAndBouncedSunAreShadeWithSunsVertices) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("box_on_plane");
+    const TransferSet T = bounced_transfer(mesh, 64);
     ASSERT_FALSE(T.direct.empty());
     const Sun sun = test_sun();
     const PreparedSun prepared{sun, sun_light(sun, 16)};
@@ -392,6 +397,59 @@ TEST(GlSun, TheSunTurnsWithTheLightAndTheMapFollows) {
     // The paper's glossy term of vector transfer is refused with the sun (not linear in the light).
     settings.k = 0.5;
     EXPECT_THROW(renderer.draw(settings, w, h), Error);
+}
+
+// The diffuse sum on the host (Renderer::set_vertex_shading, with the sun's bounce folded in)
+// against the compute pass: the same picture to float rounding, in both views, before and after
+// the light (and the sun with it) turns (float sums in another order, and T·(c_sky + c_sun) −
+// T_0·c_sun cancels: 5e-5 relative).
+TEST(GlSun, HostAndDeviceShadingAgree) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("box_on_plane");
+    const TransferSet T = bounced_transfer(mesh, 16);
+    const Sun sun = test_sun();
+    const PreparedSun prepared{sun, sun_light(sun, 16)};
+    const ShLight sky = gradient_light(GradientSky{}, 16);
+    DrawSettings settings;
+    settings.camera = shadow_camera(mesh);
+    const int w = 64, h = 48;
+    RenderTarget target(w, h, 1);
+    auto frame = [&](Renderer& renderer, bool host) {
+        renderer.set_vertex_shading(host ? Renderer::VertexShading::host
+                                         : Renderer::VertexShading::device);
+        target.bind();
+        renderer.draw(settings, w, h);
+        EXPECT_EQ(renderer.last_shading_on_host(), host);
+        target.resolve();
+        return target.read_pixels();
+    };
+    for (const bool with_sun : {false, true}) {
+        Renderer renderer;
+        renderer.set_sun(with_sun ? &prepared : nullptr);
+        renderer.set_scene(mesh, T);
+        renderer.set_light(sky);
+        ASSERT_EQ(renderer.sun_bounced(), with_sun);
+        for (const Mat3d& turn : {Mat3d::identity(), rotation_y(0.7)}) {
+            renderer.set_light(sky, turn);
+            for (const ShadeView view : {ShadeView::irradiance, ShadeView::radiance}) {
+                settings.view = view;
+                const Image device = frame(renderer, false), host = frame(renderer, true);
+                std::size_t bad = 0, lit = 0;
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x)
+                        for (int c = 0; c < 3; ++c) {
+                            const float a = device.pixel(x, y)[c], b = host.pixel(x, y)[c];
+                            lit += a > 0.01f;
+                            if (std::abs(a - b) > 5e-5f * std::abs(a) + 1e-6f && bad++ < 5)
+                                ADD_FAILURE()
+                                    << with_sun << " view " << int(view) << " pixel " << x << ","
+                                    << y << " channel " << c << ": device " << a << ", host " << b;
+                        }
+                EXPECT_EQ(bad, 0u);
+                EXPECT_GT(lit, std::size_t(w * h));
+            }
+        }
+    }
 }
 
 }  // namespace

@@ -6,7 +6,8 @@
 // vertex, the TransferSet layout), the light (3 × K floats) in a uniform block; a compute pass
 // evaluates the paper's shading once per vertex (shade/shade.hpp: E, L_D, and the glossy term with
 // the Phong lobe rotated to the reflection direction by the SH recurrence of sh/basis.hpp ported to
-// GLSL) into a colour buffer, and the draw interpolates it. Glossy transfer matrices (a glossy
+// GLSL) into a colour buffer, and the draw interpolates it (on a software rasteriser the diffuse
+// sum runs on the CPU instead: set_vertex_shading). Glossy transfer matrices (a glossy
 // bake, TransferShape::symmetric_matrix) are shaded by their own pass, the twin of shade_glossy
 // (shade/glossy.hpp): M_v·L per vertex, or, for a CPCA file, the light transformed once per
 // cluster matrix by a cluster pass and T = mean·L + Σ w_i (B_i·L) per vertex (only the code is
@@ -56,7 +57,8 @@ class TexelPass;   // src/render/texel_pass.hpp
 class SunPass;     // src/render/sun_pass.hpp
 class ObjectPass;  // src/render/object_pass.hpp
 
-// Texels a side of the sun's shadow map (Renderer::set_sun; render/sun_pass.hpp).
+// Texels a side of the sun's shadow map by default (Renderer::set_sun, set_shadow_map_size;
+// render/sun_pass.hpp).
 inline constexpr int kShadowMapSize = 2048;
 
 struct DrawSettings {
@@ -199,6 +201,14 @@ public:
     // shade_with_sun: a scene of glossy matrices is refused here (Error(unsupported)) and a draw
     // with k < 1 in the radiance view throws Error(unsupported). Per-vertex and per-texel scenes.
     void set_sun(const PreparedSun* sun);
+    // Texels a side of the sun's shadow map (kShadowMapSize until set; 64 to 8192): its texel is
+    // 2·1.01·r/texels for a scene of bounding radius r. The viewer's continuous frames on a
+    // software rasteriser take 1024 (viewer/frame.hpp, choose_shadow_map_size), where the map is
+    // redrawn whenever the sun or an object moves.
+    void set_shadow_map_size(int texels);
+    int shadow_map_size() const { return m_shadow_map_size; }
+    // A shadow-map texel's width in world units for the scene set (0 before set_scene).
+    double shadow_texel_size() const;
     // The sun's bounced light is drawn (set_sun with a transfer that has a direct part).
     bool sun_bounced() const;
     // How many times the sun's shadow map has been drawn (it is redrawn when the sun turns).
@@ -212,6 +222,20 @@ public:
     // again whenever the object or the light moves (an upload of 48 bytes a vertex; the triangles
     // only when they change). Throws Error(invalid_argument) for arrays that disagree.
     void set_object(const Mesh* mesh, const ObjectShading* shading);
+
+    // Where the diffuse per-vertex sum (E = T·L in the radiance and irradiance views, with the
+    // sun's bounced light folded in: T·(c_sky + c_sun) − T_0·c_sun) runs: in the compute pass
+    // (device), or on the CPU over the transfer buffer mapped for reading, its colours uploaded
+    // (host: on a software rasteriser the buffer is host memory, and llvmpipe's storage-buffer
+    // loads are a loop over the SIMD lanes — the pass took ~34 ms of CPU a frame for the room at
+    // K' = 256, the CPU's sum ~3 ms, bench/RESULTS.md "The viewer's frame on llvmpipe"). The glossy
+    // term, the transfer view and glossy matrices always run in their compute passes. automatic:
+    // host on a software rasteriser (is_software_renderer()), else device. The same float sums up
+    // to their order (tests/render: HostAndDeviceShadingAgree).
+    enum class VertexShading { automatic, device, host };
+    void set_vertex_shading(VertexShading where);
+    // Whether the last shading pass ran on the host.
+    bool last_shading_on_host() const { return m_shading_valid && m_shading_key.host; }
 
     int scene_K() const { return m_K; }
     int scene_channels() const { return m_channels; }
@@ -266,6 +290,8 @@ private:
         std::uint64_t light_generation = 0, transfer_generation = 0;
         bool bounced_sun = false;  // the sun's bounced light is in the colours (set_sun)
         std::uint64_t sun_generation = 0;
+        bool host = false;  // shaded on the CPU (set_vertex_shading): T_0 · c_sun subtracted
+                            // there, not by the draw
         bool operator==(const ShadingKey&) const = default;
     };
     void set_texel_scene(const Mesh& mesh, const TransferSet& transfer);
@@ -275,6 +301,10 @@ private:
     // Makes the background texture for K' (if stale); returns the rotation to look it up with.
     Mat3d upload_background(int K);
     void run_shading(const ShadingKey& key);
+    // run_shading's diffuse sum on the CPU (set_vertex_shading), into the colour buffer.
+    void run_host_shading(const ShadingKey& key);
+    VertexShading m_vertex_shading = VertexShading::automatic;
+    bool m_software = false;  // is_software_renderer(), asked once
     void run_glossy_shading(const ShadingKey& key);
     // The cluster pass of a CPCA code, if its light or K' changed since it last ran.
     void update_cluster_light(int K, bool white_sky);
@@ -294,9 +324,13 @@ private:
     void draw_scene(const DrawSettings& settings, int width, int height, float exposure);
 
     unsigned m_shade_program = 0, m_present_program = 0;
-    // The scene and background programs writing linear radiance [0] or display codes [1]
-    // (gl::fragment_shader).
-    unsigned m_scene_program[2] = {0, 0}, m_background_program[2] = {0, 0};
+    // The background programs writing linear radiance [0] or display codes [1]
+    // (gl::fragment_shader), and the scene programs likewise, [display][sun code]: without the
+    // sun, with a diffuse receivers' sun, with every sun term (gl::SunCode), compiled when first
+    // drawn with (scene_program).
+    unsigned m_background_program[2] = {0, 0};
+    unsigned m_scene_program[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    unsigned scene_program(int display, int sun_code);
     unsigned m_vao = 0, m_empty_vao = 0;
     unsigned m_position_vbo = 0, m_normal_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
     unsigned m_color_buffer = 0;  // V × vec4: the shading pass's output
@@ -369,7 +403,9 @@ private:
     // draw from the colours of T · (c_sky + c_sun).
     std::optional<PreparedSun> m_sun_source;
     Sun m_world_sun{};
+    ShLight m_world_sun_sh{};  // its SH projection in the scene's frame (host shading)
     std::unique_ptr<SunPass> m_sun_pass;
+    int m_shadow_map_size = kShadowMapSize;
     unsigned m_sun_ubo = 0, m_sky_sun_ubo = 0, m_direct_ssbo = 0, m_sun_color_buffer = 0;
     std::uint64_t m_sun_generation = 0, m_geometry_generation = 0;
     Vec3f m_bounds_centre{0, 0, 0};
