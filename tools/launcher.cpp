@@ -56,7 +56,15 @@ int main(int argc, char** argv) {
     if (::access(library, F_OK) != 0 && ::access(installed, F_OK) == 0)
         std::memcpy(library, installed, sizeof library);
     // RTLD_GLOBAL: Open MPI's components, which it loads itself, look for libmpi's symbols there.
+    // The signals are blocked while the libraries load, so that the threads their constructors
+    // start (OpenBLAS's) never take them: a signal sent meanwhile waits, and comes to hold_signal
+    // when the mask is restored.
+    sigset_t interrupts, previous;
+    sigemptyset(&interrupts);
+    for (const int signal : shprt::tools::kInterruptSignals) sigaddset(&interrupts, signal);
+    ::pthread_sigmask(SIG_BLOCK, &interrupts, &previous);
     void* handle = ::dlopen(library, RTLD_NOW | RTLD_GLOBAL);
+    ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
     using Main = int (*)(int, char**, int (*)());
     Main shprt_main =
         handle != nullptr ? reinterpret_cast<Main>(::dlsym(handle, "shprt_main")) : nullptr;

@@ -12,9 +12,13 @@
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_scheduler_observer.h>
+
+#include <signal.h>
 
 #include <algorithm>
 #include <atomic>
+#include <mutex>
 #include <new>
 
 namespace shprt {
@@ -69,11 +73,58 @@ void run_for(std::size_t begin, std::size_t end, std::size_t grain, Split split,
 
 }  // namespace parallel_detail
 
-struct Arena::Impl {
-    tbb::task_arena arena;
+namespace {
+
+// The signals keep_signals_off_workers() keeps off the workers (none until it is called).
+std::mutex g_worker_signals_mutex;
+sigset_t g_worker_signals;
+std::atomic<bool> g_block_in_workers{false};
+
+// Blocks the signals in each worker that enters the observed arena, before its first task there.
+class BlockSignalsInWorkers final : public tbb::task_scheduler_observer {
+public:
+    BlockSignalsInWorkers() { observe(true); }
+    explicit BlockSignalsInWorkers(tbb::task_arena& arena) : tbb::task_scheduler_observer(arena) {
+        observe(true);
+    }
+    ~BlockSignalsInWorkers() override { observe(false); }
+    void on_scheduler_entry(bool is_worker) override {
+        if (!is_worker) return;
+        sigset_t set;
+        {
+            const std::lock_guard lock(g_worker_signals_mutex);
+            set = g_worker_signals;
+        }
+        ::pthread_sigmask(SIG_BLOCK, &set, nullptr);
+    }
 };
 
-Arena::Arena(int threads) : m_impl(new Impl{tbb::task_arena(thread_count(threads))}) {}
+}  // namespace
+
+void keep_signals_off_workers(std::initializer_list<int> signals) {
+    {
+        const std::lock_guard lock(g_worker_signals_mutex);
+        if (!g_block_in_workers) sigemptyset(&g_worker_signals);
+        for (const int signal : signals) sigaddset(&g_worker_signals, signal);
+    }
+    // The calling thread's own arena (parallel_for outside any Arena runs there), observed for the
+    // rest of the program (never destroyed: it must outlive the scheduler, which ends at exit).
+    static const auto* calling_threads_arena = new BlockSignalsInWorkers();
+    (void)calling_threads_arena;
+    g_block_in_workers = true;
+}
+
+struct Arena::Impl {
+    tbb::task_arena arena;
+    std::unique_ptr<BlockSignalsInWorkers> observer;  // when keep_signals_off_workers was called
+};
+
+Arena::Arena(int threads) : m_impl(new Impl{tbb::task_arena(thread_count(threads)), nullptr}) {
+    if (g_block_in_workers) {
+        m_impl->arena.initialize();
+        m_impl->observer = std::make_unique<BlockSignalsInWorkers>(m_impl->arena);
+    }
+}
 
 Arena::~Arena() = default;
 

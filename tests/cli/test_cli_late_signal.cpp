@@ -36,12 +36,13 @@ using shprt::test_support::slurp;
 using shprt::test_support::StartOptions;
 using shprt::test_support::wait_stopped;
 
-// Sends `signal` to the stopped program as a user does, to the process: the kernel hands it to a
-// thread that does not hold it — while the main thread stands in AtomicFile::commit's hold, one
-// of the workers — and the program's handler passes it on to the main thread (tools/common/
-// signals.cpp), where it waits until commit lets it go. Before that hand-over the worker handled
-// it and raced the main thread: the warning line could come after the summary or never (CI
-// failed twice on it).
+// Sends `signal` to the stopped program as a user does, to the process. Only the main thread
+// takes it: TBB's workers block it (keep_signals_off_workers, core/parallel.hpp), the threads the
+// libraries start while they load were started with it blocked (tools/launcher.cpp), and any
+// other thread passes it on (tools/common/signals.cpp). So while the main thread stands in
+// AtomicFile::commit's hold the signal waits, and is handled when commit lets it go. Before, a
+// worker took it and raced the main thread: the warning came after the summary or never (CI
+// failed twice on it; with only the hand-over, 4 runs in 4 here failed on a quiet machine).
 void signal_process(pid_t pid, int signal) {
     ASSERT_EQ(::kill(pid, signal), 0) << std::strerror(errno);
 }

@@ -4,6 +4,7 @@
 
 #include "shprt/core/file.hpp"
 #include "shprt/core/job.hpp"
+#include "shprt/core/parallel.hpp"
 
 #include <signal.h>
 #include <sys/syscall.h>
@@ -165,6 +166,9 @@ void install_signal_handlers() {
     if (const char* delay = std::getenv("SHPRT_TEST_SIGNAL_LINE_DELAY_MS"))
         g_test_line_delay_ms = std::strtol(delay, nullptr, 10);
     handle_interrupt_signals(on_signal);
+    // Only the main thread takes them (the hand-over in on_signal is for threads outside TBB's
+    // pools, such as a viewer's background bake).
+    keep_signals_off_workers({SIGINT, SIGTERM, SIGHUP});
     // A write past the file size limit (ulimit -f) fails with EFBIG, which the writer reports in
     // its one line and after which it removes its temporary, instead of killing the process.
     ::signal(SIGXFSZ, SIG_IGN);

@@ -26,9 +26,13 @@
 //   * SIGXFSZ is ignored: a write past `ulimit -f` fails with EFBIG, one error line naming the
 //   file.
 // A signal the process was started with ignored (nohup, a script's background job) stays ignored.
-// Every such signal is handled in the main thread: one that a worker thread takes (the kernel
-// hands a process's signal to any thread that does not hold it) is passed on to the main thread,
-// so that a signal held across a rename is not handled meanwhile, out of order, elsewhere.
+// Every such signal is handled in the main thread. The kernel hands a process's signal to any
+// thread that does not block it, so the others block them: TBB's workers from their first task
+// (keep_signals_off_workers, core/parallel.hpp) and the threads the libraries start while they
+// load (the launcher blocks the signals around dlopen). A signal that another thread still takes
+// (one the program did not start through TBB) is passed on to the main thread. So a signal sent
+// while the main thread holds them across a rename waits for it, and is handled in its order —
+// a worker that handled it raced the summary: the late warning came after it, or never.
 #pragma once
 
 #include <signal.h>
