@@ -432,12 +432,7 @@ void Renderer::run_shading(const ShadingKey& key) {
         const std::vector<float> g = lobe_band_factors(bands, key.gloss);
         glUniform1fv(gl::loc::kLobe, bands, g.data());
     }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
-
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kPositionBinding, m_position_vbo);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kNormalBinding, m_normal_vbo);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kAlbedoBinding, m_albedo_vbo);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, m_color_buffer);
+    bind_vertex_storage();
     // With the sun's bounced light: T · (c_sky + c_sun) here, T_0 · c_sun below; the draw takes
     // the difference, (T − T_0) · c_sun + T · c_sky.
     glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding,
@@ -686,6 +681,14 @@ void Renderer::present(const RenderTarget& target, float exposure) {
     glActiveTexture(GL_TEXTURE0);
     glUseProgram(0);
     gl::check("Renderer::present");
+}
+
+void Renderer::bind_vertex_storage() const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kPositionBinding, m_position_vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kNormalBinding, m_normal_vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kAlbedoBinding, m_albedo_vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, m_color_buffer);
 }
 
 }  // namespace shprt

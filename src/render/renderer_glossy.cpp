@@ -109,11 +109,7 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
                     key.brdf.specular.z);
     }
     glUniform1fv(gl::loc::kCosineLobe, bands, cosine.data());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kPositionBinding, m_position_vbo);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kNormalBinding, m_normal_vbo);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kAlbedoBinding, m_albedo_vbo);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kColorBinding, m_color_buffer);
+    bind_vertex_storage();
     if (m_cpca_clusters > 0) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kClusterLightBinding, m_cluster_light_ssbo);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kClusterBinding, m_cluster_ssbo);

@@ -295,6 +295,9 @@ private:
         bool operator==(const ShadingKey&) const = default;
     };
     void set_texel_scene(const Mesh& mesh, const TransferSet& transfer);
+    // Binds what every shading pass reads and writes per vertex: the transfer, positions,
+    // normals, albedo and the output colours, at their storage-buffer bindings.
+    void bind_vertex_storage() const;
     // set_scene's buffers for per-vertex shading of `mesh`'s vertices (the triangles drawn from
     // them, if any) with `transfer`; for glossy texels, the texels as points.
     void upload_receivers(const Mesh& mesh, const TransferSet& transfer);
