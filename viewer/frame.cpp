@@ -21,6 +21,10 @@ int choose_shadow_map_size(bool continuous) {
     return continuous && is_software_renderer() ? 1024 : kShadowMapSize;
 }
 
+SunFilter choose_sun_filter(bool continuous) {
+    return continuous && is_software_renderer() ? SunFilter::interactive : SunFilter::full;
+}
+
 std::string describe_gpu_transfer(const TransferSet& transfer, double bytes_per_vertex) {
     if (transfer.layout.shape != TransferShape::symmetric_matrix) return {};
     const int K = transfer.layout.K;

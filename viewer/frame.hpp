@@ -37,6 +37,12 @@ int choose_samples(int requested, bool continuous);
 // --benchmark` prints it). Needs a current context.
 int choose_shadow_map_size(bool continuous);
 
+// The sun's shadow filter (Renderer::set_sun_filter): SunFilter::full, except for frames drawn
+// continuously on a software rasteriser, where it is interactive (half the taps: the full PCSS
+// was ~16 + 7 of the 80 CPU ms a frame of the room with the sun moving; bench/RESULTS.md, "The
+// sun's filter on llvmpipe"). Needs a current context.
+SunFilter choose_sun_filter(bool continuous);
+
 // What the command line and the panel decide about a frame, besides the light.
 struct FrameConfig {
     DrawSettings draw;   // camera, k, gloss, K', view, wireframe, background

@@ -166,6 +166,7 @@ App::~App() {
 // Uploads the transfer the panel asks for (the whole, or an interreflected bake's direct part).
 void App::show_transfer() {
     m_renderer.set_shadow_map_size(choose_shadow_map_size(true));
+    m_renderer.set_sun_filter(choose_sun_filter(true));
     m_renderer.set_sun(m_light.sun());
     m_renderer.set_scene(m_mesh, m_panel.direct_only ? m_direct : m_transfer);
     m_renderer.set_light(m_light.source(), m_light.rotation());

@@ -299,7 +299,7 @@ std::string present_shader() {
     return splice(kPresentFragmentShader, "// @display_encode", kDisplayEncode);
 }
 
-std::string fragment_shader(const char* source, bool display, SunCode sun) {
+std::string fragment_shader(const char* source, bool display, SunCode sun, SunFilter filter) {
     const std::string output =
         display
             ? std::string(kDisplayEncode) +
@@ -317,11 +317,11 @@ std::string fragment_shader(const char* source, bool display, SunCode sun) {
                 "}\n");
         case SunCode::diffuse:
             return splice(with_output, "// @sun",
-                          "#define SHPRT_SUN_DIFFUSE 1\n" + sun_functions());
+                          "#define SHPRT_SUN_DIFFUSE 1\n" + sun_functions(filter));
         case SunCode::full:
             break;
     }
-    return splice(with_output, "// @sun", sun_functions());
+    return splice(with_output, "// @sun", sun_functions(filter));
 }
 
 }  // namespace shprt::gl

@@ -1,6 +1,8 @@
 // Private helpers of the OpenGL renderer: error checks, shader compilation, the GLSL sources.
 #pragma once
 
+#include "shprt/render/renderer.hpp"
+
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -39,9 +41,10 @@ std::string present_shader();
 // none, a sun_term that returns 0 and reads nothing (the compiler drops the sun's varyings and
 // taps: on llvmpipe a branch on a uniform does not skip the code it guards, so a program without
 // a sun must not carry it); diffuse, the diffuse receivers' term (no BRDF lobes); full, every
-// mode chosen by uniforms (SunPass::bind and bind_glossy).
+// mode chosen by uniforms (SunPass::bind and bind_glossy). `filter`: the shadow filter's taps.
 enum class SunCode { none, diffuse, full };
-std::string fragment_shader(const char* source, bool display, SunCode sun = SunCode::full);
+std::string fragment_shader(const char* source, bool display, SunCode sun = SunCode::full,
+                            SunFilter filter = SunFilter::full);
 // `source` with the line that holds `marker` replaced by `code`.
 std::string splice(const std::string& source, const char* marker, const std::string& code);
 // Glossy transfer matrices (gl_glossy_shaders.cpp), for K' coefficients of matrices stored

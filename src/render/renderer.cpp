@@ -107,20 +107,22 @@ Renderer::~Renderer() {
     for (unsigned p :
          {m_shade_program, m_background_program[0], m_background_program[1], m_present_program})
         if (p) glDeleteProgram(p);
-    for (const auto& programs : m_scene_program)
-        for (unsigned p : programs)
-            if (p) glDeleteProgram(p);
+    for (const auto& by_code : m_scene_program)
+        for (const auto& programs : by_code)
+            for (unsigned p : programs)
+                if (p) glDeleteProgram(p);
     for (const auto& entry : m_glossy_programs) glDeleteProgram(entry.second);
 }
 
 unsigned Renderer::scene_program(int display, int sun_code) {
-    unsigned& program = m_scene_program[display][sun_code];
+    unsigned& program = m_scene_program[display][sun_code][static_cast<int>(m_sun_filter)];
     if (!program)
-        program = gl::compile_program(gl::kSceneVertexShader,
-                                      gl::fragment_shader(gl::kSceneFragmentShader, display == 1,
-                                                          static_cast<gl::SunCode>(sun_code))
-                                          .c_str(),
-                                      "scene");
+        program = gl::compile_program(
+            gl::kSceneVertexShader,
+            gl::fragment_shader(gl::kSceneFragmentShader, display == 1,
+                                static_cast<gl::SunCode>(sun_code), m_sun_filter)
+                .c_str(),
+            "scene");
     return program;
 }
 
@@ -295,7 +297,7 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
 }
 
 void Renderer::set_texel_scene(const Mesh& mesh, const TransferSet& transfer) {
-    if (!m_texel) m_texel = std::make_unique<TexelPass>();
+    if (!m_texel) m_texel = std::make_unique<TexelPass>(m_sun_filter);
     m_texel->set_scene(mesh, transfer);
     if (transfer.layout.shape == TransferShape::symmetric_matrix) {
         // Glossy matrices: the texels are shaded as points by the glossy passes (one colour per

@@ -38,6 +38,12 @@ void Renderer::set_sun(const PreparedSun* sun) {
     update_world_sun();
 }
 
+void Renderer::set_sun_filter(SunFilter filter) {
+    if (filter == m_sun_filter) return;
+    m_sun_filter = filter;  // the scene programs are per filter, the texel pass's rebuilt
+    if (m_texel) m_texel->set_sun_filter(filter);
+}
+
 void Renderer::set_shadow_map_size(int texels) {
     SHPRT_CHECK(texels >= 64 && texels <= 8192, invalid_argument,
                 "a shadow map of {} texels a side (64 to 8192)", texels);

@@ -40,9 +40,9 @@ namespace gl {
 // (bind_glossy) k·ρ_d/π·E + (1 − k)·ρ_s·L·Ω·f̄·V, f̄ the mean over the disc of the lobe of BRDF
 // `brdf` of the table about the reflection direction (a 7-point disc rule; shade_glossy_with_sun
 // sums it over the disc's traced directions). Spliced at "// @sun"
-// (after
-// "// @output" in the same shader; needs kPi).
-std::string sun_functions();
+// (after "// @output" in the same shader; needs kPi). `filter` sets the filter's taps
+// (renderer.hpp, SunFilter).
+std::string sun_functions(SunFilter filter);
 // Its uniform locations (layout(location = N)) and the shadow map's texture unit.
 // kBasis is a mat3 (columns u, v, s: the map's axes and the direction toward the sun), three
 // locations; kToMap a mat4, four.
@@ -86,6 +86,7 @@ public:
                      const std::vector<Brdf>& brdfs) const;
 
     std::uint64_t map_builds() const { return m_builds; }  // for tests and statistics
+
     // A texel's width (world) of a `size`² map fitted to a sphere of `radius`.
     static double texel_size(float radius, int size);
 

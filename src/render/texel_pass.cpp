@@ -12,13 +12,21 @@
 #include <vector>
 
 namespace shprt {
-TexelPass::TexelPass() {
-    for (int display = 0; display < 2; ++display)
-        m_program[display] = gl::compile_program(
-            gl::kTexelVertexShader,
-            gl::fragment_shader(gl::kTexelFragmentShader, display == 1).c_str(), "texel");
+TexelPass::TexelPass(SunFilter filter) {
+    set_sun_filter(filter);
     glGenVertexArrays(1, &m_vao);
     gl::check("TexelPass");
+}
+
+void TexelPass::set_sun_filter(SunFilter filter) {
+    for (int display = 0; display < 2; ++display) {
+        if (m_program[display]) glDeleteProgram(m_program[display]);
+        m_program[display] = gl::compile_program(
+            gl::kTexelVertexShader,
+            gl::fragment_shader(gl::kTexelFragmentShader, display == 1, gl::SunCode::full, filter)
+                .c_str(),
+            "texel");
+    }
 }
 
 TexelPass::~TexelPass() {

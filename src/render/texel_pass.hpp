@@ -35,8 +35,11 @@ class TexelPass {
 public:
     // Compiles the program (Error(unsupported) with the driver's log if it fails). Needs a
     // current OpenGL 4.3 core context, as Renderer.
-    TexelPass();
+    // `filter`: the sun's shadow filter the texel programs are built with (set_sun_filter).
+    explicit TexelPass(SunFilter filter = SunFilter::full);
     ~TexelPass();
+    // Rebuilds the texel programs with the sun's shadow filter `filter` (renderer.hpp).
+    void set_sun_filter(SunFilter filter);
     TexelPass(const TexelPass&) = delete;
     TexelPass& operator=(const TexelPass&) = delete;
 

@@ -151,7 +151,25 @@ struct DirectScene {
 // follows the traced fraction of the disc: the mean |V_gl − V_traced| over the floor, times
 // the floor's pixel count, is the error in "pixels' worth" — at most kMaxEdgeError of the traced
 // penumbra's pixel count (an edge a pixel off all along would be 1).
-TEST(GlSun, DirectSunMatchesTheTracedSunAtEveryPixel) {
+// One frame with the sun's filter `filter` in the current context.
+Image draw_with_filter(const Mesh& mesh, const TransferSet& transfer, const DrawSettings& settings,
+                       int w, int h, const PreparedSun& sun, SunFilter filter) {
+    Renderer renderer;
+    renderer.set_sun_filter(filter);
+    renderer.set_sun(&sun);
+    renderer.set_scene(mesh, transfer);
+    renderer.set_light(ShLight::zero(transfer.layout.K));
+    RenderTarget target(w, h, 1);
+    target.bind();
+    renderer.draw(settings, w, h);
+    return target.read_pixels();
+}
+
+// Both filters: the full one (`render`, --screenshot) and the interactive one (the viewer's
+// continuous frames on a software rasteriser), each with the same bounds.
+class GlSunFilter : public ::testing::TestWithParam<SunFilter> {};
+
+TEST_P(GlSunFilter, DirectSunMatchesTheTracedSunAtEveryPixel) {
     REQUIRE_GL(context);
     const DirectScene scene;
     const Mesh& mesh = scene.mesh;
@@ -161,8 +179,7 @@ TEST(GlSun, DirectSunMatchesTheTracedSunAtEveryPixel) {
     DrawSettings settings;
     settings.camera = shadow_camera(mesh);
     const int w = 192, h = 144;
-    const Image image =
-        render_image(mesh, transfer, ShLight::zero(4), settings, w, h, 1, &prepared);
+    const Image image = draw_with_filter(mesh, transfer, settings, w, h, prepared, GetParam());
 
     const std::unique_ptr<Tracer> tracer = make_embree_tracer(mesh);
     const std::vector<PixelSurface> px = surfaces(mesh, *tracer, settings.camera, w, h);
@@ -196,15 +213,22 @@ TEST(GlSun, DirectSunMatchesTheTracedSunAtEveryPixel) {
         }
     }
     std::printf(
-        "lit %zu, umbra %zu pixels away from edges (worst %.3f of the tolerance); floor "
-        "%zu pixels, traced penumbra %zu, |V_gl - V_traced| summed %.1f pixels\n",
-        lit, umbra, worst, floor_pixels, penumbra_pixels, edge_error);
+        "%s filter: lit %zu, umbra %zu pixels away from edges (worst %.3f of the tolerance); "
+        "floor %zu pixels, traced penumbra %zu, |V_gl - V_traced| summed %.1f pixels\n",
+        GetParam() == SunFilter::full ? "full" : "interactive", lit, umbra, worst, floor_pixels,
+        penumbra_pixels, edge_error);
     EXPECT_EQ(bad, 0u);
     EXPECT_GT(lit, 2000u);
     EXPECT_GT(umbra, 300u);
     ASSERT_GT(penumbra_pixels, 100u);
     EXPECT_LT(edge_error, kMaxEdgeError * double(penumbra_pixels));
 }
+
+INSTANTIATE_TEST_SUITE_P(Filters, GlSunFilter,
+                         ::testing::Values(SunFilter::full, SunFilter::interactive),
+                         [](const auto& info) {
+                             return info.param == SunFilter::full ? "Full" : "Interactive";
+                         });
 
 // An interreflected file under a sky and the sun: every pixel away from the sun's shadow edges
 // is shade_with_sun's sky and bounced sun interpolated from the vertices (the draw's colours)

@@ -61,6 +61,13 @@ class ObjectPass;  // src/render/object_pass.hpp
 // render/sun_pass.hpp).
 inline constexpr int kShadowMapSize = 2048;
 
+// The taps of the sun's shadow filter (Renderer::set_sun_filter; render/sun_pass.hpp): full, 16
+// for the blocker search (and the receiver's own texel) and 32 for the percentage-closer filter;
+// interactive, 8 and 16 — for frames drawn continuously on a software rasteriser, where the
+// full filter is most of a frame (viewer/frame.hpp, choose_sun_filter). Fewer taps make the
+// penumbra coarser (16 grey levels), not wider or narrower.
+enum class SunFilter { full, interactive };
+
 struct DrawSettings {
     Camera camera;
     double k = 1.0;                // diffuse share, as ShadeOptions::k
@@ -207,6 +214,8 @@ public:
     // redrawn whenever the sun or an object moves.
     void set_shadow_map_size(int texels);
     int shadow_map_size() const { return m_shadow_map_size; }
+    // The sun's shadow filter (SunFilter::full until set).
+    void set_sun_filter(SunFilter filter);
     // A shadow-map texel's width in world units for the scene set (0 before set_scene).
     double shadow_texel_size() const;
     // The sun's bounced light is drawn (set_sun with a transfer that has a direct part).
@@ -332,7 +341,7 @@ private:
     // sun, with a diffuse receivers' sun, with every sun term (gl::SunCode), compiled when first
     // drawn with (scene_program).
     unsigned m_background_program[2] = {0, 0};
-    unsigned m_scene_program[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    unsigned m_scene_program[2][3][2] = {};  // [display][sun code][sun filter]
     unsigned scene_program(int display, int sun_code);
     unsigned m_vao = 0, m_empty_vao = 0;
     unsigned m_position_vbo = 0, m_normal_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
@@ -409,6 +418,7 @@ private:
     ShLight m_world_sun_sh{};  // its SH projection in the scene's frame (host shading)
     std::unique_ptr<SunPass> m_sun_pass;
     int m_shadow_map_size = kShadowMapSize;
+    SunFilter m_sun_filter = SunFilter::full;
     unsigned m_sun_ubo = 0, m_sky_sun_ubo = 0, m_direct_ssbo = 0, m_sun_color_buffer = 0;
     std::uint64_t m_sun_generation = 0, m_geometry_generation = 0;
     Vec3f m_bounds_centre{0, 0, 0};
