@@ -181,6 +181,8 @@ const Kind kKinds[] = {
      }},
 };
 
+void PrintTo(const Kind& kind, std::ostream* os) { *os << kind.name; }
+
 std::string bytes_of(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), {}};
@@ -223,7 +225,7 @@ TEST_P(ShprtKinds, SameBytesAsTheFixtureAndReadsBackToThem) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryKind, ShprtKinds, ::testing::ValuesIn(kKinds),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const auto& p) { return std::string(p.param.name); });
 
 }  // namespace
 }  // namespace shprt
