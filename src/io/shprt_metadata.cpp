@@ -86,6 +86,13 @@ Json probe_cpca_value(const Src& s) {
     return s.probes->cpca.*Member;
 }
 
+// A CPCA code's clusters or vectors (1 to `most`), into the counts and the code.
+void code_size(const Fields& f, const char* leaf, std::uint64_t most, std::uint64_t& count,
+               int& code) {
+    count = f.u64(leaf, 1, most);
+    code = static_cast<int>(count);
+}
+
 // A CPCA code's rows are rebuilt in memory: bounded by the file's size, as every allocation of
 // the reader is (a real code is ~10-100× smaller than its rows).
 bool rebuilds_too_much(const Out& t, double rows, double floats_per_row) {
@@ -497,26 +504,24 @@ const std::array kFields = {
     FieldRule{"cpca.clusters", F::whole, 3, kMust, 3, nullptr, nullptr,
         [](const Src& s) -> Json { return s.cpca->clusters; },
         [](const Fields& f, const char* leaf, Out& t) {
-            t.counts.clusters = f.u64(leaf, 1, t.counts.rows);
-            into(t).cpca.clusters = static_cast<int>(t.counts.clusters);
+            code_size(f, leaf, t.counts.receivers, t.counts.clusters, into(t).cpca.clusters);
         }, 0, nullptr},
     FieldRule{"cpca.vectors", F::whole, 3, kMust, 3, nullptr, nullptr,
         [](const Src& s) -> Json { return s.cpca->vectors; },
         [](const Fields& f, const char* leaf, Out& t) {
-            const std::uint64_t D = into(t).layout.floats_per_receiver();
-            t.counts.vectors = f.u64(leaf, 1, D);
-            into(t).cpca.vectors = static_cast<int>(t.counts.vectors);
+            code_size(f, leaf, into(t).layout.floats_per_receiver(), t.counts.vectors,
+                      into(t).cpca.vectors);
         }, 0, nullptr},
     FieldRule{"cpca.seed", F::whole, 3, kMust, 3, nullptr, nullptr,
         [](const Src& s) -> Json { return s.cpca->seed; },
         [](const Fields& f, const char* leaf, Out& t) {
             into(t).cpca.seed = f.u64(leaf);
             const double D = double(into(t).layout.floats_per_receiver());
-            if (rebuilds_too_much(t, double(t.counts.rows), D))
+            if (rebuilds_too_much(t, double(t.counts.receivers), D))
                 corrupt(t.path,
                         "CPCA code of {} bytes would rebuild {:.0f} bytes of rows (more than {}× "
                         "the file)",
-                        t.file_size, double(t.counts.rows) * D * 4.0, kMaxCpcaExpansion);
+                        t.file_size, double(t.counts.receivers) * D * 4.0, kMaxCpcaExpansion);
         }, 0, nullptr},
     FieldRule{"cpca.method", F::text, 3, kMust, 3, nullptr, nullptr,
         [](const Src&) -> Json {
@@ -545,12 +550,12 @@ const std::array kFields = {
     FieldRule{"scene.vertices", F::whole, 1, kMust, 1, nullptr, nullptr,
         [](const Src& s) -> Json { return s.mesh.positions.size(); },
         [](const Fields& f, const char* leaf, Out& t) {
-            t.counts.V = t.counts.rows = t.counts.total = f.u64(leaf);
+            t.counts.vertices = t.counts.receivers = t.counts.total = f.u64(leaf);
         }, 20,
         [](const Lines& s) { s.line("vertices", fmt::format("{}", s.file.mesh.vertex_count())); }},
     FieldRule{"scene.triangles", F::whole, 1, kMust, 1, nullptr, nullptr,
         [](const Src& s) -> Json { return s.mesh.triangles.size(); },
-        [](const Fields& f, const char* leaf, Out& t) { t.counts.T = f.u64(leaf); }, 50,
+        [](const Fields& f, const char* leaf, Out& t) { t.counts.triangles = f.u64(leaf); }, 50,
         [](const Lines& s) {
             s.line("triangles", fmt::format("{}", s.file.mesh.triangle_count()));
         }},
@@ -593,15 +598,15 @@ const std::array kFields = {
                 c.total = r.u64("total", 1, std::uint64_t(x.width) * std::uint64_t(x.height));
             if (r.u64("total") != c.total)
                 corrupt(t.path, "metadata: receivers.total = {} but the scene has {} vertices",
-                        r.u64("total"), c.V);
+                        r.u64("total"), c.vertices);
             const std::uint64_t first = r.u64("first", 0, c.total);
-            c.rows = r.u64("count", 1, c.total - std::min(first, c.total));
+            c.receivers = r.u64("count", 1, c.total - std::min(first, c.total));
             t.out.receiver_first = static_cast<std::size_t>(first);
-            if ((first != 0 || c.rows != c.total) && !t.allow_part)
+            if ((first != 0 || c.receivers != c.total) && !t.allow_part)
                 corrupt(t.path,
                         "is part of a sharded bake (receivers [{}, {}) of {}): join the parts "
                         "with `shprt merge`",
-                        first, first + c.rows, c.total);
+                        first, first + c.receivers, c.total);
         }, 70,
         [](const Lines& s) {
             const ShprtFile& file = s.file;
@@ -733,14 +738,14 @@ const std::array kFields = {
     FieldRule{"probes.cpca.clusters", F::whole, 2, kMust, 1, nullptr, nullptr,
         probe_cpca_value<&CpcaCode::clusters>,
         [](const Fields& f, const char* leaf, Out& t) {
-            t.counts.probe_clusters = f.u64(leaf, 1, t.counts.probes_valid);
-            into(t).probes.cpca.clusters = int(t.counts.probe_clusters);
+            code_size(f, leaf, t.counts.probes_valid, t.counts.probe_clusters,
+                      into(t).probes.cpca.clusters);
         }, 0, nullptr},
     FieldRule{"probes.cpca.vectors", F::whole, 2, kMust, 1, nullptr, nullptr,
         probe_cpca_value<&CpcaCode::vectors>,
         [](const Fields& f, const char* leaf, Out& t) {
-            t.counts.probe_vectors = f.u64(leaf, 1, t.counts.probe_floats);
-            into(t).probes.cpca.vectors = int(t.counts.probe_vectors);
+            code_size(f, leaf, t.counts.probe_floats, t.counts.probe_vectors,
+                      into(t).probes.cpca.vectors);
         }, 0, nullptr},
     FieldRule{"probes.cpca.seed", F::whole, 2, kMust, 1, nullptr, nullptr,
         probe_cpca_value<&CpcaCode::seed>,

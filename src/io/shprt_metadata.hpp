@@ -1,8 +1,8 @@
 // The one metadata field table of the .shprt file, shared by the writer (shprt_write.cpp), the
 // reader (shprt_read.cpp) and `shprt info` (shprt_summary.cpp), as the sections share theirs
 // (shprt_sections.hpp): for every field, in the metadata's key order, its JSON key (nested keys
-// dotted: "probes.cpca.clusters"), its type, the format version it came with, whether a file must
-// have it, how it is set from the written set and read back into it, and how `shprt info`
+// dotted: "interreflection.bounces"), its type, the format version it came with, whether a file
+// must have it, how it is set from the written set and read back into it, and how `shprt info`
 // summarises it. A new field is one row in kFields (shprt_metadata.cpp).
 //
 // Rules (docs/file_format.md): the writer walks the rows in order, so the rows' order is the
@@ -42,14 +42,12 @@ struct MetaSource {
     const ProbeGrid* probes;  // null or empty: none
 };
 
-// What the metadata says of the sizes, for the section table and the content checks.
-struct MetaCounts {
-    std::uint64_t V = 0, T = 0;               // vertices, triangles
-    std::uint64_t rows = 0;                   // receivers stored (all, or a part's)
-    std::uint64_t total = 0;                  // receivers of the whole domain (vertices or texels)
-    std::uint64_t clusters = 0, vectors = 0;  // a CPCA code's, or 0
-    std::uint64_t probes = 0, probe_floats = 0, probes_valid = 0;  // the probe grid's, or 0
-    std::uint64_t probe_clusters = 0, probe_vectors = 0;           // the probes' CPCA code's, or 0
+// What the metadata says of the sizes: the sections' (SectionCounts; its layout is the
+// transfer's, set once the fields are read) and, for the content checks, the domain's receivers
+// and the recorded scene hash.
+struct MetaCounts : SectionCounts {
+    std::uint64_t total = 0;  // receivers of the whole domain (vertices or texels); `receivers`
+                              // are those stored (all, or a part's)
     std::string recorded_hash;
 };
 

@@ -154,7 +154,7 @@ private:
     ShprtHeader read_header();
     std::string read_metadata_text(const ShprtHeader& h);
     std::vector<SectionSpec> read_section_table(const Fields& m, const ShprtHeader& h,
-                                                const TransferLayout& layout, const Counts& c);
+                                                const Counts& c);
     void read_arrays(const std::vector<SectionSpec>& specs, const ShprtHeader& h, ShprtFile& out);
     void check_content(const Counts& c, ShprtFile& out);
 
@@ -275,26 +275,15 @@ std::string Reader::read_metadata_text(const ShprtHeader& h) {
 // and the canonical layout: each section at the first aligned offset after the previous one, the
 // file ending with the last.
 std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const ShprtHeader& h,
-                                                    const TransferLayout& layout, const Counts& c) {
-    const std::uint64_t size = m_size, V = c.V, T = c.T, rows = c.rows, clusters = c.clusters,
-                        vectors = c.vectors;
+                                                    const Counts& c) {
+    const TransferLayout& layout = c.layout;
+    const std::uint64_t size = m_size, clusters = c.clusters;
     const Json& table = m.get("sections");
     if (!table.is_array() || table.size() > kMaxSections)
         corrupt(m_path, "metadata: 'sections' must be an array of at most {} entries",
                 kMaxSections);
     // Match the listed sections to the table's rules in order: every required one present,
     // optional ones present or absent, nothing else.
-    const detail::SectionCounts counts{V,
-                                       T,
-                                       rows,
-                                       layout,
-                                       clusters,
-                                       vectors,
-                                       c.probes,
-                                       c.probe_floats,
-                                       c.probes_valid,
-                                       c.probe_clusters,
-                                       c.probe_vectors};
     std::vector<SectionSpec> specs;
     std::size_t listed = 0;
     for (const detail::SectionRule& rule : detail::section_rules()) {
@@ -313,8 +302,8 @@ std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const Shprt
         if (!present && !required) continue;
         if (!present && listed >= table.size())
             corrupt(m_path, "metadata: sections: required section '{}' is missing", rule.name);
-        specs.push_back({&rule, rule.name, rule.dtype(layout), rule.row_count(counts),
-                         rule.col_count(counts), rule.element_size(layout)});
+        specs.push_back({&rule, rule.name, rule.dtype(layout), rule.row_count(c), rule.col_count(c),
+                         rule.element_size(layout)});
         check_section_entry(m_path, table[listed], specs.back(), size);
         ++listed;
     }
@@ -368,7 +357,7 @@ void Reader::check_content(const Counts& c, ShprtFile& out) {
     Mesh& mesh = out.mesh;
     TransferSet& t = out.transfer;
     const TransferLayout& layout = t.layout;
-    const std::uint64_t V = c.V, total = c.total, clusters = c.clusters;
+    const std::uint64_t V = c.vertices, total = c.total, clusters = c.clusters;
     const bool texel = layout.domain == ReceiverDomain::texel;
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
         for (std::uint32_t index : mesh.triangles[i])
@@ -470,7 +459,8 @@ ShprtFile Reader::read(bool allow_part) {
     Counts counts;
     detail::MetaTarget target{m_path, h.version, m_size, allow_part, out, counts};
     detail::read_metadata(m, target);
-    const std::vector<SectionSpec> specs = read_section_table(m, h, out.transfer.layout, counts);
+    counts.layout = out.transfer.layout;
+    const std::vector<SectionSpec> specs = read_section_table(m, h, counts);
     read_arrays(specs, h, out);
     check_content(counts, out);
     out.metadata_json = std::move(text);

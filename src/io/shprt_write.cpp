@@ -127,19 +127,7 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
     const TransferSet none;
     const TransferSet& parts = transfer ? *transfer : none;
     const bool cpca = !parts.cpca.empty();
-    const detail::SectionCounts counts{mesh.positions.size(),
-                                       mesh.triangles.size(),
-                                       rows,
-                                       info.layout,
-                                       std::uint64_t(std::max(parts.cpca.clusters, 0)),
-                                       std::uint64_t(std::max(parts.cpca.vectors, 0)),
-                                       parts.probes.count(),
-                                       std::uint64_t(parts.probes.channels) *
-                                           std::uint64_t(parts.probes.K) *
-                                           std::uint64_t(parts.probes.K),
-                                       parts.probes.cpca.cluster.size(),
-                                       std::uint64_t(std::max(parts.probes.cpca.clusters, 0)),
-                                       std::uint64_t(std::max(parts.probes.cpca.vectors, 0))};
+    const detail::SectionCounts counts = section_counts(mesh, info.layout, rows, parts);
     std::vector<SectionOut> sections;
     for (const detail::SectionRule& rule : detail::section_rules()) {
         const bool is_transfer = rule.is_transfer();
