@@ -1,9 +1,9 @@
 // Reader of the .shprt file (layout: docs/file_format.md; sections: the table of
-// shprt_sections.hpp, shared with the writer; versions 1 and 2). Nothing read from the file is
-// trusted before it is checked: the header and metadata against their CRCs, every section's offset
-// and length against the file size, the sizes against V, T, K and channels; only then are arrays
-// allocated (so a corrupt length cannot ask for more memory than the file holds) and read, each
-// against its CRC-32.
+// shprt_sections.hpp, metadata: the field table of shprt_metadata.hpp, both shared with the
+// writer; versions 1 to 3). Nothing read from the file is trusted before it is checked: the header
+// and metadata against their CRCs, every section's offset and length against the file size, the
+// sizes against V, T, K and channels; only then are arrays allocated (so a corrupt length cannot
+// ask for more memory than the file holds) and read, each against its CRC-32.
 #include "io/fuzzing.hpp"
 #include "io/shprt_fields.hpp"
 #include "io/shprt_metadata.hpp"
@@ -150,7 +150,8 @@ public:
 
 private:
     using Counts = detail::MetaCounts;
-    // The steps of read(), in order (each ends the read with one corrupt() line on failure).
+    // The steps of read(), in order (each ends the read with one corrupt() line on failure;
+    // the metadata's fields between the text and the section table: detail::read_metadata).
     ShprtHeader read_header();
     std::string read_metadata_text(const ShprtHeader& h);
     std::vector<SectionSpec> read_section_table(const Fields& m, const ShprtHeader& h,
