@@ -41,7 +41,7 @@ void add_bake_options(CLI::App& app, BakeOptionArgs& args) {
     app.add_option("--directions", args.directions,
                    "sphere (default: one set on the sphere, the paper's) or local (one "
                    "cosine-weighted set in each receiver's tangent frame: every ray above the "
-                   "horizon; CPU only; docs/sampling.md)");
+                   "horizon; docs/sampling.md)");
     app.add_option("--seed", args.seed, "Seed of the direction set (default 1)");
     app.add_option("--threads", args.threads, "Worker threads (default 0 = all)");
     app.add_option("--device", args.device, "cpu (default), cuda or auto");
