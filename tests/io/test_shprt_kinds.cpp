@@ -5,12 +5,16 @@
 // sets are built from exact arithmetic, not baked, so the bytes do not depend on the host.
 // SHPRT_UPDATE_GOLDEN=1 rewrites the fixtures (after a deliberate format change, or a new
 // tool_version: the version is in the metadata).
+#include "shprt/core/error.hpp"
+#include "shprt/io/hash.hpp"
 #include "shprt/io/shprt_file.hpp"
+#include "shprt/io/shprt_format.hpp"
 #include "shprt/scene/material.hpp"
 #include "shprt/transfer/cpca.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <unistd.h>
 #include <cstdlib>
@@ -226,6 +230,66 @@ TEST_P(ShprtKinds, SameBytesAsTheFixtureAndReadsBackToThem) {
 
 INSTANTIATE_TEST_SUITE_P(EveryKind, ShprtKinds, ::testing::ValuesIn(kKinds),
                          [](const auto& p) { return std::string(p.param.name); });
+
+// Every metadata field of every kind removed, or given a value of another type, in turn (the
+// header's CRCs fixed): the file still reads, or the reader says one line that starts with the
+// file's name — never a crash, another error type or a message of several lines.
+TEST(ShprtKindsMetadata, EveryFieldRemovedOrRetypedReadsOrIsOneLine) {
+    using Json = nlohmann::json;
+    const fs::path path =
+        fs::temp_directory_path() / fmt::format("kinds_edited_{}.shprt", ::getpid());
+    int edits = 0, refused = 0;
+    for (const Kind& kind : kKinds) {
+        const std::string good = bytes_of(kDir / (std::string(kind.name) + ".shprt"));
+        ShprtHeader h = decode_shprt_header(reinterpret_cast<const unsigned char*>(good.data()));
+        const Json meta = Json::parse(good.substr(kShprtHeaderSize, h.metadata_length));
+        const auto check = [&](const Json& edited, const std::string& what) {
+            std::string text = edited.dump();
+            ASSERT_LE(text.size(), h.metadata_length) << what;
+            text.resize(h.metadata_length, ' ');
+            ShprtHeader e = h;
+            e.metadata_crc32 = crc32(text.data(), text.size());
+            std::string bytes = good;
+            bytes.replace(kShprtHeaderSize, text.size(), text);
+            encode_shprt_header(e, reinterpret_cast<unsigned char*>(bytes.data()));
+            std::ofstream(path, std::ios::binary) << bytes;
+            ++edits;
+            try {
+                read_shprt_part(path.string());
+            } catch (const Error& err) {
+                const std::string message = err.what();
+                EXPECT_EQ(err.code(), ErrorCode::format) << what << ": " << message;
+                EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << what << ": " << message;
+                EXPECT_EQ(message.find('\n'), std::string::npos) << what << ": " << message;
+                ++refused;
+            }
+        };
+        // Each key of the metadata's objects (the section table's entries left to
+        // IoShprtCorrupt), by its JSON pointer.
+        std::vector<Json::json_pointer> keys;
+        const std::function<void(const Json&, const Json::json_pointer&)> walk =
+            [&](const Json& j, const Json::json_pointer& at) {
+                for (auto it = j.begin(); it != j.end(); ++it) {
+                    if (at.empty() && it.key() == "sections") continue;
+                    keys.push_back(at / it.key());
+                    if (it->is_object()) walk(*it, at / it.key());
+                }
+            };
+        walk(meta, Json::json_pointer());
+        for (const Json::json_pointer& key : keys) {
+            Json removed = meta;
+            removed[key.parent_pointer()].erase(key.back());
+            check(removed, std::string(kind.name) + ": without " + key.to_string());
+            Json retyped = meta;
+            retyped[key] = retyped[key].is_string() ? Json(7) : Json("x");
+            check(retyped, std::string(kind.name) + ": " + key.to_string() + " retyped");
+        }
+    }
+    fs::remove(path);
+    // Most edits are refused (the required fields), some read (the informative ones).
+    EXPECT_GT(refused, edits / 2);
+    EXPECT_LT(refused, edits);
+}
 
 }  // namespace
 }  // namespace shprt
