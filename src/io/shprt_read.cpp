@@ -1,11 +1,12 @@
 // Reader of the .shprt file (layout: docs/file_format.md; sections: the table of
-// shprt_sections.hpp, shared with the writer; versions 1 and 2). Nothing read from the file is
-// trusted before it is checked: the header and metadata against their CRCs, every section's offset
-// and length against the file size, the sizes against V, T, K and channels; only then are arrays
-// allocated (so a corrupt length cannot ask for more memory than the file holds) and read, each
-// against its CRC-32.
+// shprt_sections.hpp, metadata: the field table of shprt_metadata.hpp, both shared with the
+// writer; versions 1 to 3). Nothing read from the file is trusted before it is checked: the header
+// and metadata against their CRCs, every section's offset and length against the file size, the
+// sizes against V, T, K and channels; only then are arrays allocated (so a corrupt length cannot
+// ask for more memory than the file holds) and read, each against its CRC-32.
 #include "io/fuzzing.hpp"
 #include "io/shprt_fields.hpp"
+#include "io/shprt_metadata.hpp"
 #include "io/shprt_sections.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/half.hpp"
@@ -48,7 +49,6 @@ using detail::corrupt;
 using detail::Fields;
 using detail::parse_metadata;
 
-constexpr std::size_t kMaxBrdfs = 1 << 16;  // materials' BRDFs in metadata scene.brdfs
 constexpr std::size_t kMaxSections = 16;
 constexpr std::size_t kReadChunk = std::size_t(1) << 20;
 
@@ -141,9 +141,6 @@ void check_section_entry(const std::string& path, const Json& entry, SectionSpec
                 spec.length, count, spec.dtype, bytes);
 }
 
-// The most a CPCA file's rebuilt rows may exceed the file's size by.
-constexpr std::uint64_t kMaxCpcaExpansion = 256;
-
 class Reader {
 public:
     explicit Reader(const std::string& path) : m_path(path), m_file(path) {}
@@ -152,27 +149,13 @@ public:
     ShprtFile read(bool allow_part);
 
 private:
-    // What the metadata says of the scene and the rows, for the sections and the checks.
-    struct Counts {
-        std::uint64_t V = 0, T = 0;  // vertices, triangles
-        std::uint64_t rows = 0;      // receivers stored (all, or a part's)
-        std::uint64_t total = 0;     // receivers of the whole domain (vertices or texels)
-        std::uint64_t clusters = 0, vectors = 0;                       // a CPCA code's, or 0
-        std::uint64_t probes = 0, probe_floats = 0, probes_valid = 0;  // the probe grid's, or 0
-        std::uint64_t probe_clusters = 0, probe_vectors = 0;  // the probes' CPCA code's, or 0
-        std::string recorded_hash;
-    };
-    // The steps of read(), in order (each ends the read with one corrupt() line on failure).
+    using Counts = detail::MetaCounts;
+    // The steps of read(), in order (each ends the read with one corrupt() line on failure;
+    // the metadata's fields between the text and the section table: detail::read_metadata).
     ShprtHeader read_header();
     std::string read_metadata_text(const ShprtHeader& h);
-    void check_format(const Fields& m, const ShprtHeader& h);
-    void read_description(const Fields& m, const ShprtHeader& h, TransferSet& t);
-    Counts read_scene(const Fields& m, bool allow_part, ShprtFile& out);
-    void read_stats(const Fields& m, TransferSet& t);
-    void read_cpca_description(const Fields& m, const ShprtHeader& h, TransferSet& t, Counts& c);
-    void read_probe_description(const Fields& m, TransferSet& t, Counts& c);
     std::vector<SectionSpec> read_section_table(const Fields& m, const ShprtHeader& h,
-                                                const TransferLayout& layout, const Counts& c);
+                                                const Counts& c);
     void read_arrays(const std::vector<SectionSpec>& specs, const ShprtHeader& h, ShprtFile& out);
     void check_content(const Counts& c, ShprtFile& out);
 
@@ -289,281 +272,19 @@ std::string Reader::read_metadata_text(const ShprtHeader& h) {
     return text;
 }
 
-void Reader::check_format(const Fields& m, const ShprtHeader& h) {
-    if (m.string("format") != "shprt") corrupt(m_path, "metadata: format is not 'shprt'");
-    if (m.u64("format_version") != h.version)
-        corrupt(m_path, "metadata: format_version {} differs from the header's {}",
-                m.u64("format_version"), h.version);
-    const std::string basis = m.object("convention").string("basis");
-    if (basis != kShprtConventionBasis)
-        corrupt(m_path, "metadata: unsupported SH convention '{}'", basis);
-}
-
-// What the transfer is: kind, sampler, frame, domain, shape, encoding, K, channels, samples, seed.
-void Reader::read_description(const Fields& m, const ShprtHeader& h, TransferSet& t) {
-    const Json& meta = m.obj;
-    TransferLayout& layout = t.layout;
-    try {
-        t.kind = parse_transfer_kind(m.string("transfer_kind"));
-        t.sampler = parse_sampler_kind(m.string("sampler"));
-        // Absent before local sets existed (and for sphere sets): the sphere.
-        if (meta.contains("directions"))
-            t.direction_frame = parse_direction_frame(m.string("directions"));
-        // Version 1 knew only per-vertex vectors; version 2 names the domain and the shape.
-        if (h.version >= 2) {
-            layout.domain = parse_receiver_domain(m.string("domain"));
-            layout.shape = parse_transfer_shape(m.string("shape"));
-        }
-    } catch (const Error& e) {
-        corrupt(m_path, "metadata: {}", e.what());
-    }
-    if (t.kind == TransferKind::glossy && layout.shape != TransferShape::symmetric_matrix)
-        corrupt(m_path, "metadata: transfer_kind glossy needs shape symmetric_matrix, not {}",
-                to_string(layout.shape));
-    const std::string precision = m.string("precision");
-    if (precision != "float32" && precision != "float16")
-        corrupt(m_path, "metadata: precision '{}' (expected float32 or float16)", precision);
-    layout.encoding = parse_transfer_encoding(precision);
-    layout.K = m.integer("K", 1, kMaxTransferK);
-    layout.channels = m.integer("channels", 1, 3);
-    if (layout.channels == 2) corrupt(m_path, "metadata: channels must be 1 or 3, not 2");
-    const int bands = sh_bands_for(layout.K);
-    if (m.u64("bands") != std::uint64_t(bands))
-        corrupt(m_path, "metadata: bands = {} but K = {} needs {}", m.u64("bands"), layout.K,
-                bands);
-    if (m.boolean("last_band_full") != (sh_count(bands) == layout.K))
-        corrupt(m_path, "metadata: last_band_full contradicts K = {}", layout.K);
-    t.samples = m.integer("samples", 0, INT_MAX);
-    if (const char* why = samples_refusal(t.kind, t.samples))
-        corrupt(m_path, "metadata: samples = 0 for {} transfer, but {}", to_string(t.kind), why);
-    t.seed = m.u64("seed");
-    // Absent before error-bounded bakes and for bakes without one: 0.
-    t.target_error = m.number_or_zero("target_error");
-    if (!(t.target_error >= 0 && t.target_error <= 1))
-        corrupt(m_path, "metadata: target_error = {} is outside [0, 1]", t.target_error);
-}
-
-// The scene's counts, hash and BRDFs, and the receivers the rows are (vertices or texels, all
-// or a part).
-Reader::Counts Reader::read_scene(const Fields& m, bool allow_part, ShprtFile& out) {
-    const Json& meta = m.obj;
-    TransferSet& t = out.transfer;
-    const TransferLayout& layout = t.layout;
-    Counts c;
-    const Fields scene = m.object("scene");
-    out.mesh.source = scene.string("source");
-    c.recorded_hash = scene.string("hash");
-    const std::uint64_t V = c.V = scene.u64("vertices");
-    c.T = scene.u64("triangles");
-    // The materials' BRDFs (with a brdf_index section only).
-    if (scene.obj.contains("brdfs")) {
-        const Json& brdfs = scene.get("brdfs");
-        if (!brdfs.is_array() || brdfs.size() > kMaxBrdfs)
-            corrupt(m_path, "metadata.scene: 'brdfs' must be an array of at most {} specs",
-                    kMaxBrdfs);
-        for (const Json& spec : brdfs) {
-            if (!spec.is_string())
-                corrupt(m_path, "metadata.scene.brdfs: {} is not a BRDF spec", spec.dump());
-            try {
-                out.mesh.brdfs.push_back(parse_brdf(spec.get<std::string>()));
-            } catch (const Error& e) {
-                corrupt(m_path, "metadata.scene.brdfs: {}", e.what());
-            }
-        }
-    }
-    // The rows' receivers (version 2; absent in version 1 files: all vertices).
-    std::uint64_t& rows = c.rows = V;
-    // The texel domain's receivers are texels (docs/texels.md): their count is receivers.total,
-    // bounded by the image's size; the vertex domain's are the vertices.
-    const bool texel = layout.domain == ReceiverDomain::texel;
-    std::uint64_t& total = c.total = V;
-    if (texel) {
-        if (!meta.contains("receivers") || !meta.contains("texels"))
-            corrupt(m_path, "metadata: a texel transfer needs 'receivers' and 'texels'");
-        const Fields x = m.object("texels");
-        t.texels.width = x.integer("width", 1, INT_MAX);
-        t.texels.height = x.integer("height", 1, INT_MAX);
-        t.texels.uv_set = x.integer("uv_set", 0, 7);
-        total =
-            m.object("receivers")
-                .u64("total", 1, std::uint64_t(t.texels.width) * std::uint64_t(t.texels.height));
-    }
-    if (meta.contains("receivers")) {
-        const Fields r = m.object("receivers");
-        if (r.u64("total") != total)
-            corrupt(m_path, "metadata: receivers.total = {} but the scene has {} vertices",
-                    r.u64("total"), V);
-        const std::uint64_t first = r.u64("first", 0, total);
-        rows = r.u64("count", 1, total - std::min(first, total));
-        out.receiver_first = static_cast<std::size_t>(first);
-        if ((first != 0 || rows != total) && !allow_part)
-            corrupt(m_path,
-                    "is part of a sharded bake (receivers [{}, {}) of {}): join the parts with "
-                    "`shprt merge`",
-                    first, first + rows, total);
-    }
-
-    return c;
-}
-
-// The bake's statistics and an interreflected bake's description (both optional).
-void Reader::read_stats(const Fields& m, TransferSet& t) {
-    const Json& meta = m.obj;
-    if (meta.contains("stats")) {
-        const Fields s = m.object("stats");
-        BakeStats& st = t.stats;
-        st.seconds_bvh = s.number_or_zero("seconds_bvh");
-        st.seconds_trace = s.number_or_zero("seconds_trace");
-        st.seconds_project = s.number_or_zero("seconds_project");
-        st.seconds_total = s.number_or_zero("seconds_total");
-        if (s.obj.contains("rays_cast")) st.rays_cast = s.u64("rays_cast");
-        if (s.obj.contains("peak_bytes_host")) st.peak_bytes_host = s.u64("peak_bytes_host");
-        if (s.obj.contains("peak_bytes_device")) st.peak_bytes_device = s.u64("peak_bytes_device");
-        if (s.obj.contains("device")) st.device_name = s.string("device");
-        st.seconds_operator = s.number_or_zero("seconds_operator");
-        st.seconds_bounces = s.number_or_zero("seconds_bounces");
-        if (s.obj.contains("operator_bytes_spilled"))
-            st.operator_bytes_spilled = s.u64("operator_bytes_spilled");
-    }
-    if (meta.contains("interreflection")) {
-        const Fields f = m.object("interreflection");
-        InterreflectionInfo& ir = t.interreflection;
-        ir.bounces = f.integer("bounces", 0, INT_MAX);
-        ir.converge = f.boolean("converge");
-        ir.converged = f.boolean("converged");
-        ir.tolerance = f.number_or_zero("tolerance");
-        ir.last_change = f.number_or_zero("last_change");
-        ir.two_sided = f.boolean("two_sided");
-        ir.albedo_source = f.string("albedo_source");
-        ir.operator_nnz = f.u64("operator_nnz");
-        ir.operator_bytes = f.u64("operator_bytes");
-        if (f.obj.contains("operator_rays")) ir.operator_rays = f.u64("operator_rays");
-        if (f.obj.contains("sources")) {  // written since the bounce sources (issue 34)
-            ir.sources = f.u64("sources");
-            ir.source_spacing = f.number_or_zero("source_spacing");
-            ir.invalid_sources = f.u64("invalid_sources");
-            ir.indirect_samples = f.u64("indirect_samples");
-            ir.receivers_seeing_back_faces = f.u64("receivers_seeing_back_faces");
-            if (f.obj.contains("bounce_coeffs"))  // since the bounces' coefficients
-                ir.bounce_coeffs = std::uint64_t(f.integer("bounce_coeffs", 1, t.layout.K));
-        }
-    }
-}
-
-// A CPCA code's clusters and vectors (0, 0 for rows), bounded by the file's size.
-void Reader::read_cpca_description(const Fields& m, const ShprtHeader& h, TransferSet& t,
-                                   Counts& counts) {
-    const Json& meta = m.obj;
-    const TransferLayout& layout = t.layout;
-    const std::uint64_t rows = counts.rows, size = m_size;
-    // A CPCA code instead of the rows (version 3 only).
-    std::uint64_t& clusters = counts.clusters;
-    std::uint64_t& vectors = counts.vectors;
-    if (h.version >= kShprtCpcaFormatVersion) {
-        const Fields c = m.object("cpca");
-        clusters = c.u64("clusters", 1, rows);
-        vectors = c.u64("vectors", 1, layout.floats_per_receiver());
-        t.cpca.clusters = static_cast<int>(clusters);
-        t.cpca.vectors = static_cast<int>(vectors);
-        t.cpca.seed = c.u64("seed");
-        // The rows are rebuilt in memory: bound them by the file's size, as every allocation
-        // of the reader is (a real code is ~10-100× smaller than its rows).
-        const double rebuilt = double(rows) * double(layout.floats_per_receiver()) * 4.0;
-        if (rebuilt > double(kMaxCpcaExpansion) * double(size))
-            corrupt(m_path,
-                    "CPCA code of {} bytes would rebuild {:.0f} bytes of rows (more than {}× the "
-                    "file)",
-                    size, rebuilt, kMaxCpcaExpansion);
-    } else if (meta.contains("cpca")) {
-        corrupt(m_path, "metadata: 'cpca' in a version {} file (CPCA files are version {})",
-                h.version, kShprtCpcaFormatVersion);
-    }
-}
-
-// The probe grid's description (metadata "probes": origin, spacing, counts, K, channels, valid),
-// its counts bounded (kMaxProbeSide, kMaxProbes) before any array is sized.
-void Reader::read_probe_description(const Fields& m, TransferSet& t, Counts& c) {
-    if (!m.obj.contains("probes")) return;
-    const Fields p = m.object("probes");
-    ProbeGrid& g = t.probes;
-    const auto vec3 = [&](const char* key, bool positive) {
-        const Json& v = p.get(key);
-        if (!v.is_array() || v.size() != 3)
-            corrupt(m_path, "metadata.probes: '{}' must be 3 numbers", key);
-        Vec3f out;
-        for (int a = 0; a < 3; ++a) {
-            const Json& x = v[std::size_t(a)];
-            if (!x.is_number() || !std::isfinite(x.get<double>()) ||
-                !std::isfinite(float(x.get<double>())) || (positive && !(x.get<float>() > 0)))
-                corrupt(m_path, "metadata.probes: '{}' must be 3 finite{} numbers, not {}", key,
-                        positive ? " positive" : "", v.dump());
-            out[a] = x.get<float>();
-        }
-        return out;
-    };
-    g.origin = vec3("origin", false);
-    g.spacing = vec3("spacing", true);
-    const Json& n = p.get("counts");
-    if (!n.is_array() || n.size() != 3)
-        corrupt(m_path, "metadata.probes: 'counts' must be 3 whole numbers");
-    for (std::size_t a = 0; a < 3; ++a) {
-        if (!n[a].is_number_unsigned() || n[a].get<std::uint64_t>() < 1 ||
-            n[a].get<std::uint64_t>() > std::uint64_t(kMaxProbeSide))
-            corrupt(m_path, "metadata.probes: counts {} (each 1 to {})", n.dump(), kMaxProbeSide);
-        g.counts[a] = int(n[a].get<std::uint64_t>());
-    }
-    if (g.count() > kMaxProbes)
-        corrupt(m_path, "metadata.probes: {} probes (at most {})", g.count(), kMaxProbes);
-    g.K = p.integer("K", 1, kMaxTransferK);
-    g.channels = p.integer("channels", 1, 3);
-    if (g.channels == 2) corrupt(m_path, "metadata.probes: channels must be 1 or 3, not 2");
-    c.probes = g.count();
-    c.probe_floats = std::uint64_t(g.channels) * std::uint64_t(g.K) * std::uint64_t(g.K);
-    c.probes_valid = p.u64("valid", 0, c.probes);  // checked against the section once read
-    // The matrices stored as a CPCA code (one row per valid probe), rebuilt once read: bounded by
-    // the file's size as a transfer's code is.
-    if (p.obj.contains("cpca")) {
-        if (c.probes_valid == 0)
-            corrupt(m_path, "metadata.probes: a CPCA code ('cpca') with no valid probe");
-        const Fields q = p.object("cpca");
-        c.probe_clusters = q.u64("clusters", 1, c.probes_valid);
-        c.probe_vectors = q.u64("vectors", 1, c.probe_floats);
-        g.cpca.clusters = int(c.probe_clusters);
-        g.cpca.vectors = int(c.probe_vectors);
-        g.cpca.seed = q.u64("seed");
-        const double rebuilt = double(c.probes) * double(c.probe_floats) * 4.0;
-        if (rebuilt > double(kMaxCpcaExpansion) * double(m_size))
-            corrupt(m_path,
-                    "metadata.probes: a CPCA code in {} bytes would rebuild {:.0f} bytes of probe "
-                    "matrices (more than {}× the file)",
-                    m_size, rebuilt, kMaxCpcaExpansion);
-    }
-}
-
 // The section table matched to the rules (every required section, optional ones, nothing else)
 // and the canonical layout: each section at the first aligned offset after the previous one, the
 // file ending with the last.
 std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const ShprtHeader& h,
-                                                    const TransferLayout& layout, const Counts& c) {
-    const std::uint64_t size = m_size, V = c.V, T = c.T, rows = c.rows, clusters = c.clusters,
-                        vectors = c.vectors;
+                                                    const Counts& c) {
+    const TransferLayout& layout = c.layout;
+    const std::uint64_t size = m_size, clusters = c.clusters;
     const Json& table = m.get("sections");
     if (!table.is_array() || table.size() > kMaxSections)
         corrupt(m_path, "metadata: 'sections' must be an array of at most {} entries",
                 kMaxSections);
     // Match the listed sections to the table's rules in order: every required one present,
     // optional ones present or absent, nothing else.
-    const detail::SectionCounts counts{V,
-                                       T,
-                                       rows,
-                                       layout,
-                                       clusters,
-                                       vectors,
-                                       c.probes,
-                                       c.probe_floats,
-                                       c.probes_valid,
-                                       c.probe_clusters,
-                                       c.probe_vectors};
     std::vector<SectionSpec> specs;
     std::size_t listed = 0;
     for (const detail::SectionRule& rule : detail::section_rules()) {
@@ -582,8 +303,8 @@ std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const Shprt
         if (!present && !required) continue;
         if (!present && listed >= table.size())
             corrupt(m_path, "metadata: sections: required section '{}' is missing", rule.name);
-        specs.push_back({&rule, rule.name, rule.dtype(layout), rule.row_count(counts),
-                         rule.col_count(counts), rule.element_size(layout)});
+        specs.push_back({&rule, rule.name, rule.dtype(layout), rule.row_count(c), rule.col_count(c),
+                         rule.element_size(layout)});
         check_section_entry(m_path, table[listed], specs.back(), size);
         ++listed;
     }
@@ -637,7 +358,7 @@ void Reader::check_content(const Counts& c, ShprtFile& out) {
     Mesh& mesh = out.mesh;
     TransferSet& t = out.transfer;
     const TransferLayout& layout = t.layout;
-    const std::uint64_t V = c.V, total = c.total, clusters = c.clusters;
+    const std::uint64_t V = c.vertices, total = c.total, clusters = c.clusters;
     const bool texel = layout.domain == ReceiverDomain::texel;
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
         for (std::uint32_t index : mesh.triangles[i])
@@ -735,14 +456,12 @@ ShprtFile Reader::read(bool allow_part) {
     std::string text = read_metadata_text(h);
     const Json meta = parse_metadata(m_path, text);
     const Fields m{m_path, meta, "metadata"};
-    check_format(m, h);
     ShprtFile out;
-    read_description(m, h, out.transfer);
-    Counts counts = read_scene(m, allow_part, out);
-    read_stats(m, out.transfer);
-    read_cpca_description(m, h, out.transfer, counts);
-    read_probe_description(m, out.transfer, counts);
-    const std::vector<SectionSpec> specs = read_section_table(m, h, out.transfer.layout, counts);
+    Counts counts;
+    detail::MetaTarget target{m_path, h.version, m_size, allow_part, out, counts};
+    detail::read_metadata(m, target);
+    counts.layout = out.transfer.layout;
+    const std::vector<SectionSpec> specs = read_section_table(m, h, counts);
     read_arrays(specs, h, out);
     check_content(counts, out);
     out.metadata_json = std::move(text);

@@ -1,6 +1,7 @@
 // The .shprt section table (shprt_sections.hpp).
 #include "io/shprt_sections.hpp"
 
+#include <algorithm>
 #include <array>
 #include <string_view>
 #include <vector>
@@ -173,6 +174,25 @@ const std::array kRules = {
 };
 
 }  // namespace
+
+SectionCounts section_counts(const Mesh& mesh, const TransferLayout& layout, std::uint64_t rows,
+                             const TransferSet& parts) {
+    const auto whole = [](int n) { return std::uint64_t(std::max(n, 0)); };
+    const ProbeGrid& probes = parts.probes;
+    SectionCounts c;
+    c.vertices = mesh.positions.size();
+    c.triangles = mesh.triangles.size();
+    c.receivers = rows;
+    c.layout = layout;
+    c.clusters = whole(parts.cpca.clusters);
+    c.vectors = whole(parts.cpca.vectors);
+    c.probes = probes.count();
+    c.probe_floats = whole(probes.channels) * whole(probes.K) * whole(probes.K);
+    c.probes_valid = probes.cpca.cluster.size();
+    c.probe_clusters = whole(probes.cpca.clusters);
+    c.probe_vectors = whole(probes.cpca.vectors);
+    return c;
+}
 
 std::string SectionRule::dtype(const TransferLayout& layout) const {
     switch (type) {

@@ -44,6 +44,11 @@ struct SectionCounts {
     std::uint64_t probe_clusters = 0, probe_vectors = 0;  // its CPCA code's (0: none)
 };
 
+// The counts of `rows` transfer rows of `layout` on `mesh`, with the optional parts of `parts`
+// (its CPCA code and probes; their own sizes), as the writer lays them out.
+SectionCounts section_counts(const Mesh& mesh, const TransferLayout& layout, std::uint64_t rows,
+                             const TransferSet& parts);
+
 struct SectionRule {
     const char* name;
     SectionType type;

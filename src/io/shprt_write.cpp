@@ -3,6 +3,7 @@
 // section's CRC-32 (the CRCs live in the metadata, which precedes the data), the second writes;
 // float16 sections are converted in small chunks both times, so writing never holds a second copy
 // of the coefficients. The pieces are shared with the streaming writer (shprt_stream.cpp).
+#include "io/shprt_metadata.hpp"
 #include "io/shprt_write_internal.hpp"
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
@@ -34,180 +35,6 @@ std::size_t first_magnitude_at_or_above(const float* p, std::size_t n, std::uint
     for (std::size_t i = 0; i < n; ++i)
         if ((float_as_u32(p[i]) & 0x7fffffffu) >= limit_bits) return i;
     return n;
-}
-
-// Adds `extra` into `target`: objects merge recursively, any other collision is an error (the
-// writer's own fields must stay what the reader expects).
-void merge_extra(Json& target, const Json& extra, const std::string& where) {
-    for (auto it = extra.begin(); it != extra.end(); ++it) {
-        const std::string key = where.empty() ? it.key() : where + "." + it.key();
-        if (!target.contains(it.key())) {
-            target[it.key()] = it.value();
-        } else if (target[it.key()].is_object() && it.value().is_object()) {
-            merge_extra(target[it.key()], it.value(), key);
-        } else {
-            fail(ErrorCode::invalid_argument,
-                 "extra metadata key '{}' would replace a value the writer sets", key);
-        }
-    }
-}
-
-Json stats_json(const BakeStats& s) {
-    Json j;
-    j["device"] = s.device_name;
-    j["seconds_bvh"] = s.seconds_bvh;
-    j["seconds_trace"] = s.seconds_trace;
-    j["seconds_project"] = s.seconds_project;
-    j["seconds_total"] = s.seconds_total;
-    j["rays_cast"] = s.rays_cast;
-    j["peak_bytes_host"] = s.peak_bytes_host;
-    j["peak_bytes_device"] = s.peak_bytes_device;
-    if (s.seconds_operator > 0 || s.seconds_bounces > 0) {
-        j["seconds_operator"] = s.seconds_operator;
-        j["seconds_bounces"] = s.seconds_bounces;
-    }
-    if (s.operator_bytes_spilled > 0) j["operator_bytes_spilled"] = s.operator_bytes_spilled;
-    return j;
-}
-
-Json build_metadata(const Mesh& mesh, const TransferInfo& t, std::size_t rows,
-                    const WriteOptions& options, const Json& extra,
-                    const std::vector<SectionOut>& sections, const CpcaCode* cpca,
-                    const ProbeGrid* probes) {
-    const int bands = sh_bands_for(t.layout.K);
-    Json m;
-    m["format"] = "shprt";
-    m["format_version"] = cpca ? kShprtCpcaFormatVersion : kShprtFormatVersion;
-    m["tool"] = "shprt";
-    m["tool_version"] = SHPRT_VERSION_STRING;
-    m["convention"] = {
-        {"basis", kShprtConventionBasis},
-        {"index", "i = l*(l+1) + m, coefficients 0..K-1"},
-        {"world", "right-handed, +Y up"},
-        {"transfer",
-         "T(w) = V(w) max(0, n.w); irradiance E = sum_i c_T[i] c_L[i]; "
-         "outgoing radiance = albedo / pi * E"},
-        {"layout",
-         "transfer[(r*channels + c)*floats_per_channel + j]; floats_per_channel = K "
-         "(vector), K*K (matrix, row-major) or K*(K+1)/2 (symmetric_matrix, upper "
-         "triangle by rows)"},
-    };
-    m["transfer_kind"] = to_string(t.kind);
-    m["domain"] = to_string(t.layout.domain);
-    m["shape"] = to_string(t.layout.shape);
-    m["K"] = t.layout.K;
-    m["bands"] = bands;
-    m["last_band_full"] = sh_count(bands) == t.layout.K;
-    m["channels"] = t.layout.channels;
-    m["precision"] = to_string(t.layout.encoding);
-    m["sampler"] = to_string(t.sampler);
-    // Written only for a local set: a sphere bake's metadata (and bytes) stay as before it.
-    if (t.direction_frame != DirectionFrame::sphere) m["directions"] = to_string(t.direction_frame);
-    m["samples"] = t.samples;
-    m["seed"] = t.seed;
-    // Written only for an error-bounded bake (its samples are the most a receiver has).
-    if (t.target_error > 0) m["target_error"] = t.target_error;
-    if (t.kind == TransferKind::interreflected) {
-        const InterreflectionInfo& ir = t.interreflection;
-        m["interreflection"] = {
-            {"bounces", ir.bounces},
-            {"converge", ir.converge},
-            {"converged", ir.converged},
-            {"tolerance", ir.tolerance},
-            {"last_change", ir.last_change},
-            {"two_sided", ir.two_sided},
-            {"albedo_source", ir.albedo_source},
-            {"operator_nnz", ir.operator_nnz},
-            {"operator_bytes", ir.operator_bytes},
-            {"operator_rays", ir.operator_rays},
-        };
-        if (ir.sources > 0) {  // the bounce sources (absent with no bounces, and before them)
-            auto& j = m["interreflection"];
-            j["sources"] = ir.sources;
-            // 0: the mesh's vertices alone (an infinite spacing, which JSON cannot hold).
-            j["source_spacing"] = std::isfinite(ir.source_spacing) ? ir.source_spacing : 0.0;
-            j["invalid_sources"] = ir.invalid_sources;
-            j["indirect_samples"] = ir.indirect_samples;
-            j["receivers_seeing_back_faces"] = ir.receivers_seeing_back_faces;
-            if (ir.bounce_coeffs > 0) j["bounce_coeffs"] = ir.bounce_coeffs;
-        }
-    }
-    if (cpca) {
-        m["cpca"] = {
-            {"clusters", cpca->clusters},
-            {"vectors", cpca->vectors},
-            {"seed", cpca->seed},
-            {"method",
-             "k-means++ seeding (std::mt19937_64) + Lloyd, then per-cluster PCA, Frobenius "
-             "metric; row = means[cluster] + sum_i weights[i] * basis[cluster][i]"},
-        };
-    }
-    m["scene"] = {
-        {"source", mesh.source},
-        {"hash", format_mesh_hash(mesh_hash(mesh))},
-        {"vertices", mesh.positions.size()},
-        {"triangles", mesh.triangles.size()},
-    };
-    if (!mesh.brdf_index.empty()) {
-        Json brdfs = Json::array();
-        for (const Brdf& b : mesh.brdfs) brdfs.push_back(to_string(b));
-        m["scene"]["brdfs"] = brdfs;
-    }
-    // The rows' receivers: all of them, or a shard's range (a part, see shprt_file.hpp).
-    const bool texel = t.layout.domain == ReceiverDomain::texel;
-    m["receivers"] = {
-        {"first", options.receiver_first},
-        {"count", rows},
-        {"total", texel ? t.texels.texel.size() : mesh.positions.size()},
-    };
-    // The texel domain's image (docs/texels.md); its receivers' texels are section "texel_index".
-    if (texel)
-        m["texels"] = {{"width", t.texels.width},
-                       {"height", t.texels.height},
-                       {"uv_set", t.texels.uv_set},
-                       {"origin",
-                        "row 0 at v = 1 (top); texel (x, y) centre u = (x + 0.5) / "
-                        "width, v = 1 - (y + 0.5) / height"}};
-    // Transfer probes (docs/probes.md); their arrays are sections "probe_matrices" and
-    // "probe_valid".
-    if (probes && !probes->empty()) {
-        std::size_t valid = 0;
-        for (std::uint8_t v : probes->valid) valid += v;
-        const auto xyz = [](Vec3f v) { return Json::array({v.x, v.y, v.z}); };
-        m["probes"] = {
-            {"origin", xyz(probes->origin)},
-            {"spacing", xyz(probes->spacing)},
-            {"counts", probes->counts},
-            {"K", probes->K},
-            {"channels", probes->channels},
-            {"valid", valid},
-            {"layout",
-             "probe (x, y, z) at origin + (x, y, z) * spacing is number x + nx*(y + ny*z); "
-             "probe_matrices[(probe*channels + c)*K*K + i*K + j]: radiance coefficient i from "
-             "light coefficient j (row-major)"},
-        };
-        // Stored as a CPCA code (sections probe_cpca_*, one row per valid probe, in probe order).
-        if (!probes->cpca.empty())
-            m["probes"]["cpca"] = {{"clusters", probes->cpca.clusters},
-                                   {"vectors", probes->cpca.vectors},
-                                   {"seed", probes->cpca.seed}};
-    }
-    merge_extra(m, parse_extra(options.kept_metadata_json), "");
-    if (!options.reproducible) {
-        m["stats"] = stats_json(t.stats);
-        merge_extra(m, extra, "");
-    }
-    Json table = Json::array();
-    for (const SectionOut& s : sections)
-        table.push_back({{"name", s.name},
-                         {"dtype", s.dtype},
-                         {"shape", {s.rows, s.cols}},
-                         {"count", s.count()},
-                         {"offset", s.offset},
-                         {"length", s.length()},
-                         {"crc32", s.crc}});
-    m["sections"] = std::move(table);
-    return m;
 }
 
 }  // namespace
@@ -300,19 +127,7 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
     const TransferSet none;
     const TransferSet& parts = transfer ? *transfer : none;
     const bool cpca = !parts.cpca.empty();
-    const detail::SectionCounts counts{mesh.positions.size(),
-                                       mesh.triangles.size(),
-                                       rows,
-                                       info.layout,
-                                       std::uint64_t(std::max(parts.cpca.clusters, 0)),
-                                       std::uint64_t(std::max(parts.cpca.vectors, 0)),
-                                       parts.probes.count(),
-                                       std::uint64_t(parts.probes.channels) *
-                                           std::uint64_t(parts.probes.K) *
-                                           std::uint64_t(parts.probes.K),
-                                       parts.probes.cpca.cluster.size(),
-                                       std::uint64_t(std::max(parts.probes.cpca.clusters, 0)),
-                                       std::uint64_t(std::max(parts.probes.cpca.vectors, 0))};
+    const detail::SectionCounts counts = section_counts(mesh, info.layout, rows, parts);
     std::vector<SectionOut> sections;
     for (const detail::SectionRule& rule : detail::section_rules()) {
         const bool is_transfer = rule.is_transfer();
@@ -337,7 +152,7 @@ std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInf
                     std::vector<SectionOut>& sections, std::size_t reserve, const CpcaCode* cpca,
                     const ProbeGrid* probes) {
     const auto render = [&] {
-        return build_metadata(mesh, info, rows, options, extra, sections, cpca, probes)
+        return write_metadata({mesh, info, rows, options, extra, sections, cpca, probes})
                    .dump(2, ' ', false, Json::error_handler_t::replace) +
                '\n';
     };

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -110,6 +111,30 @@ TEST_F(CliInfo, CorruptOrMissingFileGivesOneLineError) {
         EXPECT_NE(r.err.find(file), std::string::npos) << r.err;
     }
     expect_usage_error(shprt("info"), "file is required");
+}
+
+// `shprt info` on one file of every transfer kind (tests/data/shprt_kinds, written by the build
+// before the metadata became one field table) prints what it printed then: the .info files beside
+// them (SHPRT_UPDATE_GOLDEN=1 rewrites them).
+TEST_F(CliInfo, EveryKindSummarisedAsBefore) {
+    const fs::path dir = fs::path(SHPRT_TEST_DATA_DIR) / "shprt_kinds";
+    const bool update = std::getenv("SHPRT_UPDATE_GOLDEN") != nullptr &&
+                        std::string(std::getenv("SHPRT_UPDATE_GOLDEN")) == "1";
+    int files = 0;
+    for (const char* kind : {"vector", "glossy", "cpca", "interreflected", "texels", "refined",
+                             "probes", "probe_cpca", "error_bounded", "part"}) {
+        const fs::path file = dir / (std::string(kind) + ".shprt");
+        const fs::path golden = dir / (std::string(kind) + ".info");
+        const RunResult r = shprt(fmt::format("info '{}'", file.string()));
+        ASSERT_EQ(r.exit_code, 0) << kind << ": " << r.err;
+        if (update) {
+            std::ofstream(golden, std::ios::binary) << r.out;
+        } else {
+            EXPECT_EQ(r.out, read_file(golden.string())) << kind;
+        }
+        ++files;
+    }
+    EXPECT_EQ(files, 10);
 }
 
 }  // namespace
