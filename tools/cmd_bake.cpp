@@ -3,13 +3,14 @@
 // across the ranks of an MPI job (under mpirun, or --mpi). Thin: it parses the options into a
 // bake request (bake/request.hpp; its refusals come before any work), loads the scene, runs the
 // request (dist::run under MPI), draws the progress bar and prints the summary on stdout.
-#include "common/bake_options.hpp"
+#include "common/option_table.hpp"
 #include "common/checkpoint_options.hpp"
 #include "common/command.hpp"
 #include "common/progress_bar.hpp"
 #include "common/receiver_options.hpp"
 #include "common/signals.hpp"
 
+#include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/request.hpp"
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
@@ -42,7 +43,7 @@ namespace {
 
 struct BakeArgs {
     std::string scene, output;
-    BakeOptionArgs bake;  // common/bake_options.hpp, shared with `shprt view --bake`
+    BakeOptionChoice bake;  // bake/bake_option_table.hpp, shared with `shprt view --bake`
     bool half = false;
     bool stream = false;
     bool reproducible = false;
@@ -86,7 +87,7 @@ bool use_mpi(const BakeArgs& args) {
 // is made here, before any work.
 BakeRequest request_from(const BakeArgs& args) {
     BakeRequest r;
-    r.options = bake_options_from(args.bake);
+    r.options = bake_options_from(args.bake, Spelling::command_line);
     r.receivers = parse_receivers(args.receivers.choice);
     const ReceiverChoice& c = args.receivers.choice;
     r.probes = parse_probes(c.probes, c.probe_box, c.probe_bands);
@@ -300,7 +301,7 @@ void run(const BakeArgs& args) {
                            : 0;
     Mesh mesh = load_scene(args.scene, uv_set);
     check_output_path(args.output);  // now also against the files the scene read (a .mtl, ...)
-    apply_albedo_option(args.bake, mesh);
+    apply_albedo_choice(args.bake, mesh);
     const double seconds_load = seconds_since(load_start);
     add_run_metadata(request, seconds_load, 0);
 
@@ -333,7 +334,7 @@ const bool bake_registered = register_command(
          app.add_option("scene", args->scene, "Scene file or builtin:NAME (room, plane, ...)")
              ->required();
          app.add_option("-o,--output", args->output, "Output .shprt file")->required();
-         add_bake_options(app, args->bake);
+         add_table_options(app, bake_option_table(), args->bake);
          add_receiver_options(app, args->receivers);
          app.add_flag("--half", args->half, "Store coefficients as float16");
          app.add_flag("--stream", args->stream,

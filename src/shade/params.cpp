@@ -12,13 +12,6 @@
 
 namespace shprt {
 
-std::string option_text(Spelling spelling, std::string_view name, std::string_view value) {
-    if (spelling == Spelling::python) return fmt::format("{}={}", name, value);
-    std::string option = "--" + std::string(name);
-    std::replace(option.begin(), option.end(), '_', '-');
-    return value.empty() ? option : fmt::format("{} {}", option, value);
-}
-
 ShadeView parse_view(const std::string& name, Spelling spelling) {
     if (name == "radiance") return ShadeView::radiance;
     if (name == "irradiance") return ShadeView::irradiance;

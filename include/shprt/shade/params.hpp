@@ -12,6 +12,7 @@
 //                            sun_shade.hpp); the GL renderer draws the same plan
 #pragma once
 
+#include "shprt/core/options.hpp"  // Spelling, option_text
 #include "shprt/core/vec.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/light.hpp"
@@ -27,12 +28,6 @@
 #include <string_view>
 
 namespace shprt {
-
-// How a front end spells an option in its messages: `--sun-samples 9` or `sun_samples=9`.
-enum class Spelling { command_line, python };
-// The option `name` (snake_case) with `value` as `spelling` writes it; an empty value gives the
-// option alone (`--direct`, `direct=`).
-std::string option_text(Spelling spelling, std::string_view name, std::string_view value = {});
 
 // Which glossy term shades a file of transfer matrices: the matrices with their BRDF, or the
 // paper's zonal term of their diffuse part (glossy_to_diffuse).
