@@ -3,9 +3,9 @@
 // across the ranks of an MPI job (under mpirun, or --mpi). Thin: it parses the options into a
 // bake request (bake/request.hpp; its refusals come before any work), loads the scene, runs the
 // request (dist::run under MPI), draws the progress bar and prints the summary on stdout.
-#include "common/option_table.hpp"
 #include "common/checkpoint_options.hpp"
 #include "common/command.hpp"
+#include "common/option_table.hpp"
 #include "common/progress_bar.hpp"
 #include "common/receiver_options.hpp"
 #include "common/signals.hpp"

@@ -10,9 +10,9 @@
 
 #if SHPRT_HAS_VIEWER
 
-#include "common/option_table.hpp"
 #include "common/command.hpp"
 #include "common/object_options.hpp"
+#include "common/option_table.hpp"
 #include "common/progress_bar.hpp"
 #include "common/shading_options.hpp"
 

@@ -26,91 +26,87 @@ using C = BakeOptionChoice;
 std::vector<Row> make_table() {
     constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
     std::vector<Row> t;
-    const auto add = [&](std::string name, auto field, std::string help, OptionLimits limits = {},
-                         std::string limits_text = {}) {
-        Row row;
-        row.name = std::move(name);
-        row.field = field;
-        row.help = std::move(help);
-        row.limits = limits;
-        row.limits_text = std::move(limits_text);
-        t.push_back(std::move(row));
-        return &t.back();
-    };
-    add("transfer", &C::transfer,
-        "unshadowed, shadowed (default), interreflected (RGB, with bounces) or glossy (K×K "
-        "matrices, at most 8 bands)");
-    add("bands", &C::bands,
-        fmt::format("SH bands n (K = n², 1 to {}); default 4 (glossy: 5, at most 8)",
-                    kMaxComputeBands),
-        {1, double(kMaxComputeBands)});
-    add("coeffs", &C::coeffs,
-        fmt::format("Basis size K, 1 to {} (need not be a square); default 16 (4 bands: smooth "
-                    "skies; a sun projected into SH wants more, e.g. the paper's 256)",
-                    kMaxBakeCoeffs),
-        {1, double(kMaxBakeCoeffs)});
-    add("samples", &C::samples,
-        "Directions per vertex S (default 1024; not used with --target-error)",
-        {1, double(kMaxBakeSamples)});
-    add("target_error", &C::target_error,
+    add_row(t, "transfer", &C::transfer,
+            "unshadowed, shadowed (default), interreflected (RGB, with bounces) or glossy (K×K "
+            "matrices, at most 8 bands)");
+    add_row(t, "bands", &C::bands,
+            fmt::format("SH bands n (K = n², 1 to {}); default 4 (glossy: 5, at most 8)",
+                        kMaxComputeBands),
+            {1, double(kMaxComputeBands)});
+    add_row(t, "coeffs", &C::coeffs,
+            fmt::format("Basis size K, 1 to {} (need not be a square); default 16 (4 bands: smooth "
+                        "skies; a sun projected into SH wants more, e.g. the paper's 256)",
+                        kMaxBakeCoeffs),
+            {1, double(kMaxBakeCoeffs)});
+    add_row(t, "samples", &C::samples,
+            "Directions per vertex S (default 1024; not used with --target-error)",
+            {1, double(kMaxBakeSamples)});
+    add_row(
+        t, "target_error", &C::target_error,
         fmt::format("Error-bounded bake: each receiver gets the smallest prefix {}, {}, ... of the "
                     "nested set whose estimated relative error is at most E (e.g. 0.01; above 0, "
                     "at most 1; default 0 = off: every receiver gets --samples). Shadowed or "
                     "unshadowed, sobol or uniform, CPU; docs/sampling.md",
                     kTargetFirstSamples, 2 * kTargetFirstSamples),
         {0, 1});
-    add("max_samples", &C::max_samples,
+    add_row(
+        t, "max_samples", &C::max_samples,
         fmt::format("--target-error: the most directions a receiver gets, a power of two {} to {} "
                     "(default 0 = {})",
                     kTargetFirstSamples, kMaxBakeSamples, kDefaultMaxSamples),
         {0, double(kMaxBakeSamples)},
         fmt::format("0 or a power of two {} to {}", kTargetFirstSamples, kMaxBakeSamples));
-    add("sampler", &C::sampler,
-        "sobol (default: 7x lower error than the paper's set at the same cost), uniform (the "
-        "paper's), stratified or fibonacci");
-    add("directions", &C::directions,
+    add_row(t, "sampler", &C::sampler,
+            "sobol (default: 7x lower error than the paper's set at the same cost), uniform (the "
+            "paper's), stratified or fibonacci");
+    add_row(
+        t, "directions", &C::directions,
         "sphere (default: one set on the sphere, the paper's) or local (one cosine-weighted set "
         "in each receiver's tangent frame: every ray above the horizon; CPU only; "
         "docs/sampling.md)");
-    add("seed", &C::seed, "Seed of the direction set (default 1)");
-    add("threads", &C::threads, "Worker threads (default 0 = all)", {0, double(kMaxBakeThreads)},
-        fmt::format("0 (all) to {}", kMaxBakeThreads));
-    add("device", &C::device, "cpu (default), cuda or auto");
-    add("device_index", &C::device_index, "CUDA device for --device cuda|auto (default 0)",
-        {0, double(INT_MAX)}, "0 or more")
-        ->cli_only = true;
-    add("max_device_memory", &C::max_device_memory,
+    add_row(t, "seed", &C::seed, "Seed of the direction set (default 1)");
+    add_row(t, "threads", &C::threads, "Worker threads (default 0 = all)",
+            {0, double(kMaxBakeThreads)}, fmt::format("0 (all) to {}", kMaxBakeThreads));
+    add_row(t, "device", &C::device, "cpu (default), cuda or auto");
+    add_row(t, "device_index", &C::device_index, "CUDA device for --device cuda|auto (default 0)",
+            {0, double(INT_MAX)}, "0 or more")
+        .cli_only = true;
+    add_row(
+        t, "max_device_memory", &C::max_device_memory,
         "--device cuda|auto: the GPU memory the bake may use (512M, 4G, ...; default 90% of what "
         "is free); interreflected bounces copy in what does not fit")
-        ->cli_only = true;
-    add("bounces", &C::bounces,
+        .cli_only = true;
+    add_row(
+        t, "bounces", &C::bounces,
         fmt::format("Interreflected: bounces N (0 to {}; default 1) or 'converged'", kMaxBounces),
         {0, double(kMaxBounces)}, fmt::format("0 to {} or 'converged'", kMaxBounces));
-    add("tolerance", &C::tolerance,
+    add_row(
+        t, "tolerance", &C::tolerance,
         "Interreflected, --bounces converged: stop when no vertex's transfer changes by more than "
         "this fraction (default 1e-4)",
         {0, 1, true});
-    add("albedo", &C::albedo,
-        "Interreflected: albedo R,G,B (linear, 0 to 1) for every vertex (default: the scene's "
-        "vertex colours, else its materials' diffuse colour, else 0.8 grey)")
-        ->cli_only = true;  // Python's albedo= is the per-vertex array
-    add("two_sided", &C::two_sided,
-        "Interreflected: a back face reflects the light on its own side, as a renderer does "
-        "(default: it brings nothing; docs/interreflection.md says which to pick)");
-    add("indirect_samples", &C::indirect_samples,
-        fmt::format("Interreflected: directions per receiver for the bounces (the first of the "
-                    "bake's set; default --samples / {})",
-                    kIndirectSampleShare),
-        {1, double(kMaxBakeSamples)});
-    add("source_spacing", &C::source_spacing,
+    add_row(t, "albedo", &C::albedo,
+            "Interreflected: albedo R,G,B (linear, 0 to 1) for every vertex (default: the scene's "
+            "vertex colours, else its materials' diffuse colour, else 0.8 grey)")
+        .cli_only = true;  // Python's albedo= is the per-vertex array
+    add_row(t, "two_sided", &C::two_sided,
+            "Interreflected: a back face reflects the light on its own side, as a renderer does "
+            "(default: it brings nothing; docs/interreflection.md says which to pick)");
+    add_row(t, "indirect_samples", &C::indirect_samples,
+            fmt::format("Interreflected: directions per receiver for the bounces (the first of the "
+                        "bake's set; default --samples / {})",
+                        kIndirectSampleShare),
+            {1, double(kMaxBakeSamples)});
+    add_row(
+        t, "source_spacing", &C::source_spacing,
         "Interreflected: the bounce sources' cell size in metres (default: the scene's diagonal "
         "/ 48), or 'vertices' for the mesh's vertices alone",
         {0, kNone, true}, "> 0 (metres) or 'vertices'");
-    add("bounce_coeffs", &C::bounce_coeffs,
-        fmt::format("Interreflected: coefficients the light carries from its second bounce on "
-                    "(default {}, at most K; the first bounce keeps all K)",
-                    kDefaultBounceCoeffs),
-        {1, kNone}, "1 to K");
+    add_row(t, "bounce_coeffs", &C::bounce_coeffs,
+            fmt::format("Interreflected: coefficients the light carries from its second bounce on "
+                        "(default {}, at most K; the first bounce keeps all K)",
+                        kDefaultBounceCoeffs),
+            {1, kNone}, "1 to K");
     return complete_rows(std::move(t));
 }
 
@@ -207,8 +203,10 @@ BakeOptions bake_options_from(const BakeOptionChoice& a, Spelling s) {
     o.sampler = parse_sampler_kind(a.sampler);
     o.direction_frame = parse_direction_frame(a.directions);
     o.device = parse_device(a.device);
-    SHPRT_CHECK(!(a.bands && a.coeffs), invalid_argument, "{} and {} both given; use one (K = "
-                "bands²)", row("bands").label(s), row("coeffs").label(s));
+    SHPRT_CHECK(!(a.bands && a.coeffs), invalid_argument,
+                "{} and {} both given; use one (K = "
+                "bands²)",
+                row("bands").label(s), row("coeffs").label(s));
     if (a.bands) {
         check_limits(row("bands"), *a.bands, s,
                      fmt::format(" (K = bands², at most {})", kMaxBakeCoeffs));

@@ -49,8 +49,9 @@ const OptionInfo& find_option(const std::vector<const OptionInfo*>& table, std::
 
 namespace {
 
+// A value within the limits: finite (an open end is no licence for infinity), and inside them.
 bool within(const OptionLimits& l, double v) {
-    if (std::isnan(v)) return false;
+    if (!std::isfinite(v)) return false;
     if (l.exclusive) return !(v <= l.min) && !(v >= l.max);
     return !(v < l.min) && !(v > l.max);
 }

@@ -79,4 +79,11 @@ void check_numeric_options(CLI::App& app) {
     for (CLI::App* sub : app.get_subcommands({})) check_numeric_options(*sub);
 }
 
+void show_defaults(CLI::App& app) {
+    for (CLI::Option* option : app.get_options())
+        if (option->get_type_size() != 0 && option->get_default_str().empty())
+            option->capture_default_str();
+    for (CLI::App* sub : app.get_subcommands({})) show_defaults(*sub);
+}
+
 }  // namespace shprt::tools

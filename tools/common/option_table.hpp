@@ -1,5 +1,6 @@
 // The command line's options from a library option table (core/options.hpp): one CLI11 option per
-// row, `--name-text`, writing into the row's field of `target` (which must outlive the parse).
+// row, `--name-text`, writing into the row's field of `target` (which must outlive the parse);
+// the rows named in `leave_out` are not added.
 // The help shows the row's limits and default after the type (`INT:[1 to 16777216]=1024`); the
 // values are checked by the library function the table belongs to, not by CLI11.
 #pragma once
@@ -16,9 +17,10 @@
 namespace shprt::tools {
 
 template <class Struct>
-void add_table_options(CLI::App& app, const std::vector<OptionRow<Struct>>& table,
-                       Struct& target) {
+void add_table_options(CLI::App& app, const std::vector<OptionRow<Struct>>& table, Struct& target,
+                       const std::vector<std::string>& leave_out = {}) {
     for (const OptionRow<Struct>& row : table) {
+        if (std::find(leave_out.begin(), leave_out.end(), row.name) != leave_out.end()) continue;
         std::visit(
             [&](auto member) {
                 auto& field = target.*member;

@@ -63,7 +63,21 @@ struct OptionRow : OptionInfo {
     OptionField<Struct> field;
 };
 
-// "1 to 16777216", "(0, 1)" or "≥ 0"; empty for no limits.
+// Appends a row to `table` and returns it (for what is rarely set: cli_only).
+template <class Struct, class Field>
+OptionRow<Struct>& add_row(std::vector<OptionRow<Struct>>& table, std::string name,
+                           Field Struct::*field, std::string help, OptionLimits limits = {},
+                           std::string limits_text = {}) {
+    OptionRow<Struct>& row = table.emplace_back();
+    row.name = std::move(name);
+    row.field = field;
+    row.help = std::move(help);
+    row.limits = limits;
+    row.limits_text = std::move(limits_text);
+    return row;
+}
+
+// "1 to 16777216", "between 0 and 1" or "≥ 0"; empty for no limits.
 std::string limits_description(const OptionLimits& limits);
 
 // The default of a field as the help and Python's signature show it ("1024", "1e-04" as "0.0001",
@@ -79,8 +93,8 @@ std::string default_text(const std::optional<T>& value) {
     return value ? default_text(*value) : std::string();
 }
 
-// Completes rows whose default_text, limits_text and python are empty (python: the name), from a default-constructed
-// `Struct` and from their limits.
+// Completes rows whose default_text, limits_text and python are empty (python: the name), from a
+// default-constructed `Struct` and from their limits.
 template <class Struct>
 std::vector<OptionRow<Struct>> complete_rows(std::vector<OptionRow<Struct>> rows) {
     const Struct defaults{};

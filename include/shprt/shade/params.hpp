@@ -26,6 +26,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace shprt {
 
@@ -56,6 +57,14 @@ struct ShadingParams {
     std::optional<Sun> sun;       // a sun kept out of the SH sum (sun_shade.hpp)
     int sun_samples = kDefaultSunSamples;  // directions on its disc: a square, 1..kMaxSunSamples
 };
+
+// The numeric shading options as one table (core/options.hpp): name, default (ShadingParams{}'s),
+// limits and help, and the field each sets — k, gloss, exposure, direct, shading_coeffs (K′:
+// ShadingParams::coeffs) and sun_samples. The command line registers them by walking it
+// (tools/common/shading_options.cpp), Python's shade() and render() take their defaults from
+// ShadingParams{}, and check() checks their limits from it. The options with names (view, glossy,
+// brdf, albedo, eye, sun) are parsed by the functions above and check().
+const std::vector<OptionRow<ShadingParams>>& shading_option_table();
 
 // Checks every choice on its own, before any file is read: k ∈ [0, 1], gloss ≥ 0, exposure > 0
 // (finite), coeffs ≥ 0, a valid BRDF (a Phong lobe without colour for the paper's term), albedo in
