@@ -339,11 +339,6 @@ TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
         SHPRT_CHECK(checked.device == Device::automatic, unsupported, "{}", kTargetErrorOnGpu);
         backend = Device::cpu;
     }
-    if (backend == Device::cuda && checked.direction_frame == DirectionFrame::local) {
-        // The GPU bake has no local sets yet: automatic means "the GPU where it can run".
-        SHPRT_CHECK(checked.device == Device::automatic, unsupported, "{}", kLocalDirectionsOnGpu);
-        backend = Device::cpu;
-    }
     if (job.directions) return run_bake(job, checked, backend, *job.directions);
     const DirectionSet directions = bake_direction_set(checked);
     return run_bake(job, checked, backend, directions);

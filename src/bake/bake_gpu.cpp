@@ -42,7 +42,8 @@ FlatBvh build_bvh(const Mesh& mesh, int threads) {
 
 // The device's view of the occluders (`bvh`, null when unshadowed) and the receivers.
 cuda::DeviceScene device_scene(const Receivers& receivers, const FlatBvh* bvh,
-                               const DirectionSet& directions) {
+                               const DirectionSet& directions,
+                               DirectionFrame frame = DirectionFrame::sphere) {
     cuda::DeviceScene s;
     if (bvh) s.bvh = bvh->view();
     s.positions = receivers.positions;
@@ -52,6 +53,7 @@ cuda::DeviceScene device_scene(const Receivers& receivers, const FlatBvh* bvh,
     s.weights = directions.weights.data();
     s.samples = directions.size();
     s.shadowed = bvh != nullptr;
+    s.local = frame == DirectionFrame::local;
     return s;
 }
 
@@ -158,6 +160,13 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     const std::size_t S = directions.size();
     const int K = options.K;
     const int F = glossy ? K * (K + 1) / 2 : K;
+    // A local set (docs/sampling.md): the kernel turns each direction into its receiver's frame,
+    // the SGEMM projects onto the KL ≥ K coefficients of the full bands in the frame (FL
+    // columns), and the host rotates each chunk's rows to world space (rotate_rows_to_world, the
+    // CPU bake's own code) before the sink takes them.
+    const bool local = options.direction_frame == DirectionFrame::local;
+    const int KL = projected_coeffs(options);
+    const int FL = glossy ? KL * (KL + 1) / 2 : KL;
     FlatBvh bvh;
     double seconds_bvh = 0;
     if (shadowed) {  // unshadowed transfer casts no rays: no BVH
@@ -165,22 +174,25 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
         bvh = build_bvh(*job.occluders, options.threads);
         seconds_bvh = seconds_since(bvh_start);
     }
-    std::vector<float> Y = basis_table(K, directions);
-    if (glossy) Y = pair_product_table(Y, S, K);
+    std::vector<float> Y = basis_table(KL, directions);
+    if (glossy) Y = pair_product_table(Y, S, KL);
 
     TransferInfo info = bake_info(options, rx, S);
     TransferSink& sink = *job.sink;
     sink.begin(info.layout, rx.first, rx.count);
     float* const device_output = sink.device_rows();
+    SHPRT_CHECK(!(local && device_output), unsupported,
+                "a GPU bake with a local direction set rotates its rows on the host, so it cannot "
+                "write into a device buffer; bake with the sphere set (--directions sphere)");
 
     ChunkPlanRequest request;
     request.vertices = rx.count;
     request.samples = S;
-    request.K = F;
+    request.K = FL;
     const DeviceMemory memory = device_memory(options, device.free_bytes);
     request.free_device_bytes = memory.bytes;
     request.usable_fraction = memory.usable_fraction;
-    request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, F, shadowed ? bvh.bytes() : 0);
+    request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, FL, shadowed ? bvh.bytes() : 0);
     request.device_output = device_output != nullptr;
     request.requested_chunk = options.chunk_receivers;
     const ChunkPlan plan = plan_chunks(request);
@@ -188,16 +200,25 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     BakeProgress progress(options.progress, shadowed, rx.count, S);
     cuda::DeviceBakeInput input;
     input.device = options.device_index;
-    input.scene = device_scene(rx, shadowed ? &bvh : nullptr, directions);
+    input.scene = device_scene(rx, shadowed ? &bvh : nullptr, directions, options.direction_frame);
     input.scene.hemisphere = glossy;
     input.basis = Y.data();
-    input.K = F;
+    input.K = FL;
     input.first = rx.first;
     input.count = rx.count;
     input.plan = plan;
     input.device_output = device_output;
+    std::vector<float> world;  // a local set's rows, rotated (count × F)
+    double seconds_rotate = 0;
     input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* rows,
                               std::uint64_t rays) {
+        if (local) {
+            const auto rotate_start = Clock::now();
+            world.resize(count * std::size_t(F));
+            rotate_rows_to_world(rx.normals + first, count, KL, K, glossy, rows, world.data());
+            rows = world.data();
+            seconds_rotate += seconds_since(rotate_start);
+        }
         sink.write(first, count, rows);
         progress.add(count, rays);
         return progress.poll();
@@ -210,11 +231,11 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     BakeStats& st = info.stats;
     st.seconds_bvh = seconds_bvh;
     st.seconds_trace = result.seconds_trace;
-    st.seconds_project = result.seconds_project;
+    st.seconds_project = result.seconds_project + seconds_rotate;
     st.seconds_total = seconds_since(start);
     st.rays_cast = result.rays;
-    st.peak_bytes_host =
-        Y.size() * sizeof(float) + (shadowed ? bvh.bytes() : 0) + result.pinned_bytes;
+    st.peak_bytes_host = (Y.size() + world.capacity()) * sizeof(float) +
+                         (shadowed ? bvh.bytes() : 0) + result.pinned_bytes;
     st.peak_bytes_device = result.peak_device_bytes;
     st.device_name = device.name;
     return info;
@@ -299,15 +320,15 @@ TransferInfo bake_interreflected_gpu(const BakeJob& job, const BakeOptions& opti
 
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
                                         const DirectionSet& directions, std::size_t first,
-                                        std::size_t count, int device) {
+                                        std::size_t count, DirectionFrame frame, int device) {
     detail::validate_whole_mesh(mesh, kind, directions);
     require_gpu(device);
     const bool shadowed = kind == TransferKind::shadowed;
     FlatBvh bvh;
     if (shadowed) bvh = build_bvh(mesh, 0);
     return cuda::device_transfer_samples(
-        device, device_scene(vertex_receivers(mesh), shadowed ? &bvh : nullptr, directions), first,
-        count);
+        device, device_scene(vertex_receivers(mesh), shadowed ? &bvh : nullptr, directions, frame),
+        first, count);
 }
 
 TransportOperator gpu_transport_operator(const Mesh& mesh, const DirectionSet& directions,

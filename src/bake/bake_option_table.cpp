@@ -62,7 +62,7 @@ std::vector<Row> make_table() {
     add_row(
         t, "directions", &C::directions,
         "sphere (default: one set on the sphere, the paper's) or local (one cosine-weighted set "
-        "in each receiver's tangent frame: every ray above the horizon; CPU only; "
+        "in each receiver's tangent frame: every ray above the horizon; "
         "docs/sampling.md)");
     add_row(t, "seed", &C::seed, "Seed of the direction set (default 1)");
     add_row(t, "threads", &C::threads, "Worker threads (default 0 = all)",

@@ -42,7 +42,7 @@ TransferInfo detail::bake_interreflected_gpu(const BakeJob&, const BakeOptions&,
 
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
                                         const DirectionSet& directions, std::size_t, std::size_t,
-                                        int) {
+                                        DirectionFrame, int) {
     detail::validate_whole_mesh(mesh, kind, directions);
     no_cuda();
 }

@@ -457,8 +457,6 @@ std::optional<std::string> request_refusal(const BakeRequest& r) {
                 "bake of the scene",
                 with);
     }
-    if (r.options.direction_frame == DirectionFrame::local && r.options.device == Device::cuda)
-        return kLocalDirectionsOnGpu;
     if (r.options.target_error > 0 && r.options.device == Device::cuda) return kTargetErrorOnGpu;
     if (r.options.target_error > 0 && (r.distributed || r.checkpoint || is_refined(r)))
         return fmt::format(

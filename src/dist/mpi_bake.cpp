@@ -206,9 +206,6 @@ void prepare(const MpiSession& session, const BakeJob& job, const BakeOptions& o
         const int devices = query_gpu(0).device_count;
         if (devices > 0) p.options.device_index = session.local_rank() % devices;
     }
-    // The GPU bake has no local sets (bake() refuses them on Device::cuda): auto means the CPU.
-    if (p.options.direction_frame == DirectionFrame::local && p.options.device == Device::automatic)
-        p.options.device = Device::cpu;
     p.options.device = resolve_device(p.options.device, p.options.device_index);
     if (job.directions) {
         p.directions = job.directions;

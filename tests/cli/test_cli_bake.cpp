@@ -222,7 +222,6 @@ TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
         {"--samples -3", "--samples -3"},
         {"--sampler bogus", "unknown sampler 'bogus'"},
         {"--directions tangent", "unknown directions 'tangent' (expected sphere or local)"},
-        {"--directions local --device cuda", "--directions local: the GPU bake has no local"},
         {"--transfer specular", "unknown transfer kind 'specular'"},
         {"--transfer glossy --bands 9", "glossy transfer: K = 81 is too large"},
         {"--transfer glossy --bounces 2", "--bounces: interreflected glossy transfer"},

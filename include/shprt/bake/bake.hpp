@@ -74,11 +74,6 @@ inline constexpr int kDefaultBounceCoeffs = 16;
 inline constexpr int kMaxBakeThreads = 4096;
 // Most bounces an interreflected bake accepts (BakeOptions::bounces and max_bounces).
 inline constexpr int kMaxBounces = 10000;
-// The one line with which a GPU bake refuses a local direction set (bake() with Device::cuda,
-// request_refusal).
-inline constexpr const char* kLocalDirectionsOnGpu =
-    "--directions local: the GPU bake has no local direction sets yet; bake on the CPU "
-    "(--device cpu) or with --directions sphere";
 // The error-bounded bake (BakeOptions::target_error, docs/sampling.md "Error-bounded bakes"):
 // every receiver starts with the first kTargetFirstSamples directions of the nested set (its
 // halves give the first estimate) and doubles while its estimated error is over the target, up

@@ -167,11 +167,14 @@ TransportResidency plan_transport_residency(const std::vector<std::uint64_t>& bl
 
 // The transfer samples the GPU kernel computes for vertices [first, first + count): row j holds
 // W[first + j][s] for s < S (count × S floats, vertex-major), exactly as the bake's kernel
-// produces them, copied back. For tests: compare with transfer_sample() run on the host.
+// produces them, copied back. For tests: compare with transfer_sample() run on the host (with
+// a local `frame`, local_transfer_sample(): the directions are then in each vertex's frame).
 // Throws as the GPU bake, and Error(invalid_argument) for a range outside the mesh.
 std::vector<float> gpu_transfer_samples(const Mesh& mesh, TransferKind kind,
                                         const DirectionSet& directions, std::size_t first,
-                                        std::size_t count, int device = 0);
+                                        std::size_t count,
+                                        DirectionFrame frame = DirectionFrame::sphere,
+                                        int device = 0);
 
 // The transport operator A of interreflected transfer (interreflect.hpp) as the GPU bake builds
 // it: closest hits over the flat BVH and A's blocks built on the device (transport_build.hpp),

@@ -1,6 +1,6 @@
 // One entry of the bake's transfer matrix, W[v][s] = V(p, w_s)·max(0, n·w_s)·weight_s, as SHPRT_HD
-// code: the body of the GPU bake's kernel (src/bake/cuda/transfer_kernels.cu), and what the CPU tests
-// run on the host to check that kernel's math without a GPU. Header-only; no std::vector,
+// code: the body of the GPU bake's kernel (src/bake/cuda/transfer_kernels.cu), and what the CPU
+// tests run on the host to check that kernel's math without a GPU. Header-only; no std::vector,
 // exceptions or virtual calls.
 //
 // It reproduces the CPU bake (bake_cpu.cpp) operation for operation: the cosine is
@@ -13,6 +13,7 @@
 
 #include "shprt/core/hd.hpp"
 #include "shprt/core/vec.hpp"
+#include "shprt/sh/local_frame.hpp"
 #include "shprt/trace/flat_bvh.hpp"
 #include "shprt/trace/ray.hpp"
 
@@ -63,6 +64,22 @@ SHPRT_HD_INLINE float transfer_sample(const FlatBvhView& bvh, Vec3f p, Vec3f n, 
     ray_cast = true;
     constexpr float kInf = __builtin_huge_valf();
     return bvh_occluded(bvh, offset_ray_origin(p, n), w, 0.0f, kInf) ? 0.0f : unoccluded;
+}
+
+// A sample of a local set (DirectionFrame::local, docs/sampling.md): `l` lies in the receiver's
+// tangent frame, whose axes are local_axes(n), and the ray goes along to_world(axes, l) from
+// offset_ray_origin(p, n), as the CPU bake's trace_row casts it. The set's density already holds
+// the cosine (or the hemisphere, for glossy matrices), so the unoccluded value is the weight and
+// every sample is above the horizon: with `shadowed` a ray is always cast. The GPU kernel computes
+// `axes` per sample from the normal; the host emulation per receiver (the same bits).
+SHPRT_HD_INLINE float local_transfer_sample(const FlatBvhView& bvh, Vec3f p, Vec3f n,
+                                            const LocalAxes& axes, Vec3f l, float weight,
+                                            bool shadowed, bool& ray_cast) {
+    ray_cast = shadowed;
+    if (!shadowed) return weight;
+    constexpr float kInf = __builtin_huge_valf();
+    return bvh_occluded(bvh, offset_ray_origin(p, n), to_world(axes, l), 0.0f, kInf) ? 0.0f
+                                                                                     : weight;
 }
 
 // What interreflected transfer keeps of a sample's ray: the closest hit's triangle (kNoTriangle

@@ -37,7 +37,7 @@ struct SceneBuffers {
     DeviceBuffer<Vec3f> positions, normals;
     DeviceBuffer<float> dirs, weights;
     std::uint32_t node_count = 0, tri_count = 0, samples = 0;
-    bool shadowed = true, hemisphere = false;
+    bool shadowed = true, hemisphere = false, local = false;
 
     SceneBuffers(const DeviceScene& s, MemoryTally* tally)
         : nodes(s.bvh.node_count, tally),
@@ -51,7 +51,8 @@ struct SceneBuffers {
           tri_count(s.bvh.tri_count),
           samples(static_cast<std::uint32_t>(s.samples)),
           shadowed(s.shadowed),
-          hemisphere(s.hemisphere) {
+          hemisphere(s.hemisphere),
+          local(s.local) {
         nodes.upload(s.bvh.nodes, nodes.size());
         tri_verts.upload(s.bvh.tri_verts, tri_verts.size());
         tri_ids.upload(s.bvh.tri_ids, tri_ids.size());
@@ -73,6 +74,7 @@ struct SceneBuffers {
         l.samples = samples;
         l.shadowed = shadowed;
         l.hemisphere = hemisphere;
+        l.local = local;
         return l;
     }
 };
@@ -238,6 +240,9 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
                 "GPU bake: interreflected transfer needs the mesh's {} vertices as receivers ({} "
                 "given, at most 2^31 - 1) and chunks of under 2^31 / 3 entries ({} × {})",
                 in.mesh_vertices, in.scene.vertex_count, plan.chunk_vertices, S);
+
+    SHPRT_CHECK(!(in.closest_hits && in.scene.local), unsupported,
+                "GPU bake: the closest-hit pass of interreflected transfer takes a sphere set");
 
     MemoryTally tally;
     const SceneBuffers scene(in.scene, &tally);

@@ -41,6 +41,7 @@ struct DeviceScene {
     std::size_t samples = 0;
     bool shadowed = true;
     bool hemisphere = false;  // glossy transfer matrices: W without the cosine
+    bool local = false;       // a local set: dirs in each receiver's tangent frame
 };
 
 struct DeviceBakeInput {

@@ -30,9 +30,13 @@ __global__ void __launch_bounds__(kBlock) transfer_kernel(TransferLaunch p) {
     if (i < total) {  // no early return: every lane takes part in the warp vote below
         const std::uint32_t s = i / p.count;
         const std::uint32_t vertex = p.first + (i - s * p.count);
-        p.w_t[i] = transfer_sample(p.bvh, p.positions[vertex], p.normals[vertex],
-                                   load_direction(p.dirs, s), p.weights[s], p.shadowed, cast,
-                                   p.hemisphere);
+        const Vec3f n = p.normals[vertex];
+        p.w_t[i] =
+            p.local
+                ? local_transfer_sample(p.bvh, p.positions[vertex], n, local_axes(n),
+                                        load_direction(p.dirs, s), p.weights[s], p.shadowed, cast)
+                : transfer_sample(p.bvh, p.positions[vertex], n, load_direction(p.dirs, s),
+                                  p.weights[s], p.shadowed, cast, p.hemisphere);
     }
     count_lanes(cast, p.rays);
 }

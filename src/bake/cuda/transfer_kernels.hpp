@@ -26,8 +26,9 @@ struct TransferLaunch {
     const float* weights;  // S
     std::uint32_t first = 0, count = 0, samples = 0;
     bool shadowed = true;
-    bool hemisphere = false;                 // glossy transfer: no cosine (transfer_sample)
-    float* w_t = nullptr;                    // S × count, sample-major: w_t[s·count + v]
+    bool hemisphere = false;  // glossy transfer: no cosine (transfer_sample)
+    bool local = false;       // a local set: dirs in each receiver's frame (local_transfer_sample)
+    float* w_t = nullptr;     // S × count, sample-major: w_t[s·count + v]
     unsigned long long* rays = nullptr;      // += rays cast (must be non-null)
     unsigned long long* occluded = nullptr;  // trace-only: += rays that hit something
     SampleHit* hits = nullptr;  // closest hits: S × count, sample-major: hits[s·count + v]
