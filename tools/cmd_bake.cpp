@@ -3,13 +3,15 @@
 // across the ranks of an MPI job (under mpirun, or --mpi). Thin: it parses the options into a
 // bake request (bake/request.hpp; its refusals come before any work), loads the scene, runs the
 // request (dist::run under MPI), draws the progress bar and prints the summary on stdout.
-#include "common/bake_options.hpp"
 #include "common/checkpoint_options.hpp"
 #include "common/command.hpp"
+#include "common/option_table.hpp"
 #include "common/progress_bar.hpp"
 #include "common/receiver_options.hpp"
 #include "common/signals.hpp"
 
+#include "shprt/bake/bake_option_table.hpp"
+#include "shprt/bake/bake_summary.hpp"
 #include "shprt/bake/request.hpp"
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
@@ -42,7 +44,7 @@ namespace {
 
 struct BakeArgs {
     std::string scene, output;
-    BakeOptionArgs bake;  // common/bake_options.hpp, shared with `shprt view --bake`
+    BakeOptionChoice bake;  // bake/bake_option_table.hpp, shared with `shprt view --bake`
     bool half = false;
     bool stream = false;
     bool reproducible = false;
@@ -86,7 +88,7 @@ bool use_mpi(const BakeArgs& args) {
 // is made here, before any work.
 BakeRequest request_from(const BakeArgs& args) {
     BakeRequest r;
-    r.options = bake_options_from(args.bake);
+    r.options = bake_options_from(args.bake, Spelling::command_line);
     r.receivers = parse_receivers(args.receivers.choice);
     const ReceiverChoice& c = args.receivers.choice;
     r.probes = parse_probes(c.probes, c.probe_box, c.probe_bands);
@@ -112,109 +114,6 @@ void add_run_metadata(BakeRequest& r, double seconds_load, int ranks) {
     extra["command_line"] = command_line();
     if (ranks > 0) extra["mpi"] = {{"ranks", ranks}};
     r.output->write.extra_metadata_json = extra.dump();
-}
-
-void print_interreflection(const TransferInfo& transfer) {
-    const BakeStats& s = transfer.stats;
-    const InterreflectionInfo& ir = transfer.interreflection;
-    std::printf(
-        "interreflection: %d bounce%s (%s), operator %.3f s (nnz(A) = %llu, %.1f MiB), bounces "
-        "%.3f s; albedo: %s\n",
-        ir.bounces, ir.bounces == 1 ? "" : "s", describe_convergence(ir).c_str(),
-        s.seconds_operator, static_cast<unsigned long long>(ir.operator_nnz),
-        double(ir.operator_bytes) / (1024.0 * 1024.0), s.seconds_bounces, ir.albedo_source.c_str());
-    if (s.operator_bytes_spilled > 0)
-        std::printf(
-            "operator: %.1f MiB of A past the memory budget, read memory-mapped from a "
-            "temporary file beside the output\n",
-            double(s.operator_bytes_spilled) / (1024.0 * 1024.0));
-}
-
-// The sampler as the summary lines name it: "sobol", or "sobol, local" for a local set.
-std::string sampling_label(const TransferInfo& t) {
-    std::string label = to_string(t.sampler);
-    if (t.direction_frame == DirectionFrame::local) label += ", local";
-    if (t.target_error > 0) label += fmt::format(", at most, to error {:.3g}", t.target_error);
-    return label;
-}
-
-// An error-bounded bake's estimates: "error bound: receivers per prefix 64: 1200, ... (mean 391);
-// estimated error worst ..., 99th percentile ..., mean ...".
-void print_estimates(const TransferSet& t) {
-    const EstimateSummary e = summarize_estimates(t);
-    if (e.receivers_per_samples.empty()) return;
-    std::printf("error bound: receivers per prefix %s; estimated error %s\n",
-                samples_histogram_text(e).c_str(), error_spread_text(e.error).c_str());
-}
-
-// "baked N texels|vertices, ...": the summary of a texel or refined bake.
-void print_bake_line(const char* what, const BakeResult& r, const std::string& output) {
-    const TransferInfo& t = r.info;
-    const BakeStats& s = t.stats;
-    const double seconds = r.seconds_bake;
-    std::printf(
-        "baked %zu %s, K=%d, S=%d (%s, %s): trace %.3f s, project %.3f s, total %.3f s; %.0f "
-        "receivers/s, %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
-        r.receivers, what, t.layout.K, t.samples, to_string(t.kind), sampling_label(t).c_str(),
-        s.seconds_trace, s.seconds_project, seconds,
-        seconds > 0 ? double(r.receivers) / seconds : 0.0,
-        s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace * 1e-6 : 0.0,
-        double(s.peak_bytes_host) / (1024.0 * 1024.0), s.device_name.c_str(), output.c_str());
-    print_estimates(r.transfer);
-}
-
-void print_refinement(const RefineResult& r, const RefineOptions& refine,
-                      std::size_t input_triangles, const Mesh& refined) {
-    const std::size_t V = refined.vertex_count();
-    if (r.budget_reached)
-        log_warn(
-            "refinement stopped at --max-vertices {}: {} edges still differ by more than {} "
-            "(largest {:.3g}); the mesh is refined as far as that budget allows, as asked (a "
-            "larger --max-vertices refines further)",
-            V, r.edges_over, refine.tolerance, r.largest_difference);
-    else if (r.depth_reached)
-        log_warn(
-            "refinement stopped at --max-edge-split-depth {}: {} edges still differ by more "
-            "than {} (largest {:.3g}); they are as short as that depth allows, as asked (a "
-            "larger --max-edge-split-depth splits further)",
-            refine.max_depth, r.edges_over, refine.tolerance, r.largest_difference);
-    std::printf(
-        "refined: %zu -> %zu vertices, %zu -> %zu triangles in %d pass%s; largest edge "
-        "difference %.3g (tolerance %g)\n",
-        r.input_vertices, V, input_triangles, refined.triangle_count(), r.passes,
-        r.passes == 1 ? "" : "es", r.largest_difference, refine.tolerance);
-}
-
-void print_summary(const BakeArgs& args, const BakeRequest& request, const Mesh& mesh,
-                   const BakeResult& r, double seconds_load) {
-    const TransferInfo& transfer = r.info;
-    if (!r.transfer.probes.empty())
-        std::printf("probes: %s\n", describe_probes(r.transfer.probes).c_str());
-    if (const auto* grid = std::get_if<TexelGrid>(&request.receivers)) {
-        if (r.unwrap) std::printf("unwrap: %s\n", describe(*r.unwrap).c_str());
-        const int width = r.unwrap ? r.unwrap->resolution : grid->width;
-        const int height = r.unwrap ? r.unwrap->resolution : grid->height;
-        std::printf("texels: %dx%d, %llu covered (%.1f%%), UV set %d, %s\n", width, height,
-                    static_cast<unsigned long long>(r.covered_texels),
-                    100.0 * double(r.covered_texels) / (double(width) * height),
-                    r.unwrap ? 0 : grid->uv_set, to_string(transfer.layout.encoding));
-        return print_bake_line("texels", r, args.output);
-    }
-    if (const auto* refined = std::get_if<RefinedVertices>(&request.receivers)) {
-        print_refinement(r.refinement, refined->refine, mesh.triangle_count(), *r.refined_mesh);
-        return print_bake_line("vertices", r, args.output);
-    }
-    if (transfer.kind == TransferKind::interreflected) print_interreflection(transfer);
-    const BakeStats& s = transfer.stats;
-    const double rays_per_second = s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace : 0;
-    std::printf(
-        "baked %zu vertices, K=%d, S=%d (%s, %s): load %.3f s, bvh %.3f s, trace %.3f s, "
-        "project %.3f s, write %.3f s; %.1f Mrays/s, peak %.1f MiB, %s -> %s\n",
-        r.receivers, transfer.layout.K, transfer.samples, to_string(transfer.kind),
-        sampling_label(transfer).c_str(), seconds_load, s.seconds_bvh, s.seconds_trace,
-        s.seconds_project, r.seconds_write, rays_per_second * 1e-6,
-        double(s.peak_bytes_host) / (1024.0 * 1024.0), s.device_name.c_str(), args.output.c_str());
-    print_estimates(r.transfer);
 }
 
 #if SHPRT_HAS_MPI
@@ -273,7 +172,9 @@ void run_mpi(const BakeArgs& args, BakeRequest request) {
             result = dist::run(session, request, *mesh, args.mpi_unit);
         }
         if (root) {
-            print_summary(args, request, *mesh, result.result, seconds_load);
+            std::fputs(
+                bake_summary(request, *mesh, result.result, args.output, seconds_load).c_str(),
+                stdout);
             print_rank_loads(result.ranks);
         }
     } catch (const Error& e) {
@@ -300,7 +201,7 @@ void run(const BakeArgs& args) {
                            : 0;
     Mesh mesh = load_scene(args.scene, uv_set);
     check_output_path(args.output);  // now also against the files the scene read (a .mtl, ...)
-    apply_albedo_option(args.bake, mesh);
+    apply_albedo_choice(args.bake, mesh);
     const double seconds_load = seconds_since(load_start);
     add_run_metadata(request, seconds_load, 0);
 
@@ -324,7 +225,7 @@ void run(const BakeArgs& args) {
         print_error(resume_hint(e, signalled ? signal_name(signal) : nullptr).c_str());
         throw ExitQuietly{signalled ? interrupted_exit_code(signal) : 1};
     }
-    print_summary(args, request, mesh, result, seconds_load);
+    std::fputs(bake_summary(request, mesh, result, args.output, seconds_load).c_str(), stdout);
 }
 
 const bool bake_registered = register_command(
@@ -333,7 +234,7 @@ const bool bake_registered = register_command(
          app.add_option("scene", args->scene, "Scene file or builtin:NAME (room, plane, ...)")
              ->required();
          app.add_option("-o,--output", args->output, "Output .shprt file")->required();
-         add_bake_options(app, args->bake);
+         add_table_options(app, bake_option_table(), args->bake);
          add_receiver_options(app, args->receivers);
          app.add_flag("--half", args->half, "Store coefficients as float16");
          app.add_flag("--stream", args->stream,

@@ -7,7 +7,7 @@
 #include "common/command.hpp"
 #include "common/shading_options.hpp"
 
-#include "shprt/bake/bake.hpp"
+#include "shprt/bake/bake_option_table.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/parse.hpp"
@@ -97,9 +97,9 @@ void run(const CompressArgs& a) {
     const std::vector<double> probe_cv =
         a.probe_cpca.empty() ? std::vector<double>{} : parse_cpca("--probe-cpca", a.probe_cpca);
     SHPRT_CHECK(a.iterations >= 0, invalid_argument, "--iterations {}: must be ≥ 0", a.iterations);
-    // As bake's --threads (common/bake_options.cpp).
-    SHPRT_CHECK(a.threads >= 0 && a.threads <= kMaxBakeThreads, invalid_argument,
-                "--threads {}: must be 0 (all) to {}", a.threads, kMaxBakeThreads);
+    // As bake's --threads (its row of bake/bake_option_table.hpp).
+    check_limits(find_row(bake_option_table(), "threads"), static_cast<long long>(a.threads),
+                 Spelling::command_line);
     const bool with_light = !a.light.lights.empty();
     SHPRT_CHECK(with_light || a.light.sun.empty(), invalid_argument,
                 "--sun {}: the error is reported under --light SKY; give the sky", a.light.sun);

@@ -10,14 +10,15 @@
 
 #if SHPRT_HAS_VIEWER
 
-#include "common/bake_options.hpp"
 #include "common/command.hpp"
 #include "common/object_options.hpp"
+#include "common/option_table.hpp"
 #include "common/progress_bar.hpp"
 #include "common/shading_options.hpp"
 
 #include "viewer.hpp"
 
+#include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/bake/object_bake.hpp"
 #include "shprt/bake/request.hpp"
@@ -49,7 +50,7 @@ struct ViewArgs {
     LightArgs light;
     CameraArgs camera;
     ObjectArgs object;  // common/object_options.hpp, shared with `render`
-    BakeOptionArgs bake;
+    BakeOptionChoice bake;
     bool do_bake = false;
     std::string size = "1280x720";
     ShadingArgs shading;  // its --albedo and --coeffs are the bake options' (below)
@@ -107,7 +108,7 @@ ViewSetup check_view(const ViewArgs& a) {
     const bool bake_glossy =
         a.do_bake && parse_transfer_kind(a.bake.transfer) == TransferKind::glossy;
     ShadingArgs shading = a.shading;
-    BakeOptionArgs bake_args = a.bake;
+    BakeOptionChoice bake_args = a.bake;
     if (!a.do_bake || bake_glossy) {
         shading.albedo = a.bake.albedo;
         bake_args.albedo.clear();
@@ -157,7 +158,7 @@ ViewSetup check_view(const ViewArgs& a) {
                 "first, then view it without --bake");
     std::optional<BakeOptions> bake_options;
     if (a.do_bake) {
-        bake_options = bake_options_from(bake_args);
+        bake_options = bake_options_from(bake_args, Spelling::command_line);
         resolve_device(bake_options->device, bake_options->device_index);  // fail before a window
     }
 
@@ -345,7 +346,7 @@ const bool view_registered = register_command(
          app.add_flag("--no-vsync", args->no_vsync, "Do not wait for the display's refresh");
          app.add_flag("--bake", args->do_bake,
                       "FILE is a scene: bake it here and show it while it refines");
-         add_bake_options(app, args->bake);
+         add_table_options(app, bake_option_table(), args->bake);
          // Without --bake, --coeffs is the initial K' (deprecated: --shading-coeffs).
          app.get_option("--coeffs")
              ->description(

@@ -83,6 +83,7 @@ extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char*
         command.setup(*sub);
     }
     check_numeric_options(app);
+    shprt::tools::show_defaults(app);
 
     // Every line on stderr starts with "shprt: " (README, "The command line"): warnings are
     // "shprt: warning: ...", errors "shprt: error: ...". Colour as core/terminal.hpp decides.

@@ -5,6 +5,7 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 
+#include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/request.hpp"
 #include "shprt/core/parse.hpp"
 
@@ -21,82 +22,29 @@ using namespace pybind11::literals;
 
 namespace {
 
-BakeOptions bake_options(std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
-                         const std::string& sampler, const std::string& directions,
-                         double target_error, std::int64_t max_samples, const std::string& transfer,
-                         std::uint64_t seed, int threads, const std::string& device,
-                         const py::object& bounces, double tolerance, bool two_sided,
-                         std::int64_t indirect_samples, const py::object& source_spacing,
-                         std::int64_t bounce_coeffs) {
-    BakeOptions o;
-    SHPRT_CHECK(!(bands && coeffs), invalid_argument,
-                "bands and coeffs both given; use one (K = bands²)");
-    if (bands) {
-        SHPRT_CHECK(*bands >= 1 && *bands <= kMaxComputeBands, invalid_argument,
-                    "bands={}: must be 1 to {} (K = bands², at most {})", *bands, kMaxComputeBands,
-                    kMaxBakeCoeffs);
-        o.K = sh_count(*bands);
-    } else if (coeffs) {
-        o.K = *coeffs;
-    }
-    o.transfer = parse_transfer_kind(transfer);
-    if (!bands && !coeffs) o.K = default_coeffs(o.transfer);
-    SHPRT_CHECK(samples >= 1 && samples <= std::int64_t(kMaxBakeSamples), invalid_argument,
-                "samples={}: must be 1 to {}", samples, kMaxBakeSamples);
-    o.samples = std::uint32_t(samples);
-    o.sampler = parse_sampler_kind(sampler);
-    o.direction_frame = parse_direction_frame(directions);
-    set_error_bound(o, target_error, max_samples, "target_error=", "max_samples=");
-    o.transfer = parse_transfer_kind(transfer);
-    o.seed = seed;
-    o.threads = threads;
-    o.device = parse_device(device);
-    // Interreflected transfer: bounces N ≥ 0 or 'converged' (until the largest relative change is
-    // under `tolerance`), as `shprt bake --bounces`.
-    if (py::isinstance<py::str>(bounces)) {
-        const std::string name = bounces.cast<std::string>();
-        SHPRT_CHECK(name == "converged", invalid_argument,
-                    "bounces='{}': expected a number of bounces or 'converged'", name);
-        o.converge = true;
-    } else {
-        SHPRT_CHECK(py::isinstance<py::int_>(bounces) && !py::isinstance<py::bool_>(bounces),
+// The keywords that are the bake options (bake/bake_option_table.hpp): filled into the library's
+// BakeOptionChoice, as the command line fills it, and checked by the same bake_options_from.
+struct OptionKeywords {
+    BakeOptionChoice choice;
+    py::object bounces, source_spacing;  // int or str; float or str (None: unset)
+};
+
+BakeOptions bake_options(OptionKeywords k) {
+    BakeOptionChoice& c = k.choice;
+    // bounces N or 'converged', source_spacing metres or 'vertices': the command line's text.
+    if (py::isinstance<py::str>(k.bounces)) {
+        c.bounces = k.bounces.cast<std::string>();
+    } else if (!k.bounces.is_none()) {
+        SHPRT_CHECK(py::isinstance<py::int_>(k.bounces) && !py::isinstance<py::bool_>(k.bounces),
                     invalid_argument, "bounces: expected an int or 'converged', got {}",
-                    py::str(py::type::of(bounces).attr("__name__")).cast<std::string>());
-        const auto n = bounces.cast<long long>();
-        SHPRT_CHECK(n >= 0 && n <= kMaxBounces, invalid_argument, "bounces={}: must be 0 to {}", n,
-                    kMaxBounces);
-        o.bounces = int(n);
+                    py::str(py::type::of(k.bounces).attr("__name__")).cast<std::string>());
+        c.bounces = py::str(k.bounces).cast<std::string>();
     }
-    o.tolerance = tolerance;
-    o.two_sided = two_sided;
-    // As `shprt bake --indirect-samples` and `--source-spacing` (a number of metres or
-    // 'vertices'); 0 / None = the defaults.
-    SHPRT_CHECK(indirect_samples >= 0 && indirect_samples <= std::int64_t(kMaxBakeSamples),
-                invalid_argument, "indirect_samples={}: must be 0 (default) to {}",
-                indirect_samples, kMaxBakeSamples);
-    o.indirect_samples = std::uint32_t(indirect_samples);
-    if (py::isinstance<py::str>(source_spacing)) {
-        const std::string name = source_spacing.cast<std::string>();
-        SHPRT_CHECK(name == "vertices", invalid_argument,
-                    "source_spacing='{}': expected metres (> 0) or 'vertices'", name);
-        o.source_spacing = std::numeric_limits<float>::infinity();
-    } else if (!source_spacing.is_none()) {
-        const double metres = source_spacing.cast<double>();
-        SHPRT_CHECK(metres > 0 && std::isfinite(metres), invalid_argument,
-                    "source_spacing={}: expected metres (> 0) or 'vertices'", metres);
-        o.source_spacing = float(metres);
-    }
-    SHPRT_CHECK(bounce_coeffs >= 0 && bounce_coeffs <= o.K, invalid_argument,
-                "bounce_coeffs={}: must be 0 (default) to K = {} (the bake's basis size)",
-                bounce_coeffs, o.K);
-    o.bounce_coeffs = int(bounce_coeffs);
-    SHPRT_CHECK(o.transfer == TransferKind::interreflected ||
-                    (indirect_samples == 0 && source_spacing.is_none() && bounce_coeffs == 0),
-                invalid_argument,
-                "indirect_samples, source_spacing and bounce_coeffs need "
-                "transfer='interreflected'");
-    validate(o);
-    return o;
+    if (py::isinstance<py::str>(k.source_spacing))
+        c.source_spacing = k.source_spacing.cast<std::string>();
+    else if (!k.source_spacing.is_none())
+        c.source_spacing = fmt::format("{}", k.source_spacing.cast<double>());
+    return bake_options_from(c, Spelling::python);
 }
 
 // The receiver keywords, parsed by the library's one parser (bake/request.hpp: parse_receivers),
@@ -251,17 +199,10 @@ py::dict summary(const BakeResult& r, const BakeRequest& request) {
 }
 
 py::object bake_py(py::handle vertices, py::handle faces, py::handle normals, py::handle albedo,
-                   std::optional<int> bands, std::optional<int> coeffs, std::int64_t samples,
-                   const std::string& sampler, const std::string& directions, double target_error,
-                   std::int64_t max_samples, const std::string& transfer, std::uint64_t seed,
-                   const py::object& bounces, double tolerance, bool two_sided,
-                   std::int64_t indirect_samples, const py::object& source_spacing,
-                   std::int64_t bounce_coeffs, int threads, const std::string& device,
-                   py::object progress, const Receivers& receivers, const Output& out) {
+                   OptionKeywords keywords, py::object progress, const Receivers& receivers,
+                   const Output& out) {
     BakeRequest request;
-    request.options = bake_options(bands, coeffs, samples, sampler, directions, target_error,
-                                   max_samples, transfer, seed, threads, device, bounces, tolerance,
-                                   two_sided, indirect_samples, source_spacing, bounce_coeffs);
+    request.options = bake_options(std::move(keywords));
     fill_request(receivers, out, request);
     BakeOptions& options = request.options;
     // A shprt.Mesh is used in place; arrays become a Mesh (one copy, checked).
@@ -332,7 +273,7 @@ py::object bake_py(py::handle vertices, py::handle faces, py::handle normals, py
         static constexpr auto name = py::detail::const_name(text); \
     }
 SHPRT_PY_NAME(MeshOrArrayName, "Union[shprt.Mesh, numpy.typing.ArrayLike]");
-SHPRT_PY_NAME(BouncesName, "Union[int, str]");
+SHPRT_PY_NAME(BouncesName, "Union[int, str, None]");
 SHPRT_PY_NAME(SpacingName, "Union[float, str, None]");
 SHPRT_PY_NAME(ProgressName, "Optional[Callable[[int, int], Optional[bool]]]");
 SHPRT_PY_NAME(SizeName, "Union[int, str, Tuple[int, int], None]");
@@ -344,15 +285,17 @@ using Path = Loose<PathName>;
 using Size = Loose<SizeName>;
 
 void bind_bake(py::module_& m) {
+    const BakeOptionChoice d;
     m.def(
         "bake",
         [](Loose<MeshOrArrayName> vertices, OptionalArrayLike faces, OptionalArrayLike normals,
-           OptionalArrayLike albedo, std::optional<int> bands, std::optional<int> coeffs,
-           std::int64_t samples, const std::string& sampler, const std::string& directions,
-           double target_error, std::int64_t max_samples, const std::string& transfer,
-           std::uint64_t seed, const Loose<BouncesName>& bounces, double tolerance, bool two_sided,
-           std::int64_t indirect_samples, const Loose<SpacingName>& source_spacing,
-           std::int64_t bounce_coeffs, int threads, const std::string& device,
+           OptionalArrayLike albedo, std::optional<long long> bands,
+           std::optional<long long> coeffs, long long samples, const std::string& sampler,
+           const std::string& directions, double target_error, long long max_samples,
+           const std::string& transfer, std::uint64_t seed, const Loose<BouncesName>& bounces,
+           std::optional<double> tolerance, bool two_sided,
+           std::optional<long long> indirect_samples, const Loose<SpacingName>& source_spacing,
+           std::optional<long long> bounce_coeffs, long long threads, const std::string& device,
            Loose<ProgressName> progress, const std::string& domain, Size resolution, int uv_set,
            bool unwrap, std::optional<double> texel_density, std::optional<double> refine,
            std::optional<long long> max_vertices, std::optional<long long> max_edge_split_depth,
@@ -360,6 +303,23 @@ void bind_bake(py::module_& m) {
            std::optional<long long> probe_bands, const Path& output, bool half, bool float32,
            bool stream, bool reproducible, const Path& checkpoint, const Path& resume,
            double checkpoint_every, Size max_memory) {
+            OptionKeywords keywords{{}, bounces.value, source_spacing.value};
+            BakeOptionChoice& c = keywords.choice;
+            c.bands = bands;
+            c.coeffs = coeffs;
+            c.samples = samples;
+            c.sampler = sampler;
+            c.directions = directions;
+            c.target_error = target_error;
+            c.max_samples = max_samples;
+            c.transfer = transfer;
+            c.seed = seed;
+            c.tolerance = tolerance;
+            c.two_sided = two_sided;
+            c.indirect_samples = indirect_samples;
+            c.bounce_coeffs = bounce_coeffs;
+            c.threads = threads;
+            c.device = device;
             const Receivers rx{domain,
                                std::move(resolution.value),
                                std::move(shard.value),
@@ -381,17 +341,18 @@ void bind_bake(py::module_& m) {
                              reproducible,
                              checkpoint_every,
                              std::move(max_memory.value)};
-            return bake_py(vertices, faces, normals, albedo, bands, coeffs, samples, sampler,
-                           directions, target_error, max_samples, transfer, seed, bounces.value,
-                           tolerance, two_sided, indirect_samples, source_spacing.value,
-                           bounce_coeffs, threads, device, std::move(progress.value), rx, out);
+            return bake_py(vertices, faces, normals, albedo, std::move(keywords),
+                           std::move(progress.value), rx, out);
         },
         "vertices"_a, "faces"_a = py::none(), "normals"_a = py::none(), "albedo"_a = py::none(),
-        py::kw_only(), "bands"_a = py::none(), "coeffs"_a = py::none(), "samples"_a = 1024,
-        "sampler"_a = "sobol", "directions"_a = "sphere", "target_error"_a = 0.0,
-        "max_samples"_a = 0, "transfer"_a = "shadowed", "seed"_a = 1, "bounces"_a = 1,
-        "tolerance"_a = 1e-4, "two_sided"_a = false, "indirect_samples"_a = 0,
-        "source_spacing"_a = py::none(), "bounce_coeffs"_a = 0, "threads"_a = 0, "device"_a = "cpu",
+        // The bake options' defaults are BakeOptionChoice's, the command line's (an unset one
+        // is None).
+        py::kw_only(), "bands"_a = py::none(), "coeffs"_a = py::none(), "samples"_a = d.samples,
+        "sampler"_a = d.sampler, "directions"_a = d.directions, "target_error"_a = d.target_error,
+        "max_samples"_a = d.max_samples, "transfer"_a = d.transfer, "seed"_a = d.seed,
+        "bounces"_a = py::none(), "tolerance"_a = py::none(), "two_sided"_a = d.two_sided,
+        "indirect_samples"_a = py::none(), "source_spacing"_a = py::none(),
+        "bounce_coeffs"_a = py::none(), "threads"_a = d.threads, "device"_a = d.device,
         "progress"_a = py::none(), "domain"_a = "vertex", "resolution"_a = py::none(),
         "uv_set"_a = 0, "unwrap"_a = false, "texel_density"_a = py::none(), "refine"_a = py::none(),
         "max_vertices"_a = py::none(), "max_edge_split_depth"_a = py::none(),
@@ -412,11 +373,12 @@ target_error E (0 = off) gives each vertex the smallest nested prefix 64, 128, .
 max_samples (0 = 16384; samples is then not used) whose estimated relative error is at most E
 (shadowed or unshadowed, sobol or uniform, CPU: docs/sampling.md, "Error-bounded bakes");
 transfer 'shadowed' (default), 'unshadowed' or 'interreflected' (RGB, shape (V, 3, K); with
-bounces N or 'converged' until the largest relative change is under tolerance, two_sided,
-indirect_samples (0 = the default), source_spacing (metres, 'vertices' or None = the
-default) and bounce_coeffs (the coefficients after the second bounce; 0 = the default):
-docs/interreflection.md); threads 0 = all; device 'cpu', 'cuda' or 'auto'. The same
-options and seed give the same bits as `shprt bake`.
+bounces N (None: 1) or 'converged' until the largest relative change is under tolerance
+(None: 1e-4), two_sided, indirect_samples, source_spacing (metres or 'vertices') and
+bounce_coeffs (the coefficients after the second bounce), None each for the default:
+docs/interreflection.md); threads 0 = all; device 'cpu', 'cuda' or 'auto'. The options, their
+defaults and limits are `shprt bake`'s (one table: bake/bake_option_table.hpp), and the same
+options and seed give the same bits.
 
 The rest is `shprt bake`'s, with the same names and values (bake/request.hpp):
 receivers — shard 'I/N' or (I, N) (that part of the vertices: the array holds its rows);

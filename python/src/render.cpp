@@ -27,6 +27,7 @@ using namespace pybind11::literals;
 
 void bind_render(py::module_& m) {
 #if SHPRT_HAS_RENDER
+    const ShadingParams d;  // the defaults: shading_option_table's, the command line's
     m.def(
         "render",
         [](const ShprtFile& given, ArrayLike light, int width, int height,
@@ -112,10 +113,10 @@ void bind_render(py::module_& m) {
             return take_vector(std::move(image.rgb), {image.height, image.width, 3});
         },
         "file"_a, "light"_a, py::kw_only(), "width"_a = 1280, "height"_a = 720,
-        "camera"_a = py::none(), "fov"_a = py::none(), "k"_a = 1.0, "gloss"_a = kDefaultGloss,
-        "shading_coeffs"_a = 0, "coeffs"_a = py::none(), "view"_a = "radiance",
+        "camera"_a = py::none(), "fov"_a = py::none(), "k"_a = d.k, "gloss"_a = d.gloss,
+        "shading_coeffs"_a = d.coeffs, "coeffs"_a = py::none(), "view"_a = "radiance",
         "background"_a = false, "wireframe"_a = false, "samples"_a = 4, "brdf"_a = py::none(),
-        "albedo"_a = py::none(), "direct"_a = false, "glossy"_a = "matrix", "sun"_a = py::none(),
+        "albedo"_a = py::none(), "direct"_a = d.direct, "glossy"_a = "matrix", "sun"_a = py::none(),
         "object"_a = py::none(), "at"_a = py::none(), "object_scale"_a = 1.0,
         "object_rotate"_a = py::none(),
         R"(Renders the baked scene headless (OpenGL through EGL, the renderer of `shprt render`):

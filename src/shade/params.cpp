@@ -9,15 +9,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace shprt {
-
-std::string option_text(Spelling spelling, std::string_view name, std::string_view value) {
-    if (spelling == Spelling::python) return fmt::format("{}={}", name, value);
-    std::string option = "--" + std::string(name);
-    std::replace(option.begin(), option.end(), '_', '-');
-    return value.empty() ? option : fmt::format("{} {}", option, value);
-}
 
 ShadeView parse_view(const std::string& name, Spelling spelling) {
     if (name == "radiance") return ShadeView::radiance;
@@ -36,19 +30,44 @@ GlossyTerm parse_glossy_term(const std::string& name, Spelling spelling) {
 
 namespace {
 
-std::string number(double v) { return fmt::format("{}", v); }
+using Row = OptionRow<ShadingParams>;
+
+std::vector<Row> make_table() {
+    constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+    std::vector<Row> t;
+    add_row(t, "k", &ShadingParams::k, "Diffuse share k in [0, 1] (default 1: pure diffuse)",
+            {0, 1});
+    add_row(t, "gloss", &ShadingParams::gloss,
+            fmt::format("Phong exponent of the glossy lobe (default {})", kDefaultGloss),
+            {0, kNone});
+    add_row(t, "exposure", &ShadingParams::exposure, "Exposure multiplier (default 1)",
+            {0, kNone, true});
+    add_row(t, "direct", &ShadingParams::direct,
+            "Interreflected files: shade the direct light only (the file's T_0)", {});
+    add_row(t, "shading_coeffs", &ShadingParams::coeffs,
+            "Shade with the first K' coefficients (default: all)", {0, kNone}, "≥ 0 (0: all)");
+    add_row(
+        t, "sun_samples", &ShadingParams::sun_samples,
+        fmt::format("With --sun: directions traced on the sun's disc, a square (default {}; 1 = "
+                    "the centre only, a point sun's hard shadow)",
+                    kDefaultSunSamples),
+        {1, double(kMaxSunSamples)}, fmt::format("a square, 1 to {}", kMaxSunSamples));
+    return complete_rows(std::move(t));
+}
 
 }  // namespace
 
+const std::vector<OptionRow<ShadingParams>>& shading_option_table() {
+    static const std::vector<Row> table = make_table();
+    return table;
+}
+
 void check(const ShadingParams& p, Spelling s) {
-    SHPRT_CHECK(p.k >= 0 && p.k <= 1, invalid_argument, "{}: the diffuse share must be in [0, 1]",
-                option_text(s, "k", number(p.k)));
-    SHPRT_CHECK(p.gloss >= 0 && std::isfinite(p.gloss), invalid_argument,
-                "{}: the Phong exponent must be ≥ 0", option_text(s, "gloss", number(p.gloss)));
-    SHPRT_CHECK(p.exposure > 0 && std::isfinite(p.exposure), invalid_argument,
-                "{}: must be positive", option_text(s, "exposure", number(p.exposure)));
-    SHPRT_CHECK(p.coeffs >= 0, invalid_argument, "{}: must be ≥ 1 (0 = all)",
-                option_text(s, "shading_coeffs", std::to_string(p.coeffs)));
+    const auto& t = shading_option_table();
+    check_limits(find_row(t, "k"), p.k, s);
+    check_limits(find_row(t, "gloss"), p.gloss, s);
+    check_limits(find_row(t, "exposure"), p.exposure, s);
+    check_limits(find_row(t, "shading_coeffs"), static_cast<long long>(p.coeffs), s);
     if (p.brdf) check_brdf(*p.brdf);
     if (p.glossy == GlossyTerm::paper && p.brdf) {
         const std::string paper = option_text(s, "glossy", "paper");

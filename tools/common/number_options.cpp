@@ -56,7 +56,9 @@ void check_text(const std::string& name, Kind kind, std::string& text) {
 void check_numeric_options(CLI::App& app) {
     for (CLI::Option* option : app.get_options()) {
         if (option->get_expected_max() == 0) continue;  // a flag
-        const std::string type = option->get_type_name();
+        // The type before any validator's description (`INT:[1 to 16]`: option_table.hpp).
+        const std::string full = option->get_type_name();
+        const std::string type = full.substr(0, full.find(':'));
         Kind kind;
         if (type == "INT")
             kind = Kind::signed_integer;
@@ -75,6 +77,13 @@ void check_numeric_options(CLI::App& app) {
             std::string()));
     }
     for (CLI::App* sub : app.get_subcommands({})) check_numeric_options(*sub);
+}
+
+void show_defaults(CLI::App& app) {
+    for (CLI::Option* option : app.get_options())
+        if (option->get_type_size() != 0 && option->get_default_str().empty())
+            option->capture_default_str();
+    for (CLI::App* sub : app.get_subcommands({})) show_defaults(*sub);
 }
 
 }  // namespace shprt::tools

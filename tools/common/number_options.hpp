@@ -20,4 +20,11 @@ namespace shprt::tools {
 // is an integer (INT, UINT) or floating point (FLOAT). Call once, after every command's setup.
 void check_numeric_options(CLI::App& app);
 
+// Shows every value option's default in the help (`--uv-set INT=0`), from the variable it writes
+// into, where the option has not set one itself (option_table.hpp does): so that the help says
+// what a command takes when an option is left out, and the test of the front ends' defaults
+// (python/tests/test_option_table.py) can read it. Flags are left alone. Call once, after every
+// command's setup.
+void show_defaults(CLI::App& app);
+
 }  // namespace shprt::tools

@@ -1,6 +1,8 @@
 // Options shared by `shprt render` and `shprt view` (shading_options.hpp).
 #include "common/shading_options.hpp"
 
+#include "common/option_table.hpp"
+
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/log.hpp"
@@ -93,12 +95,12 @@ Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect,
 
 void add_shading_options(CLI::App& app, ShadingArgs& args, unsigned extra,
                          const std::string& exposure_help, const std::string& direct_help) {
-    ShadingParams& p = args.params;
-    app.add_option("--k", p.k, "Diffuse share k in [0, 1] (default 1: pure diffuse)");
-    app.add_option("--gloss", p.gloss,
-                   fmt::format("Phong exponent of the glossy lobe (default {})", kDefaultGloss));
-    app.add_option("--exposure", p.exposure, exposure_help);
-    app.add_flag("--direct", p.direct, direct_help);
+    std::vector<std::string> leave_out;
+    if (!(extra & kCoeffsOption)) leave_out.push_back("shading_coeffs");
+    if (!(extra & kSunSamplesOption)) leave_out.push_back("sun_samples");
+    add_table_options(app, shading_option_table(), args.params, leave_out);
+    app.get_option("--exposure")->description(exposure_help);
+    app.get_option("--direct")->description(direct_help);
     app.add_option("--brdf", args.brdf,
                    "Glossy bakes: the BRDF lobe phong:E (normalised Phong), blinn:E (Blinn-Phong) "
                    "or ggx:R (roughness), optionally :R,G,B, its specular colour (default white); "
@@ -106,9 +108,6 @@ void add_shading_options(CLI::App& app, ShadingArgs& args, unsigned extra,
     app.add_option("--glossy", args.glossy,
                    "matrix (default: transfer matrices, needs a glossy bake) or paper (the "
                    "paper's zonal term; a glossy bake is turned into diffuse transfer)");
-    if (extra & kCoeffsOption)
-        app.add_option("--shading-coeffs", args.shading_coeffs,
-                       "Shade with the first K' coefficients (default: all)");
     if (extra & kDeprecatedCoeffsOption)
         app.add_option("--coeffs", args.deprecated_coeffs,
                        "Deprecated here: --shading-coeffs (bake's --coeffs is the K baked)");
@@ -123,26 +122,21 @@ void add_shading_options(CLI::App& app, ShadingArgs& args, unsigned extra,
         app.add_option("--eye", args.eye,
                        "Eye position X,Y,Z for the glossy term (default: the default render "
                        "camera)");
-    if (extra & kSunSamplesOption)
-        app.add_option("--sun-samples", p.sun_samples,
-                       fmt::format("With --sun: directions traced on the sun's disc, a square "
-                                   "(default {}; 1 = the centre only, a point sun's hard shadow)",
-                                   kDefaultSunSamples));
 }
 
 ShadingParams shading_params(const ShadingArgs& args, const LightSetup& light) {
     constexpr Spelling cli = Spelling::command_line;
     ShadingParams p = args.params;
-    SHPRT_CHECK(!(args.shading_coeffs && args.deprecated_coeffs), invalid_argument,
+    SHPRT_CHECK(!(p.coeffs != 0 && args.deprecated_coeffs), invalid_argument,
                 "--coeffs {} and --shading-coeffs {}: give --shading-coeffs alone (--coeffs is "
                 "its deprecated name here)",
-                args.deprecated_coeffs.value_or(0), args.shading_coeffs.value_or(0));
+                args.deprecated_coeffs.value_or(0), p.coeffs);
     if (args.deprecated_coeffs)
         log_warn(
             "--coeffs {0} is deprecated in shading: it means K' here and K in bake; use "
             "--shading-coeffs {0}",
             *args.deprecated_coeffs);
-    p.coeffs = args.shading_coeffs.value_or(args.deprecated_coeffs.value_or(p.coeffs));
+    if (args.deprecated_coeffs) p.coeffs = *args.deprecated_coeffs;
     p.view = parse_view(args.view, cli);
     p.glossy = parse_glossy_term(args.glossy, cli);
     if (!args.brdf.empty()) p.brdf = parse_brdf(args.brdf);

@@ -60,11 +60,11 @@ Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect,
 // command that shades has --k, --gloss, --exposure, --direct, --brdf, --glossy and --coeffs (K′);
 // the `extra` ones where the command has them.
 struct ShadingArgs {
-    ShadingParams params;  // the numbers and flags, parsed straight in
+    ShadingParams params;  // the numbers and flags, parsed straight in (shading_option_table)
     std::string brdf, glossy = "matrix", albedo, view = "radiance", eye;
-    // K′: --shading-coeffs, or the deprecated --coeffs of `shade` and `render` (in `bake` and
-    // `view --bake`, --coeffs is the K baked).
-    std::optional<int> shading_coeffs, deprecated_coeffs;
+    // K′ is --shading-coeffs (params.coeffs), or the deprecated --coeffs of `shade` and `render`
+    // (in `bake` and `view --bake`, --coeffs is the K baked).
+    std::optional<int> deprecated_coeffs;
 };
 enum ShadingExtra : unsigned {
     kViewOption = 1,

@@ -12,6 +12,7 @@
 //                            sun_shade.hpp); the GL renderer draws the same plan
 #pragma once
 
+#include "shprt/core/options.hpp"  // Spelling, option_text
 #include "shprt/core/vec.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/light.hpp"
@@ -25,14 +26,9 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace shprt {
-
-// How a front end spells an option in its messages: `--sun-samples 9` or `sun_samples=9`.
-enum class Spelling { command_line, python };
-// The option `name` (snake_case) with `value` as `spelling` writes it; an empty value gives the
-// option alone (`--direct`, `direct=`).
-std::string option_text(Spelling spelling, std::string_view name, std::string_view value = {});
 
 // Which glossy term shades a file of transfer matrices: the matrices with their BRDF, or the
 // paper's zonal term of their diffuse part (glossy_to_diffuse).
@@ -61,6 +57,14 @@ struct ShadingParams {
     std::optional<Sun> sun;       // a sun kept out of the SH sum (sun_shade.hpp)
     int sun_samples = kDefaultSunSamples;  // directions on its disc: a square, 1..kMaxSunSamples
 };
+
+// The numeric shading options as one table (core/options.hpp): name, default (ShadingParams{}'s),
+// limits and help, and the field each sets — k, gloss, exposure, direct, shading_coeffs (K′:
+// ShadingParams::coeffs) and sun_samples. The command line registers them by walking it
+// (tools/common/shading_options.cpp), Python's shade() and render() take their defaults from
+// ShadingParams{}, and check() checks their limits from it. The options with names (view, glossy,
+// brdf, albedo, eye, sun) are parsed by the functions above and check().
+const std::vector<OptionRow<ShadingParams>>& shading_option_table();
 
 // Checks every choice on its own, before any file is read: k ∈ [0, 1], gloss ≥ 0, exposure > 0
 // (finite), coeffs ≥ 0, a valid BRDF (a Phong lobe without colour for the paper's term), albedo in
