@@ -31,7 +31,7 @@ PAIRS = [("bake", "bake"), ("shade", "shade"), ("render", "render"), ("view", "r
 # --coeffs are the bake's (with --bake), Python render's samples= MSAA and coeffs= K'.
 ALSO_NOT = {("render", "render"): {"samples"}, ("view", "render"): {"samples", "coeffs"}}
 # What the values a keyword takes need around them (the options they depend on).
-CONTEXT = {
+CONTEXT: dict[str, dict[str, object]] = {
     "max_samples": dict(target_error=0.05),
     "tolerance": dict(transfer="interreflected", bounces="converged"),
     "bounces": dict(transfer="interreflected"),
@@ -159,7 +159,7 @@ def test_python_takes_the_command_lines_limits(cli_process, command, empty_file)
         if limits is None:
             continue
         for value, accepted in probes(kind, *limits):
-            options = dict(CONTEXT.get(name, {}), **{name: value})
+            options: dict[str, object] = {**CONTEXT.get(name, {}), name: value}
             if name == "bounces":
                 options[name] = int(value)
             if command != "bake":
