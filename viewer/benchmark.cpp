@@ -51,6 +51,7 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
     Renderer renderer;
     renderer.set_shadow_map_size(choose_shadow_map_size(true));
     renderer.set_sun_filter(choose_sun_filter(true));
+    renderer.set_moving_shadow_map_size(choose_moving_shadow_map_size(true));
     renderer.set_sun(light.sun());
     renderer.set_scene(mesh, transfer);
     renderer.set_light(light.source(), light.rotation());
@@ -71,6 +72,7 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
         report.shadow_map = renderer.shadow_map_size();
         report.shadow_texel = renderer.shadow_texel_size();
         report.sun_filter = choose_sun_filter(true);
+        report.moving_shadow_map = choose_moving_shadow_map_size(true);
     }
     report.msaa_auto = config.msaa == kAutoMsaa;
     report.direct = target.float_target() == nullptr;
@@ -155,11 +157,13 @@ std::string format_benchmark(const BenchmarkReport& r) {
         r.rotate_light ? ", light turned every frame" : "", r.context, r.host);
     if (!r.transfer.empty()) out += r.transfer + "\n";
     if (r.shadow_map > 0)
-        out += fmt::format("sun: a {}² shadow map, texel {:.1f} mm, {} filter\n", r.shadow_map,
-                           1e3 * r.shadow_texel,
-                           r.sun_filter == SunFilter::full
-                               ? "full (16 + 1 blocker taps, 32 PCF taps)"
-                               : "interactive (8 + 1 blocker taps, 16 PCF taps)");
+        out += fmt::format(
+            "sun: a {}² shadow map{}, texel {:.1f} mm, {} filter\n", r.shadow_map,
+            r.moving_shadow_map > 0 ? fmt::format(" ({}² while it moves)", r.moving_shadow_map)
+                                    : std::string(),
+            1e3 * r.shadow_texel,
+            r.sun_filter == SunFilter::full ? "full (16 + 1 blocker taps, 32 PCF taps)"
+                                            : "interactive (8 + 1 blocker taps, 16 PCF taps)");
     if (r.object_vertices > 0)
         out += fmt::format(
             "object: {} vertices moved every frame, lit from the probes: {:.2f} ms "

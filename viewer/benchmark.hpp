@@ -58,7 +58,8 @@ struct BenchmarkReport {
     int shadow_map = 0;                      // texels a side of the sun's map (0: no sun)
     double shadow_texel = 0;                 // its texel, world units
     SunFilter sun_filter = SunFilter::full;  // the map's filter (choose_sun_filter)
-    bool msaa_auto = false;                  // msaa chosen by choose_samples, not by --msaa
+    int moving_shadow_map = 0;  // texels a side of the map while moving (0: the same map)
+    bool msaa_auto = false;     // msaa chosen by choose_samples, not by --msaa
     // Frames drawn straight into the 8-bit target (Renderer::draw_to_display), not through a
     // float target and the present pass (FrameTarget).
     bool direct = false;

@@ -21,6 +21,10 @@ int choose_shadow_map_size(bool continuous) {
     return continuous && is_software_renderer() ? 1024 : kShadowMapSize;
 }
 
+int choose_moving_shadow_map_size(bool continuous) {
+    return continuous && is_software_renderer() ? 512 : 0;
+}
+
 SunFilter choose_sun_filter(bool continuous) {
     return continuous && is_software_renderer() ? SunFilter::interactive : SunFilter::full;
 }

@@ -43,6 +43,12 @@ int choose_shadow_map_size(bool continuous);
 // sun's filter on llvmpipe"). Needs a current context.
 SunFilter choose_sun_filter(bool continuous);
 
+// Texels a side of the sun's map while the sun or an object moves
+// (Renderer::set_moving_shadow_map_size): 512 for frames drawn continuously on a software
+// rasteriser, where the 1024² map's redraw was ~17 of a moving sun's ~65 CPU ms a frame; 0 (the
+// map at rest) otherwise. The first frame at rest redraws the map at its full size.
+int choose_moving_shadow_map_size(bool continuous);
+
 // What the command line and the panel decide about a frame, besides the light.
 struct FrameConfig {
     DrawSettings draw;   // camera, k, gloss, K', view, wireframe, background

@@ -167,6 +167,7 @@ App::~App() {
 void App::show_transfer() {
     m_renderer.set_shadow_map_size(choose_shadow_map_size(true));
     m_renderer.set_sun_filter(choose_sun_filter(true));
+    m_renderer.set_moving_shadow_map_size(choose_moving_shadow_map_size(true));
     m_renderer.set_sun(m_light.sun());
     m_renderer.set_scene(m_mesh, m_panel.direct_only ? m_direct : m_transfer);
     m_renderer.set_light(m_light.source(), m_light.rotation());

@@ -584,7 +584,7 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
         glUseProgram(scene_program(display, static_cast<int>(sun_code)));
         glUniformMatrix4fv(gl::loc::kViewProj, 1, GL_FALSE, view_proj.m);
         if (display) glUniform1f(gl::loc::kDisplayExposure, exposure);
-        if (sun_mode != SunMode::none) m_sun_pass->bind(sun_mode, sun_code);
+        if (sun_mode != SunMode::none) m_sun_map->bind(sun_mode, sun_code);
     };
     use_scene_program();
     const bool sun_glossy = sun_mode == SunMode::radiance && m_matrices;
@@ -592,7 +592,7 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
         std::vector<Brdf> table{key.brdf};
         if (key.material_brdfs)
             table.insert(table.end(), m_material_brdfs.begin(), m_material_brdfs.end());
-        m_sun_pass->bind_glossy(
+        m_sun_map->bind_glossy(
             s.camera.eye, key.k,
             key.override_albedo ? std::optional<Vec3f>(key.albedo) : std::nullopt, table);
     }
@@ -614,8 +614,7 @@ void Renderer::draw_scene(const DrawSettings& s, int width, int height, float ex
     glPolygonMode(GL_FRONT_AND_BACK, s.wireframe ? GL_LINE : GL_FILL);
     if (m_texel)  // per fragment, from the coefficient planes
         m_texel->draw(view_proj, s, K, m_light_ubo, light_stride(m_light.K), exposure,
-                      m_color_buffer, sun_mode != SunMode::none ? m_sun_pass.get() : nullptr,
-                      sun_mode);
+                      m_color_buffer, sun_mode != SunMode::none ? m_sun_map : nullptr, sun_mode);
     else
         glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT,
                        gl::draw_order_offset(m_draw_orders, m_index_count, s));

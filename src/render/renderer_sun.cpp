@@ -35,6 +35,7 @@ void Renderer::set_sun(const PreparedSun* sun) {
                 sun->sh.K, sun->sh.coeffs.size());
     m_sun_source = *sun;
     if (!m_sun_pass) m_sun_pass = std::make_unique<SunPass>(m_shadow_map_size);
+    m_sun_map = nullptr;  // update_sun_map chooses
     update_world_sun();
 }
 
@@ -50,6 +51,7 @@ void Renderer::set_shadow_map_size(int texels) {
     if (texels == m_shadow_map_size) return;
     m_shadow_map_size = texels;
     if (m_sun_pass) m_sun_pass = std::make_unique<SunPass>(texels);  // redrawn at the next draw
+    m_sun_map = nullptr;
 }
 
 double Renderer::shadow_texel_size() const {
@@ -58,7 +60,10 @@ double Renderer::shadow_texel_size() const {
 
 bool Renderer::sun_bounced() const { return m_sun_source && m_direct_ssbo != 0; }
 
-std::uint64_t Renderer::sun_map_builds() const { return m_sun_pass ? m_sun_pass->map_builds() : 0; }
+std::uint64_t Renderer::sun_map_builds() const {
+    return (m_sun_pass ? m_sun_pass->map_builds() : 0) +
+           (m_sun_pass_moving ? m_sun_pass_moving->map_builds() : 0);
+}
 
 void Renderer::update_world_sun() {
     if (!m_sun_source || !m_has_light) return;
@@ -91,14 +96,32 @@ void Renderer::update_world_sun() {
     gl::check("Renderer::update_world_sun");
 }
 
+void Renderer::set_moving_shadow_map_size(int texels) {
+    SHPRT_CHECK(texels == 0 || (texels >= 64 && texels <= 8192), invalid_argument,
+                "a moving shadow map of {} texels a side (0: none; 64 to 8192)", texels);
+    m_moving_shadow_map_size = texels;
+    m_sun_pass_moving.reset();
+    m_sun_map = nullptr;
+}
+
 void Renderer::update_sun_map() {
-    m_sun_pass->update(m_world_sun, m_bounds_centre, m_bounds_radius, m_geometry_generation, [&] {
+    const auto draw = [&] {
         if (m_object) m_object->draw_triangles();  // the object casts too
         if (m_texel) return m_texel->draw_triangles();
         glBindVertexArray(m_vao);
         glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
         glBindVertexArray(0);
-    });
+    };
+    // Moving: the state differs from the last frame's map (whichever was drawn) — the first
+    // frame, with no map yet, is at rest.
+    const bool coarse =
+        m_moving_shadow_map_size > 0 && m_moving_shadow_map_size < m_sun_pass->size() &&
+        m_sun_map != nullptr &&
+        !m_sun_map->drawn_for(m_world_sun, m_bounds_centre, m_bounds_radius, m_geometry_generation);
+    if (coarse && !m_sun_pass_moving)
+        m_sun_pass_moving = std::make_unique<SunPass>(m_moving_shadow_map_size);
+    m_sun_map = coarse ? m_sun_pass_moving.get() : m_sun_pass.get();
+    m_sun_map->update(m_world_sun, m_bounds_centre, m_bounds_radius, m_geometry_generation, draw);
 }
 
 void Renderer::set_object(const Mesh* mesh, const ObjectShading* shading) {

@@ -197,10 +197,14 @@ SunPass::~SunPass() {
     if (m_program) glDeleteProgram(m_program);
 }
 
+bool SunPass::drawn_for(const Sun& sun, Vec3f centre, float radius, std::uint64_t geometry) const {
+    return m_builds > 0 && sun.direction == m_sun.direction && sun.radius_deg == m_sun.radius_deg &&
+           centre == m_centre && radius == m_radius && geometry == m_geometry;
+}
+
 void SunPass::update(const Sun& sun, Vec3f centre, float radius, std::uint64_t geometry,
                      const std::function<void()>& draw_triangles) {
-    if (m_builds > 0 && sun.direction == m_sun.direction && sun.radius_deg == m_sun.radius_deg &&
-        centre == m_centre && radius == m_radius && geometry == m_geometry) {
+    if (drawn_for(sun, centre, radius, geometry)) {
         m_sun = sun;  // its radiance does not change the map
         return;
     }

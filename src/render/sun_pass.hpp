@@ -86,6 +86,10 @@ public:
                      const std::vector<Brdf>& brdfs) const;
 
     std::uint64_t map_builds() const { return m_builds; }  // for tests and statistics
+    // Whether the map was drawn for this sun direction and radius, sphere and geometry (update
+    // would not redraw it).
+    bool drawn_for(const Sun& sun, Vec3f centre, float radius, std::uint64_t geometry) const;
+    int size() const { return m_size; }
 
     // A texel's width (world) of a `size`² map fitted to a sphere of `radius`.
     static double texel_size(float radius, int size);

@@ -423,6 +423,59 @@ TEST(GlSun, TheSunTurnsWithTheLightAndTheMapFollows) {
     EXPECT_THROW(renderer.draw(settings, w, h), Error);
 }
 
+// While the sun moves the frame draws the coarser map (set_moving_shadow_map_size); the first
+// frame at rest redraws the full one and is the picture a renderer without a moving map draws.
+TEST(GlSun, AMovingSunDrawsTheCoarseMapAndTheFirstFrameAtRestTheFullOne) {
+    REQUIRE_GL(context);
+    const DirectScene scene;
+    DrawSettings settings;
+    settings.camera = shadow_camera(scene.mesh);
+    const int w = 96, h = 72;
+    const Mat3d turned = rotation_y(0.3);
+    auto make = [&](int moving) {
+        auto r = std::make_unique<Renderer>();
+        r->set_shadow_map_size(1024);
+        r->set_moving_shadow_map_size(moving);
+        r->set_sun(&scene.prepared);
+        r->set_scene(scene.mesh, scene.transfer);
+        r->set_light(ShLight::zero(4));
+        return r;
+    };
+    RenderTarget target(w, h, 1);
+    auto frame = [&](Renderer& r) {
+        target.bind();
+        r.draw(settings, w, h);
+        target.resolve();
+        return target.read_pixels();
+    };
+    const auto same = [&](const Image& a, const Image& b) {
+        std::size_t differ = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                differ += std::memcmp(a.pixel(x, y), b.pixel(x, y), 3 * sizeof(float)) != 0;
+        return differ;
+    };
+    const std::unique_ptr<Renderer> full = make(0);
+    full->set_light(ShLight::zero(4), turned);
+    const Image want = frame(*full);
+
+    const std::unique_ptr<Renderer> r = make(128);
+    const Image first = frame(*r);  // at rest: the full map
+    EXPECT_EQ(r->sun_map_builds(), 1u);
+    r->set_light(ShLight::zero(4), turned);  // the sun moves
+    const Image moving = frame(*r);
+    EXPECT_EQ(r->sun_map_builds(), 2u);
+    const Image rest = frame(*r);  // the same sun: at rest again, the full map redrawn
+    EXPECT_EQ(r->sun_map_builds(), 3u);
+    (void)frame(*r);
+    EXPECT_EQ(r->sun_map_builds(), 3u) << "nothing moves: no map is redrawn";
+    EXPECT_EQ(same(rest, want), 0u) << "the first frame at rest is the full map's picture";
+    EXPECT_GT(same(moving, want), std::size_t(w * h / 200))
+        << "a 128² map's shadow edges differ from the 1024² map's";
+    EXPECT_GT(same(first, want), 0u);
+    EXPECT_THROW(r->set_moving_shadow_map_size(32), Error);
+}
+
 // The diffuse sum on the host (Renderer::set_vertex_shading, with the sun's bounce folded in)
 // against the compute pass: the same picture to float rounding, in both views, before and after
 // the light (and the sun with it) turns (float sums in another order, and T·(c_sky + c_sun) −

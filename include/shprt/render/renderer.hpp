@@ -216,11 +216,18 @@ public:
     int shadow_map_size() const { return m_shadow_map_size; }
     // The sun's shadow filter (SunFilter::full until set).
     void set_sun_filter(SunFilter filter);
+    // Texels a side of the map drawn while the sun, the scene's bounds or an object move (0, until
+    // set: always the map of set_shadow_map_size): a frame whose sun or geometry differ from the
+    // last frame's draws this coarser map; the first frame at rest draws the full one. For
+    // continuous frames on a software rasteriser, where the map's redraw is a large part of a
+    // moving sun's frame (viewer/frame.hpp, choose_moving_shadow_map_size). 64 to 8192.
+    void set_moving_shadow_map_size(int texels);
     // A shadow-map texel's width in world units for the scene set (0 before set_scene).
     double shadow_texel_size() const;
     // The sun's bounced light is drawn (set_sun with a transfer that has a direct part).
     bool sun_bounced() const;
-    // How many times the sun's shadow map has been drawn (it is redrawn when the sun turns).
+    // How many times the sun's shadow map has been drawn (it is redrawn when the sun turns; the
+    // coarser map while moving counts too).
     std::uint64_t sun_map_builds() const;
 
     // A dynamic object lit from the scene's probes (shade/object_shade.hpp, docs/probes.md
@@ -415,8 +422,11 @@ private:
     // draw from the colours of T · (c_sky + c_sun).
     std::optional<PreparedSun> m_sun_source;
     Sun m_world_sun{};
-    ShLight m_world_sun_sh{};  // its SH projection in the scene's frame (host shading)
-    std::unique_ptr<SunPass> m_sun_pass;
+    ShLight m_world_sun_sh{};             // its SH projection in the scene's frame (host shading)
+    std::unique_ptr<SunPass> m_sun_pass;  // the map at rest (set_shadow_map_size)
+    std::unique_ptr<SunPass> m_sun_pass_moving;  // the map while moving, or none
+    SunPass* m_sun_map = nullptr;                // the one the frame draws with
+    int m_moving_shadow_map_size = 0;
     int m_shadow_map_size = kShadowMapSize;
     SunFilter m_sun_filter = SunFilter::full;
     unsigned m_sun_ubo = 0, m_sky_sun_ubo = 0, m_direct_ssbo = 0, m_sun_color_buffer = 0;
