@@ -359,7 +359,12 @@ void App::start_bake(const BakeOptions& options) {
     float* device_output = nullptr;
     std::size_t device_bytes = 0;
     std::string interop_note;
-    if (SHPRT_HAS_CUDA && device == Device::cuda) {
+    // A local direction set's rows are rotated to world space on the host (docs/sampling.md), so
+    // its GPU bake cannot write into the GL buffer: its chunks come through the host.
+    const bool local = options.direction_frame == DirectionFrame::local;
+    if (SHPRT_HAS_CUDA && device == Device::cuda && local)
+        interop_note = " (local directions: chunks via the host)";
+    if (SHPRT_HAS_CUDA && device == Device::cuda && !local) {
         // The GPU bake writes straight into the shader storage buffer: no host round trip. The
         // buffer stays mapped (and is not drawn) until the bake ends.
         try {
