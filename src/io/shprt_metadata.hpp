@@ -86,14 +86,25 @@ struct FieldRule {
     void (*summarise)(const SummaryLines& s);
 };
 
-// The table, in the metadata's key order.
+// The key of the row where the caller's kept metadata is merged (an `extra` row).
+inline constexpr const char* kKeptMetadata = "(kept metadata)";
+
+// The table, in the metadata's key order (shprt_metadata.cpp).
 std::span<const FieldRule> field_rules();
 
 // The metadata of a file (every row's value, the merge points' metadata, the section table).
 Json write_metadata(const MetaSource& source);
-// Reads every field into `target`, pass by pass; one corrupt() line on the first problem.
+// Reads every field into `target`, pass by pass; one corrupt() line on the first problem
+// (shprt_metadata_walk.cpp, as write_metadata).
 void read_metadata(const Fields& metadata, MetaTarget& target);
-// `shprt info`'s lines, in summary order.
+// `shprt info`'s lines, in summary order (shprt_metadata_summary.cpp).
 std::string summarise_metadata(const ShprtFile& file);
+
+// The rows' summaries that are more than a line of the table (shprt_metadata_summary.cpp).
+void summarise_interreflection(const SummaryLines& s);
+void summarise_stats(const SummaryLines& s);
+void summarise_basis(const SummaryLines& s);
+void summarise_target_error(const SummaryLines& s);
+void summarise_file_size(const SummaryLines& s);
 
 }  // namespace shprt::detail
