@@ -8,7 +8,6 @@
 #include "common/option_table.hpp"
 #include "common/progress_bar.hpp"
 #include "common/receiver_options.hpp"
-#include "common/signals.hpp"
 
 #include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/bake_summary.hpp"
@@ -16,6 +15,7 @@
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/interrupt.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
@@ -31,7 +31,10 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -71,6 +74,17 @@ std::string command_line() {
         begin = end + 1;
     }
     return out;
+}
+
+// For the tests of the signals (tests/cli/test_cli_interrupt.cpp): when the environment variable
+// SHPRT_TEST_STOP_AT is `point`, the process stops itself there (SIGSTOP), so that a test can send
+// a signal at a known moment and then continue it (SIGCONT). Points: "load" (tools/launcher.cpp:
+// the command line's libraries are about to load), "bake" (the bake is about to start, signals
+// are requests), "write" (the bake is over, signals are still requests), "writing" (the output is
+// about to be written, a signal ends the process).
+void test_stop_point(const char* point) {
+    const char* wanted = std::getenv("SHPRT_TEST_STOP_AT");
+    if (wanted != nullptr && std::strcmp(wanted, point) == 0) ::raise(SIGSTOP);
 }
 
 bool use_mpi(const BakeArgs& args) {
@@ -211,7 +225,7 @@ void run(const BakeArgs& args) {
     request.before_write = [&bar] {
         bar.reset();
         test_stop_point("write");
-        end_interruptible();  // a signal from here on: nothing written (common/signals.hpp)
+        end_interruptible();  // a signal from here on: nothing written (core/interrupt.hpp)
         test_stop_point("writing");
     };
     request.before_bake = [] { test_stop_point("bake"); };

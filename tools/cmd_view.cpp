@@ -24,6 +24,7 @@
 #include "shprt/bake/request.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/interrupt.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
@@ -77,7 +78,7 @@ TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
     request.options.progress = bar.callback();
     const auto start = Clock::now();
     TransferSet t = shprt::run(request, mesh).transfer;
-    end_interruptible();  // from here on a signal ends the viewer at once (common/signals.hpp)
+    end_interruptible();  // from here on a signal ends the viewer at once (core/interrupt.hpp)
     bar.finish();
     std::printf("baked %zu vertices, K=%d, S=%d in %.2f s (%s)\n", mesh.vertex_count(), t.layout.K,
                 t.samples, seconds_since(start), t.stats.device_name.c_str());

@@ -9,7 +9,7 @@
 // handlers are in place within a millisecond of exec. A SIGINT, SIGTERM or SIGHUP that arrives
 // while the libraries load is held here, and the command line, once its own handlers are in place,
 // reports it like any other interruption: one line, exit status 128 + the signal, nothing written.
-#include "common/signals.hpp"
+#include "shprt/core/interrupt.hpp"
 
 #include <dlfcn.h>
 #include <signal.h>
@@ -44,8 +44,8 @@ void beside_this_program(const char* name, char (&path)[PATH_MAX]) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    shprt::tools::handle_interrupt_signals(hold_signal);
-    // The tests' stop point "load" (common/signals.hpp): the libraries are about to load.
+    shprt::handle_interrupt_signals(hold_signal);
+    // The tests' stop point "load" (tools/cmd_bake.cpp): the libraries are about to load.
     if (const char* point = std::getenv("SHPRT_TEST_STOP_AT");
         point != nullptr && std::strcmp(point, "load") == 0)
         ::raise(SIGSTOP);
@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
     // when the mask is restored.
     sigset_t interrupts, previous;
     sigemptyset(&interrupts);
-    for (const int signal : shprt::tools::kInterruptSignals) sigaddset(&interrupts, signal);
+    for (const int signal : shprt::kInterruptSignals) sigaddset(&interrupts, signal);
     ::pthread_sigmask(SIG_BLOCK, &interrupts, &previous);
     void* handle = ::dlopen(library, RTLD_NOW | RTLD_GLOBAL);
     ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);

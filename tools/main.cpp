@@ -2,10 +2,11 @@
 // parses arguments, calls the library, reports. One-line errors, non-zero exit codes.
 #include "common/command.hpp"
 #include "common/number_options.hpp"
-#include "common/signals.hpp"
 
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/interrupt.hpp"
+#include "shprt/core/job.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/core/parallel.hpp"
 #include "shprt/core/terminal.hpp"
@@ -25,7 +26,7 @@ namespace {
 // reports it for the job, and a rank that exits non-zero first would make mpirun kill rank 0
 // before it prints. (Errors after the ranks connect are agreed on: dist/mpi_bake.hpp.)
 int report_error(const char* what, int exit_code, const char* suffix = "") {
-    if (shprt::tools::is_secondary_rank()) return 0;
+    if (shprt::is_secondary_rank()) return 0;
     shprt::tools::print_error(what, suffix);
     return exit_code;
 }
@@ -40,11 +41,11 @@ std::string value_error_message(const std::string& what) {
            ": out of range";
 }
 
-// "interrupted by SIGINT; nothing was written", exit status 128 + the signal (common/signals.hpp).
+// "interrupted by SIGINT; nothing was written", exit status 128 + the signal (core/interrupt.hpp).
 int report_interrupted(int signal) {
-    const std::string what = std::string("interrupted by ") + shprt::tools::signal_name(signal) +
+    const std::string what = std::string("interrupted by ") + shprt::signal_name(signal) +
                              "; nothing was written";
-    return report_error(what.c_str(), shprt::tools::interrupted_exit_code(signal));
+    return report_error(what.c_str(), shprt::interrupted_exit_code(signal));
 }
 
 }  // namespace
@@ -55,7 +56,7 @@ extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char*
                                                                  int (*early_signal)()) {
     // First of all: from here on a signal never ends the process without its one line, and one
     // that arrived before (held by the launcher) ends it now, before anything is read or written.
-    shprt::tools::install_signal_handlers();
+    shprt::install_signal_handlers();
     if (const int signal = early_signal()) return report_interrupted(signal);
     // TBB's workers have exited when shprt_main returns (core/parallel.hpp).
     const shprt::WorkerThreads workers;
@@ -119,17 +120,17 @@ extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char*
         return report_error(shprt::tools::usage_error_message(app, e).c_str(), 2, " (see --help)");
     } catch (const shprt::tools::ExitQuietly& e) {
         return e.exit_code;
-    } catch (const shprt::tools::Interrupted& e) {
+    } catch (const shprt::Interrupted& e) {
         return report_interrupted(e.signal);
     } catch (const std::bad_alloc&) {
         return report_error("out of memory (an allocation failed)", 1);
     } catch (const std::exception& e) {
         // A computation the signal cancelled (Error(cancelled)) reports the signal.
-        if (shprt::tools::interrupted())
-            return report_interrupted(shprt::tools::interrupt_signal());
+        if (shprt::interrupted())
+            return report_interrupted(shprt::interrupt_signal());
         return report_error(e.what(), 1);
     }
-    // A signal that arrived once the output was in place: the run finished (common/signals.hpp).
-    shprt::tools::report_late_signal();
+    // A signal that arrived once the output was in place: the run finished (core/interrupt.hpp).
+    shprt::report_late_signal();
     return 0;
 }

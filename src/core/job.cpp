@@ -6,6 +6,8 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
+#include <cstdlib>
+#include <cstring>
 
 namespace shprt {
 namespace {
@@ -35,6 +37,14 @@ void set_job_ranks(int rank, const std::vector<JobRank>& ranks) {
     for (std::size_t i = 0; i < n; ++i) g_ranks[i] = ranks[i];
     g_count.store(static_cast<int>(n));
     g_rank.store(rank);
+}
+
+bool is_secondary_rank() {
+    for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"}) {
+        const char* value = std::getenv(name);
+        if (value != nullptr) return std::strcmp(value, "0") != 0;
+    }
+    return false;
 }
 
 int job_rank() { return g_rank.load(); }

@@ -1,5 +1,5 @@
 // Interrupted and failing bakes (issue 15): signals at known moments (the program stops itself at
-// a named point when SHPRT_TEST_STOP_AT says so: common/signals.hpp) and at timed ones, SIGKILL
+// a named point when SHPRT_TEST_STOP_AT says so: core/interrupt.hpp) and at timed ones, SIGKILL
 // and the temporaries it leaves, checkpoints and resumes that end in the uninterrupted bake's
 // bytes, the memory estimate, and a write that fails (a file size limit). Every failure: its exit
 // code, one last line "shprt: error: ...", no output file and no temporary.

@@ -1,14 +1,12 @@
 #include "common/command.hpp"
 
-#include "common/signals.hpp"
+#include "shprt/core/interrupt.hpp"
 
 #include "shprt/core/names.hpp"
 #include "shprt/core/terminal.hpp"
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 
 namespace shprt::tools {
 namespace {
@@ -53,14 +51,6 @@ std::string usage_error_message(const CLI::App& app, const CLI::ParseError& erro
 void print_error(const char* what, const char* suffix) {
     quiet_signals();  // this is the one error line: a later signal adds none
     std::fprintf(stderr, "shprt: error: %s%s\n", one_line(what).c_str(), suffix);
-}
-
-bool is_secondary_rank() {
-    for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"}) {
-        const char* value = std::getenv(name);
-        if (value != nullptr) return std::strcmp(value, "0") != 0;
-    }
-    return false;
 }
 
 }  // namespace shprt::tools

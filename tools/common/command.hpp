@@ -28,11 +28,6 @@ struct ExitQuietly {
     int exit_code = 1;
 };
 
-// True in a process that an MPI launcher started as a rank other than 0 (Open MPI's, PMI's or
-// PMIx's rank variable is set and not 0). Such a process prints no error: every rank of an
-// `mpirun shprt ...` meets the same bad argument, and rank 0 reports it once.
-bool is_secondary_rank();
-
 // Prints "shprt: error: WHAT[SUFFIX]" as one line on stderr: a message that spans lines (a
 // driver's shader log, a library's list of problems) has its line breaks turned into "; ".
 void print_error(const char* what, const char* suffix = "");

@@ -14,12 +14,10 @@
 //     like every other line the tool writes to stderr, so a log read line by line tells the
 //     tool's lines apart, and a failure's "shprt: error: ..." line stays the last one.
 //
-// Ctrl-C: after install_interrupt_handler() (common/signals.hpp), the first SIGINT (or SIGTERM,
+// Ctrl-C: after install_interrupt_handler() (core/interrupt.hpp), the first SIGINT (or SIGTERM,
 // SIGHUP) makes the next update() return false, so the library cancels cleanly (no half-written
 // output); a second one ends the process at once.
 #pragma once
-
-#include "common/signals.hpp"
 
 #include "shprt/core/format.hpp"  // format_si, format_duration
 #include "shprt/core/progress.hpp"

@@ -23,6 +23,11 @@ struct JobRank {
 inline constexpr int kMaxJobRanks = 4096;
 void set_job_ranks(int rank, const std::vector<JobRank>& ranks);
 
+// True in a process that an MPI launcher started as a rank other than 0 (Open MPI's, PMI's or
+// PMIx's rank variable is set and not 0), before any MPI call. Such a process prints no error:
+// every rank of an `mpirun shprt ...` meets the same bad argument, and rank 0 reports it once.
+bool is_secondary_rank();
+
 // This process's rank in its job, or -1 outside a job.
 int job_rank();
 

@@ -94,7 +94,7 @@ private:
 // (pthread_sigmask) before it runs a task in an Arena or in the calling thread's own arena, and
 // keeps them blocked. A signal sent to the process then waits for a thread that takes it — the
 // program's main thread — instead of running its handler on whichever worker the kernel picked,
-// at a moment the main thread does not know (the `shprt` program: tools/common/signals.hpp).
+// at a moment the main thread does not know (the `shprt` program: core/interrupt.hpp).
 // Call it once, early, from the thread that should take the signals; later calls add signals.
 void keep_signals_off_workers(std::initializer_list<int> signals);
 

@@ -1,6 +1,5 @@
-#include "common/signals.hpp"
-
-#include "common/command.hpp"
+// The process's signal handling (interrupt.hpp).
+#include "shprt/core/interrupt.hpp"
 
 #include "shprt/core/file.hpp"
 #include "shprt/core/job.hpp"
@@ -18,7 +17,7 @@
 #include <cstring>
 #include <string>
 
-namespace shprt::tools {
+namespace shprt {
 namespace {
 
 volatile std::sig_atomic_t g_request = 0;   // the signal that arrived as a request, or 0
@@ -30,7 +29,7 @@ volatile std::sig_atomic_t g_secondary =
     0;                                  // an MPI rank other than 0: a line only for a lost rank
 volatile std::sig_atomic_t g_late = 0;  // a signal that arrived after the output was in place
 std::atomic<bool> g_installed{false};
-long g_test_line_delay_ms = 0;  // SHPRT_TEST_SIGNAL_LINE_DELAY_MS (signals.hpp)
+long g_test_line_delay_ms = 0;  // SHPRT_TEST_SIGNAL_LINE_DELAY_MS (interrupt.hpp)
 
 void write_all(const char* text);
 
@@ -201,9 +200,4 @@ void end_interruptible() {
     if (g_request != 0) throw Interrupted{g_request};
 }
 
-void test_stop_point(const char* point) {
-    const char* wanted = std::getenv("SHPRT_TEST_STOP_AT");
-    if (wanted != nullptr && std::strcmp(wanted, point) == 0) ::raise(SIGSTOP);
-}
-
-}  // namespace shprt::tools
+}  // namespace shprt

@@ -1,10 +1,10 @@
-// How the `shprt` program meets SIGINT, SIGTERM and SIGHUP (README, "What is guaranteed").
+// How the `shprt` program meets SIGINT, SIGTERM and SIGHUP (README, "What is guaranteed"): the
+// process's signal handling, which the command line (tools/main.cpp) installs first of all.
 //
 //   * The `shprt` program (tools/launcher.cpp) holds such a signal while the command line's
 //     libraries load; shprt_main() reports it right after install_signal_handlers().
-//   * install_signal_handlers(), the first thing shprt_main() does: from then on such a signal ends
-//   the
-//     process with one line, "shprt: error: interrupted by SIGINT; nothing was written", after
+//   * install_signal_handlers(), the first thing shprt_main() does: from then on such a signal
+//     ends the process with one line, "shprt: error: interrupted by SIGINT; nothing was written", after
 //     removing the temporary files of outputs being written (core/file.hpp) — exit status
 //     128 + the signal (130, 143, 129). No moment of the process's life dies silently.
 //   * install_interrupt_handler() (a bake or another long computation that polls interrupted()
@@ -24,7 +24,7 @@
 //     on the machine ends only once the ranks below it are gone (at most 2 s), since mpirun
 //     SIGKILLs every rank as soon as the first has ended.
 //   * SIGXFSZ is ignored: a write past `ulimit -f` fails with EFBIG, one error line naming the
-//   file.
+//     file.
 // A signal the process was started with ignored (nohup, a script's background job) stays ignored.
 // Every such signal is handled in the main thread. The kernel hands a process's signal to any
 // thread that does not block it, so the others block them: TBB's workers from their first task
@@ -37,7 +37,7 @@
 
 #include <signal.h>
 
-namespace shprt::tools {
+namespace shprt {
 
 // The signals above: SIGINT, SIGTERM, SIGHUP.
 inline constexpr int kInterruptSignals[] = {SIGINT, SIGTERM, SIGHUP};
@@ -89,15 +89,8 @@ const char* signal_name(int signal);
 // The exit status for `signal`: 128 + signal.
 inline int interrupted_exit_code(int signal) { return 128 + signal; }
 
-// For the tests of the above (tests/cli/test_cli_signals.cpp): when the environment variable
-// SHPRT_TEST_STOP_AT is `point`, the process stops itself there (SIGSTOP), so that a test can send
-// a signal at a known moment and then continue it (SIGCONT). Points: "load" (in the launcher,
-// tools/launcher.cpp: the command line's libraries are about to load), "bake" (the bake is about to
-// start, signals are requests), "write" (the bake is over, signals are still requests), "writing"
-// (the output is about to be written, a signal ends the process).
-void test_stop_point(const char* point);
-// Also for the tests: SHPRT_TEST_SIGNAL_LINE_DELAY_MS=N makes the handler wait N ms before the
+// For the tests: SHPRT_TEST_SIGNAL_LINE_DELAY_MS=N makes the handler wait N ms before the
 // line a signal ends the process with, as a rank that the machine does not schedule at once does
 // (tests/dist/test_mpi_signals.cpp).
 
-}  // namespace shprt::tools
+}  // namespace shprt
