@@ -15,6 +15,7 @@
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/host.hpp"
 #include "shprt/core/interrupt.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/core/timer.hpp"
@@ -26,8 +27,6 @@
 #include "shprt/dist/mpi_request.hpp"
 #endif
 
-#include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -37,7 +36,6 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -56,25 +54,6 @@ struct BakeArgs {
     ReceiverArgs receivers;     // --domain texel, --refine: common/receiver_options.hpp
     CheckpointArgs checkpoint;  // --checkpoint, --resume, --max-memory: checkpoint_options.hpp
 };
-
-// The command line as typed (from /proc/self/cmdline), for the file's metadata; empty if
-// unavailable.
-std::string command_line() {
-    std::ifstream in("/proc/self/cmdline", std::ios::binary);
-    std::string raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::string out;
-    std::size_t begin = 0;
-    while (begin < raw.size()) {
-        std::size_t end = raw.find('\0', begin);
-        if (end == std::string::npos) end = raw.size();
-        std::string arg = raw.substr(begin, end - begin);
-        if (!out.empty()) out += ' ';
-        const bool quote = arg.empty() || arg.find_first_of(" \t\"'\\$") != std::string::npos;
-        out += quote ? "'" + arg + "'" : arg;
-        begin = end + 1;
-    }
-    return out;
-}
 
 // For the tests of the signals (tests/cli/test_cli_interrupt.cpp): when the environment variable
 // SHPRT_TEST_STOP_AT is `point`, the process stops itself there (SIGSTOP), so that a test can send
@@ -125,32 +104,12 @@ BakeRequest request_from(const BakeArgs& args) {
 void add_run_metadata(BakeRequest& r, double seconds_load, int ranks) {
     nlohmann::json extra;
     extra["stats"]["seconds_load"] = seconds_load;
-    extra["command_line"] = command_line();
+    extra["command_line"] = process_command_line();
     if (ranks > 0) extra["mpi"] = {{"ranks", ranks}};
     r.output->write.extra_metadata_json = extra.dump();
 }
 
 #if SHPRT_HAS_MPI
-// "ranks: receivers 4096 3968 ... (units 3 3 ...), busy 1.201 s to 1.310 s of 1.402 s;
-// gathered 0.05 GiB in 0.081 s": how the balancing and the gather went.
-void print_rank_loads(const dist::DistributedBake& result) {
-    std::vector<std::size_t> receivers, units;
-    double least = 0, most = 0;
-    for (std::size_t r = 0; r < result.ranks.size(); ++r) {
-        const dist::RankLoad& load = result.ranks[r];
-        receivers.push_back(load.receivers);
-        units.push_back(load.units);
-        least = r == 0 ? load.seconds : std::min(least, load.seconds);
-        most = std::max(most, load.seconds);
-    }
-    std::printf(
-        "ranks: receivers %s (units %s), busy %.3f s to %.3f s of %.3f s; gathered %.3f "
-        "GiB in %.3f s\n",
-        fmt::format("{}", fmt::join(receivers, " ")).c_str(),
-        fmt::format("{}", fmt::join(units, " ")).c_str(), least, most, result.seconds_wall,
-        double(result.bytes_gathered) / double(1u << 30), result.seconds_gathered);
-}
-
 // `mpirun -np P shprt bake ...` (or --mpi): every rank loads the scene, the ranks share the
 // receivers (dist/mpi_request.hpp), rank 0 writes the one file and prints; a failure anywhere is
 // one line from rank 0, and every rank exits with its status.
@@ -189,7 +148,7 @@ void run_mpi(const BakeArgs& args, BakeRequest request) {
             std::fputs(
                 bake_summary(request, *mesh, result.result, args.output, seconds_load).c_str(),
                 stdout);
-            print_rank_loads(result.ranks);
+            std::fputs(rank_loads_summary(result.ranks).c_str(), stdout);
         }
     } catch (const Error& e) {
         // Every rank has the agreed error: rank 0 prints it, and no rank exits before it has (a

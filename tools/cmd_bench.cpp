@@ -1,6 +1,6 @@
 // `shprt bench paper`: the paper's results table reproduced with measurements. The study is the
 // library shprt_paper (bench/paper/paper_study.hpp; definitions in docs/paper_table.md); this
-// shell checks the options, runs it with stage lines and progress bars on stderr, prints the table.
+// shell parses the options (paper::options_from checks them), runs it with stage lines and progress bars on stderr, prints the table.
 //
 //   shprt bench paper [--device cpu|cuda|both|auto] [--samples S] [--sampler NAME] [--extended]
 //                     [--quick] [--gt-samples N] [--triangles N] [--frames N] [--threads N]
@@ -9,9 +9,6 @@
 #include "common/progress_bar.hpp"
 #include "paper/paper_study.hpp"
 
-#include "shprt/core/error.hpp"
-#include "shprt/scene/room.hpp"
-
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -19,45 +16,8 @@
 namespace shprt::tools {
 namespace {
 
-struct PaperArgs {
-    paper::Options options;
-    std::string sampler = "uniform";
-    long long samples = 4096, gt_samples = 16384, triangles = 20000, frames = 30, threads = 0;
-    bool no_study = false, no_images = false;
-};
-
-void run_paper(PaperArgs a, const std::string& command_line) {
-    paper::Options& o = a.options;
-    SHPRT_CHECK(o.device == "cpu" || o.device == "cuda" || o.device == "both" || o.device == "auto",
-                invalid_argument, "--device '{}': expected cpu, cuda, both or auto", o.device);
-    o.sampler = parse_sampler_kind(a.sampler);
-    if (o.quick) {
-        // A tiny run (tests, smoke checks): a small room and few samples, unless given.
-        if (a.samples == 4096) a.samples = 256;
-        if (a.gt_samples == 16384) a.gt_samples = 256;
-        if (a.triangles == 20000) a.triangles = 2000;
-        if (a.frames == 30) a.frames = 3;
-    }
-    SHPRT_CHECK(a.samples >= 1 && a.samples <= (1 << 24), invalid_argument,
-                "--samples {}: must be in [1, 2^24]", a.samples);
-    SHPRT_CHECK(a.gt_samples >= 4 && a.gt_samples <= (1 << 20), invalid_argument,
-                "--gt-samples {}: must be in [4, 2^20]", a.gt_samples);
-    SHPRT_CHECK(a.triangles >= static_cast<long long>(kRoomMinTriangles) &&
-                    a.triangles <= static_cast<long long>(kRoomMaxTriangles),
-                invalid_argument, "--triangles {}: must be in [{}, {}]", a.triangles,
-                kRoomMinTriangles, kRoomMaxTriangles);
-    SHPRT_CHECK(a.frames >= 1 && a.frames <= 100000, invalid_argument,
-                "--frames {}: must be in [1, 100000]", a.frames);
-    SHPRT_CHECK(a.threads >= 0 && a.threads <= 4096, invalid_argument,
-                "--threads {}: must be ≥ 0 (0 = all)", a.threads);
-    SHPRT_CHECK(!o.out_dir.empty(), invalid_argument, "-o: empty output directory");
-    o.samples = static_cast<std::uint32_t>(a.samples);
-    o.gt_samples = static_cast<std::uint32_t>(a.gt_samples);
-    o.triangles = static_cast<std::size_t>(a.triangles);
-    o.frames = static_cast<int>(a.frames);
-    o.threads = static_cast<int>(a.threads);
-    o.study = !a.no_study;
-    o.images = !a.no_images;
+void run_paper(const paper::OptionChoice& choice, const std::string& command_line) {
+    const paper::Options o = paper::options_from(choice);
     // Stage lines and warnings on stderr (stdout is the table), one progress bar per long task.
     std::unique_ptr<ProgressBar> bar;
     paper::Reporter reporter;
@@ -88,7 +48,7 @@ const bool bench_registered = register_command(
              "paper",
              "The paper's table on the built-in room: precompute time, display rate and "
              "quality against a ground truth, per basis size (docs/paper_table.md)");
-         auto args = std::make_shared<PaperArgs>();
+         auto args = std::make_shared<paper::OptionChoice>();
          p->add_option("-o,--output", args->options.out_dir,
                        "Output directory (default out/paper)");
          p->add_option("--device", args->options.device,

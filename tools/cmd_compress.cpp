@@ -3,7 +3,7 @@
 // .shprt file (format version 3), with the error of exit radiance under test lights and views
 // (and under the --light given, a --sun kept out of it) and the bytes per vertex; with
 // --probe-cpca, the file's transfer probes too (compress_probes). Thin: parses, reads, calls
-// compress_transfer and compress_probes, writes atomically, prints.
+// compress_transfer and compress_probes, writes atomically, prints (transfer/cpca_summary.hpp).
 #include "common/command.hpp"
 #include "common/shading_options.hpp"
 
@@ -14,6 +14,7 @@
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/transfer/cpca.hpp"
+#include "shprt/transfer/cpca_summary.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -62,9 +63,8 @@ CpcaOptions cpca_options(const CompressArgs& a, const std::vector<double>& cv) {
 }
 
 // The probes' CPCA (--probe-cpca), printed in two lines; the file's probes replaced by the code.
-void compress_file_probes(const CompressArgs& a, const std::vector<double>& cv,
+void compress_file_probes(const CompressArgs& a, const CpcaOptions& options,
                           const LightSetup& setup, TransferSet& out, const ProbeGrid& probes) {
-    const CpcaOptions options = cpca_options(a, cv);
     std::optional<std::vector<float>> light;
     if (!a.light.lights.empty()) light = prepare_light(setup, probes.K).coeffs;
     ProbeCpcaResult r;
@@ -73,22 +73,7 @@ void compress_file_probes(const CompressArgs& a, const std::vector<double>& cv,
     } catch (const Error& e) {
         fail(e.code(), "{}: --probe-cpca {}: {}", a.input, a.probe_cpca, e.what());
     }
-    const double ratio = r.raw_bytes_per_probe / r.bytes_per_probe;
-    std::printf(
-        "probes: %d clusters x %d vectors, float32, %.1f B/probe (raw %.0f B) = %s, fit %.3f s\n",
-        options.clusters, options.vectors, r.bytes_per_probe, r.raw_bytes_per_probe,
-        ratio >= 1
-            ? fmt::format("{:.1f}x smaller", ratio).c_str()
-            : fmt::format("{:.1f}x larger than the raw matrices: use fewer clusters or vectors",
-                          1 / ratio)
-                  .c_str(),
-        r.seconds_fit);
-    std::printf("probe error: incident radiance relative RMSE %.3f%% (lights of unit coefficients)",
-                100.0 * r.relative_rmse);
-    if (r.light_relative_rmse)
-        std::printf(", %.3f%% under %s", 100.0 * *r.light_relative_rmse,
-                    describe_light(a.light).c_str());
-    std::printf("\n");
+    std::fputs(probe_cpca_summary(r, options, describe_light(a.light)).c_str(), stdout);
     out.probes = std::move(r.compressed);
 }
 
@@ -108,74 +93,21 @@ void run(const CompressArgs& a) {
     check_output_writable(a.output);  // a directory, a device: refused before the work
     const ShprtFile file = read_shprt(a.input);
     const TransferSet& t = file.transfer;
-    const std::size_t V = t.receiver_count();
-    const std::size_t D = t.layout.floats_per_receiver();
-    // The receivers, named in what is printed: vertices, or texels.
-    const char* unit = to_string(t.layout.domain);
-    const char* units = t.layout.domain == ReceiverDomain::texel ? "texels" : "vertices";
-    SHPRT_CHECK(cv[0] <= double(V), invalid_argument,
-                "{}: --cpca {}: {} clusters for {} {} (at most one per {})", a.input, a.cpca, cv[0],
-                V, units, unit);
-    SHPRT_CHECK(cv[1] <= double(D), invalid_argument,
-                "{}: --cpca {}: {} vectors, more than the {} floats of a {} ({} transfer, "
-                "K = {}; a symmetric K×K matrix stores K(K+1)/2 ≤ K²)",
-                a.input, a.cpca, cv[1], D, unit, to_string(t.layout.shape), t.layout.K);
-    // The probes' numbers are checked before the transfer's fit, which may take a while.
-    if (!probe_cv.empty()) {
-        SHPRT_CHECK(!t.probes.empty(), invalid_argument,
-                    "{}: --probe-cpca {}: the file has no probes (bake with --probes)", a.input,
-                    a.probe_cpca);
-        const std::size_t valid =
-            std::size_t(std::count(t.probes.valid.begin(), t.probes.valid.end(), std::uint8_t(1)));
-        const double floats = double(t.probes.channels) * t.probes.K * t.probes.K;
-        SHPRT_CHECK(probe_cv[0] <= double(valid) && probe_cv[1] <= floats, invalid_argument,
-                    "{}: --probe-cpca {}: at most {} clusters (the valid probes) and {} vectors "
-                    "(channels x K x K = {} x {} x {})",
-                    a.input, a.probe_cpca, valid, floats, t.probes.channels, t.probes.K,
-                    t.probes.K);
-    }
     const CpcaOptions options = cpca_options(a, cv);
+    check_cpca_fit(t, options, a.input + ": --cpca " + a.cpca);
+    // The probes' numbers are checked before the transfer's fit, which may take a while.
+    std::optional<CpcaOptions> probe_options;
+    if (!probe_cv.empty()) {
+        probe_options = cpca_options(a, probe_cv);
+        check_probe_cpca_fit(t.probes, *probe_options, a.input + ": --probe-cpca " + a.probe_cpca);
+    }
     // The light's SH (never the --sun: prepare_light keeps it out) at the transfer's K.
     std::optional<std::vector<float>> light;
     if (with_light) light = prepare_light(setup, t.layout.K).coeffs;
     CpcaResult r = compress_transfer(t, receiver_normals(file.mesh, t), options, a.half,
                                      light ? &*light : nullptr);
-
-    const TransferError& e = r.error;
-    std::vector<float> sorted = e.receiver_rmse;
-    std::sort(sorted.begin(), sorted.end());
-    const auto pct = [&](double q) {
-        return 100.0 * sorted[std::min(sorted.size() - 1, std::size_t(q * double(sorted.size())))];
-    };
-    std::printf(
-        "cpca: %d clusters x %d vectors (k-means++ seed %llu, at most %d Lloyd iterations), "
-        "%s, fit %.3f s\n",
-        options.clusters, options.vectors, static_cast<unsigned long long>(a.seed), a.iterations,
-        a.half ? "float16" : "float32", r.seconds_fit);
-    std::printf(
-        "size: %.1f B/%s (raw float32: %.0f B/%s as stored, %.0f B/%s as full matrices) = "
-        "%.1fx / %.1fx smaller\n",
-        r.bytes_per_receiver, unit, r.raw_bytes_per_receiver, unit, r.raw_full_bytes_per_receiver,
-        unit, r.raw_bytes_per_receiver / r.bytes_per_receiver,
-        r.raw_full_bytes_per_receiver / r.bytes_per_receiver);
-    if (r.direct_bytes_per_receiver > 0)
-        std::printf("direct part: kept beside the code (--direct), %.0f B/%s\n",
-                    r.direct_bytes_per_receiver, unit);
-    std::printf(
-        "error: exit radiance relative RMSE %.3f%% (8 test lights x %s); per %s (RMSE / "
-        "scene RMS): median %.3f%%, p99 %.3f%%, max %.3f%%\n",
-        100.0 * e.relative_rmse, t.layout.shape == TransferShape::vector ? "diffuse" : "5 views",
-        unit, pct(0.5), pct(0.99), pct(1.0));
-    if (r.light_error)
-        std::printf("error under %s: exit radiance relative RMSE %.3f%% (%s)\n",
-                    describe_light(a.light).c_str(), 100.0 * r.light_error->relative_rmse,
-                    t.layout.shape == TransferShape::vector ? "diffuse" : "5 views");
-    std::string worst;
-    for (std::size_t i = 0; i < std::min<std::size_t>(5, e.worst.size()); ++i)
-        worst += fmt::format("{}{} ({:.2f}%)", i ? ", " : "", e.worst[i],
-                             100.0 * e.receiver_rmse[e.worst[i]]);
-    std::printf("worst %s: %s\n", units, worst.c_str());
-    if (!probe_cv.empty()) compress_file_probes(a, probe_cv, setup, r.compressed, t.probes);
+    std::fputs(cpca_summary(t, r, options, a.half, describe_light(a.light)).c_str(), stdout);
+    if (probe_options) compress_file_probes(a, *probe_options, setup, r.compressed, t.probes);
     WriteOptions write;
     write.reproducible = a.reproducible;
     write_shprt(a.output, file.mesh, r.compressed, write);

@@ -16,6 +16,7 @@
 #include "shprt/shade/camera.hpp"
 #include "shprt/shade/object_shade.hpp"
 #include "shprt/shade/save_image.hpp"
+#include "shprt/shade/texel_shade.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -34,7 +35,7 @@ struct RenderArgs {
     std::string input, output;
     LightArgs light;  // common/shading_options.hpp, shared with `shade`, `view` and `export`
     ShadingArgs shading;
-    CameraArgs camera;
+    CameraChoice camera;
     ObjectArgs object;  // common/object_options.hpp, shared with `view`
     std::string size = "1280x720";
     int samples = 4;
@@ -46,7 +47,7 @@ void run(const RenderArgs& a) {
     check_image_extension(a.output);
     SHPRT_CHECK(a.samples >= 1 && a.samples <= 64, invalid_argument,
                 "--samples {}: MSAA samples must be 1 to 64", a.samples);
-    check_camera_args(a.camera);
+    check(a.camera);
     int width = 0, height = 0;
     parse_size(a.size, width, height);
     const LightSetup setup = light_setup_from(a.light);

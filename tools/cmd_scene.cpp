@@ -34,15 +34,6 @@ struct GenerateArgs {
     bool ceiling = false;
 };
 
-std::string describe(const Mesh& mesh) {
-    const Bounds b = mesh_bounds(mesh);
-    return fmt::format(
-        "{} vertices, {} triangles\nbounds: [{:.4g}, {:.4g}, {:.4g}] .. [{:.4g}, {:.4g}, {:.4g}]\n"
-        "surface area: {:.4g}\n",
-        mesh.vertex_count(), mesh.triangle_count(), b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z,
-        mesh_surface_area(mesh));
-}
-
 void print(const std::string& text) { std::fwrite(text.data(), 1, text.size(), stdout); }
 
 void generate(const GenerateArgs& args) {
@@ -97,19 +88,6 @@ void unwrap(UnwrapArgs args) {
                       describe(info), describe(mesh)));
 }
 
-const char* summary(const std::string& name) {
-    if (name == "plane") return "A tessellated 2 m square at y = 0 facing +Y";
-    if (name == "box_on_plane") return "A unit box resting on a 4 m square";
-    if (name == "sphere") return "The unit sphere (icosphere, 1280 triangles)";
-    if (name == "corner") return "An inner 90-degree corner: floor y = 0 and wall x = 0";
-    if (name == "room") return "The paper's furnished room (open top; --ceiling closes it)";
-    if (name == "quad_box") return "Low poly with UVs: a two-triangle floor and a box on it";
-    if (name == "gloss_spheres") return "Four spheres on a floor, each with its own glossy BRDF";
-    if (name == "leaky_room")
-        return "A room built like real assets: overlapping panels, parts through the floor";
-    return "A built-in scene";
-}
-
 const bool scene_registered = register_command(
     {"scene", "Generate a built-in scene as PLY, list the built-ins, or describe a scene", 20,
      [](CLI::App& app) {
@@ -118,7 +96,7 @@ const bool scene_registered = register_command(
          app.add_subcommand("list", "List the built-in scenes (usable as builtin:NAME)")
              ->callback([] {
                  for (const std::string& name : builtin_scene_names())
-                     print(fmt::format("{:<13} {}\n", name, summary(name)));
+                     print(fmt::format("{:<13} {}\n", name, builtin_scene_summary(name)));
              });
 
          auto spec = std::make_shared<std::string>();
@@ -176,7 +154,7 @@ const bool scene_registered = register_command(
          for (const std::string& name : builtin_scene_names()) {
              auto args = std::make_shared<GenerateArgs>();
              args->name = name;
-             CLI::App* sub = app.add_subcommand(name, summary(name));
+             CLI::App* sub = app.add_subcommand(name, builtin_scene_summary(name));
              sub->add_option("-o,--output", args->output, "Output PLY file (written atomically)")
                  ->required();
              if (name == "room") {

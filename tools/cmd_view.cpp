@@ -4,8 +4,8 @@
 //                          through render_image and save_image, as `shprt render`
 //   --benchmark FRAMES     frames/s against basis size K' = 32, 48, 64, 128, 256, offscreen
 //   --bake                 FILE is a scene: bake it in this process and show it while it refines
-// Thin: checks every option before any work, reads or bakes, calls viewer/ (shprt_viewer),
-// reports on stdout.
+// Thin: checks every option before any work, parses them into the viewer's ViewRequest (viewer.hpp,
+// the viewer's one entry header), runs it, prints its lines on stdout.
 #include "shprt/config.hpp"
 
 #if SHPRT_HAS_VIEWER
@@ -20,24 +20,12 @@
 
 #include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/gpu.hpp"
-#include "shprt/bake/object_bake.hpp"
-#include "shprt/bake/request.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/interrupt.hpp"
-#include "shprt/core/log.hpp"
-#include "shprt/core/timer.hpp"
-#include "shprt/io/shprt_file.hpp"
-#include "shprt/scene/load.hpp"
-#include "shprt/shade/object_shade.hpp"
-#include "shprt/shade/save_image.hpp"
-#include "shprt/shade/shade.hpp"
 
 #include <algorithm>
-#include <cctype>
-#include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -49,7 +37,7 @@ namespace {
 struct ViewArgs {
     std::string input;
     LightArgs light;
-    CameraArgs camera;
+    CameraChoice camera;
     ObjectArgs object;  // common/object_options.hpp, shared with `render`
     BakeOptionChoice bake;
     bool do_bake = false;
@@ -69,40 +57,14 @@ struct ViewArgs {
 
 bool has_png_extension(const std::string& path) { return lower_extension(path) == ".png"; }
 
-// Bakes before a headless mode (no window to show the progress in): the usual progress bar.
-TransferSet bake_now(const Mesh& mesh, BakeOptions options) {
-    install_interrupt_handler();
-    ProgressBar bar("bake");
-    BakeRequest request;
-    request.options = std::move(options);
-    request.options.progress = bar.callback();
-    const auto start = Clock::now();
-    TransferSet t = shprt::run(request, mesh).transfer;
-    end_interruptible();  // from here on a signal ends the viewer at once (core/interrupt.hpp)
-    bar.finish();
-    std::printf("baked %zu vertices, K=%d, S=%d in %.2f s (%s)\n", mesh.vertex_count(), t.layout.K,
-                t.samples, seconds_since(start), t.stats.device_name.c_str());
-    return t;
-}
-
-// Everything the command line decides, checked before any work.
-struct ViewSetup {
-    LightSetup setup;
-    ShadingParams params;
-    viewer::OffscreenBackend backend = viewer::OffscreenBackend::automatic;
-    int width = 0, height = 0;
-    bool windowed = false;                    // neither --screenshot nor --benchmark
-    std::optional<BakeOptions> bake_options;  // --bake
-    std::optional<ObjectPose> object_pose;    // --object
-};
-
-ViewSetup check_view(const ViewArgs& a) {
+// The request the options describe, every option checked before any work.
+viewer::ViewRequest check_view(const ViewArgs& a) {
     // ---- Every option is checked before any work.
     SHPRT_CHECK(a.msaa >= 0 && a.msaa <= 64, invalid_argument,
                 "--msaa {}: MSAA samples must be 1 to 64 (or 0: automatic)", a.msaa);
     int width = 0, height = 0;
     parse_size(a.size, width, height);
-    check_camera_args(a.camera);
+    check(a.camera);
     // --albedo and --coeffs are registered with the bake options (an interreflected bake's
     // albedo, the K baked). Without --bake, and with a glossy bake (which has no albedo), --albedo
     // overrides the glossy colours; without --bake, --coeffs is the K' shown first.
@@ -157,165 +119,48 @@ ViewSetup check_view(const ViewArgs& a) {
     SHPRT_CHECK(!(object_pose && a.do_bake), invalid_argument,
                 "--object is lit from a baked file's probes: bake FILE with shprt bake --probes "
                 "first, then view it without --bake");
-    std::optional<BakeOptions> bake_options;
+    viewer::ViewRequest r;
     if (a.do_bake) {
-        bake_options = bake_options_from(bake_args, Spelling::command_line);
-        resolve_device(bake_options->device, bake_options->device_index);  // fail before a window
+        r.bake = bake_options_from(bake_args, Spelling::command_line);
+        resolve_device(r.bake->device, r.bake->device_index);  // fail before a window
     }
-
-    return {setup, params, backend, width, height, windowed, std::move(bake_options), object_pose};
+    r.input = a.input;
+    r.light = setup;
+    r.params = params;
+    r.camera = a.camera;
+    r.object = a.object.object;
+    r.object_pose = object_pose;
+    r.width = width, r.height = height, r.msaa = a.msaa;
+    r.background = a.background, r.wireframe = a.wireframe, r.vsync = !a.no_vsync;
+    r.screenshot = a.screenshot;
+    r.benchmark = a.benchmark, r.benchmark_light = a.benchmark_light;
+    r.max_frames = a.frames.value_or(0);
+    r.window_screenshot = a.window_screenshot;
+    r.backend = backend;
+    return r;
 }
 
-// The scene (a file, or with --bake one baked here or, for the window, all-zero rows refined as
-// they arrive); a glossy file without a BRDF gets --gloss's Phong lobe in v.params.
-ShprtFile view_scene(const ViewArgs& a, ViewSetup& v) {
-    ShprtFile file;
-    if (a.do_bake) {
-        file.mesh = load_scene(a.input);
-        file.transfer = v.windowed ? TransferSet::zeros(bake_description(*v.bake_options),
-                                                        file.mesh.vertex_count())
-                                   : bake_now(file.mesh, *v.bake_options);
-    } else {
-        // The window keeps the whole transfer (its panel toggles the direct part); a screenshot
-        // or a benchmark shows what --direct asks for.
-        file = read_shprt(a.input);
-        if (v.params.direct && v.windowed)
-            SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
-                        "--direct: {} has no direct part (only interreflected bakes keep one)",
-                        a.input);
-        check_texel_view(a.input, file.transfer, v.params.k, v.params.view);
-    }
-    // Glossy matrices are shaded with --brdf, else with the materials' BRDFs, else with --gloss's
-    // Phong lobe (the panel changes the BRDF live); --glossy paper turns them into the paper's
-    // term.
-    if (file.transfer.layout.shape == TransferShape::symmetric_matrix && !v.params.brdf &&
-        v.params.glossy == GlossyTerm::matrix && file.mesh.brdf_index.empty())
-        v.params.brdf = Brdf{BrdfModel::phong, v.params.gloss};
-    return file;
-}
-
-void take_screenshot(const ViewArgs& a, const ViewSetup& v, const ShprtFile& file,
-                     const viewer::LightRig& rig, const viewer::FrameConfig& config,
-                     const viewer::ViewerObject& object, Clock::time_point start) {
-    const ShLight light = rig.light();
-    std::optional<PreparedSun> sun;  // turned as `light`
-    if (v.setup.sun) sun = prepare_sun(v.setup, rig.K());
-    ObjectShading lit;
-    if (object.object) {
-        ObjectShadeOptions options = object.options;
-        options.eye = config.draw.camera.eye;
-        lit = shade_object(*object.object, object.pose, *object.probes, light, options);
-    }
-    const DrawnObject drawn{object.object ? &object.object->mesh : nullptr, &lit};
-    std::string context;
-    const Image image =
-        viewer::render_screenshot(file.mesh, file.transfer, light, config, v.backend, &context,
-                                  sun ? &*sun : nullptr, object.object ? &drawn : nullptr);
-    save_image(a.screenshot, image, config.exposure);
-    std::printf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", v.width, v.height,
-                effective_basis_size(file.transfer, light, v.params.coeffs), v.params.k,
-                seconds_since(start), a.screenshot.c_str());
-}
-
-void run_view_benchmark(const ViewArgs& a, const ViewSetup& v, const ShprtFile& file,
-                        const viewer::LightRig& rig, const viewer::FrameConfig& config,
-                        const viewer::ViewerObject& object, const std::string& name) {
-    viewer::BenchmarkOptions options;
-    options.frames = *a.benchmark;
-    options.rotate_light = a.benchmark_light;
-    // Glossy matrices have at most 8 bands: measure the file's own K.
-    if (file.transfer.layout.shape == TransferShape::symmetric_matrix)
-        options.K_values = {file.transfer.layout.K};
-    // With an object: the file's own K, the object moving every frame.
-    options.object = object;
-    if (object.object) options.K_values = {std::min(file.transfer.layout.K, rig.K())};
-    options.backend = v.backend;
-    const viewer::BenchmarkReport report =
-        viewer::run_benchmark(file.mesh, file.transfer, rig, config, options);
-    std::printf("%s: ", name.c_str());
-    std::fputs(viewer::format_benchmark(report).c_str(), stdout);
-}
-
-void run_view_window(const ViewArgs& a, const ViewSetup& v, const ShprtFile& file,
-                     const viewer::FrameConfig& config, const viewer::ViewerObject& object,
-                     const std::string& name) {
-    viewer::WindowOptions options;
-    options.frame = config;
-    options.light = v.setup;
-    options.title = "shprt view — " + name;
-    options.scene_label = name;
-    options.max_frames = a.frames.value_or(0);
-    options.window_screenshot = a.window_screenshot;
-    options.vsync = !a.no_vsync;
-    options.direct_only = v.params.direct;
-    options.object = object;
-    viewer::WindowReport report;
+void run(const ViewArgs& a) {
+    viewer::ViewRequest r = check_view(a);
+    std::optional<ProgressBar> bar;  // a headless bake's
+    r.begin_bake = [&bar] {
+        install_interrupt_handler();
+        return bar.emplace("bake").callback();
+    };
+    r.end_bake = [&bar] {
+        end_interruptible();  // from here on a signal ends the viewer at once (core/interrupt.hpp)
+        bar->finish();
+    };
+    r.say = [](const std::string& line) { std::fputs(line.c_str(), stdout); };
     try {
-        report = viewer::run_window(file.mesh, file.transfer, options, v.bake_options);
+        viewer::run_view(r);
     } catch (const Error& e) {
         const std::string what = e.what();
-        if (what.rfind("cannot open a window", 0) == 0)
+        if (r.windowed() && what.rfind("cannot open a window", 0) == 0)
             fail(e.code(), "{} (without a display, use --screenshot OUT.png or --benchmark N)",
                  what);
         throw;
     }
-    std::printf("view: %d frames in %.2f s (%.1f frames/s); %s\n", report.frames, report.seconds,
-                report.seconds > 0 ? report.frames / report.seconds : 0.0, report.context.c_str());
-    if (a.do_bake && report.bake_finished)
-        std::printf("baked %zu vertices, K=%d in %.2f s\n", file.mesh.vertex_count(),
-                    v.bake_options->K, report.bake_seconds);
-    SHPRT_CHECK(report.bake_error.empty(), unsupported, "bake failed: {}", report.bake_error);
-}
-
-void run(const ViewArgs& a) {
-    const auto start = Clock::now();
-    ViewSetup v = check_view(a);
-    ShprtFile file = view_scene(a, v);
-    if (v.object_pose) check_probes(file.transfer.probes, a.input);
-    // The window keeps the whole transfer (its panel toggles the direct part); a screenshot or a
-    // benchmark shows what --direct asks for.
-    ShadingParams resolved = v.params;
-    resolved.direct = v.params.direct && !v.windowed;
-    const ShadingPlan plan = resolve_shading(resolved, file, a.input, Spelling::command_line);
-    viewer::LightRig rig(std::min(file.transfer.layout.K, kMaxLightK));
-    rig.set_source(v.setup);  // a missing light file fails here, before any window
-
-    viewer::FrameConfig config;
-    config.width = v.width;
-    config.height = v.height;
-    config.msaa = a.msaa;
-    config.exposure = static_cast<float>(v.params.exposure);
-    config.draw = draw_settings(plan, v.params.view);
-    config.draw.camera =
-        camera_from(a.camera, file.mesh, float(v.width) / float(v.height), a.input);
-    config.draw.background = a.background;
-    config.draw.wireframe = a.wireframe;
-    const std::string name = std::filesystem::path(a.input).filename().string();
-    // The object: baked for its self-shadowing once, then lit by the probes every time it or
-    // the light moves.
-    std::optional<DynamicObject> object;
-    viewer::ViewerObject shown;
-    if (v.object_pose) {
-        const ProbeGrid& probes = file.transfer.probes;
-        ObjectBakeOptions bake_options;
-        bake_options.K = probes.K;
-        object = load_dynamic_object(a.object.object, bake_options);
-        shown = {&*object, &probes, *v.object_pose, object_shade_options(plan, v.params.view),
-                 std::filesystem::path(a.object.object).filename().string()};
-        if (sample_probes(probes, v.object_pose->position).clamped)
-            log_warn("{}", clamped_warning(probes, v.object_pose->position, "--at"));
-        std::printf("object: %s (%zu vertices, %s) at %g,%g,%g lit from %zu probes\n",
-                    a.object.object.c_str(), object->mesh.vertex_count(),
-                    object->self.coeffs.empty() ? "no self-shadowing" : "self-shadowing baked",
-                    v.object_pose->position.x, v.object_pose->position.y, v.object_pose->position.z,
-                    probes.count());
-    }
-    if (!a.screenshot.empty())
-        take_screenshot(a, v, file, rig, config, shown, start);
-    else if (a.benchmark)
-        run_view_benchmark(a, v, file, rig, config, shown, name);
-    else
-        run_view_window(a, v, file, config, shown, name);
 }
 
 const bool view_registered = register_command(

@@ -50,6 +50,19 @@ struct Options {
     bool images = true;  // renders, image grid, edge measurement, frames/s
 };
 
+// The options as `shprt bench paper` takes them, before they are checked: the numbers as typed
+// (wide enough for any), the sampler's name, and what is skipped.
+struct OptionChoice {
+    Options options;
+    std::string sampler = "uniform";
+    long long samples = 4096, gt_samples = 16384, triangles = 20000, frames = 30, threads = 0;
+    bool no_study = false, no_images = false;
+};
+// The Options of `choice`, checked (one-line Error(invalid_argument) naming the option, e.g.
+// "--samples 0: must be in [1, 2^24]"); with `quick`, the sizes left at their defaults shrink to
+// a tiny run (a 2000-triangle room, S = 256, a ground truth of 256, 3 frames).
+Options options_from(OptionChoice choice);
+
 // What a run says while it works. The study never prints: `shprt bench paper` passes hooks that
 // write to stderr and draw progress bars (tools/cmd_bench.cpp). Any hook may be left empty.
 struct Reporter {

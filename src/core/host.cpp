@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <thread>
 
@@ -56,6 +57,24 @@ std::string host_cpu() {
     std::ostringstream text;
     text << in.rdbuf();
     return describe_cpu(text.str(), std::thread::hardware_concurrency());
+}
+
+
+std::string process_command_line() {
+    std::ifstream in("/proc/self/cmdline", std::ios::binary);
+    std::string raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string out;
+    std::size_t begin = 0;
+    while (begin < raw.size()) {
+        std::size_t end = raw.find('\0', begin);
+        if (end == std::string::npos) end = raw.size();
+        std::string arg = raw.substr(begin, end - begin);
+        if (!out.empty()) out += ' ';
+        const bool quote = arg.empty() || arg.find_first_of(" \t\"'\\$") != std::string::npos;
+        out += quote ? "'" + arg + "'" : arg;
+        begin = end + 1;
+    }
+    return out;
 }
 
 }  // namespace shprt

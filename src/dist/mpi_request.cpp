@@ -4,6 +4,10 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/timer.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
 #include <memory>
 #include <optional>
 
@@ -44,6 +48,24 @@ DistributedResult run(const MpiSession& session, const BakeRequest& request, con
     if (request.output)
         out.result.info.layout.encoding = request.output->encoding.value_or(TransferEncoding::f32);
     return out;
+}
+
+
+std::string rank_loads_summary(const DistributedBake& result) {
+    std::vector<std::size_t> receivers, units;
+    double least = 0, most = 0;
+    for (std::size_t r = 0; r < result.ranks.size(); ++r) {
+        const RankLoad& load = result.ranks[r];
+        receivers.push_back(load.receivers);
+        units.push_back(load.units);
+        least = r == 0 ? load.seconds : std::min(least, load.seconds);
+        most = std::max(most, load.seconds);
+    }
+    return fmt::format(
+        "ranks: receivers {} (units {}), busy {:.3f} s to {:.3f} s of {:.3f} s; gathered {:.3f} "
+        "GiB in {:.3f} s\n",
+        fmt::join(receivers, " "), fmt::join(units, " "), least, most, result.seconds_wall,
+        double(result.bytes_gathered) / double(1u << 30), result.seconds_gathered);
 }
 
 }  // namespace shprt::dist

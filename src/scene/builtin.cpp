@@ -117,6 +117,19 @@ std::vector<std::string> builtin_scene_names() {
             "room",  "quad_box",     "gloss_spheres", "leaky_room"};
 }
 
+const char* builtin_scene_summary(const std::string& name) {
+    if (name == "plane") return "A tessellated 2 m square at y = 0 facing +Y";
+    if (name == "box_on_plane") return "A unit box resting on a 4 m square";
+    if (name == "sphere") return "The unit sphere (icosphere, 1280 triangles)";
+    if (name == "corner") return "An inner 90-degree corner: floor y = 0 and wall x = 0";
+    if (name == "room") return "The paper's furnished room (open top; --ceiling closes it)";
+    if (name == "quad_box") return "Low poly with UVs: a two-triangle floor and a box on it";
+    if (name == "gloss_spheres") return "Four spheres on a floor, each with its own glossy BRDF";
+    if (name == "leaky_room")
+        return "A room built like real assets: overlapping panels, parts through the floor";
+    return "A built-in scene";
+}
+
 Mesh make_builtin(const std::string& name) {
     if (name == "plane") return make_plane();
     if (name == "box_on_plane") return make_box_on_plane();

@@ -6,6 +6,8 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/log.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -202,6 +204,16 @@ double mesh_surface_area(const Mesh& mesh) {
                                    cast<double>(mesh.positions[t[2]]) - p0));
     }
     return area;
+}
+
+
+std::string describe(const Mesh& mesh) {
+    const Bounds b = mesh_bounds(mesh);
+    return fmt::format(
+        "{} vertices, {} triangles\nbounds: [{:.4g}, {:.4g}, {:.4g}] .. [{:.4g}, {:.4g}, {:.4g}]\n"
+        "surface area: {:.4g}\n",
+        mesh.vertex_count(), mesh.triangle_count(), b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z,
+        mesh_surface_area(mesh));
 }
 
 }  // namespace shprt

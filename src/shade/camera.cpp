@@ -267,4 +267,41 @@ Mat4f inverse(const Mat4f& a) {
     return r;
 }
 
+void check(const CameraChoice& choice) {
+    SHPRT_CHECK(!choice.fov || (*choice.fov > 0 && *choice.fov < 180), invalid_argument,
+                "--fov {}: must be in (0, 180) degrees", choice.fov.value_or(0));
+    Camera parsed;
+    if (!choice.camera.empty()) parse_camera(choice.camera, parsed);
+}
+
+Camera camera_from(const CameraChoice& choice, const Mesh& mesh, float aspect,
+                   const std::string& input) {
+    check(choice);
+    Camera camera;
+    if (choice.camera.empty()) {
+        camera = default_camera(mesh, aspect);
+    } else {
+        Camera parsed;
+        parse_camera(choice.camera, parsed);
+        camera = look_at_camera(parsed.eye, parsed.target, Camera{}.fov_y_deg, mesh_bounds(mesh));
+    }
+    if (choice.fov) camera.fov_y_deg = static_cast<float>(*choice.fov);
+    // A camera without a frame (eye and target too far apart or too large for single precision,
+    // or a scene whose positions are): say which option or file it came from.
+    try {
+        (void)view_matrix(camera);
+    } catch (const Error& e) {
+        if (!choice.camera.empty())
+            fail(ErrorCode::invalid_argument,
+                 "--camera {}: {} (the coordinates are too large for single precision, or the "
+                 "up axis +Y is the view direction)",
+                 choice.camera, e.what());
+        fail(ErrorCode::format,
+             "{}: cannot frame the scene with the default camera: {} (its positions are too large "
+             "for single precision); give --camera EX,EY,EZ,TX,TY,TZ",
+             input, e.what());
+    }
+    return camera;
+}
+
 }  // namespace shprt

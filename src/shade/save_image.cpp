@@ -159,6 +159,12 @@ void write_atomically(const std::string& path, const std::string& bytes) {
 
 }  // namespace
 
+void check_image_extension(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    SHPRT_CHECK(ext == ".png" || ext == ".exr" || ext == ".hdr", invalid_argument,
+                "output {}: unknown image format (expected .png, .exr or .hdr)", path);
+}
+
 void save_image(const std::string& path, const Image& image, float exposure) {
     const std::string ext = lower_extension(path);
     SHPRT_CHECK(ext == ".exr" || ext == ".hdr" || ext == ".png", unsupported,

@@ -1,6 +1,5 @@
 #include "common/progress_bar.hpp"
 
-#include "shprt/core/interrupt.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/core/terminal.hpp"
 

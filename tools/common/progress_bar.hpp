@@ -20,6 +20,7 @@
 #pragma once
 
 #include "shprt/core/format.hpp"  // format_si, format_duration
+#include "shprt/core/interrupt.hpp"
 #include "shprt/core/progress.hpp"
 
 #include <chrono>

@@ -50,47 +50,10 @@ std::vector<std::string> input_files(const std::string& file, const LightArgs& a
     return files;
 }
 
-void add_camera_options(CLI::App& app, CameraArgs& args) {
-    app.add_option("--camera", args.camera,
+void add_camera_options(CLI::App& app, CameraChoice& choice) {
+    app.add_option("--camera", choice.camera,
                    "EX,EY,EZ,TX,TY,TZ: eye and target (default: frames the scene)");
-    app.add_option("--fov", args.fov, "Vertical field of view, degrees");
-}
-
-void check_camera_args(const CameraArgs& args) {
-    SHPRT_CHECK(!args.fov || (*args.fov > 0 && *args.fov < 180), invalid_argument,
-                "--fov {}: must be in (0, 180) degrees", args.fov.value_or(0));
-    Camera parsed;
-    if (!args.camera.empty()) parse_camera(args.camera, parsed);
-}
-
-Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect,
-                   const std::string& input) {
-    check_camera_args(args);
-    Camera camera;
-    if (args.camera.empty()) {
-        camera = default_camera(mesh, aspect);
-    } else {
-        Camera parsed;
-        parse_camera(args.camera, parsed);
-        camera = look_at_camera(parsed.eye, parsed.target, Camera{}.fov_y_deg, mesh_bounds(mesh));
-    }
-    if (args.fov) camera.fov_y_deg = static_cast<float>(*args.fov);
-    // A camera without a frame (eye and target too far apart or too large for single precision,
-    // or a scene whose positions are): say which option or file it came from.
-    try {
-        (void)view_matrix(camera);
-    } catch (const Error& e) {
-        if (!args.camera.empty())
-            fail(ErrorCode::invalid_argument,
-                 "--camera {}: {} (the coordinates are too large for single precision, or the "
-                 "up axis +Y is the view direction)",
-                 args.camera, e.what());
-        fail(ErrorCode::format,
-             "{}: cannot frame the scene with the default camera: {} (its positions are too large "
-             "for single precision); give --camera EX,EY,EZ,TX,TY,TZ",
-             input, e.what());
-    }
-    return camera;
+    app.add_option("--fov", choice.fov, "Vertical field of view, degrees");
 }
 
 void add_shading_options(CLI::App& app, ShadingArgs& args, unsigned extra,
@@ -148,23 +111,6 @@ ShadingParams shading_params(const ShadingArgs& args, const LightSetup& light) {
     p.sun = light.sun;
     check(p, cli);
     return p;
-}
-
-void check_texel_view(const std::string& path, const TransferSet& transfer, double k,
-                      ShadeView view) {
-    SHPRT_CHECK(transfer.layout.domain != ReceiverDomain::texel ||
-                    transfer.layout.shape != TransferShape::vector || k >= 1 ||
-                    view != ShadeView::radiance,
-                unsupported,
-                "{}: --k {}: diffuse texel transfer is drawn diffuse (k = 1); the paper's glossy "
-                "term is not drawn per texel (a glossy bake's matrices are)",
-                path, k);
-}
-
-void check_image_extension(const std::string& path) {
-    const std::string ext = lower_extension(path);
-    SHPRT_CHECK(ext == ".png" || ext == ".exr" || ext == ".hdr", invalid_argument,
-                "output {}: unknown image format (expected .png, .exr or .hdr)", path);
 }
 
 }  // namespace shprt::tools

@@ -34,27 +34,12 @@ void add_light_options(CLI::App& app, LightArgs& args);
 // or rotation. Light files are only read later, by prepare_light.
 LightSetup light_setup_from(const LightArgs& args);
 
-struct CameraArgs {
-    std::string camera;         // "EX,EY,EZ,TX,TY,TZ" or empty (default camera)
-    std::optional<double> fov;  // degrees
-};
-
 // The files a command with these light options reads: `file` (the .shprt input) and every file
 // the --light specs name, for check_output_is_not_input (core/file.hpp).
 std::vector<std::string> input_files(const std::string& file, const LightArgs& args);
 
-// Adds --camera and --fov.
-void add_camera_options(CLI::App& app, CameraArgs& args);
-// Checks --camera and --fov without a scene (one-line Error(invalid_argument)), so that a bad
-// option fails before a file is read.
-void check_camera_args(const CameraArgs& args);
-// The camera `shprt render` uses for these options: default_camera(mesh, aspect) without
-// --camera; otherwise look_at_camera (shade/camera.hpp) of the eye and target given, with clip
-// planes fitted to the mesh's bounds; --fov overrides the field of view.
-// `input` names the file the mesh came from in the error for a camera without a frame (a scene
-// whose positions are too large for single precision).
-Camera camera_from(const CameraArgs& args, const Mesh& mesh, float aspect,
-                   const std::string& input);
+// Adds --camera and --fov (shade/camera.hpp: check and camera_from take the choice).
+void add_camera_options(CLI::App& app, CameraChoice& choice);
 
 // The shading options (shade/params.hpp's ShadingParams) as the command line spells them. Every
 // command that shades has --k, --gloss, --exposure, --direct, --brdf, --glossy and --coeffs (K′);
@@ -81,14 +66,5 @@ void add_shading_options(CLI::App& app, ShadingArgs& args, unsigned extra,
 // (shade/params.hpp: one line naming the option) before any file is read. The deprecated --coeffs
 // gives one warning line, and with --shading-coeffs an error.
 ShadingParams shading_params(const ShadingArgs& args, const LightSetup& light);
-
-// A diffuse texel file (docs/texels.md) is drawn per fragment without the paper's glossy term:
-// one-line Error(unsupported) naming `path` for --k < 1 in the radiance view (glossy matrices per
-// texel are drawn). `render` and `view`.
-void check_texel_view(const std::string& path, const TransferSet& transfer, double k,
-                      ShadeView view);
-
-// Throws Error(invalid_argument) unless `path` ends in .png, .exr or .hdr (any case).
-void check_image_extension(const std::string& path);
 
 }  // namespace shprt::tools

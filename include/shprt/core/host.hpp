@@ -16,4 +16,8 @@ std::string describe_cpu(std::string_view cpuinfo, unsigned cpus);
 // describe_cpu of this machine's /proc/cpuinfo and std::thread::hardware_concurrency.
 std::string host_cpu();
 
+// This process's command line as typed (from /proc/self/cmdline), each argument that needs it in
+// single quotes, for a file's metadata; empty where unavailable.
+std::string process_command_line();
+
 }  // namespace shprt

@@ -38,6 +38,8 @@ namespace shprt {
 
 // The names make_builtin accepts, in a fixed order.
 std::vector<std::string> builtin_scene_names();
+// One line saying what the built-in scene `name` is (`shprt scene list`).
+const char* builtin_scene_summary(const std::string& name);
 
 // Builds a built-in scene by name (without the "builtin:" prefix); Mesh::source is
 // "builtin:NAME". Throws Error(invalid_argument) listing the valid names for an unknown one.

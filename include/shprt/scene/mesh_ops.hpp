@@ -64,4 +64,8 @@ Bounds mesh_bounds(const Mesh& mesh);
 // indices in range (validate_mesh).
 double mesh_surface_area(const Mesh& mesh);
 
+// "N vertices, M triangles\nbounds: [..] .. [..]\nsurface area: A\n": what `shprt scene info`
+// and the commands that write a scene print about it.
+std::string describe(const Mesh& mesh);
+
 }  // namespace shprt

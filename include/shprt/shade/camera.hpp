@@ -11,6 +11,7 @@
 #include "shprt/scene/mesh.hpp"
 #include "shprt/scene/mesh_ops.hpp"  // Bounds, mesh_bounds
 
+#include <optional>
 #include <string>
 
 namespace shprt {
@@ -67,6 +68,24 @@ void parse_camera(const std::string& text, Camera& camera);
 Vec3f parse_vec3(const std::string& text, const std::string& what);
 // Parses "WxH" (both in [1, 16384]); throws Error(invalid_argument).
 void parse_size(const std::string& text, int& width, int& height);
+
+// The camera a front end asks for (`--camera`, `--fov` of shprt render and view): an eye and a
+// target "EX,EY,EZ,TX,TY,TZ" (parse_camera), or empty for the default camera; a vertical field of
+// view in degrees, or none for the camera's own.
+struct CameraChoice {
+    std::string camera;
+    std::optional<double> fov;
+};
+// Checks the choice without a scene (one-line Error(invalid_argument) naming --camera or --fov),
+// so that a bad option fails before a file is read.
+void check(const CameraChoice& choice);
+// The camera of `choice` for `mesh` seen at `aspect`: default_camera(mesh, aspect) without an eye
+// and target, else look_at_camera of them with clip planes fitted to the mesh's bounds; the
+// field of view, if given, overrides. A camera without a frame is a one-line Error naming
+// --camera, or (the default camera of a scene whose positions are too large for single
+// precision) Error(format) naming `input`, the file the mesh came from.
+Camera camera_from(const CameraChoice& choice, const Mesh& mesh, float aspect,
+                   const std::string& input);
 
 // Where world point p lands in a width×height image rendered with `camera`: x right and y down
 // in pixels (pixel (i, j) covers [i, i+1) × [j, j+1), so its centre is (i + 0.5, j + 0.5)), and

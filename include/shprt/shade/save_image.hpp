@@ -30,6 +30,9 @@ namespace shprt {
 // pixel or a non-positive exposure, Error(unsupported) for an unknown extension, Error(io) if
 // writing fails.
 void save_image(const std::string& path, const Image& image, float exposure = 1.0f);
+// Before the work: Error(invalid_argument) "output PATH: unknown image format (expected .png,
+// .exr or .hdr)" unless `path` ends in one save_image writes (any case).
+void check_image_extension(const std::string& path);
 
 // One named channel of an EXR image: width·height floats, rows top first. Names follow EXR's
 // "layer.channel" convention ("sh03.R", "Y").

@@ -16,6 +16,12 @@ namespace shprt {
 // filtering and a few mip levels.
 inline constexpr int kTexelGutter = 4;
 
+// A diffuse texel file (docs/texels.md) is drawn per fragment without the paper's glossy term:
+// one-line Error(unsupported) naming `path` for --k < 1 in the radiance view (glossy matrices per
+// texel are drawn). `shprt render` and `view`.
+void check_texel_view(const std::string& path, const TransferSet& transfer, double k,
+                      ShadeView view);
+
 // Shades every receiver (texel) of a texel-domain transfer with shade_vertices' formulas: the
 // texels' positions, normals and albedo come from rasterize_texels over `mesh` (its UVs) at the
 // atlas's size, which must give exactly the atlas's texels (else Error(format): the file's mesh

@@ -1,0 +1,33 @@
+// What `shprt compress` checks of a file's transfer and probes against their CPCA options before
+// the fit, and the lines a fit's result is told in (as bake/bake_summary.hpp for a bake): the
+// library says them, the shell prints them.
+#pragma once
+
+#include "shprt/transfer/cpca.hpp"
+#include "shprt/transfer/probes.hpp"
+#include "shprt/transfer/transfer.hpp"
+
+#include <string>
+
+namespace shprt {
+
+// One-line Error(invalid_argument) starting with `what` (e.g. "room.shprt: --cpca 9,4"): more
+// clusters than `transfer` has receivers, or more vectors than the floats of one receiver.
+void check_cpca_fit(const TransferSet& transfer, const CpcaOptions& options,
+                    const std::string& what);
+// The same for the transfer probes: a grid without probes, more clusters than valid probes or
+// more vectors than channels × K × K.
+void check_probe_cpca_fit(const ProbeGrid& probes, const CpcaOptions& options,
+                          const std::string& what);
+
+// The lines of `result`, the CPCA of `transfer` (compress_transfer with `options`, float16 code
+// when `half`), each ending in '\n': "cpca: ...", "size: ...", "direct part: ..." (an
+// interreflected file), "error: ...", "error under LIGHT: ..." (with a light: `light_name` names
+// it, e.g. "--light sky.hdr"), "worst vertices: ...".
+std::string cpca_summary(const TransferSet& transfer, const CpcaResult& result,
+                         const CpcaOptions& options, bool half, const std::string& light_name);
+// The lines of the probes' CPCA: "probes: ..." and "probe error: ...".
+std::string probe_cpca_summary(const ProbeCpcaResult& result, const CpcaOptions& options,
+                               const std::string& light_name);
+
+}  // namespace shprt

@@ -1,0 +1,188 @@
+// `shprt view`'s composition (view_entry.hpp).
+#include "view_entry.hpp"
+
+#include "benchmark.hpp"
+#include "light_rig.hpp"
+#include "screenshot.hpp"
+#include "viewer_app.hpp"
+
+#include "shprt/bake/gpu.hpp"
+#include "shprt/bake/object_bake.hpp"
+#include "shprt/bake/request.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/core/log.hpp"
+#include "shprt/core/timer.hpp"
+#include "shprt/io/shprt_file.hpp"
+#include "shprt/scene/load.hpp"
+#include "shprt/shade/object_shade.hpp"
+#include "shprt/shade/save_image.hpp"
+#include "shprt/shade/shade.hpp"
+#include "shprt/shade/texel_shade.hpp"
+
+#include <fmt/printf.h>
+
+#include <algorithm>
+#include <filesystem>
+
+namespace shprt::viewer {
+namespace {
+
+// Bakes before a headless mode (no window to show the progress in).
+TransferSet bake_now(const ViewRequest& r, const Mesh& mesh) {
+    BakeRequest request;
+    request.options = *r.bake;
+    if (r.begin_bake) request.options.progress = r.begin_bake();
+    const auto start = Clock::now();
+    TransferSet t = shprt::run(request, mesh).transfer;
+    if (r.end_bake) r.end_bake();
+    r.say(fmt::sprintf("baked %zu vertices, K=%d, S=%d in %.2f s (%s)\n", mesh.vertex_count(),
+                       t.layout.K, t.samples, seconds_since(start), t.stats.device_name));
+    return t;
+}
+
+// The scene (a file, or with a bake one baked here or, for the window, all-zero rows refined as
+// they arrive); a glossy file without a BRDF gets --gloss's Phong lobe in `params`.
+ShprtFile view_scene(const ViewRequest& r, ShadingParams& params) {
+    ShprtFile file;
+    if (r.bake) {
+        file.mesh = load_scene(r.input);
+        file.transfer = r.windowed()
+                            ? TransferSet::zeros(bake_description(*r.bake), file.mesh.vertex_count())
+                            : bake_now(r, file.mesh);
+    } else {
+        // The window keeps the whole transfer (its panel toggles the direct part); a screenshot
+        // or a benchmark shows what --direct asks for.
+        file = read_shprt(r.input);
+        if (params.direct && r.windowed())
+            SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
+                        "--direct: {} has no direct part (only interreflected bakes keep one)",
+                        r.input);
+        check_texel_view(r.input, file.transfer, params.k, params.view);
+    }
+    // Glossy matrices are shaded with --brdf, else with the materials' BRDFs, else with --gloss's
+    // Phong lobe (the panel changes the BRDF live); --glossy paper turns them into the paper's
+    // term.
+    if (file.transfer.layout.shape == TransferShape::symmetric_matrix && !params.brdf &&
+        params.glossy == GlossyTerm::matrix && file.mesh.brdf_index.empty())
+        params.brdf = Brdf{BrdfModel::phong, params.gloss};
+    return file;
+}
+
+void take_screenshot(const ViewRequest& r, const ShadingParams& params, const ShprtFile& file,
+                     const LightRig& rig, const FrameConfig& config, const ViewerObject& object,
+                     Clock::time_point start) {
+    const ShLight light = rig.light();
+    std::optional<PreparedSun> sun;  // turned as `light`
+    if (r.light.sun) sun = prepare_sun(r.light, rig.K());
+    ObjectShading lit;
+    if (object.object) {
+        ObjectShadeOptions options = object.options;
+        options.eye = config.draw.camera.eye;
+        lit = shade_object(*object.object, object.pose, *object.probes, light, options);
+    }
+    const DrawnObject drawn{object.object ? &object.object->mesh : nullptr, &lit};
+    std::string context;
+    const Image image =
+        render_screenshot(file.mesh, file.transfer, light, config, r.backend, &context,
+                          sun ? &*sun : nullptr, object.object ? &drawn : nullptr);
+    save_image(r.screenshot, image, config.exposure);
+    r.say(fmt::sprintf("screenshot %dx%d (K'=%d, k=%g) in %.2f s -> %s\n", r.width, r.height,
+                       effective_basis_size(file.transfer, light, params.coeffs), params.k,
+                       seconds_since(start), r.screenshot));
+}
+
+void run_view_benchmark(const ViewRequest& r, const ShprtFile& file, const LightRig& rig,
+                        const FrameConfig& config, const ViewerObject& object,
+                        const std::string& name) {
+    BenchmarkOptions options;
+    options.frames = *r.benchmark;
+    options.rotate_light = r.benchmark_light;
+    // Glossy matrices have at most 8 bands: measure the file's own K.
+    if (file.transfer.layout.shape == TransferShape::symmetric_matrix)
+        options.K_values = {file.transfer.layout.K};
+    // With an object: the file's own K, the object moving every frame.
+    options.object = object;
+    if (object.object) options.K_values = {std::min(file.transfer.layout.K, rig.K())};
+    options.backend = r.backend;
+    const BenchmarkReport report = run_benchmark(file.mesh, file.transfer, rig, config, options);
+    r.say(name + ": " + format_benchmark(report));
+}
+
+void run_view_window(const ViewRequest& r, const ShadingParams& params, const ShprtFile& file,
+                     const FrameConfig& config, const ViewerObject& object,
+                     const std::string& name) {
+    WindowOptions options;
+    options.frame = config;
+    options.light = r.light;
+    options.title = "shprt view — " + name;
+    options.scene_label = name;
+    options.max_frames = r.max_frames;
+    options.window_screenshot = r.window_screenshot;
+    options.vsync = r.vsync;
+    options.direct_only = params.direct;
+    options.object = object;
+    const WindowReport report = run_window(file.mesh, file.transfer, options, r.bake);
+    r.say(fmt::sprintf("view: %d frames in %.2f s (%.1f frames/s); %s\n", report.frames,
+                       report.seconds, report.seconds > 0 ? report.frames / report.seconds : 0.0,
+                       report.context));
+    if (r.bake && report.bake_finished)
+        r.say(fmt::sprintf("baked %zu vertices, K=%d in %.2f s\n", file.mesh.vertex_count(),
+                           r.bake->K, report.bake_seconds));
+    SHPRT_CHECK(report.bake_error.empty(), unsupported, "bake failed: {}", report.bake_error);
+}
+
+}  // namespace
+
+void run_view(const ViewRequest& r) {
+    const auto start = Clock::now();
+    ShadingParams params = r.params;
+    ShprtFile file = view_scene(r, params);
+    if (r.object_pose) check_probes(file.transfer.probes, r.input);
+    // The window keeps the whole transfer (its panel toggles the direct part); a screenshot or a
+    // benchmark shows what --direct asks for.
+    ShadingParams resolved = params;
+    resolved.direct = params.direct && !r.windowed();
+    const ShadingPlan plan = resolve_shading(resolved, file, r.input, Spelling::command_line);
+    LightRig rig(std::min(file.transfer.layout.K, kMaxLightK));
+    rig.set_source(r.light);  // a missing light file fails here, before any window
+
+    FrameConfig config;
+    config.width = r.width;
+    config.height = r.height;
+    config.msaa = r.msaa;
+    config.exposure = static_cast<float>(params.exposure);
+    config.draw = draw_settings(plan, params.view);
+    config.draw.camera =
+        camera_from(r.camera, file.mesh, float(r.width) / float(r.height), r.input);
+    config.draw.background = r.background;
+    config.draw.wireframe = r.wireframe;
+    const std::string name = std::filesystem::path(r.input).filename().string();
+    // The object: baked for its self-shadowing once, then lit by the probes every time it or
+    // the light moves.
+    std::optional<DynamicObject> object;
+    ViewerObject shown;
+    if (r.object_pose) {
+        const ProbeGrid& probes = file.transfer.probes;
+        ObjectBakeOptions bake_options;
+        bake_options.K = probes.K;
+        object = load_dynamic_object(r.object, bake_options);
+        shown = {&*object, &probes, *r.object_pose, object_shade_options(plan, params.view),
+                 std::filesystem::path(r.object).filename().string()};
+        if (sample_probes(probes, r.object_pose->position).clamped)
+            log_warn("{}", clamped_warning(probes, r.object_pose->position, "--at"));
+        r.say(fmt::sprintf("object: %s (%zu vertices, %s) at %g,%g,%g lit from %zu probes\n",
+                           r.object, object->mesh.vertex_count(),
+                           object->self.coeffs.empty() ? "no self-shadowing"
+                                                       : "self-shadowing baked",
+                           r.object_pose->position.x, r.object_pose->position.y,
+                           r.object_pose->position.z, probes.count()));
+    }
+    if (!r.screenshot.empty())
+        take_screenshot(r, params, file, rig, config, shown, start);
+    else if (r.benchmark)
+        run_view_benchmark(r, file, rig, config, shown, name);
+    else
+        run_view_window(r, params, file, config, shown, name);
+}
+
+}  // namespace shprt::viewer
