@@ -1,6 +1,7 @@
 // `shprt bench paper`: the paper's results table reproduced with measurements. The study is the
 // library shprt_paper (bench/paper/paper_study.hpp; definitions in docs/paper_table.md); this
-// shell parses the options (paper::options_from checks them), runs it with stage lines and progress bars on stderr, prints the table.
+// shell parses the options (paper::options_from checks them), runs it with stage lines and progress
+// bars on stderr, prints the table.
 //
 //   shprt bench paper [--device cpu|cuda|both|auto] [--samples S] [--sampler NAME] [--extended]
 //                     [--quick] [--gt-samples N] [--triangles N] [--frames N] [--threads N]

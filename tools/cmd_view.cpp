@@ -104,26 +104,9 @@ viewer::ViewRequest check_view(const ViewArgs& a) {
     if (!a.do_bake && !a.bake_only_given.empty())
         fail(ErrorCode::invalid_argument, "{} is a bake option: add --bake (FILE is then a scene)",
              a.bake_only_given.front());
-    SHPRT_CHECK(!a.do_bake || bake_glossy || !params.brdf, invalid_argument,
-                "--brdf shades glossy transfer matrices: with --bake, add --transfer glossy");
-    SHPRT_CHECK(!(params.direct && a.do_bake), invalid_argument,
-                "--direct shows a baked file's direct part; with --bake, bake with "
-                "--transfer shadowed instead");
-    const bool windowed = a.screenshot.empty() && !a.benchmark;
-    // The window draws the matrices as their rows arrive; the paper's term replaces them with
-    // vectors, which a finished bake can give (--screenshot, --benchmark), not a refining one.
-    SHPRT_CHECK(!(bake_glossy && windowed && params.glossy == GlossyTerm::paper), unsupported,
-                "--glossy paper: the window shows a glossy bake's matrices while they refine "
-                "(use --brdf phong:E, or bake the file first and view it with --glossy paper)");
     const std::optional<ObjectPose> object_pose = object_pose_from(a.object);
-    SHPRT_CHECK(!(object_pose && a.do_bake), invalid_argument,
-                "--object is lit from a baked file's probes: bake FILE with shprt bake --probes "
-                "first, then view it without --bake");
     viewer::ViewRequest r;
-    if (a.do_bake) {
-        r.bake = bake_options_from(bake_args, Spelling::command_line);
-        resolve_device(r.bake->device, r.bake->device_index);  // fail before a window
-    }
+    if (a.do_bake) r.bake = bake_options_from(bake_args, Spelling::command_line);
     r.input = a.input;
     r.light = setup;
     r.params = params;
@@ -137,6 +120,7 @@ viewer::ViewRequest check_view(const ViewArgs& a) {
     r.max_frames = a.frames.value_or(0);
     r.window_screenshot = a.window_screenshot;
     r.backend = backend;
+    viewer::check(r);
     return r;
 }
 

@@ -43,8 +43,8 @@ std::string value_error_message(const std::string& what) {
 
 // "interrupted by SIGINT; nothing was written", exit status 128 + the signal (core/interrupt.hpp).
 int report_interrupted(int signal) {
-    const std::string what = std::string("interrupted by ") + shprt::signal_name(signal) +
-                             "; nothing was written";
+    const std::string what =
+        std::string("interrupted by ") + shprt::signal_name(signal) + "; nothing was written";
     return report_error(what.c_str(), shprt::interrupted_exit_code(signal));
 }
 
@@ -126,8 +126,7 @@ extern "C" __attribute__((visibility("default"))) int shprt_main(int argc, char*
         return report_error("out of memory (an allocation failed)", 1);
     } catch (const std::exception& e) {
         // A computation the signal cancelled (Error(cancelled)) reports the signal.
-        if (shprt::interrupted())
-            return report_interrupted(shprt::interrupt_signal());
+        if (shprt::interrupted()) return report_interrupted(shprt::interrupt_signal());
         return report_error(e.what(), 1);
     }
     // A signal that arrived once the output was in place: the run finished (core/interrupt.hpp).

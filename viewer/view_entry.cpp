@@ -46,9 +46,9 @@ ShprtFile view_scene(const ViewRequest& r, ShadingParams& params) {
     ShprtFile file;
     if (r.bake) {
         file.mesh = load_scene(r.input);
-        file.transfer = r.windowed()
-                            ? TransferSet::zeros(bake_description(*r.bake), file.mesh.vertex_count())
-                            : bake_now(r, file.mesh);
+        file.transfer =
+            r.windowed() ? TransferSet::zeros(bake_description(*r.bake), file.mesh.vertex_count())
+                         : bake_now(r, file.mesh);
     } else {
         // The window keeps the whole transfer (its panel toggles the direct part); a screenshot
         // or a benchmark shows what --direct asks for.
@@ -133,6 +133,27 @@ void run_view_window(const ViewRequest& r, const ShadingParams& params, const Sh
 
 }  // namespace
 
+void check(const ViewRequest& r) {
+    const bool bake_glossy = r.bake && r.bake->transfer == TransferKind::glossy;
+    SHPRT_CHECK(!r.bake || bake_glossy || !r.params.brdf, invalid_argument,
+                "--brdf shades glossy transfer matrices: with --bake, add --transfer glossy");
+    SHPRT_CHECK(!(r.params.direct && r.bake), invalid_argument,
+                "--direct shows a baked file's direct part; with --bake, bake with "
+                "--transfer shadowed instead");
+    // The window draws the matrices as their rows arrive; the paper's term replaces them with
+    // vectors, which a finished bake can give (--screenshot, --benchmark), not a refining one.
+    SHPRT_CHECK(!(bake_glossy && r.windowed() && r.params.glossy == GlossyTerm::paper), unsupported,
+                "--glossy paper: the window shows a glossy bake's matrices while they refine "
+                "(use --brdf phong:E, or bake the file first and view it with --glossy paper)");
+    SHPRT_CHECK(!(r.object_pose && r.bake), invalid_argument,
+                "--object is lit from a baked file's probes: bake FILE with shprt bake --probes "
+                "first, then view it without --bake");
+    if (r.bake) {
+        BakeOptions options = *r.bake;
+        resolve_device(options.device, options.device_index);  // fail before a window
+    }
+}
+
 void run_view(const ViewRequest& r) {
     const auto start = Clock::now();
     ShadingParams params = r.params;
@@ -170,12 +191,12 @@ void run_view(const ViewRequest& r) {
                  std::filesystem::path(r.object).filename().string()};
         if (sample_probes(probes, r.object_pose->position).clamped)
             log_warn("{}", clamped_warning(probes, r.object_pose->position, "--at"));
-        r.say(fmt::sprintf("object: %s (%zu vertices, %s) at %g,%g,%g lit from %zu probes\n",
-                           r.object, object->mesh.vertex_count(),
-                           object->self.coeffs.empty() ? "no self-shadowing"
-                                                       : "self-shadowing baked",
-                           r.object_pose->position.x, r.object_pose->position.y,
-                           r.object_pose->position.z, probes.count()));
+        r.say(
+            fmt::sprintf("object: %s (%zu vertices, %s) at %g,%g,%g lit from %zu probes\n",
+                         r.object, object->mesh.vertex_count(),
+                         object->self.coeffs.empty() ? "no self-shadowing" : "self-shadowing baked",
+                         r.object_pose->position.x, r.object_pose->position.y,
+                         r.object_pose->position.z, probes.count()));
     }
     if (!r.screenshot.empty())
         take_screenshot(r, params, file, rig, config, shown, start);

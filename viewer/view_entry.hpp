@@ -23,7 +23,7 @@
 namespace shprt::viewer {
 
 struct ViewRequest {
-    std::string input;               // a .shprt file; with `bake`, a scene file to bake
+    std::string input;                // a .shprt file; with `bake`, a scene file to bake
     std::optional<BakeOptions> bake;  // bake the scene here: first (headless) or live (window)
     LightSetup light;
     ShadingParams params;  // checked (shade/params.hpp: check)
@@ -32,10 +32,10 @@ struct ViewRequest {
     std::optional<ObjectPose> object_pose;  // set with `object`
     int width = 1280, height = 720, msaa = kAutoMsaa;
     bool background = false, wireframe = false, vsync = true;
-    std::string screenshot;        // one frame as PNG, without a window
-    std::optional<int> benchmark;  // frames per K', offscreen
-    bool benchmark_light = false;  // with `benchmark`: turn the light every frame too
-    int max_frames = 0;            // the window closes after them (0: when the user closes it)
+    std::string screenshot;         // one frame as PNG, without a window
+    std::optional<int> benchmark;   // frames per K', offscreen
+    bool benchmark_light = false;   // with `benchmark`: turn the light every frame too
+    int max_frames = 0;             // the window closes after them (0: when the user closes it)
     std::string window_screenshot;  // with max_frames: the window's last frame as PNG
     OffscreenBackend backend = OffscreenBackend::automatic;
     // A headless bake (not the window's, which the panel shows): begin_bake() is called once the
@@ -49,6 +49,12 @@ struct ViewRequest {
     // Neither a screenshot nor a benchmark: the window.
     bool windowed() const { return screenshot.empty() && !benchmark; }
 };
+
+// The combinations the viewer refuses, one line each (before any work): --brdf, --direct or
+// --object with a bake (a bake's BRDF is --transfer glossy's; a direct part and probes are a baked
+// file's), a glossy bake refined in the window with the paper's term; and a bake's device that
+// this machine does not have.
+void check(const ViewRequest& request);
 
 // Runs the request. Throws Error naming the file for a file that does not read or lacks what is
 // asked (a direct part, probes), what the window throws ("cannot open a window: …" without a

@@ -59,7 +59,6 @@ std::string host_cpu() {
     return describe_cpu(text.str(), std::thread::hardware_concurrency());
 }
 
-
 std::string process_command_line() {
     std::ifstream in("/proc/self/cmdline", std::ios::binary);
     std::string raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

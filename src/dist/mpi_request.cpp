@@ -50,7 +50,6 @@ DistributedResult run(const MpiSession& session, const BakeRequest& request, con
     return out;
 }
 
-
 std::string rank_loads_summary(const DistributedBake& result) {
     std::vector<std::size_t> receivers, units;
     double least = 0, most = 0;

@@ -206,7 +206,6 @@ double mesh_surface_area(const Mesh& mesh) {
     return area;
 }
 
-
 std::string describe(const Mesh& mesh) {
     const Bounds b = mesh_bounds(mesh);
     return fmt::format(

@@ -34,8 +34,8 @@ void check_cpca_fit(const TransferSet& t, const CpcaOptions& options, const std:
 
 void check_probe_cpca_fit(const ProbeGrid& probes, const CpcaOptions& options,
                           const std::string& what) {
-    SHPRT_CHECK(!probes.empty(), invalid_argument, "{}: the file has no probes (bake with --probes)",
-                what);
+    SHPRT_CHECK(!probes.empty(), invalid_argument,
+                "{}: the file has no probes (bake with --probes)", what);
     const std::size_t valid =
         std::size_t(std::count(probes.valid.begin(), probes.valid.end(), std::uint8_t(1)));
     const double floats = double(probes.channels) * probes.K * probes.K;

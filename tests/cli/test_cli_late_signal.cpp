@@ -39,7 +39,7 @@ using shprt::test_support::wait_stopped;
 // Sends `signal` to the stopped program as a user does, to the process. Only the main thread
 // takes it: TBB's workers block it (keep_signals_off_workers, core/parallel.hpp), the threads the
 // libraries start while they load were started with it blocked (tools/launcher.cpp), and any
-// other thread passes it on (tools/common/signals.cpp). So while the main thread stands in
+// other thread passes it on (src/core/interrupt.cpp). So while the main thread stands in
 // AtomicFile::commit's hold the signal waits, and is handled when commit lets it go. Before, a
 // worker took it and raced the main thread: the warning came after the summary or never (CI
 // failed twice on it; with only the hand-over, 4 runs in 4 here failed on a quiet machine).

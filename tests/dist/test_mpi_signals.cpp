@@ -71,7 +71,7 @@ echo "mpirun exit $?"
 };
 
 // The rank that speaks is slowed down (its line comes 300 ms after the signal): mpirun SIGKILLs
-// every rank as soon as one has ended, so the others wait for it (common/signals.cpp).
+// every rank as soon as one has ended, so the others wait for it (src/core/interrupt.cpp).
 TEST_F(MpiSignals, AKilledRankIsNamedInOneLine) {
     for (const int victim : {1, 0}) {
         SCOPED_TRACE("rank " + std::to_string(victim) + " killed");

@@ -4,9 +4,9 @@
 //   * The `shprt` program (tools/launcher.cpp) holds such a signal while the command line's
 //     libraries load; shprt_main() reports it right after install_signal_handlers().
 //   * install_signal_handlers(), the first thing shprt_main() does: from then on such a signal
-//     ends the process with one line, "shprt: error: interrupted by SIGINT; nothing was written", after
-//     removing the temporary files of outputs being written (core/file.hpp) — exit status
-//     128 + the signal (130, 143, 129). No moment of the process's life dies silently.
+//     ends the process with one line, "shprt: error: interrupted by SIGINT; nothing was written",
+//     after removing the temporary files of outputs being written (core/file.hpp) — exit status 128
+//     + the signal (130, 143, 129). No moment of the process's life dies silently.
 //   * install_interrupt_handler() (a bake or another long computation that polls interrupted()
 //     through its progress callback) makes the next signal a request instead: interrupted()
 //     turns true, the computation cancels cleanly (Error(cancelled)), and main() reports the
