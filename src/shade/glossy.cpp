@@ -13,6 +13,7 @@
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -91,12 +92,11 @@ std::vector<Brdf> brdf_table(const Mesh& mesh, bool material_brdfs, const Brdf& 
 
 void check_glossy_shadable(const Mesh& mesh, const TransferSet& transfer) {
     transfer.check(mesh);
-    SHPRT_CHECK(
-        transfer.layout.shape == TransferShape::symmetric_matrix && transfer.layout.channels == 1,
-        invalid_argument,
-        "{} transfer with {} channel(s) cannot be shaded with --brdf: glossy shading needs "
-        "a glossy bake (--transfer glossy)",
-        to_string(transfer.layout.shape), transfer.layout.channels);
+    SHPRT_CHECK(is_glossy_matrix(transfer.layout) && transfer.layout.channels == 1,
+                invalid_argument,
+                "{} transfer with {} channel(s) cannot be shaded with --brdf: glossy shading needs "
+                "a glossy bake (--transfer glossy)",
+                to_string(transfer.layout.shape), transfer.layout.channels);
 }
 
 void unpack_symmetric(const float* packed, int K, int K_used, double* out) {

@@ -12,6 +12,7 @@
 #include "shprt/core/parallel.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,10 +31,10 @@ void check_inputs(const Mesh& mesh, const TransferSet& transfer, const ShLight& 
 
 void check_shadable(const Mesh& mesh, const TransferSet& transfer) {
     transfer.check(mesh);
-    SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::vertex, unsupported,
+    SHPRT_CHECK(!is_texel(transfer.layout), unsupported,
                 "texel transfer is shaded per texel (shade_texels, shade/texel_shade.hpp; "
                 "shprt shade -o .npy|.exr|.png)");
-    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, unsupported,
+    SHPRT_CHECK(!is_matrix(transfer.layout), unsupported,
                 "{} transfer cannot be shaded with L = k·L_D + (1−k)·L_S (it needs a vector per "
                 "receiver; glossy transfer matrices are shaded with --brdf, shade/glossy.hpp)",
                 to_string(transfer.layout.shape));

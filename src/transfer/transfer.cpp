@@ -4,6 +4,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/names.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 
@@ -35,12 +36,6 @@ void add_stats(BakeStats& total, const BakeStats& part) {
 
 namespace {
 
-constexpr Named<TransferKind> kTransferKindNames[] = {
-    {TransferKind::unshadowed, "unshadowed"},
-    {TransferKind::shadowed, "shadowed"},
-    {TransferKind::interreflected, "interreflected"},
-    {TransferKind::glossy, "glossy"},
-};
 constexpr Named<ReceiverDomain> kReceiverDomainNames[] = {{ReceiverDomain::vertex, "vertex"},
                                                           {ReceiverDomain::texel, "texel"}};
 constexpr Named<TransferShape> kTransferShapeNames[] = {
@@ -53,10 +48,6 @@ constexpr Named<TransferEncoding> kTransferEncodingNames[] = {{TransferEncoding:
 
 }  // namespace
 
-const char* to_string(TransferKind kind) { return name_of(kTransferKindNames, kind); }
-TransferKind parse_transfer_kind(const std::string& name) {
-    return parse_named(kTransferKindNames, name, "transfer kind");
-}
 const char* to_string(ReceiverDomain domain) { return name_of(kReceiverDomainNames, domain); }
 ReceiverDomain parse_receiver_domain(const std::string& name) {
     return parse_named(kReceiverDomainNames, name, "receiver domain");
@@ -94,7 +85,7 @@ void TransferLayout::validate() const {
 
 const char* samples_refusal(TransferKind kind, int samples) {
     if (samples < 0) return "a sample count cannot be negative";
-    if (samples == 0 && kind != TransferKind::unshadowed)
+    if (samples == 0 && kind_row(kind).traces_rays)
         return "only unshadowed transfer has a closed form: a transfer of any other kind is baked "
                "from at least one direction per receiver";
     return nullptr;
