@@ -712,9 +712,7 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
     }
     sink.finish();
     if (job.direct) {
-        TransferLayout direct_layout = info.layout;
-        direct_layout.channels = 1;
-        job.direct->begin(direct_layout, 0, V);
+        job.direct->begin(direct_part_layout(info.layout), 0, V);
         job.direct->write(0, V, T0.data());
         job.direct->finish();
     }

@@ -220,10 +220,9 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
 TransferSet glossy_to_diffuse(const Mesh& mesh, const TransferSet& transfer) {
     check_glossy_shadable(mesh, transfer);
     const int K = transfer.layout.K;
-    TransferInfo info = transfer;
+    TransferInfo info = transfer;  // a shadowed set's layout in the matrices' domain and encoding
     info.kind = TransferKind::shadowed;
-    info.layout.shape = TransferShape::vector;
-    info.layout.channels = 1;
+    info.layout = layout_for(info.kind, K, transfer.layout.domain, transfer.layout.encoding);
     const std::size_t V = transfer.receiver_count();
     const std::vector<Vec3f> normals = receiver_normals(mesh, transfer);  // vertices or texels
     TransferSet out = TransferSet::zeros(info, V);

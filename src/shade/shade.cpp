@@ -88,7 +88,7 @@ ShadeResult shade_vertices(const Mesh& mesh, const TransferSet& transfer, const 
         for (std::size_t v = first; v != last; ++v) {
             double E[3], L_S[3] = {0, 0, 0};
             for (int c = 0; c < 3; ++c) {
-                const float* t = transfer.receiver(v, transfer.layout.channels == 3 ? c : 0);
+                const float* t = transfer.receiver(v, channel_for(transfer.layout, c));
                 const float* l = light.channel(c);
                 double s = 0;
                 for (int i = 0; i < K; ++i) s += double(t[i]) * double(l[i]);
@@ -105,7 +105,7 @@ ShadeResult shade_vertices(const Mesh& mesh, const TransferSet& transfer, const 
                 rotate_zonal(lobe.data(), K, r, cs.data());
                 const double cos_eta = std::max(nw, kMinCosEta);
                 for (int c = 0; c < 3; ++c) {
-                    const float* t = transfer.receiver(v, transfer.layout.channels == 3 ? c : 0);
+                    const float* t = transfer.receiver(v, channel_for(transfer.layout, c));
                     const float* l = light.channel(c);
                     double lobe_light = 0, lobe_transfer = 0;
                     for (int i = 0; i < K; ++i) {

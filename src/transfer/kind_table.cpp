@@ -12,49 +12,81 @@
 namespace shprt {
 namespace {
 
-using K = TransferKind;
-using Shape = TransferShape;
-constexpr bool yes = true, no = false;
-
 // One row per kind, in TransferKind's order (kind_row indexes it).
-//                                                                   rays T_0 bounce whole bound K
-constexpr std::array<TransferKindRow, 4> kRows = {{
-    {K::unshadowed, "unshadowed", 1, Shape::vector, no, no, no, no, yes, 16},
-    {K::shadowed, "shadowed", 1, Shape::vector, yes, no, no, no, yes, 16},
-    {K::interreflected, "interreflected", 3, Shape::vector, yes, yes, yes, yes, no, 16},
-    {K::glossy, "glossy", 1, Shape::symmetric_matrix, yes, no, no, no, no, 25},
+constexpr std::array<TransferKindRow, 4> kKindRows = {{
+    {.kind = TransferKind::unshadowed,
+     .name = "unshadowed",
+     .channels = 1,
+     .shape = TransferShape::vector,
+     .traces_rays = false,
+     .direct_part = false,
+     .interreflection = false,
+     .whole_domain = false,
+     .error_bounded = true,
+     .default_K = 16},
+    {.kind = TransferKind::shadowed,
+     .name = "shadowed",
+     .channels = 1,
+     .shape = TransferShape::vector,
+     .traces_rays = true,
+     .direct_part = false,
+     .interreflection = false,
+     .whole_domain = false,
+     .error_bounded = true,
+     .default_K = 16},
+    {.kind = TransferKind::interreflected,
+     .name = "interreflected",
+     .channels = 3,
+     .shape = TransferShape::vector,
+     .traces_rays = true,
+     .direct_part = true,
+     .interreflection = true,
+     .whole_domain = true,
+     .error_bounded = false,
+     .default_K = 16},
+    {.kind = TransferKind::glossy,
+     .name = "glossy",
+     .channels = 1,
+     .shape = TransferShape::symmetric_matrix,
+     .traces_rays = true,
+     .direct_part = false,
+     .interreflection = false,
+     .whole_domain = false,
+     .error_bounded = false,
+     .default_K = 25},
 }};
 static_assert([] {
-    for (std::size_t i = 0; i < kRows.size(); ++i)
-        if (static_cast<std::size_t>(kRows[i].kind) != i) return false;
+    for (std::size_t i = 0; i < kKindRows.size(); ++i)
+        if (static_cast<std::size_t>(kKindRows[i].kind) != i) return false;
     return true;
 }());
 
-constexpr Named<ShadingPass> kPassNames[] = {{ShadingPass::vertex_vectors, "vertex_vectors"},
-                                             {ShadingPass::vertex_matrices, "vertex_matrices"},
-                                             {ShadingPass::texels, "texels"},
-                                             {ShadingPass::none, "none"}};
+constexpr Named<ShadingPass> kShadingPassNames[] = {
+    {ShadingPass::vertex_vectors, "vertex_vectors"},
+    {ShadingPass::vertex_matrices, "vertex_matrices"},
+    {ShadingPass::texels, "texels"},
+    {ShadingPass::none, "none"}};
 
 }  // namespace
 
-std::span<const TransferKindRow> kind_rows() { return kRows; }
+std::span<const TransferKindRow> kind_rows() { return kKindRows; }
 
 const TransferKindRow& kind_row(TransferKind kind) {
     const auto i = static_cast<std::size_t>(kind);
-    SHPRT_CHECK(i < kRows.size(), invalid_argument, "transfer kind {} is not a kind", i);
-    return kRows[i];
+    SHPRT_CHECK(i < kKindRows.size(), invalid_argument, "transfer kind {} is not a kind", i);
+    return kKindRows[i];
 }
 
 const char* to_string(TransferKind kind) {
     const auto i = static_cast<std::size_t>(kind);
-    return i < kRows.size() ? kRows[i].name : "?";
+    return i < kKindRows.size() ? kKindRows[i].name : "?";
 }
 
 TransferKind parse_transfer_kind(const std::string& name) {
-    for (const TransferKindRow& row : kRows)
+    for (const TransferKindRow& row : kKindRows)
         if (name == row.name) return row.kind;
     std::vector<std::string_view> names;
-    for (const TransferKindRow& row : kRows) names.emplace_back(row.name);
+    for (const TransferKindRow& row : kKindRows) names.emplace_back(row.name);
     fail_unknown_name("transfer kind", name, names);
 }
 
@@ -78,7 +110,7 @@ ShadingPass shading_pass(const TransferLayout& layout) {
     return is_glossy_matrix(layout) ? ShadingPass::vertex_matrices : ShadingPass::none;
 }
 
-const char* to_string(ShadingPass pass) { return name_of(kPassNames, pass); }
+const char* to_string(ShadingPass pass) { return name_of(kShadingPassNames, pass); }
 
 std::vector<std::size_t> receiver_shape(const TransferLayout& layout) {
     std::vector<std::size_t> shape;

@@ -105,7 +105,7 @@ TransferSet TransferSet::direct_only() const {
     TransferSet out;
     static_cast<TransferInfo&>(out) = *this;
     out.kind = TransferKind::shadowed;
-    out.layout.channels = 1;
+    out.layout = direct_part_layout(layout);
     out.interreflection = {};
     out.coeffs = direct;
     return out;

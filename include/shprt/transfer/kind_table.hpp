@@ -71,6 +71,18 @@ inline bool is_texel(const TransferLayout& layout) {
     return layout.domain == ReceiverDomain::texel;
 }
 
+// The channel of a set of this layout that colour `colour` (0 R, 1 G, 2 B) is lit through: the
+// colour's own for RGB transfer, the one channel for grey transfer.
+inline int channel_for(const TransferLayout& layout, int colour) {
+    return layout.channels == 3 ? colour : 0;
+}
+// The layout of a set's direct part T_0 (TransferSet::direct): one channel of the set's rows (the
+// direct light is the same for R, G and B; the albedo enters only at the bounces).
+inline TransferLayout direct_part_layout(TransferLayout layout) {
+    layout.channels = 1;
+    return layout;
+}
+
 // The pass that shades a set of this layout: texels for the texel domain, else vertex matrices
 // for glossy matrices (with or without a CPCA code), vertex vectors for vectors, and none for
 // full matrices.
