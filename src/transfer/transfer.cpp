@@ -112,7 +112,7 @@ TransferSet TransferSet::direct_only() const {
 }
 
 std::size_t TransferSet::receiver_total(const Mesh& mesh) const {
-    return layout.domain == ReceiverDomain::texel ? texels.texel.size() : mesh.vertex_count();
+    return is_texel(layout) ? texels.texel.size() : mesh.vertex_count();
 }
 
 TexelSamples atlas_texel_samples(const Mesh& mesh, const TexelAtlas& atlas) {
@@ -124,7 +124,7 @@ TexelSamples atlas_texel_samples(const Mesh& mesh, const TexelAtlas& atlas) {
 }
 
 std::vector<Vec3f> receiver_normals(const Mesh& mesh, const TransferSet& transfer) {
-    if (transfer.layout.domain == ReceiverDomain::vertex) return mesh.normals;
+    if (!is_texel(transfer.layout)) return mesh.normals;
     return atlas_texel_samples(mesh, transfer.texels).normals;
 }
 
@@ -144,7 +144,7 @@ void TransferSet::check_rows(const Mesh& mesh, std::size_t first) const {
     SHPRT_CHECK(!coeffs.empty() && coeffs.size() % row == 0, invalid_argument,
                 "transfer holds {} floats, not a whole number of rows of {} ({} channels × {})",
                 coeffs.size(), row, layout.channels, layout.floats_per_channel());
-    if (layout.domain == ReceiverDomain::texel) {
+    if (is_texel(layout)) {
         SHPRT_CHECK(!mesh.uvs.empty(), invalid_argument,
                     "texel transfer of a mesh without texture coordinates");
         const std::uint64_t image = std::uint64_t(texels.width) * std::uint64_t(texels.height);
