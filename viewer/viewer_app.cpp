@@ -15,6 +15,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/scene/mesh_ops.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -186,8 +187,8 @@ void App::init_state() {
     s.exposure = m_options.frame.exposure;
     // Diffuse texels, and vector transfer under a sun kept out of the SH sum (the paper's glossy
     // term is not linear in the light: Renderer::set_sun), are drawn with k = 1.
-    s.diffuse_only = m_transfer.layout.shape == TransferShape::vector &&
-                     (m_transfer.layout.domain == ReceiverDomain::texel || m_light.sun());
+    s.diffuse_only =
+        !is_matrix(m_transfer.layout) && (is_texel(m_transfer.layout) || m_light.sun());
     s.k = s.diffuse_only ? 1.0f : static_cast<float>(m_options.frame.draw.k);
     s.gloss = static_cast<float>(m_options.frame.draw.gloss);
     s.matrices = m_renderer.scene_has_matrices();
