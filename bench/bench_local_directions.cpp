@@ -222,17 +222,23 @@ std::vector<double> error_curve(const Args& a, const Mesh& mesh, const Tracer& t
         "min wall of %d runs (sphere and local interleaved)\n\n",
         a.K, a.threads, a.reps);
     std::printf(
-        "| S | sphere: wall s | sphere: CPU s | sphere: error | sphere: Mrays | local: wall s "
-        "| local: CPU s | local: error | local: Mrays |\n"
+        "| S | sphere: wall s | sphere: error | plain local: wall s | plain local: error | "
+        "local: wall s | local: CPU s | local: error | local: Mrays |\n"
         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-    std::vector<Point> curves[2], cpu_curves[2];
+    // 0: the sphere set; 1: the local set without the open part (BakeOptions::open_control
+    // off, the plain estimator); 2: the local set as it bakes.
+    constexpr int kSeries = 3;
+    std::vector<Point> curves[kSeries], cpu_curves[kSeries];
     for (std::uint32_t S = 64; S <= a.max_samples; S *= 2) {
-        double best[2] = {1e30, 1e30}, cpu[2] = {1e30, 1e30}, error[2] = {0, 0}, rays[2] = {0, 0};
+        double best[kSeries], cpu[kSeries], error[kSeries] = {}, rays[kSeries] = {};
+        std::fill(best, best + kSeries, 1e30);
+        std::fill(cpu, cpu + kSeries, 1e30);
         for (int rep = 0; rep < a.reps; ++rep)
-            for (int f = 0; f < 2; ++f) {
+            for (int f = 0; f < kSeries; ++f) {
                 const DirectionFrame frame =
                     f == 0 ? DirectionFrame::sphere : DirectionFrame::local;
-                const BakeOptions o = options_for(a, frame, S, 1);
+                BakeOptions o = options_for(a, frame, S, 1);
+                o.open_control = f == 2;
                 const auto start = Clock::now();
                 const double cpu_start = process_cpu_seconds();
                 const TransferSet t = bake_with_tracer(mesh, o, bake_direction_set(o), tracer);
@@ -244,26 +250,29 @@ std::vector<double> error_curve(const Args& a, const Mesh& mesh, const Tracer& t
                     rays[f] = double(t.stats.rays_cast) * 1e-6;
                 }
             }
-        for (int f = 0; f < 2; ++f) {
+        for (int f = 0; f < kSeries; ++f) {
             curves[f].push_back({S, best[f], error[f]});
             cpu_curves[f].push_back({S, cpu[f], error[f]});
         }
-        std::printf("| %u | %.3f | %.3f | %.3f %% | %.1f | %.3f | %.3f | %.3f %% | %.1f |\n", S,
-                    best[0], cpu[0], 100 * error[0], rays[0], best[1], cpu[1], 100 * error[1],
-                    rays[1]);
+        std::printf("| %u | %.3f | %.3f %% | %.3f | %.3f %% | %.3f | %.3f | %.3f %% | %.1f |\n", S,
+                    best[0], 100 * error[0], best[1], 100 * error[1], best[2], cpu[2],
+                    100 * error[2], rays[2]);
         std::fflush(stdout);
     }
     std::printf("\n");
     for (const double target : {0.02, 0.01}) {
-        double ts = time_to(curves[0], target), tl = time_to(curves[1], target);
-        double cs = time_to(cpu_curves[0], target), cl = time_to(cpu_curves[1], target);
-        const bool extrapolated = ts < 0 || tl < 0;
-        ts = std::fabs(ts), tl = std::fabs(tl), cs = std::fabs(cs), cl = std::fabs(cl);
+        double wall[kSeries], cpu[kSeries];
+        bool extrapolated = false;
+        for (int f = 0; f < kSeries; ++f) {
+            wall[f] = time_to(curves[f], target), cpu[f] = time_to(cpu_curves[f], target);
+            extrapolated = extrapolated || wall[f] < 0;
+            wall[f] = std::fabs(wall[f]), cpu[f] = std::fabs(cpu[f]);
+        }
         std::printf(
-            "time to %.0f %% (log-log interpolation%s): wall sphere %.3f s, local %.3f s "
-            "(%.2fx); CPU sphere %.3f s, local %.3f s (%.2fx)\n",
-            100 * target, extrapolated ? ", one extrapolated past the last S" : "", ts, tl, ts / tl,
-            cs, cl, cs / cl);
+            "time to %.0f %% (log-log interpolation%s): wall sphere %.3f s, plain local %.3f s, "
+            "local %.3f s (%.2fx the sphere's); CPU %.3f s, %.3f s, %.3f s\n",
+            100 * target, extrapolated ? ", one extrapolated past the last S" : "", wall[0],
+            wall[1], wall[2], wall[0] / wall[2], cpu[0], cpu[1], cpu[2]);
     }
     return ref;
 }
@@ -349,8 +358,8 @@ void bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer, con
                 "| %s | %.3g | %.3f | %.3f | %.0f | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %zu "
                 "of %zu | %.1f |\n",
                 sc.name, E, wall, cpu, est.mean_samples,
-                is_room ? fmt::format("{:.3f} %", 100 * lum).c_str() : "–", spread.worst, spread.p99,
-                spread.mean, est.error.worst, est.error.mean, over, truth.size(),
+                is_room ? fmt::format("{:.3f} %", 100 * lum).c_str() : "–", spread.worst,
+                spread.p99, spread.mean, est.error.worst, est.error.mean, over, truth.size(),
                 double(t.stats.rays_cast) * 1e-6);
             std::fflush(stdout);
         }

@@ -4,6 +4,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/render/gl_context.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
@@ -30,7 +31,7 @@ SunFilter choose_sun_filter(bool continuous) {
 }
 
 std::string describe_gpu_transfer(const TransferSet& transfer, double bytes_per_vertex) {
-    if (transfer.layout.shape != TransferShape::symmetric_matrix) return {};
+    if (!is_glossy_matrix(transfer.layout)) return {};
     const int K = transfer.layout.K;
     if (transfer.cpca.empty())
         return fmt::format("{}x{} matrices: {:.0f} B/vertex on the GPU", K, K, bytes_per_vertex);

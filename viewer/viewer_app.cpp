@@ -15,6 +15,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/render/gl_context.hpp"
 #include "shprt/scene/mesh_ops.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -186,8 +187,8 @@ void App::init_state() {
     s.exposure = m_options.frame.exposure;
     // Diffuse texels, and vector transfer under a sun kept out of the SH sum (the paper's glossy
     // term is not linear in the light: Renderer::set_sun), are drawn with k = 1.
-    s.diffuse_only = m_transfer.layout.shape == TransferShape::vector &&
-                     (m_transfer.layout.domain == ReceiverDomain::texel || m_light.sun());
+    s.diffuse_only =
+        !is_matrix(m_transfer.layout) && (is_texel(m_transfer.layout) || m_light.sun());
     s.k = s.diffuse_only ? 1.0f : static_cast<float>(m_options.frame.draw.k);
     s.gloss = static_cast<float>(m_options.frame.draw.gloss);
     s.matrices = m_renderer.scene_has_matrices();
@@ -355,7 +356,9 @@ void App::handle_input(float seconds) {
 }
 
 void App::start_bake(const BakeOptions& options) {
-    const Device device = resolve_device(options.device, options.device_index);
+    Device device = resolve_device(options.device, options.device_index);
+    // The error-bounded bake runs on the CPU; `auto` takes it there, as bake() does.
+    if (options.target_error > 0 && options.device == Device::automatic) device = Device::cpu;
     float* device_output = nullptr;
     std::size_t device_bytes = 0;
     std::string interop_note;
@@ -388,8 +391,22 @@ void App::start_bake(const BakeOptions& options) {
     m_bake = std::make_unique<BackgroundBake>(m_mesh, o, std::move(device_sink));
     m_panel.baking = true;
     m_panel.bake_status =
-        fmt::format("baking K={}, S={} on {}{}{}", o.K, o.samples, to_string(device),
-                    device_output ? " into the GL buffer (CUDA interop)" : "", interop_note);
+        o.target_error > 0
+            ? fmt::format("refining K={} toward error {:g} on {} (S up to {})", o.K, o.target_error,
+                          to_string(device), bake_set_size(o))
+            : fmt::format("baking K={}, S={} on {}{}{}", o.K, o.samples, to_string(device),
+                          device_output ? " into the GL buffer (CUDA interop)" : "", interop_note);
+}
+
+// An error-bounded bake's rounds (RefineRound), for the panel: the estimate falling as it runs.
+std::string refine_text(const RefineRound& r, double target) {
+    if (r.round == 0) return fmt::format("refining toward error {:g}: first round", target);
+    return fmt::format(
+        "round {} of {} (S up to {}): estimated error worst {:.4f}, 99th percentile {:.4f}; {:.1f} "
+        "% "
+        "of receivers over {:g}; mean S {:.0f}",
+        r.round, r.rounds, r.max_samples, r.worst, r.p99, 100 * r.over_target, target,
+        r.mean_samples);
 }
 
 void App::update_bake() {
@@ -398,6 +415,9 @@ void App::update_bake() {
     for (const TransferChunk& chunk : m_bake->chunks().take_all())
         m_renderer.update_transfer(chunk.first, chunk.count, chunk.rows.data());
     m_panel.bake_fraction = static_cast<float>(m_bake->fraction_done());
+    const double target = m_bake->options().target_error;
+    if (target > 0 && !m_bake->done())
+        m_panel.bake_status = refine_text(m_bake->refine_round(), target);
     if (!m_bake->done() || m_bake_reported) return;
     m_bake->wait();
     if (m_interop) {
@@ -414,6 +434,8 @@ void App::update_bake() {
             m_report.bake_finished = true;
             m_panel.bake_status = fmt::format("baked in {:.2f} s ({})", m_bake->seconds(),
                                               m_bake->result().stats.device_name);
+            if (target > 0)
+                m_panel.bake_status += "; " + refine_text(m_bake->refine_round(), target);
             break;
         case BakeState::cancelled:
             m_panel.bake_status = "bake cancelled";

@@ -8,6 +8,7 @@
 #include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/request.hpp"
 #include "shprt/core/parse.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <pybind11/stl.h>
 
@@ -259,8 +260,7 @@ py::object bake_py(py::handle vertices, py::handle faces, py::handle normals, py
     if (request.output) return summary(result, request);
     const TransferSet& t = result.transfer;
     std::vector<py::ssize_t> shape{py::ssize_t(t.receiver_count())};
-    if (t.layout.channels != 1) shape.push_back(t.layout.channels);
-    shape.push_back(py::ssize_t(t.layout.floats_per_channel()));
+    for (const std::size_t n : receiver_shape(t.layout)) shape.push_back(py::ssize_t(n));
     return take_vector(std::move(result.transfer.coeffs), std::move(shape));
 }
 

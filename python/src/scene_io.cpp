@@ -7,6 +7,7 @@
 #include "shprt/scene/load.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/transfer/cpca.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <pybind11/stl.h>
 
@@ -45,13 +46,7 @@ py::array rows_view(V& rows, py::ssize_t cols, py::handle base) {
 // for more than one channel; a matrix channel is (K, K).
 std::vector<py::ssize_t> transfer_shape(const TransferLayout& layout, std::size_t rows) {
     std::vector<py::ssize_t> shape{ssize(rows)};
-    if (layout.channels != 1) shape.push_back(layout.channels);
-    if (layout.shape == TransferShape::matrix) {
-        shape.push_back(layout.K);
-        shape.push_back(layout.K);
-    } else {
-        shape.push_back(ssize(layout.floats_per_channel()));
-    }
+    for (const std::size_t n : receiver_shape(layout)) shape.push_back(ssize(n));
     return shape;
 }
 
@@ -74,15 +69,15 @@ ShprtFile make_file(const Mesh& mesh, py::handle transfer, const std::string& ki
     t.seed = seed;
     t.layout.channels = a.ndim() == 3 ? int(a.shape(1)) : 1;
     t.layout.K = int(a.shape(a.ndim() - 1));
-    if (t.kind == TransferKind::glossy) {
-        const auto packed = std::int64_t(a.shape(a.ndim() - 1));
-        int K = 0;
-        while (std::int64_t(K + 1) * (K + 2) / 2 <= packed) ++K;
-        SHPRT_CHECK(a.ndim() == 2 && std::int64_t(K) * (K + 1) / 2 == packed, invalid_argument,
-                    "transfer: kind 'glossy' expects (V, K(K+1)/2), each vertex's symmetric "
+    // A matrix kind's row is its channel's matrix, packed as the kind table's shape says.
+    const TransferKindRow& row = kind_row(t.kind);
+    if (is_matrix(row)) {
+        const int K = basis_size_of(row.shape, std::size_t(a.shape(a.ndim() - 1)));
+        SHPRT_CHECK(a.ndim() == 2 && row.channels == 1 && K >= 1, invalid_argument,
+                    "transfer: kind '{}' expects (V, K(K+1)/2), each vertex's symmetric "
                     "matrix packed, got {}",
-                    describe_shape(a));
-        t.layout.shape = TransferShape::symmetric_matrix;
+                    row.name, describe_shape(a));
+        t.layout.shape = row.shape;
         t.layout.K = K;
     }
     t.layout.encoding = parse_transfer_encoding(encoding);

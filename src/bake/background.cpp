@@ -2,6 +2,7 @@
 #include "shprt/bake/background.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/transfer/estimates.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -19,9 +20,39 @@ void TransferChunk::apply_to(TransferSet& transfer) const {
               transfer.coeffs.begin() + static_cast<std::ptrdiff_t>(transfer.layout.offset(first)));
 }
 
-void ChunkQueue::begin(const TransferLayout& layout, std::size_t, std::size_t) {
+void ChunkQueue::begin(const TransferLayout& layout, std::size_t first, std::size_t) {
     std::lock_guard lock(m_mutex);
     m_layout = layout;
+    m_first = first;
+    m_samples.clear();
+    m_errors.clear();
+}
+
+void ChunkQueue::begin_estimates() {}
+
+void ChunkQueue::write_estimates(std::size_t first, std::size_t count, const std::uint32_t* samples,
+                                 const float* errors) {
+    std::lock_guard lock(m_mutex);
+    const std::size_t end = first - m_first + count;
+    if (m_samples.size() < end) m_samples.resize(end, 0), m_errors.resize(end, 0.0f);
+    std::copy(samples, samples + count, m_samples.begin() + std::ptrdiff_t(first - m_first));
+    std::copy(errors, errors + count, m_errors.begin() + std::ptrdiff_t(first - m_first));
+}
+
+void ChunkQueue::copy_estimates(std::vector<std::uint32_t>& samples,
+                                std::vector<float>& errors) const {
+    std::lock_guard lock(m_mutex);
+    samples = m_samples;
+    errors = m_errors;
+}
+
+std::vector<std::uint32_t> refine_rounds(const BakeOptions& options) {
+    const std::uint32_t last = bake_set_size(options);
+    if (options.target_error <= 0) return {last};
+    std::vector<std::uint32_t> rounds;
+    for (std::uint32_t s = 4 * kTargetFirstSamples; s < last; s *= 4) rounds.push_back(s);
+    rounds.push_back(last);
+    return rounds;
 }
 
 void ChunkQueue::write(std::size_t first, std::size_t count, const float* rows) {
@@ -69,10 +100,6 @@ BackgroundBake::BackgroundBake(Mesh mesh, BakeOptions options,
     : m_mesh(std::move(mesh)),
       m_options(std::move(options)),
       m_device_sink(std::move(device_sink)) {
-    m_options.progress = [this](const ProgressInfo& info) {
-        if (info.total > 0) m_fraction = std::min(1.0, double(info.done) / double(info.total));
-        return !m_cancel.load();
-    };
     m_thread = std::thread([this] { run(); });
 }
 
@@ -90,6 +117,11 @@ std::string BackgroundBake::error() const {
     return m_error;
 }
 
+RefineRound BackgroundBake::refine_round() const {
+    std::lock_guard lock(m_error_mutex);
+    return m_round;
+}
+
 void BackgroundBake::run() {
     const auto start = std::chrono::steady_clock::now();
     BakeState final_state = BakeState::finished;
@@ -98,7 +130,25 @@ void BackgroundBake::run() {
         job.occluders = &m_mesh;
         job.receivers = vertex_receivers(m_mesh);
         job.sink = m_device_sink ? m_device_sink.get() : &m_chunks;
-        m_result = bake(job, m_options);
+        // The fraction done over every round, each weighed by its largest prefix (its rays grow
+        // about as that does).
+        const std::vector<std::uint32_t> rounds = refine_rounds(m_options);
+        double total = 0, before = 0;
+        for (const std::uint32_t s : rounds) total += double(s);
+        for (std::size_t r = 0; r < rounds.size(); ++r) {
+            BakeOptions o = m_options;
+            if (o.target_error > 0) o.max_samples = rounds[r];
+            const double share = double(rounds[r]) / total;
+            o.progress = [this, before, share](const ProgressInfo& info) {
+                if (info.total > 0)
+                    m_fraction =
+                        std::min(1.0, before + share * double(info.done) / double(info.total));
+                return !m_cancel.load();
+            };
+            m_result = bake(job, o);
+            before += share;
+            if (o.target_error > 0) record_round(int(r) + 1, int(rounds.size()), rounds[r]);
+        }
         m_fraction = 1.0;
     } catch (const Error& e) {
         final_state = e.code() == ErrorCode::cancelled ? BakeState::cancelled : BakeState::failed;
@@ -111,6 +161,32 @@ void BackgroundBake::run() {
     }
     m_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     m_state = final_state;
+}
+
+void BackgroundBake::record_round(int round, int rounds, std::uint32_t max_samples) {
+    std::vector<std::uint32_t> samples;
+    std::vector<float> errors;
+    m_chunks.copy_estimates(samples, errors);
+    RefineRound r;
+    r.round = round;
+    r.rounds = rounds;
+    r.max_samples = max_samples;
+    std::vector<double> e(errors.begin(), errors.end());
+    std::size_t over = 0;
+    double sum = 0;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+        over += e[i] > m_options.target_error ? 1 : 0;
+        sum += double(samples[i]);
+    }
+    if (!e.empty()) {
+        r.over_target = double(over) / double(e.size());
+        r.mean_samples = sum / double(e.size());
+        const ErrorSpread spread = error_spread(std::move(e));
+        r.worst = spread.worst;
+        r.p99 = spread.p99;
+    }
+    std::lock_guard lock(m_error_mutex);
+    m_round = r;
 }
 
 }  // namespace shprt

@@ -19,6 +19,7 @@
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -80,7 +81,8 @@ namespace {
 // After validate(options) and validate_job: runs the chosen backend with the direction set.
 TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device backend,
                       const DirectionSet& directions) {
-    const bool interreflected = options.transfer == TransferKind::interreflected;
+    // The whole-domain kind (interreflected) has its own stage: it couples every receiver.
+    const bool interreflected = kind_row(options.transfer).whole_domain;
     if (backend == Device::cuda) {
         SHPRT_CHECK(job.tracer == nullptr, unsupported,
                     "a caller-built tracer runs on the CPU only (device 'cuda' was asked for)");
@@ -95,7 +97,7 @@ TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device bac
     // The interreflected bake bakes its probes itself (they need its bounce sources' light).
     if (interreflected && job.tracer)
         return detail::bake_interreflected(job, options, directions, job.tracer, 0.0);
-    if (job.tracer || options.transfer == TransferKind::unshadowed) {  // unshadowed: no rays
+    if (job.tracer || !kind_row(options.transfer).traces_rays) {  // unshadowed: no rays
         TransferInfo info = detail::bake_cpu(job, options, directions, job.tracer, 0.0);
         detail::bake_job_probes(job, options, directions, job.tracer, nullptr, info);
         return info;
@@ -124,7 +126,7 @@ TransferSet bake_to_host(const Mesh& mesh, const Receivers& receivers, const Bak
     job.directions = directions;
     job.tracer = tracer;
     HostSink direct;
-    job.direct = options.transfer == TransferKind::interreflected ? &direct : nullptr;
+    job.direct = kind_row(options.transfer).direct_part ? &direct : nullptr;
     TransferSet out;
     static_cast<TransferInfo&>(out) = bake(job, options);
     out.coeffs = sink.take_rows();
@@ -147,12 +149,7 @@ Device parse_device(const std::string& name) { return parse_named(kDeviceNames, 
 TransferInfo bake_description(const BakeOptions& options) {
     TransferInfo info;
     info.kind = options.transfer;
-    info.layout.domain = ReceiverDomain::vertex;
-    info.layout.channels = options.transfer == TransferKind::interreflected ? 3 : 1;
-    info.layout.K = options.K;
-    info.layout.shape = options.transfer == TransferKind::glossy ? TransferShape::symmetric_matrix
-                                                                 : TransferShape::vector;
-    info.layout.encoding = TransferEncoding::f32;
+    info.layout = layout_for(options.transfer, options.K);
     info.sampler = options.sampler;
     info.direction_frame = options.direction_frame;
     info.samples = static_cast<int>(bake_set_size(options));
@@ -195,7 +192,7 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
     // of the receivers and of the sources (V + N rows of K), the sources' points and what their
     // rays met (41 bytes each), every worker's dense row accumulator (25 bytes per source), and
     // the operator's direction and basis tables (at most S directions).
-    if (options.transfer == TransferKind::interreflected) {
+    if (kind_row(options.transfer).interreflection) {
         const std::uint64_t N = bounce_sources > 0 ? bounce_sources : V;
         bytes += V * row * sizeof(float) + 2 * N * row * sizeof(float) +
                  (V + N) * K * sizeof(float) + N * 41 + workers * 25 * N +
@@ -231,17 +228,17 @@ std::uint32_t bake_set_size(const BakeOptions& options) {
     return options.max_samples > 0 ? options.max_samples : kDefaultMaxSamples;
 }
 
-int default_coeffs(TransferKind kind) { return kind == TransferKind::glossy ? sh_count(5) : 16; }
+int default_coeffs(TransferKind kind) { return kind_row(kind).default_K; }
 
 void validate(const BakeOptions& options) {
     SHPRT_CHECK(options.K >= 1 && options.K <= kMaxBakeCoeffs, invalid_argument,
                 "basis size K = {} is out of range (1 to {} coefficients, i.e. up to 32 bands)",
                 options.K, kMaxBakeCoeffs);
-    SHPRT_CHECK(options.transfer != TransferKind::glossy || options.K <= kMaxGlossyCoeffs,
+    SHPRT_CHECK(!is_matrix(kind_row(options.transfer)) || options.K <= kMaxGlossyCoeffs,
                 invalid_argument,
-                "glossy transfer: K = {} is too large (at most {}, i.e. 8 bands: a K×K matrix per "
+                "{} transfer: K = {} is too large (at most {}, i.e. 8 bands: a K×K matrix per "
                 "receiver)",
-                options.K, kMaxGlossyCoeffs);
+                to_string(options.transfer), options.K, kMaxGlossyCoeffs);
     SHPRT_CHECK(options.samples >= 1, invalid_argument,
                 "samples = 0: a bake needs at least one direction");
     SHPRT_CHECK(options.samples <= kMaxBakeSamples, invalid_argument,
@@ -278,9 +275,7 @@ void validate(const BakeOptions& options) {
             invalid_argument,
             "target error: sampler '{}' has no nested prefixes (use sobol or uniform)",
             to_string(options.sampler));
-        SHPRT_CHECK(options.transfer == TransferKind::shadowed ||
-                        options.transfer == TransferKind::unshadowed,
-                    unsupported,
+        SHPRT_CHECK(kind_row(options.transfer).error_bounded, unsupported,
                     "target error: {} transfer has no error-bounded bake yet (unshadowed or "
                     "shadowed only)",
                     to_string(options.transfer));
@@ -376,8 +371,14 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
     const auto start = Clock::now();
     const int K = options.K;
     const std::size_t S = directions.size();
-    const bool glossy = options.transfer == TransferKind::glossy;
-    const bool shadowed = options.transfer == TransferKind::shadowed || glossy;
+    // One channel of the kind's shape, traced or not; the bounces have no reference here.
+    const TransferKindRow& row = kind_row(options.transfer);
+    SHPRT_CHECK(!row.interreflection, unsupported,
+                "bake_reference: {} transfer has no slow reference here (its bounces: "
+                "path_trace_irradiance)",
+                row.name);
+    const bool glossy = is_matrix(row);
+    const bool shadowed = row.traces_rays;
     const bool local = options.direction_frame == DirectionFrame::local;
     constexpr float kInf = std::numeric_limits<float>::infinity();
 

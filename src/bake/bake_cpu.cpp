@@ -96,6 +96,12 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     const int F = glossy ? K * (K + 1) / 2 : K;      // columns of a row
     const int FL = glossy ? KL * (KL + 1) / 2 : KL;  // columns of the product
 
+    // A local set's rows get the open part exactly (stages.hpp, OpenControl).
+    const OpenControl open_control =
+        local && options.open_control && !bounded
+            ? make_open_control(table.weight.data(), Y.data(), S, 1.0, KL, glossy)
+            : OpenControl{};
+
     TransferInfo info = bake_info(options, rx, S);
     TransferSink& sink = *job.sink;
     sink.begin(info.layout, rx.first, rx.count);
@@ -113,6 +119,8 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     bound.target = options.target_error;
     bound.open_norm = open_transfer_norm(KL);
     bound.shadowed = shadowed;
+    if (bounded && local && options.open_control)
+        bound.controls = make_open_controls(table, Y.data(), KL, bound.first_samples);
     // The error-bounded chunk: every row of the grid's chunk baked to the bound (error_bound.hpp
     // says why the whole chunk), the range's rows rotated (local) or copied to the sink.
     auto run_bounded_chunk = [&](std::size_t grid_first, std::size_t height, std::size_t first,
@@ -178,6 +186,7 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
         if (local) {
             if (sc.c_local.empty()) sc.c_local.resize(chunk * std::size_t(FL));
             project_rows(sc.w.data(), height, S, Y.data(), FL, sc.c_local.data());
+            apply_open_control(open_control, sc.c_local.data() + lead * std::size_t(FL), count);
             rotate_rows_to_world(rx.normals + first, count, KL, K, glossy,
                                  sc.c_local.data() + lead * std::size_t(FL),
                                  C + lead * std::size_t(F));

@@ -208,12 +208,23 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     input.count = rx.count;
     input.plan = plan;
     input.device_output = device_output;
-    std::vector<float> world;  // a local set's rows, rotated (count × F)
+    // A local set's rows get the open part exactly (stages.hpp, OpenControl) before the rotation.
+    const OpenControl open_control =
+        local && options.open_control
+            ? make_open_control(directions.weights.data(), Y.data(), S, 1.0, KL, glossy)
+            : OpenControl{};
+    std::vector<float> controlled;  // a local set's rows, corrected (count × FL)
+    std::vector<float> world;       // and rotated (count × F)
     double seconds_rotate = 0;
     input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* rows,
                               std::uint64_t rays) {
         if (local) {
             const auto rotate_start = Clock::now();
+            if (!open_control.delta.empty()) {
+                controlled.assign(rows, rows + count * std::size_t(FL));
+                apply_open_control(open_control, controlled.data(), count);
+                rows = controlled.data();
+            }
             world.resize(count * std::size_t(F));
             rotate_rows_to_world(rx.normals + first, count, KL, K, glossy, rows, world.data());
             rows = world.data();

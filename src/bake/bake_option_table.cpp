@@ -4,6 +4,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/sh/basis.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <fmt/format.h>
 
@@ -147,8 +148,8 @@ void set_source_spacing(const BakeOptionChoice& a, const Row& row, Spelling s, B
 void set_interreflection(const BakeOptionChoice& a, Spelling s, BakeOptions& o) {
     const auto& t = bake_option_table();
     const auto row = [&](const char* name) -> const Row& { return find_row(t, name); };
-    const bool interreflected = o.transfer == TransferKind::interreflected;
-    SHPRT_CHECK(o.transfer != TransferKind::glossy || a.bounces.empty(), unsupported,
+    const bool interreflected = kind_row(o.transfer).interreflection;
+    SHPRT_CHECK(!is_matrix(kind_row(o.transfer)) || a.bounces.empty(), unsupported,
                 "{}: interreflected glossy transfer is not implemented (glossy matrices hold the "
                 "direct, shadowed light only)",
                 row("bounces").label(s));

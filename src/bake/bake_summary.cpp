@@ -4,6 +4,7 @@
 #include "shprt/core/log.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/transfer/estimates.hpp"
+#include "shprt/transfer/kind_table.hpp"
 #include "shprt/transfer/probes.hpp"
 
 #include <fmt/printf.h>
@@ -107,7 +108,7 @@ std::string bake_summary(const BakeRequest& request, const Mesh& mesh, const Bak
         add_bake_line(out, "vertices", r, output);
         return out;
     }
-    if (transfer.kind == TransferKind::interreflected) add_interreflection(out, transfer);
+    if (kind_row(transfer.kind).interreflection) add_interreflection(out, transfer);
     const BakeStats& s = transfer.stats;
     const double rays_per_second = s.seconds_trace > 0 ? double(s.rays_cast) / s.seconds_trace : 0;
     out += fmt::sprintf(

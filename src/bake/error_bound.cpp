@@ -8,6 +8,7 @@
 #include "shprt/sh/zonal.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numeric>
 
@@ -29,7 +30,34 @@ double distance(const float* a, const float* b, int n) {
     }
     return std::sqrt(sum);
 }
+
+// ‖ĉ_hi − ĉ_lo‖ of a local row, each estimate corrected by its prefix's control: ĉ = s·sum − β·δ,
+// β = s·sum₀/open₀. lo_sum is the sum over the prefix lo, lo_sum + add over hi = 2·lo.
+double controlled_distance(const OpenControl& lo, const OpenControl& hi, double lo_scale,
+                           double hi_scale, const float* lo_sum, const float* add, int n,
+                           double* hi_beta) {
+    const double beta_lo = lo_scale * double(lo_sum[0]) / lo.open0;
+    const double beta_hi = hi_scale * (double(lo_sum[0]) + double(add[0])) / hi.open0;
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+        const double h = hi_scale * (double(lo_sum[i]) + double(add[i])) - beta_hi * hi.delta[i];
+        const double l = lo_scale * double(lo_sum[i]) - beta_lo * lo.delta[i];
+        sum += (h - l) * (h - l);
+    }
+    *hi_beta = beta_hi;
+    return std::sqrt(sum);
+}
 }  // namespace
+
+std::vector<OpenControl> make_open_controls(const DirectionTable& table, const float* Y, int KL,
+                                            std::size_t first_samples) {
+    const std::size_t Smax = table.size();
+    std::vector<OpenControl> controls;
+    for (std::size_t b = std::max<std::size_t>(first_samples / 2, 1); b <= Smax; b *= 2)
+        controls.push_back(
+            make_open_control(table.weight.data(), Y, b, double(Smax) / double(b), KL, false));
+    return controls;
+}
 
 std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
                                   const Receivers& rx, std::size_t first, std::size_t height,
@@ -48,6 +76,7 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
     const double resolution = double(max_weight) * double(Smax) *
                               std::sqrt(double(KL) / (4.0 * 3.14159265358979323846)) /
                               bound.open_norm;
+    const bool controlled = !bound.controls.empty();
     std::uint64_t rays = 0;
     for (std::size_t a = 0, b = std::min(S0, Smax); a < Smax && !sc.active.empty();
          a = b, b = std::min(2 * b, Smax)) {
@@ -89,6 +118,16 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
                 const float* G = sc.g.data() + i * KL;
                 const float* old = a == 0 ? sc.g0.data() + i * KL : A;
                 double err = scale * distance(G, old, bound.KL);
+                bool open = false;  // a local row whose every ray so far was visible
+                if (controlled) {
+                    const std::size_t level = a == 0 ? 0 : std::size_t(std::countr_zero(b / S0));
+                    double beta = 0;
+                    err = controlled_distance(bound.controls[level], bound.controls[level + 1],
+                                              double(Smax) / double(b / 2),
+                                              double(Smax) / double(b), old, G, bound.KL, &beta) /
+                          bound.open_norm;
+                    open = beta > 1.0 - 0.5 / double(b);
+                }
                 if (a == 0) std::copy(old, old + KL, A);
                 bool closed = true;  // every ray so far blocked: the sum is exactly zero
                 for (std::size_t c = 0; c < KL; ++c) {
@@ -97,8 +136,9 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
                 }
                 // Zero halves agree exactly, but a receiver that saw nothing in b rays may still
                 // see something between them: its error is taken as what one visible ray would
-                // make, the resolution of b samples (error_bound.hpp).
-                if (closed) err = std::max(err, resolution / double(b));
+                // make, the resolution of b samples (error_bound.hpp). With the open part exact,
+                // the same holds for a receiver that every ray so far left open.
+                if (closed || open) err = std::max(err, resolution / double(b));
                 sc.samples[j] = std::uint32_t(b);
                 sc.error[j] = float(err);
                 if (err > bound.target && b < Smax) sc.active[kept++] = j;
@@ -113,6 +153,9 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
         const float f = float(Smax / std::max<std::size_t>(sc.samples[j], 1));
         float* A = sc.acc.data() + j * KL;
         for (std::size_t c = 0; c < KL; ++c) A[c] *= f;
+        if (controlled && sc.samples[j] > 0)
+            apply_open_control(
+                bound.controls[std::size_t(std::countr_zero(sc.samples[j] / S0)) + 1], A, 1);
     }
     return rays;
 }

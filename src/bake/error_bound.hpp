@@ -12,6 +12,10 @@
 //            ‖c_open‖ (pass 0: (Smax/S0)·‖G1 − G0‖ / ‖c_open‖); a row that is still exactly zero
 //            (every ray blocked) gets at least the error one visible ray would make,
 //            w_max·(Smax/S)·√(KL/4π)/‖c_open‖: its halves agree, but only because both missed.
+// A local set's estimates ĉ_S are corrected by the open part (stages.hpp, OpenControl) with the
+// prefix's own δ_S before they are compared; then an open row (every ray so far visible) is
+// exact whatever S, and gets the same floor as a closed one: a blocker that all S rays missed
+// would change it by about one ray's worth.
 // Every row of the chunk is baked, also those outside the bake's range: which rows share a GEMM
 // (and so a row's last bits: bake.hpp, "Determinism") then depends on the chunk's receivers only,
 // never on the range, the shard or the thread that runs it.
@@ -40,7 +44,13 @@ struct ErrorBound {
     double target = 0;                               // E
     double open_norm = 1;                            // open_transfer_norm (bake.hpp)
     bool shadowed = true;                            // rays are cast
+    // A local set: the open part exactly (stages.hpp, OpenControl) for the prefixes S0/2, S0,
+    // 2·S0, …, Smax (controls[i] for (S0/2)·2^i); empty for a sphere set.
+    std::vector<OpenControl> controls;
 };
+// The controls of ErrorBound for a local table and its basis table Y (Smax × KL).
+std::vector<OpenControl> make_open_controls(const DirectionTable& table, const float* Y, int KL,
+                                            std::size_t first_samples);
 
 // One worker's buffers, reused across chunks.
 struct ErrorBoundScratch {

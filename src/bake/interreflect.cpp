@@ -22,6 +22,7 @@
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 
@@ -409,7 +410,7 @@ BounceSources detail::bake_bounce_sources(const Mesh& mesh, const BakeOptions& o
 }
 
 std::size_t bake_bounce_source_count(const Mesh& mesh, const BakeOptions& options) {
-    if (options.transfer != TransferKind::interreflected) return 0;
+    if (!kind_row(options.transfer).interreflection) return 0;
     return bounce_source_count(mesh, bake_source_spacing(mesh, options), options.two_sided);
 }
 
@@ -711,9 +712,7 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
     }
     sink.finish();
     if (job.direct) {
-        TransferLayout direct_layout = info.layout;
-        direct_layout.channels = 1;
-        job.direct->begin(direct_layout, 0, V);
+        job.direct->begin(direct_part_layout(info.layout), 0, V);
         job.direct->write(0, V, T0.data());
         job.direct->finish();
     }

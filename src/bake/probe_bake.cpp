@@ -14,6 +14,7 @@
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 
@@ -287,7 +288,7 @@ void bake_job_probes(const BakeJob& job, const BakeOptions& options, const Direc
     const DirectionSet sphere =
         local ? make_direction_set(options.sampler, options.seed, options.samples) : DirectionSet{};
     std::unique_ptr<Tracer> own;
-    if (!tracer && options.transfer != TransferKind::unshadowed) {
+    if (!tracer && kind_row(options.transfer).traces_rays) {
         in_arena(options.threads, [&] { own = make_embree_tracer(*job.occluders); });
         tracer = own.get();
     }

@@ -7,6 +7,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/sh/zonal.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -147,9 +148,10 @@ RefineResult bake_refined(const Mesh& input, const BakeOptions& options,
                 "--refine {}: the tolerance must be a positive fraction", refine.tolerance);
     SHPRT_CHECK(refine.max_depth >= 1 && refine.max_depth <= 30, invalid_argument,
                 "--max-edge-split-depth {}: must be 1 to 30", refine.max_depth);
-    SHPRT_CHECK(options.transfer != TransferKind::interreflected, unsupported,
-                "refinement of interreflected transfer is not supported (bake shadowed or "
-                "unshadowed transfer)");
+    SHPRT_CHECK(!kind_row(options.transfer).whole_domain, unsupported,
+                "refinement of {} transfer is not supported (bake shadowed or unshadowed "
+                "transfer)",
+                to_string(options.transfer));
     validate(options);
     const std::size_t V0 = input.vertex_count();
     const std::size_t budget =

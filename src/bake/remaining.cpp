@@ -2,6 +2,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <memory>
@@ -9,14 +10,11 @@
 namespace shprt {
 
 std::optional<std::string> resume_unsupported(const BakeOptions& options) {
-    switch (options.transfer) {
-        case TransferKind::interreflected:
-            return std::string(
-                "interreflected transfer cannot be checkpointed or resumed (its bounces need "
-                "every vertex's rows at once); bake it without --checkpoint");
-        default:
-            return std::nullopt;
-    }
+    if (!kind_row(options.transfer).whole_domain) return std::nullopt;
+    return fmt::format(
+        "{} transfer cannot be checkpointed or resumed (its bounces need every vertex's rows at "
+        "once); bake it without --checkpoint",
+        to_string(options.transfer));
 }
 
 TransferInfo bake_remaining(const BakeJob& job, const BakeOptions& options,

@@ -15,6 +15,7 @@
 #include "shprt/io/checkpoint.hpp"
 #include "shprt/io/shprt_stream.hpp"
 #include "shprt/trace/ray.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -83,7 +84,7 @@ double write_file(const BakeRequest& r, const Mesh& mesh, TransferSet& transfer,
 // The request's probe grid laid over `mesh` (no matrices yet), or an empty grid.
 ProbeGrid request_probes(const BakeRequest& r, const Mesh& mesh) {
     if (!r.probes) return {};
-    return probe_grid_layout(*r.probes, mesh, r.options.transfer == TransferKind::interreflected);
+    return probe_grid_layout(*r.probes, mesh, kind_row(r.options.transfer).interreflection);
 }
 
 // What the probes add to a bake's peak: their matrices, each worker's buffers (a chunk's W and
@@ -425,7 +426,7 @@ Receivers request_receivers(const BakeRequest& r, const Mesh& mesh, WriteOptions
 }
 
 std::optional<std::string> request_refusal(const BakeRequest& r) {
-    const bool interreflected = r.options.transfer == TransferKind::interreflected;
+    const bool interreflected = kind_row(r.options.transfer).whole_domain;
     const bool other_receivers = is_texels(r) || is_refined(r);
     const char* receivers = is_texels(r) ? "--domain texel" : "--refine";
     if (other_receivers && (streamed(r) || r.distributed))
@@ -505,7 +506,7 @@ void check(const BakeRequest& r) {
                     c.path);
     }
     if (r.probes)
-        SHPRT_CHECK(r.options.transfer != TransferKind::interreflected ||
+        SHPRT_CHECK(!kind_row(r.options.transfer).interreflection ||
                         sh_count(r.probes->bands) <= r.options.K,
                     invalid_argument,
                     "--probe-bands {}: interreflected probes read the bake's bounce light in "

@@ -167,6 +167,34 @@ void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t 
                 static_cast<int>(depth), 1.0f, W, static_cast<int>(S), Y, K, 0.0f, C, K);
 }
 
+OpenControl make_open_control(const float* weights, const float* Y, std::size_t count, double scale,
+                              int KL, bool matrix) {
+    OpenControl c;
+    c.delta = open_hemisphere_transfer(
+        KL, matrix ? HemisphereDensity::uniform : HemisphereDensity::cosine);
+    const std::size_t F = c.delta.size();
+    c.open0 = c.delta[0];
+    std::vector<double> q(F, 0.0);
+    for (std::size_t s = 0; s < count; ++s) {
+        const double w = double(weights[s]) * scale;
+        const float* y = Y + s * F;
+        for (std::size_t i = 0; i < F; ++i) q[i] += w * double(y[i]);
+    }
+    for (std::size_t i = 0; i < F; ++i) c.delta[i] = q[i] - c.delta[i];
+    return c;
+}
+
+void apply_open_control(const OpenControl& control, float* rows, std::size_t count) {
+    const std::size_t F = control.delta.size();
+    if (F == 0) return;  // no control (a sphere set, or open_control off)
+    for (std::size_t j = 0; j < count; ++j) {
+        float* row = rows + j * F;
+        const double beta = double(row[0]) / control.open0;
+        for (std::size_t i = 0; i < F; ++i)
+            row[i] = static_cast<float>(double(row[i]) - beta * control.delta[i]);
+    }
+}
+
 namespace {
 
 // D(R) for a receiver's frame R = Rz(γ)·Ry(β), applied band by band as the paper's factorisation

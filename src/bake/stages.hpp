@@ -109,6 +109,26 @@ void project_rows(const float* W, std::size_t count, std::size_t S, const float*
 void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t depth,
                   const float* Y, int K, float* C);
 
+// The open part exactly (local sets, docs/sampling.md "The open part exactly"). In its frame every
+// receiver's open transfer f_open (the cosine for vectors, 1 for glossy matrices, over the
+// hemisphere) is the same, so the set's quadrature error on it, δ = Q_S(f_open) − ∫ f_open, is one
+// vector for all receivers. A receiver's row c' = Q_S(V·f_open) is corrected to
+//   c' − β·δ,   β = c'₀/∫f_open,₀ (its visible fraction: the set's weights are equal)
+// the control variate ∫f_open − Q_S((1−V)·f_open) weighted by β: an open receiver is exact at any
+// S, a closed one stays 0, and in between the error of Q_S on the visible and on the blocked part
+// are mixed as (1−β)·e_V − β·e_B.
+struct OpenControl {
+    std::vector<double> delta;  // δ over the row's columns (FL)
+    double open0 = 0;           // ∫ f_open's first column
+};
+// δ of the prefix [0, count) of a local set with these weights, times `scale` (the error-bounded
+// bake's prefix of a larger set: Smax/count), from the table Y the rows are projected on (KL
+// columns, or the pair-product table's KL(KL+1)/2 with `matrix`).
+OpenControl make_open_control(const float* weights, const float* Y, std::size_t count, double scale,
+                              int KL, bool matrix);
+// rows[j] ← rows[j] − β_j·δ for `count` rows of δ.size() columns (none: an empty control).
+void apply_open_control(const OpenControl& control, float* rows, std::size_t count);
+
 // rotate (local sets): `count` rows projected in their receivers' frames, `normals[j]` receiver
 // j's normal, each `local_columns` wide (KL = projected_coeffs, or KL(KL+1)/2 packed for
 // `matrix`), to world rows of K (K(K+1)/2 packed) columns in `world`: c = D(R)·c' over the full

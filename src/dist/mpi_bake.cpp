@@ -13,6 +13,7 @@
 #include "shprt/io/hash.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <mpi.h>
 #include <unistd.h>
@@ -214,7 +215,7 @@ void prepare(const MpiSession& session, const BakeJob& job, const BakeOptions& o
         p.directions = &*p.own_directions;
     }
     p.tracer = job.tracer;
-    const bool rays = p.options.transfer != TransferKind::unshadowed;
+    const bool rays = kind_row(p.options.transfer).traces_rays;
     if (!p.tracer && rays && p.options.device == Device::cpu) {
         const auto start = Clock::now();
         in_arena(p.options.threads, [&] { p.own_tracer = make_embree_tracer(*job.occluders); });
@@ -639,9 +640,10 @@ DistributedBake bake_distributed(const MpiSession& session, const BakeJob& job,
                                  const BakeOptions& options, const DistOptions& dist) {
     Prepared p;
     session.agree([&] {
-        SHPRT_CHECK(options.transfer != TransferKind::interreflected, unsupported,
-                    "interreflected transfer cannot be shared between MPI ranks (its bounces "
-                    "couple every vertex): bake it in one process");
+        SHPRT_CHECK(!kind_row(options.transfer).whole_domain, unsupported,
+                    "{} transfer cannot be shared between MPI ranks (its bounces couple every "
+                    "vertex): bake it in one process",
+                    to_string(options.transfer));
         prepare(session, job, options, dist, p);
     });
 

@@ -10,6 +10,7 @@
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/transfer/estimates.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <fmt/format.h>
 
@@ -37,7 +38,7 @@ constexpr bool kMust = true, kMay = false;  // required, optional
 TransferSet& into(Out& t) { return t.out.transfer; }
 InterreflectionInfo& ir_into(Out& t) { return t.out.transfer.interreflection; }
 bool reproducible_file(const Src& s) { return s.options.reproducible; }
-bool interreflected(const Src& s) { return s.info.kind == TransferKind::interreflected; }
+bool interreflected(const Src& s) { return kind_row(s.info.kind).interreflection; }
 bool with_sources(const Src& s) { return s.info.interreflection.sources > 0; }
 bool with_probes(const Src& s) { return s.probes && !s.probes->empty(); }
 
@@ -191,7 +192,7 @@ const std::array kFields = {
             const TransferSet& t = s.file.transfer;
             const int channels = t.layout.channels;
             const std::string shape =
-                t.layout.shape == TransferShape::vector
+                !is_matrix(t.layout)
                     ? std::string()
                     : fmt::format(", {} K×K per channel", to_string(t.layout.shape));
             s.line("transfer", fmt::format("{}, {} channel{} per {}{}", to_string(t.kind), channels,
@@ -204,7 +205,7 @@ const std::array kFields = {
         [](const Src& s) -> Json { return to_string(s.info.layout.domain); },
         [](const Fields& f, const char* leaf, Out& t) {
             into(t).layout.domain = parse_name(f, leaf, t, parse_receiver_domain);
-            if (into(t).layout.domain == ReceiverDomain::texel &&
+            if (is_texel(into(t).layout) &&
                 (!f.obj.contains("receivers") || !f.obj.contains("texels")))
                 corrupt(t.path, "metadata: a texel transfer needs 'receivers' and 'texels'");
         }, 0, nullptr},
@@ -247,10 +248,11 @@ const std::array kFields = {
         [](const Src& s) -> Json { return to_string(s.info.layout.encoding); },
         [](const Fields& f, const char* leaf, Out& t) {
             TransferLayout& layout = into(t).layout;
-            if (into(t).kind == TransferKind::glossy &&
-                layout.shape != TransferShape::symmetric_matrix)
-                corrupt(t.path, "metadata: transfer_kind glossy needs shape symmetric_matrix, not {}",
-                        to_string(layout.shape));
+            // A matrix kind is stored as its row's matrices (a vector kind may be narrowed).
+            const TransferKindRow& row = kind_row(into(t).kind);
+            if (is_matrix(row) && layout.shape != row.shape)
+                corrupt(t.path, "metadata: transfer_kind {} needs shape {}, not {}", row.name,
+                        to_string(row.shape), to_string(layout.shape));
             const std::string precision = f.string(leaf);
             if (precision != "float32" && precision != "float16")
                 corrupt(t.path, "metadata: precision '{}' (expected float32 or float16)", precision);
@@ -465,7 +467,7 @@ const std::array kFields = {
             const Fields r = f.object(leaf);
             MetaCounts& c = t.counts;
             const TexelAtlas& x = into(t).texels;
-            if (into(t).layout.domain == ReceiverDomain::texel)
+            if (is_texel(into(t).layout))
                 c.total = r.u64("total", 1, std::uint64_t(x.width) * std::uint64_t(x.height));
             if (r.u64("total") != c.total)
                 corrupt(t.path, "metadata: receivers.total = {} but the scene has {} vertices",
@@ -495,16 +497,16 @@ const std::array kFields = {
         [](const Src& s) -> Json { return s.rows; }, nullptr, 0, nullptr},
     FieldRule{"receivers.total", F::whole, 2, kMust, 2, nullptr, nullptr,
         [](const Src& s) -> Json {
-            return s.info.layout.domain == ReceiverDomain::texel ? s.info.texels.texel.size()
+            return is_texel(s.info.layout) ? s.info.texels.texel.size()
                                                                  : s.mesh.positions.size();
         }, nullptr, 0, nullptr},
     // The texel domain's image (docs/texels.md); its receivers' texels are section "texel_index".
     FieldRule{"texels", F::object, 2, kMay, 1, nullptr,
-        [](const Src& s) { return s.info.layout.domain == ReceiverDomain::texel; }, nullptr,
+        [](const Src& s) { return is_texel(s.info.layout); }, nullptr,
         nullptr, 40,
         [](const Lines& s) {
             const TransferSet& t = s.file.transfer;
-            if (t.layout.domain != ReceiverDomain::texel) return;
+            if (!is_texel(t.layout)) return;
             s.line("texels", fmt::format("{}x{} image, {} covered ({:.1f}%), UV set {}",
                                          t.texels.width, t.texels.height, t.texels.texel.size(),
                                          100.0 * double(t.texels.texel.size()) /

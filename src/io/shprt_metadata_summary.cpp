@@ -4,6 +4,7 @@
 
 #include "shprt/sh/basis.hpp"
 #include "shprt/transfer/estimates.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <fmt/format.h>
 
@@ -43,7 +44,7 @@ void SummaryLines::line(const char* label, const std::string& value) const {
 void summarise_interreflection(const Lines& s) {
     const TransferSet& t = s.file.transfer;
     const Mesh& mesh = s.file.mesh;
-    if (t.kind != TransferKind::interreflected) return;
+    if (!kind_row(t.kind).interreflection) return;
     const InterreflectionInfo& ir = t.interreflection;
     s.line("bounces", fmt::format("{} (stored: T_0 + ... + T_{}), {}", ir.bounces, ir.bounces,
                                   describe_convergence(ir)));

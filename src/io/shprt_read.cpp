@@ -16,6 +16,7 @@
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/transfer/cpca.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -359,7 +360,7 @@ void Reader::check_content(const Counts& c, ShprtFile& out) {
     TransferSet& t = out.transfer;
     const TransferLayout& layout = t.layout;
     const std::uint64_t V = c.vertices, total = c.total, clusters = c.clusters;
-    const bool texel = layout.domain == ReceiverDomain::texel;
+    const bool texel = is_texel(layout);
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
         for (std::uint32_t index : mesh.triangles[i])
             if (index >= V)

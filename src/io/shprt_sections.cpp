@@ -1,6 +1,8 @@
 // The .shprt section table (shprt_sections.hpp).
 #include "io/shprt_sections.hpp"
 
+#include "shprt/transfer/kind_table.hpp"
+
 #include <algorithm>
 #include <array>
 #include <string_view>
@@ -93,7 +95,7 @@ struct ProbeCpcaArray {
 
 // The mesh's UVs, stored with texel-domain transfer only (the texels were rasterised in them).
 struct UvArray {
-    static bool stored(const TransferSet& t) { return t.layout.domain == ReceiverDomain::texel; }
+    static bool stored(const TransferSet& t) { return is_texel(t.layout); }
     static const void* data(const Mesh& m, const TransferSet&) { return m.uvs.data(); }
     static std::uint64_t count(const Mesh& m, const TransferSet& t) {
         return stored(t) ? m.uvs.size() * 2 : 0;

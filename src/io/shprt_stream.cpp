@@ -5,6 +5,7 @@
 #include "io/shprt_write_internal.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/half.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <unistd.h>
 #include <zlib.h>
@@ -153,7 +154,7 @@ ShprtStreamWriter::ShprtStreamWriter(const std::string& path, const Mesh& mesh,
     // The checks write_shprt makes of everything but the coefficients (checked per chunk).
     options.receiver_first = first;
     try {
-        SHPRT_CHECK(info.layout.domain == ReceiverDomain::vertex, unsupported,
+        SHPRT_CHECK(!is_texel(info.layout), unsupported,
                     "streaming a {} transfer: only vertex transfer streams",
                     to_string(info.layout.domain));
         TransferSet::check_range(mesh, info.layout, first, count, mesh.vertex_count());

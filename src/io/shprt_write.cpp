@@ -14,6 +14,7 @@
 #include "shprt/io/shprt_format.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -238,10 +239,8 @@ void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& t
     detail::check_coefficients(path, transfer.coeffs.data(), transfer.coeffs.size(),
                                transfer.layout, options.receiver_first);
     if (!transfer.direct.empty()) {
-        TransferLayout direct = transfer.layout;
-        direct.channels = 1;
-        detail::check_coefficients(path, transfer.direct.data(), transfer.direct.size(), direct,
-                                   options.receiver_first);
+        detail::check_coefficients(path, transfer.direct.data(), transfer.direct.size(),
+                                   direct_part_layout(transfer.layout), options.receiver_first);
     }
     if (!transfer.probes.empty()) {
         try {

@@ -19,6 +19,7 @@
 #include "shprt/shade/texel_shade.hpp"
 #include "shprt/shade/tonemap.hpp"
 #include "shprt/transfer/cpca.hpp"
+#include "shprt/transfer/kind_table.hpp"
 #include "sun_pass.hpp"
 #include "texel_pass.hpp"
 
@@ -135,8 +136,7 @@ void Renderer::release_scene_buffers() {
 }
 
 void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
-    SHPRT_CHECK(!m_sun_source || transfer.layout.shape == TransferShape::vector ||
-                    transfer.layout.domain == ReceiverDomain::vertex,
+    SHPRT_CHECK(!m_sun_source || !is_matrix(transfer.layout) || !is_texel(transfer.layout),
                 unsupported,
                 "a sun kept out of the SH sum lights glossy matrices per vertex only: texel "
                 "matrices are not drawn with it; a sun: light projects the sun into SH for them");
@@ -145,7 +145,7 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     m_bounds_centre = (bounds.lo + bounds.hi) * 0.5f;
     m_bounds_radius = 0.5f * length(bounds.hi - bounds.lo);
     ++m_geometry_generation;
-    if (transfer.layout.domain == ReceiverDomain::texel) return set_texel_scene(mesh, transfer);
+    if (is_texel(transfer.layout)) return set_texel_scene(mesh, transfer);
     m_texel.reset();
     SHPRT_CHECK(mesh.triangle_count() > 0, invalid_argument, "mesh {} has no triangles to draw",
                 mesh.source);
@@ -155,7 +155,7 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
 void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
     const std::size_t V = mesh.vertex_count();
     SHPRT_CHECK(V > 0, invalid_argument, "mesh {} has no vertices to shade", mesh.source);
-    const bool matrices = transfer.layout.shape == TransferShape::symmetric_matrix;
+    const bool matrices = is_glossy_matrix(transfer.layout);
     if (matrices) {
         check_glossy_shadable(mesh, transfer);
         SHPRT_CHECK(transfer.layout.K <= kMaxMatrixK, unsupported,
@@ -299,7 +299,7 @@ void Renderer::upload_receivers(const Mesh& mesh, const TransferSet& transfer) {
 void Renderer::set_texel_scene(const Mesh& mesh, const TransferSet& transfer) {
     if (!m_texel) m_texel = std::make_unique<TexelPass>(m_sun_filter);
     m_texel->set_scene(mesh, transfer);
-    if (transfer.layout.shape == TransferShape::symmetric_matrix) {
+    if (is_glossy_matrix(transfer.layout)) {
         // Glossy matrices: the texels are shaded as points by the glossy passes (one colour per
         // texel), and the texel pass filters those colours at each fragment's UV.
         const TexelPoints points = texel_points(mesh, transfer);

@@ -5,6 +5,7 @@
 #include "gl_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/shade/texel_shade.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <epoxy/gl.h>
 
@@ -42,10 +43,10 @@ TexelPass::~TexelPass() {
 void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     transfer.check(mesh);
     const TexelAtlas& atlas = transfer.texels;
-    SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::texel && !atlas.empty(), invalid_argument,
+    SHPRT_CHECK(is_texel(transfer.layout) && !atlas.empty(), invalid_argument,
                 "{}: not a texel transfer", mesh.source);
-    const bool colours = transfer.layout.shape == TransferShape::symmetric_matrix;
-    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector || colours, unsupported,
+    const bool colours = is_glossy_matrix(transfer.layout);
+    SHPRT_CHECK(!is_matrix(transfer.layout) || colours, unsupported,
                 "{}: {} texel transfer cannot be drawn (it needs a vector or a glossy matrix per "
                 "texel)",
                 mesh.source, to_string(transfer.layout.shape));

@@ -11,6 +11,7 @@
 //    Welsch 1969 give the same nodes; Newton is simpler and accurate to rounding here).
 // The per-direction maps are in include/shprt/sh/sampler.hpp (SHPRT_HD); this file builds sets.
 #include "shprt/sh/sampler.hpp"
+#include "shprt/sh/basis.hpp"
 #include "shprt/sh/direction_order.hpp"
 
 #include "sh/quadrature.hpp"
@@ -129,6 +130,36 @@ DirectionSet make_local_direction_set(SamplerKind kind, std::uint64_t seed, std:
         set.dirs[3 * static_cast<std::size_t>(s) + 2] = static_cast<float>(l.z);
     }
     return set;
+}
+
+std::vector<double> open_hemisphere_transfer(int K, HemisphereDensity density) {
+    SHPRT_CHECK(K >= 1 && K <= kMaxComputeBands * kMaxComputeBands, invalid_argument,
+                "open hemisphere transfer: K must be in [1, {}], got {}",
+                kMaxComputeBands * kMaxComputeBands, K);
+    const bool cosine = density == HemisphereDensity::cosine;
+    const int bands = sh_bands_for(K);
+    const int n_theta = bands + 1, n_phi = 2 * bands + 1;
+    std::vector<double> x, wx;
+    detail::gauss_legendre(n_theta, x, wx);
+    const std::size_t n = std::size_t(K);
+    std::vector<double> out(cosine ? n : n * (n + 1) / 2, 0.0), y(n);
+    for (int i = 0; i < n_theta; ++i) {
+        const double z = 0.5 * (x[i] + 1.0);  // [−1, 1] → [0, 1]
+        const double r = std::sqrt(std::max(0.0, (1.0 - z) * (1.0 + z)));
+        for (int k = 0; k < n_phi; ++k) {
+            const double phi = 2.0 * kPi * (k + 0.5) / n_phi;
+            const double w = 0.5 * wx[i] * 2.0 * kPi / n_phi * (cosine ? z : 1.0);
+            sh_eval_k(K, r * std::cos(phi), r * std::sin(phi), z, y.data());
+            if (cosine) {
+                for (std::size_t a = 0; a < n; ++a) out[a] += w * y[a];
+                continue;
+            }
+            double* o = out.data();
+            for (std::size_t a = 0; a < n; ++a)
+                for (std::size_t b = a; b < n; ++b) *o++ += w * y[a] * y[b];
+        }
+    }
+    return out;
 }
 
 DirectionSet make_direction_set(SamplerKind kind, std::uint64_t seed, std::uint32_t count) {

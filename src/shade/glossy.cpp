@@ -13,6 +13,7 @@
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -91,12 +92,11 @@ std::vector<Brdf> brdf_table(const Mesh& mesh, bool material_brdfs, const Brdf& 
 
 void check_glossy_shadable(const Mesh& mesh, const TransferSet& transfer) {
     transfer.check(mesh);
-    SHPRT_CHECK(
-        transfer.layout.shape == TransferShape::symmetric_matrix && transfer.layout.channels == 1,
-        invalid_argument,
-        "{} transfer with {} channel(s) cannot be shaded with --brdf: glossy shading needs "
-        "a glossy bake (--transfer glossy)",
-        to_string(transfer.layout.shape), transfer.layout.channels);
+    SHPRT_CHECK(is_glossy_matrix(transfer.layout) && transfer.layout.channels == 1,
+                invalid_argument,
+                "{} transfer with {} channel(s) cannot be shaded with --brdf: glossy shading needs "
+                "a glossy bake (--transfer glossy)",
+                to_string(transfer.layout.shape), transfer.layout.channels);
 }
 
 void unpack_symmetric(const float* packed, int K, int K_used, double* out) {
@@ -220,10 +220,9 @@ ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const Sh
 TransferSet glossy_to_diffuse(const Mesh& mesh, const TransferSet& transfer) {
     check_glossy_shadable(mesh, transfer);
     const int K = transfer.layout.K;
-    TransferInfo info = transfer;
+    TransferInfo info = transfer;  // a shadowed set's layout in the matrices' domain and encoding
     info.kind = TransferKind::shadowed;
-    info.layout.shape = TransferShape::vector;
-    info.layout.channels = 1;
+    info.layout = layout_for(info.kind, K, transfer.layout.domain, transfer.layout.encoding);
     const std::size_t V = transfer.receiver_count();
     const std::vector<Vec3f> normals = receiver_normals(mesh, transfer);  // vertices or texels
     TransferSet out = TransferSet::zeros(info, V);

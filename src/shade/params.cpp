@@ -6,6 +6,7 @@
 #include "shprt/sh/basis.hpp"
 #include "shprt/shade/camera.hpp"
 #include "shprt/shade/texel_shade.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -115,7 +116,7 @@ ShadingPlan resolve_shading(const ShadingParams& p, ShprtFile& file, const std::
     plan.options.gloss = p.gloss;
     plan.options.K_used = p.coeffs;
     plan.options.eye = p.eye ? *p.eye : default_camera(file.mesh, 16.0f / 9.0f).eye;
-    const bool matrices = file.transfer.layout.shape != TransferShape::vector;
+    const bool matrices = is_matrix(file.transfer.layout);
     const std::string brdf_option = option_text(s, "brdf");
     if (p.glossy == GlossyTerm::paper) {
         if (p.brdf) plan.options.gloss = p.brdf->parameter;

@@ -12,6 +12,7 @@
 #include "shprt/core/parallel.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,10 +31,10 @@ void check_inputs(const Mesh& mesh, const TransferSet& transfer, const ShLight& 
 
 void check_shadable(const Mesh& mesh, const TransferSet& transfer) {
     transfer.check(mesh);
-    SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::vertex, unsupported,
+    SHPRT_CHECK(!is_texel(transfer.layout), unsupported,
                 "texel transfer is shaded per texel (shade_texels, shade/texel_shade.hpp; "
                 "shprt shade -o .npy|.exr|.png)");
-    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, unsupported,
+    SHPRT_CHECK(!is_matrix(transfer.layout), unsupported,
                 "{} transfer cannot be shaded with L = k·L_D + (1−k)·L_S (it needs a vector per "
                 "receiver; glossy transfer matrices are shaded with --brdf, shade/glossy.hpp)",
                 to_string(transfer.layout.shape));
@@ -87,7 +88,7 @@ ShadeResult shade_vertices(const Mesh& mesh, const TransferSet& transfer, const 
         for (std::size_t v = first; v != last; ++v) {
             double E[3], L_S[3] = {0, 0, 0};
             for (int c = 0; c < 3; ++c) {
-                const float* t = transfer.receiver(v, transfer.layout.channels == 3 ? c : 0);
+                const float* t = transfer.receiver(v, channel_for(transfer.layout, c));
                 const float* l = light.channel(c);
                 double s = 0;
                 for (int i = 0; i < K; ++i) s += double(t[i]) * double(l[i]);
@@ -104,7 +105,7 @@ ShadeResult shade_vertices(const Mesh& mesh, const TransferSet& transfer, const 
                 rotate_zonal(lobe.data(), K, r, cs.data());
                 const double cos_eta = std::max(nw, kMinCosEta);
                 for (int c = 0; c < 3; ++c) {
-                    const float* t = transfer.receiver(v, transfer.layout.channels == 3 ? c : 0);
+                    const float* t = transfer.receiver(v, channel_for(transfer.layout, c));
                     const float* l = light.channel(c);
                     double lobe_light = 0, lobe_transfer = 0;
                     for (int i = 0; i < K; ++i) {

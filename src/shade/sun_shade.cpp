@@ -10,6 +10,7 @@
 #include "shprt/shade/texel_shade.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -97,11 +98,11 @@ SunShadeResult shade_with_sun(const Mesh& mesh, const TransferSet& transfer, con
                 "a traced sun lights diffuse receivers only (k = 1, got {}): the glossy term under "
                 "a traced sun is not implemented; a sun: light projects the sun into SH for it",
                 options.k);
-    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, unsupported,
+    SHPRT_CHECK(!is_matrix(transfer.layout), unsupported,
                 "a traced sun lights diffuse transfer only: {} transfer (glossy matrices) is not "
                 "implemented with it; a sun: light projects the sun into SH for it",
                 to_string(transfer.layout.shape));
-    const bool texel = transfer.layout.domain == ReceiverDomain::texel;
+    const bool texel = is_texel(transfer.layout);
     SunShadeResult result;
     static_cast<ShadeResult&>(result) = shade_receivers(mesh, transfer, sky, options, nullptr);
     // The sun's bounced light: T − T_0 under its SH projection (interreflected files only; their
@@ -143,7 +144,7 @@ SunShadeResult shade_glossy_with_sun(const Mesh& mesh, const TransferSet& transf
                                      const ShLight& sky, const PreparedSun& sun,
                                      const GlossyShadeOptions& options,
                                      const SunShadeOptions& sun_options) {
-    SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::vertex, unsupported,
+    SHPRT_CHECK(!is_texel(transfer.layout), unsupported,
                 "a sun kept out of the SH sum lights glossy matrices per vertex only: texel "
                 "matrices are refused with it; a sun: light projects the sun into SH");
     SunShadeResult result;

@@ -9,6 +9,7 @@
 #include "shprt/shade/glossy.hpp"
 #include "shprt/shade/save_image.hpp"
 #include "shprt/shade/shade_export.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include "shade/sh_convention.hpp"
 
@@ -24,9 +25,8 @@ namespace shprt {
 namespace {
 
 void require_texels(const TransferSet& transfer) {
-    SHPRT_CHECK(transfer.layout.domain == ReceiverDomain::texel && !transfer.texels.empty(),
-                invalid_argument, "not a texel transfer (domain {})",
-                to_string(transfer.layout.domain));
+    SHPRT_CHECK(is_texel(transfer.layout) && !transfer.texels.empty(), invalid_argument,
+                "not a texel transfer (domain {})", to_string(transfer.layout.domain));
 }
 
 const char* channel_label(int channels, int c) {
@@ -72,7 +72,7 @@ ShadeResult shade_texels_glossy(const Mesh& mesh, const TransferSet& transfer, c
 
 ShadeResult shade_receivers(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                             const ShadeOptions& options, const GlossyShadeOptions* glossy) {
-    if (transfer.layout.domain == ReceiverDomain::texel)
+    if (is_texel(transfer.layout))
         return glossy ? shade_texels_glossy(mesh, transfer, light, *glossy)
                       : shade_texels(mesh, transfer, light, options);
     return glossy ? shade_glossy(mesh, transfer, light, *glossy)
@@ -116,7 +116,7 @@ void write_texel_image(const std::string& path, const TexelAtlas& atlas,
 void write_texel_coefficients_exr(const std::string& path, const TransferSet& transfer,
                                   int gutter) {
     require_texels(transfer);
-    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, invalid_argument,
+    SHPRT_CHECK(!is_matrix(transfer.layout), invalid_argument,
                 "{}: only vector transfer exports as texel planes", path);
     const TexelAtlas& atlas = transfer.texels;
     const std::vector<std::int64_t> source = dilate_texels(atlas, gutter);
@@ -154,7 +154,7 @@ std::vector<std::string> texel_coefficient_image_paths(const std::string& path,
 std::vector<std::string> write_texel_coefficient_images(const std::string& path,
                                                         const TransferSet& transfer, int gutter) {
     require_texels(transfer);
-    SHPRT_CHECK(transfer.layout.shape == TransferShape::vector, invalid_argument,
+    SHPRT_CHECK(!is_matrix(transfer.layout), invalid_argument,
                 "{}: only vector transfer exports as texel images", path);
     const std::vector<std::string> paths = texel_coefficient_image_paths(path, transfer.layout);
     const bool png = lower_extension(path) == ".png";

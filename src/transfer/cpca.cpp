@@ -13,6 +13,7 @@
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <Eigen/Dense>
 
@@ -36,7 +37,7 @@ constexpr std::size_t kBlockRows = 256;
 std::vector<float> metric_scale(const TransferLayout& layout) {
     const std::size_t D = layout.floats_per_receiver();
     std::vector<float> s(D, 1.0f);
-    if (layout.shape != TransferShape::symmetric_matrix) return s;
+    if (!is_glossy_matrix(layout)) return s;
     const int K = layout.K;
     std::size_t p = 0;
     for (int c = 0; c < layout.channels; ++c)
@@ -253,8 +254,7 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
     SHPRT_CHECK(
         options.vectors >= 1 && std::size_t(options.vectors) <= D, invalid_argument,
         "CPCA vectors = {} must be 1 to {} (the floats per receiver: {})", options.vectors, D,
-        transfer.layout.shape == TransferShape::symmetric_matrix ? "K(K+1)/2 for a symmetric matrix"
-                                                                 : "K per channel");
+        is_glossy_matrix(transfer.layout) ? "K(K+1)/2 for a symmetric matrix" : "K per channel");
     SHPRT_CHECK(options.iterations >= 0, invalid_argument, "CPCA iterations = {} must be ≥ 0",
                 options.iterations);
     return cpca_of_rows(transfer.coeffs.data(), N, D, metric_scale(transfer.layout), options);
@@ -312,7 +312,7 @@ TransferError error_under(const TransferSet& exact, const TransferSet& approx,
     const TransferLayout& layout = exact.layout;
     const int K = layout.K;
     const int bands = sh_bands_for(K);
-    const bool matrix = layout.shape != TransferShape::vector;
+    const bool matrix = is_matrix(layout);
     for (const std::vector<double>& light : lights)
         SHPRT_CHECK(light.size() == std::size_t(K) || light.size() == 3 * std::size_t(K),
                     invalid_argument, "transfer_error: a light of {} coefficients for K = {}",
@@ -486,7 +486,7 @@ CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3
     out.bytes_per_receiver = cpca_bytes_per_receiver(out.compressed.cpca, D, N, half ? 2 : 4);
     out.raw_bytes_per_receiver = 4.0 * double(D);
     out.raw_full_bytes_per_receiver =
-        transfer.layout.shape == TransferShape::vector
+        !is_matrix(transfer.layout)
             ? 4.0 * double(D)
             : 4.0 * transfer.layout.channels * double(transfer.layout.K) * transfer.layout.K;
     return out;

@@ -4,6 +4,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/names.hpp"
 #include "shprt/scene/mesh.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 
@@ -35,12 +36,6 @@ void add_stats(BakeStats& total, const BakeStats& part) {
 
 namespace {
 
-constexpr Named<TransferKind> kTransferKindNames[] = {
-    {TransferKind::unshadowed, "unshadowed"},
-    {TransferKind::shadowed, "shadowed"},
-    {TransferKind::interreflected, "interreflected"},
-    {TransferKind::glossy, "glossy"},
-};
 constexpr Named<ReceiverDomain> kReceiverDomainNames[] = {{ReceiverDomain::vertex, "vertex"},
                                                           {ReceiverDomain::texel, "texel"}};
 constexpr Named<TransferShape> kTransferShapeNames[] = {
@@ -53,10 +48,6 @@ constexpr Named<TransferEncoding> kTransferEncodingNames[] = {{TransferEncoding:
 
 }  // namespace
 
-const char* to_string(TransferKind kind) { return name_of(kTransferKindNames, kind); }
-TransferKind parse_transfer_kind(const std::string& name) {
-    return parse_named(kTransferKindNames, name, "transfer kind");
-}
 const char* to_string(ReceiverDomain domain) { return name_of(kReceiverDomainNames, domain); }
 ReceiverDomain parse_receiver_domain(const std::string& name) {
     return parse_named(kReceiverDomainNames, name, "receiver domain");
@@ -94,7 +85,7 @@ void TransferLayout::validate() const {
 
 const char* samples_refusal(TransferKind kind, int samples) {
     if (samples < 0) return "a sample count cannot be negative";
-    if (samples == 0 && kind != TransferKind::unshadowed)
+    if (samples == 0 && kind_row(kind).traces_rays)
         return "only unshadowed transfer has a closed form: a transfer of any other kind is baked "
                "from at least one direction per receiver";
     return nullptr;
@@ -114,14 +105,14 @@ TransferSet TransferSet::direct_only() const {
     TransferSet out;
     static_cast<TransferInfo&>(out) = *this;
     out.kind = TransferKind::shadowed;
-    out.layout.channels = 1;
+    out.layout = direct_part_layout(layout);
     out.interreflection = {};
     out.coeffs = direct;
     return out;
 }
 
 std::size_t TransferSet::receiver_total(const Mesh& mesh) const {
-    return layout.domain == ReceiverDomain::texel ? texels.texel.size() : mesh.vertex_count();
+    return is_texel(layout) ? texels.texel.size() : mesh.vertex_count();
 }
 
 TexelSamples atlas_texel_samples(const Mesh& mesh, const TexelAtlas& atlas) {
@@ -133,7 +124,7 @@ TexelSamples atlas_texel_samples(const Mesh& mesh, const TexelAtlas& atlas) {
 }
 
 std::vector<Vec3f> receiver_normals(const Mesh& mesh, const TransferSet& transfer) {
-    if (transfer.layout.domain == ReceiverDomain::vertex) return mesh.normals;
+    if (!is_texel(transfer.layout)) return mesh.normals;
     return atlas_texel_samples(mesh, transfer.texels).normals;
 }
 
@@ -153,7 +144,7 @@ void TransferSet::check_rows(const Mesh& mesh, std::size_t first) const {
     SHPRT_CHECK(!coeffs.empty() && coeffs.size() % row == 0, invalid_argument,
                 "transfer holds {} floats, not a whole number of rows of {} ({} channels × {})",
                 coeffs.size(), row, layout.channels, layout.floats_per_channel());
-    if (layout.domain == ReceiverDomain::texel) {
+    if (is_texel(layout)) {
         SHPRT_CHECK(!mesh.uvs.empty(), invalid_argument,
                     "texel transfer of a mesh without texture coordinates");
         const std::uint64_t image = std::uint64_t(texels.width) * std::uint64_t(texels.height);

@@ -99,6 +99,47 @@ TEST(BackgroundBake, ChunksRebuildTheNormalBakeExactly) {
     EXPECT_EQ(worker.result().stats.rays_cast, want.stats.rays_cast);
 }
 
+// An error-bounded bake refines toward its target in rounds (refine_rounds): the rows shown at
+// the end are the bounded bake's own, bit for bit; each round's estimate is recorded, and the
+// worst estimate and the share of receivers over the target fall from the first round to the last.
+TEST(BackgroundBake, RefinesTowardTheTargetInRoundsAndEndsWithTheBoundedBake) {
+    const Mesh mesh = load_scene("builtin:box_on_plane");
+    BakeOptions options = test::small_chunked_options();
+    options.direction_frame = DirectionFrame::local;
+    options.target_error = 0.02;
+    options.max_samples = 4096;
+    EXPECT_EQ(refine_rounds(options), (std::vector<std::uint32_t>{256, 1024, 4096}));
+    BakeOptions fixed = options;
+    fixed.target_error = 0, fixed.max_samples = 0;
+    EXPECT_EQ(refine_rounds(fixed), (std::vector<std::uint32_t>{fixed.samples}));
+    const TransferSet want = bake(mesh, options);
+
+    BackgroundBake worker(mesh, options);
+    TransferSet shown = TransferSet::zeros(bake_description(options), mesh.vertex_count());
+    std::vector<RefineRound> seen;
+    while (!worker.done()) {
+        for (const TransferChunk& c : worker.chunks().take_all()) c.apply_to(shown);
+        const RefineRound r = worker.refine_round();
+        if (r.round > 0 && (seen.empty() || seen.back().round != r.round)) seen.push_back(r);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    for (const TransferChunk& c : worker.chunks().take_all()) c.apply_to(shown);
+    ASSERT_EQ(worker.state(), BakeState::finished) << worker.error();
+    EXPECT_EQ(shown.coeffs, want.coeffs) << "the last round is the bounded bake, bit for bit";
+    const RefineRound last = worker.refine_round();
+    EXPECT_EQ(last.round, 3);
+    EXPECT_EQ(last.rounds, 3);
+    EXPECT_EQ(last.max_samples, 4096u);
+    ASSERT_FALSE(seen.empty());
+    const RefineRound& first = seen.front();
+    EXPECT_EQ(first.max_samples, first.round == 1 ? 256u : 1024u);
+    EXPECT_GT(first.worst, last.worst) << "the estimate falls";
+    EXPECT_GT(first.over_target, last.over_target);
+    EXPECT_GT(last.mean_samples, first.mean_samples);
+    EXPECT_LE(last.p99, options.target_error);
+    EXPECT_EQ(worker.fraction_done(), 1.0);
+}
+
 TEST(BackgroundBake, CancelStopsPromptly) {
     const Mesh mesh = load_scene("builtin:room");
     BakeOptions options;

@@ -17,6 +17,7 @@
 #include "shprt/sh/local_frame.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/sh/rotation.hpp"
+#include "shprt/sh/sampler.hpp"
 #include "shprt/trace/bvh_build.hpp"
 #include "shprt/trace/tracer.hpp"
 
@@ -285,6 +286,15 @@ void compare_local_with_cpu_bake(const Mesh& mesh, int K, std::uint32_t S) {
     const TransferSet cpu = bake(mesh, options, set);
     ASSERT_EQ(cpu.layout.K, K);
 
+    // The open part exactly (docs/sampling.md, (3)), as the host applies it before the rotation:
+    // δ = Q_S(cos) − c′_open, and each row less β·δ with β = ĉ′_00/c′_open,00.
+    std::vector<double> delta = open_hemisphere_transfer(KL, HemisphereDensity::cosine);
+    const double open00 = delta[0];
+    for (int i = 0; i < KL; ++i) {
+        double q = 0;
+        for (std::size_t s = 0; s < S; ++s) q += double(set.weights[s]) * double(Y[s * KL + i]);
+        delta[std::size_t(i)] = q - delta[std::size_t(i)];
+    }
     std::uint64_t rays = 0, disagreements = 0;
     double max_rel = 0;
     std::vector<double> frame_row(KL), world_row(KL);
@@ -310,6 +320,8 @@ void compare_local_with_cpu_bake(const Mesh& mesh, int K, std::uint32_t S) {
             for (int i = 0; i < KL; ++i)
                 frame_row[std::size_t(i)] += double(embree_value) * double(Y[s * KL + i]);
         }
+        const double beta = frame_row[0] / open00;
+        for (int i = 0; i < KL; ++i) frame_row[std::size_t(i)] -= beta * delta[std::size_t(i)];
         rotate_zyz_paper(0.0, frame.beta, frame.gamma, frame_row.data(), world_row.data(), KL);
         double diff = 0, scale = 0;
         for (int i = 0; i < K; ++i) {

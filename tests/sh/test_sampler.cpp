@@ -656,3 +656,48 @@ TEST(Quadrature, GaussLegendreNodesAreSymmetricAndOrdered) {
 
 }  // namespace
 }  // namespace shprt
+
+namespace shprt {
+namespace {
+
+// open_hemisphere_transfer: the cosine vector is the clamped cosine's zonal vector (closed form,
+// zonal.hpp), and the matrix ∫_H y_i·y_j agrees with a fine midpoint rule in θ (an independent
+// quadrature, error O(h²)); its diagonal is 1/2 (y_i² is even in z, so half its sphere integral).
+TEST(OpenHemisphereTransfer, IsTheClampedCosineAndTheHemisphereGram) {
+    const int K = 36;
+    const std::vector<double> zonal = clamped_cosine_zonal(6);
+    const std::vector<double> v = open_hemisphere_transfer(K, HemisphereDensity::cosine);
+    ASSERT_EQ(v.size(), std::size_t(K));
+    for (int l = 0; l < 6; ++l)
+        for (int m = -l; m <= l; ++m)
+            EXPECT_NEAR(v[std::size_t(l * (l + 1) + m)], m == 0 ? zonal[std::size_t(l)] : 0.0,
+                        1e-13)
+                << l << ", " << m;
+
+    const std::vector<double> M = open_hemisphere_transfer(K, HemisphereDensity::uniform);
+    ASSERT_EQ(M.size(), std::size_t(K * (K + 1) / 2));
+    const int n_theta = 2000, n_phi = 64;
+    std::vector<double> ref(M.size(), 0.0), y(K);
+    for (int i = 0; i < n_theta; ++i) {
+        const double theta = 0.5 * kPi * (i + 0.5) / n_theta;
+        for (int k = 0; k < n_phi; ++k) {
+            const double phi = 2 * kPi * (k + 0.5) / n_phi;
+            const double w = std::sin(theta) * (0.5 * kPi / n_theta) * (2 * kPi / n_phi);
+            sh_eval_k(K, std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                      std::cos(theta), y.data());
+            std::size_t p = 0;
+            for (int a = 0; a < K; ++a)
+                for (int b = a; b < K; ++b) ref[p++] += w * y[a] * y[b];
+        }
+    }
+    std::size_t p = 0;
+    for (int a = 0; a < K; ++a)
+        for (int b = a; b < K; ++b, ++p) {
+            EXPECT_NEAR(M[p], ref[p], 1e-5) << a << ", " << b;
+            if (a == b) EXPECT_NEAR(M[p], 0.5, 1e-13) << a;
+        }
+    EXPECT_THROW(open_hemisphere_transfer(0, HemisphereDensity::cosine), Error);
+}
+
+}  // namespace
+}  // namespace shprt

@@ -45,14 +45,43 @@ public:
     std::size_t chunks_written() const;
     std::size_t receivers_written() const;
 
+    // An error-bounded bake's per-receiver prefixes and estimates (BakeOptions::target_error),
+    // kept for the receivers [first, first + count) of the last begin(); empty otherwise.
+    void begin_estimates() override;
+    void write_estimates(std::size_t first, std::size_t count, const std::uint32_t* samples,
+                         const float* errors) override;
+    // The estimates written since the last begin() (samples, errors: one per receiver, 0 where
+    // none was written yet).
+    void copy_estimates(std::vector<std::uint32_t>& samples, std::vector<float>& errors) const;
+
 private:
     mutable std::mutex m_mutex;
     TransferLayout m_layout;
+    std::size_t m_first = 0;
+    std::vector<std::uint32_t> m_samples;
+    std::vector<float> m_errors;
     std::vector<TransferChunk> m_chunks;
     std::size_t m_chunks_written = 0, m_receivers_written = 0;
 };
 
 enum class BakeState { running, finished, failed, cancelled };
+
+// An error-bounded bake refining toward its target in the viewer (BackgroundBake): the bake runs
+// in rounds whose largest prefix grows 4× a round, kTargetFirstSamples·4 = 256, 1024, … up to the
+// options' max_samples, each a whole error-bounded bake to the same target whose rows replace the
+// last round's; the last round is the bake asked for, bit for bit. The earlier rounds cost at most
+// about a third of the last one more (a receiver that converges early is baked again each round:
+// there is no bake session to keep its rays yet, issue 39 item 3).
+struct RefineRound {
+    int round = 0, rounds = 0;      // 1-based: the round finished last (0: none yet), of `rounds`
+    std::uint32_t max_samples = 0;  // that round's largest prefix
+    double worst = 0, p99 = 0;      // its estimated errors (docs/sampling.md)
+    double over_target = 0;         // the fraction of receivers whose estimate is still over E
+    double mean_samples = 0;
+};
+// The rounds' prefixes for these options: {256, 1024, …, max_samples} (at least max_samples);
+// one round, {bake_set_size}, without target_error.
+std::vector<std::uint32_t> refine_rounds(const BakeOptions& options);
 
 // bake() of every vertex of `mesh` on a worker thread, started by the constructor, into
 // chunks() — or, when `device_sink` is given (a DeviceSink over a mapped OpenGL buffer, for the
@@ -82,9 +111,12 @@ public:
     const TransferInfo& result() const { return m_result; }
     const BakeOptions& options() const { return m_options; }
     double seconds() const { return m_seconds.load(); }  // wall time of the bake once done
+    // An error-bounded bake's last finished round (refine_rounds; round = 0 before the first).
+    RefineRound refine_round() const;
 
 private:
     void run();
+    void record_round(int round, int rounds, std::uint32_t max_samples);
 
     Mesh m_mesh;
     BakeOptions m_options;
@@ -96,6 +128,7 @@ private:
     std::atomic<double> m_fraction{0.0}, m_seconds{0.0};
     mutable std::mutex m_error_mutex;
     std::string m_error;
+    RefineRound m_round;  // under m_error_mutex
     std::thread m_thread;
 };
 

@@ -108,12 +108,17 @@ struct BakeOptions {
     // Where the shared set lives (docs/sampling.md): sphere (the paper's: one set in world space,
     // weights 4π/S, about half of it above a receiver's horizon) or local (one set in each
     // receiver's tangent frame, cosine-weighted — uniform on the hemisphere for glossy —, every
-    // direction traced, the frame's coefficients rotated to world space band by band). CPU only:
-    // Device::cuda refuses local, Device::automatic then runs on the CPU. With a caller's
+    // direction traced, the frame's coefficients rotated to world space band by band; the GPU
+    // bake rotates on the host, so it cannot write into a device sink). With a caller's
     // DirectionSet and local, the set is in the frame (+z the normal) and its weights multiply
     // the visibility alone (the cosine, if any, folded in). Interreflected transfer: T_0 uses it;
     // the bounce sources keep the sphere set (their final gather is cosine-distributed already).
     DirectionFrame direction_frame = DirectionFrame::sphere;
+    // A local set only: the open part exactly (docs/sampling.md, "The open part exactly"): each
+    // row corrected by its visible fraction times the set's own error on an open receiver, so
+    // that an open receiver is exact at any S. Off gives the plain estimator (for comparison:
+    // bench_local_directions); not an option of the command line.
+    bool open_control = true;
     // The error-bounded bake (docs/sampling.md, "Error-bounded bakes"): 0 = off (every receiver
     // gets `samples`); E in (0, 1]: each receiver gets the smallest nested prefix
     // kTargetFirstSamples·2^k ≤ max_samples whose estimated error (‖ĉ_S − ĉ_{S/2}‖ over the

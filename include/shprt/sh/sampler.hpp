@@ -327,6 +327,15 @@ enum class HemisphereDensity { cosine, uniform };
 DirectionSet make_local_direction_set(SamplerKind kind, std::uint64_t seed, std::uint32_t count,
                                       HemisphereDensity density);
 
+// What a local set of `density` estimates for an open receiver (nothing blocks its hemisphere),
+// in its frame, exactly: the cosine density's vector ∫_H cos θ·y_i dω, i < K (z_l at m = 0,
+// clamped_cosine_zonal), or the uniform density's matrix ∫_H y_i·y_j dω, 0 ≤ i ≤ j < K, packed
+// row by row (K(K+1)/2 entries). H is the hemisphere around +z. Gauss–Legendre in z on [0, 1]
+// (after the φ average both integrands are polynomials in z of degree ≤ 2·bands − 1) × equally
+// spaced φ: exact to rounding. The local bake subtracts the set's error on it (docs/sampling.md,
+// "The open part exactly"). Throws Error(invalid_argument) for K outside [1, kMaxComputeBands²].
+std::vector<double> open_hemisphere_transfer(int K, HemisphereDensity density);
+
 // Rounds a double set to float.
 DirectionSet to_float(const DirectionSetD& set);
 
