@@ -23,6 +23,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
 #include "shprt/core/interrupt.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -68,8 +69,7 @@ viewer::ViewRequest check_view(const ViewArgs& a) {
     // --albedo and --coeffs are registered with the bake options (an interreflected bake's
     // albedo, the K baked). Without --bake, and with a glossy bake (which has no albedo), --albedo
     // overrides the glossy colours; without --bake, --coeffs is the K' shown first.
-    const bool bake_glossy =
-        a.do_bake && parse_transfer_kind(a.bake.transfer) == TransferKind::glossy;
+    const bool bake_glossy = a.do_bake && is_matrix(kind_row(parse_transfer_kind(a.bake.transfer)));
     ShadingArgs shading = a.shading;
     BakeOptionChoice bake_args = a.bake;
     if (!a.do_bake || bake_glossy) {

@@ -18,6 +18,7 @@
 #include "shprt/shade/save_image.hpp"
 #include "shprt/shade/shade.hpp"
 #include "shprt/shade/texel_shade.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <fmt/printf.h>
 
@@ -62,7 +63,7 @@ ShprtFile view_scene(const ViewRequest& r, ShadingParams& params) {
     // Glossy matrices are shaded with --brdf, else with the materials' BRDFs, else with --gloss's
     // Phong lobe (the panel changes the BRDF live); --glossy paper turns them into the paper's
     // term.
-    if (file.transfer.layout.shape == TransferShape::symmetric_matrix && !params.brdf &&
+    if (is_glossy_matrix(file.transfer.layout) && !params.brdf &&
         params.glossy == GlossyTerm::matrix && file.mesh.brdf_index.empty())
         params.brdf = Brdf{BrdfModel::phong, params.gloss};
     return file;
@@ -98,8 +99,7 @@ void run_view_benchmark(const ViewRequest& r, const ShprtFile& file, const Light
     options.frames = *r.benchmark;
     options.rotate_light = r.benchmark_light;
     // Glossy matrices have at most 8 bands: measure the file's own K.
-    if (file.transfer.layout.shape == TransferShape::symmetric_matrix)
-        options.K_values = {file.transfer.layout.K};
+    if (is_glossy_matrix(file.transfer.layout)) options.K_values = {file.transfer.layout.K};
     // With an object: the file's own K, the object moving every frame.
     options.object = object;
     if (object.object) options.K_values = {std::min(file.transfer.layout.K, rig.K())};
@@ -134,7 +134,7 @@ void run_view_window(const ViewRequest& r, const ShadingParams& params, const Sh
 }  // namespace
 
 void check(const ViewRequest& r) {
-    const bool bake_glossy = r.bake && r.bake->transfer == TransferKind::glossy;
+    const bool bake_glossy = r.bake && is_matrix(kind_row(r.bake->transfer));
     SHPRT_CHECK(!r.bake || bake_glossy || !r.params.brdf, invalid_argument,
                 "--brdf shades glossy transfer matrices: with --bake, add --transfer glossy");
     SHPRT_CHECK(!(r.params.direct && r.bake), invalid_argument,

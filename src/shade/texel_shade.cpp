@@ -270,8 +270,7 @@ std::vector<std::string> write_texel_coefficient_images(const std::string& path,
 
 void check_texel_view(const std::string& path, const TransferSet& transfer, double k,
                       ShadeView view) {
-    SHPRT_CHECK(transfer.layout.domain != ReceiverDomain::texel ||
-                    transfer.layout.shape != TransferShape::vector || k >= 1 ||
+    SHPRT_CHECK(!is_texel(transfer.layout) || is_matrix(transfer.layout) || k >= 1 ||
                     view != ShadeView::radiance,
                 unsupported,
                 "{}: --k {}: diffuse texel transfer is drawn diffuse (k = 1); the paper's glossy "

@@ -2,6 +2,7 @@
 #include "shprt/transfer/cpca_summary.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <fmt/format.h>
 #include <fmt/printf.h>
@@ -13,9 +14,7 @@ namespace shprt {
 namespace {
 
 // The receivers, named in what is said: vertices, or texels.
-const char* units_of(const TransferSet& t) {
-    return t.layout.domain == ReceiverDomain::texel ? "texels" : "vertices";
-}
+const char* units_of(const TransferSet& t) { return is_texel(t.layout) ? "texels" : "vertices"; }
 
 }  // namespace
 
@@ -49,7 +48,7 @@ void check_probe_cpca_fit(const ProbeGrid& probes, const CpcaOptions& options,
 std::string cpca_summary(const TransferSet& t, const CpcaResult& r, const CpcaOptions& options,
                          bool half, const std::string& light_name) {
     const char* unit = to_string(t.layout.domain);
-    const char* views = t.layout.shape == TransferShape::vector ? "diffuse" : "5 views";
+    const char* views = is_matrix(t.layout) ? "5 views" : "diffuse";
     const TransferError& e = r.error;
     std::vector<float> sorted = e.receiver_rmse;
     std::sort(sorted.begin(), sorted.end());
