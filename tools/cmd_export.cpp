@@ -12,6 +12,7 @@
 #include "shprt/shade/glossy.hpp"
 #include "shprt/shade/gltf_export.hpp"
 #include "shprt/shade/texel_shade.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -63,10 +64,10 @@ void run(const ExportArgs& a) {
     }
     // glTF's attributes and the texel planes carry vectors: glossy matrices go as their diffuse
     // part t = M·a(n), the transfer `--glossy paper` shades (shade/glossy.hpp).
-    const bool matrices = file.transfer.layout.shape == TransferShape::symmetric_matrix;
+    const bool matrices = is_glossy_matrix(file.transfer.layout);
     if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
     const char* from_matrices = matrices ? ", the glossy matrices' diffuse transfer M·a(n)" : "";
-    const bool texel = file.transfer.layout.domain == ReceiverDomain::texel;
+    const bool texel = is_texel(file.transfer.layout);
     SHPRT_CHECK(texel == image, invalid_argument, "{}: {}", a.output,
                 texel ? "a texel file exports its coefficient planes as .exr, or as standard "
                         "images (.png, or .exr with --attributes standard)"

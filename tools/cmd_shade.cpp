@@ -12,6 +12,7 @@
 #include "shprt/shade/params.hpp"
 #include "shprt/shade/shade_export.hpp"
 #include "shprt/shade/texel_shade.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -56,7 +57,7 @@ void run(const ShadeArgs& a) {
     ShprtFile file = read_shprt(a.input);
     const ShadingPlan plan = resolve_shading(params, file, a.input, Spelling::command_line);
     const ShLight light = prepare_light(setup, file.transfer.layout.K);
-    const bool texel = file.transfer.layout.domain == ReceiverDomain::texel;
+    const bool texel = is_texel(file.transfer.layout);
     SHPRT_CHECK(texel || a.quantity.empty(), invalid_argument,
                 "--quantity is for texel files; {} holds vertex transfer", a.input);
     SHPRT_CHECK(
