@@ -105,7 +105,8 @@ TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device bac
     // Embree builds with TBB tasks in the caller's arena: limit it to the bake's threads.
     std::unique_ptr<Tracer> tracer;
     const auto start = Clock::now();
-    in_arena(options.threads, [&] { tracer = make_embree_tracer(*job.occluders); });
+    const EmbreeTracerOptions quality = bake_tracer_options(job, options, directions.size());
+    in_arena(options.threads, [&] { tracer = make_embree_tracer(*job.occluders, quality); });
     if (interreflected)
         return detail::bake_interreflected(job, options, directions, tracer.get(),
                                            seconds_since(start));
@@ -298,6 +299,16 @@ Device resolve_device(Device requested, int device_index) {
     const GpuInfo gpu = query_gpu(device_index);
     if (gpu.available) return Device::cuda;
     fail(ErrorCode::unsupported, "device 'cuda': {}", gpu.reason);
+}
+
+EmbreeTracerOptions bake_tracer_options(const BakeJob& job, const BakeOptions& options,
+                                        std::size_t samples) {
+    // About S rays per receiver for a local set, S/2 for the sphere set (those above the
+    // horizon), over the whole receiver set: a shard, a resumed gap and an MPI rank build the
+    // whole bake's scene.
+    const double rays = double(job.receivers.total) * double(samples) *
+                        (options.direction_frame == DirectionFrame::local ? 1.0 : 0.5);
+    return EmbreeTracerOptions::for_rays(rays, job.occluders->triangle_count());
 }
 
 std::size_t auto_chunk_receivers(std::size_t receivers, std::size_t samples) {

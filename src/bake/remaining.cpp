@@ -41,7 +41,8 @@ TransferInfo bake_remaining(const BakeJob& job, const BakeOptions& options,
     std::unique_ptr<Tracer> tracer;
     if (gaps.size() > 1 && job.tracer == nullptr &&
         resolve_device(options.device, options.device_index) == Device::cpu) {
-        tracer = make_embree_tracer(*job.occluders);
+        tracer = make_embree_tracer(*job.occluders,
+                                    bake_tracer_options(job, options, bake_set_size(options)));
         part.tracer = tracer.get();
     }
 

@@ -218,7 +218,10 @@ void prepare(const MpiSession& session, const BakeJob& job, const BakeOptions& o
     const bool rays = kind_row(p.options.transfer).traces_rays;
     if (!p.tracer && rays && p.options.device == Device::cpu) {
         const auto start = Clock::now();
-        in_arena(p.options.threads, [&] { p.own_tracer = make_embree_tracer(*job.occluders); });
+        const EmbreeTracerOptions quality =
+            bake_tracer_options(job, p.options, p.directions->size());
+        in_arena(p.options.threads,
+                 [&] { p.own_tracer = make_embree_tracer(*job.occluders, quality); });
         p.seconds_bvh = seconds_since(start);
         p.tracer = p.own_tracer.get();
     }

@@ -55,6 +55,16 @@ double relative_rms(const std::vector<float>& a, const std::vector<float>& b) {
     return std::sqrt(num / den);
 }
 
+// 40 receivers at one point with normals spread over the sphere (a spherical Fibonacci set).
+void every_orientation(std::vector<Vec3f>& positions, std::vector<Vec3f>& normals) {
+    for (int i = 0; i < 40; ++i) {
+        const double z = 1 - (2 * i + 1) / 40.0, phi = 2.39996322972865332 * i;
+        const double r = std::sqrt(1 - z * z);
+        positions.push_back(Vec3f{0, 5, 0});
+        normals.push_back(Vec3f{float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
+    }
+}
+
 TEST(LocalDirections, SetsAreOnTheHemisphereWithTheirDensity) {
     for (const SamplerKind kind : kAllSamplerKinds) {
         const DirectionSet cosine =
@@ -113,12 +123,7 @@ TEST(LocalDirections, UnoccludedReceiverC00IsExactAtAnyS) {
     const Mesh plane = make_builtin("plane");  // nothing above its vertices
     // Receivers of every orientation for the unshadowed bake (no rays, no occluders hit).
     std::vector<Vec3f> positions, normals;
-    for (int i = 0; i < 40; ++i) {
-        const double z = 1 - (2 * i + 1) / 40.0, phi = 2.39996322972865332 * i;
-        const double r = std::sqrt(1 - z * z);
-        positions.push_back(Vec3f{0, 5, 0});
-        normals.push_back(Vec3f{float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
-    }
+    every_orientation(positions, normals);
     for (const std::uint32_t S : {1u, 7u, 64u}) {
         const TransferSet shadowed = bake(plane, local_options(TransferKind::shadowed, 16, S));
         for (std::size_t v = 0; v < plane.vertex_count(); ++v)
@@ -184,12 +189,7 @@ TEST(LocalDirections, RotationPathEqualsTheWorldSpaceReferenceWithKNotASquare) {
 // plain estimator at the same S, for vectors and glossy matrices.
 TEST(LocalDirections, OpenPartExactly) {
     std::vector<Vec3f> positions, normals;
-    for (int i = 0; i < 40; ++i) {
-        const double z = 1 - (2 * i + 1) / 40.0, phi = 2.39996322972865332 * i;
-        const double r = std::sqrt(1 - z * z);
-        positions.push_back(Vec3f{0, 5, 0});
-        normals.push_back(Vec3f{float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
-    }
+    every_orientation(positions, normals);
     const Mesh plane = make_builtin("plane");
     const Receivers open =
         Receivers::all(ReceiverDomain::vertex, positions.data(), normals.data(), positions.size());

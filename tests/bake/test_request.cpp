@@ -7,6 +7,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/builtin.hpp"
+#include "shprt/trace/tracer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -207,6 +208,43 @@ TEST_F(BakeRequestTest, RefinedBakeReturnsItsMesh) {
     EXPECT_GT(out.refined_mesh->vertex_count(), m_room.vertex_count());
     EXPECT_EQ(out.transfer.receiver_count(), out.refined_mesh->vertex_count());
     EXPECT_EQ(out.receivers, out.refined_mesh->vertex_count());
+}
+
+}  // namespace
+}  // namespace shprt
+
+namespace shprt {
+namespace {
+
+// A bake that casts enough rays builds a HIGH-quality Embree scene (bake_tracer_options), chosen
+// over the whole receiver set: a shard asks the same as the whole bake, and its rows are the
+// whole bake's, bit for bit (box_on_plane, 2 208 triangles: a local S = 2048 casts 2.5 M rays,
+// over the 2.2 M threshold; S = 64 does not).
+TEST(BakeTracerOptions, ChosenForTheWholeBakeSoShardsTraceTheSameScene) {
+    const Mesh mesh = make_builtin("box_on_plane");
+    BakeOptions options;
+    options.K = 9;
+    options.samples = 2048;
+    options.threads = 2;
+    options.direction_frame = DirectionFrame::local;
+    HostSink sink;
+    const Receivers all = vertex_receivers(mesh);
+    const BakeJob whole{&mesh, all, &sink, nullptr, nullptr, nullptr};
+    const BakeJob shard{&mesh, all.range(300, 400), &sink, nullptr, nullptr, nullptr};
+    EXPECT_TRUE(bake_tracer_options(whole, options, 2048).high_quality);
+    EXPECT_TRUE(bake_tracer_options(shard, options, 2048).high_quality);
+    EXPECT_FALSE(bake_tracer_options(whole, options, 64).high_quality);
+    options.direction_frame = DirectionFrame::sphere;  // half its rays are below the horizon
+    EXPECT_FALSE(bake_tracer_options(whole, options, 2048).high_quality);
+    EXPECT_TRUE(bake_tracer_options(whole, options, 4096).high_quality);
+    options.direction_frame = DirectionFrame::local;
+
+    const TransferSet all_rows = bake(mesh, options);
+    const TransferSet part = bake(mesh, all.range(300, 400), options);
+    const std::size_t row = all_rows.layout.floats_per_receiver();
+    ASSERT_EQ(part.coeffs.size(), 400 * row);
+    EXPECT_TRUE(std::equal(part.coeffs.begin(), part.coeffs.end(),
+                           all_rows.coeffs.begin() + std::ptrdiff_t(300 * row)));
 }
 
 }  // namespace

@@ -55,6 +55,8 @@
 namespace shprt {
 
 class Tracer;
+struct EmbreeTracerOptions;
+struct BakeJob;
 
 // Largest basis size a bake accepts (32 full bands).
 inline constexpr int kMaxBakeCoeffs = sh_count(kMaxComputeBands);
@@ -213,6 +215,13 @@ void validate(const BakeOptions& options);
 // query_gpu(device_index) finds a usable device, else Error(unsupported) with its one-line reason;
 // Device::automatic → cuda when there is one, else cpu. Returns Device::cpu or Device::cuda.
 Device resolve_device(Device requested, int device_index = 0);
+
+// The Embree scene a CPU bake of `job` with a set of `samples` directions builds
+// (EmbreeTracerOptions::for_rays over the rays of the whole receiver set, not of the job's
+// range): every path that builds its own tracer (bake, a resumed bake's gaps, MPI ranks) asks
+// this, so that they trace the same scene.
+EmbreeTracerOptions bake_tracer_options(const BakeJob& job, const BakeOptions& options,
+                                        std::size_t samples);
 
 // What a bake with `options` produces, before it runs: its kind and layout (vertex receivers, one
 // channel — three for interreflected —, a vector of K each — a symmetric K×K matrix for glossy

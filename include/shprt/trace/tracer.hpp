@@ -78,9 +78,18 @@ public:
 
 struct EmbreeTracerOptions {
     // Scene build quality: true = RTC_BUILD_QUALITY_HIGH, false = MEDIUM. Measured on the 20k-
-    // triangle room: the same tracing rate (within 1 %), while HIGH builds 5-7× slower (about 25
-    // vs 4 ms), so MEDIUM is the default; see bench/RESULTS.md ("Tracing").
+    // triangle room: in a random ray order the same tracing rate (within 1 %), in the bake's
+    // coherent order 1-3 % faster; HIGH builds 3-7× slower (12 against 3.5 ms). So MEDIUM is the
+    // default, and a bake asks for HIGH when it casts enough rays to pay for it
+    // (for_rays); see bench/RESULTS.md ("Tracing", "Coherent ray order").
     bool high_quality = false;
+    // HIGH where `rays` ≥ kHighQualityRaysPerTriangle × `triangles`: the build's extra cost (about
+    // 0.45 µs a triangle) against 2 % of the rays' (about 0.47 ns a ray), both measured on the
+    // room.
+    static constexpr double kHighQualityRaysPerTriangle = 1000.0;
+    static EmbreeTracerOptions for_rays(double rays, std::size_t triangles) {
+        return EmbreeTracerOptions{rays >= kHighQualityRaysPerTriangle * double(triangles)};
+    }
 };
 
 // Builds an Embree scene over mesh.triangles (copied; the mesh may be freed afterwards).
