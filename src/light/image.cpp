@@ -23,6 +23,7 @@
 #include <limits>
 #include <memory>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace shprt {
@@ -77,8 +78,9 @@ bool next_line(const std::string& bytes, std::size_t& pos, std::string& line) {
 
 // Checks that the RGBE stream is complete and well formed in the layout stb_image decodes
 // (-Y H +X W; flat or "new" RLE scanlines), so that stb_image never reads past the end.
-void validate_rgbe(const std::string& path, const std::string& bytes,
-                   const ImageSizeCheck& check_size) {
+// Returns the header's resolution (width, height).
+std::pair<int, int> validate_rgbe(const std::string& path, const std::string& bytes,
+                                  const ImageSizeCheck& check_size) {
     std::size_t pos = 0;
     std::string line;
     SHPRT_CHECK(next_line(bytes, pos, line) && (line == "#?RADIANCE" || line == "#?RGBE"), format,
@@ -108,7 +110,7 @@ void validate_rgbe(const std::string& path, const std::string& bytes,
         SHPRT_CHECK(n - pos >= flat_bytes, format,
                     "image {} is truncated: {} bytes of pixel data, {}x{} needs {}", path, n - pos,
                     width, height, flat_bytes);
-        return;
+        return {width, height};
     }
     for (int y = 0; y < height; ++y) {
         SHPRT_CHECK(n - pos >= 4, format, "image {} is truncated at scanline {} of {}", path, y,
@@ -141,6 +143,7 @@ void validate_rgbe(const std::string& path, const std::string& bytes,
             }
         }
     }
+    return {width, height};
 }
 
 struct StbFree {
@@ -149,13 +152,19 @@ struct StbFree {
 
 Image load_hdr(const std::string& path, const std::string& bytes,
                const ImageSizeCheck& check_size) {
-    validate_rgbe(path, bytes, check_size);
+    const auto [width, height] = validate_rgbe(path, bytes, check_size);
     int w = 0, h = 0, comp = 0;
     std::unique_ptr<float, StbFree> data(
         stbi_loadf_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
                                static_cast<int>(bytes.size()), &w, &h, &comp, 3));
     SHPRT_CHECK(data != nullptr, format, "cannot decode image {}: {}", path,
                 stbi_failure_reason() ? stbi_failure_reason() : "unknown stb_image error");
+    // stb_image reads the header by its own rules (a NUL byte ends a line for it, not for the
+    // check above): the size the caller was told must be the size decoded.
+    SHPRT_CHECK(w == width && h == height, format,
+                "image {}: its header's resolution is {}x{}, but it decodes as {}x{} (a malformed "
+                "header)",
+                path, width, height, w, h);
     check_dimensions(path, w, h);
     Image image = Image::make(w, h);
     std::memcpy(image.rgb.data(), data.get(), image.rgb.size() * sizeof(float));

@@ -4,6 +4,7 @@
 // written by tinyexr and stb_image_write directly (image_fixture.hpp), not by save_image (render/,
 // tested in tests/shade/test_save_image.cpp).
 #include "shprt/light/image.hpp"
+#include "shprt/light/light.hpp"
 
 #include "light/image_fixture.hpp"
 #include "shprt/core/colour.hpp"
@@ -123,6 +124,25 @@ TEST_F(ImageFiles, MissingEmptyAndGarbageFilesThrow) {
     }
     write_bytes(path("a.jpg"), "whatever");
     expect_error_naming(path("a.jpg"), ErrorCode::unsupported);
+}
+
+// Found by fuzz_light_load: a header whose lines hold a NUL byte, which ends a line for
+// stb_image but not for the header check, so the two read different resolution lines (3x4
+// against 1x3). A light then projected 3-pixel rows from a 1-pixel image (a heap overflow under
+// ASan). It is refused in one line, as a light too.
+TEST_F(ImageFiles, HdrWhoseHeaderStbReadsOtherwiseIsRefused) {
+    const std::string header = std::string("#?RADIANCE\n# .h\nFORMAT=32-bit_rle_rgbe\nEX\xff\n") +
+                               std::string(1, '\0') + "#?RADI\n-Y 3 +X 1\n\x02\x02" +
+                               std::string(1, '\0') +
+                               "ANCE\n#=y .h\nFORMAT=32-bit_rle_rgbe\nEXOS000000\n\n-Y 4 +X 3\n";
+    write_bytes(path("nul.hdr"), header + std::string(48, '\x40'));
+    expect_error_naming(path("nul.hdr"), ErrorCode::format);
+    try {
+        parse_light("equirect:" + path("nul.hdr"), 9);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("decodes as"), std::string::npos) << e.what();
+    }
 }
 
 TEST_F(ImageFiles, TruncatedFilesThrowAtEveryCut) {
