@@ -145,7 +145,9 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
         ErrorBoundScratch& eb = sc.bound;
         BoundRows rows = kept.acc != nullptr
                              ? BoundRows{kept.acc + grid_first * std::size_t(KL),
-                                         kept.samples + grid_first, kept.error + grid_first}
+                                         kept.samples + grid_first, kept.error + grid_first,
+                                         kept.visible + grid_first, kept.blocked + grid_first,
+                                         kept.more + grid_first}
                              : eb.fresh_rows(height, KL);
         bake_chunk_to_error(bound, cap, tracer, rx, grid_first, height, rows, eb, progress);
         if (progress.stopped()) return;
