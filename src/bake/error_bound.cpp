@@ -116,9 +116,9 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
                 float* row = sc.w.data() + i * length;
                 weight_row(rx.normals[r], *bound.table, DirectionRange{a, b}, row);
                 if (!bound.shadowed) continue;
-                const std::uint32_t cast = trace_row(*tracer, rx.positions[r], rx.normals[r],
-                                                     *bound.table, DirectionRange{a, b}, row,
-                                                     sc.trace);
+                const std::uint32_t cast =
+                    trace_row(*tracer, rx.positions[r], rx.normals[r], *bound.table,
+                              DirectionRange{a, b}, row, sc.trace);
                 const auto seen = static_cast<std::uint32_t>(
                     std::count_if(row, row + length, [](float w) { return w != 0.0f; }));
                 rows.visible[sc.active[k + i]] += seen;
@@ -166,16 +166,15 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
                 const std::uint32_t fewest =
                     controlled ? std::min(rows.visible[j], rows.blocked[j]) : rows.visible[j];
                 if (bound.shadowed && fewest < kRareRays)
-                    err = std::max(err, (kRareFloor + std::sqrt(double(fewest))) * resolution /
-                                            double(b));
+                    err = std::max(
+                        err, (kRareFloor + std::sqrt(double(fewest))) * resolution / double(b));
                 if (!bound.shadowed && open) err = std::max(err, resolution / double(b));
                 // Two successive estimates: a row stops at b when its estimate is under the
                 // target and the last one (at b/2) was under kPreviousFactor times it; pass 0
                 // has none, so every row takes at least 2·S0.
                 const double previous =
                     a == 0 ? std::numeric_limits<double>::infinity() : double(rows.error[j]);
-                const bool over =
-                    err > bound.target || previous > kPreviousFactor * bound.target;
+                const bool over = err > bound.target || previous > kPreviousFactor * bound.target;
                 rows.samples[j] = std::uint32_t(b);
                 rows.error[j] = float(err);
                 rows.more[j] = over ? 1 : 0;

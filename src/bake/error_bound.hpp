@@ -81,12 +81,12 @@ struct ErrorBoundScratch {
     std::vector<float> w;      // W of a block of rows over one segment
     std::vector<float> g, g0;  // the block's segment sums (pass 0: its two halves)
     std::vector<float> acc;    // the chunk's rows' A when no session keeps them (height × KL)
-    std::vector<std::uint32_t> samples;  // … their prefixes
-    std::vector<float> error;            // … their estimated errors
+    std::vector<std::uint32_t> samples;           // … their prefixes
+    std::vector<float> error;                     // … their estimated errors
     std::vector<std::uint32_t> visible, blocked;  // … their rays' outcomes
     std::vector<std::uint8_t> more;               // … whether they asked for more
     std::vector<std::uint32_t> active;            // rows still refining
-    std::vector<float> out;              // the chunk's rows ĉ (height × KL)
+    std::vector<float> out;                       // the chunk's rows ĉ (height × KL)
     TraceScratch trace;
     double trace_seconds = 0, project_seconds = 0;  // CPU time (this worker)
     // The scratch's own rows for `height` receivers, zeroed (nothing baked yet).

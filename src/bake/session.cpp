@@ -81,8 +81,7 @@ BakeSession::BakeSession(const BakeJob& job, const BakeOptions& options)
         s.tracer = s.own_tracer.get();
         s.seconds_bvh = seconds_since(start);
     }
-    if (!s.whole_domain)
-        s.tables = std::make_unique<detail::CpuBakeTables>(checked, *s.directions);
+    if (!s.whole_domain) s.tables = std::make_unique<detail::CpuBakeTables>(checked, *s.directions);
 }
 
 BakeSession::~BakeSession() = default;

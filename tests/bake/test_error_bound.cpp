@@ -113,13 +113,12 @@ TEST(ErrorBound, NoReceiverOverTwiceTheTargetOnARoomBuiltLikeRealAssets) {
         std::size_t over = 0;
         for (std::size_t r = 0; r < truth.size(); ++r) {
             over += truth[r] > 2 * E ? 1 : 0;
-            EXPECT_LE(truth[r], 2 * E) << "seed " << seed << ", receiver " << r << " at "
-                                       << got.receiver_samples[r] << " samples, estimate "
-                                       << got.receiver_error[r];
+            EXPECT_LE(truth[r], 2 * E)
+                << "seed " << seed << ", receiver " << r << " at " << got.receiver_samples[r]
+                << " samples, estimate " << got.receiver_error[r];
         }
-        std::printf("leaky_room, E = %.2f, seed %d: worst true error %.4f, %zu of %zu over 2E\n",
-                    E, int(seed), *std::max_element(truth.begin(), truth.end()), over,
-                    truth.size());
+        std::printf("leaky_room, E = %.2f, seed %d: worst true error %.4f, %zu of %zu over 2E\n", E,
+                    int(seed), *std::max_element(truth.begin(), truth.end()), over, truth.size());
     }
 }
 
