@@ -240,8 +240,8 @@ void validate(const BakeOptions& options) {
             "target error: sampler '{}' has no nested prefixes (use sobol or uniform)",
             to_string(options.sampler));
         SHPRT_CHECK(kind_row(options.transfer).error_bounded, unsupported,
-                    "target error: {} transfer has no error-bounded bake yet (unshadowed or "
-                    "shadowed only)",
+                    "target error: {} transfer has no error-bounded bake yet (unshadowed, "
+                    "shadowed or interreflected only)",
                     to_string(options.transfer));
     }
     SHPRT_CHECK(options.source_spacing >= 0 && !std::isnan(options.source_spacing),

@@ -138,15 +138,17 @@ struct BounceSourceRays {
 };
 // The bounces over the sources (A: N × N, `bounce` over N × 3K floats), from T_0 (the receivers',
 // V × K) and T0_sources (N × K; its first V rows are replaced by T0's); with no bounces wanted A
-// and the sources are empty. With `source_light`, it gets each source's light as the probes read
-// it (ProbeBounce::light: N rows of 3 × K, T_0 + … + T_{N−1} after the fill of invalid sources;
-// empty with no bounces).
+// and the sources are empty. `estimates` (an error-bounded bake): T_0's per-receiver prefixes and
+// estimated errors, written to the sink with the rows. With `source_light`, it gets each source's
+// light as the probes read it (ProbeBounce::light: N rows of 3 × K, T_0 + … + T_{N−1} after the
+// fill of invalid sources; empty with no bounces).
 TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& options,
                                    TransferInfo info, std::vector<float> T0,
                                    std::vector<float> T0_sources, const BounceSourceRays& rays,
                                    const TransportOperator& A, const BounceProduct& bounce,
                                    std::uint64_t other_bytes, double seconds_so_far,
-                                   std::vector<float>* source_light = nullptr);
+                                   std::vector<float>* source_light = nullptr,
+                                   const TransferSet* estimates = nullptr);
 // The operator of an interreflected bake over its bounce sources, traced on the CPU from the
 // indirect directions (indirect_direction_set): A, each source's T_0 from the same rays (the
 // receivers' rows are replaced by the full bake's in finish_interreflected), what the rays met;
@@ -160,7 +162,7 @@ struct SourceOperator {
 };
 SourceOperator trace_source_operator(const Mesh& mesh, const BakeOptions& options,
                                      const DirectionSet& directions, const Tracer& tracer,
-                                     BakeStats& stats);
+                                     BakeStats& stats, std::size_t gather_base = 0);
 // The options of an interreflected bake's T_0 stage: the shadowed bake's, whose progress names
 // the bounce sources and the bounces that follow (ProgressInfo::then).
 BakeOptions direct_stage_options(const BakeOptions& options);

@@ -27,6 +27,7 @@
 #include <oneapi/tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -390,15 +391,25 @@ int bounce_coeffs(const BakeOptions& options) {
                     options.bounce_coeffs > 0 ? options.bounce_coeffs : kDefaultBounceCoeffs);
 }
 
-DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionSet& directions) {
+DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionSet& directions,
+                                    std::size_t gather_base) {
+    const std::size_t base = gather_base > 0 ? gather_base : directions.size();
     const std::size_t n = options.indirect_samples > 0
                               ? options.indirect_samples
-                              : std::max<std::size_t>(1, directions.size() / kIndirectSampleShare);
+                              : std::max<std::size_t>(1, base / kIndirectSampleShare);
     // A local bake's set is in the frame; the bounce sources take the sphere set of its sampler.
     if (n >= directions.size() && options.direction_frame == DirectionFrame::sphere)
         return directions;
     return make_direction_set(options.sampler, options.seed,
                               static_cast<std::uint32_t>(std::min(n, directions.size())));
+}
+
+std::size_t gather_base_of(const std::vector<std::uint32_t>& receiver_samples) {
+    if (receiver_samples.empty()) return 1;
+    double sum = 0;
+    for (const std::uint32_t s : receiver_samples) sum += double(s);
+    return std::bit_ceil(
+        static_cast<std::size_t>(std::ceil(sum / double(receiver_samples.size()))));
 }
 
 float bake_source_spacing(const Mesh& mesh, const BakeOptions& options) {
@@ -459,14 +470,14 @@ std::size_t inner_source_samples(std::size_t gather) {
 
 SourceOperator trace_source_operator(const Mesh& mesh, const BakeOptions& options,
                                      const DirectionSet& directions, const Tracer& tracer,
-                                     BakeStats& stats) {
+                                     BakeStats& stats, std::size_t gather_base) {
     const auto pass_start = Clock::now();
     const std::size_t V = mesh.vertex_count();
     const int K = options.K;
     SourceOperator out;
     out.sources = std::make_unique<BounceSources>(bake_bounce_sources(mesh, options));
     const BounceSources& sources = *out.sources;
-    const DirectionSet indirect = indirect_direction_set(options, directions);
+    const DirectionSet indirect = indirect_direction_set(options, directions, gather_base);
     const DirectionTable table = make_direction_table(indirect);
     const std::vector<float> Y = basis_table(K, indirect);
     out.T0_sources.resize(sources.size() * std::size_t(K));
@@ -536,15 +547,22 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
     direct_job.sink = &direct_sink;
     TransferInfo info = bake_cpu(direct_job, direct_options, directions, tracer, seconds_bvh);
     std::vector<float> T0 = direct_sink.take_rows();
+    // An error-bounded bake bounds T_0 per receiver (its estimates go to the file), and its final
+    // gather takes the prefix the receivers needed, of the same nested set (docs/sampling.md).
+    TransferSet estimates;
+    direct_sink.take_estimates(estimates);
+    const std::size_t gather_base =
+        options.target_error > 0 ? gather_base_of(estimates.receiver_samples) : 0;
     if (wanted == 0) {
         info = finish_interreflected(job, options, std::move(info), std::move(T0), {},
                                      BounceSourceRays{}, TransportOperator{}, {}, 0,
-                                     seconds_since(start) + seconds_bvh);
+                                     seconds_since(start) + seconds_bvh, nullptr, &estimates);
         bake_job_probes(job, options, directions, tracer, nullptr, info);
         return info;
     }
 
-    SourceOperator op = trace_source_operator(mesh, options, directions, *tracer, info.stats);
+    SourceOperator op =
+        trace_source_operator(mesh, options, directions, *tracer, info.stats, gather_base);
     const TransportOperator& A = op.A;
     std::vector<float> light;  // the probes' light at the sources
     info = finish_interreflected(
@@ -553,7 +571,7 @@ TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
             apply_transport_rows(A, rows, options.threads, TransportKernel::automatic, &progress);
         },
         op.pass_bytes + (tracer ? tracer->memory_bytes() : 0), seconds_bvh + seconds_since(start),
-        job.probes ? &light : nullptr);
+        job.probes ? &light : nullptr, &estimates);
     if (job.probes) {
         const ProbeBounce bounce{op.sources->view(mesh), light.data(), options.K,
                                  options.two_sided};
@@ -567,7 +585,7 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
                                    std::vector<float> T0_sources, const BounceSourceRays& rays,
                                    const TransportOperator& A, const BounceProduct& bounce,
                                    std::uint64_t other_bytes, double seconds_so_far,
-                                   std::vector<float>* source_light) {
+                                   std::vector<float>* source_light, const TransferSet* estimates) {
     const auto start = Clock::now();
     const Mesh& mesh = *job.occluders;
     const std::size_t V = mesh.vertex_count();
@@ -703,13 +721,18 @@ TransferInfo finish_interreflected(const BakeJob& job, const BakeOptions& option
     ir.converged = options.converge && ir.bounces > 0 && ir.last_change < options.tolerance;
 
     TransferSink& sink = *job.sink;
+    const bool bounded = estimates != nullptr && !estimates->receiver_samples.empty();
     sink.begin(info.layout, 0, V);
+    if (bounded) sink.begin_estimates();
     if (float* rows = sink.host_rows(0, V)) {
         std::copy(sum.begin(), sum.end(), rows);
         sink.write(0, V, rows);
     } else {
         sink.write(0, V, sum.data());
     }
+    if (bounded)
+        sink.write_estimates(0, V, estimates->receiver_samples.data(),
+                             estimates->receiver_error.data());
     sink.finish();
     if (job.direct) {
         job.direct->begin(direct_part_layout(info.layout), 0, V);

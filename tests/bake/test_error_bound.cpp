@@ -189,8 +189,6 @@ TEST(ErrorBound, RefusesWhatItCannotDo) {
     o.transfer = TransferKind::glossy;
     o.K = 9;
     EXPECT_NE(refused(o).find("glossy"), std::string::npos);
-    o.transfer = TransferKind::interreflected;
-    EXPECT_NE(refused(o).find("interreflected"), std::string::npos);
     o = bounded_options(DirectionFrame::local, 0, 256);
     EXPECT_NE(refused(o).find("needs a target error"), std::string::npos);
     // The front ends' check names their options.

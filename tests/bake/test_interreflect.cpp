@@ -106,6 +106,61 @@ TEST(Interreflect, ZeroBouncesIsTheShadowedBakeBitForBit) {
     EXPECT_GT(ir3.interreflection.operator_nnz, 0u);
 }
 
+// --target-error on interreflected transfer (docs/sampling.md, "Where it runs"): the direct part
+// T_0 is the error-bounded shadowed bake, bit for bit, with its estimates in the file; the final
+// gather takes the prefix the receivers needed (their mean, rounded up to a power of two) divided
+// by kIndirectSampleShare, of the same nested set — the operator of a fixed bake of that many
+// samples. On a room built like real assets (overlapping panels, parts through the floor).
+TEST(Interreflect, ErrorBoundedDirectPartAndAGatherFromTheSameNestedSet) {
+    const Mesh mesh = make_builtin("leaky_room");
+    BakeOptions options = ir_options(16, 1, 2);  // samples: the bound's set is max_samples
+    options.target_error = 0.03;
+    options.max_samples = 2048;
+    BakeOptions shadowed = options;
+    shadowed.transfer = TransferKind::shadowed;
+    shadowed.bounces = 0;
+    // One tracer for every bake: Embree's quality follows S, and a closest hit on a shared edge
+    // may name either triangle, which moves a few of the operator's entries.
+    const auto tracer = make_embree_tracer(mesh);
+    const auto bake_on = [&](const BakeOptions& o) {
+        HostSink rows, direct_rows;
+        BakeJob job{&mesh, vertex_receivers(mesh), &rows, nullptr, tracer.get(), &direct_rows};
+        TransferSet t;
+        static_cast<TransferInfo&>(t) = bake(job, o);
+        t.coeffs = rows.take_rows();
+        t.direct = direct_rows.take_rows();
+        rows.take_estimates(t);
+        return t;
+    };
+    const TransferSet direct = bake_on(shadowed);
+    const TransferSet ir = bake_on(options);
+    ASSERT_EQ(ir.direct.size(), direct.coeffs.size());
+    EXPECT_EQ(std::memcmp(ir.direct.data(), direct.coeffs.data(), direct.coeffs.size() * 4), 0);
+    EXPECT_EQ(ir.receiver_samples, direct.receiver_samples);
+    EXPECT_EQ(ir.receiver_error, direct.receiver_error);
+    EXPECT_EQ(ir.target_error, 0.03);
+
+    const std::size_t base = gather_base_of(direct.receiver_samples);
+    EXPECT_LT(base, 2048u) << "the receivers needed less than the most";
+    EXPECT_EQ(ir.interreflection.indirect_samples, base / kIndirectSampleShare);
+    // The operator is a fixed bake's of `base` samples: the same gather, the same sources.
+    const TransferSet fixed = bake_on(ir_options(16, std::uint32_t(base), 2));
+    EXPECT_EQ(fixed.interreflection.indirect_samples, ir.interreflection.indirect_samples);
+    EXPECT_EQ(fixed.interreflection.operator_nnz, ir.interreflection.operator_nnz);
+    EXPECT_EQ(fixed.interreflection.operator_rays, ir.interreflection.operator_rays);
+    // And the light it adds is the fixed bake's within the direct parts' difference.
+    double bounced = 0, differ = 0;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        for (int c = 0; c < 3; ++c) {
+            const double a = ir.receiver(v, c)[0] - ir.direct[v * 16];
+            const double b = fixed.receiver(v, c)[0] - fixed.direct[v * 16];
+            bounced += b * b;
+            differ += (a - b) * (a - b);
+        }
+    EXPECT_GT(bounced, 0);
+    EXPECT_LT(std::sqrt(differ / bounced), 0.1) << "the bounced c00, relative RMS";
+}
+
 TEST(Interreflect, SameBitsForAnyThreadCount) {
     const Mesh mesh = make_builtin("box_on_plane");
     BakeOptions one = ir_options(9, 256, 3);
@@ -292,9 +347,9 @@ TEST(Interreflect, GridCellsInterpolateThePoint) {
     }
 }
 
-// The GPU's build of one block of A (transport_build.hpp; src/bake/cuda/transport_kernels.cu) run on
-// the host: the kernels' per-index steps in loops, std::stable_sort for cub's (stable) radix sort
-// of the keys with their indices, std::exclusive_scan for cub's scan of the kept flags.
+// The GPU's build of one block of A (transport_build.hpp; src/bake/cuda/transport_kernels.cu) run
+// on the host: the kernels' per-index steps in loops, std::stable_sort for cub's (stable) radix
+// sort of the keys with their indices, std::exclusive_scan for cub's scan of the kept flags.
 TransportOperator::Block device_build_on_host(const Mesh& mesh, const BounceSources& sources,
                                               const DirectionSet& d, bool two_sided,
                                               std::size_t first, std::size_t count,

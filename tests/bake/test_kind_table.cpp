@@ -62,8 +62,7 @@ TEST(KindTable, DefaultsAndTraitsAreTheOldBranches) {
         EXPECT_EQ(row.direct_part, kind == TransferKind::interreflected);
         EXPECT_EQ(row.interreflection, kind == TransferKind::interreflected);
         EXPECT_EQ(row.whole_domain, kind == TransferKind::interreflected);
-        EXPECT_EQ(row.error_bounded,
-                  kind == TransferKind::shadowed || kind == TransferKind::unshadowed);
+        EXPECT_EQ(row.error_bounded, kind != TransferKind::glossy);
         EXPECT_EQ(is_matrix(row), kind == TransferKind::glossy);
     }
 }

@@ -149,7 +149,14 @@ std::size_t bake_bounce_source_count(const Mesh& mesh, const BakeOptions& option
 // BakeOptions::indirect_samples (0 = S / kIndirectSampleShare) of the bake's sampler and seed —
 // for Sobol a nested prefix of `directions` —, or `directions` itself when that many or more.
 // A local bake (DirectionFrame::local): always the sphere set of its sampler and seed, at most S.
-DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionSet& directions);
+// An error-bounded bake (target_error > 0) gives `gather_base`, the prefix its receivers' direct
+// part needed (the mean prefix rounded up to a power of two: gather_base_of), for S: the final
+// gather then takes gather_base / kIndirectSampleShare directions of the same nested set.
+DirectionSet indirect_direction_set(const BakeOptions& options, const DirectionSet& directions,
+                                    std::size_t gather_base = 0);
+// The gather base of an error-bounded bake from its receivers' prefixes: their mean rounded up to
+// a power of two (at least 1).
+std::size_t gather_base_of(const std::vector<std::uint32_t>& receiver_samples);
 
 // The coefficients light carries from its second bounce on in an interreflected bake with
 // `options`: BakeOptions::bounce_coeffs, 0 = kDefaultBounceCoeffs, at most K.
