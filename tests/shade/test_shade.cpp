@@ -15,6 +15,7 @@
 #include "shprt/shade/sun_shade.hpp"
 #include "shprt/shade/texel_shade.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <gtest/gtest.h>
 
@@ -511,6 +512,28 @@ TEST(ShadeSun, TexelsGetTheTracedSunAndTheSumIsTheirShading) {
     EXPECT_GT(lit, 10);
 }
 
+// shade_receivers takes the kind table's pass (shading_pass), as the GL renderer chooses its
+// scene pass: a texel set's texels as points through their rows' vertex pass; options that do not
+// fit the layout (a BRDF for vectors) are refused.
+TEST(Shade, ReceiversTakeTheKindTablesPass) {
+    const Mesh mesh = make_builtin("quad_box");
+    BakeOptions options;
+    options.K = 16;
+    options.samples = 16;
+    const TransferSet texels = test::texel_bake(mesh, 16, options);
+    const ShLight sky = gradient_light(GradientSky{}, 16);
+    ShadeOptions shade;
+    shade.k = 0.5;  // the glossy term too
+    const ShadeResult all = shade_receivers(mesh, texels, sky, shade, nullptr);
+    const TexelPoints points = texel_points(mesh, texels);
+    ASSERT_EQ(shading_pass(points.rows.layout), ShadingPass::vertex_vectors);
+    const ShadeResult rows = shade_vertices(points.points, points.rows, sky, shade);
+    EXPECT_EQ(all.radiance, rows.radiance);
+    EXPECT_EQ(all.irradiance, rows.irradiance);
+    const GlossyShadeOptions brdf;
+    EXPECT_THROW(shade_receivers(mesh, texels, sky, shade, &brdf), Error);
+}
+
 TEST(ShadeSun, SameBitsForAnyThreadCountAndDiffuseOnly) {
     const Mesh mesh = make_builtin("box_on_plane");
     BakeOptions options;
@@ -600,9 +623,10 @@ TEST(ShadeSun, GlossyMatricesGetTheExactLobeOfTheTracedSun) {
     add_light(both, prepared.sh);
     const ShadeResult all_sh = shade_glossy(mesh, t, both, g);
     const double blurred = all_sh.radiance[mirror].x - s.radiance[mirror].x - diffuse;
-    std::printf("highlight at the mirror vertex: traced %.4f, exact lobe's peak %.4f, through SH "
-                "%.4f\n",
-                highlight, peak, blurred);
+    std::printf(
+        "highlight at the mirror vertex: traced %.4f, exact lobe's peak %.4f, through SH "
+        "%.4f\n",
+        highlight, peak, blurred);
     EXPECT_LT(blurred, 0.5 * peak);
 }
 
