@@ -25,7 +25,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shprt {
@@ -133,17 +135,16 @@ void Renderer::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     if (pass != ShadingPass::texels)
         SHPRT_CHECK(mesh.triangle_count() > 0, invalid_argument, "mesh {} has no triangles to draw",
                     mesh.source);
-    const int kind = pass == ShadingPass::texels ? 1 : 0;  // the two pass classes
-    if (!m_pass || m_pass_kind != kind) {
-        m_pass.reset();
-        m_pass = make_pass(pass, m_sun_filter);
-        m_pass_kind = kind;
-    }
-    try {
+    // The two pass classes; a scene of the same class reuses the pass (and its programs). A
+    // pass checks before it releases anything, so a refused scene leaves the last one drawn.
+    const int kind = pass == ShadingPass::texels ? 1 : 0;
+    if (m_pass && m_pass_kind == kind) {
         m_pass->set_scene(mesh, transfer);
-    } catch (...) {
-        m_pass.reset();  // no half-uploaded scene is drawn
-        throw;
+    } else {
+        std::unique_ptr<ScenePass> fresh = make_pass(pass, m_sun_filter);
+        fresh->set_scene(mesh, transfer);
+        m_pass = std::move(fresh);
+        m_pass_kind = kind;
     }
     m_layout = transfer.layout;
     m_K = transfer.layout.K;

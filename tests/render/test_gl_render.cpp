@@ -393,6 +393,37 @@ TEST(GlRender, PartialTransferUpdateEqualsAFreshUpload) {
     EXPECT_THROW(updated.update_transfer(half, mesh.vertex_count(), full.coeffs.data()), Error);
 }
 
+// A refused scene leaves the last one drawn: one of another pass (texels, refused by the texel
+// pass) and one of the same pass (a short transfer) both throw, and the next frame is the last
+// scene's, not even shaded again.
+TEST(GlRender, ARefusedSceneLeavesTheLastOneDrawn) {
+    REQUIRE_GL(context);
+    const Mesh mesh = make_builtin("sphere");
+    const TransferSet transfer = test::analytic_transfer(mesh, 16);
+    Renderer renderer;
+    renderer.set_scene(mesh, transfer);
+    renderer.set_light(test::smooth_light(16, 16, 3));
+    RenderTarget target(16, 16, 1);
+    DrawSettings settings;
+    settings.camera = default_camera(mesh, 1.0f);
+    const auto frame = [&] {
+        target.bind();
+        renderer.draw(settings, 16, 16);
+        target.resolve();
+        return target.read_pixels().rgb;
+    };
+    const std::vector<float> before = frame();
+    TransferSet texels = transfer;
+    texels.layout.domain = ReceiverDomain::texel;  // and no atlas
+    EXPECT_THROW(renderer.set_scene(mesh, texels), Error);
+    TransferSet short_rows = transfer;
+    short_rows.coeffs.pop_back();
+    EXPECT_THROW(renderer.set_scene(mesh, short_rows), Error);
+    EXPECT_EQ(renderer.vertex_count(), mesh.vertex_count());
+    EXPECT_EQ(frame(), before);
+    EXPECT_EQ(renderer.shading_passes(), 1u);
+}
+
 TEST(GlRender, ShadingPassRunsOnlyWhenTheColoursCanChange) {
     REQUIRE_GL(context);
     const Mesh mesh = make_builtin("sphere");

@@ -2,18 +2,19 @@
 // EGL) and the interactive viewer (a GLFW window), so both produce the same image.
 //
 // It owns its GL objects and draws into whatever context and framebuffer are current; it never
-// creates a context. Per-vertex transfer lives in a shader storage buffer (channels × K floats per
-// vertex, the TransferSet layout), the light (3 × K floats) in a uniform block; a compute pass
-// evaluates the paper's shading once per vertex (shade/shade.hpp: E, L_D, and the glossy term with
-// the Phong lobe rotated to the reflection direction by the SH recurrence of sh/basis.hpp ported to
-// GLSL) into a colour buffer, and the draw interpolates it (on a software rasteriser the diffuse
-// sum runs on the CPU instead: set_vertex_shading). Glossy transfer matrices (a glossy
-// bake, TransferShape::symmetric_matrix) are shaded by their own pass, the twin of shade_glossy
-// (shade/glossy.hpp): M_v·L per vertex, or, for a CPCA file, the light transformed once per
-// cluster matrix by a cluster pass and T = mean·L + Σ w_i (B_i·L) per vertex (only the code is
-// uploaded). The passes are skipped when nothing the colours depend on changed since the last draw
-// (diffuse shading does not depend on the camera; glossy shading depends on the eye position
-// only; the cluster pass depends on the light and K' only). Depth test on, back-face culling off
+// creates a context. It is a frame driver: it keeps the light (3 × K floats, a uniform block),
+// the sun, a probe-lit object, the background and the presentation, and hands the scene to one
+// pass (src/render/scene_pass.hpp) that set_scene chooses from the kind table (shading_pass,
+// transfer/kind_table.hpp, as the CPU's shade_receivers does): a vertex pass for vertex vectors
+// and matrices (vertex_pass.hpp: a compute program evaluates the paper's shading once per vertex
+// — shade/shade.hpp: E, L_D and the glossy term with the Phong lobe rotated to the reflection
+// direction by the SH recurrence of sh/basis.hpp ported to GLSL — or glossy matrices M_v·L, or a
+// CPCA code's cluster products, into a colour buffer the draw interpolates; on a software
+// rasteriser the diffuse sum runs on the CPU: set_vertex_shading), or a texel pass (per fragment
+// from coefficient planes; a matrix set's texels shaded as points). Each frame the pass shades
+// only when something its colours depend on changed (diffuse shading does not depend on the
+// camera; glossy shading depends on the eye position only; the cluster pass depends on the light
+// and K' only), then draws. Depth test on, back-face culling off
 // (rooms are seen from inside). The output is linear radiance in a float target; tone mapping
 // happens after the multisample resolve (save_image for files; `present`, which resolves as it
 // tone-maps, for a window). The one path from a scene to a picture file is render_image, then
@@ -171,15 +172,17 @@ Rgb8Image read_framebuffer(unsigned framebuffer, int width, int height);
 
 class Renderer {
 public:
-    // Compiles the shaders. Throws Error(unsupported) if the current context is not OpenGL ≥ 4.3
-    // core (naming the version found) and Error(unsupported) with the driver's log if a shader
-    // fails to compile.
+    // Compiles the frame's shaders (the passes compile theirs when first used). Throws
+    // Error(unsupported) if the current context is not OpenGL ≥ 4.3 core (naming the version
+    // found) and Error(unsupported) with the driver's log if a shader fails to compile.
     Renderer();
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Uploads positions, normals, albedo, triangles and the transfer: vectors (checked as
+    // Chooses the scene's pass from the kind table (kept from the last scene when it is the
+    // same class) and uploads through it positions, normals, albedo, triangles and the
+    // transfer: vectors (checked as
     // shade_vertices does) or glossy matrices (checked as shade_glossy does; K ≤ 64), and of a
     // matrix set with a CPCA code only the code. Checks that the buffers fit
     // GL_MAX_SHADER_STORAGE_BLOCK_SIZE. A texel-domain transfer (docs/texels.md) is drawn per
