@@ -476,12 +476,17 @@ TEST(ShadeSun, TracedShadowIsSharp) {
     }
 }
 
-TEST(ShadeSun, TexelsGetTheTracedSunAndTheSumIsTheirShading) {
-    const Mesh mesh = make_builtin("quad_box");
+// A texel bake of `mesh` at side × side texels, K = 16, `samples` directions.
+TransferSet texel_bake_K16(const Mesh& mesh, int side, int samples) {
     BakeOptions options;
     options.K = 16;
-    options.samples = 64;
-    const TransferSet t = test::texel_bake(mesh, 32, options);
+    options.samples = samples;
+    return test::texel_bake(mesh, side, options);
+}
+
+TEST(ShadeSun, TexelsGetTheTracedSunAndTheSumIsTheirShading) {
+    const Mesh mesh = make_builtin("quad_box");
+    const TransferSet t = texel_bake_K16(mesh, 32, 64);
     const Sun sun = make_sun({1, 1, 0}, 0.5, sun_radiance_for_irradiance({3, 3, 3}, 0.5));
     const ShLight sky = gradient_light(GradientSky{}, 16);
     SunShadeOptions sun_options;
@@ -517,10 +522,7 @@ TEST(ShadeSun, TexelsGetTheTracedSunAndTheSumIsTheirShading) {
 // fit the layout (a BRDF for vectors) are refused.
 TEST(Shade, ReceiversTakeTheKindTablesPass) {
     const Mesh mesh = make_builtin("quad_box");
-    BakeOptions options;
-    options.K = 16;
-    options.samples = 16;
-    const TransferSet texels = test::texel_bake(mesh, 16, options);
+    const TransferSet texels = texel_bake_K16(mesh, 16, 16);
     const ShLight sky = gradient_light(GradientSky{}, 16);
     ShadeOptions shade;
     shade.k = 0.5;  // the glossy term too
