@@ -78,7 +78,7 @@ public:
     // Error(unsupported) for the paper's glossy term of vector transfer (k < 1 in the radiance
     // view): it is not drawn per texel. Glossy matrices instead take each fragment's colour as
     // the bilinear filtering, at its UV, of the per-texel colours in `colour_buffer` (vec4 per
-    // receiver, as the Renderer's shading passes write them; texels outside the map are black).
+    // receiver, as the inner VertexPass writes them; texels outside the map are black).
     // `exposure` > 0: display codes instead of radiance, as Renderer::draw_to_display.
     // `sun`: the sun's direct light per fragment (Renderer::set_sun), bound as SunPass::bind(
     // sun_mode); nullptr: none. Not with per-texel colours (glossy matrices have no sun).
