@@ -101,6 +101,11 @@ unsigned make_buffer(unsigned target, std::size_t bytes, const void* data, unsig
     return buffer;
 }
 
+void delete_buffer(unsigned& buffer) {
+    if (buffer) glDeleteBuffers(1, &buffer);
+    buffer = 0;
+}
+
 unsigned make_texture_2d(int width, int height, unsigned internal_format) {
     GLuint texture = 0;
     glGenTextures(1, &texture);

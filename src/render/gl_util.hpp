@@ -57,6 +57,8 @@ std::string glossy_cluster_shader(int K, int K_stored, int vectors);
 // A new buffer object of `bytes` bytes, bound to `target`, holding `data` (or uninitialised
 // storage when null), with the usage hint `usage` (GL_STATIC_DRAW, ...).
 unsigned make_buffer(unsigned target, std::size_t bytes, const void* data, unsigned usage);
+// Deletes `buffer` if it is a name (not 0) and sets it to 0.
+void delete_buffer(unsigned& buffer);
 // A width × height 2D texture of one level in `internal_format` (GL_RGBA32F, a depth format...),
 // nearest filtering, clamped to the edge; left unbound.
 unsigned make_texture_2d(int width, int height, unsigned internal_format);

@@ -3,11 +3,11 @@
 // pass (sun_pass.hpp) it owns. The draw's use of them is in renderer.cpp (draw_scene).
 #include "gl_util.hpp"
 #include "object_pass.hpp"
+#include "scene_pass.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/render/renderer.hpp"
 #include "sun_pass.hpp"
-#include "texel_pass.hpp"
 
 #include <epoxy/gl.h>
 
@@ -26,7 +26,7 @@ void Renderer::set_sun(const PreparedSun* sun) {
         ++m_sun_generation;
         return;
     }
-    SHPRT_CHECK(!(m_texel && m_matrices), unsupported,
+    SHPRT_CHECK(!(m_pass && is_texel(m_layout) && is_glossy_matrix(m_layout)), unsupported,
                 "a sun kept out of the SH sum lights glossy matrices per vertex only: texel "
                 "matrices are not drawn with it; a sun: light projects the sun into SH for them");
     SHPRT_CHECK(sun->sh.K >= 1 && sun->sh.K <= kMaxLightK &&
@@ -42,7 +42,7 @@ void Renderer::set_sun(const PreparedSun* sun) {
 void Renderer::set_sun_filter(SunFilter filter) {
     if (filter == m_sun_filter) return;
     m_sun_filter = filter;  // the scene programs are per filter, the texel pass's rebuilt
-    if (m_texel) m_texel->set_sun_filter(filter);
+    if (m_pass) m_pass->set_sun_filter(filter);
 }
 
 void Renderer::set_shadow_map_size(int texels) {
@@ -58,7 +58,7 @@ double Renderer::shadow_texel_size() const {
     return SunPass::texel_size(m_bounds_radius, m_shadow_map_size);
 }
 
-bool Renderer::sun_bounced() const { return m_sun_source && m_direct_ssbo != 0; }
+bool Renderer::sun_bounced() const { return m_sun_source && m_pass && m_pass->has_direct_part(); }
 
 std::uint64_t Renderer::sun_map_builds() const {
     return (m_sun_pass ? m_sun_pass->map_builds() : 0) +
@@ -107,10 +107,7 @@ void Renderer::set_moving_shadow_map_size(int texels) {
 void Renderer::update_sun_map() {
     const auto draw = [&] {
         if (m_object) m_object->draw_triangles();  // the object casts too
-        if (m_texel) return m_texel->draw_triangles();
-        glBindVertexArray(m_vao);
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_index_count), GL_UNSIGNED_INT, nullptr);
-        glBindVertexArray(0);
+        m_pass->draw_triangles();
     };
     // Moving: the state differs from the last frame's map (whichever was drawn) — the first
     // frame, with no map yet, is at rest.

@@ -102,6 +102,7 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
     m_channels = C;
     m_layers_per_channel = per_channel;
     m_colours = colours;
+    m_vertex_count = V;
     if (colours) {
         // Each texel's receiver (the colour it shows), −1 beyond the gutter.
         std::vector<std::int32_t> receiver(source.size());
@@ -122,9 +123,14 @@ void TexelPass::set_scene(const Mesh& mesh, const TransferSet& transfer) {
                     gl::kTexelVertexShader,
                     gl::fragment_shader(gl::kTexelColourFragmentShader, display == 1).c_str(),
                     "texel colours");
+        // The texels as points, shaded by the vertex pass's matrix program.
+        if (!m_points) m_points = std::make_unique<VertexPass>();
+        const TexelPoints points = texel_points(mesh, transfer);
+        m_points->set_scene(points.points, points.rows);
         gl::check("TexelPass::set_scene");
         return;
     }
+    m_points.reset();
     // The planes, one layer at a time (a layer's staging image is W × H × 4 floats).
     glGenTextures(1, &m_planes);
     glBindTexture(GL_TEXTURE_2D_ARRAY, m_planes);
@@ -158,9 +164,27 @@ void TexelPass::draw_triangles() const {
     glBindVertexArray(0);
 }
 
-void TexelPass::draw(const Mat4f& view_proj, const DrawSettings& s, int K, unsigned light_ubo,
-                     int light_stride, float exposure, unsigned colour_buffer, const SunPass* sun,
-                     SunMode sun_mode) {
+void TexelPass::update_transfer(std::size_t, std::size_t, const float*) {
+    fail(ErrorCode::unsupported, "texel transfer is not updated in place");
+}
+
+std::size_t TexelPass::receiver_count() const {
+    return m_points ? m_points->receiver_count() : m_vertex_count;
+}
+
+void TexelPass::shade(const PassFrame& frame) {
+    if (m_points) m_points->shade(frame);
+}
+
+void TexelPass::draw(const PassFrame& frame) {
+    draw_texels(frame.view_proj, *frame.settings, frame.K, frame.light.ubo, frame.light.stride,
+                frame.exposure, m_points ? m_points->colour_buffer() : 0,
+                frame.sun_mode != SunMode::none ? frame.sun : nullptr, frame.sun_mode);
+}
+
+void TexelPass::draw_texels(const Mat4f& view_proj, const DrawSettings& s, int K,
+                            unsigned light_ubo, int light_stride, float exposure,
+                            unsigned colour_buffer, const SunPass* sun, SunMode sun_mode) {
     SHPRT_CHECK(m_planes != 0 || m_receivers != 0, invalid_argument,
                 "TexelPass::draw before set_scene");
     SHPRT_CHECK(m_colours || s.k >= 1 || s.view != ShadeView::radiance, unsupported,

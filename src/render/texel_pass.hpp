@@ -1,17 +1,21 @@
-// Per-fragment shading of texel-domain transfer (docs/texels.md) inside the Renderer: the
-// coefficient planes of a texel bake in a 2D texture array, sampled at each fragment's UV and
-// dotted with the light. Private to render/: Renderer::set_scene makes one for a texel-domain
-// transfer and Renderer::draw calls it in place of the per-vertex colours, so the camera, the
-// light (its uniform block), the background, wireframe and presentation stay the Renderer's.
+// Per-fragment shading of texel-domain transfer (docs/texels.md): the scene pass of the kind
+// table's texels (scene_pass.hpp). The coefficient planes of a texel bake in a 2D texture array,
+// sampled at each fragment's UV and dotted with the light; or, for glossy matrices per texel,
+// each texel shaded as a point by an inner VertexPass (vertex_pass.hpp) and those colours
+// filtered at the UV. Private to render/: the camera, the light (its uniform block), the
+// background, wireframe and presentation stay the Renderer's.
 #pragma once
 
+#include "scene_pass.hpp"
 #include "shprt/render/renderer.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/shade/camera.hpp"
 #include "shprt/transfer/transfer.hpp"
 #include "sun_pass.hpp"
+#include "vertex_pass.hpp"
 
 #include <cstddef>
+#include <memory>
 
 namespace shprt {
 
@@ -31,15 +35,15 @@ inline constexpr int kViewProj = 0, kK = 1, kChannels = 2, kLayersPerChannel = 3
 inline constexpr unsigned kTexelPlanesUnit = 0, kTexelReceiverUnit = 1;
 }  // namespace gl
 
-class TexelPass {
+class TexelPass final : public ScenePass {
 public:
     // Compiles the program (Error(unsupported) with the driver's log if it fails). Needs a
     // current OpenGL 4.3 core context, as Renderer.
     // `filter`: the sun's shadow filter the texel programs are built with (set_sun_filter).
     explicit TexelPass(SunFilter filter = SunFilter::full);
-    ~TexelPass();
+    ~TexelPass() override;
     // Rebuilds the texel programs with the sun's shadow filter `filter` (renderer.hpp).
-    void set_sun_filter(SunFilter filter);
+    void set_sun_filter(SunFilter filter) override;
     TexelPass(const TexelPass&) = delete;
     TexelPass& operator=(const TexelPass&) = delete;
 
@@ -53,11 +57,18 @@ public:
     // not texel-domain vectors or a mesh without one UV per vertex (transfer.check(mesh) first),
     // Error(unsupported) when the atlas or its layers exceed this OpenGL's texture limits.
     //
-    // Glossy matrices per texel (shape symmetric_matrix) are not drawn from planes: the Renderer
-    // shades each texel as a point in its glossy passes (one colour per receiver, texel_points),
-    // and set_scene uploads, instead of planes, each texel's receiver index (R32I; the dilated
-    // map of dilate_texels, −1 beyond the gutter), through which draw filters those colours.
-    void set_scene(const Mesh& mesh, const TransferSet& transfer);
+    // Glossy matrices per texel (shape symmetric_matrix) are not drawn from planes: an inner
+    // VertexPass shades each texel as a point (one colour per receiver, texel_points), and
+    // set_scene uploads, instead of planes, each texel's receiver index (R32I; the dilated map of
+    // dilate_texels, −1 beyond the gutter), through which draw filters those colours.
+    void set_scene(const Mesh& mesh, const TransferSet& transfer) override;
+    // Refused: Error(unsupported).
+    void update_transfer(std::size_t first, std::size_t count, const float* coeffs) override;
+    // Glossy matrices: the inner VertexPass's shading; vectors: nothing (shaded per fragment).
+    void shade(const PassFrame& frame) override;
+    // draw_texels with the frame's values.
+    void draw(const PassFrame& frame) override;
+    bool own_program() const override { return true; }
 
     // Draws the triangles into the current framebuffer with the current depth and polygon state:
     // per fragment E = Σ_i T_i(uv) L_i over the first K coefficients (per colour channel, grey
@@ -67,16 +78,29 @@ public:
     // Error(unsupported) for the paper's glossy term of vector transfer (k < 1 in the radiance
     // view): it is not drawn per texel. Glossy matrices instead take each fragment's colour as
     // the bilinear filtering, at its UV, of the per-texel colours in `colour_buffer` (vec4 per
-    // receiver, as the Renderer's shading passes write them; texels outside the map are black).
+    // receiver, as the inner VertexPass writes them; texels outside the map are black).
     // `exposure` > 0: display codes instead of radiance, as Renderer::draw_to_display.
     // `sun`: the sun's direct light per fragment (Renderer::set_sun), bound as SunPass::bind(
     // sun_mode); nullptr: none. Not with per-texel colours (glossy matrices have no sun).
-    void draw(const Mat4f& view_proj, const DrawSettings& settings, int K, unsigned light_ubo,
-              int light_stride, float exposure, unsigned colour_buffer,
-              const SunPass* sun = nullptr, SunMode sun_mode = SunMode::none);
+    void draw_texels(const Mat4f& view_proj, const DrawSettings& settings, int K,
+                     unsigned light_ubo, int light_stride, float exposure, unsigned colour_buffer,
+                     const SunPass* sun = nullptr, SunMode sun_mode = SunMode::none);
     // Draws the triangles in the mesh's order with the vertex array's positions (attribute 0)
     // and the current program: the sun's depth pass.
-    void draw_triangles() const;
+    void draw_triangles() const override;
+
+    // Vectors: the mesh's vertices and no transfer buffer (the planes are a texture); glossy
+    // matrices: the inner pass's texels.
+    std::size_t receiver_count() const override;
+    double bytes_per_receiver() const override {
+        return m_points ? m_points->bytes_per_receiver() : 0;
+    }
+    unsigned transfer_buffer() const override { return m_points ? m_points->transfer_buffer() : 0; }
+    bool has_direct_part() const override { return false; }  // the sun is direct only here
+    bool has_material_brdfs() const override { return m_points && m_points->has_material_brdfs(); }
+    bool last_shading_on_host() const override {
+        return m_points && m_points->last_shading_on_host();
+    }
 
 private:
     unsigned m_program[2] = {0, 0};  // linear radiance, display codes (gl::fragment_shader)
@@ -89,6 +113,8 @@ private:
     std::size_t m_index_count = 0;
     int m_draw_orders = 1;  // index lists in m_index_buffer (gl::upload_draw_orders)
     int m_channels = 0, m_layers_per_channel = 0;
+    std::size_t m_vertex_count = 0;
+    std::unique_ptr<VertexPass> m_points;  // glossy matrices: the texels shaded as points
 };
 
 }  // namespace shprt

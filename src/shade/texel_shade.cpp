@@ -72,9 +72,24 @@ ShadeResult shade_texels_glossy(const Mesh& mesh, const TransferSet& transfer, c
 
 ShadeResult shade_receivers(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                             const ShadeOptions& options, const GlossyShadeOptions* glossy) {
-    if (is_texel(transfer.layout))
-        return glossy ? shade_texels_glossy(mesh, transfer, light, *glossy)
-                      : shade_texels(mesh, transfer, light, options);
+    // The pass of the kind table, as the GL renderer chooses its scene pass (render/
+    // scene_pass.hpp): texels are shaded as points by their rows' vertex pass.
+    switch (shading_pass(transfer.layout)) {
+        case ShadingPass::texels: {
+            const TexelPoints t = texel_points(mesh, transfer);
+            return shade_receivers(t.points, t.rows, light, options, glossy);
+        }
+        case ShadingPass::vertex_matrices:
+            if (glossy) return shade_glossy(mesh, transfer, light, *glossy);
+            break;
+        case ShadingPass::vertex_vectors:
+            if (!glossy) return shade_vertices(mesh, transfer, light, options);
+            break;
+        case ShadingPass::none:
+            break;
+    }
+    // Options that do not fit the pass (a BRDF for vectors, none for matrices) or full matrices:
+    // refused by the function the options ask for, in its words.
     return glossy ? shade_glossy(mesh, transfer, light, *glossy)
                   : shade_vertices(mesh, transfer, light, options);
 }

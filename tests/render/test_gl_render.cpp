@@ -393,13 +393,51 @@ TEST(GlRender, PartialTransferUpdateEqualsAFreshUpload) {
     EXPECT_THROW(updated.update_transfer(half, mesh.vertex_count(), full.coeffs.data()), Error);
 }
 
+// A renderer showing the sphere's analytic transfer (K = 16) under a smooth light (needs a
+// current context).
+struct SphereScene {
+    Mesh mesh = make_builtin("sphere");
+    TransferSet transfer = test::analytic_transfer(mesh, 16);
+    Renderer renderer;
+    SphereScene() {
+        renderer.set_scene(mesh, transfer);
+        renderer.set_light(test::smooth_light(16, 16, 3));
+    }
+};
+
+// A refused scene leaves the last one drawn: one of another pass (texels, refused by the texel
+// pass) and one of the same pass (a short transfer) both throw, and the next frame is the last
+// scene's, not even shaded again.
+TEST(GlRender, ARefusedSceneLeavesTheLastOneDrawn) {
+    REQUIRE_GL(context);
+    SphereScene scene;
+    RenderTarget target(16, 16, 1);
+    DrawSettings settings;
+    settings.camera = default_camera(scene.mesh, 1.0f);
+    const auto frame = [&] {
+        target.bind();
+        scene.renderer.draw(settings, 16, 16);
+        target.resolve();
+        return target.read_pixels().rgb;
+    };
+    const std::vector<float> before = frame();
+    TransferSet texels = scene.transfer;
+    texels.layout.domain = ReceiverDomain::texel;  // and no atlas
+    EXPECT_THROW(scene.renderer.set_scene(scene.mesh, texels), Error);
+    TransferSet short_rows = scene.transfer;
+    short_rows.coeffs.pop_back();
+    EXPECT_THROW(scene.renderer.set_scene(scene.mesh, short_rows), Error);
+    EXPECT_EQ(scene.renderer.vertex_count(), scene.mesh.vertex_count());
+    EXPECT_EQ(frame(), before);
+    EXPECT_EQ(scene.renderer.shading_passes(), 1u);
+}
+
 TEST(GlRender, ShadingPassRunsOnlyWhenTheColoursCanChange) {
     REQUIRE_GL(context);
-    const Mesh mesh = make_builtin("sphere");
-    const TransferSet transfer = test::analytic_transfer(mesh, 16);
-    Renderer renderer;
-    renderer.set_scene(mesh, transfer);
-    renderer.set_light(test::smooth_light(16, 16, 3));
+    SphereScene scene;
+    const Mesh& mesh = scene.mesh;
+    const TransferSet& transfer = scene.transfer;
+    Renderer& renderer = scene.renderer;
     RenderTarget target(32, 32, 1);
     target.bind();
     DrawSettings settings;

@@ -15,6 +15,7 @@
 #include "shprt/shade/sun_shade.hpp"
 #include "shprt/shade/texel_shade.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <gtest/gtest.h>
 
@@ -475,12 +476,17 @@ TEST(ShadeSun, TracedShadowIsSharp) {
     }
 }
 
-TEST(ShadeSun, TexelsGetTheTracedSunAndTheSumIsTheirShading) {
-    const Mesh mesh = make_builtin("quad_box");
+// A texel bake of `mesh` at side × side texels, K = 16, `samples` directions.
+TransferSet texel_bake_K16(const Mesh& mesh, int side, int samples) {
     BakeOptions options;
     options.K = 16;
-    options.samples = 64;
-    const TransferSet t = test::texel_bake(mesh, 32, options);
+    options.samples = samples;
+    return test::texel_bake(mesh, side, options);
+}
+
+TEST(ShadeSun, TexelsGetTheTracedSunAndTheSumIsTheirShading) {
+    const Mesh mesh = make_builtin("quad_box");
+    const TransferSet t = texel_bake_K16(mesh, 32, 64);
     const Sun sun = make_sun({1, 1, 0}, 0.5, sun_radiance_for_irradiance({3, 3, 3}, 0.5));
     const ShLight sky = gradient_light(GradientSky{}, 16);
     SunShadeOptions sun_options;
@@ -509,6 +515,25 @@ TEST(ShadeSun, TexelsGetTheTracedSunAndTheSumIsTheirShading) {
     }
     EXPECT_GT(shadowed, 10);
     EXPECT_GT(lit, 10);
+}
+
+// shade_receivers takes the kind table's pass (shading_pass), as the GL renderer chooses its
+// scene pass: a texel set's texels as points through their rows' vertex pass; options that do not
+// fit the layout (a BRDF for vectors) are refused.
+TEST(Shade, ReceiversTakeTheKindTablesPass) {
+    const Mesh mesh = make_builtin("quad_box");
+    const TransferSet texels = texel_bake_K16(mesh, 16, 16);
+    const ShLight sky = gradient_light(GradientSky{}, 16);
+    ShadeOptions shade;
+    shade.k = 0.5;  // the glossy term too
+    const ShadeResult all = shade_receivers(mesh, texels, sky, shade, nullptr);
+    const TexelPoints points = texel_points(mesh, texels);
+    ASSERT_EQ(shading_pass(points.rows.layout), ShadingPass::vertex_vectors);
+    const ShadeResult rows = shade_vertices(points.points, points.rows, sky, shade);
+    EXPECT_EQ(all.radiance, rows.radiance);
+    EXPECT_EQ(all.irradiance, rows.irradiance);
+    const GlossyShadeOptions brdf;
+    EXPECT_THROW(shade_receivers(mesh, texels, sky, shade, &brdf), Error);
 }
 
 TEST(ShadeSun, SameBitsForAnyThreadCountAndDiffuseOnly) {
@@ -600,9 +625,10 @@ TEST(ShadeSun, GlossyMatricesGetTheExactLobeOfTheTracedSun) {
     add_light(both, prepared.sh);
     const ShadeResult all_sh = shade_glossy(mesh, t, both, g);
     const double blurred = all_sh.radiance[mirror].x - s.radiance[mirror].x - diffuse;
-    std::printf("highlight at the mirror vertex: traced %.4f, exact lobe's peak %.4f, through SH "
-                "%.4f\n",
-                highlight, peak, blurred);
+    std::printf(
+        "highlight at the mirror vertex: traced %.4f, exact lobe's peak %.4f, through SH "
+        "%.4f\n",
+        highlight, peak, blurred);
     EXPECT_LT(blurred, 0.5 * peak);
 }
 

@@ -2,18 +2,19 @@
 // EGL) and the interactive viewer (a GLFW window), so both produce the same image.
 //
 // It owns its GL objects and draws into whatever context and framebuffer are current; it never
-// creates a context. Per-vertex transfer lives in a shader storage buffer (channels × K floats per
-// vertex, the TransferSet layout), the light (3 × K floats) in a uniform block; a compute pass
-// evaluates the paper's shading once per vertex (shade/shade.hpp: E, L_D, and the glossy term with
-// the Phong lobe rotated to the reflection direction by the SH recurrence of sh/basis.hpp ported to
-// GLSL) into a colour buffer, and the draw interpolates it (on a software rasteriser the diffuse
-// sum runs on the CPU instead: set_vertex_shading). Glossy transfer matrices (a glossy
-// bake, TransferShape::symmetric_matrix) are shaded by their own pass, the twin of shade_glossy
-// (shade/glossy.hpp): M_v·L per vertex, or, for a CPCA file, the light transformed once per
-// cluster matrix by a cluster pass and T = mean·L + Σ w_i (B_i·L) per vertex (only the code is
-// uploaded). The passes are skipped when nothing the colours depend on changed since the last draw
-// (diffuse shading does not depend on the camera; glossy shading depends on the eye position
-// only; the cluster pass depends on the light and K' only). Depth test on, back-face culling off
+// creates a context. It is a frame driver: it keeps the light (3 × K floats, a uniform block),
+// the sun, a probe-lit object, the background and the presentation, and hands the scene to one
+// pass (src/render/scene_pass.hpp) that set_scene chooses from the kind table (shading_pass,
+// transfer/kind_table.hpp, as the CPU's shade_receivers does): a vertex pass for vertex vectors
+// and matrices (vertex_pass.hpp: a compute program evaluates the paper's shading once per vertex
+// — shade/shade.hpp: E, L_D and the glossy term with the Phong lobe rotated to the reflection
+// direction by the SH recurrence of sh/basis.hpp ported to GLSL — or glossy matrices M_v·L, or a
+// CPCA code's cluster products, into a colour buffer the draw interpolates; on a software
+// rasteriser the diffuse sum runs on the CPU: set_vertex_shading), or a texel pass (per fragment
+// from coefficient planes; a matrix set's texels shaded as points). Each frame the pass shades
+// only when something its colours depend on changed (diffuse shading does not depend on the
+// camera; glossy shading depends on the eye position only; the cluster pass depends on the light
+// and K' only), then draws. Depth test on, back-face culling off
 // (rooms are seen from inside). The output is linear radiance in a float target; tone mapping
 // happens after the multisample resolve (save_image for files; `present`, which resolves as it
 // tone-maps, for a window). The one path from a scene to a picture file is render_image, then
@@ -41,6 +42,7 @@
 #include "shprt/shade/params.hpp"
 #include "shprt/shade/save_image.hpp"
 #include "shprt/shade/shade.hpp"
+#include "shprt/transfer/kind_table.hpp"
 #include "shprt/transfer/transfer.hpp"
 
 #include <cstddef>
@@ -53,9 +55,14 @@
 
 namespace shprt {
 
-class TexelPass;   // src/render/texel_pass.hpp
+class ScenePass;   // src/render/scene_pass.hpp: the scene's pass (vertex_pass.hpp, texel_pass.hpp)
 class SunPass;     // src/render/sun_pass.hpp
 class ObjectPass;  // src/render/object_pass.hpp
+
+// How many times the scene's passes have shaded (Renderer::shading_passes, cluster_passes).
+struct PassStats {
+    std::uint64_t shading_passes = 0, cluster_passes = 0;
+};
 
 // Texels a side of the sun's shadow map by default (Renderer::set_sun, set_shadow_map_size;
 // render/sun_pass.hpp).
@@ -165,15 +172,17 @@ Rgb8Image read_framebuffer(unsigned framebuffer, int width, int height);
 
 class Renderer {
 public:
-    // Compiles the shaders. Throws Error(unsupported) if the current context is not OpenGL ≥ 4.3
-    // core (naming the version found) and Error(unsupported) with the driver's log if a shader
-    // fails to compile.
+    // Compiles the frame's shaders (the passes compile theirs when first used). Throws
+    // Error(unsupported) if the current context is not OpenGL ≥ 4.3 core (naming the version
+    // found) and Error(unsupported) with the driver's log if a shader fails to compile.
     Renderer();
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Uploads positions, normals, albedo, triangles and the transfer: vectors (checked as
+    // Chooses the scene's pass from the kind table (kept from the last scene when it is the
+    // same class) and uploads through it positions, normals, albedo, triangles and the
+    // transfer: vectors (checked as
     // shade_vertices does) or glossy matrices (checked as shade_glossy does; K ≤ 64), and of a
     // matrix set with a CPCA code only the code. Checks that the buffers fit
     // GL_MAX_SHADER_STORAGE_BLOCK_SIZE. A texel-domain transfer (docs/texels.md) is drawn per
@@ -187,7 +196,8 @@ public:
     void update_transfer(std::size_t first_vertex, std::size_t vertex_count, const float* coeffs);
     // The shader storage buffer holding the transfer (GL buffer name, channels × K float32 per
     // vertex, vertex-major), for CUDA–OpenGL interop. Valid after set_scene.
-    unsigned transfer_buffer() const { return m_transfer_ssbo; }
+    // 0 for texel vectors (their planes are a texture).
+    unsigned transfer_buffer() const;
     // Sets the light: `light` (3 × K floats, channel-major) in its own frame, turned by
     // `rotation` (a feature at direction s appears at R·s, as rotate_light). The renderer shades
     // with rotated_light(light, rotation, K) (light/light_setup.hpp, the one light path:
@@ -251,24 +261,25 @@ public:
     enum class VertexShading { automatic, device, host };
     void set_vertex_shading(VertexShading where);
     // Whether the last shading pass ran on the host.
-    bool last_shading_on_host() const { return m_shading_valid && m_shading_key.host; }
+    bool last_shading_on_host() const;
 
     int scene_K() const { return m_K; }
     int scene_channels() const { return m_channels; }
     // The scene's transfer is glossy matrices (drawn with DrawSettings::brdf and albedo).
-    bool scene_has_matrices() const { return m_matrices; }
+    bool scene_has_matrices() const { return m_pass && is_glossy_matrix(m_layout); }
     // The scene's materials give BRDFs (Mesh::brdf_index not empty; DrawSettings::material_brdfs).
-    bool scene_has_material_brdfs() const { return !m_material_brdfs.empty(); }
+    bool scene_has_material_brdfs() const;
     // Bytes of transfer the GPU holds per vertex: the rows, or a CPCA code's share (its cluster
     // index and weights, and its part of the means and bases), as uploaded (float32).
     double transfer_bytes_per_vertex() const;
-    std::size_t vertex_count() const { return m_vertex_count; }
+    // The receivers the scene's pass shades: vertices, or a glossy texel set's texels.
+    std::size_t vertex_count() const;
     // The K' a draw with `K_used` uses: min(scene K, light K, K_used if > 0).
     int effective_K(int K_used) const;
     // How many times draw() has run the per-vertex shading pass (for tests and statistics).
-    std::uint64_t shading_passes() const { return m_shading_passes; }
+    std::uint64_t shading_passes() const { return m_stats.shading_passes; }
     // How many times draw() has run the cluster pass of a CPCA code (light × cluster matrices).
-    std::uint64_t cluster_passes() const { return m_cluster_passes; }
+    std::uint64_t cluster_passes() const { return m_stats.cluster_passes; }
     // How many times draw() has rebuilt the background texture.
     std::uint64_t background_builds() const { return m_background_builds; }
 
@@ -293,56 +304,21 @@ public:
     void draw_to_display(const DrawSettings& settings, int width, int height, float exposure);
 
 private:
-    // Everything the per-vertex colours depend on.
-    struct ShadingKey {
-        int K = 0, view = 0;
-        bool glossy = false;
-        double k = 0, gloss = 0;
-        Brdf brdf;
-        bool material_brdfs = false;
-        bool override_albedo = false;
-        Vec3f albedo{0, 0, 0};
-        Vec3f eye{0, 0, 0};
-        std::uint64_t light_generation = 0, transfer_generation = 0;
-        bool bounced_sun = false;  // the sun's bounced light is in the colours (set_sun)
-        std::uint64_t sun_generation = 0;
-        bool host = false;  // shaded on the CPU (set_vertex_shading): T_0 · c_sun subtracted
-                            // there, not by the draw
-        bool operator==(const ShadingKey&) const = default;
-    };
-    void set_texel_scene(const Mesh& mesh, const TransferSet& transfer);
-    // Binds what every shading pass reads and writes per vertex: the transfer, positions,
-    // normals, albedo and the output colours, at their storage-buffer bindings.
-    void bind_vertex_storage() const;
-    // set_scene's buffers for per-vertex shading of `mesh`'s vertices (the triangles drawn from
-    // them, if any) with `transfer`; for glossy texels, the texels as points.
-    void upload_receivers(const Mesh& mesh, const TransferSet& transfer);
     // Makes the background texture for K' (if stale); returns the rotation to look it up with.
     Mat3d upload_background(int K);
-    void run_shading(const ShadingKey& key);
-    // run_shading's diffuse sum on the CPU (set_vertex_shading), into the colour buffer.
-    void run_host_shading(const ShadingKey& key);
     VertexShading m_vertex_shading = VertexShading::automatic;
     bool m_software = false;  // is_software_renderer(), asked once
-    void run_glossy_shading(const ShadingKey& key);
-    // The cluster pass of a CPCA code, if its light or K' changed since it last ran.
-    void update_cluster_light(int K, bool white_sky);
-    void release_scene_buffers();
     // The sun in the scene's frame (set_sun's, turned by the light's rotation) and its SH
     // uniform blocks; called by set_sun and set_light.
     void update_world_sun();
     // The sun's shadow map, redrawn if the sun or the scene changed (sun_pass.hpp).
     void update_sun_map();
-    // Dispatches the bound compute program once per vertex, then the barrier the draw needs.
-    void dispatch_per_vertex();
-    // After a shading pass: unbinds its buffers and program, records `key`, checks for errors.
-    void finish_shading_pass(const ShadingKey& key, const char* what);
 
     // draw and draw_to_display: exposure 0 writes linear radiance (into a float target), > 0
     // display codes.
     void draw_scene(const DrawSettings& settings, int width, int height, float exposure);
 
-    unsigned m_shade_program = 0, m_present_program = 0;
+    unsigned m_present_program = 0;
     // The background programs writing linear radiance [0] or display codes [1]
     // (gl::fragment_shader), and the scene programs likewise, [display][sun code]: without the
     // sun, with a diffuse receivers' sun, with every sun term (gl::SunCode), compiled when first
@@ -350,51 +326,13 @@ private:
     unsigned m_background_program[2] = {0, 0};
     unsigned m_scene_program[2][3][2] = {};  // [display][sun code][sun filter]
     unsigned scene_program(int display, int sun_code);
-    unsigned m_vao = 0, m_empty_vao = 0;
-    unsigned m_position_vbo = 0, m_normal_vbo = 0, m_albedo_vbo = 0, m_index_buffer = 0;
-    unsigned m_color_buffer = 0;  // V × vec4: the shading pass's output
-    unsigned m_transfer_ssbo = 0, m_light_ubo = 0, m_recurrence_ubo = 0, m_background_texture = 0;
-    // Glossy matrices: their programs, compiled per (K', stored K, vectors, uniform block size,
-    // cluster pass) when first drawn with; a CPCA code's cluster indices, weights and the cluster
-    // pass's output (m_transfer_ssbo then holds each cluster's mean and basis, packed).
-    unsigned glossy_program(int K, int vectors, bool cluster_pass, bool materials = false);
-    std::map<std::tuple<int, int, int, int, bool, bool>, unsigned> m_glossy_programs;
-    // Where the cluster pass puts a cluster's products for K': `stride` vec4s per cluster (a
-    // multiple of the uniform buffer offset alignment), and how many clusters a dispatch of the
-    // vertex pass reads through one uniform block (block_vec4s = 0: through the storage buffer).
-    struct ClusterLayout {
-        int stride = 0, clusters_per_dispatch = 0, block_vec4s = 0;
-    };
-    ClusterLayout cluster_layout(int K) const;
-    int m_max_ubo_bytes = 0, m_ubo_alignment = 16;
-    unsigned m_cluster_ssbo = 0, m_weight_ssbo = 0, m_cluster_light_ssbo = 0,
-             m_cluster_vertex_ssbo = 0;
-    bool m_matrices = false;
-    int m_cpca_clusters = 0, m_cpca_vectors = 0;  // 0 clusters: raw matrices
-    double m_bytes_per_vertex = 0;
-    struct ClusterKey {
-        int K = -1;
-        bool white_sky = false;
-        std::uint64_t light_generation = 0;
-        bool operator==(const ClusterKey&) const = default;
-    };
-    ClusterKey m_cluster_key{};
-    // The band factors of the BRDF lobes (brdf_table: DrawSettings::brdf, then with material
-    // BRDFs the scene's), 8 floats each, kept while the BRDF, band count and material switch
-    // stay (Blinn and GGX are fitted by quadrature); the lobe block holds them for the
-    // per-material program.
-    struct LobeKey {
-        Brdf brdf;
-        int bands = 0;
-        bool materials = false;
-        bool operator==(const LobeKey&) const = default;
-    };
-    LobeKey m_lobe_key{Brdf{}, -1, false};
-    std::vector<float> m_lobe_factors;
-    std::vector<Brdf> m_material_brdfs;  // the scene's (Mesh::brdfs), empty when it has none
-    unsigned m_brdf_index_ssbo = 0, m_lobe_ubo = 0;
-    std::size_t m_vertex_count = 0, m_index_count = 0;
-    int m_draw_orders = 1;  // index lists in m_index_buffer: 1 (the mesh's), or 1 + kDrawOrderCount
+    unsigned m_empty_vao = 0;
+    unsigned m_light_ubo = 0, m_recurrence_ubo = 0, m_background_texture = 0;
+    // The scene's pass, chosen by set_scene from the kind table (shading_pass): a VertexPass for
+    // vertex vectors and vertex matrices, a TexelPass for texels; kept while the kind stays (its
+    // compiled programs with it).
+    std::unique_ptr<ScenePass> m_pass;
+    int m_pass_kind = -1;     // the ShadingPass m_pass was made for
     TransferLayout m_layout;  // of the scene's transfer
     int m_K = 0, m_channels = 0;
     ShLight m_light{};         // rotated: what the shading pass uses
@@ -410,16 +348,12 @@ private:
         bool operator==(const BackgroundKey&) const = default;
     };
     BackgroundKey m_background_key{};
-    std::uint64_t m_light_generation = 0, m_source_generation = 0, m_transfer_generation = 0,
-                  m_shading_passes = 0, m_background_builds = 0, m_cluster_passes = 0;
-    ShadingKey m_shading_key;
-    bool m_shading_valid = false;
-    std::unique_ptr<TexelPass> m_texel;    // a texel-domain scene: drawn per fragment
+    std::uint64_t m_light_generation = 0, m_source_generation = 0, m_background_builds = 0;
+    mutable PassStats m_stats;             // the passes' counters, kept across scenes
     std::unique_ptr<ObjectPass> m_object;  // a probe-lit object (set_object), or none
     // The sun (set_sun): as given, and turned into the scene's frame; its SH projection alone
-    // and added to the sky (uniform blocks in the light block's layout); the transfer's direct
-    // part T_0 (one channel per vertex) and the pass's T_0 · c_sun per vertex, subtracted by the
-    // draw from the colours of T · (c_sky + c_sun).
+    // and added to the sky (uniform blocks in the light block's layout), for the bounced light
+    // T · (c_sky + c_sun) − T_0 · c_sun that a pass with the transfer's direct part draws.
     std::optional<PreparedSun> m_sun_source;
     Sun m_world_sun{};
     ShLight m_world_sun_sh{};             // its SH projection in the scene's frame (host shading)
@@ -429,7 +363,7 @@ private:
     int m_moving_shadow_map_size = 0;
     int m_shadow_map_size = kShadowMapSize;
     SunFilter m_sun_filter = SunFilter::full;
-    unsigned m_sun_ubo = 0, m_sky_sun_ubo = 0, m_direct_ssbo = 0, m_sun_color_buffer = 0;
+    unsigned m_sun_ubo = 0, m_sky_sun_ubo = 0;
     std::uint64_t m_sun_generation = 0, m_geometry_generation = 0;
     Vec3f m_bounds_centre{0, 0, 0};
     float m_bounds_radius = 0;

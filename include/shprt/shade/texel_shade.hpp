@@ -45,10 +45,13 @@ TexelPoints texel_points(const Mesh& mesh, const TransferSet& transfer);
 ShadeResult shade_texels_glossy(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                                 const GlossyShadeOptions& options);
 
-// Every receiver of `transfer` shaded, whatever its domain: with `glossy`, the glossy matrix term
-// (shade_glossy per vertex, shade_texels_glossy per texel), else shade_vertices' formulas
-// (shade_vertices, shade_texels). One row per receiver. What `shprt shade` and Python's shade()
-// call; throws what those throw.
+// Every receiver of `transfer` shaded by the pass the kind table gives its layout (shading_pass,
+// transfer/kind_table.hpp; the GL renderer chooses its scene pass by the same query):
+// vertex_matrices the glossy matrix term (shade_glossy, with `glossy`), vertex_vectors
+// shade_vertices' formulas, texels each texel as a point shaded by its rows' pass
+// (shade_texels_glossy, shade_texels). One row per receiver. What `shprt shade` and Python's
+// shade() call; throws what those throw (options that do not fit the layout: what shade_glossy
+// or shade_vertices throws for it).
 ShadeResult shade_receivers(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                             const ShadeOptions& options, const GlossyShadeOptions* glossy);
 

@@ -1,13 +1,14 @@
-// The Renderer's diffuse per-vertex sum on the CPU (renderer.hpp, Renderer::set_vertex_shading):
-// the twin of the compute pass's E = T·L for the radiance and irradiance views, with the sun's
-// bounced light folded into the same sum, T·(c_sky + c_sun) − T_0·c_sun, so that the draw reads
-// one colour per vertex. The transfer (and T_0) are read where they lie, through a read-only map
-// of their buffers: on a software rasteriser that is host memory, and no copy is kept.
+// The vertex pass's diffuse per-vertex sum on the CPU (vertex_pass.hpp;
+// Renderer::set_vertex_shading): the twin of the compute pass's E = T·L for the radiance and
+// irradiance views, with the sun's bounced light folded into the same sum, T·(c_sky + c_sun) −
+// T_0·c_sun, so that the draw reads one colour per vertex. The transfer (and T_0) are read where
+// they lie, through a read-only map of their buffers: on a software rasteriser that is host memory,
+// and no copy is kept.
 #include "gl_util.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/parallel.hpp"
-#include "shprt/render/renderer.hpp"
+#include "vertex_pass.hpp"
 
 #include <epoxy/gl.h>
 
@@ -61,23 +62,22 @@ private:
 
 }  // namespace
 
-void Renderer::set_vertex_shading(VertexShading where) { m_vertex_shading = where; }
-
-void Renderer::run_host_shading(const ShadingKey& key) {
+void VertexPass::run_host_shading(const ShadingKey& key, const PassFrame& frame) {
     const std::size_t V = m_vertex_count, stride = std::size_t(m_K);
     const int K = key.K;
     // The light of the sum over T: the sky, plus the sun when its bounce is drawn (its T_0 part
     // is taken out below), each channel K' wide.
     std::vector<float> light(3 * std::size_t(K), 0.0f), sun;
     for (int c = 0; c < 3; ++c)
-        std::copy_n(m_light.channel(c), K, light.begin() + std::ptrdiff_t(c) * K);
+        std::copy_n(frame.light.sky->channel(c), K, light.begin() + std::ptrdiff_t(c) * K);
     if (key.bounced_sun) {
+        const ShLight& sun_sh = *frame.light.sun_sh;
         sun.assign(light.size(), 0.0f);
-        const int KS = std::min(K, m_world_sun_sh.K);
+        const int KS = std::min(K, sun_sh.K);
         for (int c = 0; c < 3; ++c)
             for (int i = 0; i < KS; ++i) {
-                sun[std::size_t(c) * K + i] = m_world_sun_sh.channel(c)[i];
-                light[std::size_t(c) * K + i] += m_world_sun_sh.channel(c)[i];
+                sun[std::size_t(c) * K + i] = sun_sh.channel(c)[i];
+                light[std::size_t(c) * K + i] += sun_sh.channel(c)[i];
             }
     }
     std::vector<float> colors(4 * V);
@@ -108,7 +108,7 @@ void Renderer::run_host_shading(const ShadingKey& key) {
     glBindBuffer(GL_ARRAY_BUFFER, m_color_buffer);
     glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(colors.size() * sizeof(float)), colors.data());
     glBindBuffer(GL_ARRAY_BUFFER, 0);
-    finish_shading_pass(key, "Renderer::run_host_shading");
+    finish_shading_pass(key, frame, "Renderer::run_host_shading");
 }
 
 }  // namespace shprt

@@ -1,12 +1,13 @@
-// The Renderer's glossy transfer matrices (renderer.hpp): the compute programs that shade vertex
-// matrices and CPCA codes per vertex (gl_glossy_shaders.cpp), the clusters' light products, and
-// the pass that runs them with the BRDF lobes of the materials or the one --brdf. The vector
-// transfer's pass and the draw are in renderer.cpp.
+// The vertex pass's glossy transfer matrices (vertex_pass.hpp, the kind table's vertex_matrices):
+// the compute programs that shade vertex matrices and CPCA codes per vertex
+// (gl_glossy_shaders.cpp), the clusters' light products, and the pass that runs them with the BRDF
+// lobes of the materials or the one --brdf. The vector program and the draw are in
+// vertex_pass.cpp.
 #include "gl_util.hpp"
 #include "shprt/core/error.hpp"
-#include "shprt/render/renderer.hpp"
 #include "shprt/sh/zonal.hpp"
 #include "shprt/shade/glossy.hpp"
+#include "vertex_pass.hpp"
 
 #include <epoxy/gl.h>
 
@@ -16,9 +17,7 @@
 
 namespace shprt {
 
-using gl::light_stride;
-
-Renderer::ClusterLayout Renderer::cluster_layout(int K) const {
+VertexPass::ClusterLayout VertexPass::cluster_layout(int K) const {
     ClusterLayout l;
     const int align = std::max(1, m_ubo_alignment / 16);  // in vec4s
     l.stride = ((1 + m_cpca_vectors) * K + align - 1) / align * align;
@@ -29,7 +28,7 @@ Renderer::ClusterLayout Renderer::cluster_layout(int K) const {
     return l;
 }
 
-unsigned Renderer::glossy_program(int K, int vectors, bool cluster_pass, bool materials) {
+unsigned VertexPass::glossy_program(int K, int vectors, bool cluster_pass, bool materials) {
     const int block = vectors > 0 && !cluster_pass ? cluster_layout(K).block_vec4s : 0;
     const auto key = std::make_tuple(K, m_K, vectors, block, cluster_pass, materials);
     if (auto it = m_glossy_programs.find(key); it != m_glossy_programs.end()) return it->second;
@@ -43,31 +42,31 @@ unsigned Renderer::glossy_program(int K, int vectors, bool cluster_pass, bool ma
     return program;
 }
 
-void Renderer::update_cluster_light(int K, bool white_sky) {
-    const ClusterKey key{K, white_sky, white_sky ? 0 : m_light_generation};
+void VertexPass::update_cluster_light(int K, bool white_sky, const PassFrame& frame) {
+    const ClusterKey key{K, white_sky, white_sky ? 0 : frame.light.generation};
     if (m_cluster_key == key) return;
     const std::size_t count = std::size_t(m_cpca_clusters) * (1 + std::size_t(m_cpca_vectors));
     glUseProgram(glossy_program(K, m_cpca_vectors, true));
     glUniform1ui(gl::loc::kClusterStride, static_cast<GLuint>(cluster_layout(K).stride));
-    glUniform1i(gl::loc::kLightStride, light_stride(m_light.K));
+    glUniform1i(gl::loc::kLightStride, frame.light.stride);
     glUniform1i(gl::loc::kView, white_sky ? static_cast<int>(ShadeView::transfer) : 0);
     glUniform1ui(gl::loc::kVertexCount, static_cast<GLuint>(count));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kTransferBinding, m_transfer_ssbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kClusterLightBinding, m_cluster_light_ssbo);
-    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_light_ubo);
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, frame.light.ubo);
     glDispatchCompute(static_cast<GLuint>((count + gl::kShadeGroupSize - 1) / gl::kShadeGroupSize),
                       1, 1);
     // The vertex pass reads the products (from a uniform block or the storage buffer).
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
     m_cluster_key = key;
-    ++m_cluster_passes;
-    gl::check("Renderer::update_cluster_light");
+    ++frame.stats->cluster_passes;
+    gl::check("VertexPass::update_cluster_light");
 }
 
-void Renderer::run_glossy_shading(const ShadingKey& key) {
+void VertexPass::run_glossy_shading(const ShadingKey& key, const PassFrame& frame) {
     const int bands = sh_bands_for(key.K);
     const bool white_sky = key.view == static_cast<int>(ShadeView::transfer);
-    if (m_cpca_clusters > 0) update_cluster_light(key.K, white_sky);
+    if (m_cpca_clusters > 0) update_cluster_light(key.K, white_sky, frame);
     const bool materials = key.material_brdfs && !m_material_brdfs.empty();
     if (!(m_lobe_key == LobeKey{key.brdf, bands, materials})) {
         std::vector<Brdf> table{key.brdf};
@@ -97,7 +96,7 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
     const std::vector<float> cosine = zonal_band_factors(clamped_cosine_zonal(bands));
     glUseProgram(glossy_program(key.K, m_cpca_clusters > 0 ? m_cpca_vectors : 0, false, materials));
     glUniform3f(gl::loc::kEye, key.eye.x, key.eye.y, key.eye.z);
-    glUniform1i(gl::loc::kLightStride, light_stride(m_light.K));
+    glUniform1i(gl::loc::kLightStride, frame.light.stride);
     glUniform1f(gl::loc::kDiffuseShare, static_cast<float>(key.k));
     glUniform1i(gl::loc::kView, key.view);
     glUniform1ui(gl::loc::kVertexCount, static_cast<GLuint>(m_vertex_count));
@@ -117,8 +116,8 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kClusterVertexBinding,
                          m_cluster_vertex_ssbo);
     }
-    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, m_light_ubo);
-    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kRecurrenceBlockBinding, m_recurrence_ubo);
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLightBlockBinding, frame.light.ubo);
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl::kRecurrenceBlockBinding, frame.light.recurrence_ubo);
     if (materials) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::kBrdfIndexBinding, m_brdf_index_ssbo);
         glBindBufferBase(GL_UNIFORM_BUFFER, gl::kLobeBlockBinding, m_lobe_ubo);
@@ -141,7 +140,7 @@ void Renderer::run_glossy_shading(const ShadingKey& key) {
     } else {
         dispatch_per_vertex();
     }
-    finish_shading_pass(key, "Renderer::run_glossy_shading");
+    finish_shading_pass(key, frame, "Renderer::run_glossy_shading");
 }
 
 }  // namespace shprt
