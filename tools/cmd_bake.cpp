@@ -3,15 +3,14 @@
 // across the ranks of an MPI job (under mpirun, or --mpi). Thin: it parses the options into a
 // bake request (bake/request.hpp; its refusals come before any work), loads the scene, runs the
 // request (dist::run under MPI), draws the progress bar and prints the summary on stdout.
-#include "common/checkpoint_options.hpp"
 #include "common/command.hpp"
 #include "common/option_table.hpp"
 #include "common/progress_bar.hpp"
-#include "common/receiver_options.hpp"
 
 #include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/bake_summary.hpp"
 #include "shprt/bake/request.hpp"
+#include "shprt/bake/request_options.hpp"
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -50,9 +49,9 @@ struct BakeArgs {
     bool stream = false;
     bool reproducible = false;
     bool mpi = false;
-    std::size_t mpi_unit = 0;   // 0 = automatic
-    ReceiverArgs receivers;     // --domain texel, --refine: common/receiver_options.hpp
-    CheckpointArgs checkpoint;  // --checkpoint, --resume, --max-memory: checkpoint_options.hpp
+    std::size_t mpi_unit = 0;     // 0 = automatic
+    ReceiverChoice receivers;     // --domain texel, --refine: bake/request_options.hpp
+    CheckpointChoice checkpoint;  // --checkpoint, --resume, --max-memory: the same
 };
 
 // For the tests of the signals (tests/cli/test_cli_interrupt.cpp): when the environment variable
@@ -82,19 +81,19 @@ bool use_mpi(const BakeArgs& args) {
 BakeRequest request_from(const BakeArgs& args) {
     BakeRequest r;
     r.options = bake_options_from(args.bake, Spelling::command_line);
-    r.receivers = parse_receivers(args.receivers.choice);
-    const ReceiverChoice& c = args.receivers.choice;
+    r.receivers = parse_receivers(args.receivers);
+    const ReceiverChoice& c = args.receivers;
     r.probes = parse_probes(c.probes, c.probe_box, c.probe_bands);
-    SHPRT_CHECK(!args.receivers.float32 || std::holds_alternative<TexelGrid>(r.receivers),
-                invalid_argument, "--float32 needs --domain texel");
+    SHPRT_CHECK(!c.float32 || std::holds_alternative<TexelGrid>(r.receivers), invalid_argument,
+                "--float32 needs --domain texel");
     FileOutput file;
     file.path = args.output;
     file.stream = args.stream;
     if (args.half) file.encoding = TransferEncoding::f16;
-    if (args.receivers.float32) file.encoding = TransferEncoding::f32;
+    if (c.float32) file.encoding = TransferEncoding::f32;
     file.write.reproducible = args.reproducible;
     r.output = std::move(file);
-    apply_checkpoint_options(args.checkpoint, r);
+    apply_checkpoint_choice(args.checkpoint, r, Spelling::command_line);
     r.distributed = use_mpi(args);
     check(r);
     return r;
@@ -208,7 +207,7 @@ const bool bake_registered = register_command(
              ->required();
          app.add_option("-o,--output", args->output, "Output .shprt file")->required();
          add_table_options(app, bake_option_table(), args->bake);
-         add_receiver_options(app, args->receivers);
+         add_table_options(app, receiver_option_table(), args->receivers);
          app.add_flag("--half", args->half, "Store coefficients as float16");
          app.add_flag("--stream", args->stream,
                       "Write coefficients to the file as chunks finish (no V×K array in memory)");
@@ -221,7 +220,8 @@ const bool bake_registered = register_command(
          app.add_option("--mpi-unit", args->mpi_unit,
                         "Smallest share of receivers a rank claims at a time (default: automatic, "
                         "enough to keep its threads busy)");
-         add_checkpoint_options(app, args->checkpoint);
+         add_table_options(app, checkpoint_option_table(), args->checkpoint);
+         app.get_option("--checkpoint")->excludes(app.get_option("--resume"));
          app.callback([args] { run(*args); });
      }});
 
