@@ -45,9 +45,7 @@ namespace {
 struct BakeArgs {
     std::string scene, output;
     BakeOptionChoice bake;  // bake/bake_option_table.hpp, shared with `shprt view --bake`
-    bool half = false;
-    bool stream = false;
-    bool reproducible = false;
+    FileChoice file;        // --half, --stream, --reproducible: bake/request_options.hpp
     bool mpi = false;
     std::size_t mpi_unit = 0;     // 0 = automatic
     ReceiverChoice receivers;     // --domain texel, --refine: bake/request_options.hpp
@@ -86,13 +84,7 @@ BakeRequest request_from(const BakeArgs& args) {
     r.probes = parse_probes(c.probes, c.probe_box, c.probe_bands);
     SHPRT_CHECK(!c.float32 || std::holds_alternative<TexelGrid>(r.receivers), invalid_argument,
                 "--float32 needs --domain texel");
-    FileOutput file;
-    file.path = args.output;
-    file.stream = args.stream;
-    if (args.half) file.encoding = TransferEncoding::f16;
-    if (c.float32) file.encoding = TransferEncoding::f32;
-    file.write.reproducible = args.reproducible;
-    r.output = std::move(file);
+    r.output = file_output_from(args.output, args.file, c.float32);
     apply_checkpoint_choice(args.checkpoint, r, Spelling::command_line);
     r.distributed = use_mpi(args);
     check(r);
@@ -208,12 +200,7 @@ const bool bake_registered = register_command(
          app.add_option("-o,--output", args->output, "Output .shprt file")->required();
          add_table_options(app, bake_option_table(), args->bake);
          add_table_options(app, receiver_option_table(), args->receivers);
-         app.add_flag("--half", args->half, "Store coefficients as float16");
-         app.add_flag("--stream", args->stream,
-                      "Write coefficients to the file as chunks finish (no V×K array in memory)");
-         app.add_flag("--reproducible", args->reproducible,
-                      "Leave out what differs between runs (times, rays, peak memory, device, "
-                      "the command line), so that the same bake gives the same bytes");
+         add_table_options(app, file_option_table(), args->file);
          app.add_flag("--mpi", args->mpi,
                       "Bake across the ranks of an MPI job (automatic under mpirun/srun): rank 0 "
                       "writes the file");

@@ -134,15 +134,9 @@ void fill_request(const Receivers& rx, const Output& out, BakeRequest& request) 
                 "output=, then read it with shprt.load");
     SHPRT_CHECK(out.path || (!out.half && !out.stream && !out.reproducible), invalid_argument,
                 "half, stream and reproducible describe the file: give output=");
-    if (out.path) {
-        FileOutput file;
-        file.path = *out.path;
-        file.stream = out.stream;
-        if (out.half) file.encoding = TransferEncoding::f16;
-        if (out.float32) file.encoding = TransferEncoding::f32;
-        file.write.reproducible = out.reproducible;
-        request.output = std::move(file);
-    }
+    if (out.path)
+        request.output =
+            file_output_from(*out.path, {out.half, out.stream, out.reproducible}, out.float32);
     SHPRT_CHECK(!(out.checkpoint && out.resume), invalid_argument,
                 "checkpoint and resume: give one (resume continues the checkpoint it names)");
     if (out.checkpoint || out.resume)
@@ -284,6 +278,7 @@ using Size = Loose<SizeName>;
 void bind_bake(py::module_& m) {
     const BakeOptionChoice d;
     const ReceiverChoice rd;    // the receivers' defaults: receiver_option_table's
+    const FileChoice fd;        // file_option_table's
     const CheckpointChoice cd;  // checkpoint_option_table's
     m.def(
         "bake",
@@ -357,8 +352,8 @@ void bind_bake(py::module_& m) {
         "refine"_a = py::none(), "max_vertices"_a = py::none(),
         "max_edge_split_depth"_a = py::none(), "shard"_a = py::none(), "probes"_a = py::none(),
         "probe_box"_a = py::none(), "probe_bands"_a = py::none(), "output"_a = py::none(),
-        "half"_a = false, "float32"_a = rd.float32, "stream"_a = false, "reproducible"_a = false,
-        "checkpoint"_a = py::none(), "resume"_a = py::none(),
+        "half"_a = fd.half, "float32"_a = rd.float32, "stream"_a = fd.stream,
+        "reproducible"_a = fd.reproducible, "checkpoint"_a = py::none(), "resume"_a = py::none(),
         "checkpoint_every"_a = cd.checkpoint_every, "max_memory"_a = py::none(),
         R"(Bakes per-vertex SH transfer (bake/bake.hpp) and returns it as a float32 array of
 shape (V, K) — (V, 3, K) for RGB transfer — with K = bands² or coeffs (default 16; 25 for glossy).

@@ -46,6 +46,31 @@ const std::vector<OptionRow<ReceiverChoice>>& receiver_option_table() {
     return table;
 }
 
+const std::vector<OptionRow<FileChoice>>& file_option_table() {
+    static const std::vector<OptionRow<FileChoice>> table = [] {
+        using C = FileChoice;
+        std::vector<OptionRow<C>> t;
+        add_row(t, "half", &C::half, "Store coefficients as float16");
+        add_row(t, "stream", &C::stream,
+                "Write coefficients to the file as chunks finish (no V×K array in memory)");
+        add_row(t, "reproducible", &C::reproducible,
+                "Leave out what differs between runs (times, rays, peak memory, device, "
+                "the command line), so that the same bake gives the same bytes");
+        return complete_rows(std::move(t));
+    }();
+    return table;
+}
+
+FileOutput file_output_from(std::string path, const FileChoice& choice, bool float32) {
+    FileOutput file;
+    file.path = std::move(path);
+    file.stream = choice.stream;
+    if (choice.half) file.encoding = TransferEncoding::f16;
+    if (float32) file.encoding = TransferEncoding::f32;
+    file.write.reproducible = choice.reproducible;
+    return file;
+}
+
 const std::vector<OptionRow<CheckpointChoice>>& checkpoint_option_table() {
     static const std::vector<OptionRow<CheckpointChoice>> table = [] {
         using C = CheckpointChoice;

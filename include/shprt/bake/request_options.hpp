@@ -1,5 +1,6 @@
 // The bake request's options as the front ends take them (core/options.hpp): the receivers
-// (ReceiverChoice, request.hpp: `--domain`, `--resolution`, ... `--shard`) and the checkpoint and
+// (ReceiverChoice, request.hpp: `--domain`, `--resolution`, ... `--shard`), the output file's flags
+// (FileChoice: `--half`, `--stream`, `--reproducible`) and the checkpoint and
 // memory limit (CheckpointChoice: `--checkpoint`, `--resume`, `--checkpoint-every`,
 // `--max-memory`), one table each. `shprt bake` registers its options by walking them; Python's
 // shprt.bake takes its keywords' defaults from the same structs. The bake options themselves are
@@ -20,6 +21,16 @@ namespace shprt {
 
 // One row per receiver option, in the command line's help order.
 const std::vector<OptionRow<ReceiverChoice>>& receiver_option_table();
+
+// The output file's flags (`--half`, `--stream`, `--reproducible`).
+struct FileChoice {
+    bool half = false, stream = false, reproducible = false;
+};
+// One row per option, in the command line's help order.
+const std::vector<OptionRow<FileChoice>>& file_option_table();
+// The file output at `path` the flags describe; `float32` (ReceiverChoice::float32) stores texel
+// coefficients as float32 (and wins over `half`).
+FileOutput file_output_from(std::string path, const FileChoice& choice, bool float32);
 
 struct CheckpointChoice {
     std::string checkpoint, resume;  // paths, or empty
