@@ -15,12 +15,18 @@
 //     --bound-reference-samples with another seed (worst, 99th percentile, mean), on the room and
 //     on two small builtin scenes.
 //
+//  4. the viewer's rounds (bake/background.hpp): an error-bounded bake to E = 0.02 in rounds of
+//     at most 256, 1024 and 4096 samples, as three separate bakes (before the bake session) and
+//     as one session going on from round to round (BakeSession::bake_to), interleaved, min wall
+//     time of --reps runs each; the last rounds' rows are checked equal.
+//
 //     build/bench/bench_local_directions [--K 256] [--max-samples 8192] [--reps 2]
 //
 // Wall times are the bake's own (the direction set made, traced and projected; the BVH is built
 // once outside and not counted: the same for both). The load average is printed before and after:
 // other programs share this machine.
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/session.hpp"
 #include "shprt/core/host.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/builtin.hpp"
@@ -366,6 +372,51 @@ void bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer, con
     }
 }
 
+// 4. The viewer's rounds: separate bakes against one session.
+void rounds_study(const Args& a, const Mesh& mesh, const Tracer& tracer) {
+    BakeOptions o = options_for(a, DirectionFrame::local, 0, 1);
+    o.samples = 1;
+    o.target_error = 0.02;
+    o.max_samples = 4096;
+    const std::uint32_t caps[] = {256, 1024, 4096};
+    std::printf(
+        "\n4. the viewer's rounds: --target-error 0.02 in rounds of at most 256, 1024, 4096 "
+        "samples (local Sobol), K = %d, %d threads, BVH built once outside; min of %d runs\n\n"
+        "| rounds | wall s | Mrays |\n|---|---:|---:|\n",
+        a.K, a.threads, a.reps);
+    double separate = INFINITY, session_wall = INFINITY;
+    std::uint64_t separate_rays = 0, session_rays = 0;
+    std::vector<float> last_separate, last_session;
+    for (int rep = 0; rep < a.reps; ++rep) {
+        auto start = Clock::now();
+        separate_rays = 0;
+        for (const std::uint32_t cap : caps) {
+            BakeOptions r = o;
+            r.max_samples = cap;
+            HostSink sink;
+            separate_rays +=
+                bake(BakeJob{&mesh, vertex_receivers(mesh), &sink, nullptr, &tracer}, r)
+                    .stats.rays_cast;
+            last_separate = sink.take_rows();
+        }
+        separate = std::min(separate, std::chrono::duration<double>(Clock::now() - start).count());
+        start = Clock::now();
+        BakeSession session(BakeJob{&mesh, vertex_receivers(mesh), nullptr, nullptr, &tracer}, o);
+        for (const std::uint32_t cap : caps) {
+            HostSink sink;
+            session.bake_to(cap, sink);
+            last_session = sink.take_rows();
+        }
+        session_wall =
+            std::min(session_wall, std::chrono::duration<double>(Clock::now() - start).count());
+        session_rays = session.rays_cast();
+    }
+    std::printf("| three separate bakes | %.3f | %.1f |\n", separate, double(separate_rays) * 1e-6);
+    std::printf("| one session | %.3f | %.1f |\n", session_wall, double(session_rays) * 1e-6);
+    std::printf("\nthe last rounds' rows are %s\n",
+                last_session == last_separate ? "the same bits" : "DIFFERENT");
+}
+
 }  // namespace
 }  // namespace shprt
 
@@ -384,10 +435,11 @@ int main(int argc, char** argv) {
                    "3.: the local reference's S (default 16384)");
     app.add_option("--bound-max-samples", a.bound_max_samples,
                    "3.: the error-bounded bake's --max-samples (default 16384)");
-    bool skip_variance = false, skip_curve = false, skip_bound = false;
+    bool skip_variance = false, skip_curve = false, skip_bound = false, skip_rounds = false;
     app.add_flag("--skip-variance", skip_variance);
     app.add_flag("--skip-curve", skip_curve);
     app.add_flag("--skip-bound", skip_bound);
+    app.add_flag("--skip-rounds", skip_rounds);
     CLI11_PARSE(app, argc, argv);
 
     std::printf("bench_local_directions: builtin:room, K = %d, %d threads, OPENBLAS_CORETYPE=%s\n",
@@ -407,6 +459,7 @@ int main(int argc, char** argv) {
         const std::vector<double> ref = error_curve(a, mesh, *tracer, light, !skip_curve);
         if (!skip_bound) bound_study(a, mesh, *tracer, light, ref);
     }
+    if (!skip_rounds) rounds_study(a, mesh, *tracer);
     print_load("at end");
     return 0;
 }

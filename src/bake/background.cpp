@@ -1,6 +1,8 @@
 // A bake on a worker thread whose chunks are queued for display (background.hpp).
 #include "shprt/bake/background.hpp"
 
+#include "shprt/bake/session.hpp"
+
 #include "shprt/core/error.hpp"
 #include "shprt/transfer/estimates.hpp"
 
@@ -119,7 +121,12 @@ std::string BackgroundBake::error() const {
 
 RefineRound BackgroundBake::refine_round() const {
     std::lock_guard lock(m_error_mutex);
-    return m_round;
+    return m_rounds.empty() ? RefineRound{} : m_rounds.back();
+}
+
+std::vector<RefineRound> BackgroundBake::refine_history() const {
+    std::lock_guard lock(m_error_mutex);
+    return m_rounds;
 }
 
 void BackgroundBake::run() {
@@ -130,25 +137,29 @@ void BackgroundBake::run() {
         job.occluders = &m_mesh;
         job.receivers = vertex_receivers(m_mesh);
         job.sink = m_device_sink ? m_device_sink.get() : &m_chunks;
-        // The fraction done over every round, each weighed by its largest prefix (its rays grow
-        // about as that does).
+        // One session for every round: the tracer and tables are built once, and each round of
+        // an error-bounded bake goes on from the last, tracing only the new segments.
+        BakeSession session(job, m_options);
+        // The fraction done over every round, each weighed by its largest prefix (the rays a
+        // whole bake to it would cast; on a session a round casts about the difference).
         const std::vector<std::uint32_t> rounds = refine_rounds(m_options);
         double total = 0, before = 0;
         for (const std::uint32_t s : rounds) total += double(s);
         for (std::size_t r = 0; r < rounds.size(); ++r) {
-            BakeOptions o = m_options;
-            if (o.target_error > 0) o.max_samples = rounds[r];
             const double share = double(rounds[r]) / total;
-            o.progress = [this, before, share](const ProgressInfo& info) {
+            ProgressFn progress = [this, before, share](const ProgressInfo& info) {
                 if (info.total > 0)
                     m_fraction =
                         std::min(1.0, before + share * double(info.done) / double(info.total));
                 return !m_cancel.load();
             };
-            m_result = bake(job, o);
+            m_result = m_options.target_error > 0
+                           ? session.bake_to(rounds[r], *job.sink, std::move(progress))
+                           : session.bake(job, std::move(progress));
             before += share;
-            if (o.target_error > 0) record_round(int(r) + 1, int(rounds.size()), rounds[r]);
+            if (m_options.target_error > 0) record_round(int(r) + 1, int(rounds.size()), rounds[r]);
         }
+        m_rays = session.rays_cast();
         m_fraction = 1.0;
     } catch (const Error& e) {
         final_state = e.code() == ErrorCode::cancelled ? BakeState::cancelled : BakeState::failed;
@@ -186,7 +197,7 @@ void BackgroundBake::record_round(int round, int rounds, std::uint32_t max_sampl
         r.p99 = spread.p99;
     }
     std::lock_guard lock(m_error_mutex);
-    m_round = r;
+    m_rounds.push_back(r);
 }
 
 }  // namespace shprt

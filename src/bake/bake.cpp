@@ -10,6 +10,7 @@
 #include "bake/bake_internal.hpp"
 #include "bake/stages.hpp"
 #include "shprt/bake/gpu.hpp"
+#include "shprt/bake/session.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/names.hpp"
 #include "shprt/core/parallel.hpp"
@@ -77,44 +78,6 @@ TransferInfo bake_info(const BakeOptions& options, Receivers receivers, std::siz
 }  // namespace detail
 
 namespace {
-
-// After validate(options) and validate_job: runs the chosen backend with the direction set.
-TransferInfo run_bake(const BakeJob& job, const BakeOptions& options, Device backend,
-                      const DirectionSet& directions) {
-    // The whole-domain kind (interreflected) has its own stage: it couples every receiver.
-    const bool interreflected = kind_row(options.transfer).whole_domain;
-    if (backend == Device::cuda) {
-        SHPRT_CHECK(job.tracer == nullptr, unsupported,
-                    "a caller-built tracer runs on the CPU only (device 'cuda' was asked for)");
-        SHPRT_CHECK(!(interreflected && job.probes), unsupported,
-                    "--probes with interreflected transfer: the probes read the CPU bake's "
-                    "bounce sources; bake on the CPU (--device cpu)");
-        if (interreflected) return detail::bake_interreflected_gpu(job, options, directions);
-        TransferInfo info = detail::bake_gpu(job, options, directions);
-        detail::bake_job_probes(job, options, directions, nullptr, nullptr, info);
-        return info;
-    }
-    // The interreflected bake bakes its probes itself (they need its bounce sources' light).
-    if (interreflected && job.tracer)
-        return detail::bake_interreflected(job, options, directions, job.tracer, 0.0);
-    if (job.tracer || !kind_row(options.transfer).traces_rays) {  // unshadowed: no rays
-        TransferInfo info = detail::bake_cpu(job, options, directions, job.tracer, 0.0);
-        detail::bake_job_probes(job, options, directions, job.tracer, nullptr, info);
-        return info;
-    }
-    // Embree builds with TBB tasks in the caller's arena: limit it to the bake's threads.
-    std::unique_ptr<Tracer> tracer;
-    const auto start = Clock::now();
-    const EmbreeTracerOptions quality = bake_tracer_options(job, options, directions.size());
-    in_arena(options.threads, [&] { tracer = make_embree_tracer(*job.occluders, quality); });
-    if (interreflected)
-        return detail::bake_interreflected(job, options, directions, tracer.get(),
-                                           seconds_since(start));
-    TransferInfo info =
-        detail::bake_cpu(job, options, directions, tracer.get(), seconds_since(start));
-    detail::bake_job_probes(job, options, directions, tracer.get(), nullptr, info);
-    return info;
-}
 
 // A bake into host memory: the convenience entry points' body.
 TransferSet bake_to_host(const Mesh& mesh, const Receivers& receivers, const BakeOptions& options,
@@ -327,27 +290,8 @@ std::size_t auto_chunk_receivers(std::size_t receivers, std::size_t samples) {
 }
 
 TransferInfo bake(const BakeJob& job, const BakeOptions& options) {
-    BakeOptions checked = options;
-    if (job.directions) {
-        detail::validate_direction_set(*job.directions);
-        checked.samples = static_cast<std::uint32_t>(job.directions->size());
-    }
-    validate(checked);
-    SHPRT_CHECK(checked.target_error <= 0 || job.directions == nullptr, unsupported,
-                "target error: the error-bounded bake makes its own nested set (no caller's "
-                "direction set)");
-    // The error-bounded bake's set is max_samples long (the prefixes are taken from it).
-    checked.samples = bake_set_size(checked);
-    detail::validate_job(job, checked);
-    SHPRT_CHECK(job.sink != nullptr, invalid_argument, "a bake needs a sink for its rows");
-    Device backend = resolve_device(checked.device, checked.device_index);
-    if (backend == Device::cuda && checked.target_error > 0) {
-        SHPRT_CHECK(checked.device == Device::automatic, unsupported, "{}", kTargetErrorOnGpu);
-        backend = Device::cpu;
-    }
-    if (job.directions) return run_bake(job, checked, backend, *job.directions);
-    const DirectionSet directions = bake_direction_set(checked);
-    return run_bake(job, checked, backend, directions);
+    BakeSession session(job, options);
+    return session.bake(job);
 }
 
 TransferSet bake(const Mesh& mesh, const BakeOptions& options) {
@@ -433,8 +377,8 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
             const double t = cosine * double(directions.weights[s]);
             for (int i = 0; i < K; ++i) sum[i] += t * y[i];
         }
-        float* row = out.receiver(v);
-        for (std::size_t i = 0; i < F; ++i) row[i] = static_cast<float>(sum[i]);
+        float* dst = out.receiver(v);
+        for (std::size_t i = 0; i < F; ++i) dst[i] = static_cast<float>(sum[i]);
     }
     out.stats.rays_cast = rays;
     out.stats.seconds_total = out.stats.seconds_trace = seconds_since(start);

@@ -50,19 +50,62 @@ struct Scratch {
 
 }  // namespace
 
+CpuBakeTables::CpuBakeTables(const BakeOptions& options, const DirectionSet& directions) {
+    glossy = options.transfer == TransferKind::glossy;
+    shadowed = options.transfer == TransferKind::shadowed || glossy;  // rays are cast
+    bounded = options.target_error > 0;
+    local = options.direction_frame == DirectionFrame::local;
+    S = directions.size();
+    K = options.K;
+    chunk_receivers = options.chunk_receivers;
+    table = make_direction_table(directions, options.direction_frame,
+                                 bounded ? kTargetFirstSamples : 0);
+    // The basis table, once for all receivers: Y[s*KL + i] = y_i(w_s), KL = K (a local set: the
+    // full bands that hold K, in the frame; rotated to K in world space after the product).
+    // Glossy transfer projects onto the pair-product table instead (stages.hpp): its F =
+    // K(K+1)/2 columns are the packed upper triangle of each receiver's matrix.
+    KL = projected_coeffs(options);
+    Y = glossy ? pair_product_table(basis_table(KL, directions), S, KL)
+               : basis_table(KL, directions);
+    F = glossy ? K * (K + 1) / 2 : K;      // columns of a row
+    FL = glossy ? KL * (KL + 1) / 2 : KL;  // columns of the product
+    // A local set's rows get the open part exactly (stages.hpp, OpenControl).
+    if (local && options.open_control && !bounded)
+        open_control = make_open_control(table.weight.data(), Y.data(), S, 1.0, KL, glossy);
+    bound.table = &table;
+    bound.Y = Y.data();
+    bound.KL = KL;
+    bound.first_samples = std::min<std::size_t>(kTargetFirstSamples, S);
+    bound.max_samples = S;
+    bound.target = options.target_error;
+    bound.open_norm = open_transfer_norm(KL);
+    bound.shadowed = shadowed;
+    if (bounded && local && options.open_control)
+        bound.controls = make_open_controls(table, Y.data(), KL, bound.first_samples);
+}
+
+std::size_t CpuBakeTables::bytes() const { return Y.size() * sizeof(float) + table.bytes(); }
+
 TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
                       const DirectionSet& directions, const Tracer* tracer, double seconds_bvh) {
+    const CpuBakeTables tables(options, directions);
+    return bake_cpu_pass(job, options, tables, tracer, seconds_bvh);
+}
+
+TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
+                           const CpuBakeTables& tables, const Tracer* tracer, double seconds_bvh,
+                           BoundRows kept, std::size_t cap) {
     const auto start = Clock::now();
-    const bool glossy = options.transfer == TransferKind::glossy;
-    const bool shadowed = options.transfer == TransferKind::shadowed || glossy;  // rays are cast
+    const bool glossy = tables.glossy, shadowed = tables.shadowed, local = tables.local;
+    const bool bounded = tables.bounded;
     SHPRT_CHECK(!shadowed || tracer != nullptr, invalid_argument,
                 "shadowed transfer needs a tracer");
     SHPRT_CHECK(job.sink->device_rows() == nullptr, unsupported,
                 "the CPU bake cannot write into a device buffer (a DeviceSink needs device "
                 "'cuda')");
     const Receivers& rx = job.receivers;
-    const std::size_t S = directions.size();
-    const int K = options.K;
+    const std::size_t S = tables.S;
+    const int K = tables.K, KL = tables.KL, F = tables.F, FL = tables.FL;
     const int threads = thread_count(options.threads);
     // The chunks are a grid over the whole receiver set, from receiver 0, with a size set by the
     // set (not by the range baked): a receiver is always projected at the same row of an SGEMM
@@ -74,33 +117,18 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     // with zero weights (a row's bits do not depend on the other rows' values), and only the
     // range's rows are kept.
     // The error-bounded bake sizes its grid by its first prefix, the W that every row needs.
-    const bool bounded = options.target_error > 0;
     const std::size_t chunk =
-        options.chunk_receivers > 0
-            ? options.chunk_receivers
+        tables.chunk_receivers > 0
+            ? tables.chunk_receivers
             : auto_chunk_receivers(rx.total,
                                    bounded ? std::min<std::size_t>(S, kTargetFirstSamples) : S);
     const std::size_t first_chunk = rx.first / chunk;
     const std::size_t chunk_count = (rx.end() + chunk - 1) / chunk - first_chunk;
-
-    const bool local = options.direction_frame == DirectionFrame::local;
-    const DirectionTable table = make_direction_table(directions, options.direction_frame,
-                                                      bounded ? kTargetFirstSamples : 0);
-    // The basis table, once for all receivers: Y[s*KL + i] = y_i(w_s), KL = K (a local set: the
-    // full bands that hold K, in the frame; rotated to K in world space after the product).
-    // Glossy transfer projects onto the pair-product table instead (stages.hpp): its F =
-    // K(K+1)/2 columns are the packed upper triangle of each receiver's matrix.
-    const int KL = projected_coeffs(options);
-    const std::vector<float> Y = glossy ? pair_product_table(basis_table(KL, directions), S, KL)
-                                        : basis_table(KL, directions);
-    const int F = glossy ? K * (K + 1) / 2 : K;      // columns of a row
-    const int FL = glossy ? KL * (KL + 1) / 2 : KL;  // columns of the product
-
-    // A local set's rows get the open part exactly (stages.hpp, OpenControl).
-    const OpenControl open_control =
-        local && options.open_control && !bounded
-            ? make_open_control(table.weight.data(), Y.data(), S, 1.0, KL, glossy)
-            : OpenControl{};
+    const DirectionTable& table = tables.table;
+    const std::vector<float>& Y = tables.Y;
+    const OpenControl& open_control = tables.open_control;
+    const ErrorBound& bound = tables.bound;
+    if (cap == 0) cap = S;
 
     TransferInfo info = bake_info(options, rx, S);
     TransferSink& sink = *job.sink;
@@ -110,23 +138,16 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     BakeProgress progress(options.progress, shadowed, rx.count, S);
     tbb::enumerable_thread_specific<Scratch> scratch;
 
-    ErrorBound bound;
-    bound.table = &table;
-    bound.Y = Y.data();
-    bound.KL = KL;
-    bound.first_samples = std::min<std::size_t>(kTargetFirstSamples, S);
-    bound.max_samples = S;
-    bound.target = options.target_error;
-    bound.open_norm = open_transfer_norm(KL);
-    bound.shadowed = shadowed;
-    if (bounded && local && options.open_control)
-        bound.controls = make_open_controls(table, Y.data(), KL, bound.first_samples);
     // The error-bounded chunk: every row of the grid's chunk baked to the bound (error_bound.hpp
     // says why the whole chunk), the range's rows rotated (local) or copied to the sink.
     auto run_bounded_chunk = [&](std::size_t grid_first, std::size_t height, std::size_t first,
                                  std::size_t count, Scratch& sc) {
         ErrorBoundScratch& eb = sc.bound;
-        bake_chunk_to_error(bound, tracer, rx, grid_first, height, eb, progress);
+        BoundRows rows = kept.acc != nullptr
+                             ? BoundRows{kept.acc + grid_first * std::size_t(KL),
+                                         kept.samples + grid_first, kept.error + grid_first}
+                             : eb.fresh_rows(height, KL);
+        bake_chunk_to_error(bound, cap, tracer, rx, grid_first, height, rows, eb, progress);
         if (progress.stopped()) return;
         const std::size_t lead = first - grid_first;
         const double rows_start = thread_cpu_seconds();
@@ -135,16 +156,16 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
             if (sc.c.size() < count * std::size_t(F)) sc.c.resize(count * std::size_t(F));
             C = sc.c.data();
         }
-        const float* rows = eb.acc.data() + lead * std::size_t(KL);
+        const float* out = eb.out.data() + lead * std::size_t(KL);
         if (local)
-            rotate_rows_to_world(rx.normals + first, count, KL, K, false, rows, C);
+            rotate_rows_to_world(rx.normals + first, count, KL, K, false, out, C);
         else
-            std::copy(rows, rows + count * std::size_t(K), C);
+            std::copy(out, out + count * std::size_t(K), C);
         sc.project_seconds += thread_cpu_seconds() - rows_start;
-        progress.add_errors(eb.error.data() + lead, count);
+        progress.add_errors(rows.error + lead, count);
         progress.add(count, 0);
         sink.write(first, count, C);
-        sink.write_estimates(first, count, eb.samples.data() + lead, eb.error.data() + lead);
+        sink.write_estimates(first, count, rows.samples + lead, rows.error + lead);
     };
 
     auto run_chunk = [&](std::size_t c) {
@@ -230,7 +251,7 @@ TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
     st.rays_cast = progress.rays();
     const std::size_t workers = std::min<std::size_t>(std::size_t(threads), chunk_count);
     // The sink's own memory is the caller's (a HostSink holds the rows) and is added there.
-    st.peak_bytes_host = Y.size() * sizeof(float) + table.bytes() +
+    st.peak_bytes_host = tables.bytes() +
                          workers * (chunk * S * sizeof(float) + TraceScratch::bytes(S)) + c_bytes +
                          (tracer ? tracer->memory_bytes() : 0);
     st.device_name = fmt::format("cpu: {} thread{}", threads, threads == 1 ? "" : "s");

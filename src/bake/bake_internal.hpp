@@ -1,6 +1,8 @@
 // Private pieces shared by the bake's translation units.
 #pragma once
 
+#include "bake/error_bound.hpp"
+#include "bake/stages.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/bounce_sources.hpp"
 #include "shprt/bake/interreflect.hpp"
@@ -37,6 +39,29 @@ TransferInfo bake_info(const BakeOptions& options, Receivers receivers, std::siz
 // gpu_fallback.cpp without CUDA) builds its own flat BVH.
 TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
                       const DirectionSet& directions, const Tracer* tracer, double seconds_bvh);
+// What every pass of a CPU bake shares (bake_cpu.cpp; a BakeSession keeps it): the direction
+// table, the basis table Y (or glossy's pair-product table), the open part's control, the
+// error bound's parameters.
+struct CpuBakeTables {
+    CpuBakeTables(const BakeOptions& options, const DirectionSet& directions);
+    CpuBakeTables(const CpuBakeTables&) = delete;  // `bound` points into the tables
+    CpuBakeTables& operator=(const CpuBakeTables&) = delete;
+    std::size_t bytes() const;
+
+    bool glossy = false, shadowed = false, bounded = false, local = false;
+    std::size_t S = 0, chunk_receivers = 0;  // BakeOptions::chunk_receivers
+    int K = 0, KL = 0, F = 0, FL = 0;  // row and product columns (stages.hpp)
+    DirectionTable table;
+    std::vector<float> Y;
+    OpenControl open_control;  // local fixed-S sets
+    ErrorBound bound;          // error-bounded bakes
+};
+// One pass over job.receivers with the tables: bake_cpu's body. An error-bounded pass bakes to prefixes of at most `cap` (0: the whole set), keeping
+// each row's sums, prefix and estimate in `kept` (the whole receiver set's rows; null: the pass's
+// scratch) — a later pass with a larger cap and the same `kept` traces only the new segments.
+TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
+                           const CpuBakeTables& tables, const Tracer* tracer, double seconds_bvh,
+                           BoundRows kept = {}, std::size_t cap = 0);
 // Interreflected transfer (interreflect.cpp), CPU only: T_0 by bake_cpu, then the transport
 // operator and the bounces; `tracer` is required.
 TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,

@@ -59,16 +59,32 @@ std::vector<OpenControl> make_open_controls(const DirectionTable& table, const f
     return controls;
 }
 
-std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
+BoundRows ErrorBoundScratch::fresh_rows(std::size_t height, int KL) {
+    acc.assign(height * std::size_t(KL), 0.0f);
+    samples.assign(height, 0);
+    error.assign(height, 0.0f);
+    return {acc.data(), samples.data(), error.data()};
+}
+
+std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, const Tracer* tracer,
                                   const Receivers& rx, std::size_t first, std::size_t height,
-                                  ErrorBoundScratch& sc, BakeProgress& progress) {
+                                  BoundRows rows, ErrorBoundScratch& sc, BakeProgress& progress) {
     const std::size_t KL = std::size_t(bound.KL);
     const std::size_t S0 = bound.first_samples, Smax = bound.max_samples;
-    sc.acc.resize(height * KL);
-    sc.samples.assign(height, 0);
-    sc.error.assign(height, 0.0f);
-    sc.active.resize(height);
-    std::iota(sc.active.begin(), sc.active.end(), std::uint32_t(0));
+    cap = std::min(cap, Smax);
+    // Where the chunk stands: fresh (every row at prefix 0), or baked before to a smaller cap —
+    // the rows still over the target then all stand at that cap and go on from there.
+    std::size_t start = 0;
+    sc.active.clear();
+    for (std::size_t j = 0; j < height; ++j) start = std::max<std::size_t>(start, rows.samples[j]);
+    if (start == 0) {
+        sc.active.resize(height);
+        std::iota(sc.active.begin(), sc.active.end(), std::uint32_t(0));
+    } else {
+        for (std::size_t j = 0; j < height; ++j)
+            if (rows.samples[j] == start && rows.error[j] > bound.target && start < Smax)
+                sc.active.push_back(std::uint32_t(j));
+    }
     // One visible sample of weight w at S samples adds w·(Smax/S)·y(ω) to ĉ_S, whose norm over
     // full bands is w·(Smax/S)·√(KL/4π) (the addition theorem: Σ_i y_i(ω)² = KL/4π).
     const float max_weight =
@@ -78,8 +94,8 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
                               bound.open_norm;
     const bool controlled = !bound.controls.empty();
     std::uint64_t rays = 0;
-    for (std::size_t a = 0, b = std::min(S0, Smax); a < Smax && !sc.active.empty();
-         a = b, b = std::min(2 * b, Smax)) {
+    for (std::size_t a = start, b = start == 0 ? std::min(S0, cap) : 2 * start;
+         a < cap && !sc.active.empty(); a = b, b = std::min(2 * b, cap)) {
         const std::size_t length = b - a;
         const std::size_t B = block_rows(length, height);
         if (sc.w.size() < B * length) sc.w.resize(B * length);
@@ -114,10 +130,10 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
             }
             for (std::size_t i = 0; i < m; ++i) {
                 const std::uint32_t j = sc.active[k + i];
-                float* A = sc.acc.data() + j * KL;
+                float* A = rows.acc + j * KL;
                 const float* G = sc.g.data() + i * KL;
                 const float* old = a == 0 ? sc.g0.data() + i * KL : A;
-                double err = scale * distance(G, old, bound.KL);
+                double err = 0;
                 bool open = false;  // a local row whose every ray so far was visible
                 if (controlled) {
                     const std::size_t level = a == 0 ? 0 : std::size_t(std::countr_zero(b / S0));
@@ -127,6 +143,8 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
                                               double(Smax) / double(b), old, G, bound.KL, &beta) /
                           bound.open_norm;
                     open = beta > 1.0 - 0.5 / double(b);
+                } else {
+                    err = scale * distance(G, old, bound.KL);
                 }
                 if (a == 0) std::copy(old, old + KL, A);
                 bool closed = true;  // every ray so far blocked: the sum is exactly zero
@@ -139,9 +157,9 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
                 // make, the resolution of b samples (error_bound.hpp). With the open part exact,
                 // the same holds for a receiver that every ray so far left open.
                 if (closed || open) err = std::max(err, resolution / double(b));
-                sc.samples[j] = std::uint32_t(b);
-                sc.error[j] = float(err);
-                if (err > bound.target && b < Smax) sc.active[kept++] = j;
+                rows.samples[j] = std::uint32_t(b);
+                rows.error[j] = float(err);
+                if (err > bound.target && b < cap) sc.active[kept++] = j;
             }
             sc.trace_seconds += project_start - trace_start;
             sc.project_seconds += thread_cpu_seconds() - project_start;
@@ -149,13 +167,15 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
         sc.active.resize(kept);
     }
     // ĉ_S = (Smax/S)·A_S: a power of two, so exactly the fixed-S bake's weights (π/S, 4π/S).
+    sc.out.resize(height * KL);
     for (std::size_t j = 0; j < height; ++j) {
-        const float f = float(Smax / std::max<std::size_t>(sc.samples[j], 1));
-        float* A = sc.acc.data() + j * KL;
-        for (std::size_t c = 0; c < KL; ++c) A[c] *= f;
-        if (controlled && sc.samples[j] > 0)
+        const float f = float(Smax / std::max<std::size_t>(rows.samples[j], 1));
+        const float* A = rows.acc + j * KL;
+        float* out = sc.out.data() + j * KL;
+        for (std::size_t c = 0; c < KL; ++c) out[c] = A[c] * f;
+        if (controlled && rows.samples[j] > 0)
             apply_open_control(
-                bound.controls[std::size_t(std::countr_zero(sc.samples[j] / S0)) + 1], A, 1);
+                bound.controls[std::size_t(std::countr_zero(rows.samples[j] / S0)) + 1], out, 1);
     }
     return rays;
 }

@@ -52,23 +52,41 @@ struct ErrorBound {
 std::vector<OpenControl> make_open_controls(const DirectionTable& table, const float* Y, int KL,
                                             std::size_t first_samples);
 
+// What a chunk's rows have so far, `height` rows of each: A, the sum over the row's prefix with
+// the whole set's weights (KL floats), the prefix (0: not baked yet) and the estimated error. A
+// bake session keeps them across calls (BakeSession::bake_to), so that a later call with a larger
+// cap traces only the new segments; a one-off bake keeps them in its scratch.
+struct BoundRows {
+    float* acc = nullptr;
+    std::uint32_t* samples = nullptr;
+    float* error = nullptr;
+};
+
 // One worker's buffers, reused across chunks.
 struct ErrorBoundScratch {
     std::vector<float> w;      // W of a block of rows over one segment
     std::vector<float> g, g0;  // the block's segment sums (pass 0: its two halves)
-    std::vector<float> acc;    // the chunk's rows: A, then ĉ (height × KL)
-    std::vector<std::uint32_t> active, samples;  // rows still refining; each row's prefix
-    std::vector<float> error;                    // each row's estimated error
+    std::vector<float> acc;    // the chunk's rows' A when no session keeps them (height × KL)
+    std::vector<std::uint32_t> samples;  // … their prefixes
+    std::vector<float> error;            // … their estimated errors
+    std::vector<std::uint32_t> active;   // rows still refining
+    std::vector<float> out;              // the chunk's rows ĉ (height × KL)
     TraceScratch trace;
     double trace_seconds = 0, project_seconds = 0;  // CPU time (this worker)
+    // The scratch's own rows for `height` receivers, zeroed (nothing baked yet).
+    BoundRows fresh_rows(std::size_t height, int KL);
 };
 
 // Bakes receivers [first, first + height) of `receivers` (the whole chunk: see above) to the
-// bound: afterwards sc.acc holds their coefficient rows ĉ in the table's frame (KL each),
-// sc.samples their prefixes and sc.error their estimated errors. Returns the rays cast (also added
-// to `progress`); stops early, with rows unfinished, once progress.poll() says stop.
-std::uint64_t bake_chunk_to_error(const ErrorBound& bound, const Tracer* tracer,
+// bound, with prefixes of at most `cap` (≤ max_samples; a power of two ≥ first_samples): rows
+// that `rows` says were baked before (to an earlier, smaller cap) and whose estimate is still
+// over the target go on from their sums, tracing only the new segments; a fresh row starts at
+// pass 0. The result is the same bits as one call with this cap. Afterwards sc.out holds the
+// rows ĉ in the table's frame (KL each) and `rows` their sums, prefixes and estimated errors.
+// Returns the rays cast (also added to `progress`); stops early, with rows unfinished, once
+// progress.poll() says stop.
+std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, const Tracer* tracer,
                                   const Receivers& receivers, std::size_t first, std::size_t height,
-                                  ErrorBoundScratch& sc, BakeProgress& progress);
+                                  BoundRows rows, ErrorBoundScratch& sc, BakeProgress& progress);
 
 }  // namespace shprt::detail

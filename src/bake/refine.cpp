@@ -4,6 +4,8 @@
 // of the new vertices only on the receivers seam.
 #include "shprt/bake/refine.hpp"
 
+#include "shprt/bake/session.hpp"
+
 #include "shprt/core/error.hpp"
 #include "shprt/sh/zonal.hpp"
 #include "shprt/trace/tracer.hpp"
@@ -169,15 +171,17 @@ RefineResult bake_refined(const Mesh& input, const BakeOptions& options,
     for (std::size_t t = 0; t < r.triangle_origin.size(); ++t)
         r.triangle_origin[t] = static_cast<std::uint32_t>(t);
 
-    // The occluders never change (new vertices lie on the input's triangles): one BVH.
+    // The occluders never change (new vertices lie on the input's triangles): one bake session,
+    // one BVH and one set of tables for every pass.
     std::unique_ptr<Tracer> tracer;
     if (resolve_device(options.device, options.device_index) == Device::cpu)
         tracer = make_embree_tracer(input);
+    BakeSession session(BakeJob{&input, vertex_receivers(input), nullptr, nullptr, tracer.get()},
+                        options);
     const auto bake_range = [&](std::size_t first, std::size_t count) {
         HostSink sink;
         Receivers rx = vertex_receivers(mesh).range(first, count);
-        BakeJob job{&input, rx, &sink, nullptr, tracer.get(), nullptr};
-        const TransferInfo info = bake(job, options);
+        const TransferInfo info = session.bake(BakeJob{nullptr, rx, &sink, nullptr, nullptr});
         if (first == 0) {
             static_cast<TransferInfo&>(r.transfer) = info;
         } else {

@@ -1,7 +1,7 @@
 #include "shprt/bake/remaining.hpp"
 
+#include "shprt/bake/session.hpp"
 #include "shprt/core/error.hpp"
-#include "shprt/trace/tracer.hpp"
 #include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
@@ -36,25 +36,19 @@ TransferInfo bake_remaining(const BakeJob& job, const BakeOptions& options,
     std::size_t left = 0;
     for (const ReceiverSpan& g : gaps) left += g.count;
 
-    // One BVH for every gap (a CPU bake takes a caller's tracer).
+    // One session for every gap: the set, its tables and the tracer are built once.
+    BakeSession session(job, options);
     BakeJob part = job;
-    std::unique_ptr<Tracer> tracer;
-    if (gaps.size() > 1 && job.tracer == nullptr &&
-        resolve_device(options.device, options.device_index) == Device::cpu) {
-        tracer = make_embree_tracer(*job.occluders,
-                                    bake_tracer_options(job, options, bake_set_size(options)));
-        part.tracer = tracer.get();
-    }
 
     TransferInfo info;
     BakeStats sum;
     std::size_t receivers_before = all.count - left;  // done receivers, then the gaps baked
     for (const ReceiverSpan& gap : gaps) {
-        BakeOptions o = options;
+        ProgressFn progress;
         if (options.progress) {
             // This gap's report, as one of the whole range: the rays of the receivers done before
             // it are estimated at this gap's rate per receiver.
-            o.progress = [&, gap](const ProgressInfo& p) {
+            progress = [&, gap](const ProgressInfo& p) {
                 ProgressInfo whole = p;
                 const double per_receiver = double(p.total) / double(gap.count);
                 whole.total = static_cast<std::uint64_t>(per_receiver * double(all.count));
@@ -64,7 +58,7 @@ TransferInfo bake_remaining(const BakeJob& job, const BakeOptions& options,
             };
         }
         part.receivers = all.range(gap.first, gap.count);
-        info = bake(part, o);
+        info = session.bake(part, progress);
         receivers_before += gap.count;
         add_stats(sum, info.stats);
     }

@@ -6,6 +6,7 @@
 #include "shprt/dist/mpi_bake.hpp"
 
 #include "shprt/bake/gpu.hpp"
+#include "shprt/bake/session.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/job.hpp"
 #include "shprt/core/parallel.hpp"
@@ -180,15 +181,12 @@ private:
     std::vector<char> m_buffer;
 };
 
-// What every rank prepares before the units: the backend, the direction set and (for a CPU bake
-// of shadowed transfer) one tracer shared by all of the rank's units.
+// What every rank prepares before the units: the backend, and the bake session that all of the
+// rank's units run on (bake/session.hpp: the direction set, its tables and, for a CPU bake of
+// shadowed transfer, one tracer).
 struct Prepared {
     BakeOptions options;
-    const DirectionSet* directions = nullptr;
-    std::optional<DirectionSet> own_directions;
-    std::unique_ptr<Tracer> own_tracer;
-    const Tracer* tracer = nullptr;
-    double seconds_bvh = 0;
+    std::unique_ptr<BakeSession> session;
 };
 
 void prepare(const MpiSession& session, const BakeJob& job, const BakeOptions& options,
@@ -208,23 +206,7 @@ void prepare(const MpiSession& session, const BakeJob& job, const BakeOptions& o
         if (devices > 0) p.options.device_index = session.local_rank() % devices;
     }
     p.options.device = resolve_device(p.options.device, p.options.device_index);
-    if (job.directions) {
-        p.directions = job.directions;
-    } else {
-        p.own_directions = bake_direction_set(p.options);
-        p.directions = &*p.own_directions;
-    }
-    p.tracer = job.tracer;
-    const bool rays = kind_row(p.options.transfer).traces_rays;
-    if (!p.tracer && rays && p.options.device == Device::cpu) {
-        const auto start = Clock::now();
-        const EmbreeTracerOptions quality =
-            bake_tracer_options(job, p.options, p.directions->size());
-        in_arena(p.options.threads,
-                 [&] { p.own_tracer = make_embree_tracer(*job.occluders, quality); });
-        p.seconds_bvh = seconds_since(start);
-        p.tracer = p.own_tracer.get();
-    }
+    p.session = std::make_unique<BakeSession>(job, p.options);
 }
 
 // One unit's bake on this rank.
@@ -233,11 +215,7 @@ TransferInfo bake_unit(const BakeJob& job, const Prepared& p, const WorkUnit& un
     BakeJob unit_job = job;
     unit_job.receivers = job.receivers.range(job.receivers.first + unit.first, unit.count);
     unit_job.sink = &sink;
-    unit_job.directions = p.directions;
-    unit_job.tracer = p.tracer;
-    BakeOptions options = p.options;
-    options.progress = std::move(progress);
-    return bake(unit_job, options);
+    return p.session->bake(unit_job, std::move(progress));
 }
 
 void count_unit(RankLoad& load, const WorkUnit& unit, const TransferInfo& info) {
@@ -652,13 +630,14 @@ DistributedBake bake_distributed(const MpiSession& session, const BakeJob& job,
 
     TransferInfo info = bake_description(p.options);
     info.layout.domain = job.receivers.domain;
-    info.samples = static_cast<int>(p.directions->size());
+    info.samples = static_cast<int>(p.session->options().samples);
     const std::size_t row_bytes = info.layout.floats_per_receiver() * sizeof(float);
     const std::size_t max_unit = std::max<std::size_t>(1, kMaxUnitBytes / row_bytes);
     std::size_t min_unit = dist.min_unit;
     if (min_unit == 0) {
         const int threads = thread_count(p.options.threads);
-        const std::size_t chunk = auto_chunk_receivers(job.receivers.count, p.directions->size());
+        const std::size_t chunk =
+            auto_chunk_receivers(job.receivers.count, p.session->options().samples);
         min_unit = std::max<std::size_t>(256, chunk * std::size_t(std::max(4, 2 * threads)));
     }
     const std::vector<WorkUnit> units =
@@ -679,10 +658,6 @@ DistributedBake bake_distributed(const MpiSession& session, const BakeJob& job,
         }
     }  // the counter's window is freed collectively: every rank is past its loop
     BakeStats& stats = out.stats;
-    stats.seconds_bvh += p.seconds_bvh;
-    if (p.own_tracer)
-        stats.peak_bytes_host =
-            std::max<std::uint64_t>(stats.peak_bytes_host, p.own_tracer->memory_bytes());
     session.agree([&] {
         if (out.failure) std::rethrow_exception(out.failure);
         SHPRT_CHECK(!out.user_cancelled, cancelled, "bake cancelled after {} of {} receivers",

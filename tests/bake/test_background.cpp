@@ -116,23 +116,25 @@ TEST(BackgroundBake, RefinesTowardTheTargetInRoundsAndEndsWithTheBoundedBake) {
 
     BackgroundBake worker(mesh, options);
     TransferSet shown = TransferSet::zeros(bake_description(options), mesh.vertex_count());
-    std::vector<RefineRound> seen;
     while (!worker.done()) {
         for (const TransferChunk& c : worker.chunks().take_all()) c.apply_to(shown);
-        const RefineRound r = worker.refine_round();
-        if (r.round > 0 && (seen.empty() || seen.back().round != r.round)) seen.push_back(r);
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     for (const TransferChunk& c : worker.chunks().take_all()) c.apply_to(shown);
     ASSERT_EQ(worker.state(), BakeState::finished) << worker.error();
     EXPECT_EQ(shown.coeffs, want.coeffs) << "the last round is the bounded bake, bit for bit";
+    EXPECT_EQ(worker.rays_cast(), want.stats.rays_cast)
+        << "the rounds go on from each other (one bake session): every ray is cast once";
+    const std::vector<RefineRound> seen = worker.refine_history();
+    ASSERT_EQ(seen.size(), 3u);
+    const RefineRound& first = seen.front();
     const RefineRound last = worker.refine_round();
     EXPECT_EQ(last.round, 3);
     EXPECT_EQ(last.rounds, 3);
     EXPECT_EQ(last.max_samples, 4096u);
-    ASSERT_FALSE(seen.empty());
-    const RefineRound& first = seen.front();
-    EXPECT_EQ(first.max_samples, first.round == 1 ? 256u : 1024u);
+    EXPECT_EQ(first.round, 1);
+    EXPECT_EQ(first.max_samples, 256u);
+    EXPECT_EQ(seen[1].max_samples, 1024u);
     EXPECT_GT(first.worst, last.worst) << "the estimate falls";
     EXPECT_GT(first.over_target, last.over_target);
     EXPECT_GT(last.mean_samples, first.mean_samples);

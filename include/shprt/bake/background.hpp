@@ -68,10 +68,10 @@ enum class BakeState { running, finished, failed, cancelled };
 
 // An error-bounded bake refining toward its target in the viewer (BackgroundBake): the bake runs
 // in rounds whose largest prefix grows 4× a round, kTargetFirstSamples·4 = 256, 1024, … up to the
-// options' max_samples, each a whole error-bounded bake to the same target whose rows replace the
-// last round's; the last round is the bake asked for, bit for bit. The earlier rounds cost at most
-// about a third of the last one more (a receiver that converges early is baked again each round:
-// there is no bake session to keep its rays yet, issue 39 item 3).
+// options' max_samples, each an error-bounded bake to the same target whose rows replace the last
+// round's; the last round is the bake asked for, bit for bit. The rounds run on one bake session
+// (session.hpp, bake_to): a round goes on from the last one's sums, so every ray is cast once and
+// the rounds together cost what the last one alone would.
 struct RefineRound {
     int round = 0, rounds = 0;      // 1-based: the round finished last (0: none yet), of `rounds`
     std::uint32_t max_samples = 0;  // that round's largest prefix
@@ -111,8 +111,12 @@ public:
     const TransferInfo& result() const { return m_result; }
     const BakeOptions& options() const { return m_options; }
     double seconds() const { return m_seconds.load(); }  // wall time of the bake once done
+    // Rays cast by every round once done (BakeSession::rays_cast: each ray once).
+    std::uint64_t rays_cast() const { return m_rays.load(); }
     // An error-bounded bake's last finished round (refine_rounds; round = 0 before the first).
     RefineRound refine_round() const;
+    // Every round finished so far, oldest first.
+    std::vector<RefineRound> refine_history() const;
 
 private:
     void run();
@@ -126,9 +130,10 @@ private:
     std::atomic<bool> m_cancel{false};
     std::atomic<BakeState> m_state{BakeState::running};
     std::atomic<double> m_fraction{0.0}, m_seconds{0.0};
+    std::atomic<std::uint64_t> m_rays{0};
     mutable std::mutex m_error_mutex;
     std::string m_error;
-    RefineRound m_round;  // under m_error_mutex
+    std::vector<RefineRound> m_rounds;  // under m_error_mutex
     std::thread m_thread;
 };
 
