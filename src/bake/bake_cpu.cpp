@@ -143,10 +143,13 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
     auto run_bounded_chunk = [&](std::size_t grid_first, std::size_t height, std::size_t first,
                                  std::size_t count, Scratch& sc) {
         ErrorBoundScratch& eb = sc.bound;
-        BoundRows rows = kept.acc != nullptr
-                             ? BoundRows{kept.acc + grid_first * std::size_t(KL),
-                                         kept.samples + grid_first, kept.error + grid_first}
-                             : eb.fresh_rows(height, KL);
+        BoundRows rows = kept.acc != nullptr ? BoundRows{kept.acc + grid_first * std::size_t(KL),
+                                                         kept.samples + grid_first,
+                                                         kept.error + grid_first,
+                                                         kept.visible + grid_first,
+                                                         kept.blocked + grid_first,
+                                                         kept.more + grid_first}
+                                             : eb.fresh_rows(height, KL);
         bake_chunk_to_error(bound, cap, tracer, rx, grid_first, height, rows, eb, progress);
         if (progress.stopped()) return;
         const std::size_t lead = first - grid_first;

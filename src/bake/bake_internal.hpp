@@ -50,15 +50,16 @@ struct CpuBakeTables {
 
     bool glossy = false, shadowed = false, bounded = false, local = false;
     std::size_t S = 0, chunk_receivers = 0;  // BakeOptions::chunk_receivers
-    int K = 0, KL = 0, F = 0, FL = 0;  // row and product columns (stages.hpp)
+    int K = 0, KL = 0, F = 0, FL = 0;        // row and product columns (stages.hpp)
     DirectionTable table;
     std::vector<float> Y;
     OpenControl open_control;  // local fixed-S sets
     ErrorBound bound;          // error-bounded bakes
 };
-// One pass over job.receivers with the tables: bake_cpu's body. An error-bounded pass bakes to prefixes of at most `cap` (0: the whole set), keeping
-// each row's sums, prefix and estimate in `kept` (the whole receiver set's rows; null: the pass's
-// scratch) — a later pass with a larger cap and the same `kept` traces only the new segments.
+// One pass over job.receivers with the tables: bake_cpu's body. An error-bounded pass bakes to
+// prefixes of at most `cap` (0: the whole set), keeping each row's sums, prefix and estimate in
+// `kept` (the whole receiver set's rows; null: the pass's scratch) — a later pass with a larger cap
+// and the same `kept` traces only the new segments.
 TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
                            const CpuBakeTables& tables, const Tracer* tracer, double seconds_bvh,
                            BoundRows kept = {}, std::size_t cap = 0);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace shprt::detail {
@@ -63,7 +64,10 @@ BoundRows ErrorBoundScratch::fresh_rows(std::size_t height, int KL) {
     acc.assign(height * std::size_t(KL), 0.0f);
     samples.assign(height, 0);
     error.assign(height, 0.0f);
-    return {acc.data(), samples.data(), error.data()};
+    visible.assign(height, 0);
+    blocked.assign(height, 0);
+    more.assign(height, 0);
+    return {acc.data(), samples.data(), error.data(), visible.data(), blocked.data(), more.data()};
 }
 
 std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, const Tracer* tracer,
@@ -82,7 +86,7 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
         std::iota(sc.active.begin(), sc.active.end(), std::uint32_t(0));
     } else {
         for (std::size_t j = 0; j < height; ++j)
-            if (rows.samples[j] == start && rows.error[j] > bound.target && start < Smax)
+            if (rows.samples[j] == start && rows.more[j] != 0 && start < Smax)
                 sc.active.push_back(std::uint32_t(j));
     }
     // One visible sample of weight w at S samples adds w·(Smax/S)·y(ω) to ĉ_S, whose norm over
@@ -111,9 +115,15 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
                 const std::size_t r = first + sc.active[k + i];
                 float* row = sc.w.data() + i * length;
                 weight_row(rx.normals[r], *bound.table, DirectionRange{a, b}, row);
-                if (bound.shadowed)
-                    block_rays += trace_row(*tracer, rx.positions[r], rx.normals[r], *bound.table,
-                                            DirectionRange{a, b}, row, sc.trace);
+                if (!bound.shadowed) continue;
+                const std::uint32_t cast =
+                    trace_row(*tracer, rx.positions[r], rx.normals[r], *bound.table,
+                              DirectionRange{a, b}, row, sc.trace);
+                const auto seen = static_cast<std::uint32_t>(
+                    std::count_if(row, row + length, [](float w) { return w != 0.0f; }));
+                rows.visible[sc.active[k + i]] += seen;
+                rows.blocked[sc.active[k + i]] += cast - seen;
+                block_rays += cast;
             }
             rays += block_rays;
             progress.add(0, block_rays);
@@ -147,19 +157,28 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
                     err = scale * distance(G, old, bound.KL);
                 }
                 if (a == 0) std::copy(old, old + KL, A);
-                bool closed = true;  // every ray so far blocked: the sum is exactly zero
-                for (std::size_t c = 0; c < KL; ++c) {
-                    A[c] += G[c];
-                    closed = closed && A[c] == 0.0f;
-                }
-                // Zero halves agree exactly, but a receiver that saw nothing in b rays may still
-                // see something between them: its error is taken as what one visible ray would
-                // make, the resolution of b samples (error_bound.hpp). With the open part exact,
-                // the same holds for a receiver that every ray so far left open.
-                if (closed || open) err = std::max(err, resolution / double(b));
+                for (std::size_t c = 0; c < KL; ++c) A[c] += G[c];
+                // Rare outcomes (error_bound.hpp, kRareRays): fewer than kRareRays rays saw the
+                // sky (none: closed) — or, with the open part exact, hit something (none: open).
+                // An opening or a blocker smaller than a ray's share that both halves met (or
+                // missed) alike makes them agree; the error is taken as at least
+                // kRareFloor + √n rays' worth at b samples, the count's own uncertainty.
+                const std::uint32_t fewest =
+                    controlled ? std::min(rows.visible[j], rows.blocked[j]) : rows.visible[j];
+                if (bound.shadowed && fewest < kRareRays)
+                    err = std::max(
+                        err, (kRareFloor + std::sqrt(double(fewest))) * resolution / double(b));
+                if (!bound.shadowed && open) err = std::max(err, resolution / double(b));
+                // Two successive estimates: a row stops at b when its estimate is under the
+                // target and the last one (at b/2) was under kPreviousFactor times it; pass 0
+                // has none, so every row takes at least 2·S0.
+                const double previous =
+                    a == 0 ? std::numeric_limits<double>::infinity() : double(rows.error[j]);
+                const bool over = err > bound.target || previous > kPreviousFactor * bound.target;
                 rows.samples[j] = std::uint32_t(b);
                 rows.error[j] = float(err);
-                if (err > bound.target && b < cap) sc.active[kept++] = j;
+                rows.more[j] = over ? 1 : 0;
+                if (over && b < cap) sc.active[kept++] = j;
             }
             sc.trace_seconds += project_start - trace_start;
             sc.project_seconds += thread_cpu_seconds() - project_start;

@@ -52,6 +52,17 @@ struct ErrorBound {
 std::vector<OpenControl> make_open_controls(const DirectionTable& table, const float* Y, int KL,
                                             std::size_t first_samples);
 
+// Two guards against an estimate that agrees by chance (docs/sampling.md, "When the estimate
+// is fooled"; chosen by measurement: bench/RESULTS.md, "No receiver over 2E"):
+//  - rare outcomes: a receiver with n < kRareRays visible rays of b (or, with the open part
+//    exact, n blocked ones) gets an estimate of at least (kRareFloor + √n) rays' worth at b
+//    samples — a small opening or blocker that both halves met, or missed, alike;
+//  - two successive estimates: a receiver stops at b only if its estimate at b/2 was at most
+//    kPreviousFactor·E as well (so every receiver takes at least 2·S0 samples).
+inline constexpr std::uint32_t kRareRays = 16;
+inline constexpr double kRareFloor = 1.5;
+inline constexpr double kPreviousFactor = 2.0;
+
 // What a chunk's rows have so far, `height` rows of each: A, the sum over the row's prefix with
 // the whole set's weights (KL floats), the prefix (0: not baked yet) and the estimated error. A
 // bake session keeps them across calls (BakeSession::bake_to), so that a later call with a larger
@@ -60,6 +71,9 @@ struct BoundRows {
     float* acc = nullptr;
     std::uint32_t* samples = nullptr;
     float* error = nullptr;
+    std::uint32_t* visible = nullptr;  // rays that reached the sky so far
+    std::uint32_t* blocked = nullptr;  // rays that hit something so far
+    std::uint8_t* more = nullptr;      // 1: the last estimate asked for more samples
 };
 
 // One worker's buffers, reused across chunks.
@@ -67,10 +81,12 @@ struct ErrorBoundScratch {
     std::vector<float> w;      // W of a block of rows over one segment
     std::vector<float> g, g0;  // the block's segment sums (pass 0: its two halves)
     std::vector<float> acc;    // the chunk's rows' A when no session keeps them (height × KL)
-    std::vector<std::uint32_t> samples;  // … their prefixes
-    std::vector<float> error;            // … their estimated errors
-    std::vector<std::uint32_t> active;   // rows still refining
-    std::vector<float> out;              // the chunk's rows ĉ (height × KL)
+    std::vector<std::uint32_t> samples;           // … their prefixes
+    std::vector<float> error;                     // … their estimated errors
+    std::vector<std::uint32_t> visible, blocked;  // … their rays' outcomes
+    std::vector<std::uint8_t> more;               // … whether they asked for more
+    std::vector<std::uint32_t> active;            // rows still refining
+    std::vector<float> out;                       // the chunk's rows ĉ (height × KL)
     TraceScratch trace;
     double trace_seconds = 0, project_seconds = 0;  // CPU time (this worker)
     // The scratch's own rows for `height` receivers, zeroed (nothing baked yet).

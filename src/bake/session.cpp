@@ -28,7 +28,8 @@ struct BakeSession::Impl {
     std::unique_ptr<detail::CpuBakeTables> tables;  // the CPU's per-receiver kinds
     // bake_to's rows of the whole receiver set (error_bound.hpp, BoundRows), and its last cap.
     std::vector<float> acc, error;
-    std::vector<std::uint32_t> samples;
+    std::vector<std::uint32_t> samples, visible, blocked;
+    std::vector<std::uint8_t> more;
     std::uint32_t last_cap = 0;
     std::uint64_t rays = 0;
 
@@ -80,8 +81,7 @@ BakeSession::BakeSession(const BakeJob& job, const BakeOptions& options)
         s.tracer = s.own_tracer.get();
         s.seconds_bvh = seconds_since(start);
     }
-    if (!s.whole_domain)
-        s.tables = std::make_unique<detail::CpuBakeTables>(checked, *s.directions);
+    if (!s.whole_domain) s.tables = std::make_unique<detail::CpuBakeTables>(checked, *s.directions);
 }
 
 BakeSession::~BakeSession() = default;
@@ -147,6 +147,9 @@ TransferInfo BakeSession::bake_to(std::uint32_t cap, TransferSink& sink, Progres
         s.acc.assign(total * std::size_t(s.tables->KL), 0.0f);
         s.samples.assign(total, 0);
         s.error.assign(total, 0.0f);
+        s.visible.assign(total, 0);
+        s.blocked.assign(total, 0);
+        s.more.assign(total, 0);
     }
     s.last_cap = cap;
     BakeJob job;
@@ -157,7 +160,10 @@ TransferInfo BakeSession::bake_to(std::uint32_t cap, TransferSink& sink, Progres
     job.tracer = s.tracer;
     BakeOptions o = s.options;
     if (progress) o.progress = std::move(progress);
-    TransferInfo info = s.run(job, o, {s.acc.data(), s.samples.data(), s.error.data()}, cap);
+    TransferInfo info = s.run(job, o,
+                              {s.acc.data(), s.samples.data(), s.error.data(), s.visible.data(),
+                               s.blocked.data(), s.more.data()},
+                              cap);
     info.samples = static_cast<int>(cap);  // as bake() with max_samples = cap records
     return info;
 }

@@ -69,7 +69,7 @@ TEST_F(CliMerge, ErrorBoundedBakeSameBitsForThreadsShardsAndStream) {
         EXPECT_EQ(other.transfer.target_error, 0.03) << name;
     }
     const RunResult info = shprt(fmt::format("info '{}'", out("m.shprt")));
-    EXPECT_NE(info.out.find("samples      receivers per prefix 64: "), std::string::npos)
+    EXPECT_NE(info.out.find("samples      receivers per prefix 128: "), std::string::npos)
         << info.out;
     EXPECT_NE(info.out.find("est. error   worst 0.0"), std::string::npos) << info.out;
 }
