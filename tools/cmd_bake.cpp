@@ -3,15 +3,14 @@
 // across the ranks of an MPI job (under mpirun, or --mpi). Thin: it parses the options into a
 // bake request (bake/request.hpp; its refusals come before any work), loads the scene, runs the
 // request (dist::run under MPI), draws the progress bar and prints the summary on stdout.
-#include "common/checkpoint_options.hpp"
 #include "common/command.hpp"
 #include "common/option_table.hpp"
 #include "common/progress_bar.hpp"
-#include "common/receiver_options.hpp"
 
 #include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/bake_summary.hpp"
 #include "shprt/bake/request.hpp"
+#include "shprt/bake/request_options.hpp"
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -46,13 +45,11 @@ namespace {
 struct BakeArgs {
     std::string scene, output;
     BakeOptionChoice bake;  // bake/bake_option_table.hpp, shared with `shprt view --bake`
-    bool half = false;
-    bool stream = false;
-    bool reproducible = false;
+    FileChoice file;        // --half, --stream, --reproducible: bake/request_options.hpp
     bool mpi = false;
-    std::size_t mpi_unit = 0;   // 0 = automatic
-    ReceiverArgs receivers;     // --domain texel, --refine: common/receiver_options.hpp
-    CheckpointArgs checkpoint;  // --checkpoint, --resume, --max-memory: checkpoint_options.hpp
+    std::size_t mpi_unit = 0;     // 0 = automatic
+    ReceiverChoice receivers;     // --domain texel, --refine: bake/request_options.hpp
+    CheckpointChoice checkpoint;  // --checkpoint, --resume, --max-memory: the same
 };
 
 // For the tests of the signals (tests/cli/test_cli_interrupt.cpp): when the environment variable
@@ -82,19 +79,13 @@ bool use_mpi(const BakeArgs& args) {
 BakeRequest request_from(const BakeArgs& args) {
     BakeRequest r;
     r.options = bake_options_from(args.bake, Spelling::command_line);
-    r.receivers = parse_receivers(args.receivers.choice);
-    const ReceiverChoice& c = args.receivers.choice;
+    r.receivers = parse_receivers(args.receivers);
+    const ReceiverChoice& c = args.receivers;
     r.probes = parse_probes(c.probes, c.probe_box, c.probe_bands);
-    SHPRT_CHECK(!args.receivers.float32 || std::holds_alternative<TexelGrid>(r.receivers),
-                invalid_argument, "--float32 needs --domain texel");
-    FileOutput file;
-    file.path = args.output;
-    file.stream = args.stream;
-    if (args.half) file.encoding = TransferEncoding::f16;
-    if (args.receivers.float32) file.encoding = TransferEncoding::f32;
-    file.write.reproducible = args.reproducible;
-    r.output = std::move(file);
-    apply_checkpoint_options(args.checkpoint, r);
+    SHPRT_CHECK(!c.float32 || std::holds_alternative<TexelGrid>(r.receivers), invalid_argument,
+                "--float32 needs --domain texel");
+    r.output = file_output_from(args.output, args.file, c.float32);
+    apply_checkpoint_choice(args.checkpoint, r, Spelling::command_line);
     r.distributed = use_mpi(args);
     check(r);
     return r;
@@ -208,20 +199,16 @@ const bool bake_registered = register_command(
              ->required();
          app.add_option("-o,--output", args->output, "Output .shprt file")->required();
          add_table_options(app, bake_option_table(), args->bake);
-         add_receiver_options(app, args->receivers);
-         app.add_flag("--half", args->half, "Store coefficients as float16");
-         app.add_flag("--stream", args->stream,
-                      "Write coefficients to the file as chunks finish (no V×K array in memory)");
-         app.add_flag("--reproducible", args->reproducible,
-                      "Leave out what differs between runs (times, rays, peak memory, device, "
-                      "the command line), so that the same bake gives the same bytes");
+         add_table_options(app, receiver_option_table(), args->receivers);
+         add_table_options(app, file_option_table(), args->file);
          app.add_flag("--mpi", args->mpi,
                       "Bake across the ranks of an MPI job (automatic under mpirun/srun): rank 0 "
                       "writes the file");
          app.add_option("--mpi-unit", args->mpi_unit,
                         "Smallest share of receivers a rank claims at a time (default: automatic, "
                         "enough to keep its threads busy)");
-         add_checkpoint_options(app, args->checkpoint);
+         add_table_options(app, checkpoint_option_table(), args->checkpoint);
+         app.get_option("--checkpoint")->excludes(app.get_option("--resume"));
          app.callback([args] { run(*args); });
      }});
 

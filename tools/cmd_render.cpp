@@ -3,7 +3,7 @@
 // the options, reads the file, prepares the light, calls render_image, saves (PNG: exposure +
 // filmic tone map + sRGB; EXR/HDR: linear).
 #include "common/command.hpp"
-#include "common/object_options.hpp"
+#include "common/option_table.hpp"
 #include "common/shading_options.hpp"
 
 #include "shprt/bake/object_bake.hpp"
@@ -33,10 +33,10 @@ namespace {
 
 struct RenderArgs {
     std::string input, output;
-    LightArgs light;  // common/shading_options.hpp, shared with `shade`, `view` and `export`
-    ShadingArgs shading;
+    LightChoice light;  // light/light_setup.hpp, shared with `shade`, `view` and `export`
+    ShadingChoice shading;
     CameraChoice camera;
-    ObjectArgs object;  // common/object_options.hpp, shared with `view`
+    ObjectChoice object;  // shade/object_shade.hpp, shared with `view`
     std::string size = "1280x720";
     int samples = 4;
     bool background = false, wireframe = false;
@@ -51,7 +51,7 @@ void run(const RenderArgs& a) {
     int width = 0, height = 0;
     parse_size(a.size, width, height);
     const LightSetup setup = light_setup_from(a.light);
-    const ShadingParams params = shading_params(a.shading, setup);
+    const ShadingParams params = shading_params(a.shading, setup.sun);
     const std::optional<ObjectPose> pose = object_pose_from(a.object);
     std::vector<std::string> inputs = input_files(a.input, a.light);
     if (pose) inputs.push_back(a.object.object);
@@ -117,14 +117,14 @@ const bool render_registered = register_command(
          app.add_option("-o,--output", args->output,
                         "Output image: .png (tone mapped), .exr or .hdr (linear)")
              ->required();
-         add_light_options(app, args->light);
+         add_table_options(app, light_option_table(), args->light);
          add_shading_options(app, args->shading,
                              kCoeffsOption | kDeprecatedCoeffsOption | kAlbedoOption | kViewOption,
                              "Exposure multiplier for PNG (default 1)",
                              "Interreflected bakes: the direct light only (the file's T_0), "
                              "without the bounces");
-         add_camera_options(app, args->camera);
-         add_object_options(app, args->object);
+         add_table_options(app, camera_option_table(), args->camera);
+         add_table_options(app, object_option_table(), args->object);
          app.add_option("--size", args->size, "Image size WxH (default 1280x720)");
          app.add_flag("--background", args->background,
                       "Draw the light (its SH projection) behind the scene");

@@ -2,6 +2,7 @@
 // --ceiling`), list the built-ins (`shprt scene list`), load any scene and describe it
 // (`shprt scene info SPEC`), or give it a new UV atlas (`shprt scene unwrap SPEC -o OUT.ply`).
 #include "common/command.hpp"
+#include "common/option_table.hpp"
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -16,12 +17,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <optional>
 #include <string>
 
 namespace shprt::tools {
@@ -57,32 +55,18 @@ void generate(const GenerateArgs& args) {
 
 struct UnwrapArgs {
     std::string scene, output;
-    std::optional<double> texel_density;
-    std::optional<int> resolution;
-    UvAtlasOptions atlas;
+    UnwrapChoice atlas;  // scene/uv_atlas.hpp
 };
 
 // `shprt scene unwrap`: a conformal atlas (scene/uv_atlas.hpp) written as the PLY's s, t.
-void unwrap(UnwrapArgs args) {
+void unwrap(const UnwrapArgs& args) {
     SHPRT_CHECK(lower_extension(args.output) == ".ply", invalid_argument,
                 "{}: scenes are written as PLY (use a .ply name)", args.output);
-    SHPRT_CHECK(!(args.texel_density && args.resolution), invalid_argument,
-                "--texel-density and --resolution: give one (the density chooses the resolution)");
+    const UvAtlasOptions options = unwrap_options_from(args.atlas);
     check_output_is_not_input(args.output, {args.scene});
     check_output_writable(args.output);
-    args.atlas.layout = ChartLayout::conformal;
-    if (args.texel_density) {
-        SHPRT_CHECK(*args.texel_density > 0 && std::isfinite(*args.texel_density), invalid_argument,
-                    "--texel-density {}: expected texels per metre, > 0", *args.texel_density);
-        args.atlas.texels_per_metre = *args.texel_density;
-    }
-    if (args.resolution) {
-        SHPRT_CHECK(*args.resolution >= 1 && *args.resolution <= kMaxTexelSide, invalid_argument,
-                    "--resolution {}: expected 1 to {}", *args.resolution, kMaxTexelSide);
-        args.atlas.resolution = *args.resolution;
-    }
     Mesh mesh = load_scene(args.scene);
-    const UvAtlasInfo info = make_uv_atlas(mesh, args.atlas);
+    const UvAtlasInfo info = make_uv_atlas(mesh, options);
     write_ply(mesh, args.output);
     print(fmt::format("wrote {}: {} with a new UV atlas\nunwrap: {}\n{}", args.output, args.scene,
                       describe(info), describe(mesh)));
@@ -136,19 +120,7 @@ const bool scene_registered = register_command(
                         "Scene file (OBJ, PLY, glTF, ...) or builtin:NAME")
              ->required();
          un->add_option("-o,--output", unwrap_args->output, "Output PLY file")->required();
-         un->add_option("--texel-density", unwrap_args->texel_density,
-                        "Texels per metre (chooses the resolution)");
-         un->add_option("--resolution", unwrap_args->resolution,
-                        "Square image side the atlas fills (default 1024)");
-         un->add_option("--gutter", unwrap_args->atlas.gutter_texels, "Empty texels between charts")
-             ->capture_default_str();
-         unwrap_args->atlas.max_angle_deg = kUnwrapMaxAngle;
-         un->add_option("--max-angle", unwrap_args->atlas.max_angle_deg,
-                        "Largest angle (degrees) between a chart's normals and its seed's")
-             ->capture_default_str();
-         un->add_option("--max-stretch", unwrap_args->atlas.max_stretch,
-                        "Split a chart while a triangle's stretch exceeds this (> 1)")
-             ->capture_default_str();
+         add_table_options(*un, unwrap_option_table(), unwrap_args->atlas);
          un->callback([unwrap_args] { unwrap(*unwrap_args); });
 
          for (const std::string& name : builtin_scene_names()) {

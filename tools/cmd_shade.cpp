@@ -2,6 +2,7 @@
 // radiance (shade/shade.hpp) under an SH light, in the input vertex order. Thin: checks the
 // options, reads the file, prepares the light, shades on the CPU, writes atomically.
 #include "common/command.hpp"
+#include "common/option_table.hpp"
 #include "common/shading_options.hpp"
 
 #include "shprt/core/error.hpp"
@@ -25,8 +26,8 @@ namespace {
 
 struct ShadeArgs {
     std::string input, output;
-    LightArgs light;  // common/shading_options.hpp, shared with `render`, `view` and `export`
-    ShadingArgs shading;
+    LightChoice light;  // light/light_setup.hpp, shared with `render`, `view` and `export`
+    ShadingChoice shading;
     std::string quantity;  // texel files: irradiance (default) or radiance
 };
 
@@ -50,7 +51,7 @@ void run(const ShadeArgs& a) {
     SHPRT_CHECK(a.quantity.empty() || a.quantity == "irradiance" || a.quantity == "radiance",
                 invalid_argument, "--quantity '{}': expected irradiance or radiance", a.quantity);
     const LightSetup setup = light_setup_from(a.light);
-    const ShadingParams params = shading_params(a.shading, setup);
+    const ShadingParams params = shading_params(a.shading, setup.sun);
     check_output_is_not_input(a.output, input_files(a.input, a.light));
     check_output_writable(a.output);  // a directory, a device: refused before the work
 
@@ -98,7 +99,7 @@ const bool shade_registered = register_command(
          app.add_option("-o,--output", args->output,
                         "Output .csv, .ply, .npy or .npz (texel files: .npy, .exr or .png)")
              ->required();
-         add_light_options(app, args->light);
+         add_table_options(app, light_option_table(), args->light);
          add_shading_options(app, args->shading,
                              kCoeffsOption | kDeprecatedCoeffsOption | kAlbedoOption | kEyeOption |
                                  kSunSamplesOption,

@@ -10,6 +10,7 @@
 #include "shprt/bake/object_bake.hpp"
 #include "shprt/bake/request.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/file.hpp"
 #include "shprt/core/log.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/io/shprt_file.hpp"
@@ -204,6 +205,106 @@ void run_view(const ViewRequest& r) {
         run_view_benchmark(r, file, rig, config, shown, name);
     else
         run_view_window(r, params, file, config, shown, name);
+}
+
+const std::vector<OptionRow<ViewChoice>>& view_option_table() {
+    static const std::vector<OptionRow<ViewChoice>> table = [] {
+        using C = ViewChoice;
+        std::vector<OptionRow<C>> t;
+        add_row(t, "size", &C::size, "Window or image size WxH (default 1280x720)");
+        add_row(t, "background", &C::background, "Draw the light behind the scene");
+        add_row(t, "wireframe", &C::wireframe, "Draw triangle edges only");
+        add_row(t, "msaa", &C::msaa,
+                "MSAA samples per pixel; 0 = automatic (default): 4, as `shprt render "
+                "--samples`, but 1 in the window and --benchmark on a software rasteriser "
+                "(llvmpipe), where 4x MSAA more than halves the frame rate");
+        add_row(t, "no_vsync", &C::no_vsync, "Do not wait for the display's refresh");
+        add_row(t, "bake", &C::bake_scene,
+                "FILE is a scene: bake it here and show it while it refines");
+        add_row(t, "benchmark", &C::benchmark,
+                "Render FRAMES frames offscreen per K' = 32, 48, 64, 128, 256 and print "
+                "frames/s");
+        add_row(t, "benchmark_light", &C::benchmark_light,
+                "With --benchmark: also turn the light every frame");
+        add_row(t, "screenshot", &C::screenshot,
+                "Render one frame without a window into OUT.png and exit");
+        add_row(t, "frames", &C::frames,
+                "Close the window after N frames (with --bake: N frames after the bake)")
+            .hidden = true;
+        add_row(t, "window_screenshot", &C::window_screenshot,
+                "With --frames: save the window's last frame (panel included) as PNG")
+            .hidden = true;
+        add_row(t, "offscreen", &C::offscreen,
+                "Context for --screenshot/--benchmark: auto, egl or window")
+            .hidden = true;
+        return complete_rows(std::move(t));
+    }();
+    return table;
+}
+
+ViewRequest request_from(const ViewChoice& a) {
+    const auto png = [](const std::string& path) { return lower_extension(path) == ".png"; };
+    SHPRT_CHECK(a.msaa >= 0 && a.msaa <= 64, invalid_argument,
+                "--msaa {}: MSAA samples must be 1 to 64 (or 0: automatic)", a.msaa);
+    int width = 0, height = 0;
+    parse_size(a.size, width, height);
+    check(a.camera);
+    // --albedo and --coeffs are registered with the bake options (an interreflected bake's
+    // albedo, the K baked). Without --bake, and with a glossy bake (which has no albedo), --albedo
+    // overrides the glossy colours; without --bake, --coeffs is the K' shown first.
+    const bool bake_glossy =
+        a.bake_scene && is_matrix(kind_row(parse_transfer_kind(a.bake.transfer)));
+    ShadingChoice shading = a.shading;
+    BakeOptionChoice bake_args = a.bake;
+    if (!a.bake_scene || bake_glossy) {
+        shading.albedo = a.bake.albedo;
+        bake_args.albedo.clear();
+    }
+    if (!a.bake_scene && a.bake.coeffs)  // the K' shown first: its deprecated name here
+        shading.coeffs = static_cast<int>(std::clamp<long long>(*a.bake.coeffs, -1, 1 << 20));
+    const LightSetup setup = light_setup_from(a.light);
+    ShadingParams params = shading_params(shading, setup.sun);
+    const OffscreenBackend backend = parse_offscreen_backend(a.offscreen);
+    SHPRT_CHECK(!(a.benchmark && !a.screenshot.empty()), invalid_argument,
+                "--benchmark and --screenshot both given; use one");
+    SHPRT_CHECK(!a.benchmark || *a.benchmark >= 1, invalid_argument,
+                "--benchmark {}: need at least one frame", a.benchmark.value_or(0));
+    SHPRT_CHECK(!a.benchmark_light || a.benchmark, invalid_argument,
+                "--benchmark-light needs --benchmark FRAMES");
+    SHPRT_CHECK(a.screenshot.empty() || png(a.screenshot), invalid_argument,
+                "--screenshot {}: the viewer writes what it displays, as PNG (use `shprt render` "
+                "for .exr/.hdr)",
+                a.screenshot);
+    SHPRT_CHECK(!a.frames || *a.frames >= 1, invalid_argument, "--frames {}: must be ≥ 1",
+                a.frames.value_or(0));
+    SHPRT_CHECK(a.window_screenshot.empty() || (a.frames && png(a.window_screenshot)),
+                invalid_argument, "--window-screenshot {}: needs --frames N and a .png name",
+                a.window_screenshot);
+    std::vector<std::string> inputs = input_files(a.input, a.light);
+    if (!a.object.object.empty()) inputs.push_back(a.object.object);
+    for (const std::string& out : {a.screenshot, a.window_screenshot})
+        if (!out.empty()) check_output_is_not_input(out, inputs);
+    if (!a.bake_scene && !a.bake_only_given.empty())
+        fail(ErrorCode::invalid_argument, "{} is a bake option: add --bake (FILE is then a scene)",
+             a.bake_only_given.front());
+    const std::optional<ObjectPose> object_pose = object_pose_from(a.object);
+    ViewRequest r;
+    if (a.bake_scene) r.bake = bake_options_from(bake_args, Spelling::command_line);
+    r.input = a.input;
+    r.light = setup;
+    r.params = params;
+    r.camera = a.camera;
+    r.object = a.object.object;
+    r.object_pose = object_pose;
+    r.width = width, r.height = height, r.msaa = a.msaa;
+    r.background = a.background, r.wireframe = a.wireframe, r.vsync = !a.no_vsync;
+    r.screenshot = a.screenshot;
+    r.benchmark = a.benchmark, r.benchmark_light = a.benchmark_light;
+    r.max_frames = a.frames.value_or(0);
+    r.window_screenshot = a.window_screenshot;
+    r.backend = backend;
+    check(r);
+    return r;
 }
 
 }  // namespace shprt::viewer

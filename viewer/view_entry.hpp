@@ -9,16 +9,20 @@
 #include "offscreen_context.hpp"
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/bake_option_table.hpp"
+#include "shprt/core/options.hpp"
 #include "shprt/core/progress.hpp"
 #include "shprt/light/light_setup.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/shade/camera.hpp"
+#include "shprt/shade/object_shade.hpp"
 #include "shprt/shade/params.hpp"
 #include "shprt/transfer/object.hpp"
 
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace shprt::viewer {
 
@@ -60,5 +64,34 @@ void check(const ViewRequest& request);
 // asked (a direct part, probes), what the window throws ("cannot open a window: …" without a
 // display) and Error(unsupported) "bake failed: …" for a bake that failed in the window.
 void run_view(const ViewRequest& request);
+
+// `shprt view`'s options as typed: the light, camera, object, bake and shading choices of the
+// library's tables, and the view's own (view_option_table).
+struct ViewChoice {
+    std::string input;
+    LightChoice light;
+    CameraChoice camera;
+    ObjectChoice object;
+    BakeOptionChoice bake;
+    ShadingChoice shading;  // its --albedo and --coeffs are the bake options' (request_from)
+    // The view's own, view_option_table's rows.
+    bool bake_scene = false;  // --bake: `input` is a scene, baked here
+    std::string size = "1280x720";
+    int msaa = kAutoMsaa;
+    bool background = false, wireframe = false, no_vsync = false;
+    std::optional<int> benchmark;
+    bool benchmark_light = false;
+    std::string screenshot;
+    // Hidden (tests): close the window after N frames; save its last frame; choose the context.
+    std::optional<int> frames;
+    std::string window_screenshot, offscreen = "auto";
+    // Which bake options were given (only allowed with --bake), as the command line spells them.
+    std::vector<std::string> bake_only_given;
+};
+// The view's own options (core/options.hpp), in the command line's help order.
+const std::vector<OptionRow<ViewChoice>>& view_option_table();
+// The request the choice describes, every option checked before any work (one line naming the
+// option as the command line spells it), check(request) included; the callbacks are left empty.
+ViewRequest request_from(const ViewChoice& choice);
 
 }  // namespace shprt::viewer

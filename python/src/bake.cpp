@@ -7,6 +7,7 @@
 
 #include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/request.hpp"
+#include "shprt/bake/request_options.hpp"
 #include "shprt/core/parse.hpp"
 #include "shprt/transfer/kind_table.hpp"
 
@@ -133,26 +134,16 @@ void fill_request(const Receivers& rx, const Output& out, BakeRequest& request) 
                 "output=, then read it with shprt.load");
     SHPRT_CHECK(out.path || (!out.half && !out.stream && !out.reproducible), invalid_argument,
                 "half, stream and reproducible describe the file: give output=");
-    if (out.path) {
-        FileOutput file;
-        file.path = *out.path;
-        file.stream = out.stream;
-        if (out.half) file.encoding = TransferEncoding::f16;
-        if (out.float32) file.encoding = TransferEncoding::f32;
-        file.write.reproducible = out.reproducible;
-        request.output = std::move(file);
-    }
+    if (out.path)
+        request.output =
+            file_output_from(*out.path, {out.half, out.stream, out.reproducible}, out.float32);
     SHPRT_CHECK(!(out.checkpoint && out.resume), invalid_argument,
                 "checkpoint and resume: give one (resume continues the checkpoint it names)");
     if (out.checkpoint || out.resume)
         request.checkpoint = CheckpointRequest{out.checkpoint ? *out.checkpoint : *out.resume,
                                                bool(out.resume), out.checkpoint_every};
-    if (!out.max_memory.is_none()) {
-        const std::string text = spelled(out.max_memory, "", "max_memory");
-        SHPRT_CHECK(
-            parse_byte_size(text, request.max_memory) && request.max_memory > 0, invalid_argument,
-            "max_memory='{}': expected a size such as 512M or 4G (bytes, K, M, G or T)", text);
-    }
+    if (!out.max_memory.is_none())
+        apply_max_memory(spelled(out.max_memory, "", "max_memory"), request, Spelling::python);
     check(request);
 }
 
@@ -286,6 +277,9 @@ using Size = Loose<SizeName>;
 
 void bind_bake(py::module_& m) {
     const BakeOptionChoice d;
+    const ReceiverChoice rd;    // the receivers' defaults: receiver_option_table's
+    const FileChoice fd;        // file_option_table's
+    const CheckpointChoice cd;  // checkpoint_option_table's
     m.def(
         "bake",
         [](Loose<MeshOrArrayName> vertices, OptionalArrayLike faces, OptionalArrayLike normals,
@@ -353,14 +347,14 @@ void bind_bake(py::module_& m) {
         "bounces"_a = py::none(), "tolerance"_a = py::none(), "two_sided"_a = d.two_sided,
         "indirect_samples"_a = py::none(), "source_spacing"_a = py::none(),
         "bounce_coeffs"_a = py::none(), "threads"_a = d.threads, "device"_a = d.device,
-        "progress"_a = py::none(), "domain"_a = "vertex", "resolution"_a = py::none(),
-        "uv_set"_a = 0, "unwrap"_a = false, "texel_density"_a = py::none(), "refine"_a = py::none(),
-        "max_vertices"_a = py::none(), "max_edge_split_depth"_a = py::none(),
-        "shard"_a = py::none(), "probes"_a = py::none(), "probe_box"_a = py::none(),
-        "probe_bands"_a = py::none(), "output"_a = py::none(), "half"_a = false,
-        "float32"_a = false, "stream"_a = false, "reproducible"_a = false,
-        "checkpoint"_a = py::none(), "resume"_a = py::none(), "checkpoint_every"_a = 30.0,
-        "max_memory"_a = py::none(),
+        "progress"_a = py::none(), "domain"_a = rd.domain, "resolution"_a = py::none(),
+        "uv_set"_a = rd.uv_set, "unwrap"_a = rd.unwrap, "texel_density"_a = py::none(),
+        "refine"_a = py::none(), "max_vertices"_a = py::none(),
+        "max_edge_split_depth"_a = py::none(), "shard"_a = py::none(), "probes"_a = py::none(),
+        "probe_box"_a = py::none(), "probe_bands"_a = py::none(), "output"_a = py::none(),
+        "half"_a = fd.half, "float32"_a = rd.float32, "stream"_a = fd.stream,
+        "reproducible"_a = fd.reproducible, "checkpoint"_a = py::none(), "resume"_a = py::none(),
+        "checkpoint_every"_a = cd.checkpoint_every, "max_memory"_a = py::none(),
         R"(Bakes per-vertex SH transfer (bake/bake.hpp) and returns it as a float32 array of
 shape (V, K) — (V, 3, K) for RGB transfer — with K = bands² or coeffs (default 16; 25 for glossy).
 

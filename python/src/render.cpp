@@ -27,7 +27,8 @@ using namespace pybind11::literals;
 
 void bind_render(py::module_& m) {
 #if SHPRT_HAS_RENDER
-    const ShadingParams d;  // the defaults: shading_option_table's, the command line's
+    const ShadingParams d;      // the defaults: shading_option_table's, the command line's
+    const ShadingChoice named;  // glossy's and view's: shading_choice_table's
     m.def(
         "render",
         [](const ShprtFile& given, ArrayLike light, int width, int height,
@@ -114,11 +115,11 @@ void bind_render(py::module_& m) {
         },
         "file"_a, "light"_a, py::kw_only(), "width"_a = 1280, "height"_a = 720,
         "camera"_a = py::none(), "fov"_a = py::none(), "k"_a = d.k, "gloss"_a = d.gloss,
-        "shading_coeffs"_a = d.coeffs, "coeffs"_a = py::none(), "view"_a = "radiance",
+        "shading_coeffs"_a = d.coeffs, "coeffs"_a = py::none(), "view"_a = named.view,
         "background"_a = false, "wireframe"_a = false, "samples"_a = 4, "brdf"_a = py::none(),
-        "albedo"_a = py::none(), "direct"_a = d.direct, "glossy"_a = "matrix", "sun"_a = py::none(),
-        "object"_a = py::none(), "at"_a = py::none(), "object_scale"_a = 1.0,
-        "object_rotate"_a = py::none(),
+        "albedo"_a = py::none(), "direct"_a = d.direct, "glossy"_a = named.glossy,
+        "sun"_a = py::none(), "object"_a = py::none(), "at"_a = py::none(),
+        "object_scale"_a = ObjectChoice{}.object_scale, "object_rotate"_a = py::none(),
         R"(Renders the baked scene headless (OpenGL through EGL, the renderer of `shprt render`):
 returns linear RGB (height, width, 3) float32, row 0 at the top. camera (ex, ey, ez, tx, ty, tz)
 or None for the default view; view 'radiance', 'irradiance' or 'transfer'. brdf and albedo as

@@ -229,8 +229,8 @@ void bind_light(py::module_& m) {
             }
             return light_array(std::move(light));
         },
-        "specs"_a = "builtin", "K"_a = 16, "rotate"_a = py::none(), "window"_a = "none",
-        "window_strength"_a = 0.0,
+        "specs"_a = "builtin", "K"_a = 16, "rotate"_a = py::none(),
+        "window"_a = LightChoice{}.window, "window_strength"_a = LightChoice{}.window_strength,
         R"(A distant light as (3, K) float32 SH coefficients (RGB rows), through the one light
 path (light/light_setup.hpp): the specs summed — 'FILE.hdr|.exr' (equirect or cube cross),
 'constant[:R,G,B]', 'gradient', 'sun:X,Y,Z[,RADIUS_DEG[,R,G,B]]', 'builtin' — windowed, then

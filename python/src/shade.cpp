@@ -68,7 +68,8 @@ ShadingParams shading_params(const ShadingKeywords& w) {
 }
 
 void bind_shade(py::module_& m) {
-    const ShadingParams d;  // the defaults: shading_option_table's, the command line's
+    const ShadingParams d;      // the defaults: shading_option_table's, the command line's
+    const ShadingChoice named;  // glossy's: shading_choice_table's
     m.def(
         "shade",
         [](const ShprtFile& given, ArrayLike light, double k, double gloss,
@@ -99,8 +100,8 @@ void bind_shade(py::module_& m) {
         },
         "file"_a, "light"_a, py::kw_only(), "k"_a = d.k, "gloss"_a = d.gloss, "eye"_a = py::none(),
         "shading_coeffs"_a = d.coeffs, "coeffs"_a = py::none(), "brdf"_a = py::none(),
-        "albedo"_a = py::none(), "direct"_a = d.direct, "glossy"_a = "matrix", "sun"_a = py::none(),
-        "sun_samples"_a = d.sun_samples,
+        "albedo"_a = py::none(), "direct"_a = d.direct, "glossy"_a = named.glossy,
+        "sun"_a = py::none(), "sun_samples"_a = d.sun_samples,
         R"(Per-vertex shading on the CPU (shade/shade.hpp): returns (irradiance, radiance), each
 (V, 3) float32, under light (3, K) — for a texel file (N, 3), one row per covered texel in the
 atlas's order (shade/texel_shade.hpp). k is the diffuse share (1 = diffuse only), gloss the Phong

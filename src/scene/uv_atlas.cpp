@@ -745,4 +745,42 @@ std::string describe(const UvAtlasInfo& info) {
     return out;
 }
 
+const std::vector<OptionRow<UnwrapChoice>>& unwrap_option_table() {
+    static const std::vector<OptionRow<UnwrapChoice>> table = [] {
+        using C = UnwrapChoice;
+        std::vector<OptionRow<C>> t;
+        add_row(t, "texel_density", &C::texel_density, "Texels per metre (chooses the resolution)");
+        add_row(t, "resolution", &C::resolution,
+                "Square image side the atlas fills (default 1024)");
+        add_row(t, "gutter", &C::gutter, "Empty texels between charts");
+        add_row(t, "max_angle", &C::max_angle,
+                "Largest angle (degrees) between a chart's normals and its seed's");
+        add_row(t, "max_stretch", &C::max_stretch,
+                "Split a chart while a triangle's stretch exceeds this (> 1)");
+        return complete_rows(std::move(t));
+    }();
+    return table;
+}
+
+UvAtlasOptions unwrap_options_from(const UnwrapChoice& c) {
+    SHPRT_CHECK(!(c.texel_density && c.resolution), invalid_argument,
+                "--texel-density and --resolution: give one (the density chooses the resolution)");
+    UvAtlasOptions atlas;
+    atlas.layout = ChartLayout::conformal;
+    atlas.gutter_texels = c.gutter;
+    atlas.max_angle_deg = c.max_angle;
+    atlas.max_stretch = c.max_stretch;
+    if (c.texel_density) {
+        SHPRT_CHECK(*c.texel_density > 0 && std::isfinite(*c.texel_density), invalid_argument,
+                    "--texel-density {}: expected texels per metre, > 0", *c.texel_density);
+        atlas.texels_per_metre = *c.texel_density;
+    }
+    if (c.resolution) {
+        SHPRT_CHECK(*c.resolution >= 1 && *c.resolution <= kMaxTexelSide, invalid_argument,
+                    "--resolution {}: expected 1 to {}", *c.resolution, kMaxTexelSide);
+        atlas.resolution = *c.resolution;
+    }
+    return atlas;
+}
+
 }  // namespace shprt

@@ -304,4 +304,15 @@ Camera camera_from(const CameraChoice& choice, const Mesh& mesh, float aspect,
     return camera;
 }
 
+const std::vector<OptionRow<CameraChoice>>& camera_option_table() {
+    static const std::vector<OptionRow<CameraChoice>> table = [] {
+        std::vector<OptionRow<CameraChoice>> t;
+        add_row(t, "camera", &CameraChoice::camera,
+                "EX,EY,EZ,TX,TY,TZ: eye and target (default: frames the scene)");
+        add_row(t, "fov", &CameraChoice::fov, "Vertical field of view, degrees");
+        return complete_rows(std::move(t));
+    }();
+    return table;
+}
+
 }  // namespace shprt

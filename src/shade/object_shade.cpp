@@ -6,6 +6,8 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/math.hpp"
 #include "shprt/core/parallel.hpp"
+#include "shprt/core/parse.hpp"
+#include "shprt/light/light_setup.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/rotation.hpp"
 #include "shprt/sh/zonal.hpp"
@@ -187,6 +189,41 @@ ObjectShading shade_object(const DynamicObject& object, const ObjectPose& pose,
         }
     });
     return out;
+}
+
+const std::vector<OptionRow<ObjectChoice>>& object_option_table() {
+    static const std::vector<OptionRow<ObjectChoice>> table = [] {
+        using C = ObjectChoice;
+        std::vector<OptionRow<C>> t;
+        add_row(t, "object", &C::object,
+                "A mesh (any scene file) lit from the file's transfer probes (docs/probes.md)");
+        add_row(t, "at", &C::at, "X,Y,Z: where the object's centre goes (with --object)");
+        add_row(t, "object_scale", &C::object_scale, "The object's uniform scale (default 1)");
+        add_row(t, "object_rotate", &C::object_rotate,
+                "YAW,PITCH,ROLL in degrees: the object's rotation, as --rotate of lights");
+        return complete_rows(std::move(t));
+    }();
+    return table;
+}
+
+std::optional<ObjectPose> object_pose_from(const ObjectChoice& c) {
+    if (c.object.empty()) {
+        SHPRT_CHECK(c.at.empty() && c.object_rotate.empty() && c.object_scale == 1,
+                    invalid_argument,
+                    "--at, --object-scale and --object-rotate place an object: give --object MESH");
+        return std::nullopt;
+    }
+    SHPRT_CHECK(!c.at.empty(), invalid_argument, "--object {}: give its position with --at X,Y,Z",
+                c.object);
+    const std::vector<double> at = parse_numbers(c.at, 3, "--at X,Y,Z");
+    ObjectPose pose;
+    pose.position = {float(at[0]), float(at[1]), float(at[2])};
+    SHPRT_CHECK(c.object_scale > 0 && std::isfinite(c.object_scale), invalid_argument,
+                "--object-scale {}: must be a finite number > 0", c.object_scale);
+    pose.scale = float(c.object_scale);
+    if (!c.object_rotate.empty()) pose.yaw_pitch_roll_deg = parse_yaw_pitch_roll(c.object_rotate);
+    check(pose);
+    return pose;
 }
 
 }  // namespace shprt

@@ -2,6 +2,8 @@
 #include "shprt/shade/params.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/log.hpp"
+#include "shprt/core/parse.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/shade/camera.hpp"
@@ -202,6 +204,59 @@ std::string describe_terms(const ShadingPlan& plan, const Mesh& mesh, int K_used
     return fmt::format("brdf=materials: {}; none = {}; worst zonal fit error {:.1f}% at {} bands{}",
                        describe_brdfs(mesh), to_string(g.brdf), 100 * worst, bands,
                        fit_note(worst_brdf, worst, bands));
+}
+
+const std::vector<OptionRow<ShadingChoice>>& shading_choice_table() {
+    static const std::vector<OptionRow<ShadingChoice>> table = [] {
+        using C = ShadingChoice;
+        std::vector<OptionRow<C>> t;
+        add_row(t, "brdf", &C::brdf,
+                "Glossy bakes: the BRDF lobe phong:E (normalised Phong), blinn:E (Blinn-Phong) "
+                "or ggx:R (roughness), optionally :R,G,B, its specular colour (default white); "
+                "with --k the diffuse share");
+        add_row(t, "glossy", &C::glossy,
+                "matrix (default: transfer matrices, needs a glossy bake) or paper (the "
+                "paper's zonal term; a glossy bake is turned into diffuse transfer)");
+        add_row(t, "coeffs", &C::coeffs,
+                "Deprecated here: --shading-coeffs (bake's --coeffs is the K baked)");
+        add_row(t, "albedo", &C::albedo,
+                "Glossy shading: R,G,B (linear, 0 to 1) overriding the diffuse and "
+                "specular colours");
+        add_row(t, "view", &C::view,
+                "radiance (default), irradiance, or transfer (AO-like, light ignored)");
+        add_row(t, "eye", &C::eye,
+                "Eye position X,Y,Z for the glossy term (default: the default render "
+                "camera)");
+        return complete_rows(std::move(t));
+    }();
+    return table;
+}
+
+ShadingParams shading_params(const ShadingChoice& c, const std::optional<Sun>& sun) {
+    constexpr Spelling cli = Spelling::command_line;
+    ShadingParams p = c.params;
+    SHPRT_CHECK(!(p.coeffs != 0 && c.coeffs), invalid_argument,
+                "--coeffs {} and --shading-coeffs {}: give --shading-coeffs alone (--coeffs is "
+                "its deprecated name here)",
+                c.coeffs.value_or(0), p.coeffs);
+    if (c.coeffs) {
+        log_warn(
+            "--coeffs {0} is deprecated in shading: it means K' here and K in bake; use "
+            "--shading-coeffs {0}",
+            *c.coeffs);
+        p.coeffs = *c.coeffs;
+    }
+    p.view = parse_view(c.view, cli);
+    p.glossy = parse_glossy_term(c.glossy, cli);
+    if (!c.brdf.empty()) p.brdf = parse_brdf(c.brdf);
+    if (!c.albedo.empty()) {
+        const std::vector<double> rgb = parse_numbers(c.albedo, 3, "--albedo R,G,B");
+        p.albedo = Vec3f{float(rgb[0]), float(rgb[1]), float(rgb[2])};
+    }
+    if (!c.eye.empty()) p.eye = parse_vec3(c.eye, "--eye");
+    p.sun = sun;
+    check(p, cli);
+    return p;
 }
 
 }  // namespace shprt

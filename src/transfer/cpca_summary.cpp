@@ -2,12 +2,14 @@
 #include "shprt/transfer/cpca_summary.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/parse.hpp"
 #include "shprt/transfer/kind_table.hpp"
 
 #include <fmt/format.h>
 #include <fmt/printf.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace shprt {
@@ -100,6 +102,48 @@ std::string probe_cpca_summary(const ProbeCpcaResult& r, const CpcaOptions& opti
     if (r.light_relative_rmse)
         out += fmt::sprintf(", %.3f%% under %s", 100.0 * *r.light_relative_rmse, light_name);
     return out + "\n";
+}
+
+const std::vector<OptionRow<CpcaChoice>>& cpca_option_table() {
+    static const std::vector<OptionRow<CpcaChoice>> table = [] {
+        using C = CpcaChoice;
+        std::vector<OptionRow<C>> t;
+        add_row(t, "cpca", &C::cpca,
+                "CLUSTERS,VECTORS: clusters (1 to the vertex count) and PCA vectors "
+                "per cluster (1 to the floats per vertex)");
+        add_row(t, "probe_cpca", &C::probe_cpca,
+                "CLUSTERS,VECTORS: compress the file's transfer probes too (clusters 1 to "
+                "the valid probes, vectors 1 to channels x K x K); without it they are "
+                "kept as they are");
+        add_row(t, "half", &C::half, "Store the code as float16 (not the probes')");
+        add_row(t, "seed", &C::seed, "Seed of the k-means++ seeding (default 1)");
+        add_row(t, "iterations", &C::iterations, "Lloyd iterations at most (default 16)");
+        add_row(t, "threads", &C::threads, "Worker threads (default 0 = all)");
+        return complete_rows(std::move(t));
+    }();
+    return table;
+}
+
+CpcaFits cpca_options_from(const CpcaChoice& c) {
+    // CLUSTERS,VECTORS of `option`: two whole numbers ≥ 1.
+    const auto parse = [&c](const std::string& option, const std::string& text) {
+        const std::vector<double> cv = parse_numbers(text, 2, option + " CLUSTERS,VECTORS");
+        SHPRT_CHECK(cv[0] >= 1 && cv[1] >= 1 && cv[0] == std::floor(cv[0]) &&
+                        cv[1] == std::floor(cv[1]) && cv[0] < 1e9 && cv[1] < 1e9,
+                    invalid_argument, "{} {}: CLUSTERS and VECTORS must be whole numbers ≥ 1",
+                    option, text);
+        CpcaOptions options;
+        options.clusters = int(cv[0]);
+        options.vectors = int(cv[1]);
+        options.seed = c.seed;
+        options.iterations = c.iterations;
+        options.threads = c.threads;
+        return options;
+    };
+    CpcaFits fits{parse("--cpca", c.cpca), std::nullopt};
+    if (!c.probe_cpca.empty()) fits.probes = parse("--probe-cpca", c.probe_cpca);
+    SHPRT_CHECK(c.iterations >= 0, invalid_argument, "--iterations {}: must be ≥ 0", c.iterations);
+    return fits;
 }
 
 }  // namespace shprt

@@ -74,6 +74,9 @@ struct ReceiverChoice {
     // parse_probes (bake/probe_bake.hpp) into BakeRequest::probes.
     std::string probes, probe_box;
     std::optional<long long> probe_bands;
+    // Not a receiver set's but typed with the texel options (`--float32`): texel coefficients
+    // stored as float32 (FileOutput::encoding; default float16).
+    bool float32 = false;
 };
 // The ReceiverSet of `choice`; one-line Error(invalid_argument) naming the option for a bad value
 // or options that need another (--resolution without --domain texel, --shard with texels, ...).

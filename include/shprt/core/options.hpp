@@ -37,6 +37,7 @@ struct OptionInfo {
     std::string name;    // snake_case; `--name` with '-' for '_' on the command line
     std::string python;  // Python's keyword where it differs from `name` (complete_rows fills it)
     bool cli_only = false;  // Python has no such keyword
+    bool hidden = false;    // left out of the command line's help (the tests' own options)
     std::string help;
     OptionLimits limits;
     // What an out-of-range value is told after "must be " ("1 to 16777216"); empty: made from the
@@ -56,7 +57,8 @@ template <class Struct>
 using OptionField =
     std::variant<bool Struct::*, int Struct::*, long long Struct::*, std::uint64_t Struct::*,
                  double Struct::*, std::string Struct::*, std::optional<int> Struct::*,
-                 std::optional<long long> Struct::*, std::optional<double> Struct::*>;
+                 std::optional<long long> Struct::*, std::optional<double> Struct::*,
+                 std::vector<std::string> Struct::*>;
 
 template <class Struct>
 struct OptionRow : OptionInfo {
@@ -88,6 +90,9 @@ std::string default_text(std::uint64_t value);
 std::string default_text(double value);
 std::string default_text(const std::string& value);
 inline std::string default_text(int value) { return default_text(static_cast<long long>(value)); }
+// A repeatable option's (`--light`): empty, so that the help shows what the command line's own
+// conversion shows for the list (tools/common/number_options.hpp, show_defaults).
+inline std::string default_text(const std::vector<std::string>&) { return {}; }
 template <class T>
 std::string default_text(const std::optional<T>& value) {
     return value ? default_text(*value) : std::string();

@@ -13,6 +13,7 @@
 // rotation exact when K is not a square: a full band is rotation invariant, a partial one is not.
 #pragma once
 
+#include "shprt/core/options.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/light/sun.hpp"
@@ -70,5 +71,26 @@ PreparedSun prepare_sun(const LightSetup& setup, int K);
 // Parses "YAW,PITCH,ROLL" in degrees (three finite numbers, core/parse.hpp); throws
 // Error(invalid_argument) naming `text`.
 Vec3d parse_yaw_pitch_roll(const std::string& text);
+
+// The light as the command line's `shade`, `render`, `view`, `export` and `compress` take it, as
+// typed: `--light` (repeatable), `--sun X,Y,Z[,RADIUS_DEG[,R,G,B]]`, `--rotate YAW,PITCH,ROLL`,
+// `--window`, `--window-strength`; Python's light() takes its window's defaults from it.
+struct LightChoice {
+    std::vector<std::string> light;  // the specs, summed
+    std::string sun;                 // light/sun.hpp, or empty
+    std::string rotate, window = "none";
+    double window_strength = 0;
+};
+// One row per option, in the command line's help order (core/options.hpp).
+const std::vector<OptionRow<LightChoice>>& light_option_table();
+// The LightSetup of the choice; one-line Error(invalid_argument) naming a bad --sun, window or
+// rotation. Light files are only read later, by prepare_light.
+LightSetup light_setup_from(const LightChoice& choice);
+// The files a command with this light reads: `file` (its input) and every file the specs name,
+// for check_output_is_not_input (core/file.hpp).
+std::vector<std::string> input_files(const std::string& file, const LightChoice& choice);
+// "--light a --light b" as given, and the sun kept out of it ("... (the sun of --sun S kept out
+// of the SH sum)"); empty without a light.
+std::string describe_light_choice(const LightChoice& choice);
 
 }  // namespace shprt

@@ -36,10 +36,13 @@
 // the largest at which the charts fit a `resolution`² image (to 1 %).
 #pragma once
 
+#include "shprt/core/options.hpp"
+
 #include "shprt/scene/mesh.hpp"
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,6 +62,21 @@ struct UvAtlasOptions {
 // The normal cone of conformal charts where the caller does not choose (`--unwrap`, `scene
 // unwrap`): LSCM flattens curved charts with little stretch, so they may be wider than 45°.
 inline constexpr double kUnwrapMaxAngle = 60;
+
+// A conformal atlas as `shprt scene unwrap` takes it (core/options.hpp): a texel density or a
+// resolution (not both), the gutter, the charts' normal cone and stretch.
+struct UnwrapChoice {
+    std::optional<double> texel_density;  // texels per metre, > 0 (chooses the resolution)
+    std::optional<int> resolution;        // 1 to kMaxTexelSide (default UvAtlasOptions's)
+    double gutter = UvAtlasOptions{}.gutter_texels;
+    double max_angle = kUnwrapMaxAngle;
+    double max_stretch = UvAtlasOptions{}.max_stretch;
+};
+// One row per option, in the command line's help order.
+const std::vector<OptionRow<UnwrapChoice>>& unwrap_option_table();
+// The conformal atlas's options of the choice; one-line Error(invalid_argument) naming the option
+// for both a density and a resolution, a density ≤ 0 or a resolution out of range.
+UvAtlasOptions unwrap_options_from(const UnwrapChoice& choice);
 
 // Image sides above this get a warning (log_warn): 64 M texels; kMaxTexelSide is refused.
 inline constexpr int kLargeAtlasSide = 8192;

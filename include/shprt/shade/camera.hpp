@@ -7,12 +7,14 @@
 // clip space z in [−w, w], pixel row 0 at the top of an image (the renderer flips on read-back).
 #pragma once
 
+#include "shprt/core/options.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/scene/mesh_ops.hpp"  // Bounds, mesh_bounds
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace shprt {
 
@@ -76,6 +78,8 @@ struct CameraChoice {
     std::string camera;
     std::optional<double> fov;
 };
+// Its rows (core/options.hpp), in the command line's help order.
+const std::vector<OptionRow<CameraChoice>>& camera_option_table();
 // Checks the choice without a scene (one-line Error(invalid_argument) naming --camera or --fov),
 // so that a bad option fails before a file is read.
 void check(const CameraChoice& choice);

@@ -30,6 +30,7 @@
 // modelled (out of scope: docs/probes.md).
 #pragma once
 
+#include "shprt/core/options.hpp"
 #include "shprt/core/vec.hpp"
 #include "shprt/light/light.hpp"
 #include "shprt/scene/material.hpp"
@@ -90,5 +91,19 @@ std::string clamped_warning(const ProbeGrid& grid, Vec3f position, const std::st
 ObjectShading shade_object(const DynamicObject& object, const ObjectPose& pose,
                            const ProbeGrid& grid, const ShLight& light,
                            const ObjectShadeOptions& options);
+
+// The object as the command line's `render` and `view` take it: `--object MESH --at X,Y,Z
+// [--object-scale S] [--object-rotate YAW,PITCH,ROLL]`, as typed.
+struct ObjectChoice {
+    std::string object, at;
+    double object_scale = 1;
+    std::string object_rotate;
+};
+// Its rows (core/options.hpp), in the command line's help order.
+const std::vector<OptionRow<ObjectChoice>>& object_option_table();
+// The pose of the choice, or none without an object; checked before any file is read (one-line
+// Error(invalid_argument): --at missing or not three numbers, a scale ≤ 0, the object options
+// without --object).
+std::optional<ObjectPose> object_pose_from(const ObjectChoice& choice);
 
 }  // namespace shprt

@@ -61,9 +61,10 @@ struct ShadingParams {
 // The numeric shading options as one table (core/options.hpp): name, default (ShadingParams{}'s),
 // limits and help, and the field each sets — k, gloss, exposure, direct, shading_coeffs (K′:
 // ShadingParams::coeffs) and sun_samples. The command line registers them by walking it
-// (tools/common/shading_options.cpp), Python's shade() and render() take their defaults from
-// ShadingParams{}, and check() checks their limits from it. The options with names (view, glossy,
-// brdf, albedo, eye, sun) are parsed by the functions above and check().
+// (tools/common/shading_options.cpp, with shading_choice_table below), Python's shade() and
+// render() take their defaults from ShadingParams{}, and check() checks their limits from it. The
+// options with names (view, glossy, brdf, albedo, eye, sun) are parsed by the functions above and
+// check().
 const std::vector<OptionRow<ShadingParams>>& shading_option_table();
 
 // Checks every choice on its own, before any file is read: k ∈ [0, 1], gloss ≥ 0, exposure > 0
@@ -71,6 +72,24 @@ const std::vector<OptionRow<ShadingParams>>& shading_option_table();
 // [0, 1] and only with the matrix term, sun_samples a square and only with a sun. One-line
 // Error(invalid_argument) naming the option as `spelling` writes it.
 void check(const ShadingParams& params, Spelling spelling);
+
+// The shading options as the command line types them (`shprt shade`, `render`, `view`): the
+// numbers and flags straight into `params` (shading_option_table), the ones with names as text.
+// Python's shade() and render() take glossy's default from it.
+struct ShadingChoice {
+    ShadingParams params;
+    std::string brdf, glossy = "matrix", albedo, view = "radiance", eye;
+    // K′ is --shading-coeffs (params.coeffs), or the deprecated --coeffs of `shade` and `render`
+    // (in `bake` and `view --bake`, --coeffs is the K baked).
+    std::optional<int> coeffs;
+};
+// The options with names as a table (core/options.hpp), in the command line's help order: brdf,
+// glossy, coeffs (deprecated), albedo, view, eye. A command leaves out the ones it does not take.
+const std::vector<OptionRow<ShadingChoice>>& shading_choice_table();
+// The choice, with the light's sun, as ShadingParams checked (check(), naming the options as the
+// command line spells them) before any file is read. The deprecated --coeffs gives one warning
+// line (core/log.hpp), and with --shading-coeffs an error.
+ShadingParams shading_params(const ShadingChoice& choice, const std::optional<Sun>& sun);
 
 // What a file is shaded with (see the top of this file).
 struct ShadingPlan {

@@ -3,11 +3,14 @@
 // library says them, the shell prints them.
 #pragma once
 
+#include "shprt/core/options.hpp"
 #include "shprt/transfer/cpca.hpp"
 #include "shprt/transfer/probes.hpp"
 #include "shprt/transfer/transfer.hpp"
 
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace shprt {
 
@@ -29,5 +32,25 @@ std::string cpca_summary(const TransferSet& transfer, const CpcaResult& result,
 // The lines of the probes' CPCA: "probes: ..." and "probe error: ...".
 std::string probe_cpca_summary(const ProbeCpcaResult& result, const CpcaOptions& options,
                                const std::string& light_name);
+
+// `shprt compress`'s options as typed (core/options.hpp): --cpca and --probe-cpca as
+// CLUSTERS,VECTORS, and what both fits share.
+struct CpcaChoice {
+    std::string cpca, probe_cpca;  // "CLUSTERS,VECTORS"; probe_cpca empty: the probes kept
+    bool half = false;             // the code as float16 (not the probes')
+    std::uint64_t seed = 1;
+    int iterations = 16, threads = 0;
+};
+// One row per option, in the command line's help order.
+const std::vector<OptionRow<CpcaChoice>>& cpca_option_table();
+// The options of --cpca and of --probe-cpca (none when it is not given), each with the shared
+// seed, iterations and threads. One-line Error(invalid_argument) naming the option:
+// CLUSTERS,VECTORS not two whole numbers ≥ 1, iterations < 0. The threads are bake's --threads (its
+// row of bake/bake_option_table.hpp checks them).
+struct CpcaFits {
+    CpcaOptions transfer;
+    std::optional<CpcaOptions> probes;
+};
+CpcaFits cpca_options_from(const CpcaChoice& choice);
 
 }  // namespace shprt
