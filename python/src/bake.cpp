@@ -363,9 +363,10 @@ normals=None computes them; albedo=None is 0.8 grey. samples S directions per ve
 sampler 'sobol' (default), 'uniform' (the paper's), 'stratified' or 'fibonacci' with seed;
 directions 'sphere' (default: one set on the sphere, the paper's) or 'local' (one cosine-weighted
 set in each receiver's tangent frame, every ray above the horizon: docs/sampling.md);
-target_error E (0 = off) gives each vertex the smallest nested prefix 64, 128, ... up to
+target_error E (0 = off) gives each vertex the smallest nested prefix 128, 256, ... up to
 max_samples (0 = 16384; samples is then not used) whose estimated relative error is at most E
-(shadowed or unshadowed, sobol or uniform, CPU: docs/sampling.md, "Error-bounded bakes");
+(shadowed, unshadowed or interreflected, sobol or uniform, CPU: docs/sampling.md,
+"Error-bounded bakes");
 transfer 'shadowed' (default), 'unshadowed' or 'interreflected' (RGB, shape (V, 3, K); with
 bounces N (None: 1) or 'converged' until the largest relative change is under tolerance
 (None: 1e-4), two_sided, indirect_samples, source_spacing (metres or 'vertices') and

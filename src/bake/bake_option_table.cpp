@@ -46,9 +46,9 @@ std::vector<Row> make_table() {
         t, "target_error", &C::target_error,
         fmt::format("Error-bounded bake: each receiver gets the smallest prefix {}, {}, ... of the "
                     "nested set whose estimated relative error is at most E (e.g. 0.01; above 0, "
-                    "at most 1; default 0 = off: every receiver gets --samples). Shadowed or "
-                    "unshadowed, sobol or uniform, CPU; docs/sampling.md",
-                    kTargetFirstSamples, 2 * kTargetFirstSamples),
+                    "at most 1; default 0 = off: every receiver gets --samples). Shadowed, "
+                    "unshadowed or interreflected, sobol or uniform, CPU; docs/sampling.md",
+                    2 * kTargetFirstSamples, 4 * kTargetFirstSamples),
         {0, 1});
     add_row(
         t, "max_samples", &C::max_samples,
