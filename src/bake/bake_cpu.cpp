@@ -57,7 +57,6 @@ CpuBakeTables::CpuBakeTables(const BakeOptions& options, const DirectionSet& dir
     local = options.direction_frame == DirectionFrame::local;
     S = directions.size();
     K = options.K;
-    chunk_receivers = options.chunk_receivers;
     table = make_direction_table(directions, options.direction_frame,
                                  bounded ? kTargetFirstSamples : 0);
     // The basis table, once for all receivers: Y[s*KL + i] = y_i(w_s), KL = K (a local set: the
@@ -118,8 +117,8 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
     // range's rows are kept.
     // The error-bounded bake sizes its grid by its first prefix, the W that every row needs.
     const std::size_t chunk =
-        tables.chunk_receivers > 0
-            ? tables.chunk_receivers
+        options.chunk_receivers > 0
+            ? options.chunk_receivers
             : auto_chunk_receivers(rx.total,
                                    bounded ? std::min<std::size_t>(S, kTargetFirstSamples) : S);
     const std::size_t first_chunk = rx.first / chunk;

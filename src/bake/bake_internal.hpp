@@ -49,8 +49,8 @@ struct CpuBakeTables {
     std::size_t bytes() const;
 
     bool glossy = false, shadowed = false, bounded = false, local = false;
-    std::size_t S = 0, chunk_receivers = 0;  // BakeOptions::chunk_receivers
-    int K = 0, KL = 0, F = 0, FL = 0;        // row and product columns (stages.hpp)
+    std::size_t S = 0;
+    int K = 0, KL = 0, F = 0, FL = 0;  // row and product columns (stages.hpp)
     DirectionTable table;
     std::vector<float> Y;
     OpenControl open_control;  // local fixed-S sets
