@@ -165,6 +165,17 @@ std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receiv
     return bytes;
 }
 
+const char* gpu_target_error_refusal(const BakeOptions& options) {
+    if (options.target_error <= 0) return nullptr;
+    if (kind_row(options.transfer).whole_domain)  // interreflected: its own stage
+        return "--target-error with interreflected transfer bakes on the CPU (--device cpu)";
+    if (options.direction_frame != DirectionFrame::local)
+        return "--target-error on the GPU takes a local direction set (--directions local: each "
+               "receiver's visible rays are read from its first coefficient); or bake on the CPU "
+               "(--device cpu)";
+    return nullptr;
+}
+
 void set_error_bound(BakeOptions& options, double target_error, long long max_samples,
                      std::string_view target_name, std::string_view max_name) {
     // The names come with their front end's separator ("--max-samples ", "max_samples="); the

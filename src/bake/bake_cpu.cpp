@@ -71,16 +71,7 @@ CpuBakeTables::CpuBakeTables(const BakeOptions& options, const DirectionSet& dir
     // A local set's rows get the open part exactly (stages.hpp, OpenControl).
     if (local && options.open_control && !bounded)
         open_control = make_open_control(table.weight.data(), Y.data(), S, 1.0, KL, glossy);
-    bound.table = &table;
-    bound.Y = Y.data();
-    bound.KL = KL;
-    bound.first_samples = std::min<std::size_t>(kTargetFirstSamples, S);
-    bound.max_samples = S;
-    bound.target = options.target_error;
-    bound.open_norm = open_transfer_norm(KL);
-    bound.shadowed = shadowed;
-    if (bounded && local && options.open_control)
-        bound.controls = make_open_controls(table, Y.data(), KL, bound.first_samples);
+    if (bounded) bound = make_error_bound(options, table, Y.data(), KL, shadowed);
 }
 
 std::size_t CpuBakeTables::bytes() const { return Y.size() * sizeof(float) + table.bytes(); }

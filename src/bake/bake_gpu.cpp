@@ -11,6 +11,7 @@
 #include "bake/bake_internal.hpp"
 #include "bake/bake_progress.hpp"
 #include "bake/cuda/gpu_bake_device.hpp"
+#include "bake/error_bound.hpp"
 #include "bake/stages.hpp"
 #include "shprt/bake/gpu.hpp"
 #include "shprt/core/error.hpp"
@@ -20,6 +21,7 @@
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/bvh_build.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -145,12 +147,154 @@ DeviceTransportPass trace_transport_on_device(const Mesh& mesh, const Receivers&
 }  // namespace
 
 namespace detail {
+namespace {
+
+// The error-bounded bake on the device (bake.hpp, gpu_target_error_refusal: shadowed or
+// unshadowed vectors, a local set): the CPU's passes, estimates and guards
+// (error_bound.hpp, bake_segments_to_error), each segment of the nested set baked for the rows
+// still over the target by the device pipeline — those rows' positions and normals gathered, the
+// segment's directions, weights and rows of Y — and the rows rotated and written on the host.
+// The receivers go in blocks of kBoundBlock, so the host keeps a block's sums, not the range's.
+// Unverified on a GPU so far: the orchestration is tested on the CPU with the CPU's stages as the
+// segments' backend (ErrorBound.SegmentsFromAnotherBackendStopWhereTheCpuBoundStops).
+TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
+                              const DirectionSet& directions, const cuda::DeviceState& device) {
+    constexpr std::size_t kBoundBlock = std::size_t(1) << 16;
+    const auto start = Clock::now();
+    const Receivers& rx = job.receivers;
+    const bool shadowed = kind_row(options.transfer).traces_rays;
+    const std::size_t S = directions.size();
+    const int K = options.K, KL = projected_coeffs(options);
+    FlatBvh bvh;
+    double seconds_bvh = 0;
+    if (shadowed) {
+        const auto bvh_start = Clock::now();
+        bvh = build_bvh(*job.occluders, options.threads);
+        seconds_bvh = seconds_since(bvh_start);
+    }
+    const std::vector<float> Y = basis_table(KL, directions);
+    const DirectionTable table =
+        make_direction_table(directions, DirectionFrame::local, kTargetFirstSamples);
+    const ErrorBound bound = make_error_bound(options, table, Y.data(), KL, shadowed);
+
+    TransferInfo info = bake_info(options, rx, S);
+    TransferSink& sink = *job.sink;
+    sink.begin(info.layout, rx.first, rx.count);
+    SHPRT_CHECK(sink.device_rows() == nullptr, unsupported,
+                "a GPU bake with a local direction set rotates its rows on the host, so it cannot "
+                "write into a device buffer; bake with the sphere set (--directions sphere)");
+    sink.begin_estimates();
+    BakeProgress progress(options.progress, shadowed, rx.count, S);
+    const DeviceMemory memory = device_memory(options, device.free_bytes);
+
+    std::size_t block_first = 0;  // the block's first receiver of the range
+    std::vector<Vec3f> positions, normals;
+    cuda::DeviceBakeResult total;
+    // Directions [from, to) for the gathered rows, into `out` (m × KL).
+    auto bake_rows = [&](std::size_t m, std::size_t from, std::size_t to, float* out) {
+        const DirectionSet* set = &directions;
+        cuda::DeviceBakeInput input;
+        input.device = options.device_index;
+        if (shadowed) input.scene.bvh = bvh.view();
+        input.scene.positions = positions.data();
+        input.scene.normals = normals.data();
+        input.scene.vertex_count = m;
+        input.scene.dirs = set->dirs.data() + 3 * from;
+        input.scene.weights = set->weights.data() + from;
+        input.scene.samples = to - from;
+        input.scene.shadowed = shadowed;
+        input.scene.local = true;
+        input.basis = Y.data() + from * std::size_t(KL);
+        input.K = KL;
+        input.first = 0;
+        input.count = m;
+        ChunkPlanRequest request;
+        request.vertices = m;
+        request.samples = to - from;
+        request.K = KL;
+        request.free_device_bytes = memory.bytes;
+        request.usable_fraction = memory.usable_fraction;
+        request.fixed_device_bytes =
+            gpu_bake_fixed_bytes(m, to - from, KL, shadowed ? bvh.bytes() : 0);
+        request.requested_chunk = options.chunk_receivers;
+        input.plan = plan_chunks(request);
+        input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* rows,
+                                  std::uint64_t) {
+            std::copy_n(rows, count * std::size_t(KL), out + first * std::size_t(KL));
+            return progress.poll();
+        };
+        const cuda::DeviceBakeResult r = cuda::run_device_bake(input);
+        total.seconds_trace += r.seconds_trace;
+        total.seconds_project += r.seconds_project;
+        total.rays += r.rays;
+        total.peak_device_bytes = std::max(total.peak_device_bytes, r.peak_device_bytes);
+        total.pinned_bytes = std::max(total.pinned_bytes, r.pinned_bytes);
+        SHPRT_CHECK(!r.cancelled, cancelled, "bake cancelled after {} of {} receivers",
+                    progress.receivers_done(), rx.count);
+        return r.rays;
+    };
+    const SegmentBaker segment = [&](const std::uint32_t* ids, std::size_t m, std::size_t a,
+                                     std::size_t b, float* G, float* halves) {
+        positions.resize(m);
+        normals.resize(m);
+        for (std::size_t i = 0; i < m; ++i) {
+            positions[i] = rx.positions[rx.first + block_first + ids[i]];
+            normals[i] = rx.normals[rx.first + block_first + ids[i]];
+        }
+        std::uint64_t rays = 0;
+        if (halves) {
+            rays += bake_rows(m, a, (a + b) / 2, halves);
+            rays += bake_rows(m, (a + b) / 2, b, G);
+        } else {
+            rays += bake_rows(m, a, b, G);
+        }
+        progress.add(0, rays);
+        return rays;
+    };
+    ErrorBoundScratch scratch;
+    std::vector<float> world;
+    double seconds_rotate = 0;
+    for (; block_first < rx.count; block_first += kBoundBlock) {
+        const std::size_t n = std::min(kBoundBlock, rx.count - block_first);
+        const BoundRows rows = scratch.fresh_rows(n, KL);
+        bake_segments_to_error(bound, n, segment, rows, scratch, progress);
+        SHPRT_CHECK(!progress.stopped(), cancelled, "bake cancelled after {} of {} receivers",
+                    progress.receivers_done(), rx.count);
+        const auto rotate_start = Clock::now();
+        world.resize(n * std::size_t(K));
+        rotate_rows_to_world(rx.normals + rx.first + block_first, n, KL, K, false,
+                             scratch.out.data(), world.data());
+        seconds_rotate += seconds_since(rotate_start);
+        progress.add_errors(rows.error, n);
+        progress.add(n, 0);
+        sink.write(rx.first + block_first, n, world.data());
+        sink.write_estimates(rx.first + block_first, n, rows.samples, rows.error);
+    }
+    SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} of {} receivers",
+                progress.receivers_done(), rx.count);
+    sink.finish();
+
+    BakeStats& st = info.stats;
+    st.seconds_bvh = seconds_bvh;
+    st.seconds_trace = total.seconds_trace;
+    st.seconds_project = total.seconds_project + seconds_rotate;
+    st.seconds_total = seconds_since(start);
+    st.rays_cast = total.rays;
+    st.peak_bytes_host = (Y.size() + world.capacity() + scratch.acc.capacity()) * sizeof(float) +
+                         table.bytes() + (shadowed ? bvh.bytes() : 0) + total.pinned_bytes;
+    st.peak_bytes_device = total.peak_device_bytes;
+    st.device_name = device.name;
+    return info;
+}
+
+}  // namespace
 
 TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
                       const DirectionSet& directions) {
     const auto start = Clock::now();
     require_gpu(options.device_index);
     const cuda::DeviceState device = cuda::prepare_device(options.device_index);
+    if (options.target_error > 0) return bake_gpu_bounded(job, options, directions, device);
 
     const Receivers& rx = job.receivers;
     // Glossy matrices: W without the cosine, projected on the pair-product table (the CPU

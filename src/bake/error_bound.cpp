@@ -3,6 +3,7 @@
 
 #include "bake/bake_progress.hpp"
 #include "shprt/bake/bake.hpp"
+#include "shprt/core/error.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/zonal.hpp"
@@ -60,6 +61,22 @@ std::vector<OpenControl> make_open_controls(const DirectionTable& table, const f
     return controls;
 }
 
+ErrorBound make_error_bound(const BakeOptions& options, const DirectionTable& table, const float* Y,
+                            int KL, bool shadowed) {
+    ErrorBound bound;
+    bound.table = &table;
+    bound.Y = Y;
+    bound.KL = KL;
+    bound.first_samples = std::min<std::size_t>(kTargetFirstSamples, table.size());
+    bound.max_samples = table.size();
+    bound.target = options.target_error;
+    bound.open_norm = open_transfer_norm(KL);
+    bound.shadowed = shadowed;
+    if (table.frame == DirectionFrame::local && options.open_control)
+        bound.controls = make_open_controls(table, Y, KL, bound.first_samples);
+    return bound;
+}
+
 BoundRows ErrorBoundScratch::fresh_rows(std::size_t height, int KL) {
     acc.assign(height * std::size_t(KL), 0.0f);
     samples.assign(height, 0);
@@ -70,37 +87,125 @@ BoundRows ErrorBoundScratch::fresh_rows(std::size_t height, int KL) {
     return {acc.data(), samples.data(), error.data(), visible.data(), blocked.data(), more.data()};
 }
 
-std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, const Tracer* tracer,
-                                  const Receivers& rx, std::size_t first, std::size_t height,
-                                  BoundRows rows, ErrorBoundScratch& sc, BakeProgress& progress) {
-    const std::size_t KL = std::size_t(bound.KL);
-    const std::size_t S0 = bound.first_samples, Smax = bound.max_samples;
-    cap = std::min(cap, Smax);
-    // Where the chunk stands: fresh (every row at prefix 0), or baked before to a smaller cap —
-    // the rows still over the target then all stand at that cap and go on from there.
+namespace {
+
+// What every row's estimate needs of the bound, once per call.
+struct RowEstimator {
+    const ErrorBound& bound;
+    std::size_t KL, S0, Smax;
+    double resolution;      // one visible ray's worth at b = 1 (÷ b at b samples)
+    double low_resolution;  // … over the first two bands alone (the edge guard)
+    bool controlled;        // a local set with the open part exact
+
+    explicit RowEstimator(const ErrorBound& b)
+        : bound(b), KL(std::size_t(b.KL)), S0(b.first_samples), Smax(b.max_samples) {
+        // One visible sample of weight w at S samples adds w·(Smax/S)·y(ω) to ĉ_S, whose norm
+        // over full bands is w·(Smax/S)·√(KL/4π) (the addition theorem: Σ_i y_i(ω)² = KL/4π); the
+        // edge guard takes it over the first two bands alone, so that it does not grow with K.
+        const double w = *std::max_element(b.table->weight.begin(), b.table->weight.end());
+        constexpr double k4Pi = 4.0 * 3.14159265358979323846;
+        resolution = w * double(Smax) * std::sqrt(double(KL) / k4Pi) / b.open_norm;
+        low_resolution =
+            w * double(Smax) * std::sqrt(std::min(double(KL), 4.0) / k4Pi) / b.open_norm;
+        controlled = !b.controls.empty();
+    }
+
+    // Row j after the segment [a, b): G its sum over the segment (pass 0, a = 0: the second
+    // half's, and G0 the first half's), its rays' outcomes already added to rows.visible and
+    // rows.blocked. Adds G to the row's sum, estimates its error with the three guards and says
+    // whether it asks for more. Returns whether it goes on below `cap`.
+    bool update(std::size_t a, std::size_t b, std::size_t cap, const float* G, const float* G0,
+                BoundRows rows, std::size_t j) const {
+        float* A = rows.acc + j * KL;
+        const float* old = a == 0 ? G0 : A;
+        double err = 0;
+        bool open = false;  // a local row whose every ray so far was visible
+        if (controlled) {
+            const std::size_t level = a == 0 ? 0 : std::size_t(std::countr_zero(b / S0));
+            double beta = 0;
+            err = controlled_distance(bound.controls[level], bound.controls[level + 1],
+                                      double(Smax) / double(b / 2), double(Smax) / double(b), old,
+                                      G, bound.KL, &beta) /
+                  bound.open_norm;
+            open = beta > 1.0 - 0.5 / double(b);
+        } else {
+            // ĉ_b − ĉ_{b/2} = (Smax/b)·(new half's sum − old half's sum).
+            err = double(Smax) / double(b) / bound.open_norm * distance(G, old, bound.KL);
+        }
+        if (a == 0) std::copy(old, old + KL, A);
+        for (std::size_t c = 0; c < KL; ++c) A[c] += G[c];
+        // Rare outcomes (error_bound.hpp, kRareRays): fewer than kRareRays rays saw the sky
+        // (none: closed) — or, with the open part exact, hit something (none: open). An opening
+        // or a blocker smaller than a ray's share that both halves met (or missed) alike makes
+        // them agree; the error is taken as at least kRareFloor + √n rays' worth at b samples,
+        // the count's own uncertainty.
+        const std::uint32_t fewest =
+            controlled ? std::min(rows.visible[j], rows.blocked[j]) : rows.visible[j];
+        if (bound.shadowed && fewest < kRareRays)
+            err = std::max(err, (kRareFloor + std::sqrt(double(fewest))) * resolution / double(b));
+        if (!bound.shadowed && open) err = std::max(err, resolution / double(b));
+        // A visibility edge (error_bound.hpp, kEdgeFloor): the spread of the visible fraction,
+        // √(v·h)/b, at the rate a scrambled net keeps at an edge, b^(−3/4).
+        if (bound.shadowed) {
+            const double v = rows.visible[j], h = rows.blocked[j];
+            err = std::max(err, kEdgeFloor * std::sqrt(v * h) / double(b) *
+                                    std::pow(double(b), -0.75) * low_resolution);
+        }
+        // Two successive estimates: a row stops at b when its estimate is under the target and
+        // the last one (at b/2) was under kPreviousFactor times it; pass 0 has none, so every
+        // row takes at least 2·S0.
+        const double previous =
+            a == 0 ? std::numeric_limits<double>::infinity() : double(rows.error[j]);
+        const bool over = err > bound.target || previous > kPreviousFactor * bound.target;
+        rows.samples[j] = std::uint32_t(b);
+        rows.error[j] = float(err);
+        rows.more[j] = over ? 1 : 0;
+        return over && b < cap;
+    }
+
+    // ĉ_S = (Smax/S)·A_S: a power of two, so exactly the fixed-S bake's weights (π/S, 4π/S);
+    // then a local set's open part exactly.
+    void finish(BoundRows rows, std::size_t height, float* out) const {
+        for (std::size_t j = 0; j < height; ++j) {
+            const float f = float(Smax / std::max<std::size_t>(rows.samples[j], 1));
+            const float* A = rows.acc + j * KL;
+            float* o = out + j * KL;
+            for (std::size_t c = 0; c < KL; ++c) o[c] = A[c] * f;
+            if (controlled && rows.samples[j] > 0)
+                apply_open_control(
+                    bound.controls[std::size_t(std::countr_zero(rows.samples[j] / S0)) + 1], o, 1);
+        }
+    }
+};
+
+// The rows that go on from where `rows` stand: fresh (every row at prefix 0: all of them, and
+// 0 is returned), or baked before to a smaller cap — the rows still over the target then all
+// stand at that cap (returned) and go on from there.
+std::size_t active_rows(BoundRows rows, std::size_t height, std::size_t Smax,
+                        std::vector<std::uint32_t>& active) {
     std::size_t start = 0;
-    sc.active.clear();
+    active.clear();
     for (std::size_t j = 0; j < height; ++j) start = std::max<std::size_t>(start, rows.samples[j]);
     if (start == 0) {
-        sc.active.resize(height);
-        std::iota(sc.active.begin(), sc.active.end(), std::uint32_t(0));
+        active.resize(height);
+        std::iota(active.begin(), active.end(), std::uint32_t(0));
     } else {
         for (std::size_t j = 0; j < height; ++j)
             if (rows.samples[j] == start && rows.more[j] != 0 && start < Smax)
-                sc.active.push_back(std::uint32_t(j));
+                active.push_back(std::uint32_t(j));
     }
-    // One visible sample of weight w at S samples adds w·(Smax/S)·y(ω) to ĉ_S, whose norm over
-    // full bands is w·(Smax/S)·√(KL/4π) (the addition theorem: Σ_i y_i(ω)² = KL/4π).
-    const float max_weight =
-        *std::max_element(bound.table->weight.begin(), bound.table->weight.end());
-    const double resolution = double(max_weight) * double(Smax) *
-                              std::sqrt(double(KL) / (4.0 * 3.14159265358979323846)) /
-                              bound.open_norm;
-    // … and over the first two bands alone (error_bound.hpp, the edge guard): K-independent.
-    const double low_resolution =
-        double(max_weight) * double(Smax) *
-        std::sqrt(std::min(double(KL), 4.0) / (4.0 * 3.14159265358979323846)) / bound.open_norm;
-    const bool controlled = !bound.controls.empty();
+    return start;
+}
+
+}  // namespace
+
+std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, const Tracer* tracer,
+                                  const Receivers& rx, std::size_t first, std::size_t height,
+                                  BoundRows rows, ErrorBoundScratch& sc, BakeProgress& progress) {
+    const RowEstimator estimator(bound);
+    const std::size_t KL = estimator.KL, S0 = estimator.S0, Smax = estimator.Smax;
+    cap = std::min(cap, Smax);
+    const std::size_t start = active_rows(rows, height, Smax, sc.active);
     std::uint64_t rays = 0;
     for (std::size_t a = start, b = start == 0 ? std::min(S0, cap) : 2 * start;
          a < cap && !sc.active.empty(); a = b, b = std::min(2 * b, cap)) {
@@ -108,8 +213,6 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
         const std::size_t B = block_rows(length, height);
         if (sc.w.size() < B * length) sc.w.resize(B * length);
         if (sc.g.size() < B * KL) sc.g.resize(B * KL), sc.g0.resize(B * KL);
-        // The estimate's scale: ĉ_b − ĉ_{b/2} = (Smax/b)·(new half's sum − old half's sum).
-        const double scale = double(Smax) / double(b) / bound.open_norm;
         std::size_t kept = 0;  // sc.active is compacted in place as rows finish
         for (std::size_t k = 0; k < sc.active.size(); k += B) {
             const std::size_t m = std::min(B, sc.active.size() - k);
@@ -144,69 +247,68 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
             }
             for (std::size_t i = 0; i < m; ++i) {
                 const std::uint32_t j = sc.active[k + i];
-                float* A = rows.acc + j * KL;
-                const float* G = sc.g.data() + i * KL;
-                const float* old = a == 0 ? sc.g0.data() + i * KL : A;
-                double err = 0;
-                bool open = false;  // a local row whose every ray so far was visible
-                if (controlled) {
-                    const std::size_t level = a == 0 ? 0 : std::size_t(std::countr_zero(b / S0));
-                    double beta = 0;
-                    err = controlled_distance(bound.controls[level], bound.controls[level + 1],
-                                              double(Smax) / double(b / 2),
-                                              double(Smax) / double(b), old, G, bound.KL, &beta) /
-                          bound.open_norm;
-                    open = beta > 1.0 - 0.5 / double(b);
-                } else {
-                    err = scale * distance(G, old, bound.KL);
-                }
-                if (a == 0) std::copy(old, old + KL, A);
-                for (std::size_t c = 0; c < KL; ++c) A[c] += G[c];
-                // Rare outcomes (error_bound.hpp, kRareRays): fewer than kRareRays rays saw the
-                // sky (none: closed) — or, with the open part exact, hit something (none: open).
-                // An opening or a blocker smaller than a ray's share that both halves met (or
-                // missed) alike makes them agree; the error is taken as at least
-                // kRareFloor + √n rays' worth at b samples, the count's own uncertainty.
-                const std::uint32_t fewest =
-                    controlled ? std::min(rows.visible[j], rows.blocked[j]) : rows.visible[j];
-                if (bound.shadowed && fewest < kRareRays)
-                    err = std::max(
-                        err, (kRareFloor + std::sqrt(double(fewest))) * resolution / double(b));
-                if (!bound.shadowed && open) err = std::max(err, resolution / double(b));
-                // A visibility edge (error_bound.hpp, kEdgeFloor): the spread of the visible
-                // fraction, √(v·h)/b, at the rate a scrambled net keeps at an edge, b^(−3/4).
-                if (bound.shadowed) {
-                    const double v = rows.visible[j], h = rows.blocked[j];
-                    err = std::max(err, kEdgeFloor * std::sqrt(v * h) / double(b) *
-                                            std::pow(double(b), -0.75) * low_resolution);
-                }
-                // Two successive estimates: a row stops at b when its estimate is under the
-                // target and the last one (at b/2) was under kPreviousFactor times it; pass 0
-                // has none, so every row takes at least 2·S0.
-                const double previous =
-                    a == 0 ? std::numeric_limits<double>::infinity() : double(rows.error[j]);
-                const bool over = err > bound.target || previous > kPreviousFactor * bound.target;
-                rows.samples[j] = std::uint32_t(b);
-                rows.error[j] = float(err);
-                rows.more[j] = over ? 1 : 0;
-                if (over && b < cap) sc.active[kept++] = j;
+                if (estimator.update(a, b, cap, sc.g.data() + i * KL, sc.g0.data() + i * KL, rows,
+                                     j))
+                    sc.active[kept++] = j;
             }
             sc.trace_seconds += project_start - trace_start;
             sc.project_seconds += thread_cpu_seconds() - project_start;
         }
         sc.active.resize(kept);
     }
-    // ĉ_S = (Smax/S)·A_S: a power of two, so exactly the fixed-S bake's weights (π/S, 4π/S).
     sc.out.resize(height * KL);
-    for (std::size_t j = 0; j < height; ++j) {
-        const float f = float(Smax / std::max<std::size_t>(rows.samples[j], 1));
-        const float* A = rows.acc + j * KL;
-        float* out = sc.out.data() + j * KL;
-        for (std::size_t c = 0; c < KL; ++c) out[c] = A[c] * f;
-        if (controlled && rows.samples[j] > 0)
-            apply_open_control(
-                bound.controls[std::size_t(std::countr_zero(rows.samples[j] / S0)) + 1], out, 1);
+    estimator.finish(rows, height, sc.out.data());
+    return rays;
+}
+
+std::uint64_t bake_segments_to_error(const ErrorBound& bound, std::size_t height,
+                                     const SegmentBaker& segment, BoundRows rows,
+                                     ErrorBoundScratch& sc, BakeProgress& progress) {
+    SHPRT_CHECK(bound.table->frame == DirectionFrame::local || !bound.shadowed, unsupported,
+                "a segment-baked error bound needs a local set (its rays' outcomes are read "
+                "from each row's first coefficient)");
+    const RowEstimator estimator(bound);
+    const std::size_t KL = estimator.KL, S0 = estimator.S0, Smax = estimator.Smax;
+    // Every direction of a local set has the same weight w and y₀₀ is constant, so a row's
+    // first coefficient over a segment is w·y₀₀ times its visible rays (to rounding).
+    const double per_ray = double(bound.table->weight.front()) * double(bound.Y[0]);
+    const std::size_t start = active_rows(rows, height, Smax, sc.active);
+    std::uint64_t rays = 0;
+    auto outcomes = [&](const float* G, std::size_t m, std::size_t length) {
+        for (std::size_t i = 0; i < m; ++i) {
+            const std::uint32_t j = sc.active[i];
+            const auto seen = static_cast<std::uint32_t>(std::clamp<double>(
+                std::nearbyint(double(G[i * KL]) / per_ray), 0.0, double(length)));
+            rows.visible[j] += seen;
+            rows.blocked[j] += std::uint32_t(length) - seen;
+        }
+    };
+    for (std::size_t a = start, b = start == 0 ? S0 : 2 * start; a < Smax && !sc.active.empty();
+         a = b, b = 2 * b) {
+        const std::size_t m = sc.active.size(), length = b - a;
+        sc.g.resize(m * KL);
+        if (a == 0) {  // the first prefix: its two halves
+            sc.g0.resize(m * KL);
+            rays += segment(sc.active.data(), m, 0, length, sc.g.data(), sc.g0.data());
+            if (bound.shadowed) {
+                outcomes(sc.g0.data(), m, length / 2);
+                outcomes(sc.g.data(), m, length - length / 2);
+            }
+        } else {
+            rays += segment(sc.active.data(), m, a, b, sc.g.data(), nullptr);
+            if (bound.shadowed) outcomes(sc.g.data(), m, length);
+        }
+        if (!progress.poll()) return rays;
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < m; ++i) {
+            const std::uint32_t j = sc.active[i];
+            if (estimator.update(a, b, Smax, sc.g.data() + i * KL, sc.g0.data() + i * KL, rows, j))
+                sc.active[kept++] = j;
+        }
+        sc.active.resize(kept);
     }
+    sc.out.resize(height * KL);
+    estimator.finish(rows, height, sc.out.data());
     return rays;
 }
 

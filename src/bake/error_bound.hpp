@@ -26,6 +26,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace shprt {
@@ -51,6 +52,12 @@ struct ErrorBound {
 // The controls of ErrorBound for a local table and its basis table Y (Smax × KL).
 std::vector<OpenControl> make_open_controls(const DirectionTable& table, const float* Y, int KL,
                                             std::size_t first_samples);
+// The bound of `options` (target_error > 0) over the nested set's `table` (Smax directions, the
+// error-bounded bake's: make_direction_table with kTargetFirstSamples) and its basis table Y
+// (Smax × KL), which it points to; the open part's controls for a local set (with
+// options.open_control). `shadowed`: rays are cast.
+ErrorBound make_error_bound(const BakeOptions& options, const DirectionTable& table, const float* Y,
+                            int KL, bool shadowed);
 
 // Three guards against an estimate that agrees by chance (docs/sampling.md, "When the estimate
 // is fooled"; chosen by measurement: bench/RESULTS.md, "No receiver over 2E" and "… at K = 16"):
@@ -109,5 +116,24 @@ struct ErrorBoundScratch {
 std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, const Tracer* tracer,
                                   const Receivers& receivers, std::size_t first, std::size_t height,
                                   BoundRows rows, ErrorBoundScratch& sc, BakeProgress& progress);
+
+// A backend that bakes segments of the nested set for a list of rows (the GPU bake's device
+// pipeline): rows[i] of the `m` given (indices into the block baked) over directions [a, b),
+// unnormalised with the whole set's weights (G = W_seg·Y[a, b), m × KL, into G). With `halves`
+// (pass 0, a = 0), the sums over the two halves instead: [a, (a+b)/2) into halves, the rest into
+// G. Returns the rays it cast.
+using SegmentBaker =
+    std::function<std::uint64_t(const std::uint32_t* rows, std::size_t m, std::size_t a,
+                                std::size_t b, float* G, float* halves)>;
+
+// bake_chunk_to_error over such a backend, for `height` rows to max_samples: the same passes,
+// estimates and guards, one segment of every row still over the target at a time (pass 0: its
+// two halves). The rays' outcomes are read from each segment's first coefficient (a local set's
+// weights are all equal and y₀₀ is constant), so a shadowed bake needs a local set (else
+// Error(unsupported)). Afterwards sc.out holds the rows ĉ in the frame and `rows` their sums,
+// prefixes and estimates. Rows agree with bake_chunk_to_error's up to the GEMMs' summation order.
+std::uint64_t bake_segments_to_error(const ErrorBound& bound, std::size_t height,
+                                     const SegmentBaker& segment, BoundRows rows,
+                                     ErrorBoundScratch& sc, BakeProgress& progress);
 
 }  // namespace shprt::detail

@@ -458,7 +458,8 @@ std::optional<std::string> request_refusal(const BakeRequest& r) {
                 "bake of the scene",
                 with);
     }
-    if (r.options.target_error > 0 && r.options.device == Device::cuda) return kTargetErrorOnGpu;
+    if (r.options.device == Device::cuda)
+        if (const char* why = gpu_target_error_refusal(r.options)) return why;
     if (r.options.target_error > 0 && (r.distributed || r.checkpoint || is_refined(r)))
         return fmt::format(
             "--target-error does not go with {} yet (its per-receiver estimates are not carried "

@@ -54,8 +54,11 @@ BakeSession::BakeSession(const BakeJob& job, const BakeOptions& options)
     detail::validate_job(job, checked);
     s.backend = resolve_device(checked.device, checked.device_index);
     if (s.backend == Device::cuda && checked.target_error > 0) {
-        SHPRT_CHECK(checked.device == Device::automatic, unsupported, "{}", kTargetErrorOnGpu);
-        s.backend = Device::cpu;
+        if (checked.device == Device::automatic) {
+            s.backend = Device::cpu;  // bake.hpp, gpu_target_error_refusal: auto keeps the CPU
+        } else if (const char* why = gpu_target_error_refusal(checked)) {
+            fail(ErrorCode::unsupported, "{}", why);
+        }
     }
     s.occluders = job.occluders;
     s.receivers = job.receivers;

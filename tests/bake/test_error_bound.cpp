@@ -3,13 +3,19 @@
 // is at most E. Tested against the true error (a bake of another seed at 4× the most samples as
 // the reference), for the normalisation of the stopped rows (the same as a fixed-S bake), for
 // determinism (threads, a shard) and for its refusals.
+#include "bake/bake_progress.hpp"
+#include "bake/error_bound.hpp"
+#include "bake/stages.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/scene/builtin.hpp"
+#include "shprt/sh/projection.hpp"
+#include "shprt/trace/tracer.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -148,6 +154,75 @@ TEST(ErrorBound, NoReceiverOverTwiceTheTargetWithFewCoefficients) {
         std::printf("room 3900-5599, K = 16, E = %.2f: worst true error %.4f, %zu of %zu over 2E\n",
                     E, *std::max_element(truth.begin(), truth.end()), over, truth.size());
     }
+}
+
+// The GPU bake's error bound (bake_gpu.cpp) drives its device pipeline through
+// bake_segments_to_error: one segment of the nested set for a list of rows at a time, the rays'
+// outcomes read from each row's first coefficient. Here the segments come from the CPU's own
+// stages instead (weight, trace, project), so the orchestration is checked without a device: it
+// must stop every receiver of a scene built like real assets where the CPU bound does, with
+// its estimate and its row.
+TEST(ErrorBound, SegmentsFromAnotherBackendStopWhereTheCpuBoundStops) {
+    const Mesh mesh = make_builtin("leaky_room");
+    BakeOptions options = bounded_options(DirectionFrame::local, 0.02, 2048);
+    const TransferSet cpu = bake(mesh, options);
+
+    options.samples = bake_set_size(options);  // the nested set: max_samples long
+    const DirectionSet set = bake_direction_set(options);
+    const detail::DirectionTable table =
+        detail::make_direction_table(set, DirectionFrame::local, kTargetFirstSamples);
+    const int KL = detail::projected_coeffs(options);
+    const std::vector<float> Y = basis_table(KL, set);
+    const detail::ErrorBound bound = detail::make_error_bound(options, table, Y.data(), KL, true);
+    const auto tracer = make_embree_tracer(mesh);
+    const std::size_t V = mesh.vertex_count();
+    detail::TraceScratch trace;
+    trace.reserve(set.size());
+    std::vector<float> W;
+    std::uint64_t segments = 0;
+    const detail::SegmentBaker segment = [&](const std::uint32_t* rows, std::size_t m,
+                                             std::size_t a, std::size_t b, float* G,
+                                             float* halves) {
+        W.assign(m * (b - a), 0.0f);
+        std::uint64_t rays = 0;
+        for (std::size_t i = 0; i < m; ++i) {
+            const Vec3f p = mesh.positions[rows[i]], n = mesh.normals[rows[i]];
+            float* row = W.data() + i * (b - a);
+            detail::weight_row(n, table, detail::DirectionRange{a, b}, row);
+            rays +=
+                detail::trace_row(*tracer, p, n, table, detail::DirectionRange{a, b}, row, trace);
+        }
+        const float* Ya = Y.data() + a * std::size_t(KL);
+        const std::size_t split = halves ? (b - a) / 2 : 0;
+        if (halves) detail::project_rows(W.data(), m, b - a, split, Ya, KL, halves);
+        detail::project_rows(W.data() + split, m, b - a, b - a - split,
+                             Ya + split * std::size_t(KL), KL, G);
+        ++segments;
+        return rays;
+    };
+    detail::ErrorBoundScratch sc;
+    const detail::BoundRows rows = sc.fresh_rows(V, KL);
+    detail::BakeProgress progress({}, true, V, set.size());
+    const std::uint64_t rays =
+        detail::bake_segments_to_error(bound, V, segment, rows, sc, progress);
+    std::vector<float> world(V * 16);
+    detail::rotate_rows_to_world(mesh.normals.data(), V, KL, 16, false, sc.out.data(),
+                                 world.data());
+
+    EXPECT_EQ(rays, cpu.stats.rays_cast);
+    // Pass 0 (its two halves), then one segment per doubling up to the last receiver's prefix.
+    const std::uint32_t most =
+        *std::max_element(cpu.receiver_samples.begin(), cpu.receiver_samples.end());
+    EXPECT_EQ(segments, 1u + unsigned(std::countr_zero(most / kTargetFirstSamples)));
+    std::size_t differ = 0;
+    for (std::size_t r = 0; r < V; ++r) {
+        ASSERT_EQ(rows.samples[r], cpu.receiver_samples[r]) << "receiver " << r;
+        ASSERT_NEAR(rows.error[r], cpu.receiver_error[r], 1e-5 + 1e-4 * cpu.receiver_error[r])
+            << "receiver " << r;
+        for (std::size_t i = 0; i < 16; ++i)
+            differ += std::abs(world[r * 16 + i] - cpu.coeffs[r * 16 + i]) > 1e-5f ? 1 : 0;
+    }
+    EXPECT_EQ(differ, 0u);
 }
 
 TEST(ErrorBound, StoppedRowsAreTheFixedBakesRows) {

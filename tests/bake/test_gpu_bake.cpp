@@ -288,6 +288,49 @@ TEST(GpuBake, LocalSetAgreesWithTheCpuBake) {
     }
 }
 
+// The error-bounded bake on the device (bake_gpu.cpp: the CPU's passes and guards over segments
+// baked by the device pipeline; its orchestration is tested on the CPU by
+// ErrorBound.SegmentsFromAnotherBackendStopWhereTheCpuBoundStops). On a scene built like real
+// assets, the receivers stop where the CPU's stop, up to the rays on which the flat BVH and
+// Embree disagree.
+TEST(GpuBake, ErrorBoundedStopsWhereTheCpuBoundStops) {
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("leaky_room");
+    BakeOptions o;
+    o.K = 16;
+    o.direction_frame = DirectionFrame::local;
+    o.target_error = 0.02;
+    o.max_samples = 2048;
+    const TransferSet cpu = bake(mesh, o);
+    o.device = Device::cuda;
+    const TransferSet gpu = bake(mesh, o);
+    ASSERT_EQ(gpu.coeffs.size(), cpu.coeffs.size());
+    ASSERT_EQ(gpu.receiver_samples.size(), cpu.receiver_samples.size());
+    ASSERT_EQ(gpu.receiver_error.size(), cpu.receiver_error.size());
+    EXPECT_EQ(gpu.target_error, 0.02);
+    const std::size_t V = cpu.receiver_count(), F = cpu.layout.floats_per_receiver();
+    std::size_t same = 0, close = 0;
+    for (std::size_t v = 0; v < V; ++v) {
+        if (gpu.receiver_samples[v] != cpu.receiver_samples[v]) continue;
+        ++same;
+        double diff = 0, scale = 0;
+        for (std::size_t i = 0; i < F; ++i) {
+            diff = std::max(diff, std::fabs(double(gpu.coeffs[v * F + i]) - cpu.coeffs[v * F + i]));
+            scale = std::max(scale, std::fabs(double(cpu.coeffs[v * F + i])));
+        }
+        close += diff <= 1e-4 * std::max(scale, 1e-3) ? 1 : 0;
+    }
+    std::printf(
+        "[ GPU vs CPU error bound ] leaky_room K=16 E=0.02: %zu of %zu stop alike, %zu of "
+        "them within 1e-4; rays %llu vs %llu\n",
+        same, V, close, (unsigned long long)gpu.stats.rays_cast,
+        (unsigned long long)cpu.stats.rays_cast);
+    EXPECT_GE(double(same), 0.99 * double(V));
+    EXPECT_GE(double(close), 0.99 * double(same));
+    EXPECT_NEAR(double(gpu.stats.rays_cast), double(cpu.stats.rays_cast),
+                0.02 * double(cpu.stats.rays_cast));
+}
+
 TEST(GpuBake, AgreesWithTheCpuBakeInTheRoom) {
     SKIP_WITHOUT_GPU();
     const Mesh mesh = make_builtin("room");

@@ -349,8 +349,17 @@ TEST(LocalDirections, RecordedInTheFileAndAcceptedOnTheGpu) {
     request.options.device = Device::cuda;
     // The GPU bake has local sets (the kernel's body: TransferSample.EmulatedLocalKernel...).
     EXPECT_FALSE(request_refusal(request).has_value());
+    // … and bakes an error bound with them (bake_gpu.cpp), but not with the sphere set, whose
+    // receivers' visible rays it cannot read from their rows, nor for interreflected transfer.
     request.options.target_error = 0.01;
-    EXPECT_EQ(request_refusal(request).value_or(""), kTargetErrorOnGpu);
+    EXPECT_FALSE(request_refusal(request).has_value());
+    request.options.direction_frame = DirectionFrame::sphere;
+    EXPECT_THAT(request_refusal(request).value_or(""),
+                ::testing::HasSubstr("--target-error on the GPU takes a local direction set"));
+    request.options.direction_frame = DirectionFrame::local;
+    request.options.transfer = TransferKind::interreflected;
+    EXPECT_THAT(request_refusal(request).value_or(""),
+                ::testing::HasSubstr("interreflected transfer bakes on the CPU"));
     EXPECT_EQ(parse_direction_frame("local"), DirectionFrame::local);
     EXPECT_THROW(parse_direction_frame("tangent"), Error);
 }

@@ -85,10 +85,6 @@ inline constexpr int kMaxBounces = 10000;
 // receivers that need no more (measured: bench/RESULTS.md, "Error-bounded bakes").
 inline constexpr std::uint32_t kTargetFirstSamples = 64;
 inline constexpr std::uint32_t kDefaultMaxSamples = 16384;
-// The one line with which a GPU bake refuses an error bound (bake() with Device::cuda,
-// request_refusal).
-inline constexpr const char* kTargetErrorOnGpu =
-    "--target-error: the GPU bake has no error-bounded bake yet; bake on the CPU (--device cpu)";
 
 // The basis size K of a bake when the caller gives neither bands nor K: 16 (4 bands), and 25 (5
 // bands: 25×25 matrices) for glossy transfer. The command line and Python both ask here.
@@ -184,6 +180,13 @@ struct BakeOptions {
     // Error(cancelled).
     ProgressFn progress;
 };
+
+// Why a GPU bake (Device::cuda) refuses the error bound of `options`, as one line, or null: the
+// device bakes it for shadowed and unshadowed transfer with a local direction set (it reads each
+// receiver's visible rays from its first coefficient); interreflected transfer and the sphere set
+// bake it on the CPU. bake() and request_refusal ask here. Device::automatic keeps every
+// error-bounded bake on the CPU (the device's has not run on a GPU yet: bench/RESULTS.md).
+const char* gpu_target_error_refusal(const BakeOptions& options);
 
 // The error bound as a front end takes it (`shprt bake --target-error E --max-samples N`,
 // Python's target_error=, max_samples=), checked with the same limits for both and named as the
