@@ -47,7 +47,8 @@ std::vector<Row> make_table() {
         fmt::format("Error-bounded bake: each receiver gets the smallest prefix {}, {}, ... of the "
                     "nested set whose estimated relative error is at most E (e.g. 0.01; above 0, "
                     "at most 1; default 0 = off: every receiver gets --samples). Shadowed, "
-                    "unshadowed or interreflected, sobol or uniform, CPU; docs/sampling.md",
+                    "unshadowed or interreflected, sobol or uniform; on the CPU, or on the GPU "
+                    "(--device cuda) with --directions local; docs/sampling.md",
                     2 * kTargetFirstSamples, 4 * kTargetFirstSamples),
         {0, 1});
     add_row(
