@@ -96,6 +96,10 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
     const double resolution = double(max_weight) * double(Smax) *
                               std::sqrt(double(KL) / (4.0 * 3.14159265358979323846)) /
                               bound.open_norm;
+    // … and over the first two bands alone (error_bound.hpp, the edge guard): K-independent.
+    const double low_resolution =
+        double(max_weight) * double(Smax) *
+        std::sqrt(std::min(double(KL), 4.0) / (4.0 * 3.14159265358979323846)) / bound.open_norm;
     const bool controlled = !bound.controls.empty();
     std::uint64_t rays = 0;
     for (std::size_t a = start, b = start == 0 ? std::min(S0, cap) : 2 * start;
@@ -169,6 +173,13 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
                     err = std::max(
                         err, (kRareFloor + std::sqrt(double(fewest))) * resolution / double(b));
                 if (!bound.shadowed && open) err = std::max(err, resolution / double(b));
+                // A visibility edge (error_bound.hpp, kEdgeFloor): the spread of the visible
+                // fraction, √(v·h)/b, at the rate a scrambled net keeps at an edge, b^(−3/4).
+                if (bound.shadowed) {
+                    const double v = rows.visible[j], h = rows.blocked[j];
+                    err = std::max(err, kEdgeFloor * std::sqrt(v * h) / double(b) *
+                                            std::pow(double(b), -0.75) * low_resolution);
+                }
                 // Two successive estimates: a row stops at b when its estimate is under the
                 // target and the last one (at b/2) was under kPreviousFactor times it; pass 0
                 // has none, so every row takes at least 2·S0.

@@ -52,16 +52,21 @@ struct ErrorBound {
 std::vector<OpenControl> make_open_controls(const DirectionTable& table, const float* Y, int KL,
                                             std::size_t first_samples);
 
-// Two guards against an estimate that agrees by chance (docs/sampling.md, "When the estimate
-// is fooled"; chosen by measurement: bench/RESULTS.md, "No receiver over 2E"):
+// Three guards against an estimate that agrees by chance (docs/sampling.md, "When the estimate
+// is fooled"; chosen by measurement: bench/RESULTS.md, "No receiver over 2E" and "… at K = 16"):
 //  - rare outcomes: a receiver with n < kRareRays visible rays of b (or, with the open part
 //    exact, n blocked ones) gets an estimate of at least (kRareFloor + √n) rays' worth at b
 //    samples — a small opening or blocker that both halves met, or missed, alike;
 //  - two successive estimates: a receiver stops at b only if its estimate at b/2 was at most
-//    kPreviousFactor·E as well (so every receiver takes at least 2·S0 samples).
+//    kPreviousFactor·E as well (so every receiver takes at least 2·S0 samples);
+//  - a visibility edge: a receiver that saw v of b rays visible and h blocked gets an estimate of
+//    at least kEdgeFloor·√(v·h)/b · b^(−3/4) rays' worth over the first two bands — the error a
+//    scrambled net makes at an edge falls as b^(−3/4), not faster, and few coefficients (K = 16)
+//    let two halves agree by chance that often.
 inline constexpr std::uint32_t kRareRays = 16;
 inline constexpr double kRareFloor = 1.5;
 inline constexpr double kPreviousFactor = 2.0;
+inline constexpr double kEdgeFloor = 3.5;
 
 // What a chunk's rows have so far, `height` rows of each: A, the sum over the row's prefix with
 // the whole set's weights (KL floats), the prefix (0: not baked yet) and the estimated error. A
