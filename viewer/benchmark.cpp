@@ -108,7 +108,9 @@ BenchmarkReport run_benchmark(const Mesh& mesh, const TransferSet& transfer, con
                 const int f = object_frames++;
                 object.pose().position =
                     object_start + Vec3f{0.5f * std::sin(float(f) * step * 2), 0, 0};
-                object.update(renderer, light.light(), settings);
+                ObjectShadeOptions shading = options.object.options;  // the scene's, at this K′
+                shading.K_used = K_used;
+                object.update(renderer, light.light(), shading, settings.camera.eye);
                 object_ms += object.last_shade_ms();
             }
             draw_frame(renderer, target, settings, config.exposure, display.framebuffer(),

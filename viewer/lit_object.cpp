@@ -27,22 +27,11 @@ Vec3f object_step(Vec3f camera_right, Vec3f camera_forward, float along, float a
     return step;
 }
 
-bool LitObject::update(Renderer& renderer, const ShLight& light, const DrawSettings& settings) {
+bool LitObject::update(Renderer& renderer, const ShLight& light, ObjectShadeOptions options,
+                       Vec3f eye) {
     if (!present()) return false;
-    ObjectShadeOptions options = m_object.options;
-    options.view = settings.view;
-    options.k = settings.k;
-    options.K_used = settings.K_used;
-    if (renderer.scene_has_matrices()) {
-        options.brdf = settings.brdf;
-        options.material_brdfs = settings.material_brdfs;
-        options.albedo = settings.albedo;
-    } else {
-        options.brdf = Brdf{BrdfModel::phong, settings.gloss};
-    }
     // The eye matters to the glossy term only.
-    options.eye =
-        options.k < 1 && options.view == ShadeView::radiance ? settings.camera.eye : Vec3f{0, 0, 0};
+    options.eye = options.k < 1 && options.view == ShadeView::radiance ? eye : Vec3f{0, 0, 0};
     if (m_valid && same(m_pose, m_object.pose) && same(m_options, options) &&
         m_light == light.coeffs)
         return false;

@@ -43,9 +43,10 @@ public:
     const ViewerObject& object() const { return m_object; }
 
     // Shades and uploads the object when its pose, `light` (the rotated light the scene is
-    // shaded with) or what it depends on in `settings` (view, k, K′, and the eye for k < 1)
-    // changed; returns true when it did. Nothing without an object.
-    bool update(Renderer& renderer, const ShLight& light, const DrawSettings& settings);
+    // shaded with), `options` (the scene's: object_shade_options of its plan) or, for the glossy
+    // term (k < 1, radiance), the camera's `eye` changed; returns true when it did. Nothing
+    // without an object.
+    bool update(Renderer& renderer, const ShLight& light, ObjectShadeOptions options, Vec3f eye);
     // The last shading (positions, colours, whether the pose is outside the grid).
     const ObjectShading& shading() const { return m_shading; }
     double last_shade_ms() const { return m_shade_ms; }

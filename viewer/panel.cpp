@@ -4,9 +4,12 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "shprt/core/error.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 namespace shprt::viewer {
 namespace {
@@ -83,10 +86,25 @@ void object_section(PanelState& s) {
     if (!s.object_status.empty()) ImGui::TextWrapped("%s", s.object_status.c_str());
 }
 
+// A double slider over [lo, hi] (the params' fields are doubles).
+bool slider(const char* label, double& value, double lo, double hi, const char* format,
+            ImGuiSliderFlags flags = 0) {
+    return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format, flags);
+}
+
+// A colour picker over a Vec3f (linear RGB).
+bool colour(const char* label, Vec3f& c) {
+    float rgb[3] = {c.x, c.y, c.z};
+    if (!ImGui::ColorEdit3(label, rgb, ImGuiColorEditFlags_Float)) return false;
+    c = Vec3f{rgb[0], rgb[1], rgb[2]};
+    return true;
+}
+
 // Glossy matrices: the BRDF's zonal lobe and the colour override, and what the GPU holds.
 void brdf_controls(PanelState& s) {
+    ShadingParams& p = s.params;
     if (s.has_material_brdfs) {
-        ImGui::Checkbox("material BRDFs", &s.material_brdfs);
+        ImGui::Checkbox("material BRDFs", &p.material_brdfs);
         help_marker(
             "The BRDFs the scene's materials give (shininess or roughness, and specular colour). "
             "The BRDF below is then the one of the vertices whose material gives none.");
@@ -94,35 +112,46 @@ void brdf_controls(PanelState& s) {
         ImGui::TextWrapped("%s", s.material_label.c_str());
         ImGui::PopStyleColor();
     }
-    const int before = s.brdf_model;
-    ImGui::Combo("brdf", &s.brdf_model, kBrdfNames, IM_ARRAYSIZE(kBrdfNames));
-    const bool ggx = s.brdf_model == 2;
-    if (s.brdf_model != before)  // a sensible value for the new model's parameter
-        s.brdf_parameter = ggx ? 0.3f : 16.0f;
-    if (ggx)
-        ImGui::SliderFloat("roughness", &s.brdf_parameter, 0.05f, 1.0f, "%.2f",
-                           ImGuiSliderFlags_AlwaysClamp);
+    // Unset, the BRDF is gloss's Phong lobe (ShadingParams::brdf): the same, made editable.
+    if (!p.brdf) p.brdf = Brdf{BrdfModel::phong, p.gloss};
+    Brdf& brdf = *p.brdf;
+    int model = static_cast<int>(brdf.model);
+    if (ImGui::Combo("brdf", &model, kBrdfNames, IM_ARRAYSIZE(kBrdfNames))) {
+        brdf.model = static_cast<BrdfModel>(model);
+        // A sensible value for the new model's parameter.
+        brdf.parameter = brdf.model == BrdfModel::ggx ? 0.3 : 16.0;
+    }
+    if (brdf.model == BrdfModel::ggx)
+        slider("roughness", brdf.parameter, 0.05, 1.0, "%.2f", ImGuiSliderFlags_AlwaysClamp);
     else
-        ImGui::SliderFloat("exponent", &s.brdf_parameter, 0.0f, 256.0f, "%.1f",
-                           ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
-    ImGui::ColorEdit3("specular", s.specular, ImGuiColorEditFlags_Float);
+        slider("exponent", brdf.parameter, 0.0, 256.0, "%.1f",
+               ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+    colour("specular", brdf.specular);
     help_marker(
         "Glossy transfer matrices: exit radiance k·albedo/pi·E + (1-k)·specular·<BRDF lobe "
         "rotated to the reflected view, M·L>. The lobe is fitted with the file's bands (its "
         "error grows as the lobe narrows). Specular: white for a dielectric's highlight, the "
         "metal's colour for a metal.");
-    ImGui::Checkbox("albedo override", &s.override_albedo);
+    bool override_albedo = p.albedo.has_value();
+    if (ImGui::Checkbox("albedo override", &override_albedo)) {
+        if (override_albedo)
+            p.albedo = s.albedo_colour;
+        else
+            s.albedo_colour = *std::exchange(p.albedo, std::nullopt);
+    }
     help_marker("One colour for both the diffuse and the specular part (--albedo).");
-    if (s.override_albedo) ImGui::ColorEdit3("albedo", s.albedo, ImGuiColorEditFlags_Float);
+    if (p.albedo) colour("albedo", *p.albedo);
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
     ImGui::TextWrapped("%s", s.transfer_label.c_str());
     ImGui::PopStyleColor();
 }
 
 void shading_section(PanelState& s) {
-    ImGui::Combo("view", &s.view, kViewNames, IM_ARRAYSIZE(kViewNames));
-    ImGui::SliderFloat("exposure", &s.exposure, 0.01f, 100.0f, "%.3f",
-                       ImGuiSliderFlags_Logarithmic);
+    ShadingParams& p = s.params;
+    int view = static_cast<int>(p.view);
+    if (ImGui::Combo("view", &view, kViewNames, IM_ARRAYSIZE(kViewNames)))
+        p.view = static_cast<ShadeView>(view);
+    slider("exposure", p.exposure, 0.01, 100.0, "%.3f", ImGuiSliderFlags_Logarithmic);
     if (s.diffuse_only) {
         ImGui::TextDisabled("k = 1 (diffuse)");
         help_marker(
@@ -130,16 +159,15 @@ void shading_section(PanelState& s) {
             "out of the SH sum (--sun), diffuse transfer is shaded without the paper's glossy "
             "term, which is not linear in the light.");
     } else {
-        ImGui::SliderFloat("k (diffuse)", &s.k, 0.0f, 1.0f, "%.2f");
+        slider("k (diffuse)", p.k, 0.0, 1.0, "%.2f");
         help_marker("L = k·L_D + (1-k)·L_S: 1 = pure diffuse, 0 = pure glossy");
         if (s.matrices)
             brdf_controls(s);
         else
-            ImGui::SliderFloat("gloss", &s.gloss, 1.0f, 256.0f, "%.1f",
-                               ImGuiSliderFlags_Logarithmic);
+            slider("gloss", p.gloss, 1.0, 256.0, "%.1f", ImGuiSliderFlags_Logarithmic);
     }
-    s.K_used = std::clamp(s.K_used, 1, std::max(s.K_max, 1));
-    ImGui::SliderInt("K'", &s.K_used, 1, std::max(s.K_max, 1), "%d", ImGuiSliderFlags_AlwaysClamp);
+    p.coeffs = std::clamp(p.coeffs, 1, std::max(s.K_max, 1));
+    ImGui::SliderInt("K'", &p.coeffs, 1, std::max(s.K_max, 1), "%d", ImGuiSliderFlags_AlwaysClamp);
     help_marker(
         "Basis size used: the first K' coefficients of transfer and light (truncation; "
         "only full bands n² are rotation invariant).");
@@ -147,12 +175,14 @@ void shading_section(PanelState& s) {
     ImGui::SameLine();
     ImGui::Checkbox("background", &s.background);
     if (s.has_direct) {
-        if (ImGui::Checkbox("direct light only", &s.direct_only)) s.direct_changed = true;
+        if (ImGui::Checkbox("direct light only", &p.direct)) s.direct_changed = true;
         help_marker(
             "An interreflected bake keeps its direct (shadowed) transfer T_0: on, the light "
             "that reaches each vertex straight from the sky; off, with the light that bounced "
             "off the scene (T_0 + ... + T_N).");
     }
+    if (!s.shading_error.empty())
+        ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s", s.shading_error.c_str());
 }
 
 void camera_section(PanelState& s) {
@@ -199,6 +229,23 @@ std::vector<LightChoice> light_choices(const std::vector<std::string>& command_l
     for (const auto& spec : command_line_specs) out.push_back({spec, {spec}});
     if (command_line_specs.size() > 1) out.push_back({"command line (sum)", command_line_specs});
     return out;
+}
+
+void PanelShading::update(const ShadingParams& params, const Mesh& mesh, const TransferSet& shown,
+                          const std::string& source) {
+    if (m_tried == params) return;
+    const bool first = !m_tried;
+    m_tried = params;
+    try {
+        check(params, Spelling::command_line);
+        m_plan = plan_shading(params, mesh, shown, source, Spelling::command_line);
+        m_settings = draw_settings(m_plan, params.view);
+        m_params = params;
+        m_error.clear();
+    } catch (const Error& e) {
+        if (first) throw;
+        m_error = e.what();  // the last good settings stay
+    }
 }
 
 void draw_panel(PanelState& s) {

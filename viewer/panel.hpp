@@ -1,8 +1,13 @@
 // The viewer's Dear ImGui panel. It edits a PanelState; the window loop (viewer_app.cpp) reads the
-// state every frame and reacts to what changed (new light source, light rotation reset, …). No
-// OpenGL and no GLFW here: only ImGui widgets.
+// state every frame and reacts to what changed (new light source, light rotation reset, …). Its
+// shading is one ShadingParams that the widgets edit and PanelShading resolves as the command
+// line does. No OpenGL and no GLFW here: only ImGui widgets and the library's shading.
 #pragma once
 
+#include "shprt/render/renderer.hpp"
+#include "shprt/shade/params.hpp"
+
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,31 +30,27 @@ struct PanelState {
     int K_file = 1;           // K of the transfer; the K' slider runs over 1..K_max
     int K_max = 1;            // min(K of the transfer, K of the light)
 
-    // Shading.
-    float exposure = 1;
-    float k = 1;       // diffuse share
-    float gloss = 16;  // Phong exponent
-    int K_used = 0;    // 1..K_max (the panel never shows 0)
-    int view = 0;      // ShadeView: 0 radiance, 1 irradiance, 2 transfer (AO-like)
+    // Shading: the same value `shprt render` is given (shade/params.hpp), edited in place by the
+    // widgets — view, exposure, k, gloss, the BRDF and the materials' BRDFs, the colour override,
+    // K′ (params.coeffs, 1..K_max: the panel never shows 0) and the direct part. The window
+    // resolves it as the command line does (PanelShading). The paper's term is not offered: it
+    // would need the transfer turned into vectors and uploaded again; a window opened with
+    // --glossy paper shows it, with the gloss slider.
+    ShadingParams params;
+    std::string shading_error;  // the last edit check() or the resolution refused ("" = none)
     bool wireframe = false;
     bool background = false;
-    bool has_direct = false;    // the transfer is interreflected and keeps its direct part
-    bool direct_only = false;   // show the direct part (T_0) instead of T_0 + … + T_N
+    bool has_direct = false;    // the transfer is interreflected: params.direct shows its T_0
     bool diffuse_only = false;  // diffuse texel transfer: drawn per fragment without glossy term
     // Glossy transfer matrices (shade/glossy.hpp): the BRDF replaces the Phong "gloss" slider.
     bool matrices = false;
-    // The scene's materials give BRDFs (Mesh::brdfs): `material_brdfs` shades their vertices
-    // with them, the combo below then sets the BRDF of the vertices whose material gives none.
+    // The scene's materials give BRDFs (Mesh::brdfs): params.material_brdfs shades their
+    // vertices with them, params.brdf then is the BRDF of the vertices whose material gives none.
     bool has_material_brdfs = false;
-    bool material_brdfs = false;
-    std::string material_label;     // describe_brdfs: the materials' BRDFs and their vertices
-    int brdf_model = 0;             // BrdfModel: 0 phong, 1 blinn, 2 ggx
-    float brdf_parameter = 16;      // exponent (phong, blinn) or roughness (ggx)
-    float specular[3] = {1, 1, 1};  // the BRDF's specular colour (Brdf::specular)
-    bool override_albedo = false;   // --albedo: one colour for the diffuse and specular parts
-    float albedo[3] = {1, 1, 1};
-    std::string transfer_label;  // what the GPU holds: bytes per vertex, the CPCA settings
-    std::string sun_label;       // --sun: how the sun kept out of the SH sum is drawn (or empty)
+    std::string material_label;    // describe_brdfs: the materials' BRDFs and their vertices
+    Vec3f albedo_colour{1, 1, 1};  // the colour override's colour while it is off
+    std::string transfer_label;    // what the GPU holds: bytes per vertex, the CPCA settings
+    std::string sun_label;         // --sun: how the sun kept out of the SH sum is drawn (or empty)
 
     // Light.
     std::vector<LightChoice> choices;
@@ -85,10 +86,37 @@ struct PanelState {
     bool reset_light_rotation = false;
     bool reset_camera = false;
     bool camera_mode_changed = false;
-    bool direct_changed = false;  // direct_only toggled
+    bool direct_changed = false;  // params.direct toggled
 };
 
 // Draws the panel (inside an ImGui frame) and updates `state`.
 void draw_panel(PanelState& state);
+
+// The panel's params as the renderer draws them, by the path `shprt render` takes
+// (resolve_shading, then draw_settings; render/renderer.hpp) without reading the file again:
+// check(params), then plan_shading against the transfer shown (the file the window keeps whole,
+// or its direct part when params.direct) and draw_settings. Resolved again only when the params
+// differ from the last ones tried. An edit that check() or the resolution refuses (a value typed
+// past a slider's range) keeps the last good settings, and its one-line error in error().
+class PanelShading {
+public:
+    // `source` names the file in errors. The first params must resolve (the command line's,
+    // already resolved by `shprt view`): their error is thrown.
+    void update(const ShadingParams& params, const Mesh& mesh, const TransferSet& shown,
+                const std::string& source);
+    const ShadingParams& params() const { return m_params; }  // the last good ones
+    const ShadingPlan& plan() const { return m_plan; }
+    // The shading fields of DrawSettings (k, gloss, K′, view, the BRDFs, the colour); the
+    // camera and the display's fields are the caller's.
+    const DrawSettings& settings() const { return m_settings; }
+    const std::string& error() const { return m_error; }
+
+private:
+    std::optional<ShadingParams> m_tried;
+    ShadingParams m_params;
+    ShadingPlan m_plan;
+    DrawSettings m_settings;
+    std::string m_error;
+};
 
 }  // namespace shprt::viewer

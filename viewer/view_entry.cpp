@@ -120,7 +120,7 @@ void run_view_window(const ViewRequest& r, const ShadingParams& params, const Sh
     options.max_frames = r.max_frames;
     options.window_screenshot = r.window_screenshot;
     options.vsync = r.vsync;
-    options.direct_only = params.direct;
+    options.params = params;
     options.object = object;
     const WindowReport report = run_window(file.mesh, file.transfer, options, r.bake);
     r.say(fmt::sprintf("view: %d frames in %.2f s (%.1f frames/s); %s\n", report.frames,

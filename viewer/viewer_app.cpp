@@ -103,7 +103,10 @@ private:
     void update_bake();
     void start_bake(const BakeOptions& options);
     void show_transfer();
-    DrawSettings draw_settings() const;
+    const TransferSet& shown_transfer() const {
+        return m_panel.params.direct ? m_direct : m_transfer;
+    }
+    DrawSettings draw_settings();
     void update_object(const DrawSettings& settings);
 
     const Mesh& m_mesh;
@@ -120,6 +123,7 @@ private:
     LightRig m_light;
     LitObject m_object;
     PanelState m_panel;
+    PanelShading m_shading;  // m_panel.params resolved against the transfer shown
     // Declared before the bake: the bake (which may write into the mapped buffer) ends first.
     std::unique_ptr<GlBufferInterop> m_interop;
     std::unique_ptr<BackgroundBake> m_bake;
@@ -146,8 +150,9 @@ App::App(const Mesh& mesh, const TransferSet& transfer, const WindowOptions& opt
       m_object(options.object) {
     glfwSwapInterval(options.vsync ? 1 : 0);
     if (!transfer.direct.empty()) m_direct = transfer.direct_only();
+    m_panel.params = options.params;
     m_panel.has_direct = !m_direct.coeffs.empty();
-    m_panel.direct_only = m_panel.has_direct && options.direct_only;
+    m_panel.params.direct = m_panel.has_direct && options.params.direct;
     m_light.set_source(options.light);  // errors (a missing file) end the program: one line
     show_transfer();
     m_report.context = gl_context_summary();
@@ -170,7 +175,7 @@ void App::show_transfer() {
     m_renderer.set_sun_filter(choose_sun_filter(true));
     m_renderer.set_moving_shadow_map_size(choose_moving_shadow_map_size(true));
     m_renderer.set_sun(m_light.sun());
-    m_renderer.set_scene(m_mesh, m_panel.direct_only ? m_direct : m_transfer);
+    m_renderer.set_scene(m_mesh, shown_transfer());
     m_renderer.set_light(m_light.source(), m_light.rotation());
 }
 
@@ -182,30 +187,20 @@ void App::init_state() {
     s.gl_label = m_report.context;
     s.K_file = m_renderer.scene_K();
     s.K_max = m_renderer.effective_K(0);
-    s.K_used =
-        m_options.frame.draw.K_used > 0 ? std::min(m_options.frame.draw.K_used, s.K_max) : s.K_max;
-    s.exposure = m_options.frame.exposure;
+    ShadingParams& p = s.params;  // the command line's (the constructor)
+    p.coeffs = p.coeffs > 0 ? std::min(p.coeffs, s.K_max) : s.K_max;
     // Diffuse texels, and vector transfer under a sun kept out of the SH sum (the paper's glossy
     // term is not linear in the light: Renderer::set_sun), are drawn with k = 1.
     s.diffuse_only =
         !is_matrix(m_transfer.layout) && (is_texel(m_transfer.layout) || m_light.sun());
-    s.k = s.diffuse_only ? 1.0f : static_cast<float>(m_options.frame.draw.k);
-    s.gloss = static_cast<float>(m_options.frame.draw.gloss);
+    if (s.diffuse_only) p.k = 1;
+    // The paper's term (a file turned into vectors before the window): its Phong exponent is
+    // the gloss slider's.
+    if (p.glossy == GlossyTerm::paper && p.brdf) p.gloss = std::exchange(p.brdf, {})->parameter;
     s.matrices = m_renderer.scene_has_matrices();
     s.has_material_brdfs = m_renderer.scene_has_material_brdfs();
-    s.material_brdfs = m_options.frame.draw.material_brdfs;
     s.material_label = describe_brdfs(m_mesh);
-    s.brdf_model = static_cast<int>(m_options.frame.draw.brdf.model);
-    s.brdf_parameter = static_cast<float>(m_options.frame.draw.brdf.parameter);
-    s.specular[0] = m_options.frame.draw.brdf.specular.x;
-    s.specular[1] = m_options.frame.draw.brdf.specular.y;
-    s.specular[2] = m_options.frame.draw.brdf.specular.z;
-    s.override_albedo = m_options.frame.draw.albedo.has_value();
-    if (const auto& a = m_options.frame.draw.albedo) {
-        s.albedo[0] = a->x;
-        s.albedo[1] = a->y;
-        s.albedo[2] = a->z;
-    }
+    if (p.albedo) s.albedo_colour = *p.albedo;
     s.transfer_label = describe_gpu_transfer(m_transfer, m_renderer.transfer_bytes_per_vertex());
     if (const PreparedSun* sun = m_light.sun())
         s.sun_label = fmt::format("sun: {:g}° kept out of the SH sum, a {}² shadow map; {}",
@@ -213,7 +208,6 @@ void App::init_state() {
                                   m_renderer.sun_bounced() ? "bounced light from T - T0"
                                                            : "direct only (no direct part in "
                                                              "the file: not interreflected)");
-    s.view = static_cast<int>(m_options.frame.draw.view);
     s.wireframe = m_options.frame.draw.wireframe;
     s.background = m_options.frame.draw.background;
     s.choices = light_choices(m_options.light.specs);
@@ -447,24 +441,17 @@ void App::update_bake() {
     }
 }
 
-DrawSettings App::draw_settings() const {
-    DrawSettings s = m_options.frame.draw;
+// The panel's shading resolved as the command line's (PanelShading), with the window's camera
+// and display choices.
+DrawSettings App::draw_settings() {
+    m_shading.update(m_panel.params, m_mesh, shown_transfer(), m_options.scene_label);
+    m_panel.shading_error = m_shading.error();
+    DrawSettings s = m_shading.settings();
     s.camera = m_camera.camera();
-    s.k = m_panel.k;
-    s.gloss = m_panel.gloss;
-    if (m_panel.matrices) {
-        s.brdf.model = static_cast<BrdfModel>(m_panel.brdf_model);
-        s.brdf.parameter = m_panel.brdf_parameter;
-        s.brdf.specular = Vec3f{m_panel.specular[0], m_panel.specular[1], m_panel.specular[2]};
-        s.material_brdfs = m_panel.material_brdfs;
-        s.albedo.reset();
-        if (m_panel.override_albedo)
-            s.albedo = Vec3f{m_panel.albedo[0], m_panel.albedo[1], m_panel.albedo[2]};
-    }
-    s.K_used = m_panel.K_used;
-    s.view = static_cast<ShadeView>(m_panel.view);
     s.wireframe = m_panel.wireframe;
     s.background = m_panel.background;
+    s.clear_color = m_options.frame.draw.clear_color;
+    s.front_to_back = m_options.frame.draw.front_to_back;
     return s;
 }
 
@@ -474,7 +461,10 @@ void App::update_object(const DrawSettings& settings) {
     ObjectPose& pose = m_object.pose();
     pose.position = {m_panel.object_position[0], m_panel.object_position[1],
                      m_panel.object_position[2]};
-    if (!m_object.update(m_renderer, m_light.light(), settings)) return;
+    if (!m_object.update(m_renderer, m_light.light(),
+                         object_shade_options(m_shading.plan(), settings.view),
+                         settings.camera.eye))
+        return;
     const ObjectShading& lit = m_object.shading();
     m_panel.object_status =
         fmt::format("shaded in {:.1f} ms (K'={}){}", m_object.last_shade_ms(), lit.K_used,
@@ -516,7 +506,8 @@ WindowReport App::run() {
                 DrawSettings settings = draw_settings();
                 settings.reshade = std::exchange(m_reshade_once, false);
                 update_object(settings);
-                draw_frame(m_renderer, m_target, settings, m_panel.exposure, 0, width, height);
+                draw_frame(m_renderer, m_target, settings,
+                           static_cast<float>(m_shading.params().exposure), 0, width, height);
             } else {
                 // The GPU bake owns the transfer buffer until it ends: show the panel only.
                 glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -36,8 +36,11 @@ struct WindowOptions {
                                     // included); empty = none
     bool vsync = true;
     bool show_panel = true;
-    bool direct_only = false;  // an interreflected transfer: start with its direct part shown
-    ViewerObject object;       // a probe-lit object (none: object.object null)
+    // The shading the panel starts from and edits (its `direct`: an interreflected transfer's
+    // direct part shown first), as the command line gave it and resolved against the file
+    // (resolve_shading, with the transfer kept whole); frame.draw is its draw_settings.
+    ShadingParams params;
+    ViewerObject object;  // a probe-lit object (none: object.object null)
 };
 
 struct WindowReport {

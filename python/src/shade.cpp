@@ -61,7 +61,10 @@ ShadingParams shading_params(const ShadingKeywords& w) {
     p.gloss = w.gloss;
     p.coeffs = w.coeffs;
     p.direct = w.direct;
-    if (w.brdf) p.brdf = parse_brdf(*w.brdf);
+    if (w.brdf) {  // that BRDF everywhere, as the command line's --brdf
+        p.brdf = parse_brdf(*w.brdf);
+        p.material_brdfs = false;
+    }
     if (w.albedo) p.albedo = Vec3f{(*w.albedo)[0], (*w.albedo)[1], (*w.albedo)[2]};
     check(p, Spelling::python);
     return p;

@@ -105,32 +105,49 @@ void check(const ShadingParams& p, Spelling s) {
 
 ShadingPlan resolve_shading(const ShadingParams& p, ShprtFile& file, const std::string& source,
                             Spelling s) {
+    narrow_for_shading(p, file, source, s);
+    return plan_shading(p, file.mesh, file.transfer, source, s);
+}
+
+void narrow_for_shading(const ShadingParams& p, ShprtFile& file, const std::string& source,
+                        Spelling s) {
     if (p.direct) {
         SHPRT_CHECK(!file.transfer.direct.empty(), invalid_argument,
                     "{}: {} has no direct part (only interreflected bakes keep one)",
                     option_text(s, "direct", s == Spelling::python ? "True" : ""), source);
         file.transfer = file.transfer.direct_only();
     }
+    if (p.glossy == GlossyTerm::paper && is_matrix(file.transfer.layout))
+        file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
+}
+
+ShadingPlan plan_shading(const ShadingParams& p, const Mesh& mesh, const TransferSet& transfer,
+                         const std::string& source, Spelling s) {
     ShadingPlan plan;
     plan.sun = p.sun;
     plan.sun_samples = p.sun_samples;
     plan.options.k = p.k;
     plan.options.gloss = p.gloss;
     plan.options.K_used = p.coeffs;
-    plan.options.eye = p.eye ? *p.eye : default_camera(file.mesh, 16.0f / 9.0f).eye;
-    const bool matrices = is_matrix(file.transfer.layout);
+    plan.options.eye = p.eye ? *p.eye : default_camera(mesh, 16.0f / 9.0f).eye;
+    const bool matrices = is_matrix(transfer.layout);
     const std::string brdf_option = option_text(s, "brdf");
     if (p.glossy == GlossyTerm::paper) {
+        SHPRT_CHECK(!matrices, invalid_argument,
+                    "{}: {} shades the matrices' diffuse transfer: narrow the file first "
+                    "(narrow_for_shading)",
+                    source, option_text(s, "glossy", "paper"));
         if (p.brdf) plan.options.gloss = p.brdf->parameter;
-        if (matrices) file.transfer = glossy_to_diffuse(file.mesh, file.transfer);
         return plan;
     }
-    // Without a BRDF, a glossy file whose materials give BRDFs is shaded with them.
-    const bool materials = matrices && !p.brdf && !file.mesh.brdf_index.empty();
-    SHPRT_CHECK(!matrices || p.brdf || materials, invalid_argument,
-                "{}: glossy transfer matrices need {} (or {}): the scene's materials give no BRDF",
-                source, option_text(s, "brdf", "phong:E|blinn:E|ggx:R"),
-                option_text(s, "glossy", "paper"));
+    // The materials' BRDFs, where the scene gives them and material_brdfs asks for them.
+    const bool has_materials = !mesh.brdf_index.empty();
+    const bool materials = matrices && p.material_brdfs && has_materials;
+    SHPRT_CHECK(
+        !matrices || p.brdf || materials, invalid_argument,
+        "{}: glossy transfer matrices need {} (or {}): {}", source,
+        option_text(s, "brdf", "phong:E|blinn:E|ggx:R"), option_text(s, "glossy", "paper"),
+        has_materials ? "the materials' BRDFs are off" : "the scene's materials give no BRDF");
     if (!p.brdf && !materials) {
         SHPRT_CHECK(!p.albedo, invalid_argument, "{} needs {}", option_text(s, "albedo"),
                     brdf_option);
@@ -139,10 +156,10 @@ ShadingPlan resolve_shading(const ShadingParams& p, ShprtFile& file, const std::
     SHPRT_CHECK(matrices, invalid_argument,
                 "{}: {} transfer is diffuse (a vector per receiver): {} needs a glossy bake ({}), "
                 "or use {}",
-                source, to_string(file.transfer.kind), brdf_option,
-                option_text(s, "transfer", "glossy"), option_text(s, "gloss"));
+                source, to_string(transfer.kind), brdf_option, option_text(s, "transfer", "glossy"),
+                option_text(s, "gloss"));
     GlossyShadeOptions g;
-    g.material_brdfs = materials;  // then g.brdf (gloss's Phong lobe) where a material gives none
+    g.material_brdfs = materials;  // then g.brdf where a material gives none
     g.brdf = p.brdf ? *p.brdf : Brdf{BrdfModel::phong, p.gloss};
     check_brdf(g.brdf);
     g.k = p.k;
@@ -248,7 +265,10 @@ ShadingParams shading_params(const ShadingChoice& c, const std::optional<Sun>& s
     }
     p.view = parse_view(c.view, cli);
     p.glossy = parse_glossy_term(c.glossy, cli);
-    if (!c.brdf.empty()) p.brdf = parse_brdf(c.brdf);
+    if (!c.brdf.empty()) {  // that BRDF everywhere
+        p.brdf = parse_brdf(c.brdf);
+        p.material_brdfs = false;
+    }
     if (!c.albedo.empty()) {
         const std::vector<double> rgb = parse_numbers(c.albedo, 3, "--albedo R,G,B");
         p.albedo = Vec3f{float(rgb[0]), float(rgb[1]), float(rgb[2])};

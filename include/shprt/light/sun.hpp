@@ -31,6 +31,7 @@ struct Sun {
     Vec3d direction{0, 1, 0};                  // unit, toward the sun
     double radius_deg = kDefaultSunRadiusDeg;  // angular radius, in (0, 90]
     Vec3d radiance{0, 0, 0};                   // per channel, ≥ 0
+    bool operator==(const Sun&) const = default;
 };
 
 // A checked Sun: `direction` finite and non-zero (normalised here), radius in (0, 90], radiance

@@ -1,9 +1,11 @@
 // How a baked file is shaded, as one value: what `shprt shade`, `render`, `view` and Python's
-// shade() and render() are given, each in its own syntax (`--k 0.5`, `k=0.5`), and then checked
-// and resolved here, once, so the same options give the same numbers everywhere.
+// shade() and render() are given, each in its own syntax (`--k 0.5`, `k=0.5`), and what the
+// viewer's panel edits in place (viewer/panel.hpp); checked and resolved here, once, so the same
+// options give the same numbers everywhere.
 //
 //   ShadingParams            the user's choices, parsed; check() before any file is read
-//     │ resolve_shading(file)
+//     │ resolve_shading(file): narrow_for_shading, then plan_shading (the panel's step: the
+//     │                        file kept as read, resolved again on each edit)
 //   ShadingPlan              what the file is shaded with: the diffuse/paper term's ShadeOptions,
 //     │                      or the glossy matrices' GlossyShadeOptions; the file itself narrowed
 //     │                      to its direct part, or its glossy matrices turned into diffuse
@@ -44,10 +46,13 @@ struct ShadingParams {
     ShadeView view = ShadeView::radiance;
     double k = 1.0;                // diffuse share in [0, 1]
     double gloss = kDefaultGloss;  // Phong exponent ≥ 0 of the paper's glossy term
-    // Glossy matrices: the BRDF of every vertex; unset, the materials' BRDFs where the scene
-    // gives them and `gloss`'s Phong lobe elsewhere. With GlossyTerm::paper: a Phong lobe whose
-    // exponent replaces `gloss`.
+    // Glossy matrices: with `material_brdfs`, the materials' BRDFs where the scene gives them
+    // (Mesh::brdfs), and `brdf` elsewhere; without, `brdf` everywhere. `brdf` unset: `gloss`'s
+    // Phong lobe. The command line's `--brdf X` and Python's `brdf=` mean "X everywhere": they
+    // set material_brdfs off (shading_params); the viewer's panel edits both. With
+    // GlossyTerm::paper: `brdf` a Phong lobe whose exponent replaces `gloss`, and no materials.
     std::optional<Brdf> brdf;
+    bool material_brdfs = true;
     GlossyTerm glossy = GlossyTerm::matrix;
     std::optional<Vec3f> albedo;  // glossy matrices: replaces both colours (linear, 0..1)
     int coeffs = 0;               // K′: the first coefficients used (0 = all)
@@ -56,6 +61,7 @@ struct ShadingParams {
     std::optional<Vec3f> eye;     // the glossy terms' eye; unset: the default camera's (16:9)
     std::optional<Sun> sun;       // a sun kept out of the SH sum (sun_shade.hpp)
     int sun_samples = kDefaultSunSamples;  // directions on its disc: a square, 1..kMaxSunSamples
+    bool operator==(const ShadingParams&) const = default;
 };
 
 // The numeric shading options as one table (core/options.hpp): name, default (ShadingParams{}'s),
@@ -100,12 +106,22 @@ struct ShadingPlan {
 };
 
 // Resolves `params` against `file` (read from `source`, which errors name) and narrows the file
-// to what is shaded: with `direct`, its direct part (an error for a file without one); with the
-// paper's term, glossy matrices become their diffuse transfer. A diffuse file given a BRDF, or
-// glossy matrices without a BRDF, materials or the paper's term, is a one-line Error naming
-// `source`. check(params) first.
+// to what is shaded: narrow_for_shading, then plan_shading. check(params) first.
 ShadingPlan resolve_shading(const ShadingParams& params, ShprtFile& file, const std::string& source,
                             Spelling spelling);
+
+// The two halves of resolve_shading. narrow_for_shading: with `direct`, the file's direct part
+// (an error for a file without one); with the paper's term, glossy matrices become their diffuse
+// transfer. plan_shading: the plan for a file already narrowed — or kept whole by a front end
+// that shows its parts in turn (the viewer's panel toggles `direct` by drawing the direct part it
+// keeps; `direct` is not read here) — so a panel edit resolves without reading or narrowing the
+// file again. A diffuse file given a BRDF, or glossy matrices without a BRDF, materials or the
+// paper's term, is a one-line Error naming `source`; so are matrices not yet narrowed for the
+// paper's term.
+void narrow_for_shading(const ShadingParams& params, ShprtFile& file, const std::string& source,
+                        Spelling spelling);
+ShadingPlan plan_shading(const ShadingParams& params, const Mesh& mesh, const TransferSet& transfer,
+                         const std::string& source, Spelling spelling);
 
 // The file's receivers shaded on the CPU under `sky` with the plan (shade_receivers), plus the
 // sun when the plan has one: `sun` is its prepared form (prepare_sun: its direction turned with
