@@ -71,6 +71,21 @@ DeviceMemory device_memory(const BakeOptions& options, std::uint64_t free_bytes)
     return DeviceMemory{std::min(free_bytes, options.device_memory_budget), 1.0};
 }
 
+// A GPU bake's stats: the device's times and rays, the host's BVH build and rotation (local
+// sets), and the host bytes it held besides the pinned staging.
+void fill_gpu_stats(BakeStats& st, const cuda::DeviceBakeResult& result, double seconds_bvh,
+                    double seconds_rotate, Clock::time_point start, std::uint64_t host_bytes,
+                    const std::string& device_name) {
+    st.seconds_bvh = seconds_bvh;
+    st.seconds_trace = result.seconds_trace;
+    st.seconds_project = result.seconds_project + seconds_rotate;
+    st.seconds_total = seconds_since(start);
+    st.rays_cast = result.rays;
+    st.peak_bytes_host = host_bytes + result.pinned_bytes;
+    st.peak_bytes_device = result.peak_device_bytes;
+    st.device_name = device_name;
+}
+
 // T_0's rows and A from one pass of closest hits on the device: W projected by cuBLAS, and from
 // the hits A's rows, one block per chunk, built on the device with the CPU builder's arithmetic
 // (transport_build.hpp), so the same bits. Receivers must be the mesh's vertices.
@@ -274,16 +289,10 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
                 progress.receivers_done(), rx.count);
     sink.finish();
 
-    BakeStats& st = info.stats;
-    st.seconds_bvh = seconds_bvh;
-    st.seconds_trace = total.seconds_trace;
-    st.seconds_project = total.seconds_project + seconds_rotate;
-    st.seconds_total = seconds_since(start);
-    st.rays_cast = total.rays;
-    st.peak_bytes_host = (Y.size() + world.capacity() + scratch.acc.capacity()) * sizeof(float) +
-                         table.bytes() + (shadowed ? bvh.bytes() : 0) + total.pinned_bytes;
-    st.peak_bytes_device = total.peak_device_bytes;
-    st.device_name = device.name;
+    fill_gpu_stats(info.stats, total, seconds_bvh, seconds_rotate, start,
+                   (Y.size() + world.capacity() + scratch.acc.capacity()) * sizeof(float) +
+                       table.bytes() + (shadowed ? bvh.bytes() : 0),
+                   device.name);
     return info;
 }
 
@@ -383,16 +392,9 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
                 "bake cancelled after {} of {} receivers", progress.receivers_done(), rx.count);
     sink.finish();
 
-    BakeStats& st = info.stats;
-    st.seconds_bvh = seconds_bvh;
-    st.seconds_trace = result.seconds_trace;
-    st.seconds_project = result.seconds_project + seconds_rotate;
-    st.seconds_total = seconds_since(start);
-    st.rays_cast = result.rays;
-    st.peak_bytes_host = (Y.size() + world.capacity()) * sizeof(float) +
-                         (shadowed ? bvh.bytes() : 0) + result.pinned_bytes;
-    st.peak_bytes_device = result.peak_device_bytes;
-    st.device_name = device.name;
+    fill_gpu_stats(info.stats, result, seconds_bvh, seconds_rotate, start,
+                   (Y.size() + world.capacity()) * sizeof(float) + (shadowed ? bvh.bytes() : 0),
+                   device.name);
     return info;
 }
 
