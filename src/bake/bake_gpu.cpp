@@ -207,15 +207,14 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
     cuda::DeviceBakeResult total;
     // Directions [from, to) for the gathered rows, into `out` (m × KL).
     auto bake_rows = [&](std::size_t m, std::size_t from, std::size_t to, float* out) {
-        const DirectionSet* set = &directions;
         cuda::DeviceBakeInput input;
         input.device = options.device_index;
         if (shadowed) input.scene.bvh = bvh.view();
         input.scene.positions = positions.data();
         input.scene.normals = normals.data();
         input.scene.vertex_count = m;
-        input.scene.dirs = set->dirs.data() + 3 * from;
-        input.scene.weights = set->weights.data() + from;
+        input.scene.dirs = directions.dirs.data() + 3 * from;
+        input.scene.weights = directions.weights.data() + from;
         input.scene.samples = to - from;
         input.scene.shadowed = shadowed;
         input.scene.local = true;
