@@ -61,10 +61,7 @@ ShadingParams shading_params(const ShadingKeywords& w) {
     p.gloss = w.gloss;
     p.coeffs = w.coeffs;
     p.direct = w.direct;
-    if (w.brdf) {  // that BRDF everywhere, as the command line's --brdf
-        p.brdf = parse_brdf(*w.brdf);
-        p.material_brdfs = false;
-    }
+    if (w.brdf) set_brdf_choice(p, *w.brdf);  // as the command line's --brdf
     if (w.albedo) p.albedo = Vec3f{(*w.albedo)[0], (*w.albedo)[1], (*w.albedo)[2]};
     check(p, Spelling::python);
     return p;
@@ -115,7 +112,8 @@ defaults (shade/params.hpp).
 A file of glossy transfer matrices (bake(transfer='glossy')) is shaded with its BRDF
 (shade/glossy.hpp, as `shprt shade --brdf`): brdf a spec such as 'ggx:0.3' or
 'phong:40:1,0.7,0.3' (with a specular colour) for every vertex; without it the materials' BRDFs
-where the scene has them. albedo (r, g, b) replaces the diffuse and specular colours. brdf and
+where the scene has them (and gloss's Phong lobe elsewhere); 'materials+ggx:0.3' the materials'
+BRDFs and that lobe elsewhere. albedo (r, g, b) replaces the diffuse and specular colours. brdf and
 albedo are refused for vector transfer. glossy='paper' shades the paper's zonal term instead (the
 matrices' diffuse part; brdf then a Phong lobe whose exponent replaces gloss).
 

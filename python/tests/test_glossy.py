@@ -53,10 +53,10 @@ def test_shade_with_a_brdf_is_what_the_command_line_shades(glossy_box, tmp_path,
     np.testing.assert_allclose(grey, 0.5 * one, rtol=1e-5, atol=1e-7)
 
 
-def test_without_a_brdf_the_materials_shade_their_vertices():
+def test_without_a_brdf_the_materials_shade_their_vertices(tmp_path, cli):
     spheres = shprt.load_scene("builtin:gloss_spheres")
     f = shprt.File(spheres, shprt.bake(spheres, bands=3, samples=64, transfer="glossy"),
-                   kind="glossy")
+                   kind="glossy", samples=64)
     L = shprt.light("sun:-0.5,0.8,0.4,8", K=9)
     eye = (0, 1.6, 4)
     _, materials = shprt.shade(f, L, k=0.4, eye=eye)
@@ -68,6 +68,22 @@ def test_without_a_brdf_the_materials_shade_their_vertices():
     np.testing.assert_array_equal(materials[second], gold[second])
     np.testing.assert_array_equal(floor[:floor_vertices], phong16[:floor_vertices])
     assert np.abs(materials[second] - phong16[second]).max() > 1e-3
+    # materials+SPEC: the materials' BRDFs where they give one and SPEC elsewhere (the viewer's
+    # panel's "material BRDFs" with a lobe), the same in Python and on the command line.
+    _, mixed = shprt.shade(f, L, k=0.4, eye=eye, brdf="materials+ggx:0.25")
+    _, ggx = shprt.shade(f, L, k=0.4, eye=eye, brdf="ggx:0.25")
+    np.testing.assert_array_equal(mixed[second], gold[second])
+    np.testing.assert_array_equal(mixed[:floor_vertices], ggx[:floor_vertices])
+    _, plain = shprt.shade(f, L, k=0.4, eye=eye, brdf="materials")
+    np.testing.assert_array_equal(plain, materials)
+    path, out = str(tmp_path / "spheres.shprt"), str(tmp_path / "mixed.csv")
+    shprt.save(path, f)
+    cli("shade", path, "--brdf", "materials+ggx:0.25", "--k", "0.4", "--eye", "0,1.6,4",
+        "--light", "sun:-0.5,0.8,0.4,8", "-o", out)
+    rows = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(mixed, rows[:, 6:9], rtol=1e-6, atol=1e-6)
+    with pytest.raises(shprt.Error, match="expected materials, materials\\+SPEC"):
+        shprt.shade(f, L, brdf="materials-ggx:0.25")
 
 
 @needs_render

@@ -223,14 +223,32 @@ std::string describe_terms(const ShadingPlan& plan, const Mesh& mesh, int K_used
                        fit_note(worst_brdf, worst, bands));
 }
 
+void set_brdf_choice(ShadingParams& params, const std::string& spec) {
+    constexpr std::string_view kMaterials = "materials";
+    const std::string_view text(spec);
+    params.material_brdfs = text.starts_with(kMaterials);
+    if (!params.material_brdfs) {
+        params.brdf = parse_brdf(spec);  // that BRDF everywhere
+    } else if (text.size() == kMaterials.size()) {
+        params.brdf.reset();
+    } else {
+        SHPRT_CHECK(text[kMaterials.size()] == '+', invalid_argument,
+                    "brdf '{}': expected materials, materials+SPEC or a BRDF spec such as ggx:0.3",
+                    spec);
+        params.brdf = parse_brdf(spec.substr(kMaterials.size() + 1));
+    }
+}
+
 const std::vector<OptionRow<ShadingChoice>>& shading_choice_table() {
     static const std::vector<OptionRow<ShadingChoice>> table = [] {
         using C = ShadingChoice;
         std::vector<OptionRow<C>> t;
         add_row(t, "brdf", &C::brdf,
                 "Glossy bakes: the BRDF lobe phong:E (normalised Phong), blinn:E (Blinn-Phong) "
-                "or ggx:R (roughness), optionally :R,G,B, its specular colour (default white); "
-                "with --k the diffuse share");
+                "or ggx:R (roughness), optionally :R,G,B, its specular colour (default white), "
+                "for every vertex; materials+SPEC: the materials' BRDFs where the scene gives "
+                "them and SPEC elsewhere (default: materials, Phong --gloss elsewhere); with --k "
+                "the diffuse share");
         add_row(t, "glossy", &C::glossy,
                 "matrix (default: transfer matrices, needs a glossy bake) or paper (the "
                 "paper's zonal term; a glossy bake is turned into diffuse transfer)");
@@ -265,10 +283,7 @@ ShadingParams shading_params(const ShadingChoice& c, const std::optional<Sun>& s
     }
     p.view = parse_view(c.view, cli);
     p.glossy = parse_glossy_term(c.glossy, cli);
-    if (!c.brdf.empty()) {  // that BRDF everywhere
-        p.brdf = parse_brdf(c.brdf);
-        p.material_brdfs = false;
-    }
+    if (!c.brdf.empty()) set_brdf_choice(p, c.brdf);
     if (!c.albedo.empty()) {
         const std::vector<double> rgb = parse_numbers(c.albedo, 3, "--albedo R,G,B");
         p.albedo = Vec3f{float(rgb[0]), float(rgb[1]), float(rgb[2])};

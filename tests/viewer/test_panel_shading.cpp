@@ -1,8 +1,8 @@
 // The viewer's panel shades as the command line does (panel.hpp, PanelShading): the same
 // ShadingParams, given to the panel and to `shprt render`'s path (resolve_shading, then
 // draw_settings), give the same DrawSettings and the same pixels — the materials' BRDFs with a
-// GGX lobe elsewhere included, which the command line cannot type (its --brdf means "everywhere")
-// but the panel can edit. And an edit past a limit is check()'s one-line error, the last good
+// GGX lobe elsewhere included, which the panel edits as two fields and the command line types as
+// `--brdf materials+ggx:0.25`. And an edit past a limit is check()'s one-line error, the last good
 // shading kept.
 #include "panel.hpp"
 
@@ -87,6 +87,17 @@ TEST(PanelShading, GivesTheCommandLinesDrawSettings) {
         expect_same_shading(panel_path(params), render_path(params));
     }
     EXPECT_FALSE(cases[1].material_brdfs) << "--brdf means that BRDF everywhere";
+    // … and --brdf materials+SPEC the panel's materials with a lobe elsewhere; materials alone
+    // the default.
+    ShadingChoice mixed;
+    mixed.brdf = "materials+ggx:0.25";
+    mixed.params.k = 0.3;
+    EXPECT_EQ(shading_params(mixed, std::nullopt), materials_and_ggx());
+    ShadingChoice typed;
+    typed.brdf = "materials";
+    EXPECT_EQ(shading_params(typed, std::nullopt), ShadingParams{});
+    typed.brdf = "materials,ggx:0.25";
+    EXPECT_THROW(shading_params(typed, std::nullopt), Error);
     const DrawSettings both = panel_path(materials_and_ggx());
     EXPECT_TRUE(both.material_brdfs);
     EXPECT_EQ(both.brdf, parse_brdf("ggx:0.25"));

@@ -73,6 +73,13 @@ struct ShadingParams {
 // check().
 const std::vector<OptionRow<ShadingParams>>& shading_option_table();
 
+// The BRDF choice as the command line's --brdf and Python's brdf= spell it (the panel edits the
+// two fields directly): "ggx:0.3" (parse_brdf's spec) for every vertex (material_brdfs off);
+// "materials" for the materials' BRDFs where the scene gives them and gloss's Phong lobe
+// elsewhere (the default); "materials+ggx:0.3" for the materials' BRDFs and that one elsewhere.
+// Error(invalid_argument) from parse_brdf for a bad spec.
+void set_brdf_choice(ShadingParams& params, const std::string& spec);
+
 // Checks every choice on its own, before any file is read: k ∈ [0, 1], gloss ≥ 0, exposure > 0
 // (finite), coeffs ≥ 0, a valid BRDF (a Phong lobe without colour for the paper's term), albedo in
 // [0, 1] and only with the matrix term, sun_samples a square and only with a sun. One-line
