@@ -202,7 +202,8 @@ TEST(ErrorBound, SegmentsFromAnotherBackendStopWhereTheCpuBoundStops) {
     };
     detail::ErrorBoundScratch sc;
     const detail::BoundRows rows = sc.fresh_rows(V, KL);
-    detail::BakeProgress progress({}, true, V, set.size());
+    const ProgressFn no_progress;  // BakeProgress keeps a reference to it
+    detail::BakeProgress progress(no_progress, true, V, set.size());
     const std::uint64_t rays =
         detail::bake_segments_to_error(bound, V, segment, rows, sc, progress);
     std::vector<float> world(V * 16);
