@@ -169,7 +169,8 @@ namespace {
 // (error_bound.hpp, bake_segments_to_error), each segment of the nested set baked for the rows
 // still over the target by the device pipeline — those rows' positions and normals gathered, the
 // segment's directions, weights and rows of Y — and the rows rotated and written on the host.
-// The receivers go in blocks of kBoundBlock, so the host keeps a block's sums, not the range's.
+// The receivers go in blocks of kBoundBlock, so the host keeps a block's sums, not the range's;
+// the BVH is uploaded once (cuda::upload_occluders) and kept on the device for every segment.
 // Unverified on a GPU so far: the orchestration is tested on the CPU with the CPU's stages as the
 // segments' backend (ErrorBound.SegmentsFromAnotherBackendStopWhereTheCpuBoundStops).
 TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
@@ -202,6 +203,9 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
     BakeProgress progress(options.progress, shadowed, rx.count, S);
     const DeviceMemory memory = device_memory(options, device.free_bytes);
 
+    // The BVH goes to the device once and stays there for every segment of every block.
+    const std::shared_ptr<const cuda::DeviceOccluders> occluders =
+        shadowed ? cuda::upload_occluders(options.device_index, bvh.view()) : nullptr;
     std::size_t block_first = 0;  // the block's first receiver of the range
     std::vector<Vec3f> positions, normals;
     cuda::DeviceBakeResult total;
@@ -210,6 +214,7 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
         cuda::DeviceBakeInput input;
         input.device = options.device_index;
         if (shadowed) input.scene.bvh = bvh.view();
+        input.occluders = occluders;
         input.scene.positions = positions.data();
         input.scene.normals = normals.data();
         input.scene.vertex_count = m;

@@ -29,7 +29,55 @@ namespace {
 
 constexpr std::uint64_t kMaxThreads = 0x7FFFFFFFull;  // the kernels' 32-bit thread index
 
-// The scene's arrays on the device, uploaded on construction.
+}  // namespace
+
+class DeviceOccluders {
+public:
+    DeviceOccluders(int device, const FlatBvhView& bvh)
+        : m_device(device),
+          m_nodes(bvh.node_count),
+          m_tri_verts(std::size_t(bvh.tri_count) * kFlatBvhTriStride),
+          m_tri_ids(bvh.tri_count),
+          m_node_count(bvh.node_count),
+          m_tri_count(bvh.tri_count) {
+        m_nodes.upload(bvh.nodes, m_nodes.size());
+        m_tri_verts.upload(bvh.tri_verts, m_tri_verts.size());
+        m_tri_ids.upload(bvh.tri_ids, m_tri_ids.size());
+    }
+    int device() const { return m_device; }
+    std::uint64_t bytes() const {
+        return m_nodes.bytes() + m_tri_verts.bytes() + m_tri_ids.bytes();
+    }
+    FlatBvhView view() const {
+        return FlatBvhView{m_nodes.data(), m_tri_verts.data(), m_tri_ids.data(), m_node_count,
+                           m_tri_count};
+    }
+
+private:
+    int m_device;
+    DeviceBuffer<FlatBvhNode> m_nodes;
+    DeviceBuffer<float> m_tri_verts;
+    DeviceBuffer<std::uint32_t> m_tri_ids;
+    std::uint32_t m_node_count, m_tri_count;
+};
+
+std::shared_ptr<const DeviceOccluders> upload_occluders(int device, const FlatBvhView& bvh) {
+    const std::lock_guard<std::mutex> lock(gpu_mutex());
+    GpuContext& context = gpu_context(device);
+    SHPRT_CUDA_CHECK(cudaSetDevice(context.device));
+    // The buffers are freed where they were made: on that device, under the lock.
+    return std::shared_ptr<const DeviceOccluders>(
+        new DeviceOccluders(device, bvh), [](const DeviceOccluders* o) {
+            const std::lock_guard<std::mutex> held(gpu_mutex());
+            cudaSetDevice(gpu_context(o->device()).device);
+            delete o;
+        });
+}
+
+namespace {
+
+// The scene's arrays on the device, uploaded on construction; the BVH's taken from `kept`
+// instead when it is given (DeviceBakeInput::occluders), counted in the tally all the same.
 struct SceneBuffers {
     DeviceBuffer<FlatBvhNode> nodes;
     DeviceBuffer<float> tri_verts;
@@ -38,11 +86,13 @@ struct SceneBuffers {
     DeviceBuffer<float> dirs, weights;
     std::uint32_t node_count = 0, tri_count = 0, samples = 0;
     bool shadowed = true, hemisphere = false, local = false;
+    const DeviceOccluders* kept = nullptr;
 
-    SceneBuffers(const DeviceScene& s, MemoryTally* tally)
-        : nodes(s.bvh.node_count, tally),
-          tri_verts(std::size_t(s.bvh.tri_count) * kFlatBvhTriStride, tally),
-          tri_ids(s.bvh.tri_count, tally),
+    SceneBuffers(const DeviceScene& s, MemoryTally* tally,
+                 const DeviceOccluders* kept_bvh = nullptr)
+        : nodes(kept_bvh ? 0 : s.bvh.node_count, tally),
+          tri_verts(kept_bvh ? 0 : std::size_t(s.bvh.tri_count) * kFlatBvhTriStride, tally),
+          tri_ids(kept_bvh ? 0 : s.bvh.tri_count, tally),
           positions(s.vertex_count, tally),
           normals(s.vertex_count, tally),
           dirs(3 * s.samples, tally),
@@ -52,7 +102,9 @@ struct SceneBuffers {
           samples(static_cast<std::uint32_t>(s.samples)),
           shadowed(s.shadowed),
           hemisphere(s.hemisphere),
-          local(s.local) {
+          local(s.local),
+          kept(kept_bvh) {
+        if (kept && tally) tally->add(kept->bytes());
         nodes.upload(s.bvh.nodes, nodes.size());
         tri_verts.upload(s.bvh.tri_verts, tri_verts.size());
         tri_ids.upload(s.bvh.tri_ids, tri_ids.size());
@@ -64,7 +116,9 @@ struct SceneBuffers {
 
     TransferLaunch launch(std::size_t first, std::size_t count) const {
         TransferLaunch l;
-        l.bvh = FlatBvhView{nodes.data(), tri_verts.data(), tri_ids.data(), node_count, tri_count};
+        l.bvh = kept ? kept->view()
+                     : FlatBvhView{nodes.data(), tri_verts.data(), tri_ids.data(), node_count,
+                                   tri_count};
         l.positions = positions.data();
         l.normals = normals.data();
         l.dirs = dirs.data();
@@ -245,7 +299,10 @@ DeviceBakeResult run_device_bake(const DeviceBakeInput& in) {
                 "GPU bake: the closest-hit pass of interreflected transfer takes a sphere set");
 
     MemoryTally tally;
-    const SceneBuffers scene(in.scene, &tally);
+    SHPRT_CHECK(!in.occluders || in.occluders->device() == in.device, invalid_argument,
+                "GPU bake: the kept occluders are on device {}, the bake on device {}",
+                in.occluders ? in.occluders->device() : -1, in.device);
+    const SceneBuffers scene(in.scene, &tally, in.occluders.get());
     const TransportMeshBuffers transport_mesh(in, &tally);
     DeviceBuffer<float> basis(S * K, &tally);
     basis.upload(in.basis, basis.size());

@@ -44,9 +44,19 @@ struct DeviceScene {
     bool local = false;       // a local set: dirs in each receiver's tangent frame
 };
 
+// The occluders' flat BVH on the device, uploaded once and kept by its owners across bakes (the
+// error-bounded bake's segments, bake_gpu.cpp): DeviceBakeInput::occluders. Freed under the GPU
+// lock when the last owner lets it go. Takes the GPU lock; throws as prepare_device, and
+// Error(out_of_memory).
+class DeviceOccluders;
+std::shared_ptr<const DeviceOccluders> upload_occluders(int device, const FlatBvhView& bvh);
+
 struct DeviceBakeInput {
     int device = 0;  // the CUDA device
     DeviceScene scene;
+    // Set: scene.bvh is already on the device (upload_occluders of the same BVH on this device),
+    // and the bake uses it instead of uploading its own copy.
+    std::shared_ptr<const DeviceOccluders> occluders;
     // The projection table, S × K row-major: the basis Y, or for glossy transfer the pair
     // products (pair_product_table), K then being the packed matrix's K(K+1)/2 columns.
     const float* basis = nullptr;
