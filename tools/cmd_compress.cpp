@@ -31,21 +31,6 @@ struct CompressArgs {
     LightChoice light;  // the error under this light too (light/light_setup.hpp)
 };
 
-// The probes' CPCA (--probe-cpca), printed in two lines; the file's probes replaced by the code.
-void compress_file_probes(const CompressArgs& a, const CpcaOptions& options,
-                          const LightSetup& setup, TransferSet& out, const ProbeGrid& probes) {
-    std::optional<std::vector<float>> light;
-    if (!a.light.light.empty()) light = prepare_light(setup, probes.K).coeffs;
-    ProbeCpcaResult r;
-    try {
-        r = compress_probes(probes, options, light ? &*light : nullptr);
-    } catch (const Error& e) {
-        fail(e.code(), "{}: --probe-cpca {}: {}", a.input, a.cpca.probe_cpca, e.what());
-    }
-    std::fputs(probe_cpca_summary(r, options, describe_light_choice(a.light)).c_str(), stdout);
-    out.probes = std::move(r.compressed);
-}
-
 void run(const CompressArgs& a) {
     const CpcaFits fits = cpca_options_from(a.cpca);
     // As bake's --threads (its row of bake/bake_option_table.hpp).
@@ -64,18 +49,19 @@ void run(const CompressArgs& a) {
     if (fits.probes)
         check_probe_cpca_fit(t.probes, *fits.probes,
                              a.input + ": --probe-cpca " + a.cpca.probe_cpca);
-    // The light's SH (never the --sun: prepare_light keeps it out) at the transfer's K.
-    std::optional<std::vector<float>> light;
+    // The light's SH (never the --sun: prepare_light keeps it out) at the transfer's K, and at
+    // the probes' for theirs.
+    std::optional<std::vector<float>> light, probe_light;
     if (with_light) light = prepare_light(setup, t.layout.K).coeffs;
-    CpcaResult r = compress_transfer(t, receiver_normals(file.mesh, t), fits.transfer, a.cpca.half,
-                                     light ? &*light : nullptr);
-    std::fputs(
-        cpca_summary(t, r, fits.transfer, a.cpca.half, describe_light_choice(a.light)).c_str(),
-        stdout);
-    if (fits.probes) compress_file_probes(a, *fits.probes, setup, r.compressed, t.probes);
+    if (with_light && fits.probes) probe_light = prepare_light(setup, t.probes.K).coeffs;
+    SetCompression r = compress_set(
+        t, receiver_normals(file.mesh, t), fits, a.cpca.half, light ? &*light : nullptr,
+        probe_light ? &*probe_light : nullptr, a.input + ": --probe-cpca " + a.cpca.probe_cpca);
+    std::fputs(compress_summary(t, r, fits, a.cpca.half, describe_light_choice(a.light)).c_str(),
+               stdout);
     WriteOptions write;
     write.reproducible = a.reproducible;
-    write_shprt(a.output, file.mesh, r.compressed, write);
+    write_shprt(a.output, file.mesh, r.rows.compressed, write);
     std::printf("wrote %s\n", a.output.c_str());
 }
 

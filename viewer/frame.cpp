@@ -4,6 +4,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/render/gl_context.hpp"
+#include "shprt/transfer/cpca_summary.hpp"
 #include "shprt/transfer/kind_table.hpp"
 
 #include <epoxy/gl.h>
@@ -32,13 +33,8 @@ SunFilter choose_sun_filter(bool continuous) {
 
 std::string describe_gpu_transfer(const TransferSet& transfer, double bytes_per_vertex) {
     if (!is_glossy_matrix(transfer.layout)) return {};
-    const int K = transfer.layout.K;
-    if (transfer.cpca.empty())
-        return fmt::format("{}x{} matrices: {:.0f} B/vertex on the GPU", K, K, bytes_per_vertex);
-    return fmt::format(
-        "CPCA {}x{} (clusters x vectors) of {}x{} matrices: {:.0f} B/vertex on "
-        "the GPU (float32)",
-        transfer.cpca.clusters, transfer.cpca.vectors, K, K, bytes_per_vertex);
+    return fmt::format("{}: {:.0f} B/vertex on the GPU (float32)", describe_matrices(transfer),
+                       bytes_per_vertex);
 }
 
 namespace {

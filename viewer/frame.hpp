@@ -57,9 +57,10 @@ struct FrameConfig {
     int msaa = kAutoMsaa;  // samples of the float target; kAutoMsaa: see choose_samples
 };
 
-// What the GPU holds of glossy transfer, for the panel and the benchmark: "25x25 matrices:
-// 1300 B/vertex on the GPU", or the CPCA code's clusters, vectors and bytes per vertex
-// (`bytes_per_vertex`: Renderer::transfer_bytes_per_vertex). Empty for vector transfer.
+// What the GPU holds of glossy transfer, for the panel and the benchmark: the matrices as the
+// library describes them (describe_matrices: "25x25 matrices", or the CPCA code's clusters and
+// vectors) and "1300 B/vertex on the GPU (float32)" (`bytes_per_vertex`:
+// Renderer::transfer_bytes_per_vertex). Empty for vector transfer.
 std::string describe_gpu_transfer(const TransferSet& transfer, double bytes_per_vertex);
 
 // Where a displayed frame is drawn before it reaches the framebuffer: a float target when

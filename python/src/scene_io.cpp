@@ -7,6 +7,7 @@
 #include "shprt/scene/load.hpp"
 #include "shprt/scene/mesh_ops.hpp"
 #include "shprt/transfer/cpca.hpp"
+#include "shprt/transfer/cpca_summary.hpp"
 #include "shprt/transfer/kind_table.hpp"
 
 #include <pybind11/stl.h>
@@ -222,27 +223,18 @@ for glossy matrices (each vertex's packed upper triangle), float32.)")
             options.seed = seed;
             options.iterations = iterations;
             options.threads = threads;
-            CpcaResult r;
-            std::optional<ProbeCpcaResult> probes;
+            SetCompression s;
             {
                 py::gil_scoped_release release;
-                if (probe_cpca) {  // checked before the transfer's fit, as the command line does
-                    SHPRT_CHECK(!file.transfer.probes.empty(), invalid_argument,
-                                "probe_cpca: the file has no probes (bake with probes=)");
-                }
-                r = compress_transfer(file.transfer, receiver_normals(file.mesh, file.transfer),
-                                      options, half);
-                if (probe_cpca) {
-                    CpcaOptions p = options;
-                    p.clusters = probe_cpca->first;
-                    p.vectors = probe_cpca->second;
-                    probes = compress_probes(file.transfer.probes, p);
-                    r.compressed.probes = std::move(probes->compressed);
-                }
+                s = compress_set(file.transfer, receiver_normals(file.mesh, file.transfer),
+                                 cpca_fits(options, probe_cpca), half, nullptr, nullptr,
+                                 "probe_cpca");
             }
+            CpcaResult& r = s.rows;
+            const std::optional<ProbeCpcaResult>& probes = s.probes;
             ShprtFile out;
             out.mesh = file.mesh;
-            out.transfer = std::move(r.compressed);
+            out.transfer = std::move(s.rows.compressed);
             py::dict report;
             if (probes) {
                 report["probe_relative_rmse"] = probes->relative_rmse;

@@ -317,7 +317,7 @@ CheckpointKept::CheckpointKept(const Error& cause, std::size_t done_, std::size_
       path(std::move(path_)) {}
 
 ReceiverSet parse_receivers(const ReceiverChoice& c) {
-    const bool texel = parse_receiver_domain(c.domain) == ReceiverDomain::texel;
+    const bool texel = is_texel(parse_receiver_domain(c.domain));
     SHPRT_CHECK(!texel || !c.resolution.empty() || c.texel_density, invalid_argument,
                 "--domain texel needs --resolution W or WxH (or --unwrap --texel-density T)");
     SHPRT_CHECK(texel || (c.resolution.empty() && c.uv_set == 0), invalid_argument,

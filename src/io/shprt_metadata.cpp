@@ -132,18 +132,14 @@ const std::array kFields = {
         [](const Fields& f, const char* leaf, Out& t) {
             if (f.string(leaf) != "shprt") corrupt(t.path, "metadata: format is not 'shprt'");
         }, 0, nullptr},
-    // A version 3 file is a CPCA file (the "cpca" object and sections); only those carry it.
+    // The newest version among the file's sections (file_version: a CPCA code's make it 3); the
+    // rows of a newer version than the file's are neither written nor allowed (the walks).
     FieldRule{"format_version", F::whole, 1, kMust, 1, nullptr, nullptr,
-        [](const Src& s) -> Json {
-            return s.cpca ? kShprtCpcaFormatVersion : kShprtFormatVersion;
-        },
+        [](const Src& s) -> Json { return file_version(s.sections); },
         [](const Fields& f, const char* leaf, Out& t) {
             if (f.u64(leaf) != t.version)
                 corrupt(t.path, "metadata: format_version {} differs from the header's {}",
                         f.u64(leaf), t.version);
-            if (t.version < kShprtCpcaFormatVersion && f.obj.contains("cpca"))
-                corrupt(t.path, "metadata: 'cpca' in a version {} file (CPCA files are version {})",
-                        t.version, kShprtCpcaFormatVersion);
         }, 0, nullptr},
     FieldRule{"tool", F::text, 1, kMust, 1, nullptr, nullptr,
         [](const Src&) -> Json { return "shprt"; }, nullptr, 190,
@@ -364,9 +360,9 @@ const std::array kFields = {
         [](const Fields& f, const char* leaf, Out& t) {
             ir_into(t).bounce_coeffs = std::uint64_t(f.integer(leaf, 1, into(t).layout.K));
         }, 0, nullptr},
-    // A CPCA code instead of the rows (version 3 files only; pass 3: bounded by the receivers).
-    FieldRule{"cpca", F::object, 3, kMust, 3, nullptr,
-        [](const Src& s) { return s.cpca != nullptr; }, nullptr, nullptr, 130,
+    // A CPCA code instead of the rows (version 3 files, those with the code's sections: every
+    // one; pass 3: bounded by the receivers).
+    FieldRule{"cpca", F::object, 3, kMust, 3, nullptr, nullptr, nullptr, nullptr, 130,
         [](const Lines& s) {
             const CpcaCode& c = s.file.transfer.cpca;
             if (c.empty()) return;

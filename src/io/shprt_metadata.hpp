@@ -38,7 +38,7 @@ struct MetaSource {
     const WriteOptions& options;
     const Json& extra;  // options.extra_metadata_json, parsed
     const std::vector<SectionOut>& sections;
-    const CpcaCode* cpca;     // the transfer's code (null: the rows are stored)
+    const CpcaCode* cpca;     // the transfer's code (read only in a file whose sections hold it)
     const ProbeGrid* probes;  // null or empty: none
 };
 

@@ -46,8 +46,10 @@ const char* leaf_of(const FieldRule& rule) {
 
 bool is_written(const FieldRule& rule, const MetaSource& s) {
     const FieldRule* parent = parent_of(rule);
-    // The parent first: a row's own test may look into its parent's part (s.probes, s.cpca).
-    return (!parent || is_written(*parent, s)) && (!rule.written || rule.written(s));
+    // Only the rows of the file's version (a CPCA code's make it 3: file_version), the parent
+    // first: a row's own test may look into its parent's part (s.probes, s.cpca).
+    return rule.since <= file_version(s.sections) && (!parent || is_written(*parent, s)) &&
+           (!rule.written || rule.written(s));
 }
 
 // The object that holds `rule` in the file (nullopt: absent and optional, or not read in a file
@@ -105,6 +107,12 @@ Json write_metadata(const MetaSource& s) {
 }
 
 void read_metadata(const Fields& metadata, MetaTarget& t) {
+    // A field of a newer version than the file's is refused, not ignored ('cpca' in a version 2
+    // file: the rows would be read as if there were no code).
+    for (const FieldRule& rule : field_rules())
+        if (rule.since > t.version && !parent_of(rule) && metadata.obj.contains(rule.key))
+            corrupt(t.path, "metadata: '{}' in a version {} file (it came with version {})",
+                    rule.key, t.version, rule.since);
     for (int pass = 1; pass <= 3; ++pass)
         for (const FieldRule& rule : field_rules()) {
             if (rule.pass != pass || !rule.read || rule.since > t.version) continue;

@@ -279,7 +279,7 @@ std::string Reader::read_metadata_text(const ShprtHeader& h) {
 std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const ShprtHeader& h,
                                                     const Counts& c) {
     const TransferLayout& layout = c.layout;
-    const std::uint64_t size = m_size, clusters = c.clusters;
+    const std::uint64_t size = m_size;
     const Json& table = m.get("sections");
     if (!table.is_array() || table.size() > kMaxSections)
         corrupt(m_path, "metadata: 'sections' must be an array of at most {} entries",
@@ -289,15 +289,10 @@ std::vector<SectionSpec> Reader::read_section_table(const Fields& m, const Shprt
     std::vector<SectionSpec> specs;
     std::size_t listed = 0;
     for (const detail::SectionRule& rule : detail::section_rules()) {
-        // A CPCA file has every cpca_* section and no "transfer"; other files the reverse.
-        if (clusters > 0 ? rule.is_transfer() : rule.is_cpca()) continue;
-        if (rule.is_probe() && c.probes == 0) continue;  // no metadata "probes": no arrays
-        // Probes with a code have every probe_cpca_* section and no "probe_matrices"; others
-        // the reverse.
-        if (rule.is_probe() &&
-            (c.probe_clusters > 0 ? rule.is_probe_matrices() : rule.is_probe_cpca()))
-            continue;
-        const bool required = rule.required || (clusters > 0 && rule.is_cpca()) || rule.is_probe();
+        // The metadata's counts say which rows apply (a CPCA file: every cpca_* section and no
+        // "transfer"; probes: their matrices or their code's arrays).
+        if (!rule.applies(c)) continue;
+        const bool required = rule.required;
         const bool present = listed < table.size() && table[listed].is_object() &&
                              table[listed].contains("name") &&
                              table[listed]["name"] == std::string(rule.name);

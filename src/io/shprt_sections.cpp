@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <string_view>
 #include <vector>
 
 namespace shprt::detail {
@@ -116,15 +115,27 @@ struct TexelIndexArray {
     }
 };
 
+// When a row applies (SectionRule::applies), from the counts the metadata or the writer's parts
+// give: every file; the transfer's rows unless a CPCA code stands for them, the code's arrays when
+// there is one; the probes' arrays when there are probes: their matrices, or their code's arrays.
+bool always(const SectionCounts&) { return true; }
+bool with_rows(const SectionCounts& c) { return c.clusters == 0; }
+bool with_code(const SectionCounts& c) { return c.clusters > 0; }
+bool with_probes(const SectionCounts& c) { return c.probes > 0; }
+bool with_probe_matrices(const SectionCounts& c) { return with_probes(c) && c.probe_clusters == 0; }
+bool with_probe_code(const SectionCounts& c) { return with_probes(c) && c.probe_clusters > 0; }
+
 template <class A>
 constexpr SectionRule rule(const char* name, SectionType type, SectionRows rows, std::uint64_t cols,
-                           bool required) {
-    return {name, type, rows, cols, required, &A::data, &A::count, &A::resize};
+                           bool required, bool (*applies)(const SectionCounts&) = always,
+                           std::uint32_t since = 1) {
+    return {name, type, rows, cols, required, applies, since, &A::data, &A::count, &A::resize};
 }
 
 using S = SectionType;
 using R = SectionRows;
 constexpr bool kRequired = true, kOptional = false;
+constexpr std::uint32_t kCodeVersion = kShprtCpcaFormatVersion;  // a CPCA code's sections
 
 const std::array kRules = {
     rule<MeshArray<&Mesh::positions>>("positions", S::f32, R::vertices, 3, kRequired),
@@ -143,18 +154,20 @@ const std::array kRules = {
     // Transfer probes (docs/probes.md): per probe, channels K×K matrices (row-major, [out][in]),
     // and its validity (1, or 0 inside geometry). Metadata "probes" describes the grid.
     rule<ProbeArray<&ProbeGrid::matrices>>("probe_matrices", S::f32, R::probes,
-                                           SectionRule::kProbeFloats, kOptional),
-    rule<ProbeArray<&ProbeGrid::valid>>("probe_valid", S::u8, R::probes, 1, kOptional),
+                                           SectionRule::kProbeFloats, kRequired,
+                                           with_probe_matrices),
+    rule<ProbeArray<&ProbeGrid::valid>>("probe_valid", S::u8, R::probes, 1, kRequired, with_probes),
     // Probes stored as a CPCA code (`shprt compress --probe-cpca`) instead of "probe_matrices":
     // per valid probe its cluster and weights, per cluster the mean and basis (float32).
     rule<ProbeCpcaArray<&CpcaCode::cluster>>("probe_cpca_cluster", S::u32, R::valid_probes, 1,
-                                             kOptional),
+                                             kRequired, with_probe_code),
     rule<ProbeCpcaArray<&CpcaCode::weights>>("probe_cpca_weights", S::f32, R::valid_probes,
-                                             SectionRule::kProbeVectors, kOptional),
+                                             SectionRule::kProbeVectors, kRequired,
+                                             with_probe_code),
     rule<ProbeCpcaArray<&CpcaCode::means>>("probe_cpca_means", S::f32, R::probe_clusters,
-                                           SectionRule::kProbeFloats, kOptional),
+                                           SectionRule::kProbeFloats, kRequired, with_probe_code),
     rule<ProbeCpcaArray<&CpcaCode::basis>>("probe_cpca_basis", S::f32, R::probe_basis_rows,
-                                           SectionRule::kProbeFloats, kOptional),
+                                           SectionRule::kProbeFloats, kRequired, with_probe_code),
     // An error-bounded bake (docs/sampling.md, "Error-bounded bakes"): each receiver's
     // directions and estimated error. Metadata "target_error" is the bound.
     rule<SetArray<&TransferSet::receiver_samples>>("receiver_samples", S::u32, R::receivers, 1,
@@ -167,12 +180,15 @@ const std::array kRules = {
                       kOptional),
     // A CPCA file (format version 3) stores its code instead of "transfer": each receiver's
     // cluster and weights, each cluster's mean and basis (transfer/cpca.hpp).
-    rule<CpcaArray<&CpcaCode::cluster>>("cpca_cluster", S::u32, R::receivers, 1, kOptional),
+    rule<CpcaArray<&CpcaCode::cluster>>("cpca_cluster", S::u32, R::receivers, 1, kRequired,
+                                        with_code, kCodeVersion),
     rule<CpcaArray<&CpcaCode::weights>>("cpca_weights", S::transfer, R::receivers,
-                                        SectionRule::kVectors, kOptional),
-    rule<CpcaArray<&CpcaCode::means>>("cpca_means", S::transfer, R::clusters, 0, kOptional),
-    rule<CpcaArray<&CpcaCode::basis>>("cpca_basis", S::transfer, R::basis_rows, 0, kOptional),
-    rule<TransferArray>("transfer", S::transfer, R::receivers, 0, kRequired),
+                                        SectionRule::kVectors, kRequired, with_code, kCodeVersion),
+    rule<CpcaArray<&CpcaCode::means>>("cpca_means", S::transfer, R::clusters, 0, kRequired,
+                                      with_code, kCodeVersion),
+    rule<CpcaArray<&CpcaCode::basis>>("cpca_basis", S::transfer, R::basis_rows, 0, kRequired,
+                                      with_code, kCodeVersion),
+    rule<TransferArray>("transfer", S::transfer, R::receivers, 0, kRequired, with_rows),
 };
 
 }  // namespace
@@ -212,7 +228,7 @@ std::string SectionRule::dtype(const TransferLayout& layout) const {
 
 std::uint64_t SectionRule::element_size(const TransferLayout& layout) const {
     if (type == SectionType::u8) return 1;
-    return type == SectionType::transfer && layout.encoding == TransferEncoding::f16 ? 2 : 4;
+    return type == SectionType::transfer ? bytes_per_value(layout.encoding) : 4;
 }
 
 std::uint64_t SectionRule::row_count(const SectionCounts& counts) const {
@@ -237,11 +253,6 @@ std::uint64_t SectionRule::row_count(const SectionCounts& counts) const {
             break;
     }
     return counts.receivers;
-}
-
-bool SectionRule::is_cpca() const { return std::string_view(name).starts_with("cpca_"); }
-bool SectionRule::is_probe_cpca() const {
-    return std::string_view(name).starts_with("probe_cpca_");
 }
 
 std::span<const SectionRule> section_rules() { return kRules; }

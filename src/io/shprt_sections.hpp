@@ -2,8 +2,11 @@
 // section, in file order, its name, element type, shape rule, whether it is required, and where
 // its data lives in memory. A new section is one line in kSections (shprt_sections.cpp).
 //
-// Rules (docs/file_format.md): sections appear in table order; a required section is always
-// present; an optional one is written when its array is non-empty and may be absent. Rows count
+// Rules (docs/file_format.md): sections appear in table order; a section applies to a file when
+// its row's `applies` says so from the file's counts (the transfer's rows and a CPCA code stand
+// for each other, as do the probes' matrices and their code); a required section is present
+// whenever it applies; an optional one is written when its array is non-empty and may be absent.
+// A file's format version is the newest `since` of the sections it holds (file_version). Rows count
 // vertices, triangles or receivers (the transfer's rows: vertices for the vertex domain); columns
 // are fixed or, for the transfer, layout.floats_per_receiver(). The transfer's element type is
 // its layout's encoding (float32 or float16).
@@ -56,7 +59,12 @@ struct SectionRule {
     std::uint64_t cols;  // 0 = layout.floats_per_receiver(), kPerChannel = floats_per_channel(),
                          // kVectors = the CPCA code's vectors, kProbeFloats = channels·K² of
                          // the probes, kProbeVectors = the probes' CPCA code's vectors
-    bool required;
+    bool required;       // present whenever it applies
+    // Whether the section belongs in a file of these counts (the reader's, from the metadata; the
+    // writer's, from the parts it writes): one predicate per row, so neither walk asks which
+    // part a row is.
+    bool (*applies)(const SectionCounts& counts);
+    std::uint32_t since;  // the format version whose files first hold it
     // The array in memory: its data and scalar element count (rows·cols when present; an empty
     // optional array means "absent"); `resize` sizes it for reading and returns its data.
     const void* (*data)(const Mesh& mesh, const TransferSet& transfer);
@@ -81,17 +89,6 @@ struct SectionRule {
     bool is_transfer() const {
         return type == SectionType::transfer && cols == 0 && rows == SectionRows::receivers;
     }
-    // One of the CPCA code's arrays: present exactly when the file has a code (then "transfer"
-    // is absent).
-    bool is_cpca() const;
-    // One of the probe grid's arrays: present exactly when the metadata has "probes" — its
-    // matrices, or instead its CPCA code's arrays (is_probe_cpca) when metadata.probes has "cpca".
-    bool is_probe() const {
-        return rows == SectionRows::probes || rows == SectionRows::valid_probes ||
-               rows == SectionRows::probe_clusters || rows == SectionRows::probe_basis_rows;
-    }
-    bool is_probe_matrices() const { return rows == SectionRows::probes && cols == kProbeFloats; }
-    bool is_probe_cpca() const;
 };
 
 // The table, in file order.

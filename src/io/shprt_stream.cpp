@@ -58,7 +58,7 @@ public:
                     first + count, m_first, m_first + m_count);
         const std::size_t n = m_layout.floats(count);
         detail::check_coefficients(m_path, rows, n, m_layout, first);
-        const std::uint64_t element = m_layout.encoding == TransferEncoding::f16 ? 2 : 4;
+        const std::uint64_t element = bytes_per_value(m_layout.encoding);
         const std::uint64_t at = m_offset + m_layout.floats(first - m_first) * element;
         std::uint32_t crc = 0;
         if (element == 4) {
@@ -97,7 +97,7 @@ public:
                   [](const Chunk& a, const Chunk& b) { return a.first < b.first; });
         std::uint32_t crc = 0;
         std::size_t next = m_first;
-        const std::uint64_t element = m_layout.encoding == TransferEncoding::f16 ? 2 : 4;
+        const std::uint64_t element = bytes_per_value(m_layout.encoding);
         for (const Chunk& c : m_chunks) {
             SHPRT_CHECK(c.first == next, invalid_argument,
                         "{}: transfer rows from receiver {} were {} before the file was finished",
@@ -215,7 +215,7 @@ void ShprtStreamWriter::commit(const TransferInfo& info) {
     const std::string text = detail::lay_out(s.path, s.mesh, final_info, s.count, s.options,
                                              s.extra, s.sections, s.reserve);
     unsigned char header[kShprtHeaderSize];
-    detail::encode_header(text, header);
+    detail::encode_header(text, header, detail::file_version(s.sections));
     pwrite_all(fd, header, sizeof header, 0, s.path);
     pwrite_all(fd, text.data(), text.size(), kShprtHeaderSize, s.path);
     s.file.commit();

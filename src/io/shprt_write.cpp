@@ -18,7 +18,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string_view>
 #include <vector>
 
 namespace shprt {
@@ -127,19 +126,17 @@ std::vector<SectionOut> plan_sections(const Mesh& mesh, const TransferInfo& info
     // is `coeffs`.
     const TransferSet none;
     const TransferSet& parts = transfer ? *transfer : none;
-    const bool cpca = !parts.cpca.empty();
     const detail::SectionCounts counts = section_counts(mesh, info.layout, rows, parts);
     std::vector<SectionOut> sections;
     for (const detail::SectionRule& rule : detail::section_rules()) {
+        if (!rule.applies(counts)) continue;  // e.g. the rows when a CPCA code stands for them
         const bool is_transfer = rule.is_transfer();
-        if (is_transfer && cpca) continue;  // the code stands for the rows
-        // The probes' code stands for their matrices.
-        if (rule.is_probe_matrices() && !parts.probes.cpca.empty()) continue;
-        if (!rule.required && !is_transfer && rule.count(mesh, parts) == 0) continue;
+        if (!rule.required && rule.count(mesh, parts) == 0) continue;
         const bool to_half = rule.element_size(info.layout) == 2;  // float32 stored as f16
         sections.push_back({rule.name, rule.dtype(info.layout), rule.row_count(counts),
                             rule.col_count(counts), rule.element_size(info.layout),
                             is_transfer ? coeffs : rule.data(mesh, parts), to_half});
+        sections.back().since = rule.since;
         sections.back().streamed = is_transfer && coeffs == nullptr;
     }
     for (SectionOut& s : sections)
@@ -194,6 +191,12 @@ std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInf
     return text;
 }
 
+std::uint32_t file_version(const std::vector<SectionOut>& sections) {
+    std::uint32_t version = kShprtFormatVersion;
+    for (const SectionOut& s : sections) version = std::max(version, s.since);
+    return version;
+}
+
 void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize],
                    std::uint32_t version) {
     ShprtHeader header;
@@ -209,10 +212,7 @@ void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize],
 void write_file_body(AtomicFile& file, const std::string& text,
                      const std::vector<SectionOut>& sections) {
     unsigned char header_bytes[kShprtHeaderSize];
-    const bool cpca = std::any_of(sections.begin(), sections.end(), [](const SectionOut& s) {
-        return std::string_view(s.name).starts_with("cpca_");
-    });
-    encode_header(text, header_bytes, cpca ? kShprtCpcaFormatVersion : kShprtFormatVersion);
+    encode_header(text, header_bytes, file_version(sections));
     file.write(header_bytes, sizeof header_bytes);
     file.write(text);
     std::uint64_t position = kShprtHeaderSize + text.size();
@@ -258,9 +258,8 @@ void write_shprt(const std::string& path, const Mesh& mesh, const TransferSet& t
     const std::size_t rows = transfer.receiver_count();
     std::vector<detail::SectionOut> sections =
         detail::plan_sections(mesh, transfer, rows, transfer.coeffs.data(), &transfer);
-    const std::string text =
-        detail::lay_out(path, mesh, transfer, rows, options, extra, sections, 0,
-                        transfer.cpca.empty() ? nullptr : &transfer.cpca, &transfer.probes);
+    const std::string text = detail::lay_out(path, mesh, transfer, rows, options, extra, sections,
+                                             0, &transfer.cpca, &transfer.probes);
     AtomicFile file(path);
     detail::write_file_body(file, text, sections);
     file.commit();

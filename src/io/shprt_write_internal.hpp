@@ -29,6 +29,7 @@ struct SectionOut {
     bool streamed = false;  // the transfer of a streamed file: written by its sink, CRC later
     std::uint64_t offset = 0;
     std::uint32_t crc = 0;
+    std::uint32_t since = 1;  // the format version whose files first hold it (its table row's)
 
     std::uint64_t count() const { return rows * cols; }
     std::uint64_t length() const { return count() * element_size; }
@@ -64,9 +65,13 @@ std::string lay_out(const std::string& path, const Mesh& mesh, const TransferInf
                     std::size_t rows, const WriteOptions& options, const Json& extra,
                     std::vector<SectionOut>& sections, std::size_t reserve,
                     const CpcaCode* cpca = nullptr, const ProbeGrid* probes = nullptr);
+// The format version of a file of these sections: the newest `since` among them, at least
+// kShprtFormatVersion (a file with a CPCA code's sections is version 3). The header and the
+// metadata's format_version both say it; the metadata writes the fields that version holds.
+std::uint32_t file_version(const std::vector<SectionOut>& sections);
 // The 48 header bytes for metadata `text` of a file of format `version`.
 void encode_header(const std::string& text, unsigned char out[kShprtHeaderSize],
-                   std::uint32_t version = kShprtFormatVersion);
+                   std::uint32_t version);
 // Writes the header, the metadata and every section with data (padding between them).
 void write_file_body(AtomicFile& file, const std::string& text,
                      const std::vector<SectionOut>& sections);

@@ -99,15 +99,6 @@ void check_glossy_shadable(const Mesh& mesh, const TransferSet& transfer) {
                 to_string(transfer.layout.shape), transfer.layout.channels);
 }
 
-void unpack_symmetric(const float* packed, int K, int K_used, double* out) {
-    std::size_t p = 0;
-    for (int i = 0; i < K; ++i)
-        for (int j = i; j < K; ++j, ++p) {
-            if (i >= K_used || j >= K_used) continue;
-            out[i * K_used + j] = out[j * K_used + i] = double(packed[p]);
-        }
-}
-
 ShadeResult shade_glossy(const Mesh& mesh, const TransferSet& transfer, const ShLight& light,
                          const GlossyShadeOptions& options) {
     check_glossy_shadable(mesh, transfer);

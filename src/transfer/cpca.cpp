@@ -262,18 +262,11 @@ CpcaCode compress_cpca(const TransferSet& transfer, const CpcaOptions& options) 
 
 void reconstruct_cpca(const CpcaCode& code, std::size_t D, std::vector<float>& out) {
     const std::size_t N = code.cluster.size();
-    const std::size_t C = std::size_t(std::max(code.clusters, 0));
-    const std::size_t V = std::size_t(std::max(code.vectors, 0));
-    SHPRT_CHECK(C >= 1 && V >= 1 && code.means.size() == C * D && code.basis.size() == C * V * D &&
-                    code.weights.size() == N * V,
-                invalid_argument,
-                "CPCA code does not fit: {} clusters, {} vectors, {} receivers, D = {}", C, V, N,
-                D);
+    validate(code, N, D);
+    const std::size_t V = std::size_t(code.vectors);
     out.assign(N * D, 0.0f);
     for (std::size_t r = 0; r < N; ++r) {
         const std::size_t c = code.cluster[r];
-        SHPRT_CHECK(c < C, invalid_argument, "CPCA cluster {} of receiver {} is not below {}", c, r,
-                    C);
         float* x = out.data() + r * D;
         const float* mean = code.means.data() + c * D;
         // Accumulate in double, in a fixed order: the mean, then each direction.
@@ -354,16 +347,8 @@ TransferError error_under(const TransferSet& exact, const TransferSet& approx,
                     continue;
                 }
                 // Unpack both matrices (symmetric packed or full row-major).
-                for (int i = 0, p = 0; i < K; ++i)
-                    for (int j = layout.shape == TransferShape::matrix ? 0 : i; j < K; ++j, ++p) {
-                        Me[i * K + j] = Me[j * K + i] = e[p];
-                        Ma[i * K + j] = Ma[j * K + i] = a[p];
-                    }
-                if (layout.shape == TransferShape::matrix)
-                    for (int i = 0; i < K * K; ++i) {
-                        Me[i] = e[i];
-                        Ma[i] = a[i];
-                    }
+                unpack_matrix(layout, e, Me.data());
+                unpack_matrix(layout, a, Ma.data());
                 // The views: Phong 16 about n and three directions 45° from it, and the cosine.
                 const Vec3d n = normalize(cast<double>(normals[r]));
                 const Vec3d t =
@@ -467,6 +452,7 @@ CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3
     }
     static_cast<TransferInfo&>(out.compressed) = transfer;
     out.compressed.layout.encoding = half ? TransferEncoding::f16 : TransferEncoding::f32;
+    const int element_bytes = bytes_per_value(out.compressed.layout.encoding);
     reconstruct_cpca(code, D, out.compressed.coeffs);
     out.compressed.cpca = std::move(code);
     // The direct part is small (one channel of vectors) and is what "direct only" shows: kept,
@@ -478,12 +464,12 @@ CpcaResult compress_transfer(const TransferSet& transfer, const std::vector<Vec3
     if (half)
         for (float& x : out.compressed.direct) x = half_to_float(float_to_half(x));
     out.direct_bytes_per_receiver =
-        N > 0 ? double(out.compressed.direct.size()) * (half ? 2 : 4) / double(N) : 0.0;
+        N > 0 ? double(out.compressed.direct.size()) * element_bytes / double(N) : 0.0;
     start = Clock::now();
     out.error = transfer_error(transfer, out.compressed, normals, options.seed);
     if (light) out.light_error = transfer_error(transfer, out.compressed, normals, *light);
     out.seconds_error = seconds_since(start);
-    out.bytes_per_receiver = cpca_bytes_per_receiver(out.compressed.cpca, D, N, half ? 2 : 4);
+    out.bytes_per_receiver = cpca_bytes_per_receiver(out.compressed.cpca, D, N, element_bytes);
     out.raw_bytes_per_receiver = 4.0 * double(D);
     out.raw_full_bytes_per_receiver =
         !is_matrix(transfer.layout)
@@ -562,8 +548,7 @@ void reconstruct_probes(ProbeGrid& grid) {
     const std::size_t D = std::size_t(grid.channels) * std::size_t(grid.K) * std::size_t(grid.K);
     std::size_t valid = 0;
     for (std::uint8_t v : grid.valid) valid += v;
-    SHPRT_CHECK(grid.cpca.cluster.size() == valid, invalid_argument,
-                "probe CPCA code has {} rows for {} valid probes", grid.cpca.cluster.size(), valid);
+    validate(grid.cpca, valid, D);
     std::vector<float> rows;
     reconstruct_cpca(grid.cpca, D, rows);
     grid.matrices.assign(grid.count() * D, 0.0f);

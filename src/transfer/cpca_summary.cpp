@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <tuple>
+#include <utility>
 
 namespace shprt {
 namespace {
@@ -19,6 +21,14 @@ namespace {
 const char* units_of(const TransferSet& t) { return is_texel(t.layout) ? "texels" : "vertices"; }
 
 }  // namespace
+
+std::string describe_matrices(const TransferSet& t) {
+    const int K = t.layout.K;
+    const std::string matrices = fmt::format("{}x{} matrices", K, K);
+    if (t.cpca.empty()) return matrices;
+    return fmt::format("CPCA {}x{} (clusters x vectors) of {}", t.cpca.clusters, t.cpca.vectors,
+                       matrices);
+}
 
 void check_cpca_fit(const TransferSet& t, const CpcaOptions& options, const std::string& what) {
     const std::size_t V = t.receiver_count();
@@ -85,6 +95,13 @@ std::string cpca_summary(const TransferSet& t, const CpcaResult& r, const CpcaOp
     return out + fmt::sprintf("worst %s: %s\n", units_of(t), worst);
 }
 
+std::string compress_summary(const TransferSet& t, const SetCompression& r, const CpcaFits& fits,
+                             bool half, const std::string& light_name) {
+    std::string out = cpca_summary(t, r.rows, fits.transfer, half, light_name);
+    if (r.probes) out += probe_cpca_summary(*r.probes, *fits.probes, light_name);
+    return out;
+}
+
 std::string probe_cpca_summary(const ProbeCpcaResult& r, const CpcaOptions& options,
                                const std::string& light_name) {
     const double ratio = r.raw_bytes_per_probe / r.bytes_per_probe;
@@ -132,18 +149,45 @@ CpcaFits cpca_options_from(const CpcaChoice& c) {
                         cv[1] == std::floor(cv[1]) && cv[0] < 1e9 && cv[1] < 1e9,
                     invalid_argument, "{} {}: CLUSTERS and VECTORS must be whole numbers ≥ 1",
                     option, text);
-        CpcaOptions options;
-        options.clusters = int(cv[0]);
-        options.vectors = int(cv[1]);
-        options.seed = c.seed;
-        options.iterations = c.iterations;
-        options.threads = c.threads;
-        return options;
+        return std::pair{int(cv[0]), int(cv[1])};
     };
-    CpcaFits fits{parse("--cpca", c.cpca), std::nullopt};
-    if (!c.probe_cpca.empty()) fits.probes = parse("--probe-cpca", c.probe_cpca);
+    CpcaOptions rows;
+    std::tie(rows.clusters, rows.vectors) = parse("--cpca", c.cpca);
+    rows.seed = c.seed;
+    rows.iterations = c.iterations;
+    rows.threads = c.threads;
+    std::optional<std::pair<int, int>> probes;
+    if (!c.probe_cpca.empty()) probes = parse("--probe-cpca", c.probe_cpca);
     SHPRT_CHECK(c.iterations >= 0, invalid_argument, "--iterations {}: must be ≥ 0", c.iterations);
+    return cpca_fits(rows, probes);
+}
+
+CpcaFits cpca_fits(const CpcaOptions& rows, std::optional<std::pair<int, int>> probes) {
+    CpcaFits fits{rows, std::nullopt};
+    if (probes) {
+        fits.probes = rows;
+        fits.probes->clusters = probes->first;
+        fits.probes->vectors = probes->second;
+    }
     return fits;
+}
+
+SetCompression compress_set(const TransferSet& transfer, const std::vector<Vec3f>& normals,
+                            const CpcaFits& fits, bool half, const std::vector<float>* light,
+                            const std::vector<float>* probe_light,
+                            const std::string& probe_option) {
+    SHPRT_CHECK(!fits.probes || !transfer.probes.empty(), invalid_argument,
+                "{}: the file has no probes (bake with probes)", probe_option);
+    SetCompression out;
+    out.rows = compress_transfer(transfer, normals, fits.transfer, half, light);
+    if (!fits.probes) return out;
+    try {
+        out.probes = compress_probes(transfer.probes, *fits.probes, probe_light);
+    } catch (const Error& e) {
+        fail(e.code(), "{}: {}", probe_option, e.what());
+    }
+    out.rows.compressed.probes = std::move(out.probes->compressed);
+    return out;
 }
 
 }  // namespace shprt

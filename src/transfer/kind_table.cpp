@@ -5,6 +5,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/core/names.hpp"
 
+#include <algorithm>
 #include <array>
 #include <string_view>
 #include <vector>
@@ -122,6 +123,23 @@ std::vector<std::size_t> receiver_shape(const TransferLayout& layout) {
         shape.push_back(layout.floats_per_channel());
     }
     return shape;
+}
+
+void unpack_symmetric(const float* packed, int K, int K_used, double* out) {
+    std::size_t p = 0;
+    for (int i = 0; i < K; ++i)
+        for (int j = i; j < K; ++j, ++p) {
+            if (i >= K_used || j >= K_used) continue;
+            out[i * K_used + j] = out[j * K_used + i] = double(packed[p]);
+        }
+}
+
+void unpack_matrix(const TransferLayout& layout, const float* channel, double* out) {
+    const int K = layout.K;
+    if (is_glossy_matrix(layout))
+        unpack_symmetric(channel, K, K, out);
+    else
+        std::copy_n(channel, std::size_t(K) * std::size_t(K), out);
 }
 
 int basis_size_of(TransferShape shape, std::size_t floats) {

@@ -30,19 +30,10 @@ void ProbeGrid::validate() const {
         valid.size() != count()) {
         throw Error(ErrorCode::invalid_argument, "probe grid: arrays do not match the grid's size");
     }
-    if (!cpca.empty()) {
-        std::size_t n = 0;
-        for (std::uint8_t v : valid) n += v;
-        const std::size_t D = std::size_t(channels) * std::size_t(K) * std::size_t(K);
-        const std::size_t C = std::size_t(std::max(cpca.clusters, 0));
-        const std::size_t V = std::size_t(std::max(cpca.vectors, 0));
-        if (cpca.clusters < 1 || cpca.vectors < 1 || cpca.cluster.size() != n ||
-            cpca.weights.size() != n * V || cpca.means.size() != C * D ||
-            cpca.basis.size() != C * V * D) {
-            throw Error(ErrorCode::invalid_argument,
-                        "probe grid: its CPCA code does not match the valid probes and K");
-        }
-    }
+    // Its code, if it has one: one row per valid probe.
+    std::size_t n = 0;
+    for (std::uint8_t v : valid) n += v;
+    shprt::validate(cpca, n, std::size_t(channels) * std::size_t(K) * std::size_t(K));
 }
 
 std::string describe_probes(const ProbeGrid& g) {

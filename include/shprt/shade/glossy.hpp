@@ -92,10 +92,6 @@ inline std::uint32_t brdf_table_index(const Mesh& mesh, bool material_brdfs, std
 // transfer: glossy shading needs a glossy bake (--transfer glossy)").
 void check_glossy_shadable(const Mesh& mesh, const TransferSet& transfer);
 
-// Unpacks the packed upper triangle of a symmetric K×K matrix (row by row) into its top-left
-// K'×K' block, row-major, in `out` (K'² values).
-void unpack_symmetric(const float* packed, int K, int K_used, double* out);
-
 // Shades every vertex with the formulas above, in parallel (TBB; the result does not depend on
 // the thread count). A transfer that carries a CPCA code (TransferSet::cpca, e.g. read from a
 // `shprt compress` file) is shaded from the code: the light transformed once per cluster,

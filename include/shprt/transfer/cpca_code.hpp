@@ -2,6 +2,7 @@
 // rows and the transfer probes' matrices are both stored as one.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -24,5 +25,11 @@ struct CpcaCode {
     bool empty() const { return clusters == 0; }
     bool operator==(const CpcaCode&) const = default;
 };
+
+// Error(invalid_argument) unless `code` is none (no clusters, every array empty) or a code of
+// `rows` rows of D floats: at least one cluster and one vector, every array its size, every row's
+// cluster below the clusters. The one check of a code's sizes: the probe grid's, the reader's and
+// the reconstruction's (transfer/cpca.hpp).
+void validate(const CpcaCode& code, std::size_t rows, std::size_t D);
 
 }  // namespace shprt

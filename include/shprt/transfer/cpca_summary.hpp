@@ -10,9 +10,14 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shprt {
+
+// A matrix set's matrices as they are held: "25x25 matrices", or, with a CPCA code (the rows
+// rebuilt from it), "CPCA 64x8 (clusters x vectors) of 25x25 matrices".
+std::string describe_matrices(const TransferSet& transfer);
 
 // One-line Error(invalid_argument) starting with `what` (e.g. "room.shprt: --cpca 9,4"): more
 // clusters than `transfer` has receivers, or more vectors than the floats of one receiver.
@@ -52,5 +57,26 @@ struct CpcaFits {
     std::optional<CpcaOptions> probes;
 };
 CpcaFits cpca_options_from(const CpcaChoice& choice);
+// The same from numbers (Python's compress()): `rows` for the transfer's rows, and the probes'
+// clusters and vectors, when given, with the rows' seed, iterations and threads.
+CpcaFits cpca_fits(const CpcaOptions& rows, std::optional<std::pair<int, int>> probes);
+
+// What `shprt compress` and Python's compress() make of a set: its rows' code (compress_transfer
+// with fits.transfer, float16 when `half`, the error under `light` too) and, with fits.probes,
+// its probes' (compress_probes, under `probe_light`: rows.compressed.probes is then their code;
+// without, the probes are kept as they are). A set without probes is refused before the rows'
+// fit, and the probes' complaints start with `probe_option` (the option as the front end spells
+// it).
+struct SetCompression {
+    CpcaResult rows;
+    std::optional<ProbeCpcaResult> probes;
+};
+SetCompression compress_set(const TransferSet& transfer, const std::vector<Vec3f>& normals,
+                            const CpcaFits& fits, bool half, const std::vector<float>* light,
+                            const std::vector<float>* probe_light, const std::string& probe_option);
+// `shprt compress`'s lines of `result`, made from `transfer` with `fits`: cpca_summary's, then,
+// with the probes' code, probe_cpca_summary's.
+std::string compress_summary(const TransferSet& transfer, const SetCompression& result,
+                             const CpcaFits& fits, bool half, const std::string& light_name);
 
 }  // namespace shprt

@@ -67,9 +67,8 @@ inline bool is_glossy_matrix(const TransferLayout& layout) {
     return layout.shape == TransferShape::symmetric_matrix;
 }
 // Whether the receivers are the texels of an atlas (TransferSet::texels) rather than vertices.
-inline bool is_texel(const TransferLayout& layout) {
-    return layout.domain == ReceiverDomain::texel;
-}
+inline bool is_texel(ReceiverDomain domain) { return domain == ReceiverDomain::texel; }
+inline bool is_texel(const TransferLayout& layout) { return is_texel(layout.domain); }
 
 // The channel of a set of this layout that colour `colour` (0 R, 1 G, 2 B) is lit through: the
 // colour's own for RGB transfer, the one channel for grey transfer.
@@ -93,6 +92,13 @@ const char* to_string(ShadingPass pass);  // "vertex_vectors", "vertex_matrices"
 // more than one channel, then (K, K) for a full matrix, else the channel's floats (K for a
 // vector, K(K+1)/2 for a packed symmetric matrix).
 std::vector<std::size_t> receiver_shape(const TransferLayout& layout);
+
+// Unpacks the packed upper triangle of a symmetric K×K matrix (row by row) into its top-left
+// K'×K' block, row-major, in `out` (K'² values).
+void unpack_symmetric(const float* packed, int K, int K_used, double* out);
+// One matrix channel of this layout (a full K×K matrix row-major, or a packed symmetric one) as
+// the full K×K matrix, row-major, in `out` (K² values).
+void unpack_matrix(const TransferLayout& layout, const float* channel, double* out);
 
 // The basis size K of a matrix channel of `floats` floats in `shape` (symmetric: K(K+1)/2 = floats;
 // full: K² = floats; vector: floats), or −1 when no K gives exactly that many.

@@ -63,6 +63,10 @@ const char* to_string(TransferShape shape);
 TransferShape parse_transfer_shape(const std::string& name);  // throws Error(invalid_argument)
 const char* to_string(TransferEncoding encoding);  // "float32", "float16" (the file's dtype)
 TransferEncoding parse_transfer_encoding(const std::string& name);  // throws Error
+// The bytes of one stored value: 4 (float32) or 2 (float16).
+inline int bytes_per_value(TransferEncoding encoding) {
+    return encoding == TransferEncoding::f16 ? 2 : 4;
+}
 
 // Largest basis size a transfer may have (64 bands; a bake allows fewer, see bake.hpp).
 inline constexpr int kMaxTransferK = sh_count(kMaxBands);
