@@ -248,6 +248,12 @@ TEST_F(IoShprtCorrupt, FutureAndInvalidVersions) {
     Json meta = m_meta;
     meta["format_version"] = 7;
     expect_error(with_metadata(meta), "format_version 7 differs", "json version");
+    // A field newer than the file (the field table's `since`) is refused, not ignored: a CPCA
+    // code's object in a version 2 file would otherwise read its rows as if it had none.
+    meta = m_meta;
+    meta["cpca"] = Json::object({{"clusters", 1}, {"vectors", 1}});
+    expect_error(with_metadata(meta), "'cpca' in a version 2 file (it came with version 3)",
+                 "a version 3 field in a version 2 file");
 }
 
 TEST_F(IoShprtCorrupt, MetadataLengthPastTheEndOrAbsurd) {

@@ -234,6 +234,39 @@ TEST(Cpca, TheDirectPartIsKept) {
     EXPECT_EQ(f16.compressed.direct_only().coeffs, f16.compressed.direct);
 }
 
+// validate (cpca_code.hpp): no code passes; a code passes only with every array the size its
+// clusters, vectors, rows and D say, and every row's cluster below the clusters.
+TEST(Cpca, ACodeIsCheckedAgainstItsRowsAndFloats) {
+    EXPECT_NO_THROW(validate(CpcaCode{}, 5, 9));
+    CpcaCode code;
+    code.clusters = 2;
+    code.vectors = 1;
+    code.cluster = {0, 1, 1};
+    code.weights.assign(3, 0.5f);
+    code.means.assign(2 * 4, 0.0f);
+    code.basis.assign(2 * 1 * 4, 1.0f);
+    EXPECT_NO_THROW(validate(code, 3, 4));
+    const auto message = [](const CpcaCode& c, std::size_t rows, std::size_t D) {
+        try {
+            validate(c, rows, D);
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+            return std::string(e.what());
+        }
+        return std::string("(accepted)");
+    };
+    EXPECT_NE(message(code, 4, 4).find("does not fit: 2 clusters, 1 vectors, 3 rows for 4, D = 4"),
+              std::string::npos);
+    EXPECT_NE(message(code, 3, 5).find("does not fit"), std::string::npos);
+    CpcaCode bad = code;
+    bad.cluster[1] = 2;
+    EXPECT_NE(message(bad, 3, 4).find("CPCA cluster 2 of receiver 1 is not below 2"),
+              std::string::npos);
+    bad = CpcaCode{};
+    bad.weights = {1.0f};  // arrays with no clusters: not "no code"
+    EXPECT_NE(message(bad, 0, 4).find("does not fit"), std::string::npos);
+}
+
 TEST(Cpca, BadParametersAreRefused) {
     const TransferSet t = synthetic(10, 3, 6);
     for (auto [clusters, vectors] : {std::pair{0, 1}, {11, 1}, {2, 0}, {2, 7}}) {
