@@ -54,9 +54,8 @@ void run(const CompressArgs& a) {
     std::optional<std::vector<float>> light, probe_light;
     if (with_light) light = prepare_light(setup, t.layout.K).coeffs;
     if (with_light && fits.probes) probe_light = prepare_light(setup, t.probes.K).coeffs;
-    SetCompression r = compress_set(
-        t, receiver_normals(file.mesh, t), fits, a.cpca.half, light ? &*light : nullptr,
-        probe_light ? &*probe_light : nullptr, a.input + ": --probe-cpca " + a.cpca.probe_cpca);
+    SetCompression r = compress_set(t, receiver_normals(file.mesh, t), fits, a.cpca.half, light,
+                                    probe_light, a.input + ": --probe-cpca " + a.cpca.probe_cpca);
     std::fputs(compress_summary(t, r, fits, a.cpca.half, describe_light_choice(a.light)).c_str(),
                stdout);
     WriteOptions write;

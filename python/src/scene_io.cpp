@@ -227,7 +227,7 @@ for glossy matrices (each vertex's packed upper triangle), float32.)")
             {
                 py::gil_scoped_release release;
                 s = compress_set(file.transfer, receiver_normals(file.mesh, file.transfer),
-                                 cpca_fits(options, probe_cpca), half, nullptr, nullptr,
+                                 cpca_fits(options, probe_cpca), half, std::nullopt, std::nullopt,
                                  "probe_cpca");
             }
             CpcaResult& r = s.rows;

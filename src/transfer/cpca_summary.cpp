@@ -173,16 +173,18 @@ CpcaFits cpca_fits(const CpcaOptions& rows, std::optional<std::pair<int, int>> p
 }
 
 SetCompression compress_set(const TransferSet& transfer, const std::vector<Vec3f>& normals,
-                            const CpcaFits& fits, bool half, const std::vector<float>* light,
-                            const std::vector<float>* probe_light,
+                            const CpcaFits& fits, bool half,
+                            const std::optional<std::vector<float>>& light,
+                            const std::optional<std::vector<float>>& probe_light,
                             const std::string& probe_option) {
     SHPRT_CHECK(!fits.probes || !transfer.probes.empty(), invalid_argument,
                 "{}: the file has no probes (bake with probes)", probe_option);
     SetCompression out;
-    out.rows = compress_transfer(transfer, normals, fits.transfer, half, light);
+    out.rows = compress_transfer(transfer, normals, fits.transfer, half, light ? &*light : nullptr);
     if (!fits.probes) return out;
     try {
-        out.probes = compress_probes(transfer.probes, *fits.probes, probe_light);
+        out.probes =
+            compress_probes(transfer.probes, *fits.probes, probe_light ? &*probe_light : nullptr);
     } catch (const Error& e) {
         fail(e.code(), "{}: {}", probe_option, e.what());
     }

@@ -72,8 +72,10 @@ struct SetCompression {
     std::optional<ProbeCpcaResult> probes;
 };
 SetCompression compress_set(const TransferSet& transfer, const std::vector<Vec3f>& normals,
-                            const CpcaFits& fits, bool half, const std::vector<float>* light,
-                            const std::vector<float>* probe_light, const std::string& probe_option);
+                            const CpcaFits& fits, bool half,
+                            const std::optional<std::vector<float>>& light,
+                            const std::optional<std::vector<float>>& probe_light,
+                            const std::string& probe_option);
 // `shprt compress`'s lines of `result`, made from `transfer` with `fits`: cpca_summary's, then,
 // with the probes' code, probe_cpca_summary's.
 std::string compress_summary(const TransferSet& transfer, const SetCompression& result,
