@@ -270,6 +270,7 @@ void run_scaling(const Args& args) {
         options.K = 64;
         options.samples = 256;
         options.sampler = SamplerKind::uniform;  // as in the recorded table (RESULTS.md)
+        options.direction_frame = DirectionFrame::sphere;
         options.threads = args.threads;
         Cost best;
         TransferSet t, best_t;
@@ -336,6 +337,7 @@ int main(int argc, char** argv) {
             options.K = K;
             options.samples = S;
             options.sampler = SamplerKind::uniform;  // the set the plain loops use (above)
+            options.direction_frame = DirectionFrame::sphere;
             options.threads = args.threads;
             options.chunk_receivers = chunk;
             const std::vector<float> Y = basis_table(K, set);

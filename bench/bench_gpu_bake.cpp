@@ -115,6 +115,7 @@ int main(int argc, char** argv) {
 
     BakeOptions options;
     options.threads = args.threads;
+    options.direction_frame = DirectionFrame::sphere;  // the sets below are sphere sets
     // Start-up: the first GPU bake of the process.
     {
         const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, 64);

@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
     options.K = a.K;
     options.samples = std::uint32_t(a.samples);
     options.threads = threads;
+    options.direction_frame = DirectionFrame::sphere;  // a probe has no frame: the sphere set
     const DirectionSet set = bake_direction_set(options);
     const std::unique_ptr<Tracer> tracer = make_embree_tracer(room);
     std::printf(

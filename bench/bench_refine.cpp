@@ -145,7 +145,8 @@ int main(int argc, char** argv) {
     const int levels = quick ? 2 : 3;
     const std::size_t probe_count = quick ? 4000 : 20000;
     BakeOptions options;
-    options.K = 36;  // 6 bands
+    options.K = 36;                                    // 6 bands
+    options.direction_frame = DirectionFrame::sphere;  // as in the recorded tables (RESULTS.md)
     options.samples = quick ? 256 : 1024;
     options.threads = 0;
 

@@ -39,6 +39,7 @@ BakeOptions bake_options(const Options& o, int K, Device device) {
     b.seed = o.seed;
     b.threads = o.threads;
     b.device = device;
+    b.direction_frame = DirectionFrame::sphere;  // the paper's method: one set on the sphere
     return b;
 }
 

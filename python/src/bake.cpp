@@ -361,8 +361,8 @@ shape (V, K) — (V, 3, K) for RGB transfer — with K = bands² or coeffs (defa
 vertices (V, 3) float and faces (T, 3) int, or a shprt.Mesh as the only positional argument.
 normals=None computes them; albedo=None is 0.8 grey. samples S directions per vertex from
 sampler 'sobol' (default), 'uniform' (the paper's), 'stratified' or 'fibonacci' with seed;
-directions 'sphere' (default: one set on the sphere, the paper's) or 'local' (one cosine-weighted
-set in each receiver's tangent frame, every ray above the horizon: docs/sampling.md);
+directions 'local' (default: one cosine-weighted set in each receiver's tangent frame, every ray
+above the horizon) or 'sphere' (one set on the sphere, the paper's): docs/sampling.md;
 target_error E (0 = off) gives each vertex the smallest nested prefix 128, 256, ... up to
 max_samples (0 = 16384; samples is then not used) whose estimated relative error is at most E
 (shadowed, unshadowed or interreflected, sobol or uniform, CPU: docs/sampling.md,

@@ -42,6 +42,13 @@ void validate_direction_set(const DirectionSet& directions) {
                 kMaxBakeSamples);
 }
 
+BakeOptions with_direction_set(BakeOptions options, const DirectionSet& directions) {
+    validate_direction_set(directions);
+    options.samples = static_cast<std::uint32_t>(directions.size());
+    options.direction_frame = directions.frame;
+    return options;
+}
+
 void validate_job(const BakeJob& job, const BakeOptions&) {
     SHPRT_CHECK(job.occluders != nullptr, invalid_argument, "a bake needs occluders (a mesh)");
     const Mesh& mesh = *job.occluders;
@@ -328,9 +335,7 @@ TransferSet bake_with_tracer(const Mesh& mesh, const BakeOptions& options,
 
 TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
                            const DirectionSet& directions, const Tracer& tracer) {
-    detail::validate_direction_set(directions);
-    BakeOptions checked = options;
-    checked.samples = static_cast<std::uint32_t>(directions.size());
+    const BakeOptions checked = detail::with_direction_set(options, directions);
     validate(checked);
     const Receivers receivers = vertex_receivers(mesh);
     detail::validate_job(BakeJob{&mesh, receivers, nullptr, nullptr, nullptr}, checked);
@@ -345,7 +350,7 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
                 row.name);
     const bool glossy = is_matrix(row);
     const bool shadowed = row.traces_rays;
-    const bool local = options.direction_frame == DirectionFrame::local;
+    const bool local = checked.direction_frame == DirectionFrame::local;
     constexpr float kInf = std::numeric_limits<float>::infinity();
 
     TransferSet out =

@@ -20,6 +20,10 @@ namespace shprt::detail {
 // do not match the weights, more than kMaxBakeSamples directions).
 void validate_direction_set(const DirectionSet& directions);
 
+// The options of a bake given `directions`: the set validated, S its size and the frame its own
+// (DirectionSet::frame: a set is never read in another frame than the one it was made in).
+BakeOptions with_direction_set(BakeOptions options, const DirectionSet& directions);
+
 // The rest of the boundary check, after validate(options): the occluders (triangles), the
 // receivers (normals, a non-empty range inside the domain, fewer than 2^32). (The sink is checked
 // by bake(); the test hooks of gpu.hpp check jobs without one.)

@@ -40,11 +40,8 @@ struct BakeSession::Impl {
 BakeSession::BakeSession(const BakeJob& job, const BakeOptions& options)
     : m_impl(std::make_unique<Impl>()) {
     Impl& s = *m_impl;
-    BakeOptions checked = options;
-    if (job.directions) {
-        detail::validate_direction_set(*job.directions);
-        checked.samples = static_cast<std::uint32_t>(job.directions->size());
-    }
+    BakeOptions checked =
+        job.directions ? detail::with_direction_set(options, *job.directions) : options;
     validate(checked);
     SHPRT_CHECK(checked.target_error <= 0 || job.directions == nullptr, unsupported,
                 "target error: the error-bounded bake makes its own nested set (no caller's "

@@ -119,6 +119,7 @@ DirectionFrame parse_direction_frame(const std::string& name) {
 DirectionSet make_local_direction_set(SamplerKind kind, std::uint64_t seed, std::uint32_t count,
                                       HemisphereDensity density) {
     DirectionSet set = make_set<DirectionSet>(kind, seed, count);  // checks count
+    set.frame = DirectionFrame::local;
     const bool cosine = density == HemisphereDensity::cosine;
     set.weights.assign(count, static_cast<float>((cosine ? kPi : 2.0 * kPi) / count));
     for (std::uint32_t s = 0; s < count; ++s) {

@@ -6,6 +6,7 @@
 // kind), and for determinism.
 #include "bake/bake_test_util.hpp"
 #include "bake/linear_light.hpp"
+#include "shprt/bake/bake_option_table.hpp"
 #include "shprt/bake/request.hpp"
 #include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
@@ -362,6 +363,40 @@ TEST(LocalDirections, RecordedInTheFileAndAcceptedOnTheGpu) {
                 ::testing::HasSubstr("interreflected transfer bakes on the CPU"));
     EXPECT_EQ(parse_direction_frame("local"), DirectionFrame::local);
     EXPECT_THROW(parse_direction_frame("tangent"), Error);
+}
+
+TEST(LocalDirections, TheDefaultAndACallersSetReadInItsOwnFrame) {
+    // The local set is the default (docs/sampling.md, "Which to use"), and a set a caller makes
+    // says which frame it is in: a sphere set given to a bake whose options name the local frame
+    // is still read on the sphere, so no caller-made set changes meaning with the default.
+    EXPECT_EQ(BakeOptions{}.direction_frame, DirectionFrame::local);
+    // The command line's and Python's default (one table) is the library's.
+    EXPECT_EQ(bake_options_from(BakeOptionChoice{}, Spelling::command_line).direction_frame,
+              DirectionFrame::local);
+    EXPECT_EQ(make_direction_set(SamplerKind::sobol, 1, 8).frame, DirectionFrame::sphere);
+    EXPECT_EQ(make_local_direction_set(SamplerKind::sobol, 1, 8, HemisphereDensity::cosine).frame,
+              DirectionFrame::local);
+    const Mesh scene = make_builtin("box_on_plane");
+    BakeOptions options;
+    options.K = 9;
+    options.samples = 64;
+    const DirectionSet sphere = make_direction_set(options.sampler, options.seed, 64);
+    const TransferSet given = bake(scene, options, sphere);
+    EXPECT_EQ(given.direction_frame, DirectionFrame::sphere);
+    BakeOptions on_sphere = options;
+    on_sphere.direction_frame = DirectionFrame::sphere;
+    EXPECT_EQ(given.coeffs, bake(scene, on_sphere).coeffs);
+    const auto tracer = make_embree_tracer(scene);
+    const TransferSet reference = bake_reference(scene, options, sphere, *tracer);
+    EXPECT_EQ(reference.direction_frame, DirectionFrame::sphere);
+    double worst = 0;
+    for (std::size_t i = 0; i < given.coeffs.size(); ++i)
+        worst = std::max(worst, std::fabs(double(given.coeffs[i]) - reference.coeffs[i]));
+    EXPECT_LT(worst, 1e-4) << "the reference reads the set on the sphere too";
+    // The default bake is the local one, and differs from the sphere bake at the same S.
+    const TransferSet by_default = bake(scene, options);
+    EXPECT_EQ(by_default.direction_frame, DirectionFrame::local);
+    EXPECT_NE(by_default.coeffs, given.coeffs);
 }
 
 }  // namespace

@@ -225,7 +225,8 @@ TEST(BakeStatsTest, TimeSplitRaysAndMemory) {
     EXPECT_GT(s.seconds_project, 0);
     EXPECT_GE(s.seconds_total, s.seconds_bvh + s.seconds_trace + s.seconds_project);
     EXPECT_GT(s.rays_cast, 0u);
-    EXPECT_LT(s.rays_cast, std::uint64_t(room().vertex_count()) * 512) << "no below-horizon rays";
+    EXPECT_EQ(s.rays_cast, std::uint64_t(room().vertex_count()) * 512)
+        << "the default local set: every direction above the horizon, each traced once";
     const std::uint64_t output_bytes = room().vertex_count() * 48 * sizeof(float);
     // The output and the BVH (Embree's allocations, as the tracer reports them) are counted.
     const std::uint64_t bvh_bytes = make_embree_tracer(room())->memory_bytes();
@@ -235,6 +236,7 @@ TEST(BakeStatsTest, TimeSplitRaysAndMemory) {
     EXPECT_LT(s.peak_bytes_host, output_bytes + bvh_bytes + 8u * (1u << 20));
     EXPECT_EQ(t.samples, 512);
     EXPECT_EQ(t.sampler, SamplerKind::sobol) << "the default sampler";
+    EXPECT_EQ(t.direction_frame, DirectionFrame::local) << "the default frame";
     EXPECT_EQ(t.seed, 1u);
 }
 

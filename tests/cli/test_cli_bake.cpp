@@ -237,9 +237,9 @@ TEST_F(CliBake, BadOptionsFailWithOneLineAndLeaveNothingBehind) {
         {"--max-samples 1024", "--max-samples needs --target-error"},
         {"--target-error 0.01 --sampler stratified", "has no nested prefixes"},
         {"--target-error 0.01 --transfer glossy", "glossy transfer has no error-bounded bake"},
-        {"--target-error 0.01 --device cuda",
+        {"--target-error 0.01 --device cuda --directions sphere",
          "--target-error on the GPU takes a local direction set"},
-        {"--target-error 0.01 --device cuda --directions local --transfer interreflected",
+        {"--target-error 0.01 --device cuda --transfer interreflected",
          "--target-error with interreflected transfer bakes on the CPU (--device cpu)"},
         {"--target-error 0.01 --refine 0.1", "--target-error does not go with --refine yet"},
     };

@@ -46,6 +46,7 @@ TEST(IoShprtV1, ABakedFileReadsWithItsLayoutAndTheSameBitsAsTodaysBake) {
     o.samples = 256;
     o.seed = 7;
     o.sampler = SamplerKind::uniform;
+    o.direction_frame = DirectionFrame::sphere;  // the default when the file was made
     // The same rows to the last bits of float32, not the same bits: the file was baked on
     // another CPU, and OpenBLAS's SGEMM kernel (chosen by CPU) rounds differently on each
     // (include/shprt/bake/bake.hpp, "Determinism").

@@ -103,15 +103,16 @@ struct BakeOptions {
     // Sobol (Owen-scrambled): the paper table measured 7× lower error than the paper's uniform
     // set at the same cost (docs/paper_table.md); SamplerKind::uniform is the paper's.
     SamplerKind sampler = SamplerKind::sobol;
-    // Where the shared set lives (docs/sampling.md): sphere (the paper's: one set in world space,
-    // weights 4π/S, about half of it above a receiver's horizon) or local (one set in each
+    // Where the shared set lives (docs/sampling.md): local (the default: one set in each
     // receiver's tangent frame, cosine-weighted — uniform on the hemisphere for glossy —, every
     // direction traced, the frame's coefficients rotated to world space band by band; the GPU
-    // bake rotates on the host, so it cannot write into a device sink). With a caller's
-    // DirectionSet and local, the set is in the frame (+z the normal) and its weights multiply
-    // the visibility alone (the cosine, if any, folded in). Interreflected transfer: T_0 uses it;
-    // the bounce sources keep the sphere set (their final gather is cosine-distributed already).
-    DirectionFrame direction_frame = DirectionFrame::sphere;
+    // bake rotates on the host, so it cannot write into a device sink) or sphere (the paper's:
+    // one set in world space, weights 4π/S, about half of it above a receiver's horizon). A
+    // caller's DirectionSet is read in its own frame (DirectionSet::frame), which replaces this;
+    // a local one's weights multiply the visibility alone (the cosine, if any, folded in).
+    // Interreflected transfer: T_0 uses it; the bounce sources keep the sphere set (their final
+    // gather is cosine-distributed already).
+    DirectionFrame direction_frame = DirectionFrame::local;
     // A local set only: the open part exactly (docs/sampling.md, "The open part exactly"): each
     // row corrected by its visible fraction times the set's own error on an open receiver, so
     // that an open receiver is exact at any S. Off gives the plain estimator (for comparison:
@@ -245,7 +246,7 @@ struct BakeJob {
     TransferSink* sink = nullptr;     // where the rows go; required
     // The direction set; nullptr = make_direction_set(options.sampler, options.seed,
     // options.samples). A given set must be non-empty with unit directions; options.samples then
-    // becomes its size (and options.sampler a label).
+    // becomes its size, options.direction_frame its frame (and options.sampler a label).
     const DirectionSet* directions = nullptr;
     // A tracer built over `occluders` (CPU only); nullptr = the bake builds Embree's.
     const Tracer* tracer = nullptr;

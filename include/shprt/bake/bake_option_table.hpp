@@ -23,7 +23,7 @@ namespace shprt {
 // integers so that a value too large for the field is refused rather than wrapped, optionals where
 // "unset" differs from every value. The member defaults are both front ends' defaults.
 struct BakeOptionChoice {
-    std::string transfer = "shadowed", sampler = "sobol", directions = "sphere", device = "cpu";
+    std::string transfer = "shadowed", sampler = "sobol", directions = "local", device = "cpu";
     std::optional<long long> bands, coeffs;  // unset both: default_coeffs(transfer)
     long long samples = 1024;
     std::uint64_t seed = 1;

@@ -52,6 +52,9 @@ DirectionFrame parse_direction_frame(const std::string& name);  // "sphere", "lo
 struct DirectionSet {
     std::vector<float> dirs;     // xyz triples, unit length, S of them
     std::vector<float> weights;  // S weights
+    // Where the directions live: world space (make_direction_set) or a receiver's tangent frame,
+    // +z the normal (make_local_direction_set). A bake given a set reads it in this frame.
+    DirectionFrame frame = DirectionFrame::sphere;
     std::size_t size() const { return weights.size(); }
 };
 
