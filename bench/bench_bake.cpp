@@ -1,12 +1,15 @@
 // End-to-end CPU bake of builtin:room: time split (load, BVH, tracing, projection, write) for
-// K = 32, 48, 64, 128, 256 and S = 1024, 4096, and two ratios measured in the same run:
+// K = 32, 48, 64, 128, 256 and S = 1024, 4096, for the paper's uniform set on the sphere and for
+// the default local Sobol set (--directions), and two ratios measured in the same run:
 //   * tracing rate ÷ a plain Embree loop casting exactly the same rays (same origins, the same
 //     above-horizon directions, one rtcOccluded1M stream call per vertex, same threads, same
 //     chunks) and nothing else, in the fastest of two orders: the set's own and the coherent
 //     order of sh/direction_order.hpp (both are reported: Embree's rate depends on the order);
 //   * projection rate ÷ bare cblas_sgemm calls of the same shapes (the same chunk×S · S×K
 //     products on the same threads, single-threaded OpenBLAS as in the bake), and, for context,
-//     one multi-threaded SGEMM of the whole V×S · S×K product.
+//     one multi-threaded SGEMM of the whole V×S · S×K product. A local set's projection stage
+//     also rotates every row to world space (and projects onto the full bands, K' ≥ K), which
+//     the bare SGEMM does not: its ratio is the price of both.
 // Then the bake time against V (room at 20k, 200k, 2M triangles) to show linear cost.
 //
 // A plain main() rather than Google Benchmark: the ratios need both sides timed in one run, and
@@ -61,8 +64,9 @@ struct Args {
     bool quick = false;
     bool scaling = true;
     bool only_scaling = false;
-    std::size_t chunk = 0;  // 0 = the bake's automatic chunk size
-    std::vector<int> Ks;    // empty = the default list
+    std::size_t chunk = 0;            // 0 = the bake's automatic chunk size
+    std::vector<int> Ks;              // empty = the default list
+    std::string directions = "both";  // sphere, local or both
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -185,6 +189,7 @@ struct Figures {
 };
 
 struct Row {
+    const char* set;  // "sphere" (the paper's uniform set) or "local" (the default Sobol set)
     int K;
     std::uint32_t S;
     Figures wall, cpu;
@@ -200,11 +205,13 @@ std::string temp_path(const char* name) {
 void print_table(const std::vector<Row>& rows, bool cpu_basis) {
     std::printf(
         "\n%s\n\n"
-        "|   K |    S | load s | BVH s | trace s | project s | write s | bake s | end-to-end s |"
+        "| set    |   K |    S | load s | BVH s | trace s | project s | write s | bake s | "
+        "end-to-end s |"
         " Mrays/s | plain Embree Mrays/s, set order | plain, coherent order | trace ratio |"
         " GFLOP/s | bare SGEMM GFLOP/s |"
         " proj. ratio | bare SGEMM, cold cache GFLOP/s | one big SGEMM GFLOP/s | peak MiB |\n"
-        "|----:|-----:|-------:|------:|--------:|----------:|--------:|-------:|-------------:|"
+        "|--------|----:|-----:|-------:|------:|--------:|----------:|--------:|-------:|---------"
+        "----:|"
         "--------:|--------------------------------:|----------------------:|------------:|"
         "--------:|-------------------:|"
         "------------:|-------------------------------:|----------------------:|---------:|\n",
@@ -212,9 +219,10 @@ void print_table(const std::vector<Row>& rows, bool cpu_basis) {
     for (const Row& r : rows) {
         const Figures& f = cpu_basis ? r.cpu : r.wall;
         std::printf(
-            "| %3d | %4u | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.1f | %.1f | %.1f | "
+            "| %-6s | %3d | %4u | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.1f | %.1f | "
+            "%.1f | "
             "%.3f | %.1f | %.1f | %.3f | %s | %.1f | %.1f |\n",
-            r.K, r.S, f.load_s, f.bvh_s, f.trace_s, f.project_s, f.write_s, f.bake_s,
+            r.set, r.K, r.S, f.load_s, f.bvh_s, f.trace_s, f.project_s, f.write_s, f.bake_s,
             f.load_s + f.bake_s + f.write_s, f.mrays, f.plain_set_mrays, f.plain_coherent_mrays,
             f.mrays / f.plain_mrays, f.gflops, f.bare_gflops, f.gflops / f.bare_gflops,
             cpu_basis ? fmt::format("{:.1f}", f.cold_gflops).c_str() : "–", f.whole_gflops,
@@ -231,6 +239,8 @@ Args parse_args(int argc, char** argv) {
     cli.flag("--no-scaling", a.scaling, false, "Skip the thread-scaling table");
     cli.flag("--only-scaling", a.only_scaling, true, "Only the thread-scaling table");
     cli.option("--chunk", a.chunk, "Receivers per chunk (0 = the bake's automatic size)");
+    cli.option("--directions", a.directions,
+               "sphere (the paper's uniform set), local (the default Sobol set) or both (default)");
     cli.parse(argc, argv);
     if (a.threads <= 0) a.threads = tbb::info::default_concurrency();
     return a;
@@ -327,121 +337,137 @@ int main(int argc, char** argv) {
         args.quick ? std::vector<std::uint32_t>{1024} : std::vector<std::uint32_t>{1024, 4096};
     std::vector<Row> rows;
     int failures = 0;
-    for (std::uint32_t S : Ss) {
-        const DirectionSet set = make_direction_set(SamplerKind::uniform, 1, S);
-        const std::vector<std::uint32_t> coherent = coherent_order(set);
-        const std::size_t chunk = args.chunk > 0 ? args.chunk : auto_chunk_receivers(V, S);
-        BareChunkSgemm bare(S, chunk, args.threads);
-        for (int K : Ks) {
-            BakeOptions options;
-            options.K = K;
-            options.samples = S;
-            options.sampler = SamplerKind::uniform;  // the set the plain loops use (above)
-            options.direction_frame = DirectionFrame::sphere;
-            options.threads = args.threads;
-            options.chunk_receivers = chunk;
-            const std::vector<float> Y = basis_table(K, set);
-            std::vector<float> plain_c0, C(V * K);
-            std::uint64_t plain_rays = 0;
-            TransferSet t;
-            BakeStats wall_stats, cpu_stats;  // of the runs with the least wall / CPU time
-            Cost bake_cost, plain_cost, coherent_cost, bare_cost, whole_cost, write_cost;
-            double bare_inside = 1e30, cold_inside = 1e30;  // CPU s inside SGEMM, all threads
-            for (int r = 0; r < args.reps; ++r) {
-                // Interleaved, so that a disturbance hits both sides of a ratio alike.
-                const Cost b = measure([&] { t = bake(mesh, options); });
-                if (b.wall < bake_cost.wall) wall_stats = t.stats;
-                if (b.cpu < bake_cost.cpu) {
-                    cpu_stats = t.stats;
-                    // The CPU-basis phases: this run's wall split, scaled to its CPU ÷ threads.
-                    const double f = b.cpu / T / b.wall;
-                    cpu_stats.seconds_bvh *= f;
-                    cpu_stats.seconds_trace *= f;
-                    cpu_stats.seconds_project *= f;
-                }
-                bake_cost.keep_min(b);
-                plain_cost.keep_min(measure([&] {
-                    plain.run<false>(mesh, set, chunk, args.threads, plain_rays, plain_c0);
-                }));
-                plain_cost.keep_min(measure([&] {
-                    plain.run<true>(mesh, set, chunk, args.threads, plain_rays, plain_c0);
-                }));
-                for (bool branch_free : {false, true}) {
-                    std::uint64_t rays = 0;
-                    std::vector<float> c0;
-                    coherent_cost.keep_min(measure([&] {
-                        if (branch_free)
-                            plain.run<true>(mesh, set, chunk, args.threads, rays, c0,
-                                            coherent.data());
-                        else
-                            plain.run<false>(mesh, set, chunk, args.threads, rays, c0,
-                                             coherent.data());
+    std::vector<DirectionFrame> frames;
+    if (args.directions != "local") frames.push_back(DirectionFrame::sphere);
+    if (args.directions != "sphere") frames.push_back(DirectionFrame::local);
+    for (const DirectionFrame frame : frames)
+        for (std::uint32_t S : Ss) {
+            // The paper's uniform set on the sphere, as in the recorded tables (RESULTS.md), or the
+            // default: the local Sobol set, cosine-weighted.
+            const bool local = frame == DirectionFrame::local;
+            const SamplerKind sampler = local ? SamplerKind::sobol : SamplerKind::uniform;
+            const DirectionSet set =
+                local ? make_local_direction_set(sampler, 1, S, HemisphereDensity::cosine)
+                      : make_direction_set(sampler, 1, S);
+            const std::vector<std::uint32_t> coherent = coherent_order(set);
+            const std::size_t chunk = args.chunk > 0 ? args.chunk : auto_chunk_receivers(V, S);
+            BareChunkSgemm bare(S, chunk, args.threads);
+            for (int K : Ks) {
+                BakeOptions options;
+                options.K = K;
+                options.samples = S;
+                options.sampler = sampler;  // the set the plain loops use (above)
+                options.direction_frame = frame;
+                // The plain estimator, whose c_0 the plain loop's sum validates (the open part
+                // exactly changes the rows, not the rays: it costs a row's scaling).
+                options.open_control = false;
+                options.threads = args.threads;
+                options.chunk_receivers = chunk;
+                const std::vector<float> Y = basis_table(K, set);
+                std::vector<float> plain_c0, C(V * K);
+                std::uint64_t plain_rays = 0;
+                TransferSet t;
+                BakeStats wall_stats, cpu_stats;  // of the runs with the least wall / CPU time
+                Cost bake_cost, plain_cost, coherent_cost, bare_cost, whole_cost, write_cost;
+                double bare_inside = 1e30, cold_inside = 1e30;  // CPU s inside SGEMM, all threads
+                for (int r = 0; r < args.reps; ++r) {
+                    // Interleaved, so that a disturbance hits both sides of a ratio alike.
+                    const Cost b = measure([&] { t = bake(mesh, options); });
+                    if (b.wall < bake_cost.wall) wall_stats = t.stats;
+                    if (b.cpu < bake_cost.cpu) {
+                        cpu_stats = t.stats;
+                        // The CPU-basis phases: this run's wall split, scaled to its CPU ÷ threads.
+                        const double f = b.cpu / T / b.wall;
+                        cpu_stats.seconds_bvh *= f;
+                        cpu_stats.seconds_trace *= f;
+                        cpu_stats.seconds_project *= f;
+                    }
+                    bake_cost.keep_min(b);
+                    plain_cost.keep_min(measure([&] {
+                        plain.run<false>(mesh, set, chunk, args.threads, plain_rays, plain_c0);
                     }));
-                    failures += validate(t, rays, c0);
-                }
-                double inside = 0;
-                bare_cost.keep_min(measure([&] { inside = bare.run(V, K, Y, C, false); }));
-                bare_inside = std::min(bare_inside, inside);
-                cold_inside = std::min(cold_inside, bare.run(V, K, Y, C, true));
-                write_cost.keep_min(measure([&] { write_shprt(out_path, mesh, t); }));
-            }
-            {
-                // One SGEMM of the whole product, OpenBLAS's own threads (context only; the
-                // V×S matrix exists only here).
-                std::vector<float> W(V * S);
-                fill_like_w(W);
-                openblas_set_num_threads(args.threads);
-                for (int r = 0; r < args.reps; ++r)
-                    whole_cost.keep_min(measure([&] {
-                        cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, int(V), K, int(S),
-                                    1.0f, W.data(), int(S), Y.data(), K, 0.0f, C.data(), K);
+                    plain_cost.keep_min(measure([&] {
+                        plain.run<true>(mesh, set, chunk, args.threads, plain_rays, plain_c0);
                     }));
-                openblas_set_num_threads(1);
-            }
-            failures += validate(t, plain_rays, plain_c0);
+                    for (bool branch_free : {false, true}) {
+                        std::uint64_t rays = 0;
+                        std::vector<float> c0;
+                        coherent_cost.keep_min(measure([&] {
+                            if (branch_free)
+                                plain.run<true>(mesh, set, chunk, args.threads, rays, c0,
+                                                coherent.data());
+                            else
+                                plain.run<false>(mesh, set, chunk, args.threads, rays, c0,
+                                                 coherent.data());
+                        }));
+                        failures += validate(t, rays, c0);
+                    }
+                    double inside = 0;
+                    bare_cost.keep_min(measure([&] { inside = bare.run(V, K, Y, C, false); }));
+                    bare_inside = std::min(bare_inside, inside);
+                    cold_inside = std::min(cold_inside, bare.run(V, K, Y, C, true));
+                    write_cost.keep_min(measure([&] { write_shprt(out_path, mesh, t); }));
+                }
+                {
+                    // One SGEMM of the whole product, OpenBLAS's own threads (context only; the
+                    // V×S matrix exists only here).
+                    std::vector<float> W(V * S);
+                    fill_like_w(W);
+                    openblas_set_num_threads(args.threads);
+                    for (int r = 0; r < args.reps; ++r)
+                        whole_cost.keep_min(measure([&] {
+                            cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, int(V), K,
+                                        int(S), 1.0f, W.data(), int(S), Y.data(), K, 0.0f, C.data(),
+                                        K);
+                        }));
+                    openblas_set_num_threads(1);
+                }
+                failures += validate(t, plain_rays, plain_c0);
 
-            const double flop = 2.0 * double(V) * S * K;
-            const double rays = double(t.stats.rays_cast);
-            auto figures = [&](const BakeStats& s, double load_s, double bake_s, double write_s,
-                               double plain_s, double coherent_s, double bare_s, double whole_s) {
-                return Figures{load_s,
-                               s.seconds_bvh,
-                               s.seconds_trace,
-                               s.seconds_project,
-                               write_s,
-                               bake_s,
-                               rays / s.seconds_trace * 1e-6,
-                               rays / std::min(plain_s, coherent_s) * 1e-6,
-                               flop / s.seconds_project * 1e-9,
-                               flop / bare_s * 1e-9,
-                               flop / whole_s * 1e-9,
-                               flop / (cold_inside / T) * 1e-9,
-                               rays / plain_s * 1e-6,
-                               rays / coherent_s * 1e-6};
-            };
-            Row row;
-            row.K = K;
-            row.S = S;
-            row.wall =
-                figures(wall_stats, load.wall, bake_cost.wall, write_cost.wall, plain_cost.wall,
-                        coherent_cost.wall, bare_cost.wall, whole_cost.wall);
-            // CPU basis of the bare SGEMM: the time inside the calls (no TBB scheduling).
-            row.cpu =
-                figures(cpu_stats, load.cpu, bake_cost.cpu / T, write_cost.cpu, plain_cost.cpu / T,
-                        coherent_cost.cpu / T, bare_inside / T, whole_cost.cpu / T);
-            row.peak_mib = double(t.stats.peak_bytes_host) / (1 << 20);
-            rows.push_back(row);
-            std::printf(
-                "K=%d S=%u: bake %.4f s wall, %.4f s CPU÷threads, trace %.4f s wall; plain "
-                "Embree %.1f (set order), %.1f (coherent) Mrays/s wall; trace ratio to the "
-                "fastest %.3f (wall) %.3f (CPU); projection ratio %.3f (wall) %.3f (CPU)\n",
-                K, S, row.wall.bake_s, row.cpu.bake_s, row.wall.trace_s, row.wall.plain_set_mrays,
-                row.wall.plain_coherent_mrays, row.wall.mrays / row.wall.plain_mrays,
-                row.cpu.mrays / row.cpu.plain_mrays, row.wall.gflops / row.wall.bare_gflops,
-                row.cpu.gflops / row.cpu.bare_gflops);
-            std::fflush(stdout);
+                const double flop = 2.0 * double(V) * S * K;
+                const double rays = double(t.stats.rays_cast);
+                auto figures = [&](const BakeStats& s, double load_s, double bake_s, double write_s,
+                                   double plain_s, double coherent_s, double bare_s,
+                                   double whole_s) {
+                    return Figures{load_s,
+                                   s.seconds_bvh,
+                                   s.seconds_trace,
+                                   s.seconds_project,
+                                   write_s,
+                                   bake_s,
+                                   rays / s.seconds_trace * 1e-6,
+                                   rays / std::min(plain_s, coherent_s) * 1e-6,
+                                   flop / s.seconds_project * 1e-9,
+                                   flop / bare_s * 1e-9,
+                                   flop / whole_s * 1e-9,
+                                   flop / (cold_inside / T) * 1e-9,
+                                   rays / plain_s * 1e-6,
+                                   rays / coherent_s * 1e-6};
+                };
+                Row row;
+                row.set = local ? "local" : "sphere";
+                row.K = K;
+                row.S = S;
+                row.wall =
+                    figures(wall_stats, load.wall, bake_cost.wall, write_cost.wall, plain_cost.wall,
+                            coherent_cost.wall, bare_cost.wall, whole_cost.wall);
+                // CPU basis of the bare SGEMM: the time inside the calls (no TBB scheduling).
+                row.cpu = figures(cpu_stats, load.cpu, bake_cost.cpu / T, write_cost.cpu,
+                                  plain_cost.cpu / T, coherent_cost.cpu / T, bare_inside / T,
+                                  whole_cost.cpu / T);
+                row.peak_mib = double(t.stats.peak_bytes_host) / (1 << 20);
+                rows.push_back(row);
+                std::printf(
+                    "%s K=%d S=%u: bake %.4f s wall, %.4f s CPU÷threads, trace %.4f s wall; plain "
+                    "Embree %.1f (set order), %.1f (coherent) Mrays/s wall; trace ratio to the "
+                    "fastest %.3f (wall) %.3f (CPU); projection ratio %.3f (wall) %.3f (CPU)\n",
+                    row.set, K, S, row.wall.bake_s, row.cpu.bake_s, row.wall.trace_s,
+                    row.wall.plain_set_mrays, row.wall.plain_coherent_mrays,
+                    row.wall.mrays / row.wall.plain_mrays, row.cpu.mrays / row.cpu.plain_mrays,
+                    row.wall.gflops / row.wall.bare_gflops, row.cpu.gflops / row.cpu.bare_gflops);
+                std::fflush(stdout);
+            }
         }
-    }
     std::filesystem::remove(out_path);
     print_table(rows, false);
     print_table(rows, true);

@@ -3,12 +3,15 @@
 // nothing else, the limit the bake's tracing is measured against. The same rays cost Embree up
 // to a third more in an incoherent order than in a coherent one (issue 39), so the limit is the
 // fastest order: run() casts them in the set's order or in a given one (coherent_order, sorted
-// along a space-filling curve), and bench_bake times both. (bench_interreflect measured
-// its closest hits against it too, until the interreflected bake's T_0 became the direct bake
-// itself.)
+// along a space-filling curve), and bench_bake times both. A local set (DirectionSet::frame) is
+// turned into each vertex's tangent frame first (sh/local_frame.hpp), as the bake turns it; every
+// one of its directions is above the horizon and its weights hold the cosine. (bench_interreflect
+// measured its closest hits against it too, until the interreflected bake's T_0 became the direct
+// bake itself.)
 #pragma once
 
 #include "shprt/scene/mesh.hpp"
+#include "shprt/sh/local_frame.hpp"
 #include "shprt/sh/sampler.hpp"
 #include "shprt/trace/ray.hpp"
 #include "trace/embree_common.hpp"
@@ -65,6 +68,7 @@ public:
              std::uint64_t& rays, std::vector<float>& c0,
              const std::uint32_t* order = nullptr) const {
         const std::size_t V = mesh.vertex_count(), S = set.size();
+        const bool local = set.frame == DirectionFrame::local;
         c0.assign(V, 0.0f);
         struct Local {
             std::vector<RTCRay> rays;
@@ -92,12 +96,14 @@ public:
                         for (std::size_t v = c * chunk; v < end; ++v) {
                             const Vec3f n = mesh.normals[v];
                             const Vec3f o = offset_ray_origin(mesh.positions[v], n);
+                            const LocalAxes frame = local_axes(n);
                             unsigned m = 0;
                             for (std::size_t i = 0; i < S; ++i) {
                                 const std::size_t s = order ? order[i] : i;
-                                const float dx = set.dirs[3 * s], dy = set.dirs[3 * s + 1],
-                                            dz = set.dirs[3 * s + 2];
-                                const float cosine = n.x * dx + n.y * dy + n.z * dz;
+                                Vec3f d{set.dirs[3 * s], set.dirs[3 * s + 1], set.dirs[3 * s + 2]};
+                                if (local) d = to_world(frame, d);
+                                const float dx = d.x, dy = d.y, dz = d.z;
+                                const float cosine = local ? 1.0f : n.x * dx + n.y * dy + n.z * dz;
                                 if (!kBranchFree && !(cosine > 0.0f)) continue;
                                 RTCRay& ray = l.rays[m];
                                 ray.org_x = o.x;

@@ -162,7 +162,29 @@ DeviceTransportPass trace_transport_on_device(const Mesh& mesh, const Receivers&
 }  // namespace
 
 namespace detail {
+
+struct GpuOccluders {
+    FlatBvh bvh;                                          // on the host (the device's layout)
+    std::shared_ptr<const cuda::DeviceOccluders> device;  // its copy on the device
+};
+
 namespace {
+
+// The occluders of a bake that casts rays: the session's kept ones, else built and uploaded now
+// (and kept, when the session asks). `seconds_bvh`: the host build's time, 0 when kept.
+std::shared_ptr<GpuOccluders> gpu_occluders(const BakeJob& job, const BakeOptions& options,
+                                            std::shared_ptr<GpuOccluders>* kept,
+                                            double& seconds_bvh) {
+    seconds_bvh = 0;
+    if (kept && *kept) return *kept;
+    const auto start = Clock::now();
+    auto made = std::make_shared<GpuOccluders>();
+    made->bvh = build_bvh(*job.occluders, options.threads);
+    seconds_bvh = seconds_since(start);
+    made->device = cuda::upload_occluders(options.device_index, made->bvh.view());
+    if (kept) *kept = made;
+    return made;
+}
 
 // The error-bounded bake on the device (bake.hpp, gpu_target_error_refusal: shadowed or
 // unshadowed vectors, a local set): the CPU's passes, estimates and guards
@@ -174,20 +196,19 @@ namespace {
 // Unverified on a GPU so far: the orchestration is tested on the CPU with the CPU's stages as the
 // segments' backend (ErrorBound.SegmentsFromAnotherBackendStopWhereTheCpuBoundStops).
 TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
-                              const DirectionSet& directions, const cuda::DeviceState& device) {
+                              const DirectionSet& directions, const cuda::DeviceState& device,
+                              std::shared_ptr<GpuOccluders>* kept) {
     constexpr std::size_t kBoundBlock = std::size_t(1) << 16;
     const auto start = Clock::now();
     const Receivers& rx = job.receivers;
     const bool shadowed = kind_row(options.transfer).traces_rays;
     const std::size_t S = directions.size();
     const int K = options.K, KL = projected_coeffs(options);
-    FlatBvh bvh;
+    // The BVH goes to the device once and stays there for every segment of every block (and,
+    // in a session, every pass).
     double seconds_bvh = 0;
-    if (shadowed) {
-        const auto bvh_start = Clock::now();
-        bvh = build_bvh(*job.occluders, options.threads);
-        seconds_bvh = seconds_since(bvh_start);
-    }
+    const std::shared_ptr<GpuOccluders> occluders =
+        shadowed ? gpu_occluders(job, options, kept, seconds_bvh) : nullptr;
     const std::vector<float> Y = basis_table(KL, directions);
     const DirectionTable table =
         make_direction_table(directions, DirectionFrame::local, kTargetFirstSamples);
@@ -203,9 +224,6 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
     BakeProgress progress(options.progress, shadowed, rx.count, S);
     const DeviceMemory memory = device_memory(options, device.free_bytes);
 
-    // The BVH goes to the device once and stays there for every segment of every block.
-    const std::shared_ptr<const cuda::DeviceOccluders> occluders =
-        shadowed ? cuda::upload_occluders(options.device_index, bvh.view()) : nullptr;
     std::size_t block_first = 0;  // the block's first receiver of the range
     std::vector<Vec3f> positions, normals;
     cuda::DeviceBakeResult total;
@@ -213,8 +231,10 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
     auto bake_rows = [&](std::size_t m, std::size_t from, std::size_t to, float* out) {
         cuda::DeviceBakeInput input;
         input.device = options.device_index;
-        if (shadowed) input.scene.bvh = bvh.view();
-        input.occluders = occluders;
+        if (shadowed) {
+            input.scene.bvh = occluders->bvh.view();
+            input.occluders = occluders->device;
+        }
         input.scene.positions = positions.data();
         input.scene.normals = normals.data();
         input.scene.vertex_count = m;
@@ -234,7 +254,7 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
         request.free_device_bytes = memory.bytes;
         request.usable_fraction = memory.usable_fraction;
         request.fixed_device_bytes =
-            gpu_bake_fixed_bytes(m, to - from, KL, shadowed ? bvh.bytes() : 0);
+            gpu_bake_fixed_bytes(m, to - from, KL, shadowed ? occluders->bvh.bytes() : 0);
         request.requested_chunk = options.chunk_receivers;
         input.plan = plan_chunks(request);
         input.on_chunk_done = [&](std::size_t first, std::size_t count, const float* rows,
@@ -295,7 +315,7 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
 
     fill_gpu_stats(info.stats, total, seconds_bvh, seconds_rotate, start,
                    (Y.size() + world.capacity() + scratch.acc.capacity()) * sizeof(float) +
-                       table.bytes() + (shadowed ? bvh.bytes() : 0),
+                       table.bytes() + (shadowed ? occluders->bvh.bytes() : 0),
                    device.name);
     return info;
 }
@@ -303,11 +323,11 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
 }  // namespace
 
 TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
-                      const DirectionSet& directions) {
+                      const DirectionSet& directions, std::shared_ptr<GpuOccluders>* kept) {
     const auto start = Clock::now();
     require_gpu(options.device_index);
     const cuda::DeviceState device = cuda::prepare_device(options.device_index);
-    if (options.target_error > 0) return bake_gpu_bounded(job, options, directions, device);
+    if (options.target_error > 0) return bake_gpu_bounded(job, options, directions, device, kept);
 
     const Receivers& rx = job.receivers;
     // Glossy matrices: W without the cosine, projected on the pair-product table (the CPU
@@ -324,13 +344,9 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     const bool local = options.direction_frame == DirectionFrame::local;
     const int KL = projected_coeffs(options);
     const int FL = glossy ? KL * (KL + 1) / 2 : KL;
-    FlatBvh bvh;
-    double seconds_bvh = 0;
-    if (shadowed) {  // unshadowed transfer casts no rays: no BVH
-        const auto bvh_start = Clock::now();
-        bvh = build_bvh(*job.occluders, options.threads);
-        seconds_bvh = seconds_since(bvh_start);
-    }
+    double seconds_bvh = 0;  // unshadowed transfer casts no rays: no BVH
+    const std::shared_ptr<GpuOccluders> occluders =
+        shadowed ? gpu_occluders(job, options, kept, seconds_bvh) : nullptr;
     std::vector<float> Y = basis_table(KL, directions);
     if (glossy) Y = pair_product_table(Y, S, KL);
 
@@ -349,7 +365,8 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     const DeviceMemory memory = device_memory(options, device.free_bytes);
     request.free_device_bytes = memory.bytes;
     request.usable_fraction = memory.usable_fraction;
-    request.fixed_device_bytes = gpu_bake_fixed_bytes(rx.total, S, FL, shadowed ? bvh.bytes() : 0);
+    request.fixed_device_bytes =
+        gpu_bake_fixed_bytes(rx.total, S, FL, shadowed ? occluders->bvh.bytes() : 0);
     request.device_output = device_output != nullptr;
     request.requested_chunk = options.chunk_receivers;
     const ChunkPlan plan = plan_chunks(request);
@@ -357,7 +374,9 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     BakeProgress progress(options.progress, shadowed, rx.count, S);
     cuda::DeviceBakeInput input;
     input.device = options.device_index;
-    input.scene = device_scene(rx, shadowed ? &bvh : nullptr, directions, options.direction_frame);
+    input.scene =
+        device_scene(rx, shadowed ? &occluders->bvh : nullptr, directions, options.direction_frame);
+    if (shadowed) input.occluders = occluders->device;
     input.scene.hemisphere = glossy;
     input.basis = Y.data();
     input.K = FL;
@@ -396,9 +415,10 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
                 "bake cancelled after {} of {} receivers", progress.receivers_done(), rx.count);
     sink.finish();
 
-    fill_gpu_stats(info.stats, result, seconds_bvh, seconds_rotate, start,
-                   (Y.size() + world.capacity()) * sizeof(float) + (shadowed ? bvh.bytes() : 0),
-                   device.name);
+    fill_gpu_stats(
+        info.stats, result, seconds_bvh, seconds_rotate, start,
+        (Y.size() + world.capacity()) * sizeof(float) + (shadowed ? occluders->bvh.bytes() : 0),
+        device.name);
     return info;
 }
 

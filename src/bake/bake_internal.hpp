@@ -72,8 +72,14 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
 TransferInfo bake_interreflected(const BakeJob& job, const BakeOptions& options,
                                  const DirectionSet& directions, const Tracer* tracer,
                                  double seconds_bvh);
+// The occluders as a GPU bake traces them: the flat BVH built on the host and its copy on the
+// device (bake_gpu.cpp). A bake session keeps them across its passes (`kept`: built by the first
+// pass that traces, then reused — the device copy stays until the session and the passes let it
+// go); null: the bake builds its own.
+struct GpuOccluders;
 TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
-                      const DirectionSet& directions);
+                      const DirectionSet& directions,
+                      std::shared_ptr<GpuOccluders>* kept = nullptr);
 
 // Interreflected transfer, the pieces both backends share (interreflect.cpp): the job check (all
 // vertices of the scene, host rows, an albedo per vertex), and, once T_0 (V × K) and A exist, the

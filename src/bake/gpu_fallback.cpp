@@ -31,7 +31,8 @@ GpuInfo query_gpu(int) {
     return info;
 }
 
-TransferInfo detail::bake_gpu(const BakeJob&, const BakeOptions&, const DirectionSet&) {
+TransferInfo detail::bake_gpu(const BakeJob&, const BakeOptions&, const DirectionSet&,
+                              std::shared_ptr<GpuOccluders>*) {
     no_cuda();
 }
 

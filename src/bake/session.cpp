@@ -25,7 +25,8 @@ struct BakeSession::Impl {
     const Tracer* tracer = nullptr;
     double seconds_bvh = 0;  // counted by the first pass
     bool first_pass = true;
-    std::unique_ptr<detail::CpuBakeTables> tables;  // the CPU's per-receiver kinds
+    std::unique_ptr<detail::CpuBakeTables> tables;        // the CPU's per-receiver kinds
+    std::shared_ptr<detail::GpuOccluders> gpu_occluders;  // the GPU's BVH, host and device
     // bake_to's rows of the whole receiver set (error_bound.hpp, BoundRows), and its last cap.
     std::vector<float> acc, error;
     std::vector<std::uint32_t> samples, visible, blocked;
@@ -70,7 +71,9 @@ BakeSession::BakeSession(const BakeJob& job, const BakeOptions& options)
     if (s.backend == Device::cuda) {
         SHPRT_CHECK(job.tracer == nullptr, unsupported,
                     "a caller-built tracer runs on the CPU only (device 'cuda' was asked for)");
-        return;  // the GPU bake builds its own BVH and tables per pass
+        // The GPU bake builds its BVH and uploads it on the first pass that casts rays, and the
+        // session keeps both (gpu_occluders) for the others; its tables go up per pass.
+        return;
     }
     if (s.tracer == nullptr && kind_row(checked.transfer).traces_rays) {
         // Embree builds with TBB tasks in the caller's arena: limit it to the bake's threads.
@@ -102,7 +105,7 @@ TransferInfo BakeSession::Impl::run(const BakeJob& job, const BakeOptions& o,
         if (whole_domain) {
             info = detail::bake_interreflected_gpu(job, o, *directions);
         } else {
-            info = detail::bake_gpu(job, o, *directions);
+            info = detail::bake_gpu(job, o, *directions, &gpu_occluders);
             detail::bake_job_probes(job, o, *directions, nullptr, nullptr, info);
         }
     } else if (whole_domain) {

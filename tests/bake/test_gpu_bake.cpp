@@ -15,6 +15,7 @@
 
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/gpu.hpp"
+#include "shprt/bake/session.hpp"
 #include "shprt/bake/transfer_sample.hpp"
 #include "shprt/config.hpp"
 #include "shprt/core/error.hpp"
@@ -329,6 +330,48 @@ TEST(GpuBake, ErrorBoundedStopsWhereTheCpuBoundStops) {
     EXPECT_GE(double(close), 0.99 * double(same));
     EXPECT_NEAR(double(gpu.stats.rays_cast), double(cpu.stats.rays_cast),
                 0.02 * double(cpu.stats.rays_cast));
+}
+
+TEST(GpuBake, ASessionKeepsItsBvhAcrossPassesAndBakesTheWholeBakesRows) {
+    // Issue 39 item 3: a GPU session builds and uploads the BVH on its first pass and keeps both
+    // for the next ones (bake_gpu.cpp, GpuOccluders), for fixed-S and error-bounded passes alike.
+    SKIP_WITHOUT_GPU();
+    const Mesh mesh = make_builtin("leaky_room");
+    for (const double target : {0.0, 0.03}) {
+        SCOPED_TRACE(target);
+        BakeOptions o;
+        o.K = 16;
+        o.samples = 256;
+        o.target_error = target;
+        o.max_samples = target > 0 ? 1024 : 0;
+        o.device = Device::cuda;
+        const TransferSet want = bake(mesh, o);
+        BakeJob job;
+        job.occluders = &mesh;
+        job.receivers = vertex_receivers(mesh);
+        BakeSession session(job, o);
+        const std::size_t V = job.receivers.total, cut = V / 3 + 5;
+        std::vector<float> rows;
+        std::vector<double> bvh_seconds;
+        for (const auto& [first, count] :
+             {std::pair{std::size_t(0), cut}, std::pair{cut, V - cut}}) {
+            HostSink sink;
+            BakeJob part;
+            part.receivers = job.receivers.range(first, count);
+            part.sink = &sink;
+            bvh_seconds.push_back(session.bake(part).stats.seconds_bvh);
+            rows.insert(rows.end(), sink.rows().begin(), sink.rows().end());
+        }
+        EXPECT_GT(bvh_seconds[0], 0.0) << "the first pass builds the BVH";
+        EXPECT_EQ(bvh_seconds[1], 0.0) << "the second pass uses the kept one";
+        ASSERT_EQ(rows.size(), want.coeffs.size());
+        double worst = 0, scale = 0;
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            worst = std::max(worst, std::fabs(double(rows[i]) - want.coeffs[i]));
+            scale = std::max(scale, std::fabs(double(want.coeffs[i])));
+        }
+        EXPECT_LE(worst, 1e-5 * scale) << "two passes give the one bake's rows";
+    }
 }
 
 TEST(GpuBake, AgreesWithTheCpuBakeInTheRoom) {

@@ -45,7 +45,8 @@ struct DeviceScene {
 };
 
 // The occluders' flat BVH on the device, uploaded once and kept by its owners across bakes (the
-// error-bounded bake's segments, bake_gpu.cpp): DeviceBakeInput::occluders. Freed under the GPU
+// error-bounded bake's segments and a bake session's passes, bake_gpu.cpp):
+// DeviceBakeInput::occluders. Freed under the GPU
 // lock when the last owner lets it go. Takes the GPU lock; throws as prepare_device, and
 // Error(out_of_memory).
 class DeviceOccluders;
