@@ -21,6 +21,7 @@
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 
@@ -51,8 +52,10 @@ struct Scratch {
 }  // namespace
 
 CpuBakeTables::CpuBakeTables(const BakeOptions& options, const DirectionSet& directions) {
-    glossy = options.transfer == TransferKind::glossy;
-    shadowed = options.transfer == TransferKind::shadowed || glossy;  // rays are cast
+    const TransferKindRow& row = kind_row(options.transfer);
+    glossy = is_matrix(row);     // packed matrices: the pair-product table
+    shadowed = row.traces_rays;  // rays are cast
+    hemisphere = !row.cosine;    // W without the cosine
     bounded = options.target_error > 0;
     local = options.direction_frame == DirectionFrame::local;
     S = directions.size();
@@ -179,7 +182,7 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
         for (std::size_t j = 0; j < count; ++j) {
             const std::size_t r = first + j;
             float* row = sc.w.data() + (lead + j) * S;
-            weight_row(rx.normals[r], table, row, glossy);
+            weight_row(rx.normals[r], table, row, tables.hemisphere);
             if (shadowed)
                 local_rays +=
                     trace_row(*tracer, rx.positions[r], rx.normals[r], table, row, sc.trace);

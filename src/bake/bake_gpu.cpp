@@ -332,8 +332,9 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     const Receivers& rx = job.receivers;
     // Glossy matrices: W without the cosine, projected on the pair-product table (the CPU
     // bake's two changes, bake.hpp); the SGEMM then has K(K+1)/2 columns.
-    const bool glossy = options.transfer == TransferKind::glossy;
-    const bool shadowed = options.transfer == TransferKind::shadowed || glossy;
+    const TransferKindRow& row = kind_row(options.transfer);
+    const bool glossy = is_matrix(row);
+    const bool shadowed = row.traces_rays;
     const std::size_t S = directions.size();
     const int K = options.K;
     const int F = glossy ? K * (K + 1) / 2 : K;
@@ -377,7 +378,7 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     input.scene =
         device_scene(rx, shadowed ? &occluders->bvh : nullptr, directions, options.direction_frame);
     if (shadowed) input.occluders = occluders->device;
-    input.scene.hemisphere = glossy;
+    input.scene.hemisphere = !row.cosine;
     input.basis = Y.data();
     input.K = FL;
     input.first = rx.first;

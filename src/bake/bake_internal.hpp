@@ -53,6 +53,7 @@ struct CpuBakeTables {
     std::size_t bytes() const;
 
     bool glossy = false, shadowed = false, bounded = false, local = false;
+    bool hemisphere = false;  // W without the cosine (the kind's row: !cosine)
     std::size_t S = 0;
     int K = 0, KL = 0, F = 0, FL = 0;  // row and product columns (stages.hpp)
     DirectionTable table;

@@ -8,6 +8,7 @@
 #include "shprt/sh/rotation.hpp"
 #include "shprt/trace/ray.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "shprt/transfer/kind_table.hpp"
 
 #include <cblas.h>
 
@@ -49,12 +50,11 @@ namespace shprt {
 DirectionSet bake_direction_set(const BakeOptions& options) {
     if (options.direction_frame == DirectionFrame::sphere)
         return make_direction_set(options.sampler, options.seed, options.samples);
-    // Glossy transfer integrates V·y_i·y_j over the hemisphere without a cosine: a cosine density
+    // A kind without the cosine (glossy: V·y_i·y_j over the hemisphere): a cosine density
     // would weigh each sample by 1/cos θ' (infinite variance at the horizon), so its local set is
     // uniform on the hemisphere.
-    const HemisphereDensity density = options.transfer == TransferKind::glossy
-                                          ? HemisphereDensity::uniform
-                                          : HemisphereDensity::cosine;
+    const HemisphereDensity density =
+        kind_row(options.transfer).cosine ? HemisphereDensity::cosine : HemisphereDensity::uniform;
     return make_local_direction_set(options.sampler, options.seed, options.samples, density);
 }
 

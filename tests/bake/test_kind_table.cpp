@@ -64,6 +64,13 @@ TEST(KindTable, DefaultsAndTraitsAreTheOldBranches) {
         EXPECT_EQ(row.whole_domain, kind == TransferKind::interreflected);
         EXPECT_EQ(row.error_bounded, kind != TransferKind::glossy);
         EXPECT_EQ(is_matrix(row), kind == TransferKind::glossy);
+        EXPECT_EQ(row.cosine, kind != TransferKind::glossy);
+        // A local set's density follows the cosine: uniform on the hemisphere without it.
+        BakeOptions o;
+        o.transfer = kind;
+        o.samples = 4;
+        const DirectionSet set = bake_direction_set(o);
+        EXPECT_FLOAT_EQ(set.weights[0], float((row.cosine ? 1.0 : 2.0) * 3.14159265358979 / 4));
     }
 }
 

@@ -3,11 +3,15 @@
 // the whole domain at once, and how it is shaded — and the queries everything else asks instead
 // of naming a kind. A new kind is its row here, its bake stage (bake/) and its shading pass.
 //
-//   kind            name (files, CLI)  channels  shape             rays  T_0  bounces  whole  K
-//   unshadowed      "unshadowed"       1         vector            no    no   no       no     16
-//   shadowed        "shadowed"         1         vector            yes   no   no       no     16
-//   interreflected  "interreflected"   3         vector            yes   yes  yes      yes    16
-//   glossy          "glossy"           1         symmetric_matrix  yes   no   no       no     25
+//   kind            name (files, CLI)  channels  shape             rays  cos  T_0  bounces  whole K
+//   unshadowed      "unshadowed"       1         vector            no    yes  no   no       no 16
+//   shadowed        "shadowed"         1         vector            yes   yes  no   no       no 16
+//   interreflected  "interreflected"   3         vector            yes   yes  yes  yes      yes 16
+//   glossy          "glossy"           1         symmetric_matrix  yes   no   no   no       no 25
+//
+// cos: whether T carries max(0, n·ω). Without it (glossy) a bake weighs a direction 1 above the
+// horizon and 0 below, and its local direction set is uniform on the hemisphere, not
+// cosine-weighted (a cosine density would weigh each sample by 1/cos θ).
 //
 // What a row says is what a bake of that kind produces (bake_description: layout_for) and what a
 // file of it must be (the reader checks a matrix kind's shape). A set may still differ from its
@@ -38,6 +42,7 @@ struct TransferKindRow {
     int channels;          // 1 (grey), 3 (RGB: the albedo enters at the bounces)
     TransferShape shape;   // vector, or symmetric_matrix (glossy: packed upper triangle)
     bool traces_rays;      // its bake casts occlusion rays (unshadowed: the cosine alone)
+    bool cosine;           // T carries max(0, n·ω) (else the hemisphere's indicator alone)
     bool direct_part;      // keeps T_0 beside the sum (TransferSet::direct; direct_only())
     bool interreflection;  // has bounces: TransferInfo::interreflection, the bounce options
     // Its bake needs every receiver of the mesh at once (the bounces couple them): no shards,
