@@ -20,6 +20,10 @@
 //     as one session going on from round to round (BakeSession::bake_to), interleaved, min wall
 //     time of --reps runs each; the last rounds' rows are checked equal.
 //
+//  5. the allocation limit: the rays for 1 % when each receiver's prefix is chosen from its true
+//     error instead of an estimate (an oracle), with doubling prefixes and with 1.5x steps,
+//     against the error-bounded bake of 3.
+//
 //     build/bench/bench_local_directions [--K 256] [--max-samples 8192] [--reps 2]
 //
 // Wall times are the bake's own (the direction set made, traced and projected; the BVH is built
@@ -39,6 +43,7 @@
 #include <ctime>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -322,8 +327,10 @@ TransferSet bake_bounded(const Args& a, const Mesh& mesh, const Tracer& tracer, 
     return t;
 }
 
-void bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer, const ShLight& light,
-                 const std::vector<double>& ref_luminance) {
+// Returns the room's rows as points (x: Mrays cast, error: luminance) for study 5.
+std::vector<Point> bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer,
+                               const ShLight& light, const std::vector<double>& ref_luminance) {
+    std::vector<Point> room_points;
     const double targets[] = {0.04, 0.02, 0.01, 0.005};
     std::printf(
         "\n3. error-bounded bake (local Sobol, --target-error E, at most %u samples), K = %d, %d "
@@ -360,6 +367,7 @@ void bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer, con
             const bool is_room = sc.mesh == &room;
             const double lum =
                 is_room ? relative_rms(luminance(t.coeffs, a.K, light), ref_luminance) : NAN;
+            if (is_room) room_points.push_back({0, double(t.stats.rays_cast) * 1e-6, lum});
             std::printf(
                 "| %s | %.3g | %.3f | %.3f | %.0f | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %zu "
                 "of %zu | %.1f |\n",
@@ -370,6 +378,7 @@ void bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer, con
             std::fflush(stdout);
         }
     }
+    return room_points;
 }
 
 // 4. The viewer's rounds: separate bakes against one session.
@@ -417,6 +426,86 @@ void rounds_study(const Args& a, const Mesh& mesh, const Tracer& tracer) {
                 last_session == last_separate ? "the same bits" : "DIFFERENT");
 }
 
+// 5. The allocation limit. An error-bounded bake chooses each receiver's prefix from an estimate;
+// here an oracle chooses it from the receiver's true error (against the local reference of 3.):
+// the smallest prefix of the schedule whose true error is at most E there and at every longer
+// prefix. Sweeping E gives the rays such a choice needs for 1 % luminance error, the fewest that
+// any choice of one prefix per receiver without knowing the light can need with these prefixes
+// (the oracle also profits from lucky draws, so it is if anything optimistic). The prefixes are
+// fixed-S bakes of seed 1 (the bound's rows at a prefix are those bits); the doubling schedule
+// is the bound's, the finer one adds 1.5·2^k.
+void oracle_study(const Args& a, const Mesh& mesh, const Tracer& tracer, const ShLight& light,
+                  const std::vector<double>& ref_luminance, const std::vector<Point>& bound) {
+    std::printf(
+        "\n5. the allocation limit: each receiver's prefix chosen by an oracle from its true error "
+        "(local Sobol, seed 1, against the local reference of 3.), K = %d, %d threads\n\n"
+        "| S | wall s | Mrays/s (wall) | mean true error | luminance error |\n"
+        "|---:|---:|---:|---:|---:|\n",
+        a.K, a.threads);
+    const std::vector<float> ref = bound_reference(a, mesh, tracer);
+    std::vector<std::uint32_t> all;
+    for (std::uint32_t S = kTargetFirstSamples * 2; S <= a.bound_max_samples; S *= 2) {
+        all.push_back(S);
+        if (S * 3 / 2 < a.bound_max_samples) all.push_back(S * 3 / 2);
+    }
+    std::sort(all.begin(), all.end());
+    std::vector<std::vector<double>> truth, lum;  // [prefix][receiver]
+    double rate = 0;                              // Mrays/s of the fixed bakes, all S
+    double rays_all = 0, wall_all = 0;
+    for (const std::uint32_t S : all) {
+        const BakeOptions o = options_for(a, DirectionFrame::local, S, 1);
+        const DirectionSet set = bake_direction_set(o);
+        const auto start = Clock::now();
+        const TransferSet t = bake_with_tracer(mesh, o, set, tracer);
+        const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+        truth.push_back(true_errors(t.coeffs, ref, a.K));
+        lum.push_back(luminance(t.coeffs, a.K, light));
+        double mean = 0;
+        for (const double e : truth.back()) mean += e / double(truth.back().size());
+        rays_all += double(t.stats.rays_cast), wall_all += wall;
+        std::printf("| %u | %.3f | %.1f | %.4f | %.3f %% |\n", S, wall,
+                    double(t.stats.rays_cast) * 1e-6 / wall, mean,
+                    100 * relative_rms(lum.back(), ref_luminance));
+        std::fflush(stdout);
+    }
+    rate = rays_all * 1e-6 / wall_all;
+    const std::size_t V = mesh.vertex_count();
+    auto sweep = [&](bool finer) {
+        std::vector<std::size_t> idx;  // the schedule's prefixes, as indices of `all`
+        for (std::size_t i = 0; i < all.size(); ++i)
+            if (finer || std::has_single_bit(all[i])) idx.push_back(i);
+        std::vector<Point> curve;
+        std::vector<double> y(V);
+        for (double E = 0.06; E > 0.004; E /= 1.05) {
+            double rays = 0;
+            for (std::size_t v = 0; v < V; ++v) {
+                std::size_t pick = idx.back();
+                for (std::size_t k = idx.size(); k-- > 0;) {  // longest tail of prefixes under E
+                    if (truth[idx[k]][v] > E) break;
+                    pick = idx[k];
+                }
+                rays += all[pick], y[v] = lum[pick][v];
+            }
+            curve.push_back({0, rays * 1e-6, relative_rms(y, ref_luminance)});
+        }
+        return curve;
+    };
+    const std::vector<Point> doubling = sweep(false), finer = sweep(true);
+    auto at_one = [](std::vector<Point> c) {
+        std::sort(c.begin(), c.end(),
+                  [](const Point& p, const Point& q) { return p.seconds < q.seconds; });
+        return std::fabs(time_to(c, 0.01));
+    };
+    const double d = at_one(doubling), f = at_one(finer), b = at_one(bound);
+    std::printf(
+        "\nrays for 1 %% luminance error (log-log interpolation): oracle, doubling prefixes %.1f "
+        "M; "
+        "oracle, prefixes 1.5x apart %.1f M; the error-bounded bake of 3. %.1f M (%.2fx the "
+        "oracle's)\nat the fixed bakes' own rate (%.1f Mrays/s wall, tracing and projection "
+        "together), the oracle's rays take %.3f s, the bound's %.3f s\n",
+        d, f, b, b / d, rate, d / rate, b / rate);
+}
+
 }  // namespace
 }  // namespace shprt
 
@@ -435,11 +524,13 @@ int main(int argc, char** argv) {
                    "3.: the local reference's S (default 16384)");
     app.add_option("--bound-max-samples", a.bound_max_samples,
                    "3.: the error-bounded bake's --max-samples (default 16384)");
-    bool skip_variance = false, skip_curve = false, skip_bound = false, skip_rounds = false;
+    bool skip_variance = false, skip_curve = false, skip_bound = false, skip_rounds = false,
+         skip_oracle = false;
     app.add_flag("--skip-variance", skip_variance);
     app.add_flag("--skip-curve", skip_curve);
     app.add_flag("--skip-bound", skip_bound);
     app.add_flag("--skip-rounds", skip_rounds);
+    app.add_flag("--skip-oracle", skip_oracle, "5. (it needs 3.)");
     CLI11_PARSE(app, argc, argv);
 
     std::printf("bench_local_directions: builtin:room, K = %d, %d threads, OPENBLAS_CORETYPE=%s\n",
@@ -457,7 +548,9 @@ int main(int argc, char** argv) {
     if (!skip_variance) variance_study(a, mesh, *tracer, light);
     if (!skip_curve || !skip_bound) {
         const std::vector<double> ref = error_curve(a, mesh, *tracer, light, !skip_curve);
-        if (!skip_bound) bound_study(a, mesh, *tracer, light, ref);
+        const std::vector<Point> bound =
+            skip_bound ? std::vector<Point>{} : bound_study(a, mesh, *tracer, light, ref);
+        if (!skip_oracle && !skip_bound) oracle_study(a, mesh, *tracer, light, ref, bound);
     }
     if (!skip_rounds) rounds_study(a, mesh, *tracer);
     print_load("at end");
