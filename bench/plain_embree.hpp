@@ -3,13 +3,15 @@
 // nothing else, the limit the bake's tracing is measured against. The same rays cost Embree up
 // to a third more in an incoherent order than in a coherent one (issue 39), so the limit is the
 // fastest order: run() casts them in the set's order or in a given one (coherent_order, sorted
-// along a space-filling curve), and bench_bake times both. A local set (DirectionSet::frame) is
-// turned into each vertex's tangent frame first (sh/local_frame.hpp), as the bake turns it; every
-// one of its directions is above the horizon and its weights hold the cosine. (bench_interreflect
-// measured its closest hits against it too, until the interreflected bake's T_0 became the direct
-// bake itself.)
+// along a space-filling curve), and bench_bake times both. Like the bake, it casts one of each
+// chunk's twins (receivers with the same position and normal; bake/stages.hpp, find_twins). A local
+// set (DirectionSet::frame) is turned into each vertex's tangent frame first (sh/local_frame.hpp),
+// as the bake turns it; every one of its directions is above the horizon and its weights hold the
+// cosine. (bench_interreflect measured its closest hits against it too, until the interreflected
+// bake's T_0 became the direct bake itself.)
 #pragma once
 
+#include "bake/stages.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/local_frame.hpp"
 #include "shprt/sh/sampler.hpp"
@@ -73,6 +75,7 @@ public:
         struct Local {
             std::vector<RTCRay> rays;
             std::vector<float> cos_weight;
+            std::vector<std::uint32_t> twin;
             std::uint64_t count = 0;
         };
         tbb::enumerable_thread_specific<Local> locals;
@@ -92,8 +95,14 @@ public:
                     rtcInitIntersectContext(&context);
                     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
                     for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                        const std::size_t end = std::min(V, (c + 1) * chunk);
-                        for (std::size_t v = c * chunk; v < end; ++v) {
+                        const std::size_t begin = c * chunk, end = std::min(V, (c + 1) * chunk);
+                        detail::find_twins(mesh.positions.data() + begin,
+                                           mesh.normals.data() + begin, end - begin, l.twin);
+                        for (std::size_t v = begin; v < end; ++v) {
+                            if (l.twin[v - begin] != v - begin) {  // the bake copies its twin
+                                c0[v] = c0[begin + l.twin[v - begin]];
+                                continue;
+                            }
                             const Vec3f n = mesh.normals[v];
                             const Vec3f o = offset_ray_origin(mesh.positions[v], n);
                             const LocalAxes frame = local_axes(n);

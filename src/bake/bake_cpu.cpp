@@ -44,9 +44,10 @@ struct Scratch {
     std::vector<float> c;        // C[chunk×K] when the sink has no host rows to project into
     std::vector<float> c_local;  // C'[chunk×KL] in the receivers' frames (local sets)
     TraceScratch trace;
-    ErrorBoundScratch bound;     // the error-bounded bake's buffers
-    double trace_seconds = 0;    // CPU time in weighting and tracing (this worker)
-    double project_seconds = 0;  // CPU time in SGEMM (this worker)
+    std::vector<std::uint32_t> twin;  // the range's twins (stages.hpp: find_twins)
+    ErrorBoundScratch bound;          // the error-bounded bake's buffers
+    double trace_seconds = 0;         // CPU time in weighting and tracing (this worker)
+    double project_seconds = 0;       // CPU time in SGEMM (this worker)
 };
 
 }  // namespace
@@ -179,13 +180,19 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
         if (!whole) std::fill(sc.w.begin(), sc.w.begin() + std::ptrdiff_t(height * S), 0.0f);
         const double trace_start = thread_cpu_seconds();
         std::uint64_t local_rays = 0;
+        find_twins(rx.positions + first, rx.normals + first, count, sc.twin);
         for (std::size_t j = 0; j < count; ++j) {
             const std::size_t r = first + j;
             float* row = sc.w.data() + (lead + j) * S;
-            weight_row(rx.normals[r], table, row, tables.hemisphere);
-            if (shadowed)
-                local_rays +=
-                    trace_row(*tracer, rx.positions[r], rx.normals[r], table, row, sc.trace);
+            if (sc.twin[j] != j) {  // the same row as its twin's: not traced again
+                const float* same = sc.w.data() + (lead + sc.twin[j]) * S;
+                std::copy(same, same + S, row);
+            } else {
+                weight_row(rx.normals[r], table, row, tables.hemisphere);
+                if (shadowed)
+                    local_rays +=
+                        trace_row(*tracer, rx.positions[r], rx.normals[r], table, row, sc.trace);
+            }
             // Shared counters every 16 receivers: a cache line bounced between the workers per
             // receiver would cost more than the progress is worth.
             if ((j & 15u) == 15u || j + 1 == count) {

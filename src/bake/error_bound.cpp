@@ -181,20 +181,33 @@ struct RowEstimator {
 // The rows that go on from where `rows` stand: fresh (every row at prefix 0: all of them, and
 // 0 is returned), or baked before to a smaller cap — the rows still over the target then all
 // stand at that cap (returned) and go on from there.
+// A row whose twin (`twin`, or none when empty) is another row is left out: copy_twins gives it
+// the twin's state when the chunk is done.
 std::size_t active_rows(BoundRows rows, std::size_t height, std::size_t Smax,
+                        const std::vector<std::uint32_t>& twin,
                         std::vector<std::uint32_t>& active) {
     std::size_t start = 0;
     active.clear();
     for (std::size_t j = 0; j < height; ++j) start = std::max<std::size_t>(start, rows.samples[j]);
-    if (start == 0) {
-        active.resize(height);
-        std::iota(active.begin(), active.end(), std::uint32_t(0));
-    } else {
-        for (std::size_t j = 0; j < height; ++j)
-            if (rows.samples[j] == start && rows.more[j] != 0 && start < Smax)
-                active.push_back(std::uint32_t(j));
+    for (std::size_t j = 0; j < height; ++j) {
+        if (!twin.empty() && twin[j] != j) continue;
+        if (start == 0 || (rows.samples[j] == start && rows.more[j] != 0 && start < Smax))
+            active.push_back(std::uint32_t(j));
     }
     return start;
+}
+
+// Each twin row takes its twin's sums, prefix, estimate and outcomes: the same rays, so the same
+// state, without casting them again.
+void copy_twins(const std::vector<std::uint32_t>& twin, std::size_t KL, BoundRows rows) {
+    for (std::size_t j = 0; j < twin.size(); ++j) {
+        const std::size_t t = twin[j];
+        if (t == j) continue;
+        std::copy(rows.acc + t * KL, rows.acc + (t + 1) * KL, rows.acc + j * KL);
+        rows.samples[j] = rows.samples[t], rows.error[j] = rows.error[t];
+        rows.visible[j] = rows.visible[t], rows.blocked[j] = rows.blocked[t];
+        rows.more[j] = rows.more[t];
+    }
 }
 
 }  // namespace
@@ -205,7 +218,8 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
     const RowEstimator estimator(bound);
     const std::size_t KL = estimator.KL, S0 = estimator.S0, Smax = estimator.Smax;
     cap = std::min(cap, Smax);
-    const std::size_t start = active_rows(rows, height, Smax, sc.active);
+    find_twins(rx.positions + first, rx.normals + first, height, sc.twin);
+    const std::size_t start = active_rows(rows, height, Smax, sc.twin, sc.active);
     std::uint64_t rays = 0;
     for (std::size_t a = start, b = start == 0 ? std::min(S0, cap) : 2 * start;
          a < cap && !sc.active.empty(); a = b, b = std::min(2 * b, cap)) {
@@ -256,6 +270,7 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
         }
         sc.active.resize(kept);
     }
+    copy_twins(sc.twin, KL, rows);
     sc.out.resize(height * KL);
     estimator.finish(rows, height, sc.out.data());
     return rays;
@@ -272,7 +287,7 @@ std::uint64_t bake_segments_to_error(const ErrorBound& bound, std::size_t height
     // Every direction of a local set has the same weight w and y₀₀ is constant, so a row's
     // first coefficient over a segment is w·y₀₀ times its visible rays (to rounding).
     const double per_ray = double(bound.table->weight.front()) * double(bound.Y[0]);
-    const std::size_t start = active_rows(rows, height, Smax, sc.active);
+    const std::size_t start = active_rows(rows, height, Smax, {}, sc.active);
     std::uint64_t rays = 0;
     auto outcomes = [&](const float* G, std::size_t m, std::size_t length) {
         for (std::size_t i = 0; i < m; ++i) {

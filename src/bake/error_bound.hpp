@@ -98,6 +98,7 @@ struct ErrorBoundScratch {
     std::vector<std::uint32_t> visible, blocked;  // … their rays' outcomes
     std::vector<std::uint8_t> more;               // … whether they asked for more
     std::vector<std::uint32_t> active;            // rows still refining
+    std::vector<std::uint32_t> twin;              // the chunk's twins (stages.hpp: find_twins)
     std::vector<float> out;                       // the chunk's rows ĉ (height × KL)
     TraceScratch trace;
     double trace_seconds = 0, project_seconds = 0;  // CPU time (this worker)
@@ -112,7 +113,8 @@ struct ErrorBoundScratch {
 // pass 0. The result is the same bits as one call with this cap. Afterwards sc.out holds the
 // rows ĉ in the table's frame (KL each) and `rows` their sums, prefixes and estimated errors.
 // Returns the rays cast (also added to `progress`); stops early, with rows unfinished, once
-// progress.poll() says stop.
+// progress.poll() says stop. The chunk's twins (stages.hpp, find_twins) are not traced: each
+// takes its twin's sums, prefix and estimate.
 std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, const Tracer* tracer,
                                   const Receivers& receivers, std::size_t first, std::size_t height,
                                   BoundRows rows, ErrorBoundScratch& sc, BakeProgress& progress);
@@ -132,6 +134,7 @@ using SegmentBaker =
 // weights are all equal and y₀₀ is constant), so a shadowed bake needs a local set (else
 // Error(unsupported)). Afterwards sc.out holds the rows ĉ in the frame and `rows` their sums,
 // prefixes and estimates. Rows agree with bake_chunk_to_error's up to the GEMMs' summation order.
+// It bakes twins like any other row (the device kernels have no twins yet).
 std::uint64_t bake_segments_to_error(const ErrorBound& bound, std::size_t height,
                                      const SegmentBaker& segment, BoundRows rows,
                                      ErrorBoundScratch& sc, BakeProgress& progress);

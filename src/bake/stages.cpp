@@ -13,9 +13,12 @@
 #include <cblas.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <mutex>
+#include <numeric>
 
 namespace shprt::detail {
 
@@ -154,6 +157,26 @@ std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionT
     for (std::uint32_t r = 0; r < m; ++r)
         row[scratch.ray_index[r]] *= kKeep[scratch.occluded[r] & 1u];
     return m;
+}
+
+void find_twins(const Vec3f* positions, const Vec3f* normals, std::size_t count,
+                std::vector<std::uint32_t>& twin) {
+    using Key = std::array<std::uint32_t, 6>;
+    auto key = [&](std::uint32_t j) {
+        Key k;
+        std::memcpy(k.data(), &positions[j], sizeof(Vec3f));
+        std::memcpy(k.data() + 3, &normals[j], sizeof(Vec3f));
+        return k;
+    };
+    twin.resize(count);
+    std::iota(twin.begin(), twin.end(), std::uint32_t(0));
+    std::vector<std::uint32_t> order(twin);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const Key ka = key(a), kb = key(b);
+        return ka != kb ? ka < kb : a < b;
+    });
+    for (std::size_t i = 1; i < count; ++i)  // a run of equal keys: its first (smallest) index
+        if (key(order[i]) == key(order[i - 1])) twin[order[i]] = twin[order[i - 1]];
 }
 
 void project_rows(const float* W, std::size_t count, std::size_t S, const float* Y, int K,

@@ -1,0 +1,96 @@
+// Twins (src/bake/stages.hpp, find_twins): receivers with the same position and normal cast the
+// same rays, so a chunk traces one of them and copies its row to the others. Loaders that split
+// vertices at seams give real assets many; here leaky_room (overlapping panels, parts through the
+// floor) is split the way a Collada or OBJ file arrives, every triangle corner its own vertex.
+#include "twins.hpp"
+
+#include "shprt/bake/bake.hpp"
+#include "shprt/scene/builtin.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace shprt {
+namespace {
+
+// Every triangle corner its own vertex, with the corner's position, normal and albedo.
+Mesh split_corners(const Mesh& welded) {
+    Mesh m;
+    m.source = welded.source + ", every corner its own vertex";
+    for (const auto& tri : welded.triangles) {
+        const auto base = static_cast<std::uint32_t>(m.positions.size());
+        for (const std::uint32_t v : tri) {
+            m.positions.push_back(welded.positions[v]);
+            m.normals.push_back(welded.normals[v]);
+            m.albedo.push_back(welded.albedo[v]);
+        }
+        m.triangles.push_back({base, base + 1, base + 2});
+    }
+    return m;
+}
+
+// The largest difference between a split bake's rows and its welded source's, over the largest
+// coefficient: the same rays give the same sums, up to the rounding of GEMMs over other chunks
+// (about 1e-6 here).
+double worst_difference(const TransferSet& split, const TransferSet& welded, const Mesh& source) {
+    double diff = 0, scale = 0;
+    std::size_t corner = 0;
+    for (const auto& tri : source.triangles)
+        for (const std::uint32_t v : tri) {
+            const float *a = split.receiver(corner++), *b = welded.receiver(v);
+            for (std::size_t i = 0; i < split.layout.floats_per_receiver(); ++i) {
+                diff = std::max(diff, std::fabs(double(a[i]) - double(b[i])));
+                scale = std::max(scale, std::fabs(double(b[i])));
+            }
+        }
+    return diff / scale;
+}
+
+TEST(Twins, ASplitMeshCastsTheRaysOfItsDistinctVerticesAndGetsTheirRows) {
+    const Mesh welded = make_builtin("leaky_room");
+    const Mesh split = split_corners(welded);
+    const std::size_t V = split.vertex_count();
+    BakeOptions o;
+    o.K = 16;
+    o.samples = 256;
+    o.threads = 2;
+    const TransferSet a = bake(split, o), b = bake(welded, o);
+    const std::vector<bool> copied = test::twin_vertices(split, o.samples);
+    const auto traced = std::uint64_t(std::count(copied.begin(), copied.end(), false));
+    std::printf("[ twins ] %s: %zu vertices, %llu traced (%zu welded), %llu rays\n",
+                split.source.c_str(), V, (unsigned long long)traced, welded.vertex_count(),
+                (unsigned long long)a.stats.rays_cast);
+    EXPECT_EQ(a.stats.rays_cast, traced * o.samples) << "only the first of each chunk's twins";
+    EXPECT_LT(traced, V * 2 / 3) << "most corners have a twin in their chunk";
+    EXPECT_LE(worst_difference(a, b, welded), 1e-5);
+}
+
+TEST(Twins, AnErrorBoundedBakeCopiesTheTwinsStateAndStopsWhereTheWeldedBakeStops) {
+    const Mesh welded = make_builtin("leaky_room");
+    const Mesh split = split_corners(welded);
+    BakeOptions o;
+    o.K = 16;
+    o.target_error = 0.03;
+    o.max_samples = 4096;
+    o.threads = 2;
+    const TransferSet a = bake(split, o), b = bake(welded, o);
+    ASSERT_EQ(a.receiver_samples.size(), split.vertex_count());
+    std::size_t corner = 0, differ = 0;
+    std::uint64_t welded_rays = 0;  // the split mesh's corners at their welded vertex's prefix
+    for (const auto& tri : welded.triangles)
+        for (const std::uint32_t v : tri) {
+            differ += a.receiver_samples[corner] != b.receiver_samples[v] ? 1 : 0;
+            welded_rays += b.receiver_samples[v];
+            ++corner;
+        }
+    EXPECT_EQ(differ, 0u) << "each corner stops at its welded vertex's prefix";
+    EXPECT_LT(a.stats.rays_cast, welded_rays * 2 / 3) << "twins are not traced";
+    EXPECT_LE(worst_difference(a, b, welded), 1e-5);
+}
+
+}  // namespace
+}  // namespace shprt
