@@ -327,10 +327,16 @@ TransferSet bake_bounded(const Args& a, const Mesh& mesh, const Tracer& tracer, 
     return t;
 }
 
-// Returns the room's rows as points (x: Mrays cast, error: luminance) for study 5.
-std::vector<Point> bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer,
-                               const ShLight& light, const std::vector<double>& ref_luminance) {
-    std::vector<Point> room_points;
+// The room's rows of study 3, for study 5.
+struct RoomBound {
+    std::vector<Point> points;                        // per E: x Mrays cast, error luminance
+    std::vector<double> targets;                      // the E of each
+    std::vector<std::vector<std::uint32_t>> samples;  // each E's prefix per receiver
+};
+
+RoomBound bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer,
+                      const ShLight& light, const std::vector<double>& ref_luminance) {
+    RoomBound room_bound;
     const double targets[] = {0.04, 0.02, 0.01, 0.005};
     std::printf(
         "\n3. error-bounded bake (local Sobol, --target-error E, at most %u samples), K = %d, %d "
@@ -367,7 +373,11 @@ std::vector<Point> bound_study(const Args& a, const Mesh& room, const Tracer& ro
             const bool is_room = sc.mesh == &room;
             const double lum =
                 is_room ? relative_rms(luminance(t.coeffs, a.K, light), ref_luminance) : NAN;
-            if (is_room) room_points.push_back({0, double(t.stats.rays_cast) * 1e-6, lum});
+            if (is_room) {
+                room_bound.points.push_back({0, double(t.stats.rays_cast) * 1e-6, lum});
+                room_bound.targets.push_back(E);
+                room_bound.samples.push_back(t.receiver_samples);
+            }
             std::printf(
                 "| %s | %.3g | %.3f | %.3f | %.0f | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %zu "
                 "of %zu | %.1f |\n",
@@ -378,7 +388,7 @@ std::vector<Point> bound_study(const Args& a, const Mesh& room, const Tracer& ro
             std::fflush(stdout);
         }
     }
-    return room_points;
+    return room_bound;
 }
 
 // 4. The viewer's rounds: separate bakes against one session.
@@ -435,7 +445,7 @@ void rounds_study(const Args& a, const Mesh& mesh, const Tracer& tracer) {
 // fixed-S bakes of seed 1 (the bound's rows at a prefix are those bits); the doubling schedule
 // is the bound's, the finer one adds 1.5·2^k.
 void oracle_study(const Args& a, const Mesh& mesh, const Tracer& tracer, const ShLight& light,
-                  const std::vector<double>& ref_luminance, const std::vector<Point>& bound) {
+                  const std::vector<double>& ref_luminance, const RoomBound& bound) {
     std::printf(
         "\n5. the allocation limit: each receiver's prefix chosen by an oracle from its true error "
         "(local Sobol, seed 1, against the local reference of 3.), K = %d, %d threads\n\n"
@@ -470,24 +480,30 @@ void oracle_study(const Args& a, const Mesh& mesh, const Tracer& tracer, const S
     }
     rate = rays_all * 1e-6 / wall_all;
     const std::size_t V = mesh.vertex_count();
-    auto sweep = [&](bool finer) {
+    // Each receiver's prefix (an index of `all`) at E: the start of the longest tail of the
+    // schedule's prefixes whose true errors are all at most E.
+    auto picks = [&](bool finer, double E) {
         std::vector<std::size_t> idx;  // the schedule's prefixes, as indices of `all`
         for (std::size_t i = 0; i < all.size(); ++i)
             if (finer || std::has_single_bit(all[i])) idx.push_back(i);
-        std::vector<Point> curve;
-        std::vector<double> y(V);
-        for (double E = 0.06; E > 0.004; E /= 1.05) {
-            double rays = 0;
-            for (std::size_t v = 0; v < V; ++v) {
-                std::size_t pick = idx.back();
-                for (std::size_t k = idx.size(); k-- > 0;) {  // longest tail of prefixes under E
-                    if (truth[idx[k]][v] > E) break;
-                    pick = idx[k];
-                }
-                rays += all[pick], y[v] = lum[pick][v];
+        std::vector<std::size_t> pick(V, idx.back());
+        for (std::size_t v = 0; v < V; ++v)
+            for (std::size_t k = idx.size(); k-- > 0;) {
+                if (truth[idx[k]][v] > E) break;
+                pick[v] = idx[k];
             }
-            curve.push_back({0, rays * 1e-6, relative_rms(y, ref_luminance)});
-        }
+        return pick;
+    };
+    auto outcome = [&](const std::vector<std::size_t>& pick) {  // x: Mrays, error: luminance
+        double rays = 0;
+        std::vector<double> y(V);
+        for (std::size_t v = 0; v < V; ++v) rays += all[pick[v]], y[v] = lum[pick[v]][v];
+        return Point{0, rays * 1e-6, relative_rms(y, ref_luminance)};
+    };
+    constexpr double kStep = 1.02;  // the sweep's E ratio
+    auto sweep = [&](bool finer) {
+        std::vector<Point> curve;
+        for (double E = 0.06; E > 0.004; E /= kStep) curve.push_back(outcome(picks(finer, E)));
         return curve;
     };
     const std::vector<Point> doubling = sweep(false), finer = sweep(true);
@@ -496,7 +512,7 @@ void oracle_study(const Args& a, const Mesh& mesh, const Tracer& tracer, const S
                   [](const Point& p, const Point& q) { return p.seconds < q.seconds; });
         return std::fabs(time_to(c, 0.01));
     };
-    const double d = at_one(doubling), f = at_one(finer), b = at_one(bound);
+    const double d = at_one(doubling), f = at_one(finer), b = at_one(bound.points);
     std::printf(
         "\nrays for 1 %% luminance error (log-log interpolation): oracle, doubling prefixes %.1f "
         "M; "
@@ -504,6 +520,39 @@ void oracle_study(const Args& a, const Mesh& mesh, const Tracer& tracer, const S
         "oracle's)\nat the fixed bakes' own rate (%.1f Mrays/s wall, tracing and projection "
         "together), the oracle's rays take %.3f s, the bound's %.3f s\n",
         d, f, b, b / d, rate, d / rate, b / rate);
+
+    // Where the bound's rays go, against the oracle's at the same luminance error (the first E of
+    // the sweep, from above, whose luminance error is at most the bound's): receivers by the
+    // reference's visible fraction β = c₀/c₀,open (closed β < 0.01, open β > 0.99).
+    std::printf(
+        "\nthe bound's rays and the oracle's (doubling prefixes) at the same luminance error, by "
+        "receiver (visible fraction of the reference: closed < 0.01, open > 0.99)\n\n"
+        "| E | luminance error | oracle's E | closed: n | bound Mrays | oracle Mrays | open: n | "
+        "bound Mrays | oracle Mrays | partly: n | bound Mrays | oracle Mrays |\n"
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    const double open0 = 0.5 * std::sqrt(3.14159265358979323846);  // π·y₀₀
+    std::vector<int> cls(V);
+    for (std::size_t v = 0; v < V; ++v) {
+        const double beta = ref[v * std::size_t(a.K)] / open0;
+        cls[v] = beta < 0.01 ? 0 : beta > 0.99 ? 1 : 2;
+    }
+    for (std::size_t r = 0; r < bound.points.size(); ++r) {
+        double E = 0.06;
+        std::vector<std::size_t> pick = picks(false, E);
+        while (outcome(pick).error > bound.points[r].error && E > 0.002)
+            pick = picks(false, E /= kStep);
+        double n[3] = {}, b_rays[3] = {}, o_rays[3] = {};
+        for (std::size_t v = 0; v < V; ++v) {
+            n[cls[v]] += 1, b_rays[cls[v]] += bound.samples[r][v] * 1e-6;
+            o_rays[cls[v]] += all[pick[v]] * 1e-6;
+        }
+        std::printf(
+            "| %.3g | %.3f %% | %.4f | %.0f | %.1f | %.1f | %.0f | %.1f | %.1f | %.0f | %.1f | "
+            "%.1f "
+            "|\n",
+            bound.targets[r], 100 * bound.points[r].error, E, n[0], b_rays[0], o_rays[0], n[1],
+            b_rays[1], o_rays[1], n[2], b_rays[2], o_rays[2]);
+    }
 }
 
 }  // namespace
@@ -548,8 +597,8 @@ int main(int argc, char** argv) {
     if (!skip_variance) variance_study(a, mesh, *tracer, light);
     if (!skip_curve || !skip_bound) {
         const std::vector<double> ref = error_curve(a, mesh, *tracer, light, !skip_curve);
-        const std::vector<Point> bound =
-            skip_bound ? std::vector<Point>{} : bound_study(a, mesh, *tracer, light, ref);
+        const RoomBound bound =
+            skip_bound ? RoomBound{} : bound_study(a, mesh, *tracer, light, ref);
         if (!skip_oracle && !skip_bound) oracle_study(a, mesh, *tracer, light, ref, bound);
     }
     if (!skip_rounds) rounds_study(a, mesh, *tracer);
