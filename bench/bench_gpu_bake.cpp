@@ -80,24 +80,20 @@ TransferSet best_of(int reps, const Mesh& mesh, const BakeOptions& options, cons
     return best;
 }
 
-// The rays of the receivers the CPU bake copies from a twin (bake/stages.hpp, find_twins) instead
-// of casting them: the device casts them too, so its count is the CPU's plus these.
+// The rays of the receivers the CPU bake copies from a twin (bake/stages.hpp, traced_receivers)
+// instead of casting them: the device casts them too, so its count is the CPU's plus these.
 std::uint64_t twin_rays(const Mesh& mesh, const DirectionSet& set) {
     const std::size_t V = mesh.vertex_count(), S = set.size();
-    const std::size_t chunk = auto_chunk_receivers(V, S);
+    const std::vector<std::uint8_t> traced = detail::traced_receivers(
+        mesh.positions.data(), mesh.normals.data(), V, auto_chunk_receivers(V, S), S);
     const detail::DirectionTable table = detail::make_direction_table(set, set.frame);
     std::vector<float> row(S);
-    std::vector<std::uint32_t> twin;
     std::uint64_t rays = 0;
-    for (std::size_t first = 0; first < V; first += chunk) {
-        const std::size_t count = std::min(chunk, V - first);
-        detail::find_twins(mesh.positions.data() + first, mesh.normals.data() + first, count, twin);
-        for (std::size_t j = 0; j < count; ++j) {
-            if (twin[j] == j) continue;
-            detail::weight_row(mesh.normals[first + j], table, row.data());
-            rays += std::uint64_t(
-                std::count_if(row.begin(), row.end(), [](float w) { return w != 0.0f; }));
-        }
+    for (std::size_t v = 0; v < V; ++v) {
+        if (traced[v]) continue;
+        detail::weight_row(mesh.normals[v], table, row.data());
+        rays +=
+            std::uint64_t(std::count_if(row.begin(), row.end(), [](float w) { return w != 0.0f; }));
     }
     return rays;
 }

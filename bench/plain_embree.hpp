@@ -3,8 +3,8 @@
 // nothing else, the limit the bake's tracing is measured against. The same rays cost Embree up
 // to a third more in an incoherent order than in a coherent one (issue 39), so the limit is the
 // fastest order: run() casts them in the set's order or in a given one (coherent_order, sorted
-// along a space-filling curve), and bench_bake times both. Like the bake, it casts one of each
-// chunk's twins (receivers with the same position and normal; bake/stages.hpp, find_twins). A local
+// along a space-filling curve), and bench_bake times both. Like the bake, it casts the rays of one
+// of each set of twins (receivers with the same position and normal; bake/stages.hpp). A local
 // set (DirectionSet::frame) is turned into each vertex's tangent frame first (sh/local_frame.hpp),
 // as the bake turns it; every one of its directions is above the horizon and its weights hold the
 // cosine. (bench_interreflect measured its closest hits against it too, until the interreflected
@@ -72,10 +72,15 @@ public:
         const std::size_t V = mesh.vertex_count(), S = set.size();
         const bool local = set.frame == DirectionFrame::local;
         c0.assign(V, 0.0f);
+        // As the bake: a receiver casts its rays only if it is the first of its chunk's twins
+        // and not a twin of another chunk's (bake/stages.hpp); every twin has its first's rays.
+        const std::vector<std::uint8_t> traced =
+            detail::traced_receivers(mesh.positions.data(), mesh.normals.data(), V, chunk, S);
+        std::vector<std::uint32_t> first;
+        detail::find_twins(mesh.positions.data(), mesh.normals.data(), V, first);
         struct Local {
             std::vector<RTCRay> rays;
             std::vector<float> cos_weight;
-            std::vector<std::uint32_t> twin;
             std::uint64_t count = 0;
         };
         tbb::enumerable_thread_specific<Local> locals;
@@ -95,14 +100,9 @@ public:
                     rtcInitIntersectContext(&context);
                     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
                     for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                        const std::size_t begin = c * chunk, end = std::min(V, (c + 1) * chunk);
-                        detail::find_twins(mesh.positions.data() + begin,
-                                           mesh.normals.data() + begin, end - begin, l.twin);
-                        for (std::size_t v = begin; v < end; ++v) {
-                            if (l.twin[v - begin] != v - begin) {  // the bake copies its twin
-                                c0[v] = c0[begin + l.twin[v - begin]];
-                                continue;
-                            }
+                        const std::size_t end = std::min(V, (c + 1) * chunk);
+                        for (std::size_t v = c * chunk; v < end; ++v) {
+                            if (!traced[v]) continue;  // the bake takes a twin's row: below
                             const Vec3f n = mesh.normals[v];
                             const Vec3f o = offset_ray_origin(mesh.positions[v], n);
                             const LocalAxes frame = local_axes(n);
@@ -142,6 +142,7 @@ public:
                 },
                 tbb::simple_partitioner());
         });
+        for (std::size_t v = 0; v < V; ++v) c0[v] = c0[first[v]];  // twins: their first's sum
         rays = 0;
         for (const Local& l : locals) rays += l.count;
     }

@@ -161,22 +161,57 @@ std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionT
 
 void find_twins(const Vec3f* positions, const Vec3f* normals, std::size_t count,
                 std::vector<std::uint32_t>& twin) {
-    using Key = std::array<std::uint32_t, 6>;
-    auto key = [&](std::uint32_t j) {
-        Key k;
-        std::memcpy(k.data(), &positions[j], sizeof(Vec3f));
-        std::memcpy(k.data() + 3, &normals[j], sizeof(Vec3f));
-        return k;
-    };
+    using Key = std::array<std::uint32_t, 6>;  // the position's and the normal's bits
+    std::vector<Key> keys(count);
+    for (std::size_t j = 0; j < count; ++j) {
+        std::memcpy(keys[j].data(), &positions[j], sizeof(Vec3f));
+        std::memcpy(keys[j].data() + 3, &normals[j], sizeof(Vec3f));
+    }
     twin.resize(count);
     std::iota(twin.begin(), twin.end(), std::uint32_t(0));
     std::vector<std::uint32_t> order(twin);
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-        const Key ka = key(a), kb = key(b);
-        return ka != kb ? ka < kb : a < b;
+        return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
     });
     for (std::size_t i = 1; i < count; ++i)  // a run of equal keys: its first (smallest) index
-        if (key(order[i]) == key(order[i - 1])) twin[order[i]] = twin[order[i - 1]];
+        if (keys[order[i]] == keys[order[i - 1]]) twin[order[i]] = twin[order[i - 1]];
+}
+
+CrossTwins find_cross_twins(const Vec3f* positions, const Vec3f* normals, std::size_t count,
+                            std::size_t lead, std::size_t chunk, std::size_t max_reps) {
+    CrossTwins t;
+    std::vector<std::uint32_t> first;  // per receiver: the first with its position and normal
+    find_twins(positions, normals, count, first);
+    std::vector<std::uint8_t> shared(count, 0);  // a first that another chunk shares
+    for (std::size_t j = 0; j < count; ++j)
+        if ((lead + first[j]) / chunk != (lead + j) / chunk) shared[first[j]] = 1;
+    t.slot.assign(count, CrossTwins::kNoSlot);
+    for (std::size_t j = 0; j < count && t.reps.size() < max_reps; ++j)
+        if (shared[j]) {
+            t.slot[j] = static_cast<std::uint32_t>(t.reps.size());
+            t.reps.push_back(static_cast<std::uint32_t>(j));
+        }
+    for (std::size_t j = 0; j < count; ++j) t.slot[j] = t.slot[first[j]];
+    return t;
+}
+
+std::vector<std::uint8_t> traced_receivers(const Vec3f* positions, const Vec3f* normals,
+                                           std::size_t count, std::size_t chunk, std::size_t S) {
+    const std::size_t words = (S + 63) / 64;
+    const CrossTwins cross = find_cross_twins(positions, normals, count, 0, chunk,
+                                              kCrossTwinBytes / (words * sizeof(std::uint64_t)));
+    std::vector<std::uint8_t> traced(count, 0);
+    std::vector<std::uint32_t> twin;
+    for (std::size_t first = 0; first < count; first += chunk) {
+        const std::size_t height = std::min(chunk, count - first);
+        find_twins(positions + first, normals + first, height, twin);
+        for (std::size_t j = 0; j < height; ++j) {
+            const std::size_t r = first + j;
+            const std::uint32_t slot = cross.slot[r];
+            traced[r] = twin[j] == j && (slot == CrossTwins::kNoSlot || cross.reps[slot] == r);
+        }
+    }
+    return traced;
 }
 
 void project_rows(const float* W, std::size_t count, std::size_t S, const float* Y, int K,

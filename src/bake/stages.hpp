@@ -108,6 +108,29 @@ std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionT
 void find_twins(const Vec3f* positions, const Vec3f* normals, std::size_t count,
                 std::vector<std::uint32_t>& twin);
 
+// Twins in other chunks: find_twins sees one chunk, and a seam's copies of a vertex often lie in
+// several. For receivers [0, count) of a range whose grid of chunks starts `lead` receivers
+// before it (chunk c holds grid positions [c·chunk, (c+1)·chunk)): reps are the first receivers
+// of each (position, normal) that a receiver in another chunk shares, in increasing order, at
+// most `max_reps`; slot[j] is the index in reps of receiver j's first twin, or kNoSlot. A fixed-S
+// bake traces the reps' visibility once before its chunks and fills every slotted row from it:
+// the rows are what tracing them gives, bit for bit (the same normal, the same weights).
+struct CrossTwins {
+    static constexpr std::uint32_t kNoSlot = 0xFFFFFFFFu;
+    std::vector<std::uint32_t> reps;  // indices into the range
+    std::vector<std::uint32_t> slot;  // per receiver of the range
+};
+CrossTwins find_cross_twins(const Vec3f* positions, const Vec3f* normals, std::size_t count,
+                            std::size_t lead, std::size_t chunk, std::size_t max_reps);
+// The most bits of reps' visibility a fixed-S bake keeps (the reps past it trace their own rows).
+constexpr std::size_t kCrossTwinBytes = std::size_t(64) << 20;
+
+// Which receivers of a whole fixed-S bake of S directions over [0, count), in chunks of `chunk`,
+// cast rays (1) and which take a twin's row (0): the first of each chunk's twins, unless it is a
+// CrossTwins receiver that is not a rep. For tests and benchmarks that count the bake's rays.
+std::vector<std::uint8_t> traced_receivers(const Vec3f* positions, const Vec3f* normals,
+                                           std::size_t count, std::size_t chunk, std::size_t S);
+
 // project: C[count×K] = W[count×S]·Y[S×K], all row-major, one single-threaded cblas_sgemm (the
 // caller keeps OpenBLAS at one thread: SingleThreadedBlas).
 void project_rows(const float* W, std::size_t count, std::size_t S, const float* Y, int K,

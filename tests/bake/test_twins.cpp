@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <utility>
 #include <vector>
 
 namespace shprt {
@@ -67,6 +69,31 @@ TEST(Twins, ASplitMeshCastsTheRaysOfItsDistinctVerticesAndGetsTheirRows) {
     EXPECT_EQ(a.stats.rays_cast, traced * o.samples) << "only the first of each chunk's twins";
     EXPECT_LT(traced, V * 2 / 3) << "most corners have a twin in their chunk";
     EXPECT_LE(worst_difference(a, b, welded), 1e-5);
+}
+
+// Twins in other chunks take the visibility their first traced before the chunks: the same
+// bytes for any thread count, and a range (a shard) gives the whole bake's rows, its twins'
+// firsts in other chunks or outside it.
+TEST(Twins, TheSameBytesForAnyThreadCountAndRange) {
+    const Mesh split = split_corners(make_builtin("leaky_room"));
+    BakeOptions one;
+    one.K = 16;
+    one.samples = 256;
+    one.threads = 1;
+    BakeOptions two = one;
+    two.threads = 2;
+    const TransferSet a = bake(split, one), b = bake(split, two);
+    ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
+    EXPECT_EQ(std::memcmp(a.coeffs.data(), b.coeffs.data(), a.coeffs.size() * sizeof(float)), 0);
+    const std::size_t row = a.layout.floats_per_receiver();
+    for (const auto& [first, count] : {std::pair<std::size_t, std::size_t>{0, 700},
+                                       {700, 777}, {1477, 647}, {1000, 3}}) {
+        const TransferSet part = bake(split, vertex_receivers(split).range(first, count), two);
+        EXPECT_EQ(std::memcmp(part.coeffs.data(), a.coeffs.data() + first * row,
+                              count * row * sizeof(float)),
+                  0)
+            << "receivers [" << first << ", " << first + count << ")";
+    }
 }
 
 TEST(Twins, AnErrorBoundedBakeCopiesTheTwinsStateAndStopsWhereTheWeldedBakeStops) {

@@ -1,5 +1,5 @@
-// Which vertices a CPU bake copies from a twin instead of tracing (src/bake/stages.hpp,
-// find_twins), for tests that count the bake's rays. Its tests need the src/ include path.
+// Which vertices a fixed-S CPU bake copies from a twin instead of tracing (src/bake/stages.hpp),
+// for tests that count the bake's rays. Its tests need the src/ include path.
 #pragma once
 
 #include "bake/stages.hpp"
@@ -12,18 +12,16 @@
 
 namespace shprt::test {
 
-// Per vertex: whether a CPU bake of S directions copies its row from a twin (bake/stages.hpp,
-// find_twins) rather than casting its rays: the twins of each chunk of auto_chunk_receivers(V, S).
+// Per vertex: whether a fixed-S CPU bake of S directions takes its row from a twin
+// (bake/stages.hpp: find_twins in its chunk, CrossTwins across chunks) rather than casting its
+// rays, in chunks of auto_chunk_receivers(V, S).
 inline std::vector<bool> twin_vertices(const Mesh& mesh, std::size_t S) {
-    const std::size_t V = mesh.vertex_count(),
-                      chunk = auto_chunk_receivers(std::max<std::size_t>(V, 1), S);
-    std::vector<bool> copied(V, false);
-    std::vector<std::uint32_t> twin;
-    for (std::size_t first = 0; first < V; first += chunk) {
-        const std::size_t count = std::min(chunk, V - first);
-        detail::find_twins(mesh.positions.data() + first, mesh.normals.data() + first, count, twin);
-        for (std::size_t j = 0; j < count; ++j) copied[first + j] = twin[j] != j;
-    }
+    const std::size_t V = mesh.vertex_count();
+    const std::vector<std::uint8_t> traced =
+        detail::traced_receivers(mesh.positions.data(), mesh.normals.data(), V,
+                                 auto_chunk_receivers(std::max<std::size_t>(V, 1), S), S);
+    std::vector<bool> copied(V);
+    for (std::size_t v = 0; v < V; ++v) copied[v] = traced[v] == 0;
     return copied;
 }
 
