@@ -2,6 +2,7 @@
 #include "bake/stages.hpp"
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/io/hash.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/direction_order.hpp"
 #include "shprt/sh/local_frame.hpp"
@@ -13,7 +14,6 @@
 #include <cblas.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -161,20 +161,34 @@ std::uint32_t trace_row(const Tracer& tracer, Vec3f p, Vec3f n, const DirectionT
 
 void find_twins(const Vec3f* positions, const Vec3f* normals, std::size_t count,
                 std::vector<std::uint32_t>& twin) {
-    using Key = std::array<std::uint32_t, 6>;  // the position's and the normal's bits
-    std::vector<Key> keys(count);
-    for (std::size_t j = 0; j < count; ++j) {
-        std::memcpy(keys[j].data(), &positions[j], sizeof(Vec3f));
-        std::memcpy(keys[j].data() + 3, &normals[j], sizeof(Vec3f));
-    }
+    // Sorted by a hash of the position's and the normal's bits, then by index; within a run of
+    // equal hashes each receiver is compared bit for bit with the run's firsts before it.
+    auto same = [&](std::uint32_t a, std::uint32_t b) {
+        return std::memcmp(&positions[a], &positions[b], sizeof(Vec3f)) == 0 &&
+               std::memcmp(&normals[a], &normals[b], sizeof(Vec3f)) == 0;
+    };
+    struct Entry {
+        std::uint64_t hash;
+        std::uint32_t index;
+    };
+    std::vector<Entry> e(count);
+    for (std::size_t j = 0; j < count; ++j)
+        e[j] = {fnv1a64(&normals[j], sizeof(Vec3f), fnv1a64(&positions[j], sizeof(Vec3f))),
+                static_cast<std::uint32_t>(j)};
+    std::sort(e.begin(), e.end(), [](const Entry& a, const Entry& b) {
+        return a.hash != b.hash ? a.hash < b.hash : a.index < b.index;
+    });
     twin.resize(count);
     std::iota(twin.begin(), twin.end(), std::uint32_t(0));
-    std::vector<std::uint32_t> order(twin);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
-    });
-    for (std::size_t i = 1; i < count; ++i)  // a run of equal keys: its first (smallest) index
-        if (keys[order[i]] == keys[order[i - 1]]) twin[order[i]] = twin[order[i - 1]];
+    for (std::size_t run = 0, end = 0; run < count; run = end) {
+        for (end = run + 1; end < count && e[end].hash == e[run].hash;) ++end;
+        for (std::size_t i = run + 1; i < end; ++i)
+            for (std::size_t k = run; k < i; ++k)
+                if (twin[e[k].index] == e[k].index && same(e[k].index, e[i].index)) {
+                    twin[e[i].index] = e[k].index;
+                    break;
+                }
+    }
 }
 
 CrossTwins find_cross_twins(const Vec3f* positions, const Vec3f* normals, std::size_t count,
