@@ -29,6 +29,7 @@
 // Wall times are the bake's own (the direction set made, traced and projected; the BVH is built
 // once outside and not counted: the same for both). The load average is printed before and after:
 // other programs share this machine.
+#include "room_study.hpp"
 #include "shprt/bake/bake.hpp"
 #include "shprt/bake/session.hpp"
 #include "shprt/core/host.hpp"
@@ -72,31 +73,9 @@ struct Args {
     std::uint32_t bound_reference_samples = 16384, bound_max_samples = kDefaultMaxSamples;
 };
 
-// Luminance of every receiver's irradiance under the light: Y = 0.2126 R + 0.7152 G + 0.0722 B.
-std::vector<double> luminance(const std::vector<float>& rows, int K, const ShLight& light) {
-    const std::size_t V = rows.size() / std::size_t(K);
-    std::vector<double> y(V);
-    std::vector<double> l(static_cast<std::size_t>(K));
-    for (int i = 0; i < K; ++i)
-        l[i] = 0.2126 * light.channel(0)[i] + 0.7152 * light.channel(1)[i] +
-               0.0722 * light.channel(2)[i];
-    for (std::size_t v = 0; v < V; ++v) {
-        double e = 0;
-        for (int i = 0; i < K; ++i)
-            e += double(rows[v * std::size_t(K) + std::size_t(i)]) * l[std::size_t(i)];
-        y[v] = e;
-    }
-    return y;
-}
-
-double relative_rms(const std::vector<double>& a, const std::vector<double>& ref) {
-    double num = 0, den = 0;
-    for (std::size_t v = 0; v < a.size(); ++v) {
-        num += (a[v] - ref[v]) * (a[v] - ref[v]);
-        den += ref[v] * ref[v];
-    }
-    return std::sqrt(num / den);
-}
+using room_study::luminance;
+using room_study::relative_rms;
+using room_study::true_errors;
 
 BakeOptions options_for(const Args& a, DirectionFrame frame, std::uint32_t S, std::uint64_t seed) {
     BakeOptions o;
@@ -201,32 +180,8 @@ double time_to(const std::vector<Point>& curve, double target) {
 
 std::vector<double> error_curve(const Args& a, const Mesh& mesh, const Tracer& tracer,
                                 const ShLight& light, bool measure) {
-    std::vector<double> ref;
-    {
-        std::ifstream in(a.reference_cache, std::ios::binary);
-        std::uint64_t header[3] = {};
-        if (in && in.read(reinterpret_cast<char*>(header), sizeof(header)) &&
-            header[0] == mesh.vertex_count() && header[1] == std::uint64_t(a.K) &&
-            header[2] == a.reference_samples) {
-            ref.resize(mesh.vertex_count());
-            in.read(reinterpret_cast<char*>(ref.data()), std::streamsize(ref.size() * 8));
-            std::printf("\nreference: %s (cached)\n", a.reference_cache.c_str());
-        }
-    }
-    if (ref.empty()) {
-        const auto start = Clock::now();
-        const BakeOptions o =
-            options_for(a, DirectionFrame::sphere, a.reference_samples, 7919);  // another seed
-        ref =
-            luminance(bake_with_tracer(mesh, o, bake_direction_set(o), tracer).coeffs, a.K, light);
-        std::printf("\nreference: sphere Sobol S = %u, seed 7919, %.1f s\n", a.reference_samples,
-                    std::chrono::duration<double>(Clock::now() - start).count());
-        std::ofstream out(a.reference_cache, std::ios::binary);
-        const std::uint64_t header[3] = {mesh.vertex_count(), std::uint64_t(a.K),
-                                         a.reference_samples};
-        out.write(reinterpret_cast<const char*>(header), sizeof(header));
-        out.write(reinterpret_cast<const char*>(ref.data()), std::streamsize(ref.size() * 8));
-    }
+    const std::vector<double> ref = room_study::reference_luminance(
+        mesh, tracer, light, a.K, a.reference_samples, a.threads, a.reference_cache);
     if (!measure) return ref;
     std::printf(
         "\n2. relative RMS luminance error against the reference, K = %d, %d threads, "
@@ -292,20 +247,6 @@ std::vector<double> error_curve(const Args& a, const Mesh& mesh, const Tracer& t
 std::vector<float> bound_reference(const Args& a, const Mesh& mesh, const Tracer& tracer) {
     BakeOptions o = options_for(a, DirectionFrame::local, a.bound_reference_samples, 7919);
     return bake_with_tracer(mesh, o, bake_direction_set(o), tracer).coeffs;
-}
-
-// Each receiver's true error ‖ĉ − c‖ / ‖c_open‖ (docs/sampling.md).
-std::vector<double> true_errors(const std::vector<float>& got, const std::vector<float>& ref,
-                                int K) {
-    const double open = open_transfer_norm(K);
-    std::vector<double> e(got.size() / std::size_t(K));
-    for (std::size_t r = 0; r < e.size(); ++r) {
-        double sum = 0;
-        for (std::size_t i = r * std::size_t(K); i < (r + 1) * std::size_t(K); ++i)
-            sum += (double(got[i]) - ref[i]) * (double(got[i]) - ref[i]);
-        e[r] = std::sqrt(sum) / open;
-    }
-    return e;
 }
 
 TransferSet bake_bounded(const Args& a, const Mesh& mesh, const Tracer& tracer, double E,
@@ -592,7 +533,7 @@ int main(int argc, char** argv) {
         "room: %zu vertices, %zu triangles; light: gradient sky + 2 degree sun "
         "(sun:0.4,0.8,-0.3,2), projected to K = %d\n",
         mesh.vertex_count(), mesh.triangle_count(), a.K);
-    const ShLight light = make_light({"gradient", "sun:0.4,0.8,-0.3,2"}, a.K);
+    const ShLight light = room_study::light(a.K);
     const auto tracer = make_embree_tracer(mesh);
     if (!skip_variance) variance_study(a, mesh, *tracer, light);
     if (!skip_curve || !skip_bound) {
