@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <vector>
 
 namespace shprt::detail {
@@ -132,6 +133,16 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
     BakeProgress progress(options.progress, shadowed, rx.count, S);
     tbb::enumerable_thread_specific<Scratch> scratch;
 
+    // Twins in other chunks of the error-bounded bake share their visibility (error_bound.hpp,
+    // SharedVisibility) over the grid's chunks that the range touches.
+    std::unique_ptr<SharedVisibility> shared;
+    if (bounded && shadowed) {
+        const std::size_t origin = first_chunk * chunk;
+        shared = std::make_unique<SharedVisibility>(
+            rx, origin, std::min(rx.total, (first_chunk + chunk_count) * chunk) - origin, chunk,
+            *bound.table, bound.first_samples);
+    }
+
     // The error-bounded chunk: every row of the grid's chunk baked to the bound (error_bound.hpp
     // says why the whole chunk), the range's rows rotated (local) or copied to the sink.
     auto run_bounded_chunk = [&](std::size_t grid_first, std::size_t height, std::size_t first,
@@ -144,7 +155,8 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
                                                          kept.blocked + grid_first,
                                                          kept.more + grid_first}
                                              : eb.fresh_rows(height, KL);
-        bake_chunk_to_error(bound, cap, tracer, rx, grid_first, height, rows, eb, progress);
+        bake_chunk_to_error(bound, cap, tracer, rx, grid_first, height, rows, eb, progress,
+                            shared.get());
         if (progress.stopped()) return;
         const std::size_t lead = first - grid_first;
         const double rows_start = thread_cpu_seconds();
@@ -299,6 +311,7 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
     const std::size_t workers = std::min<std::size_t>(std::size_t(threads), chunk_count);
     // The sink's own memory is the caller's (a HostSink holds the rows) and is added there.
     st.peak_bytes_host = tables.bytes() + visibility.size() * sizeof(std::uint64_t) +
+                         (shared ? shared->bytes() : 0) +
                          workers * (chunk * S * sizeof(float) + TraceScratch::bytes(S)) + c_bytes +
                          (tracer ? tracer->memory_bytes() : 0);
     st.device_name = fmt::format("cpu: {} thread{}", threads, threads == 1 ? "" : "s");

@@ -124,6 +124,60 @@ TEST(Twins, TheColladaDuckCastsTheRaysOfItsDistinctVerticesOnly) {
     EXPECT_LE(worst, 1e-5 * scale) << "twins' rows differ only by where the GEMM put them";
 }
 
+// The rays an error-bounded bake with a local set casts when each (position, normal) traces
+// once, as far as the longest prefix any of its receivers took.
+std::uint64_t rays_of_distinct_receivers(const Mesh& mesh, const TransferSet& t) {
+    std::vector<std::uint32_t> first;
+    detail::find_twins(mesh.positions.data(), mesh.normals.data(), mesh.vertex_count(), first);
+    std::vector<std::uint32_t> longest(mesh.vertex_count(), 0);
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        longest[first[v]] = std::max(longest[first[v]], t.receiver_samples[v]);
+    std::uint64_t rays = 0;
+    for (const std::uint32_t s : longest) rays += s;
+    return rays;
+}
+
+// An error-bounded bake traces each segment of a (position, normal) once, also when its twins
+// lie in other chunks (SharedVisibility): the duck casts only its distinct receivers' rays, and
+// its bytes and rays are the same for one and two threads and for a shard.
+TEST(Twins, AnErrorBoundedBakeOfTheColladaDuckTracesEachDistinctReceiverOnce) {
+    const Mesh duck = load_scene("/usr/share/assimp/models/Collada/duck.dae");
+    BakeOptions one;
+    one.K = 16;
+    one.target_error = 0.03;
+    one.max_samples = 4096;
+    one.threads = 1;
+    BakeOptions two = one;
+    two.threads = 2;
+    const TransferSet a = bake(duck, one), b = bake(duck, two);
+    ASSERT_EQ(a.receiver_samples.size(), duck.vertex_count());
+    std::uint64_t every_receiver = 0;
+    for (const std::uint32_t s : a.receiver_samples) every_receiver += s;
+    std::printf("[ twins ] duck, E = %.2f: %llu rays, %llu for every receiver\n", one.target_error,
+                (unsigned long long)a.stats.rays_cast, (unsigned long long)every_receiver);
+    EXPECT_EQ(a.stats.rays_cast, rays_of_distinct_receivers(duck, a));
+    EXPECT_EQ(b.stats.rays_cast, a.stats.rays_cast);
+    ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
+    EXPECT_EQ(std::memcmp(a.coeffs.data(), b.coeffs.data(), a.coeffs.size() * sizeof(float)), 0);
+    EXPECT_EQ(a.receiver_samples, b.receiver_samples);
+    // A shard shares visibility only among its own chunks; a single receiver traces its own
+    // rays (its chunk's twins in other chunks are outside the shard): the same bytes.
+    const std::size_t row = a.layout.floats_per_receiver();
+    for (const auto& [first, count] : {std::pair<std::size_t, std::size_t>{0, 4000},
+                                       {4000, 4500},
+                                       {3999, 2},
+                                       {17, 1},
+                                       {1234, 1},
+                                       {5000, 1},
+                                       {8499, 1}}) {
+        const TransferSet part = bake(duck, vertex_receivers(duck).range(first, count), two);
+        EXPECT_EQ(std::memcmp(part.coeffs.data(), a.coeffs.data() + first * row,
+                              count * row * sizeof(float)),
+                  0)
+            << "receivers [" << first << ", " << first + count << ")";
+    }
+}
+
 TEST(Twins, AnErrorBoundedBakeCopiesTheTwinsStateAndStopsWhereTheWeldedBakeStops) {
     const Mesh welded = make_builtin("leaky_room");
     const Mesh split = split_corners(welded);
@@ -144,6 +198,7 @@ TEST(Twins, AnErrorBoundedBakeCopiesTheTwinsStateAndStopsWhereTheWeldedBakeStops
         }
     EXPECT_EQ(differ, 0u) << "each corner stops at its welded vertex's prefix";
     EXPECT_LT(a.stats.rays_cast, welded_rays * 2 / 3) << "twins are not traced";
+    EXPECT_EQ(a.stats.rays_cast, rays_of_distinct_receivers(split, a));
     EXPECT_LE(worst_difference(a, b, welded), 1e-5);
 }
 
