@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <utility>
 #include <vector>
 
@@ -53,6 +54,25 @@ double worst_difference(const TransferSet& split, const TransferSet& welded, con
     return diff / scale;
 }
 
+// Bakes of receivers [first, first + count) of `mesh` (shards) give `whole`'s rows, byte for
+// byte, and so do one and two threads (`one` and `two` are the whole mesh's bakes).
+using Range = std::pair<std::size_t, std::size_t>;
+void expect_the_same_bytes(const Mesh& mesh, const BakeOptions& options, const TransferSet& one,
+                           const TransferSet& two, std::initializer_list<Range> ranges) {
+    ASSERT_EQ(one.coeffs.size(), two.coeffs.size());
+    EXPECT_EQ(std::memcmp(one.coeffs.data(), two.coeffs.data(), one.coeffs.size() * sizeof(float)),
+              0)
+        << "one and two threads";
+    const std::size_t row = one.layout.floats_per_receiver();
+    for (const auto& [first, count] : ranges) {
+        const TransferSet part = bake(mesh, vertex_receivers(mesh).range(first, count), options);
+        EXPECT_EQ(std::memcmp(part.coeffs.data(), one.coeffs.data() + first * row,
+                              count * row * sizeof(float)),
+                  0)
+            << "receivers [" << first << ", " << first + count << ")";
+    }
+}
+
 TEST(Twins, ASplitMeshCastsTheRaysOfItsDistinctVerticesAndGetsTheirRows) {
     const Mesh welded = make_builtin("leaky_room");
     const Mesh split = split_corners(welded);
@@ -83,18 +103,8 @@ TEST(Twins, TheSameBytesForAnyThreadCountAndRange) {
     one.threads = 1;
     BakeOptions two = one;
     two.threads = 2;
-    const TransferSet a = bake(split, one), b = bake(split, two);
-    ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
-    EXPECT_EQ(std::memcmp(a.coeffs.data(), b.coeffs.data(), a.coeffs.size() * sizeof(float)), 0);
-    const std::size_t row = a.layout.floats_per_receiver();
-    for (const auto& [first, count] :
-         {std::pair<std::size_t, std::size_t>{0, 700}, {700, 777}, {1477, 647}, {1000, 3}}) {
-        const TransferSet part = bake(split, vertex_receivers(split).range(first, count), two);
-        EXPECT_EQ(std::memcmp(part.coeffs.data(), a.coeffs.data() + first * row,
-                              count * row * sizeof(float)),
-                  0)
-            << "receivers [" << first << ", " << first + count << ")";
-    }
+    expect_the_same_bytes(split, two, bake(split, one), bake(split, two),
+                          {{0, 700}, {700, 777}, {1477, 647}, {1000, 3}});
 }
 
 // A real asset: Assimp's Collada duck (assimp-testmodels, scripts/setup), whose loader gives every
@@ -157,25 +167,12 @@ TEST(Twins, AnErrorBoundedBakeOfTheColladaDuckTracesEachDistinctReceiverOnce) {
                 (unsigned long long)a.stats.rays_cast, (unsigned long long)every_receiver);
     EXPECT_EQ(a.stats.rays_cast, rays_of_distinct_receivers(duck, a));
     EXPECT_EQ(b.stats.rays_cast, a.stats.rays_cast);
-    ASSERT_EQ(a.coeffs.size(), b.coeffs.size());
-    EXPECT_EQ(std::memcmp(a.coeffs.data(), b.coeffs.data(), a.coeffs.size() * sizeof(float)), 0);
     EXPECT_EQ(a.receiver_samples, b.receiver_samples);
     // A shard shares visibility only among its own chunks; a single receiver traces its own
     // rays (its chunk's twins in other chunks are outside the shard): the same bytes.
-    const std::size_t row = a.layout.floats_per_receiver();
-    for (const auto& [first, count] : {std::pair<std::size_t, std::size_t>{0, 4000},
-                                       {4000, 4500},
-                                       {3999, 2},
-                                       {17, 1},
-                                       {1234, 1},
-                                       {5000, 1},
-                                       {8499, 1}}) {
-        const TransferSet part = bake(duck, vertex_receivers(duck).range(first, count), two);
-        EXPECT_EQ(std::memcmp(part.coeffs.data(), a.coeffs.data() + first * row,
-                              count * row * sizeof(float)),
-                  0)
-            << "receivers [" << first << ", " << first + count << ")";
-    }
+    expect_the_same_bytes(
+        duck, two, a, b,
+        {{0, 4000}, {4000, 4500}, {3999, 2}, {17, 1}, {1234, 1}, {5000, 1}, {8499, 1}});
 }
 
 TEST(Twins, AnErrorBoundedBakeCopiesTheTwinsStateAndStopsWhereTheWeldedBakeStops) {
