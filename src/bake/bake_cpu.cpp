@@ -133,14 +133,16 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
     BakeProgress progress(options.progress, shadowed, rx.count, S);
     tbb::enumerable_thread_specific<Scratch> scratch;
 
-    // Twins in other chunks of the error-bounded bake share their visibility (error_bound.hpp,
-    // SharedVisibility) over the grid's chunks that the range touches.
+    // Twins in other chunks share their visibility (stages.hpp, SharedVisibility) over the
+    // grid's chunks that the range touches: the error-bounded bake per nested segment, a fixed-S
+    // bake over its whole set.
     std::unique_ptr<SharedVisibility> shared;
-    if (bounded && shadowed) {
+    if (shadowed) {
         const std::size_t origin = first_chunk * chunk;
         shared = std::make_unique<SharedVisibility>(
-            rx, origin, std::min(rx.total, (first_chunk + chunk_count) * chunk) - origin, chunk,
-            *bound.table, bound.first_samples);
+            rx.positions, rx.normals, origin,
+            std::min(rx.total, (first_chunk + chunk_count) * chunk) - origin, chunk,
+            bounded ? *bound.table : table, bounded ? bound.first_samples : S);
     }
 
     // The error-bounded chunk: every row of the grid's chunk baked to the bound (error_bound.hpp
@@ -177,42 +179,6 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
         sink.write_estimates(first, count, rows.samples + lead, rows.error + lead);
     };
 
-    // Twins in other chunks (stages.hpp, CrossTwins; fixed-S shadowed bakes): the first of each
-    // traces its visibility, one bit per direction, before the chunks, and every one of them
-    // fills its row from it. At most kCrossTwinBytes of bits (the rest trace their own rows).
-    const std::size_t words = (S + 63) / 64;
-    CrossTwins cross;
-    std::vector<std::uint64_t> visibility;  // reps × words
-    auto trace_cross_twins = [&] {
-        cross = find_cross_twins(rx.positions + rx.first, rx.normals + rx.first, rx.count,
-                                 rx.first - first_chunk * chunk, chunk,
-                                 kCrossTwinBytes / (words * sizeof(std::uint64_t)));
-        visibility.assign(cross.reps.size() * words, 0);
-        constexpr std::size_t kRepsPerTask = 64;
-        parallel_each(
-            threads, (cross.reps.size() + kRepsPerTask - 1) / kRepsPerTask, [&](std::size_t task) {
-                if (progress.stopped()) return;
-                Scratch& sc = scratch.local();
-                if (sc.w.empty()) sc.w.resize(chunk * S);
-                const double trace_start = thread_cpu_seconds();
-                std::uint64_t rays = 0;
-                const std::size_t end = std::min(cross.reps.size(), (task + 1) * kRepsPerTask);
-                for (std::size_t k = task * kRepsPerTask; k < end; ++k) {
-                    const std::size_t r = rx.first + cross.reps[k];
-                    float* row = sc.w.data();
-                    weight_row(rx.normals[r], table, row, tables.hemisphere);
-                    rays +=
-                        trace_row(*tracer, rx.positions[r], rx.normals[r], table, row, sc.trace);
-                    std::uint64_t* bits = visibility.data() + k * words;
-                    for (std::size_t s = 0; s < S; ++s)
-                        bits[s >> 6] |= std::uint64_t(row[s] != 0.0f) << (s & 63);
-                }
-                sc.trace_seconds += thread_cpu_seconds() - trace_start;
-                progress.add(0, rays);
-                progress.poll();
-            });
-    };
-
     auto run_chunk = [&](std::size_t c) {
         if (progress.stopped()) return;
         Scratch& sc = scratch.local();
@@ -232,19 +198,16 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
         for (std::size_t j = 0; j < count; ++j) {
             const std::size_t r = first + j;
             float* row = sc.w.data() + (lead + j) * S;
-            const std::uint32_t slot =
-                cross.slot.empty() ? CrossTwins::kNoSlot : cross.slot[r - rx.first];
             if (sc.twin[j] != j) {  // the same row as its twin's: not traced again
                 const float* same = sc.w.data() + (lead + sc.twin[j]) * S;
                 std::copy(same, same + S, row);
-            } else if (slot != CrossTwins::kNoSlot) {  // a twin's visibility, traced before
-                weight_row(rx.normals[r], table, row, tables.hemisphere);
-                const std::uint64_t* bits = visibility.data() + slot * words;
-                for (std::size_t s = 0; s < S; ++s)
-                    row[s] = (bits[s >> 6] >> (s & 63)) & 1u ? row[s] : 0.0f;
             } else {
                 weight_row(rx.normals[r], table, row, tables.hemisphere);
-                if (shadowed)
+                const std::uint32_t slot = shared ? shared->slot(r) : CrossTwins::kNoSlot;
+                if (slot != CrossTwins::kNoSlot)  // twins in other chunks: traced once
+                    local_rays += shared->mask(slot, *tracer, rx.positions[r], rx.normals[r],
+                                               DirectionRange{0, S}, row, sc.trace);
+                else if (shadowed)
                     local_rays +=
                         trace_row(*tracer, rx.positions[r], rx.normals[r], table, row, sc.trace);
             }
@@ -281,7 +244,6 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
     const auto parallel_start = Clock::now();
     {
         const SingleThreadedBlas single_threaded_blas;
-        if (!bounded && shadowed) trace_cross_twins();
         // One task per chunk: the partition is fixed, the scheduler only decides which worker
         // runs which chunk.
         parallel_each(threads, chunk_count, run_chunk);
@@ -310,8 +272,7 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
     st.rays_cast = progress.rays();
     const std::size_t workers = std::min<std::size_t>(std::size_t(threads), chunk_count);
     // The sink's own memory is the caller's (a HostSink holds the rows) and is added there.
-    st.peak_bytes_host = tables.bytes() + visibility.size() * sizeof(std::uint64_t) +
-                         (shared ? shared->bytes() : 0) +
+    st.peak_bytes_host = tables.bytes() + (shared ? shared->bytes() : 0) +
                          workers * (chunk * S * sizeof(float) + TraceScratch::bytes(S)) + c_bytes +
                          (tracer ? tracer->memory_bytes() : 0);
     st.device_name = fmt::format("cpu: {} thread{}", threads, threads == 1 ? "" : "s");

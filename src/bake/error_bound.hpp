@@ -27,8 +27,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
-#include <memory>
-#include <mutex>
 #include <vector>
 
 namespace shprt {
@@ -108,37 +106,6 @@ struct ErrorBoundScratch {
     BoundRows fresh_rows(std::size_t height, int KL);
 };
 
-// Twins in other chunks for the error-bounded bake (stages.hpp, CrossTwins; docs/sampling.md
-// "Twins"). The first receiver of each (position, normal) that several chunks of the grid share
-// gets a slot of visibility bits over the nested set. The first chunk to need a segment of it
-// traces that segment, under the slot's lock; every later twin reads the bits. A row is what
-// tracing it gives, bit for bit (the same normal, the same weights), and each segment is traced
-// once, so the bake's rays, too, are the same for any thread count.
-class SharedVisibility {
-public:
-    // Receivers [origin, origin + count) of `receivers`, in chunks of `chunk` from origin, over
-    // the bound's nested set (first segment: first_samples directions); at most kCrossTwinBytes
-    // of bits (the firsts past it trace their own rows).
-    SharedVisibility(const Receivers& receivers, std::size_t origin, std::size_t count,
-                     std::size_t chunk, const DirectionTable& table, std::size_t first_samples);
-    // Receiver r's slot (an index of the receivers' numbering), or CrossTwins::kNoSlot.
-    std::uint32_t slot(std::size_t r) const;
-    // `row` (the weights of one segment [range.begin, range.end) of the set, for this slot's
-    // normal) with the slot's blocked directions set to 0, tracing the segment first if no twin
-    // has. Returns the rays this call cast (0 when the bits were there).
-    std::uint32_t mask(std::uint32_t slot, const Tracer& tracer, Vec3f p, Vec3f n,
-                       DirectionRange range, float* row, TraceScratch& scratch);
-    std::size_t bytes() const { return bits_.size() * sizeof(std::uint64_t); }
-
-private:
-    CrossTwins twins_;
-    std::size_t origin_ = 0, words_ = 0, first_samples_ = 1;
-    const DirectionTable* table_ = nullptr;
-    std::vector<std::uint64_t> bits_;      // reps × words_
-    std::vector<std::uint32_t> segments_;  // per rep: bit i set when segment i is traced
-    std::unique_ptr<std::mutex[]> locks_;  // per rep
-};
-
 // Bakes receivers [first, first + height) of `receivers` (the whole chunk: see above) to the
 // bound, with prefixes of at most `cap` (≤ max_samples; a power of two ≥ first_samples): rows
 // that `rows` says were baked before (to an earlier, smaller cap) and whose estimate is still
@@ -148,7 +115,7 @@ private:
 // Returns the rays cast (also added to `progress`); stops early, with rows unfinished, once
 // progress.poll() says stop. The chunk's twins (stages.hpp, find_twins) are not traced: each
 // takes its twin's sums, prefix and estimate; with `shared`, a row whose twins lie in other chunks
-// takes its visibility from there (SharedVisibility).
+// takes its visibility from there (stages.hpp, SharedVisibility).
 std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, const Tracer* tracer,
                                   const Receivers& receivers, std::size_t first, std::size_t height,
                                   BoundRows rows, ErrorBoundScratch& sc, BakeProgress& progress,

@@ -14,6 +14,8 @@
 #include <cblas.h>
 
 #include <algorithm>
+#include <bit>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -207,6 +209,56 @@ CrossTwins find_cross_twins(const Vec3f* positions, const Vec3f* normals, std::s
         }
     for (std::size_t j = 0; j < count; ++j) t.slot[j] = t.slot[first[j]];
     return t;
+}
+
+SharedVisibility::SharedVisibility(const Vec3f* positions, const Vec3f* normals, std::size_t origin,
+                                   std::size_t count, std::size_t chunk,
+                                   const DirectionTable& table, std::size_t first_segment)
+    : origin_(origin),
+      words_((table.size() + 63) / 64),
+      first_segment_(first_segment),
+      table_(&table) {
+    // Segments are whole words of bits (S0 a multiple of 64, or the whole table), so no two
+    // threads ever write one word: each segment is written once, under its slot's lock.
+    assert(first_segment % 64 == 0 || first_segment >= table.size());
+    twins_ = find_cross_twins(positions + origin, normals + origin, count, 0, chunk,
+                              kCrossTwinBytes / (words_ * sizeof(std::uint64_t)));
+    bits_.assign(twins_.reps.size() * words_, 0);
+    segments_.assign(twins_.reps.size(), 0);
+    locks_ = std::make_unique<std::mutex[]>(twins_.reps.size());
+}
+
+std::uint32_t SharedVisibility::slot(std::size_t r) const {
+    return r >= origin_ && r - origin_ < twins_.slot.size() ? twins_.slot[r - origin_]
+                                                            : CrossTwins::kNoSlot;
+}
+
+std::uint32_t SharedVisibility::mask(std::uint32_t slot, const Tracer& tracer, Vec3f p, Vec3f n,
+                                     DirectionRange range, float* row, TraceScratch& scratch) {
+    // The table's segments: [0, S0), [S0, 2·S0), [2·S0, 4·S0), …
+    const unsigned segment =
+        range.begin == 0 ? 0u : 1u + unsigned(std::countr_zero(range.begin / first_segment_));
+    const std::size_t length = range.end - range.begin;
+    std::uint64_t* bits = bits_.data() + std::size_t(slot) * words_;
+    std::uint32_t cast = 0;
+    {
+        const std::lock_guard<std::mutex> lock(locks_[slot]);
+        if ((segments_[slot] >> segment & 1u) == 0) {
+            thread_local std::vector<float> traced;
+            traced.assign(row, row + length);
+            cast = trace_row(tracer, p, n, *table_, range, traced.data(), scratch);
+            for (std::size_t i = 0; i < length; ++i) {
+                const std::size_t s = range.begin + i;
+                bits[s >> 6] |= std::uint64_t(traced[i] != 0.0f) << (s & 63);
+            }
+            segments_[slot] |= 1u << segment;
+        }
+    }
+    for (std::size_t i = 0; i < length; ++i) {
+        const std::size_t s = range.begin + i;
+        if ((bits[s >> 6] >> (s & 63) & 1u) == 0) row[i] = 0.0f;
+    }
+    return cast;
 }
 
 std::vector<std::uint8_t> traced_receivers(const Vec3f* positions, const Vec3f* normals,

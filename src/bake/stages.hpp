@@ -22,6 +22,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 namespace shprt {
@@ -112,9 +114,8 @@ void find_twins(const Vec3f* positions, const Vec3f* normals, std::size_t count,
 // several. For receivers [0, count) of a range whose grid of chunks starts `lead` receivers
 // before it (chunk c holds grid positions [c·chunk, (c+1)·chunk)): reps are the first receivers
 // of each (position, normal) that a receiver in another chunk shares, in increasing order, at
-// most `max_reps`; slot[j] is the index in reps of receiver j's first twin, or kNoSlot. A fixed-S
-// bake traces the reps' visibility once before its chunks and fills every slotted row from it:
-// the rows are what tracing them gives, bit for bit (the same normal, the same weights).
+// most `max_reps`; slot[j] is the index in reps of receiver j's first twin, or kNoSlot. The bake
+// shares each slot's visibility among its twins (SharedVisibility, below).
 struct CrossTwins {
     static constexpr std::uint32_t kNoSlot = 0xFFFFFFFFu;
     std::vector<std::uint32_t> reps;  // indices into the range
@@ -125,9 +126,46 @@ CrossTwins find_cross_twins(const Vec3f* positions, const Vec3f* normals, std::s
 // The most bits of reps' visibility a fixed-S bake keeps (the reps past it trace their own rows).
 constexpr std::size_t kCrossTwinBytes = std::size_t(64) << 20;
 
+// Twins in other chunks share their visibility (CrossTwins; docs/sampling.md, "Twins"), in
+// fixed-S and error-bounded bakes alike. The first receiver of each (position, normal) that
+// several chunks of the grid hold gets a slot of visibility bits over the set, in the set's
+// nested segments ([0, S0), [S0, 2·S0), …; a fixed-S bake's one segment is the whole set). The
+// first chunk to need a segment of it traces that segment, under the slot's lock; every other
+// twin masks its W row with the bits. A row is what tracing it gives, bit for bit (the same
+// normal, the same weights), and each segment is traced once, so the bake's rays, too, are the
+// same for any thread count. What is shared is visibility, never a projected row or an estimate,
+// whose bits depend on the chunk.
+class SharedVisibility {
+public:
+    // Receivers [origin, origin + count) of the arrays, in chunks of `chunk` from origin, over
+    // `table` (first segment: first_segment directions, a multiple of 64 or the whole table); at
+    // most kCrossTwinBytes of bits (the firsts past it trace their own rows).
+    SharedVisibility(const Vec3f* positions, const Vec3f* normals, std::size_t origin,
+                     std::size_t count, std::size_t chunk, const DirectionTable& table,
+                     std::size_t first_segment);
+    // Receiver r's slot (an index of the arrays' numbering), or CrossTwins::kNoSlot.
+    std::uint32_t slot(std::size_t r) const;
+    // `row` (the weights of one segment [range.begin, range.end) of the table, for this slot's
+    // normal) with the slot's blocked directions set to 0, tracing the segment first if no twin
+    // has. Returns the rays this call cast (0 when the bits were there).
+    std::uint32_t mask(std::uint32_t slot, const Tracer& tracer, Vec3f p, Vec3f n,
+                       DirectionRange range, float* row, TraceScratch& scratch);
+    std::size_t bytes() const { return bits_.size() * sizeof(std::uint64_t); }
+
+private:
+    CrossTwins twins_;
+    std::size_t origin_ = 0, words_ = 0, first_segment_ = 1;
+    const DirectionTable* table_ = nullptr;
+    std::vector<std::uint64_t> bits_;      // reps × words_
+    std::vector<std::uint32_t> segments_;  // per rep: bit i set when segment i is traced
+    std::unique_ptr<std::mutex[]> locks_;  // per rep
+};
+
 // Which receivers of a whole fixed-S bake of S directions over [0, count), in chunks of `chunk`,
 // cast rays (1) and which take a twin's row (0): the first of each chunk's twins, unless it is a
-// CrossTwins receiver that is not a rep. For tests and benchmarks that count the bake's rays.
+// CrossTwins receiver that is not a rep (a slot's rays are cast once, by whichever of its twins
+// needs them first; its rep stands for that one here). For tests and benchmarks that count the
+// bake's rays.
 std::vector<std::uint8_t> traced_receivers(const Vec3f* positions, const Vec3f* normals,
                                            std::size_t count, std::size_t chunk, std::size_t S);
 
