@@ -92,9 +92,9 @@ TEST(Twins, ASplitMeshCastsTheRaysOfItsDistinctVerticesAndGetsTheirRows) {
     EXPECT_LE(worst_difference(a, b, welded), 1e-5);
 }
 
-// Twins in other chunks take the visibility their first traced before the chunks: the same
-// bytes for any thread count, and a range (a shard) gives the whole bake's rows, its twins'
-// firsts in other chunks or outside it.
+// Twins in other chunks share the visibility whichever of them needs it first traces
+// (SharedVisibility): the same bytes for any thread count, and a range (a shard) gives the whole
+// bake's rows, its twins' firsts in other chunks or outside it.
 TEST(Twins, TheSameBytesForAnyThreadCountAndRange) {
     const Mesh split = split_corners(make_builtin("leaky_room"));
     BakeOptions one;
