@@ -51,6 +51,7 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -453,9 +454,25 @@ void live(const Room& r, int reps) {
         "thread-s | luminance %% | true error: mean | p99 | max | worst β |\n"
         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n",
         K, reps, kSmax);
+    std::string worst_lists;  // printed after the table: each estimator's six worst receivers
     auto print = [&](const std::string& name, const std::vector<float>& w, double rays, double wall,
                      const std::string& split) {
-        const Tail t = tail(room_study::true_errors(w, cref, K));
+        const std::vector<double> e = room_study::true_errors(w, cref, K);
+        const Tail t = tail(e);
+        std::vector<std::size_t> order(e.size());
+        std::iota(order.begin(), order.end(), std::size_t(0));
+        std::partial_sort(order.begin(), order.begin() + 6, order.end(),
+                          [&](std::size_t a, std::size_t b) { return e[a] > e[b]; });
+        worst_lists += fmt::format("\n{}: the six worst receivers\n", name);
+        for (int q = 0; q < 6; ++q) {
+            const std::size_t v = order[std::size_t(q)];
+            const Vec3f p = r.mesh.positions[v], n = r.mesh.normals[v];
+            worst_lists += fmt::format(
+                "  {}: error {:.4f}, β {:.3f} → {:.3f}, at ({:.3f}, {:.3f}, {:.3f}), normal "
+                "({:.2f}, {:.2f}, {:.2f})\n",
+                v, e[v], double(cref[v * K]) / c00_open, double(w[v * K]) / c00_open, p.x, p.y, p.z,
+                n.x, n.y, n.z);
+        }
         std::printf("| %s | %.1f | %.3f | %s | %.3f %% | %.4f | %.4f | %.4f | %.3f → %.3f |\n",
                     name.c_str(), rays * 1e-6, wall, split.c_str(),
                     r.error(room_study::luminance(w, K, r.light)), t.mean, t.p99, t.max,
@@ -489,6 +506,7 @@ void live(const Room& r, int reps) {
         print(name, best.world, double(best.rays), best.wall,
               fmt::format("{:.3f} | {:.3f} | {:.3f}", best.table_s, best.trace_s, best.project_s));
     }
+    std::printf("%s", worst_lists.c_str());
 }
 
 }  // namespace
