@@ -64,6 +64,39 @@ static DirectionSet line_grid(int N, int M, bool meridians) {
     return s;
 }
 
+// Every node of the flat BVH whose box `enters` accepts, and every triangle of their leaves
+// (given to `leaf` as its three vertices): the naive query of a line. Returns the nodes visited.
+template <class Enters, class Leaf>
+static std::uint64_t visit_where(const FlatBvhView& bvh, Enters&& enters, Leaf&& leaf) {
+    std::uint64_t nodes = 0;
+    std::uint32_t stack[kFlatBvhStackSize];
+    int sp = 0;
+    std::uint32_t ref = 0;
+    for (;;) {
+        if (!flat_bvh_is_leaf(ref)) {
+            Aabb b0, b1;
+            std::uint32_t c0, c1;
+            flat_bvh_load_node(bvh, ref, b0, b1, c0, c1);
+            ++nodes;
+            const bool h0 = enters(b0), h1 = enters(b1);
+            if (h0 && h1) stack[sp++] = c1;
+            if (h0 || h1) {
+                ref = h0 ? c0 : c1;
+                continue;
+            }
+        } else {
+            const std::uint32_t first = flat_bvh_leaf_first(ref);
+            for (std::uint32_t i = first; i < first + flat_bvh_leaf_count(ref); ++i) {
+                Vec3f v[3], n;
+                flat_bvh_load_triangle(bvh, i, v[0], v[1], v[2], n);
+                leaf(v);
+            }
+        }
+        if (sp == 0) return nodes;
+        ref = stack[--sp];
+    }
+}
+
 // The occluded part of one meridian arc, exactly: every triangle the quarter-plane
 // {o + α·a + β·n : α, β ≥ 0} cuts occludes the u = sin²θ interval its clipped segment spans.
 // Naive traversal: every node whose box meets the quarter-plane. Returns the visible u-measure.
@@ -82,92 +115,61 @@ static double wedge_visible(const FlatBvhView& bvh, Vec3f o, Vec3f a, Vec3f n, W
         return std::abs(dot(p, c)) <= reach(p) && dot(a, c) + reach(a) >= 0 &&
                dot(n, c) + reach(n) >= 0;
     };
-    std::uint32_t stack[kFlatBvhStackSize];
-    int sp = 0;
-    std::uint32_t ref = 0;
-    for (;;) {
-        if (!flat_bvh_is_leaf(ref)) {
-            Aabb b0, b1;
-            std::uint32_t c0, c1;
-            flat_bvh_load_node(bvh, ref, b0, b1, c0, c1);
-            ++cost.nodes;
-            const bool h0 = box_hit(b0), h1 = box_hit(b1);
-            if (h0 && h1) {
-                stack[sp++] = c1;
-                ref = c0;
-                continue;
-            }
-            if (h0) {
-                ref = c0;
-                continue;
-            }
-            if (h1) {
-                ref = c1;
-                continue;
-            }
-        } else {
-            const std::uint32_t first = flat_bvh_leaf_first(ref);
-            for (std::uint32_t i = first; i < first + flat_bvh_leaf_count(ref); ++i) {
-                Vec3f v[3], tn;
-                flat_bvh_load_triangle(bvh, i, v[0], v[1], v[2], tn);
-                ++cost.tris;
-                double d[3], al[3], be[3];
-                for (int k = 0; k < 3; ++k) {
-                    const Vec3f r = v[k] - o;
-                    d[k] = dot(p, r), al[k] = dot(a, r), be[k] = dot(n, r);
-                }
-                double pa[2], pb[2];
-                int m = 0;
-                for (int k = 0; k < 3 && m < 2; ++k) {
-                    const int j = (k + 1) % 3;
-                    if ((d[k] < 0) != (d[j] < 0)) {
-                        const double t = d[k] / (d[k] - d[j]);
-                        pa[m] = al[k] + t * (al[j] - al[k]), pb[m] = be[k] + t * (be[j] - be[k]);
-                        ++m;
-                    }
-                }
-                if (m < 2) continue;
-                // Clip the segment to α ≥ 0, β ≥ 0.
-                double t0 = 0, t1 = 1;
-                const double da = pa[1] - pa[0], db = pb[1] - pb[0];
-                auto clip = [&](double s0, double ds) {  // keep s0 + t·ds ≥ 0
-                    if (ds == 0) return s0 >= 0;
-                    const double t = -s0 / ds;
-                    if (ds > 0)
-                        t0 = std::max(t0, t);
-                    else
-                        t1 = std::min(t1, t);
-                    return t0 < t1;
-                };
-                if (!clip(pa[0], da) || !clip(pb[0], db)) continue;
-                auto u_at = [&](double t) {
-                    const double x = pa[0] + t * da, y = pb[0] + t * db;
-                    return x * x / std::max(x * x + y * y, 1e-300);
-                };
-                // Leave out the part within kNear of the origin (the rays' self-hit margin).
-                const double kNear = 1e-4;
-                const double qa = da * da + db * db, qb = 2 * (pa[0] * da + pb[0] * db),
-                             qc = pa[0] * pa[0] + pb[0] * pb[0] - kNear * kNear;
-                const double disc = qb * qb - 4 * qa * qc;
-                auto add = [&](double s0, double s1) {
-                    if (s1 <= s0) return;
-                    const double u0 = u_at(s0), u1 = u_at(s1);
-                    iv.emplace_back(std::min(u0, u1), std::max(u0, u1));
-                };
-                if (disc <= 0 || qa == 0) {
-                    add(t0, t1);
-                } else {
-                    const double r1 = (-qb - std::sqrt(disc)) / (2 * qa),
-                                 r2 = (-qb + std::sqrt(disc)) / (2 * qa);
-                    add(t0, std::min(t1, r1));
-                    add(std::max(t0, r2), t1);
-                }
-                ++cost.cuts;
+    cost.nodes += visit_where(bvh, box_hit, [&](const Vec3f* v) {
+        ++cost.tris;
+        double d[3], al[3], be[3];
+        for (int k = 0; k < 3; ++k) {
+            const Vec3f r = v[k] - o;
+            d[k] = dot(p, r), al[k] = dot(a, r), be[k] = dot(n, r);
+        }
+        double pa[2], pb[2];
+        int m = 0;
+        for (int k = 0; k < 3 && m < 2; ++k) {
+            const int j = (k + 1) % 3;
+            if ((d[k] < 0) != (d[j] < 0)) {
+                const double t = d[k] / (d[k] - d[j]);
+                pa[m] = al[k] + t * (al[j] - al[k]), pb[m] = be[k] + t * (be[j] - be[k]);
+                ++m;
             }
         }
-        if (sp == 0) break;
-        ref = stack[--sp];
-    }
+        if (m < 2) return;
+        // Clip the segment to α ≥ 0, β ≥ 0.
+        double t0 = 0, t1 = 1;
+        const double da = pa[1] - pa[0], db = pb[1] - pb[0];
+        auto clip = [&](double s0, double ds) {  // keep s0 + t·ds ≥ 0
+            if (ds == 0) return s0 >= 0;
+            const double t = -s0 / ds;
+            if (ds > 0)
+                t0 = std::max(t0, t);
+            else
+                t1 = std::min(t1, t);
+            return t0 < t1;
+        };
+        if (!clip(pa[0], da) || !clip(pb[0], db)) return;
+        auto u_at = [&](double t) {
+            const double x = pa[0] + t * da, y = pb[0] + t * db;
+            return x * x / std::max(x * x + y * y, 1e-300);
+        };
+        // Leave out the part within kNear of the origin (the rays' self-hit margin).
+        const double kNear = 1e-4;
+        const double qa = da * da + db * db, qb = 2 * (pa[0] * da + pb[0] * db),
+                     qc = pa[0] * pa[0] + pb[0] * pb[0] - kNear * kNear;
+        const double disc = qb * qb - 4 * qa * qc;
+        auto add = [&](double s0, double s1) {
+            if (s1 <= s0) return;
+            const double u0 = u_at(s0), u1 = u_at(s1);
+            iv.emplace_back(std::min(u0, u1), std::max(u0, u1));
+        };
+        if (disc <= 0 || qa == 0) {
+            add(t0, t1);
+        } else {
+            const double r1 = (-qb - std::sqrt(disc)) / (2 * qa),
+                         r2 = (-qb + std::sqrt(disc)) / (2 * qa);
+            add(t0, std::min(t1, r1));
+            add(std::max(t0, r2), t1);
+        }
+        ++cost.cuts;
+    });
     std::sort(iv.begin(), iv.end());
     double covered = 0, lo = 0, hi = -1;
     for (const auto& [x, y] : iv) {
@@ -250,9 +252,6 @@ static void cone_study(const Mesh& mesh, int N, int stride) {
         for (int i = 0; i < N; ++i) {
             const double u = (i + 0.5) / N, theta = std::asin(std::sqrt(u));
             const auto t0 = Clock::now();
-            std::uint32_t stack[kFlatBvhStackSize];
-            int sp = 0;
-            std::uint32_t ref = 0;
             auto reaches = [&](const Aabb& b) {
                 const Vec3f c = (b.lo + b.hi) * 0.5f - o, e = (b.hi - b.lo) * 0.5f;
                 const double r = std::sqrt(double(dot(e, e))), d = std::sqrt(double(dot(c, c)));
@@ -262,40 +261,16 @@ static void cone_study(const Mesh& mesh, int N, int stride) {
                 const double a = std::acos(std::clamp(h / d, -1.0, 1.0)), w = std::asin(r / d);
                 return a - w <= theta && theta <= a + w;
             };
-            for (;;) {
-                if (!flat_bvh_is_leaf(ref)) {
-                    Aabb b0, b1;
-                    std::uint32_t c0, c1;
-                    flat_bvh_load_node(view, ref, b0, b1, c0, c1);
-                    ++nodes;
-                    const bool h0 = reaches(b0), h1 = reaches(b1);
-                    if (h0 && h1) {
-                        stack[sp++] = c1;
-                        ref = c0;
-                        continue;
-                    }
-                    if (h0 || h1) {
-                        ref = h0 ? c0 : c1;
-                        continue;
-                    }
-                } else {
-                    const std::uint32_t first = flat_bvh_leaf_first(ref);
-                    for (std::uint32_t k = first; k < first + flat_bvh_leaf_count(ref); ++k) {
-                        Vec3f w[3], tn;
-                        flat_bvh_load_triangle(view, k, w[0], w[1], w[2], tn);
-                        ++tris;
-                        int below = 0, above = 0;
-                        for (const Vec3f& x : w) {
-                            const Vec3f r = x - o;
-                            const double c = double(dot(f.n, r)) / std::sqrt(double(dot(r, r)));
-                            (c > std::cos(theta) ? above : below)++;
-                        }
-                        if (above && below) ++cuts;
-                    }
+            nodes += visit_where(view, reaches, [&](const Vec3f* w) {
+                ++tris;
+                int below = 0, above = 0;
+                for (int k = 0; k < 3; ++k) {
+                    const Vec3f r = w[k] - o;
+                    const double c = double(dot(f.n, r)) / std::sqrt(double(dot(r, r)));
+                    (c > std::cos(theta) ? above : below)++;
                 }
-                if (sp == 0) break;
-                ref = stack[--sp];
-            }
+                if (above && below) ++cuts;
+            });
             const auto t1 = Clock::now();
             // The same ring as 64 rays, for the time of a ray.
             for (int j = 0; j < 64; ++j) {
