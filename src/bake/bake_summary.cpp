@@ -37,12 +37,19 @@ std::string sampling_label(const TransferInfo& t) {
 }
 
 // An error-bounded bake's estimates: "error bound: receivers per prefix 64: 1200, ... (mean 391);
-// estimated error worst ..., 99th percentile ..., mean ...".
+// estimated error worst ..., 99th percentile ..., mean ...; receivers ≤ E/4: ..., over E: ...".
 void add_estimates(std::string& out, const TransferSet& t) {
     const EstimateSummary e = summarize_estimates(t);
     if (e.receivers_per_samples.empty()) return;
-    out += fmt::sprintf("error bound: receivers per prefix %s; estimated error %s\n",
-                        samples_histogram_text(e).c_str(), error_spread_text(e.error).c_str());
+    if (const std::size_t over = e.receivers_per_error_band[3]; over > 0)
+        log_warn(
+            "{} of {} receivers stopped at --max-samples {} with an estimated error above "
+            "--target-error {:.3g} (worst {:.3g}); they are sampled as far as that cap allows, as "
+            "asked (a larger --max-samples refines them further)",
+            over, t.receiver_error.size(), t.samples, t.target_error, e.error.worst);
+    out += fmt::sprintf("error bound: receivers per prefix %s; estimated error %s; receivers %s\n",
+                        samples_histogram_text(e).c_str(), error_spread_text(e.error).c_str(),
+                        error_bands_text(e).c_str());
 }
 
 // "baked N texels|vertices, ...": the summary of a texel or refined bake.

@@ -134,6 +134,7 @@ void summarise_target_error(const Lines& s) {
     if (!estimates.receivers_per_samples.empty()) {
         s.line("samples", "receivers per prefix " + samples_histogram_text(estimates));
         s.line("est. error", error_spread_text(estimates.error));
+        s.line("error bands", "receivers " + error_bands_text(estimates));
     }
 }
 

@@ -36,6 +36,13 @@ EstimateSummary summarize_estimates(const TransferSet& set) {
     out.mean_samples = total / double(set.receiver_samples.size());
     out.error =
         error_spread(std::vector<double>(set.receiver_error.begin(), set.receiver_error.end()));
+    if (set.target_error > 0) {
+        const double E = set.target_error;
+        for (const float e : set.receiver_error) {
+            const std::size_t band = e <= E / 4 ? 0 : e <= E / 2 ? 1 : e <= E ? 2 : 3;
+            ++out.receivers_per_error_band[band];
+        }
+    }
     return out;
 }
 
@@ -44,6 +51,11 @@ std::string samples_histogram_text(const EstimateSummary& summary) {
     for (const auto& [samples, receivers] : summary.receivers_per_samples)
         text += fmt::format("{}{}: {}", text.empty() ? "" : ", ", samples, receivers);
     return fmt::format("{} (mean {:.0f})", text, summary.mean_samples);
+}
+
+std::string error_bands_text(const EstimateSummary& summary) {
+    const auto& n = summary.receivers_per_error_band;
+    return fmt::format("≤ E/4: {}, ≤ E/2: {}, ≤ E: {}, over E: {}", n[0], n[1], n[2], n[3]);
 }
 
 std::string error_spread_text(const ErrorSpread& spread) {

@@ -98,6 +98,34 @@ TEST_F(CliBake, TooManyThreadsAreClampedWithOneWarning) {
         << r.out << r.err;
 }
 
+// An error-bounded bake whose cap stops receivers above the target says so once, with the count
+// the summary's error bands give ("over E: N"); one that reaches the target everywhere says
+// nothing. `shprt info` prints the same bands.
+TEST_F(CliBake, ErrorBoundedBakeWarnsOfReceiversTheCapStoppedAboveTheTarget) {
+    const std::string bake = "bake builtin:box_on_plane --coeffs 16 --target-error ";
+    const RunResult capped = shprt(bake + "0.02 --max-samples 256 -o '" + out("c.shprt") + "'");
+    ASSERT_EQ(capped.exit_code, 0) << capped.err;
+    const std::size_t at = capped.out.find("over E: ");
+    ASSERT_NE(at, std::string::npos) << capped.out;
+    const int over = std::stoi(capped.out.substr(at + 8));
+    EXPECT_GT(over, 0);
+    EXPECT_LT(over, 1214);  // box_on_plane's vertices: some reach 0.02 within 256 samples
+    const std::string warning = "shprt: warning: " + std::to_string(over) +
+                                " of 1214 receivers stopped at --max-samples 256 with an "
+                                "estimated error above --target-error 0.02";
+    EXPECT_NE(capped.err.find(warning), std::string::npos) << capped.err;
+    EXPECT_EQ(capped.err.find("warning"), capped.err.rfind("warning")) << capped.err;
+    const RunResult info = shprt("info '" + out("c.shprt") + "'");
+    EXPECT_NE(info.out.find("error bands  receivers ≤ E/4: "), std::string::npos) << info.out;
+    EXPECT_NE(info.out.find("over E: " + std::to_string(over) + "\n"), std::string::npos)
+        << info.out;
+
+    const RunResult reached = shprt(bake + "0.03 --max-samples 512 -o '" + out("r.shprt") + "'");
+    ASSERT_EQ(reached.exit_code, 0) << reached.err;
+    EXPECT_NE(reached.out.find("over E: 0\n"), std::string::npos) << reached.out;
+    EXPECT_EQ(reached.err.find("warning"), std::string::npos) << reached.err;
+}
+
 // One log level (core/log.hpp) decides both the messages and the progress, and is taken before
 // or after the subcommand: -q (warn) keeps the warning and drops the progress, --log-level error
 // drops both, -v adds the debug lines. -q with -v or --log-level is a usage error.
