@@ -2,8 +2,8 @@
 // receiver_error, docs/sampling.md "Error-bounded bakes") in a few numbers: how many receivers
 // took each prefix, the estimated error's worst, 99th percentile and mean, and how many receivers
 // lie in each band of the estimated error against the target (over E: those the sample cap
-// stopped before the target). `shprt info`,
-// `shprt bake` and the bench print them; the same percentile rule serves true errors too.
+// stopped before the target). `shprt info`, `shprt bake` and the bench print them; the same
+// percentile rule serves true errors too.
 #pragma once
 
 #include "shprt/transfer/transfer.hpp"
