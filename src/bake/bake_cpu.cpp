@@ -173,7 +173,7 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
         else
             std::copy(out, out + count * std::size_t(K), C);
         sc.project_seconds += thread_cpu_seconds() - rows_start;
-        progress.add_errors(rows.error + lead, count);
+        progress.add_errors(rows.error + lead, count, options.target_error);
         progress.add(count, 0);
         sink.write(first, count, C);
         sink.write_estimates(first, count, rows.samples + lead, rows.error + lead);

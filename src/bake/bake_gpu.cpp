@@ -304,7 +304,7 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
         rotate_rows_to_world(rx.normals + rx.first + block_first, n, KL, K, false,
                              scratch.out.data(), world.data());
         seconds_rotate += seconds_since(rotate_start);
-        progress.add_errors(rows.error, n);
+        progress.add_errors(rows.error, n, options.target_error);
         progress.add(n, 0);
         sink.write(rx.first + block_first, n, world.data());
         sink.write_estimates(rx.first + block_first, n, rows.samples, rows.error);

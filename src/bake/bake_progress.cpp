@@ -34,13 +34,26 @@ namespace {
 constexpr double kSmallestError = 1e-6;
 }
 
-void BakeProgress::add_errors(const float* errors, std::size_t count) {
+void BakeProgress::add_errors(const float* errors, std::size_t count, double target) {
+    std::uint64_t over = 0;
     for (std::size_t i = 0; i < count; ++i) {
+        over += double(errors[i]) > target ? 1 : 0;
         const double e = std::max(double(errors[i]), kSmallestError);
         const int b = std::clamp(int(8.0 * std::log2(e / kSmallestError)), 0, kErrorBuckets - 1);
         m_errors[std::size_t(b)].fetch_add(1, std::memory_order_relaxed);
     }
+    m_over.fetch_add(over, std::memory_order_relaxed);
     m_has_errors.store(true, std::memory_order_relaxed);
+}
+
+double BakeProgress::over_target() const {
+    if (!m_has_errors.load(std::memory_order_relaxed)) return -1;
+    std::uint64_t total = 0;
+    for (const auto& c : m_errors) total += c.load(std::memory_order_relaxed);
+    // Workers may count between the two reads, so a share read mid-bake is approximate (kept ≤ 1);
+    // the final report, after the workers, is exact.
+    if (total == 0) return -1;
+    return std::min(1.0, double(m_over.load(std::memory_order_relaxed)) / double(total));
 }
 
 // The upper edge of the bucket where the top 1 % of the counted errors begins.
@@ -68,8 +81,8 @@ bool BakeProgress::report(bool final) {
         final
             ? rays
             : rays + std::uint64_t(per_receiver * double(m_total - std::min(done, m_total)) + 0.5);
-    return m_callback(
-        ProgressInfo{m_stage, rays, std::max(total, rays), "rays", m_then, error_p99()});
+    return m_callback(ProgressInfo{m_stage, rays, std::max(total, rays), "rays", m_then,
+                                   error_p99(), over_target()});
 }
 
 bool BakeProgress::poll() {

@@ -32,8 +32,9 @@ public:
         m_receivers.fetch_add(receivers, std::memory_order_relaxed);
     }
     // Thread-safe: an error-bounded bake's finished receivers' estimated errors, for
-    // ProgressInfo::error_p99 (a histogram of eighth octaves from 1e-6).
-    void add_errors(const float* errors, std::size_t count);
+    // ProgressInfo::error_p99 (a histogram of eighth octaves from 1e-6) and, against the bake's
+    // `target`, ProgressInfo::over_target.
+    void add_errors(const float* errors, std::size_t count, double target);
 
     // On the calling thread only (others return at once): reports when the last report is
     // ≥ 50 ms old. Returns false once the callback asked to stop (and from then on).
@@ -65,7 +66,9 @@ private:
     static constexpr int kErrorBuckets = 224;  // 28 octaves above 1e-6, 8 an octave
     std::array<std::atomic<std::uint64_t>, kErrorBuckets> m_errors{};
     std::atomic<bool> m_has_errors{false};
+    std::atomic<std::uint64_t> m_over{0};  // of the counted errors, those over the target
     double error_p99() const;
+    double over_target() const;
     std::thread::id m_caller;
     std::chrono::steady_clock::time_point m_last;
 };

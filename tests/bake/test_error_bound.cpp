@@ -246,6 +246,39 @@ TEST(ErrorBound, StoppedRowsAreTheFixedBakesRows) {
     }
 }
 
+// The progress reports of an error-bounded bake: the last one's error_p99 is at or above the
+// finished receivers' 99th percentile (an eighth of an octave up), and its over_target is the
+// share of receivers that the sample cap stopped above the target, as the file's estimates say.
+TEST(ErrorBound, ProgressReportsTheErrorAndTheShareTheCapStoppedAboveTheTarget) {
+    const Mesh mesh = make_builtin("box_on_plane");
+    for (const std::uint32_t cap : {256u, 4096u}) {
+        SCOPED_TRACE(cap);
+        BakeOptions o = bounded_options(DirectionFrame::local, 0.02, cap);
+        ProgressInfo last;
+        int reports = 0;
+        o.progress = [&](const ProgressInfo& info) {
+            last = info;
+            ++reports;
+            return true;
+        };
+        const TransferSet t = bake(mesh, o);
+        ASSERT_GT(reports, 0);
+        std::size_t over = 0;
+        for (const float e : t.receiver_error) over += e > 0.02f ? 1 : 0;
+        EXPECT_DOUBLE_EQ(last.over_target, double(over) / double(t.receiver_count()));
+        std::vector<float> sorted = t.receiver_error;
+        std::sort(sorted.begin(), sorted.end());
+        const double p99 = sorted[(sorted.size() * 99 + 99) / 100 - 1];
+        EXPECT_GE(last.error_p99, p99);
+        EXPECT_LE(last.error_p99, p99 * std::exp2(0.25) + 1e-6);
+        if (cap == 256u) {
+            EXPECT_GT(over, 0u);  // box_on_plane at 0.02 needs more than 256 samples somewhere
+        } else {
+            EXPECT_EQ(over, 0u);
+        }
+    }
+}
+
 TEST(ErrorBound, SameBitsForOneAndTwoThreadsAndForAShard) {
     const Mesh mesh = make_builtin("corner");
     BakeOptions one = bounded_options(DirectionFrame::local, 0.02, 512);

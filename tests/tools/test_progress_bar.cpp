@@ -100,6 +100,30 @@ TEST(ProgressBarTest, NotATerminalPrintsOneLinePerQuarter) {
     }
 }
 
+// An error-bounded bake's reports end with the estimated error, and with the share of receivers
+// the sample cap stopped above the target once there are any.
+TEST(ProgressBarTest, ErrorBoundedReportsShowTheErrorAndTheShareOverTheTarget) {
+    std::FILE* file = std::tmpfile();
+    ASSERT_NE(file, nullptr);
+    {
+        ProgressBar bar("bake", file);
+        ProgressInfo info = report(500, 1000);
+        info.error_p99 = 0.023;
+        info.over_target = 0;
+        bar.update(info);
+        info = report(1000, 1000);
+        info.error_p99 = 0.042;
+        info.over_target = 0.125;
+        bar.update(info);
+    }
+    const std::vector<std::string> got = lines(contents(file));
+    std::fclose(file);
+    ASSERT_EQ(got.size(), 2u);
+    EXPECT_NE(got[0].find(")  err 99%: 2.3 %"), std::string::npos) << got[0];
+    EXPECT_EQ(got[0].find("over E"), std::string::npos) << got[0];
+    EXPECT_NE(got[1].find(")  err 99%: 4.2 %, 12 % over E"), std::string::npos) << got[1];
+}
+
 TEST(ProgressBarTest, WithoutALabelTheStageNamesTheWork) {
     std::FILE* file = std::tmpfile();
     ASSERT_NE(file, nullptr);

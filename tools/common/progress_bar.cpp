@@ -74,9 +74,12 @@ bool ProgressBar::update(const ProgressInfo& info) {
     return !interrupted();
 }
 
-// "  err 99%: 0.8 %": an error-bounded bake's estimated error (ProgressInfo::error_p99).
+// "  err 99%: 0.8 %": an error-bounded bake's estimated error (ProgressInfo::error_p99), and
+// ", 12 % over E" when the sample cap stopped some receivers above the target (over_target).
 std::string ProgressBar::error_text(const ProgressInfo& info) {
-    return fmt::format("  err 99%: {:.2g} %", 100 * info.error_p99);
+    std::string text = fmt::format("  err 99%: {:.2g} %", 100 * info.error_p99);
+    if (info.over_target > 0) text += fmt::format(", {:.2g} % over E", 100 * info.over_target);
+    return text;
 }
 
 void ProgressBar::draw_terminal(const ProgressInfo& info, double elapsed) {

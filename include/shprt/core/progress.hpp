@@ -23,6 +23,10 @@ struct ProgressInfo {
     // of the receivers finished so far are under (to an eighth of an octave, rounded up); negative:
     // none. A display shows it ("err 99%: 0.8 %").
     double error_p99 = -1;
+    // … and the share of those receivers whose estimated error is over the target: the sample cap
+    // (BakeOptions::max_samples) stopped them there. Negative: none finished yet. A display shows
+    // it when it is not 0 ("12 % over E"): a cap too low shows long before the bake ends.
+    double over_target = -1;
 };
 
 // Called from one thread at a time, at most a few dozen times per second.
