@@ -18,7 +18,9 @@
 //  4. the viewer's rounds (bake/background.hpp): an error-bounded bake to E = 0.02 in rounds of
 //     at most 256, 1024 and 4096 samples, as three separate bakes (before the bake session) and
 //     as one session going on from round to round (BakeSession::bake_to), interleaved, min wall
-//     time of --reps runs each; the last rounds' rows are checked equal.
+//     time of --reps runs each; the last rounds' rows are checked equal. And the CLI's bake to the
+//     same bound: one pass (bake()) against the same rounds in one call (bake_in_rounds), which
+//     the CLI runs for its progress; their rows are checked equal.
 //
 //  5. the allocation limit: the rays for 1 % when each receiver's prefix is chosen from its true
 //     error instead of an estimate (an oracle), with doubling prefixes and with 1.5x steps,
@@ -344,10 +346,31 @@ void rounds_study(const Args& a, const Mesh& mesh, const Tracer& tracer) {
         "samples (local Sobol), K = %d, %d threads, BVH built once outside; min of %d runs\n\n"
         "| rounds | wall s | Mrays |\n|---|---:|---:|\n",
         a.K, a.threads, a.reps);
-    double separate = INFINITY, session_wall = INFINITY;
-    std::uint64_t separate_rays = 0, session_rays = 0;
-    std::vector<float> last_separate, last_session;
+    double separate = INFINITY, session_wall = INFINITY, one_wall = INFINITY,
+           in_rounds_wall = INFINITY;
+    std::uint64_t separate_rays = 0, session_rays = 0, one_rays = 0, in_rounds_rays = 0;
+    std::vector<float> last_separate, last_session, one_rows, in_rounds_rows;
     for (int rep = 0; rep < a.reps; ++rep) {
+        // The CLI's bake: one pass (bake()) against the same rounds breadth first
+        // (BakeSession::bake_in_rounds), which the CLI runs so that its progress shows the error.
+        auto begin = Clock::now();
+        {
+            HostSink sink;
+            one_rays = bake(BakeJob{&mesh, vertex_receivers(mesh), &sink, nullptr, &tracer}, o)
+                           .stats.rays_cast;
+            one_rows = sink.take_rows();
+        }
+        one_wall = std::min(one_wall, std::chrono::duration<double>(Clock::now() - begin).count());
+        begin = Clock::now();
+        {
+            HostSink sink;
+            BakeSession session(BakeJob{&mesh, vertex_receivers(mesh), nullptr, nullptr, &tracer},
+                                o);
+            in_rounds_rays = session.bake_in_rounds(sink).stats.rays_cast;
+            in_rounds_rows = sink.take_rows();
+        }
+        in_rounds_wall =
+            std::min(in_rounds_wall, std::chrono::duration<double>(Clock::now() - begin).count());
         auto start = Clock::now();
         separate_rays = 0;
         for (const std::uint32_t cap : caps) {
@@ -373,8 +396,13 @@ void rounds_study(const Args& a, const Mesh& mesh, const Tracer& tracer) {
     }
     std::printf("| three separate bakes | %.3f | %.1f |\n", separate, double(separate_rays) * 1e-6);
     std::printf("| one session | %.3f | %.1f |\n", session_wall, double(session_rays) * 1e-6);
-    std::printf("\nthe last rounds' rows are %s\n",
-                last_session == last_separate ? "the same bits" : "DIFFERENT");
+    std::printf("| one bake (bake(), one pass) | %.3f | %.1f |\n", one_wall,
+                double(one_rays) * 1e-6);
+    std::printf("| one bake in rounds (BakeSession::bake_in_rounds, the CLI's) | %.3f | %.1f |\n",
+                in_rounds_wall, double(in_rounds_rays) * 1e-6);
+    std::printf("\nthe last rounds' rows are %s; in rounds and in one pass, %s\n",
+                last_session == last_separate ? "the same bits" : "DIFFERENT",
+                in_rounds_rows == one_rows ? "the same bits" : "DIFFERENT");
 }
 
 // 5. The allocation limit. An error-bounded bake chooses each receiver's prefix from an estimate;

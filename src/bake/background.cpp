@@ -48,15 +48,6 @@ void ChunkQueue::copy_estimates(std::vector<std::uint32_t>& samples,
     errors = m_errors;
 }
 
-std::vector<std::uint32_t> refine_rounds(const BakeOptions& options) {
-    const std::uint32_t last = bake_set_size(options);
-    if (options.target_error <= 0) return {last};
-    std::vector<std::uint32_t> rounds;
-    for (std::uint32_t s = 4 * kTargetFirstSamples; s < last; s *= 4) rounds.push_back(s);
-    rounds.push_back(last);
-    return rounds;
-}
-
 void ChunkQueue::write(std::size_t first, std::size_t count, const float* rows) {
     TransferChunk chunk;
     chunk.first = first;
@@ -142,7 +133,7 @@ void BackgroundBake::run() {
         BakeSession session(job, m_options);
         // The fraction done over every round, each weighed by its largest prefix (the rays a
         // whole bake to it would cast; on a session a round casts about the difference).
-        const std::vector<std::uint32_t> rounds = refine_rounds(m_options);
+        const std::vector<std::uint32_t> rounds = error_bound_rounds(m_options);
         double total = 0, before = 0;
         for (const std::uint32_t s : rounds) total += double(s);
         for (std::size_t r = 0; r < rounds.size(); ++r) {

@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <numeric>
 #include <vector>
 
 namespace shprt::detail {
@@ -38,6 +39,14 @@ using Clock = std::chrono::steady_clock;
 double seconds_between(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
 }
+
+// The sink of a pass that hands over no rows: a round before the last of
+// BakeSession::bake_in_rounds, which takes the kept rows further and reports their estimates.
+class NullSink final : public TransferSink {
+public:
+    void begin(const TransferLayout&, std::size_t, std::size_t) override {}
+    void write(std::size_t, std::size_t, const float*) override {}
+};
 
 // One worker's buffers, reused for every chunk it runs.
 struct Scratch {
@@ -95,7 +104,7 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
     const bool bounded = tables.bounded;
     SHPRT_CHECK(!shadowed || tracer != nullptr, invalid_argument,
                 "shadowed transfer needs a tracer");
-    SHPRT_CHECK(job.sink->device_rows() == nullptr, unsupported,
+    SHPRT_CHECK(job.sink == nullptr || job.sink->device_rows() == nullptr, unsupported,
                 "the CPU bake cannot write into a device buffer (a DeviceSink needs device "
                 "'cuda')");
     const Receivers& rx = job.receivers;
@@ -126,7 +135,12 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
     if (cap == 0) cap = S;
 
     TransferInfo info = bake_info(options, rx, S);
-    TransferSink& sink = *job.sink;
+    // No sink: a round of an error-bounded session that only takes its rows further (kept).
+    SHPRT_CHECK(job.sink != nullptr || (bounded && kept.acc != nullptr), invalid_argument,
+                "a bake needs a sink for its rows");
+    NullSink no_rows;
+    TransferSink& sink = job.sink ? *job.sink : no_rows;
+    const bool hand_over = job.sink != nullptr;
     sink.begin(info.layout, rx.first, rx.count);
     if (bounded) sink.begin_estimates();
 
@@ -161,6 +175,11 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
                             shared.get());
         if (progress.stopped()) return;
         const std::size_t lead = first - grid_first;
+        if (!hand_over) {
+            progress.add_errors(rows.error + lead, count, options.target_error);
+            progress.add(count, 0);
+            return;
+        }
         const double rows_start = thread_cpu_seconds();
         float* C = sink.host_rows(first, count);
         if (C == nullptr) {
@@ -241,12 +260,30 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
         sink.write(first, count, C + lead * std::size_t(F));
     };
 
+    // A pass that goes on from kept rows (a session's round) knows each chunk's work: its rows
+    // still over the target. Those chunks go first, the busiest first, so that the pass does not
+    // end on one worker with a busy chunk while the others wait — rounds would pay that once
+    // each. Which worker runs which chunk changes no bits.
+    std::vector<std::size_t> order(chunk_count);
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    if (bounded && kept.acc != nullptr) {
+        std::vector<std::size_t> busy(chunk_count, 0);
+        for (std::size_t c = 0; c < chunk_count; ++c) {
+            const std::size_t first = (first_chunk + c) * chunk;
+            const std::size_t end = std::min(first + chunk, rx.total);
+            for (std::size_t j = first; j < end; ++j)
+                busy[c] += kept.samples[j] == 0 || (kept.more[j] != 0 && kept.samples[j] < cap);
+        }
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t a, std::size_t b) { return busy[a] > busy[b]; });
+    }
+
     const auto parallel_start = Clock::now();
     {
         const SingleThreadedBlas single_threaded_blas;
         // One task per chunk: the partition is fixed, the scheduler only decides which worker
         // runs which chunk.
-        parallel_each(threads, chunk_count, run_chunk);
+        parallel_each(threads, chunk_count, [&](std::size_t i) { run_chunk(order[i]); });
     }
     const double parallel_seconds = seconds_between(parallel_start, Clock::now());
     SHPRT_CHECK(progress.finish(), cancelled, "bake cancelled after {} of {} receivers",

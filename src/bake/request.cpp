@@ -5,6 +5,7 @@
 #include "shprt/bake/bounce_sources.hpp"
 #include "shprt/bake/interreflect.hpp"
 #include "shprt/bake/remaining.hpp"
+#include "shprt/bake/session.hpp"
 #include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
@@ -232,6 +233,14 @@ TransferInfo bake_checkpointed(CheckpointFile& file, const BakeJob& job,
     }
 }
 
+// bake(job, options) in the rounds of an error-bounded bake where it runs on the CPU (the GPU
+// bakes its bound in one pass).
+TransferInfo bake_in_rounds(const BakeJob& job, const BakeOptions& options) {
+    BakeSession session(job, options);
+    if (session.backend() != Device::cpu) return session.bake(job);
+    return session.bake_in_rounds(*job.sink, options.progress);
+}
+
 BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
     BakeResult out;
     WriteOptions write;
@@ -248,10 +257,18 @@ BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
                       nullptr,
                       output.direct(),
                       r.probes ? &probes : nullptr};
+    // An error-bounded bake of every vertex into rows held for the file goes in rounds
+    // (BakeSession::bake_in_rounds: the same rows, and the progress shows the error falling), at
+    // the price of the rounds' rows beside them. Not a shard (its rounds would keep the whole
+    // set's rows), a stream (rows in memory are what it avoids), probes (baked with each pass)
+    // or the interreflected kind (a whole-domain stage of its own).
+    const bool rounds = options.target_error > 0 && !streamed(r) && !is_shard(r) && !r.probes &&
+                        !r.checkpoint && !kind_row(options.transfer).whole_domain;
     out.estimated_bytes =
         estimate_bake_peak_bytes(mesh.triangle_count(), receivers.count, options, !streamed(r),
                                  bake_bounce_source_count(mesh, options)) +
-        probe_bytes(probes, mesh, options);
+        probe_bytes(probes, mesh, options) +
+        (rounds ? round_rows_bytes(receivers.count, options) : 0);
     // An interreflected bake counts its operator against the limit and spills the rest beside
     // the output.
     options.memory_budget =
@@ -265,8 +282,9 @@ BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
     if (r.checkpoint) checkpoint.emplace(open_checkpoint(*r.checkpoint, job, options));
     if (r.before_bake) r.before_bake();
     const auto start = Clock::now();
-    const TransferInfo info =
-        checkpoint ? bake_checkpointed(*checkpoint, job, options) : bake(job, options);
+    const TransferInfo info = checkpoint ? bake_checkpointed(*checkpoint, job, options)
+                              : rounds   ? bake_in_rounds(job, options)
+                                         : bake(job, options);
     out.seconds_bake = seconds_since(start);
     out.transfer.probes = std::move(probes);
     out.seconds_write = output.finish(info, out);

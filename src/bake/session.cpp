@@ -8,7 +8,11 @@
 #include "shprt/trace/tracer.hpp"
 #include "shprt/transfer/kind_table.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace shprt {
@@ -28,7 +32,11 @@ struct BakeSession::Impl {
     std::unique_ptr<detail::CpuBakeTables> tables;        // the CPU's per-receiver kinds
     std::shared_ptr<detail::GpuOccluders> gpu_occluders;  // the GPU's BVH, host and device
     // bake_to's rows of the whole receiver set (error_bound.hpp, BoundRows), and its last cap.
-    std::vector<float> acc, error;
+    // acc is left uninitialised: a row's first pass (at prefix 0) writes its sums before
+    // anything reads them (error_bound.cpp), on the worker that bakes it, so the first round
+    // neither waits for 4·KL bytes a receiver to be zeroed nor faults their pages in on one thread.
+    std::unique_ptr<float[]> acc;
+    std::vector<float> error;
     std::vector<std::uint32_t> samples, visible, blocked;
     std::vector<std::uint8_t> more;
     std::uint32_t last_cap = 0;
@@ -36,7 +44,28 @@ struct BakeSession::Impl {
 
     TransferInfo run(const BakeJob& job, const BakeOptions& o, detail::BoundRows kept,
                      std::size_t cap);
+    // bake_to's checks and body; no sink: the rows are only taken further (a round before the
+    // last of bake_in_rounds).
+    TransferInfo round(std::uint32_t cap, TransferSink* sink, ProgressFn progress);
+    // The receivers whose estimate is still over the target at the last cap, below the set's
+    // largest prefix: what the next round would trace.
+    std::size_t still_over() const;
 };
+
+std::vector<std::uint32_t> error_bound_rounds(const BakeOptions& options) {
+    const std::uint32_t last = bake_set_size(options);
+    if (options.target_error <= 0) return {last};
+    std::vector<std::uint32_t> rounds;
+    for (std::uint32_t s = 4 * kTargetFirstSamples; s < last; s *= 4) rounds.push_back(s);
+    rounds.push_back(last);
+    return rounds;
+}
+
+std::uint64_t round_rows_bytes(std::size_t receivers, const BakeOptions& options) {
+    const std::uint64_t KL = std::uint64_t(detail::projected_coeffs(options));
+    // acc (KL floats), samples, error, visible, blocked (4 bytes each), more (1 byte).
+    return std::uint64_t(receivers) * (KL * sizeof(float) + 17);
+}
 
 BakeSession::BakeSession(const BakeJob& job, const BakeOptions& options)
     : m_impl(std::make_unique<Impl>()) {
@@ -135,39 +164,91 @@ TransferInfo BakeSession::bake(const BakeJob& part, ProgressFn progress) {
 }
 
 TransferInfo BakeSession::bake_to(std::uint32_t cap, TransferSink& sink, ProgressFn progress) {
-    Impl& s = *m_impl;
-    SHPRT_CHECK(s.options.target_error > 0 && s.tables != nullptr, invalid_argument,
+    return m_impl->round(cap, &sink, std::move(progress));
+}
+
+TransferInfo BakeSession::Impl::round(std::uint32_t cap, TransferSink* sink, ProgressFn progress) {
+    SHPRT_CHECK(options.target_error > 0 && tables != nullptr, invalid_argument,
                 "bake_to: a session of an error-bounded bake on the CPU only");
-    const std::uint32_t max = s.options.samples;
+    const std::uint32_t max = options.samples;
     SHPRT_CHECK(cap >= kTargetFirstSamples && cap <= max && (cap & (cap - 1)) == 0,
                 invalid_argument, "bake_to: cap {} must be a power of two, {} to {}", cap,
                 kTargetFirstSamples, max);
-    SHPRT_CHECK(cap >= s.last_cap, invalid_argument,
+    SHPRT_CHECK(cap >= last_cap, invalid_argument,
                 "bake_to: cap {} is below the last one, {} (a session only adds samples)", cap,
-                s.last_cap);
-    if (s.samples.empty()) {
-        const std::size_t total = s.receivers.total;
-        s.acc.assign(total * std::size_t(s.tables->KL), 0.0f);
-        s.samples.assign(total, 0);
-        s.error.assign(total, 0.0f);
-        s.visible.assign(total, 0);
-        s.blocked.assign(total, 0);
-        s.more.assign(total, 0);
+                last_cap);
+    if (samples.empty()) {
+        const std::size_t total = receivers.total;
+        acc.reset(new float[total * std::size_t(tables->KL)]);
+        samples.assign(total, 0);
+        error.assign(total, 0.0f);
+        visible.assign(total, 0);
+        blocked.assign(total, 0);
+        more.assign(total, 0);
     }
-    s.last_cap = cap;
+    last_cap = cap;
     BakeJob job;
-    job.occluders = s.occluders;
-    job.receivers = s.receivers;
-    job.sink = &sink;
-    job.directions = s.directions;
-    job.tracer = s.tracer;
-    BakeOptions o = s.options;
+    job.occluders = occluders;
+    job.receivers = receivers;
+    job.sink = sink;
+    job.directions = directions;
+    job.tracer = tracer;
+    BakeOptions o = options;
     if (progress) o.progress = std::move(progress);
-    TransferInfo info = s.run(job, o,
-                              {s.acc.data(), s.samples.data(), s.error.data(), s.visible.data(),
-                               s.blocked.data(), s.more.data()},
-                              cap);
+    TransferInfo info =
+        run(job, o,
+            {acc.get(), samples.data(), error.data(), visible.data(), blocked.data(), more.data()},
+            cap);
     info.samples = static_cast<int>(cap);  // as bake() with max_samples = cap records
+    return info;
+}
+
+std::size_t BakeSession::Impl::still_over() const {
+    if (last_cap >= options.samples) return 0;
+    std::size_t over = 0;
+    for (std::size_t j = receivers.first; j < receivers.end(); ++j)
+        over += more[j] != 0 && samples[j] == last_cap ? 1 : 0;
+    return over;
+}
+
+TransferInfo BakeSession::bake_in_rounds(TransferSink& sink, ProgressFn progress) {
+    Impl& s = *m_impl;
+    SHPRT_CHECK(s.last_cap == 0, invalid_argument,
+                "bake_in_rounds: the session has baked to {} already", s.last_cap);
+    const std::vector<std::uint32_t> caps = error_bound_rounds(s.options);
+    // The stages' names and what follows each, alive while its round reports.
+    std::vector<std::string> stages, then;
+    for (std::size_t r = 0; r < caps.size(); ++r) {
+        stages.push_back(r == 0 ? "bake" : fmt::format("≤ {} samples", caps[r]));
+        const std::size_t left = caps.size() - 1 - r;
+        then.push_back(left == 0 ? "" : fmt::format("≤ {} round{}", left, left == 1 ? "" : "s"));
+    }
+    TransferInfo info;
+    BakeStats sum;
+    for (std::size_t r = 0; r < caps.size(); ++r) {
+        const bool last = r + 1 == caps.size();
+        // Nothing over the target at the last cap: the rounds between have nothing to trace, and
+        // the last only hands over the rows, unreported.
+        const bool idle = r > 0 && s.still_over() == 0;
+        if (idle && !last) continue;
+        ProgressFn report;
+        if (progress && !idle)
+            report = [&progress, stage = std::string_view(stages[r]),
+                      next = std::string_view(then[r])](const ProgressInfo& p) {
+                ProgressInfo named = p;
+                named.stage = stage;
+                named.then = next;
+                return progress(named);
+            };
+        // A report as the round starts: a display times the round's stage from here.
+        const char* unit = kind_row(s.options.transfer).traces_rays ? "rays" : "samples";
+        if (report && !report(ProgressInfo{"", 0, 0, unit}))
+            fail(ErrorCode::cancelled, "bake cancelled before its round to {} samples", caps[r]);
+        info = s.round(caps[r], last ? &sink : nullptr, std::move(report));
+        add_stats(sum, info.stats);
+    }
+    sum.peak_bytes_host += round_rows_bytes(s.receivers.total, s.options);
+    info.stats = sum;
     return info;
 }
 

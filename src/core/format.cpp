@@ -31,4 +31,13 @@ std::string format_duration(double seconds) {
     return fmt::format("{}:{:02}", m, s);
 }
 
+std::string format_percent(double fraction) {
+    const double v = 100 * fraction;
+    if (!std::isfinite(v) || v < 0) return "?";
+    if (v >= 9.95) return fmt::format("{:.0f}", v);
+    if (v >= 0.995) return fmt::format("{:.1f}", v);
+    if (v < 0.001) return "< 0.001";
+    return fmt::format("{:.2g}", v);
+}
+
 }  // namespace shprt

@@ -99,7 +99,7 @@ TEST(BackgroundBake, ChunksRebuildTheNormalBakeExactly) {
     EXPECT_EQ(worker.result().stats.rays_cast, want.stats.rays_cast);
 }
 
-// An error-bounded bake refines toward its target in rounds (refine_rounds): the rows shown at
+// An error-bounded bake refines toward its target in rounds (error_bound_rounds): the rows shown at
 // the end are the bounded bake's own, bit for bit; each round's estimate is recorded, and the
 // worst estimate and the share of receivers over the target fall from the first round to the last.
 TEST(BackgroundBake, RefinesTowardTheTargetInRoundsAndEndsWithTheBoundedBake) {
@@ -108,10 +108,10 @@ TEST(BackgroundBake, RefinesTowardTheTargetInRoundsAndEndsWithTheBoundedBake) {
     options.direction_frame = DirectionFrame::local;
     options.target_error = 0.02;
     options.max_samples = 4096;
-    EXPECT_EQ(refine_rounds(options), (std::vector<std::uint32_t>{256, 1024, 4096}));
+    EXPECT_EQ(error_bound_rounds(options), (std::vector<std::uint32_t>{256, 1024, 4096}));
     BakeOptions fixed = options;
     fixed.target_error = 0, fixed.max_samples = 0;
-    EXPECT_EQ(refine_rounds(fixed), (std::vector<std::uint32_t>{fixed.samples}));
+    EXPECT_EQ(error_bound_rounds(fixed), (std::vector<std::uint32_t>{fixed.samples}));
     const TransferSet want = bake(mesh, options);
 
     BackgroundBake worker(mesh, options);

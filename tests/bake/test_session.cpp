@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
 
 using namespace shprt;
@@ -84,6 +85,67 @@ TEST(BakeSession, PassesOverRangesAreTheWholeBakesRows) {
     EXPECT_EQ(session.rays_cast(), rays);
 }
 
+// The CLI's error-bounded bake (bake_in_rounds): breadth first, so that after the first round
+// every receiver has an estimate and each round's stage reports the estimated error of all of
+// them, falling; the rows, estimates and rays are one pass's, bit for bit.
+TEST(BakeSession, InRoundsGivesOnePasssRowsWithTheErrorFallingRoundByRound) {
+    const Mesh mesh = make_builtin("leaky_room");
+    BakeOptions options = bounded_options(DirectionFrame::local);
+    options.max_samples = 4096;  // rounds of 256, 1024 and 4096 samples
+    options.target_error = 0.01;
+    ASSERT_EQ(error_bound_rounds(options), (std::vector<std::uint32_t>{256, 1024, 4096}));
+    HostSink one_pass;
+    const TransferInfo want = bake(whole_job(mesh, &one_pass), options);
+
+    struct Report {
+        std::string stage;
+        std::uint64_t done;
+        double p99, over;
+    };
+    std::vector<Report> reports;
+    const ProgressFn record = [&](const ProgressInfo& p) {
+        reports.push_back({std::string(p.stage), p.done, p.error_p99, p.over_target});
+        return true;
+    };
+    HostSink sink;
+    BakeSession session(whole_job(mesh, nullptr), options);
+    const TransferInfo got = session.bake_in_rounds(sink, record);
+    EXPECT_EQ(sink.rows(), one_pass.rows());
+    TransferSet a, b;
+    sink.take_estimates(a);
+    one_pass.take_estimates(b);
+    EXPECT_EQ(a.receiver_samples, b.receiver_samples);
+    EXPECT_EQ(a.receiver_error, b.receiver_error);
+    EXPECT_EQ(got.samples, 4096);
+    EXPECT_EQ(got.stats.rays_cast, want.stats.rays_cast) << "every ray once";
+    EXPECT_EQ(session.rays_cast(), want.stats.rays_cast);
+
+    // Each round's stage, in order, opened by a report of nothing done, and its last report.
+    std::vector<Report> last;
+    for (const Report& r : reports) {
+        if (last.empty() || last.back().stage != r.stage) {
+            EXPECT_EQ(r.done, 0u) << r.stage << ": a round's first report is its start";
+            last.push_back(r);
+        } else {
+            last.back() = r;
+        }
+    }
+    ASSERT_EQ(last.size(), 3u) << "leaky_room has receivers over E = 0.01 at 1024 samples";
+    EXPECT_EQ(last[0].stage, "bake");
+    EXPECT_EQ(last[1].stage, "≤ 1024 samples");
+    EXPECT_EQ(last[2].stage, "≤ 4096 samples");
+    for (std::size_t r = 1; r < last.size(); ++r) {
+        SCOPED_TRACE(last[r].stage);
+        EXPECT_LT(last[r].p99, last[r - 1].p99) << "the 99th percentile falls";
+        EXPECT_LT(last[r].over, last[r - 1].over) << "fewer receivers over E";
+    }
+    EXPECT_GT(last[0].over, 0.5) << "at 256 samples most receivers are over 0.01";
+    // The last round's share over E is the file's.
+    std::size_t over = 0;
+    for (float e : a.receiver_error) over += double(e) > options.target_error ? 1 : 0;
+    EXPECT_DOUBLE_EQ(last[2].over, double(over) / double(a.receiver_error.size()));
+}
+
 TEST(BakeSession, RefusesWhatItCannotDo) {
     const Mesh mesh = make_builtin("box_on_plane");
     const Mesh other = make_builtin("plane");
@@ -99,7 +161,9 @@ TEST(BakeSession, RefusesWhatItCannotDo) {
     EXPECT_THROW(bounded.bake_to(100, sink), Error) << "not a power of two";
     EXPECT_THROW(bounded.bake_to(2048, sink), Error) << "over max_samples";
     EXPECT_THROW(bounded.bake_to(32, sink), Error) << "under the first prefix";
+    EXPECT_THROW(fixed.bake_in_rounds(sink), Error) << "no bound";
     bounded.bake_to(512, sink);
+    EXPECT_THROW(bounded.bake_in_rounds(sink), Error) << "after a bake_to";
     try {
         bounded.bake_to(256, sink);
         FAIL() << "a smaller cap than the last";

@@ -18,6 +18,7 @@
 #include <string>
 #include <thread>
 #include <utility>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -124,6 +125,41 @@ TEST_F(CliBake, ErrorBoundedBakeWarnsOfReceiversTheCapStoppedAboveTheTarget) {
     ASSERT_EQ(reached.exit_code, 0) << reached.err;
     EXPECT_NE(reached.out.find("over E: 0\n"), std::string::npos) << reached.out;
     EXPECT_EQ(reached.err.find("warning"), std::string::npos) << reached.err;
+}
+
+// An error-bounded bake goes breadth first, in rounds (BakeSession::bake_in_rounds): each round's
+// progress line gives the estimated error of every receiver, and it falls; the file holds the rows
+// and estimates of the one-pass bake that --stream makes. leaky_room: overlapping panels, parts
+// through the floor, interpenetrating furniture.
+TEST_F(CliBake, ErrorBoundedBakeShowsTheErrorFallingRoundByRound) {
+    const std::string bake =
+        "bake builtin:leaky_room --coeffs 16 --target-error 0.01 --max-samples 4096 -o '";
+    const RunResult rounds = shprt(bake + out("r.shprt") + "'");
+    ASSERT_EQ(rounds.exit_code, 0) << rounds.err;
+    // Each round's last line ("… 100% (…)  err 99%: X %…"), in order.
+    std::vector<std::pair<std::string, double>> ends;
+    std::istringstream lines(rounds.err);
+    for (std::string line; std::getline(lines, line);) {
+        const std::size_t done = line.find(": 100% ("), err = line.find("err 99%: ");
+        if (done == std::string::npos || err == std::string::npos) continue;
+        ends.emplace_back(line.substr(0, done), std::stod(line.substr(err + 9)));
+    }
+    ASSERT_EQ(ends.size(), 3u) << rounds.err;
+    EXPECT_EQ(ends[0].first, "shprt: bake");
+    EXPECT_EQ(ends[1].first, "shprt: bake: ≤ 1024 samples");
+    EXPECT_EQ(ends[2].first, "shprt: bake: ≤ 4096 samples");
+    EXPECT_GT(ends[0].second, ends[1].second) << rounds.err;
+    EXPECT_GT(ends[1].second, ends[2].second) << rounds.err;
+
+    const RunResult one_pass = shprt(bake + out("s.shprt") + "' --stream");
+    ASSERT_EQ(one_pass.exit_code, 0) << one_pass.err;
+    EXPECT_EQ(one_pass.err.find("samples: "), std::string::npos) << "--stream: one pass";
+    const shprt::ShprtFile a = shprt::read_shprt(out("r.shprt"));
+    const shprt::ShprtFile b = shprt::read_shprt(out("s.shprt"));
+    EXPECT_EQ(a.transfer.coeffs, b.transfer.coeffs);
+    EXPECT_EQ(a.transfer.receiver_samples, b.transfer.receiver_samples);
+    EXPECT_EQ(a.transfer.receiver_error, b.transfer.receiver_error);
+    EXPECT_EQ(a.transfer.samples, 4096);
 }
 
 // One log level (core/log.hpp) decides both the messages and the progress, and is taken before

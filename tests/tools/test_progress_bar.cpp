@@ -76,6 +76,21 @@ TEST(ProgressFormat, DurationsSecondsThenClock) {
     EXPECT_EQ(format_duration(std::numeric_limits<double>::infinity()), "?");
 }
 
+// Two significant digits, never "1e+02": the share over E of a bake's first round is 100 %.
+TEST(ProgressFormat, PercentagesTwoDigitsWithoutExponents) {
+    EXPECT_EQ(format_percent(1.0), "100");
+    EXPECT_EQ(format_percent(0.684), "68");
+    EXPECT_EQ(format_percent(0.0995), "10");
+    EXPECT_EQ(format_percent(0.078), "7.8");
+    EXPECT_EQ(format_percent(0.01), "1.0");
+    EXPECT_EQ(format_percent(0.0071), "0.71");
+    EXPECT_EQ(format_percent(0.000012), "0.0012");
+    EXPECT_EQ(format_percent(0.000001), "< 0.001");
+    EXPECT_EQ(format_percent(0), "< 0.001");
+    EXPECT_EQ(format_percent(-0.5), "?");
+    EXPECT_EQ(format_percent(std::numeric_limits<double>::quiet_NaN()), "?");
+}
+
 TEST(ProgressBarTest, NotATerminalPrintsOneLinePerQuarter) {
     std::FILE* file = std::tmpfile();
     ASSERT_NE(file, nullptr);
@@ -122,6 +137,38 @@ TEST(ProgressBarTest, ErrorBoundedReportsShowTheErrorAndTheShareOverTheTarget) {
     EXPECT_NE(got[0].find(")  err 99%: 2.3 %"), std::string::npos) << got[0];
     EXPECT_EQ(got[0].find("over E"), std::string::npos) << got[0];
     EXPECT_NE(got[1].find(")  err 99%: 4.2 %, 12 % over E"), std::string::npos) << got[1];
+}
+
+// Each round of an error-bounded bake (BakeSession::bake_in_rounds) is a stage of its own: its
+// own lines, the first under the label, the later ones after it, each with its error.
+TEST(ProgressBarTest, ErrorBoundedRoundsEachHaveTheirLinesAndError) {
+    std::FILE* file = std::tmpfile();
+    ASSERT_NE(file, nullptr);
+    {
+        ProgressBar bar("bake", file);
+        const double p99[] = {0.24, 0.078, 0.023};
+        const double over[] = {1.0, 0.68, 0.0071};
+        const char* stages[] = {"bake", "≤ 1024 samples", "≤ 4096 samples"};
+        for (int r = 0; r < 3; ++r) {
+            ProgressInfo info = report(0, 0);
+            info.stage = stages[r];
+            bar.update(info);  // the round's start: nothing done, nothing printed
+            info = report(1000, 1000);
+            info.stage = stages[r];
+            info.error_p99 = p99[r];
+            info.over_target = over[r];
+            bar.update(info);
+        }
+    }
+    const std::vector<std::string> got = lines(contents(file));
+    std::fclose(file);
+    ASSERT_EQ(got.size(), 3u);
+    EXPECT_EQ(got[0].rfind("shprt: bake: 100% (", 0), 0u) << got[0];
+    EXPECT_NE(got[0].find("err 99%: 24 %, 100 % over E"), std::string::npos) << got[0];
+    EXPECT_EQ(got[1].rfind("shprt: bake: ≤ 1024 samples: 100% (", 0), 0u) << got[1];
+    EXPECT_NE(got[1].find("err 99%: 7.8 %, 68 % over E"), std::string::npos) << got[1];
+    EXPECT_EQ(got[2].rfind("shprt: bake: ≤ 4096 samples: 100% (", 0), 0u) << got[2];
+    EXPECT_NE(got[2].find("err 99%: 2.3 %, 0.71 % over E"), std::string::npos) << got[2];
 }
 
 TEST(ProgressBarTest, WithoutALabelTheStageNamesTheWork) {

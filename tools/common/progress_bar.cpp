@@ -77,8 +77,8 @@ bool ProgressBar::update(const ProgressInfo& info) {
 // "  err 99%: 0.8 %": an error-bounded bake's estimated error (ProgressInfo::error_p99), and
 // ", 12 % over E" when the sample cap stopped some receivers above the target (over_target).
 std::string ProgressBar::error_text(const ProgressInfo& info) {
-    std::string text = fmt::format("  err 99%: {:.2g} %", 100 * info.error_p99);
-    if (info.over_target > 0) text += fmt::format(", {:.2g} % over E", 100 * info.over_target);
+    std::string text = "  err 99%: " + format_percent(info.error_p99) + " %";
+    if (info.over_target > 0) text += ", " + format_percent(info.over_target) + " % over E";
     return text;
 }
 

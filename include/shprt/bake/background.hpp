@@ -7,6 +7,7 @@
 #pragma once
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/bake/session.hpp"
 #include "shprt/scene/mesh.hpp"
 #include "shprt/transfer/sink.hpp"
 
@@ -79,9 +80,6 @@ struct RefineRound {
     double over_target = 0;         // the fraction of receivers whose estimate is still over E
     double mean_samples = 0;
 };
-// The rounds' prefixes for these options: {256, 1024, …, max_samples} (at least max_samples);
-// one round, {bake_set_size}, without target_error.
-std::vector<std::uint32_t> refine_rounds(const BakeOptions& options);
 
 // bake() of every vertex of `mesh` on a worker thread, started by the constructor, into
 // chunks() — or, when `device_sink` is given (a DeviceSink over a mapped OpenGL buffer, for the
@@ -113,7 +111,7 @@ public:
     double seconds() const { return m_seconds.load(); }  // wall time of the bake once done
     // Rays cast by every round once done (BakeSession::rays_cast: each ray once).
     std::uint64_t rays_cast() const { return m_rays.load(); }
-    // An error-bounded bake's last finished round (refine_rounds; round = 0 before the first).
+    // An error-bounded bake's last finished round (error_bound_rounds; round = 0 before the first).
     RefineRound refine_round() const;
     // Every round finished so far, oldest first.
     std::vector<RefineRound> refine_history() const;

@@ -25,8 +25,17 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace shprt {
+
+// The prefixes an error-bounded bake goes through in rounds (the viewer's progressive bake,
+// BakeSession::bake_in_rounds): {256, 1024, …} quadrupling while under the set's max_samples,
+// then max_samples; {bake_set_size} without target_error.
+std::vector<std::uint32_t> error_bound_rounds(const BakeOptions& options);
+// The memory a session's rounds keep for `receivers` receivers (the sums, prefixes, estimates and
+// outcomes of every row), beside what bake() itself needs.
+std::uint64_t round_rows_bytes(std::size_t receivers, const BakeOptions& options);
 
 class BakeSession {
 public:
@@ -53,6 +62,17 @@ public:
     // its sums: only the new segments are traced. The rows are bake()'s with max_samples = cap,
     // bit for bit. Error(invalid_argument) for another cap or a session without a bound.
     TransferInfo bake_to(std::uint32_t cap, TransferSink& sink, ProgressFn progress = {});
+
+    // An error-bounded session's whole bake in the rounds of error_bound_rounds, breadth first:
+    // each round takes every receiver still over the target to the round's prefix (bake_to,
+    // rows kept in the session), and the last hands every row and estimate to `sink`. The rows
+    // are bake()'s bits; what the order buys is the progress: after the first round every
+    // receiver has an estimate, and each round reports as its own stage ("bake", then
+    // "≤ 1024 samples", …, with the rounds left in ProgressInfo::then) with the estimated error
+    // of all receivers falling from round to round. A round with nothing left to trace is not
+    // reported. The stats are the rounds' together, the session's rows (round_rows_bytes) in the
+    // peak. Error(invalid_argument) where bake_to refuses, or after a bake_to.
+    TransferInfo bake_in_rounds(TransferSink& sink, ProgressFn progress = {});
 
     const BakeOptions& options() const;
     Device backend() const;  // resolved: cpu or cuda

@@ -13,4 +13,9 @@ std::string format_si(double value);
 // from an hour on; "?" for a negative or non-finite time.
 std::string format_duration(double seconds);
 
+// A fraction as a percentage to two significant digits, never in exponent form: "100" (1.0),
+// "68", "7.8", "0.71", "0.0012"; "< 0.001" below that, "?" for a negative or non-finite one.
+// The caller adds the " %".
+std::string format_percent(double fraction);
+
 }  // namespace shprt
