@@ -172,6 +172,7 @@ void run(const BakeArgs& args) {
     install_interrupt_handler();
     std::optional<ProgressBar> bar;
     request.options.progress = bar.emplace("bake").callback();
+    request.error_rounds = true;  // the bar shows each round's stage and error
     request.before_write = [&bar] {
         bar.reset();
         test_stop_point("write");

@@ -27,6 +27,20 @@ def test_progress_reports_on_the_calling_thread(box):
     assert all(a[0] <= b[0] for a, b in zip(calls, calls[1:]))
 
 
+def test_an_error_bounded_bake_reports_one_pass():
+    """The shprt program bakes target_error in rounds, each its own stage of the progress whose
+    counts start over (BakeRequest::error_rounds); progress(done, total) cannot tell the stages
+    apart, so shprt.bake reports one pass: done never falls, total is never 0."""
+    scene = shprt.load_scene("builtin:leaky_room")
+    calls = []
+    shprt.bake(scene, bands=4, target_error=0.01, max_samples=4096, threads=2,
+               progress=lambda done, total: calls.append((done, total)))
+    assert calls, "progress was never called"
+    assert all(total > 0 for _, total in calls)
+    assert all(a[0] <= b[0] for a, b in zip(calls, calls[1:]))
+    assert calls[-1][0] == calls[-1][1]
+
+
 def test_raising_in_progress_cancels_and_reraises(box):
     calls = []
 

@@ -257,13 +257,12 @@ BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
                       nullptr,
                       output.direct(),
                       r.probes ? &probes : nullptr};
-    // An error-bounded bake of every vertex into rows held for the file goes in rounds
-    // (BakeSession::bake_in_rounds: the same rows, and the progress shows the error falling), at
-    // the price of the rounds' rows beside them. Not a shard (its rounds would keep the whole
-    // set's rows), a stream (rows in memory are what it avoids), probes (baked with each pass)
-    // or the interreflected kind (a whole-domain stage of its own).
-    const bool rounds = options.target_error > 0 && !streamed(r) && !is_shard(r) && !r.probes &&
-                        !r.checkpoint && !kind_row(options.transfer).whole_domain;
+    // BakeRequest::error_rounds: not for a shard (its rounds would keep the whole set's rows), a
+    // stream (rows in memory are what it avoids), probes (baked with each pass) or the
+    // interreflected kind (a whole-domain stage of its own).
+    const bool rounds = r.error_rounds && options.target_error > 0 && !streamed(r) &&
+                        !is_shard(r) && !r.probes && !r.checkpoint &&
+                        !kind_row(options.transfer).whole_domain;
     out.estimated_bytes =
         estimate_bake_peak_bytes(mesh.triangle_count(), receivers.count, options, !streamed(r),
                                  bake_bounce_source_count(mesh, options)) +

@@ -240,9 +240,15 @@ TransferInfo BakeSession::bake_in_rounds(TransferSink& sink, ProgressFn progress
                 named.then = next;
                 return progress(named);
             };
-        // A report as the round starts: a display times the round's stage from here.
-        const char* unit = kind_row(s.options.transfer).traces_rays ? "rays" : "samples";
-        if (report && !report(ProgressInfo{"", 0, 0, unit}))
+        // A report as the round starts (a display times the round's stage from here), with the
+        // round's work as far as it is known: its receivers' new samples (a sphere set casts
+        // about half of them, those above the horizon). Never a total of 0: a caller divides.
+        const bool rays = kind_row(s.options.transfer).traces_rays;
+        std::uint64_t work = std::uint64_t(r == 0 ? s.receivers.count : s.still_over()) *
+                             std::uint64_t(caps[r] - s.last_cap);
+        if (rays && s.options.direction_frame != DirectionFrame::local) work /= 2;
+        if (report && !report(ProgressInfo{"", 0, std::max<std::uint64_t>(work, 1),
+                                           rays ? "rays" : "samples"}))
             fail(ErrorCode::cancelled, "bake cancelled before its round to {} samples", caps[r]);
         info = s.round(caps[r], last ? &sink : nullptr, std::move(report));
         add_stats(sum, info.stats);

@@ -99,12 +99,12 @@ TEST(BakeSession, InRoundsGivesOnePasssRowsWithTheErrorFallingRoundByRound) {
 
     struct Report {
         std::string stage;
-        std::uint64_t done;
+        std::uint64_t done, total;
         double p99, over;
     };
     std::vector<Report> reports;
     const ProgressFn record = [&](const ProgressInfo& p) {
-        reports.push_back({std::string(p.stage), p.done, p.error_p99, p.over_target});
+        reports.push_back({std::string(p.stage), p.done, p.total, p.error_p99, p.over_target});
         return true;
     };
     HostSink sink;
@@ -125,6 +125,7 @@ TEST(BakeSession, InRoundsGivesOnePasssRowsWithTheErrorFallingRoundByRound) {
     for (const Report& r : reports) {
         if (last.empty() || last.back().stage != r.stage) {
             EXPECT_EQ(r.done, 0u) << r.stage << ": a round's first report is its start";
+            EXPECT_GT(r.total, 0u) << r.stage << ": never a total of 0 (callers divide)";
             last.push_back(r);
         } else {
             last.back() = r;

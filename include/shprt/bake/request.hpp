@@ -122,6 +122,14 @@ struct BakeRequest {
     // Run across the ranks of an MPI job (dist/mpi_bake.hpp runs such a request); here it only
     // decides what cannot combine.
     bool distributed = false;
+    // An error-bounded bake of every vertex, its rows held for the output, goes breadth first in
+    // rounds (BakeSession::bake_in_rounds): each round is a stage of the progress ("bake",
+    // "≤ 1024 samples", …) whose estimated error falls from round to round, at the price of the
+    // rounds' rows in memory (round_rows_bytes). The same rows. For a display that shows the
+    // stages and the error (the `shprt` program's); a caller that sees only done and total would
+    // see them start over each round. Ignored (one pass) for a streamed output, a shard, probes,
+    // a checkpoint or interreflected transfer.
+    bool error_rounds = false;
     // Called once the output and the checkpoint are laid out, just before the bake starts.
     std::function<void()> before_bake;
     // Called once the bake is over and before the output is written (a shell ends its cancel
