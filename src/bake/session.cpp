@@ -113,7 +113,11 @@ BakeSession::BakeSession(const BakeJob& job, const BakeOptions& options)
         s.tracer = s.own_tracer.get();
         s.seconds_bvh = seconds_since(start);
     }
-    if (!s.whole_domain) s.tables = std::make_unique<detail::CpuBakeTables>(checked, *s.directions);
+    // The tables (the basis table is evaluated in parallel) on the bake's threads.
+    if (!s.whole_domain)
+        in_arena(checked.threads, [&] {
+            s.tables = std::make_unique<detail::CpuBakeTables>(checked, *s.directions);
+        });
 }
 
 BakeSession::~BakeSession() = default;

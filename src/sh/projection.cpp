@@ -6,6 +6,7 @@
 #include "shprt/sh/projection.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/parallel.hpp"
 #include "shprt/sh/basis.hpp"
 
 #include <array>
@@ -59,13 +60,17 @@ std::vector<float> basis_table(int K, const DirectionSet& set) {
     check_k(K, "basis_table");
     check_set(set, "basis_table");
     std::vector<float> table(set.size() * static_cast<std::size_t>(K));
-    std::vector<double> y(K);
-    for (std::size_t s = 0; s < set.size(); ++s) {
-        const Vec3d d = direction(set, s);
-        sh_eval_k(K, d.x, d.y, d.z, y.data());
-        float* row = table.data() + s * K;
-        for (int i = 0; i < K; ++i) row[i] = static_cast<float>(y[i]);
-    }
+    // Rows are independent (the same bits on any thread); a bake's is up to 16 384 × 1 024
+    // evaluations in double, which the bake's threads would otherwise wait for.
+    parallel_for(0, set.size(), 256, Split::automatic, [&](std::size_t first, std::size_t last) {
+        std::vector<double> y(K);
+        for (std::size_t s = first; s < last; ++s) {
+            const Vec3d d = direction(set, s);
+            sh_eval_k(K, d.x, d.y, d.z, y.data());
+            float* row = table.data() + s * K;
+            for (int i = 0; i < K; ++i) row[i] = static_cast<float>(y[i]);
+        }
+    });
     return table;
 }
 

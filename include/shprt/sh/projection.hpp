@@ -6,7 +6,8 @@
 // with a DirectionSet (sampler.hpp): Monte Carlo (the paper's scheme: weights 4π/S, the basis
 // table Y[S×K] evaluated once and shared by every function projected) or exact quadrature
 // (Gauss–Legendre: exact when f·y_i is band-limited, e.g. quadrature_set_for_bands).
-// K is any basis size 1 ≤ K ≤ kMaxBands², not only a square. Host code; single-threaded.
+// K is any basis size 1 ≤ K ≤ kMaxBands², not only a square. Host code; single-threaded but for
+// the float basis_table, whose rows run on the calling arena's threads (core/parallel.hpp).
 #pragma once
 
 #include "shprt/core/vec.hpp"
@@ -20,7 +21,8 @@ namespace shprt {
 // The paper's basis table: Y[s·K + i] = y_i(d_s), row-major S×K. Each direction is taken to
 // double, renormalised (float directions are unit only to ~6e-8), evaluated with sh_eval_k in
 // double and rounded to float. Throws Error(invalid_argument) when K is outside
-// [1, kMaxBands²] or the set is malformed (dirs.size() ≠ 3·weights.size()).
+// [1, kMaxBands²] or the set is malformed (dirs.size() ≠ 3·weights.size()). The rows are
+// evaluated in parallel on the calling arena; the bits do not depend on the threads.
 std::vector<float> basis_table(int K, const DirectionSet& set);
 // Double table Y[S×K] of a double set (directions used as given, assumed unit).
 std::vector<double> basis_table(int K, const DirectionSetD& set);
