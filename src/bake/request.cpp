@@ -56,11 +56,17 @@ WriteOptions with_metadata(WriteOptions options, const nlohmann::json& kept,
     return options;
 }
 
+// The memory limit a request's estimates are held against: --max-memory, else the machine's
+// available memory (0: none readable).
+std::uint64_t memory_limit(const BakeRequest& r) {
+    return r.max_memory > 0 ? r.max_memory : available_memory_bytes();
+}
+
 // The memory limit the request's estimate `need` is held against (0: none readable), with the
 // one-line refusal naming both.
 std::uint64_t check_memory(const BakeRequest& r, std::uint64_t need, const char* what,
                            const char* advice) {
-    const std::uint64_t limit = r.max_memory > 0 ? r.max_memory : available_memory_bytes();
+    const std::uint64_t limit = memory_limit(r);
     if (limit == 0) return 0;
     SHPRT_CHECK(need <= limit, out_of_memory,
                 "{} needs about {} of memory (estimated: {}), more than {}; {}", "this bake",
@@ -257,17 +263,22 @@ BakeResult run_vertices(const BakeRequest& r, const Mesh& mesh) {
                       nullptr,
                       output.direct(),
                       r.probes ? &probes : nullptr};
-    // BakeRequest::error_rounds: not for a shard (its rounds would keep the whole set's rows), a
-    // stream (rows in memory are what it avoids), probes (baked with each pass) or the
-    // interreflected kind (a whole-domain stage of its own).
-    const bool rounds = r.error_rounds && options.target_error > 0 && !streamed(r) &&
-                        !is_shard(r) && !r.probes && !r.checkpoint &&
-                        !kind_row(options.transfer).whole_domain;
     out.estimated_bytes =
         estimate_bake_peak_bytes(mesh.triangle_count(), receivers.count, options, !streamed(r),
                                  bake_bounce_source_count(mesh, options)) +
-        probe_bytes(probes, mesh, options) +
-        (rounds ? round_rows_bytes(receivers.count, options) : 0);
+        probe_bytes(probes, mesh, options);
+    // BakeRequest::error_rounds: not for a shard (its rounds would keep the whole set's rows), a
+    // stream (rows in memory are what it avoids), probes (baked with each pass) or the
+    // interreflected kind (a whole-domain stage of its own). Nor where the rounds' rows would not
+    // fit beside the rest: they are for the display, never a reason to refuse a bake that fits
+    // in one pass.
+    const std::uint64_t round_bytes = round_rows_bytes(receivers.count, options);
+    const std::uint64_t limit = memory_limit(r);
+    const bool rounds = r.error_rounds && options.target_error > 0 && !streamed(r) &&
+                        !is_shard(r) && !r.probes && !r.checkpoint &&
+                        !kind_row(options.transfer).whole_domain &&
+                        (limit == 0 || out.estimated_bytes + round_bytes <= limit);
+    if (rounds) out.estimated_bytes += round_bytes;
     // An interreflected bake counts its operator against the limit and spills the rest beside
     // the output.
     options.memory_budget =

@@ -1,5 +1,7 @@
 // `shprt bake` run as a program: a bake of a built-in scene writes a readable file; bad options
 // give a one-line error, a non-zero exit code and leave nothing behind.
+#include "shprt/bake/bake.hpp"
+#include "shprt/bake/session.hpp"
 #include "shprt/config.hpp"
 #include "shprt/io/shprt_file.hpp"
 #include "shprt/scene/builtin.hpp"
@@ -160,6 +162,40 @@ TEST_F(CliBake, ErrorBoundedBakeShowsTheErrorFallingRoundByRound) {
     EXPECT_EQ(a.transfer.receiver_samples, b.transfer.receiver_samples);
     EXPECT_EQ(a.transfer.receiver_error, b.transfer.receiver_error);
     EXPECT_EQ(a.transfer.samples, 4096);
+}
+
+// The rounds' rows are for the display: where they would not fit beside the rest of the bake under
+// --max-memory, the bake goes in one pass (the same file) instead of refusing.
+TEST_F(CliBake, ErrorBoundedBakeGoesInOnePassWhereTheRoundsWouldNotFit) {
+    const shprt::Mesh mesh = shprt::make_builtin("leaky_room");
+    shprt::BakeOptions o;
+    o.K = 64;
+    o.threads = 2;
+    o.target_error = 0.01;
+    o.max_samples = 4096;
+    const std::uint64_t rest =
+        shprt::estimate_bake_peak_bytes(mesh.triangle_count(), mesh.vertex_count(), o, true);
+    const std::uint64_t rounds = shprt::round_rows_bytes(mesh.vertex_count(), o);
+    const std::string bake =
+        "bake builtin:leaky_room --coeffs 64 --threads 2 --target-error 0.01 --max-samples 4096 "
+        "--max-memory ";
+    const RunResult one =
+        shprt(bake + std::to_string(rest + rounds / 2) + " -o '" + out("one.shprt") + "'");
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    EXPECT_NE(one.err.find("shprt: bake: 100%"), std::string::npos) << one.err;
+    EXPECT_EQ(one.err.find("samples: "), std::string::npos) << "one pass: " << one.err;
+    const RunResult in_rounds =
+        shprt(bake + std::to_string(rest + rounds) + " -o '" + out("rounds.shprt") + "'");
+    ASSERT_EQ(in_rounds.exit_code, 0) << in_rounds.err;
+    EXPECT_NE(in_rounds.err.find("shprt: bake: ≤ 1024 samples: 100%"), std::string::npos)
+        << in_rounds.err;
+    EXPECT_EQ(shprt::read_shprt(out("one.shprt")).transfer.coeffs,
+              shprt::read_shprt(out("rounds.shprt")).transfer.coeffs);
+    const RunResult refused =
+        shprt(bake + std::to_string(rest - 1) + " -o '" + out("no.shprt") + "'");
+    EXPECT_NE(refused.exit_code, 0);
+    EXPECT_NE(refused.err.find("needs about"), std::string::npos) << refused.err;
+    EXPECT_FALSE(fs::exists(out("no.shprt")));
 }
 
 // One log level (core/log.hpp) decides both the messages and the progress, and is taken before
