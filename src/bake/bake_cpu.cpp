@@ -271,8 +271,7 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
         for (std::size_t c = 0; c < chunk_count; ++c) {
             const std::size_t first = (first_chunk + c) * chunk;
             const std::size_t end = std::min(first + chunk, rx.total);
-            for (std::size_t j = first; j < end; ++j)
-                busy[c] += kept.samples[j] == 0 || (kept.more[j] != 0 && kept.samples[j] < cap);
+            for (std::size_t j = first; j < end; ++j) busy[c] += kept.goes_on(j, cap) ? 1 : 0;
         }
         std::stable_sort(order.begin(), order.end(),
                          [&](std::size_t a, std::size_t b) { return busy[a] > busy[b]; });

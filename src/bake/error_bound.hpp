@@ -86,6 +86,11 @@ struct BoundRows {
     std::uint32_t* visible = nullptr;  // rays that reached the sky so far
     std::uint32_t* blocked = nullptr;  // rays that hit something so far
     std::uint8_t* more = nullptr;      // 1: the last estimate asked for more samples
+    // Whether row j has more to trace in a pass to prefixes of at most `cap`: never baked, or
+    // stopped over the target at a smaller cap.
+    bool goes_on(std::size_t j, std::size_t cap) const {
+        return samples[j] == 0 || (more[j] != 0 && samples[j] < cap);
+    }
 };
 
 // One worker's buffers, reused across chunks.

@@ -49,7 +49,12 @@ struct BakeSession::Impl {
     TransferInfo round(std::uint32_t cap, TransferSink* sink, ProgressFn progress);
     // The receivers whose estimate is still over the target at the last cap, below the set's
     // largest prefix: what the next round would trace.
-    std::size_t still_over() const;
+    std::size_t still_over();
+    // bake_to's rows, as the passes take them.
+    detail::BoundRows rows() {
+        return {acc.get(),      samples.data(), error.data(),
+                visible.data(), blocked.data(), more.data()};
+    }
 };
 
 std::vector<std::uint32_t> error_bound_rounds(const BakeOptions& options) {
@@ -199,19 +204,16 @@ TransferInfo BakeSession::Impl::round(std::uint32_t cap, TransferSink* sink, Pro
     job.tracer = tracer;
     BakeOptions o = options;
     if (progress) o.progress = std::move(progress);
-    TransferInfo info =
-        run(job, o,
-            {acc.get(), samples.data(), error.data(), visible.data(), blocked.data(), more.data()},
-            cap);
+    TransferInfo info = run(job, o, rows(), cap);
     info.samples = static_cast<int>(cap);  // as bake() with max_samples = cap records
     return info;
 }
 
-std::size_t BakeSession::Impl::still_over() const {
-    if (last_cap >= options.samples) return 0;
+std::size_t BakeSession::Impl::still_over() {
+    const detail::BoundRows kept = rows();
     std::size_t over = 0;
     for (std::size_t j = receivers.first; j < receivers.end(); ++j)
-        over += more[j] != 0 && samples[j] == last_cap ? 1 : 0;
+        over += kept.goes_on(j, options.samples) ? 1 : 0;
     return over;
 }
 
