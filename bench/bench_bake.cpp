@@ -1,7 +1,8 @@
 // End-to-end CPU bake of builtin:room: time split (load, BVH, tracing, projection, write) for
 // K = 32, 48, 64, 128, 256 and S = 1024, 4096, for the paper's uniform set on the sphere and for
 // the default local Sobol set (--directions), and two ratios measured in the same run:
-//   * tracing rate ÷ a plain Embree loop casting exactly the same rays (same origins, the same
+//   * tracing rate ÷ a plain Embree loop casting exactly the same rays at the same triangles
+//     (merge_coplanar's, as the tracer; same origins, the same
 //     above-horizon directions, one rtcOccluded1M stream call per vertex, same threads, same
 //     chunks) and nothing else, in the fastest of two orders: the set's own and the coherent
 //     order of sh/direction_order.hpp (both are reported: Embree's rate depends on the order);

@@ -7,7 +7,8 @@
 // of each set of twins (receivers with the same position and normal; bake/stages.hpp). A local
 // set (DirectionSet::frame) is turned into each vertex's tangent frame first (sh/local_frame.hpp),
 // as the bake turns it; every one of its directions is above the horizon and its weights hold the
-// cosine. (bench_interreflect measured its closest hits against it too, until the interreflected
+// cosine. It traces the triangles the bake's tracer traces for visibility, merge_coplanar's.
+// (bench_interreflect measured its closest hits against it too, until the interreflected
 // bake's T_0 became the direct bake itself.)
 #pragma once
 
@@ -15,6 +16,7 @@
 #include "shprt/scene/mesh.hpp"
 #include "shprt/sh/local_frame.hpp"
 #include "shprt/sh/sampler.hpp"
+#include "shprt/trace/coplanar_merge.hpp"
 #include "shprt/trace/ray.hpp"
 #include "trace/embree_common.hpp"
 
@@ -35,15 +37,18 @@ namespace shprt::bench {
 class PlainEmbree {
 public:
     explicit PlainEmbree(const Mesh& mesh) {
-        // The tracer's device configuration and build quality, for a like-for-like BVH.
+        // The tracer's device configuration, build quality and triangles (its visibility traces
+        // merge_coplanar's: the same points as the mesh's, fewer triangles), for a like-for-like
+        // BVH.
+        const MergedTriangles merged = merge_coplanar(mesh);
         m_device = rtcNewDevice(trace_detail::embree_device_config());
         RTCGeometry g = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
         auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, mesh.positions.size()));
+            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, merged.positions.size()));
         auto* i = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, mesh.triangles.size()));
-        std::memcpy(v, mesh.positions.data(), mesh.positions.size() * 12);
-        std::memcpy(i, mesh.triangles.data(), mesh.triangles.size() * 12);
+            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, merged.triangles.size()));
+        std::memcpy(v, merged.positions.data(), merged.positions.size() * 12);
+        std::memcpy(i, merged.triangles.data(), merged.triangles.size() * 12);
         rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
         rtcCommitGeometry(g);
         m_scene = rtcNewScene(m_device);

@@ -289,7 +289,16 @@ EmbreeTracerOptions bake_tracer_options(const BakeJob& job, const BakeOptions& o
     // whole bake's scene.
     const double rays = double(job.receivers.total) * double(samples) *
                         (options.direction_frame == DirectionFrame::local ? 1.0 : 0.5);
-    return EmbreeTracerOptions::for_rays(rays, job.occluders->triangle_count());
+    EmbreeTracerOptions tracer =
+        EmbreeTracerOptions::for_rays(rays, job.occluders->triangle_count());
+    // Interreflected transfer casts closest-hit rays only (its direct part comes from their hits),
+    // and so do probes (bake/probe_bake.hpp); the receivers of the other kinds cast visibility
+    // rays only. Each bake gets the scenes it traces.
+    const bool hits = kind_row(options.transfer).interreflection || job.probes != nullptr;
+    const bool visibility = !kind_row(options.transfer).interreflection;
+    tracer.closest_hits = hits;
+    tracer.merge_coplanar = tracer.merge_coplanar && visibility;
+    return tracer;
 }
 
 std::size_t auto_chunk_receivers(std::size_t receivers, std::size_t samples) {

@@ -20,6 +20,7 @@
 #include "shprt/core/timer.hpp"
 #include "shprt/sh/projection.hpp"
 #include "shprt/trace/bvh_build.hpp"
+#include "shprt/trace/coplanar_merge.hpp"
 #include "shprt/trace/tracer.hpp"
 #include "shprt/transfer/kind_table.hpp"
 
@@ -173,13 +174,19 @@ namespace {
 // The occluders of a bake that casts rays: the session's kept ones, else built and uploaded now
 // (and kept, when the session asks). `seconds_bvh`: the host build's time, 0 when kept.
 std::shared_ptr<GpuOccluders> gpu_occluders(const BakeJob& job, const BakeOptions& options,
+                                            std::size_t samples,
                                             std::shared_ptr<GpuOccluders>* kept,
                                             double& seconds_bvh) {
     seconds_bvh = 0;
     if (kept && *kept) return *kept;
     const auto start = Clock::now();
     auto made = std::make_shared<GpuOccluders>();
-    made->bvh = build_bvh(*job.occluders, options.threads);
+    // Visibility only: the merged coplanar triangles where the bake casts enough rays to pay for
+    // the merge, as the CPU's tracer (bake_tracer_options).
+    if (bake_tracer_options(job, options, samples).merge_coplanar)
+        made->bvh = build_bvh(merged_mesh(*job.occluders), options.threads);
+    else
+        made->bvh = build_bvh(*job.occluders, options.threads);
     seconds_bvh = seconds_since(start);
     made->device = cuda::upload_occluders(options.device_index, made->bvh.view());
     if (kept) *kept = made;
@@ -208,7 +215,7 @@ TransferInfo bake_gpu_bounded(const BakeJob& job, const BakeOptions& options,
     // in a session, every pass).
     double seconds_bvh = 0;
     const std::shared_ptr<GpuOccluders> occluders =
-        shadowed ? gpu_occluders(job, options, kept, seconds_bvh) : nullptr;
+        shadowed ? gpu_occluders(job, options, S, kept, seconds_bvh) : nullptr;
     const std::vector<float> Y = basis_table(KL, directions);
     const DirectionTable table =
         make_direction_table(directions, DirectionFrame::local, kTargetFirstSamples);
@@ -347,7 +354,7 @@ TransferInfo bake_gpu(const BakeJob& job, const BakeOptions& options,
     const int FL = glossy ? KL * (KL + 1) / 2 : KL;
     double seconds_bvh = 0;  // unshadowed transfer casts no rays: no BVH
     const std::shared_ptr<GpuOccluders> occluders =
-        shadowed ? gpu_occluders(job, options, kept, seconds_bvh) : nullptr;
+        shadowed ? gpu_occluders(job, options, S, kept, seconds_bvh) : nullptr;
     std::vector<float> Y = basis_table(KL, directions);
     if (glossy) Y = pair_product_table(Y, S, KL);
 

@@ -289,7 +289,10 @@ void bake_job_probes(const BakeJob& job, const BakeOptions& options, const Direc
         local ? make_direction_set(options.sampler, options.seed, options.samples) : DirectionSet{};
     std::unique_ptr<Tracer> own;
     if (!tracer && kind_row(options.transfer).traces_rays) {
-        in_arena(options.threads, [&] { own = make_embree_tracer(*job.occluders); });
+        EmbreeTracerOptions closest_hits_only;  // a probe's rays find their closest hits
+        closest_hits_only.merge_coplanar = false;
+        in_arena(options.threads,
+                 [&] { own = make_embree_tracer(*job.occluders, closest_hits_only); });
         tracer = own.get();
     }
     const std::uint64_t rays = bake_probe_grid(*job.probes, *job.occluders, options,

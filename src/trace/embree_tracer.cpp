@@ -1,14 +1,19 @@
 // The Embree 3 tracer (I. Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray
 // Tracing", SIGGRAPH 2014). Visibility goes through the ray-stream API (rtcOccluded1M, one call
 // per batch of rays sharing an origin, incoherent flag): about twice the single-ray rate on the
-// room on this machine. Closest hit uses rtcIntersect1.
+// room on this machine, and it traces merge_coplanar's triangles (coplanar_merge.hpp), which
+// cover the same points with fewer triangles. Closest hits use the mesh's own triangles
+// (rtcIntersect1, rtcIntersect1M), whose indices and barycentrics the caller interpolates with.
 #include "shprt/core/error.hpp"
+#include "shprt/trace/coplanar_merge.hpp"
 #include "shprt/trace/tracer.hpp"
 #include "trace/embree_common.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 namespace shprt {
 
@@ -50,46 +55,14 @@ class EmbreeTracer final : public Tracer {
 public:
     EmbreeTracer(const Mesh& mesh, const EmbreeTracerOptions& options) {
         trace_detail::validate_mesh(mesh);
-        const RTCDevice device = m_device.get();
         const RTCBuildQuality quality =
             options.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
-        const GeometryPtr geometry(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
-        m_device.check("creating the Embree triangle geometry");
-        // Embree-owned buffers (it pads them as its SIMD loads need); the mesh can go away.
-        auto* vertices = static_cast<float*>(
-            rtcSetNewGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                    3 * sizeof(float), mesh.positions.size()));
-        auto* indices = static_cast<std::uint32_t*>(
-            rtcSetNewGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                    3 * sizeof(std::uint32_t), mesh.triangles.size()));
-        m_device.check("allocating Embree geometry buffers");
-        SHPRT_CHECK(vertices && indices, out_of_memory,
-                    "allocating Embree geometry buffers failed");
-        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-            vertices[3 * i + 0] = mesh.positions[i].x;
-            vertices[3 * i + 1] = mesh.positions[i].y;
-            vertices[3 * i + 2] = mesh.positions[i].z;
+        if (options.closest_hits || !options.merge_coplanar)
+            m_scene = build(mesh.positions, mesh.triangles, quality);
+        if (options.merge_coplanar) {
+            const MergedTriangles merged = merge_coplanar(mesh);
+            m_occlusion_scene = build(merged.positions, merged.triangles, quality);
         }
-        for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-            for (int k = 0; k < 3; ++k) indices[3 * t + k] = mesh.triangles[t][k];
-        rtcSetGeometryBuildQuality(geometry.get(), quality);
-        {
-            const tsan::ForkJoinScope build(m_device.monitor());
-            rtcCommitGeometry(geometry.get());
-        }
-
-        m_scene.reset(rtcNewScene(device));
-        m_device.check("creating the Embree scene");
-        SHPRT_CHECK(m_scene != nullptr, out_of_memory, "creating the Embree scene failed");
-        rtcSetSceneBuildQuality(m_scene.get(), quality);
-        rtcAttachGeometryByID(m_scene.get(), geometry.get(), 0);
-        m_device.check("attaching the mesh to the Embree scene");
-        {
-            FtzDazScope ftz;
-            const tsan::ForkJoinScope build(m_device.monitor());
-            rtcCommitScene(m_scene.get());
-        }
-        m_device.check("building the Embree scene");
     }
 
     void occluded(Vec3f origin, const Vec3f* dirs, int count, float tnear, float tfar,
@@ -104,7 +77,8 @@ public:
             for (int i = 0; i < n; ++i) {
                 set_ray(rays[i], origin, dirs[base + i], tnear, tfar, i);
             }
-            rtcOccluded1M(m_scene.get(), &context, rays, static_cast<unsigned>(n), sizeof(RTCRay));
+            rtcOccluded1M(occlusion_scene(), &context, rays, static_cast<unsigned>(n),
+                          sizeof(RTCRay));
             // Embree marks an occluded ray by setting tfar to -inf.
             for (int i = 0; i < n; ++i) occluded[base + i] = rays[i].tfar < 0.0f ? 1 : 0;
         }
@@ -128,7 +102,7 @@ public:
                 rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
             }
-            rtcIntersect1M(m_scene.get(), &context, rays, static_cast<unsigned>(n),
+            rtcIntersect1M(hit_scene(), &context, rays, static_cast<unsigned>(n),
                            sizeof(RTCRayHit));
             for (int i = 0; i < n; ++i) {
                 const RTCRayHit& rh = rays[i];
@@ -148,7 +122,7 @@ public:
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(m_scene.get(), &context, &rh);
+        rtcIntersect1(hit_scene(), &context, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return Hit{false, kNoTriangle, tfar, 0, 0};
         // Embree's barycentrics use the same convention: p = (1-u-v)·v0 + u·v1 + v·v2.
         return Hit{true, rh.hit.primID, rh.ray.tfar, rh.hit.u, rh.hit.v};
@@ -157,8 +131,63 @@ public:
     const char* name() const override { return "embree"; }
 
 private:
+    // An Embree scene of one triangle geometry, copied into Embree-owned buffers (padded as its
+    // SIMD loads need), so the caller's arrays can go away.
+    ScenePtr build(const std::vector<Vec3f>& positions,
+                   const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                   RTCBuildQuality quality) {
+        const RTCDevice device = m_device.get();
+        const GeometryPtr geometry(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
+        m_device.check("creating the Embree triangle geometry");
+        auto* vertices = static_cast<float*>(
+            rtcSetNewGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                    3 * sizeof(float), positions.size()));
+        auto* indices = static_cast<std::uint32_t*>(
+            rtcSetNewGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(std::uint32_t), triangles.size()));
+        m_device.check("allocating Embree geometry buffers");
+        SHPRT_CHECK(vertices && indices, out_of_memory,
+                    "allocating Embree geometry buffers failed");
+        for (std::size_t i = 0; i < positions.size(); ++i) {
+            vertices[3 * i + 0] = positions[i].x;
+            vertices[3 * i + 1] = positions[i].y;
+            vertices[3 * i + 2] = positions[i].z;
+        }
+        for (std::size_t t = 0; t < triangles.size(); ++t)
+            for (int k = 0; k < 3; ++k) indices[3 * t + k] = triangles[t][k];
+        rtcSetGeometryBuildQuality(geometry.get(), quality);
+        {
+            const tsan::ForkJoinScope build(m_device.monitor());
+            rtcCommitGeometry(geometry.get());
+        }
+        ScenePtr scene(rtcNewScene(device));
+        m_device.check("creating the Embree scene");
+        SHPRT_CHECK(scene != nullptr, out_of_memory, "creating the Embree scene failed");
+        rtcSetSceneBuildQuality(scene.get(), quality);
+        rtcAttachGeometryByID(scene.get(), geometry.get(), 0);
+        m_device.check("attaching the mesh to the Embree scene");
+        {
+            FtzDazScope ftz;
+            const tsan::ForkJoinScope build(m_device.monitor());
+            rtcCommitScene(scene.get());
+        }
+        m_device.check("building the Embree scene");
+        return scene;
+    }
+
+    RTCScene occlusion_scene() const {
+        return m_occlusion_scene ? m_occlusion_scene.get() : m_scene.get();
+    }
+    RTCScene hit_scene() const {
+        SHPRT_CHECK(m_scene != nullptr, invalid_argument,
+                    "this Embree tracer was built for visibility only "
+                    "(EmbreeTracerOptions::closest_hits = false)");
+        return m_scene.get();
+    }
+
     EmbreeDevice m_device;  // declared first: released last
-    ScenePtr m_scene;
+    ScenePtr m_scene;       // the mesh's own triangles: closest hits (and visibility, unmerged)
+    ScenePtr m_occlusion_scene;  // merge_coplanar's triangles: visibility
 };
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "shprt/core/error.hpp"
 #include "shprt/scene/builtin.hpp"
 #include "shprt/sh/sampler.hpp"
+#include "shprt/trace/coplanar_merge.hpp"
 #include "shprt/trace/tracer.hpp"
 
 #include <gtest/gtest.h>
@@ -233,9 +234,16 @@ TEST(BakeStatsTest, TimeSplitRaysAndMemory) {
         << "the default local set: every direction above the horizon, each traced once, and "
            "twins copied";
     const std::uint64_t output_bytes = room().vertex_count() * 48 * sizeof(float);
-    // The output and the BVH (Embree's allocations, as the tracer reports them) are counted.
-    const std::uint64_t bvh_bytes = make_embree_tracer(room())->memory_bytes();
-    EXPECT_GT(bvh_bytes, 20006u * 24u) << "Embree holds at least its vertex and index buffers";
+    // The output and the BVH (Embree's allocations, as the tracer reports them) are counted: the
+    // scene this bake traces, its merged coplanar triangles (visibility only).
+    const Mesh& mesh = room();
+    const BakeJob job{&mesh, vertex_receivers(mesh), nullptr, nullptr, nullptr, nullptr};
+    const EmbreeTracerOptions traced_scene = bake_tracer_options(job, options, 512);
+    EXPECT_TRUE(traced_scene.merge_coplanar);
+    EXPECT_FALSE(traced_scene.closest_hits);
+    const std::uint64_t bvh_bytes = make_embree_tracer(mesh, traced_scene)->memory_bytes();
+    EXPECT_GT(bvh_bytes, merge_coplanar(mesh).triangles.size() * 24u)
+        << "Embree holds at least its vertex and index buffers";
     EXPECT_GE(s.peak_bytes_host, output_bytes + bvh_bytes);
     // O(V·K + BVH + chunk·S per thread): never a V×S buffer.
     EXPECT_LT(s.peak_bytes_host, output_bytes + bvh_bytes + 8u * (1u << 20));

@@ -2,6 +2,7 @@
 // bits for every receiver set and output — in memory, in a file, streamed, sharded, resumed from
 // a checkpoint of a cancelled bake — and refusing a texel bake past its memory limit before
 // rasterising it.
+#include "shprt/bake/probe_bake.hpp"
 #include "shprt/bake/request.hpp"
 #include "shprt/bake/texels.hpp"
 #include "shprt/core/error.hpp"
@@ -245,6 +246,36 @@ TEST(BakeTracerOptions, ChosenForTheWholeBakeSoShardsTraceTheSameScene) {
     ASSERT_EQ(part.coeffs.size(), 400 * row);
     EXPECT_TRUE(std::equal(part.coeffs.begin(), part.coeffs.end(),
                            all_rows.coeffs.begin() + std::ptrdiff_t(300 * row)));
+}
+
+// Each bake builds the scenes it traces: visibility on merged coplanar triangles where it casts
+// enough rays to pay for the merge, the mesh's own triangles where it needs closest hits
+// (interreflected transfer, probes).
+TEST(BakeTracerOptions, EachBakeGetsTheScenesItTraces) {
+    const Mesh mesh = make_builtin("box_on_plane");  // 2 208 triangles, 1 214 vertices
+    BakeOptions options;
+    options.K = 9;
+    options.direction_frame = DirectionFrame::local;
+    const BakeJob direct{&mesh, vertex_receivers(mesh), nullptr, nullptr, nullptr, nullptr};
+    EmbreeTracerOptions o = bake_tracer_options(direct, options, 512);  // 622 k rays ≥ 442 k
+    EXPECT_TRUE(o.merge_coplanar);
+    EXPECT_FALSE(o.closest_hits);
+    o = bake_tracer_options(direct, options, 256);  // 311 k rays: the merge would not pay
+    EXPECT_FALSE(o.merge_coplanar);
+    EXPECT_FALSE(o.closest_hits);
+
+    options.transfer = TransferKind::interreflected;
+    o = bake_tracer_options(direct, options, 512);
+    EXPECT_FALSE(o.merge_coplanar) << "its rays are all closest hits";
+    EXPECT_TRUE(o.closest_hits);
+
+    options.transfer = TransferKind::shadowed;
+    ProbeGrid grid;
+    BakeJob with_probes = direct;
+    with_probes.probes = &grid;
+    o = bake_tracer_options(with_probes, options, 512);
+    EXPECT_TRUE(o.merge_coplanar) << "the receivers' visibility";
+    EXPECT_TRUE(o.closest_hits) << "the probes' closest hits";
 }
 
 }  // namespace

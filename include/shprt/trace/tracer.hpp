@@ -87,12 +87,29 @@ struct EmbreeTracerOptions {
     // 0.45 µs a triangle) against 2 % of the rays' (about 0.47 ns a ray), both measured on the
     // room.
     static constexpr double kHighQualityRaysPerTriangle = 1000.0;
+    // Merged triangles where `rays` ≥ kMergeRaysPerTriangle × `triangles`: the merge's cost (0.3
+    // to 0.7 µs a triangle on one thread, whether or not anything merges) against what it saves
+    // on the room (7.5 ns of wall time a ray on two threads), both measured with
+    // bench_coplanar_merge; with more threads a ray saves less wall time, hence the margin.
+    static constexpr double kMergeRaysPerTriangle = 200.0;
     static EmbreeTracerOptions for_rays(double rays, std::size_t triangles) {
-        return EmbreeTracerOptions{rays >= kHighQualityRaysPerTriangle * double(triangles)};
+        EmbreeTracerOptions o;
+        o.high_quality = rays >= kHighQualityRaysPerTriangle * double(triangles);
+        o.merge_coplanar = rays >= kMergeRaysPerTriangle * double(triangles);
+        return o;
     }
+    // Visibility (occluded) traces merge_coplanar's triangles (coplanar_merge.hpp): the same
+    // points, with coplanar neighbours merged; 1.7x the rays per second on the room, the same
+    // rows to the bit (bench/RESULTS.md, "Tracing merged coplanar triangles"). false: the mesh's
+    // own.
+    bool merge_coplanar = true;
+    // Build the mesh's own triangles for intersect and closest_hits. A tracer for visibility only
+    // (a direct bake) sets false and saves that build; intersect then throws.
+    bool closest_hits = true;
 };
 
-// Builds an Embree scene over mesh.triangles (copied; the mesh may be freed afterwards).
+// Builds an Embree scene over mesh.triangles (copied; the mesh may be freed afterwards), and one
+// over their coplanar merge for visibility (see EmbreeTracerOptions).
 // Throws shprt::Error(invalid_argument) naming mesh.source for a mesh with no triangles, an
 // index out of range, a non-finite position, or only zero-area triangles; Embree's own errors
 // come back as shprt::Error with Embree's message.
