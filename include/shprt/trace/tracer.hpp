@@ -81,7 +81,8 @@ struct EmbreeTracerOptions {
     // triangle room: in a random ray order the same tracing rate (within 1 %), in the bake's
     // coherent order 1-3 % faster; HIGH builds 3-7× slower (12 against 3.5 ms). So MEDIUM is the
     // default, and a bake asks for HIGH when it casts enough rays to pay for it
-    // (for_rays); see bench/RESULTS.md ("Tracing", "Coherent ray order").
+    // (for_rays); see bench/RESULTS.md ("Tracing", "Coherent ray order"). It applies to the
+    // mesh's own triangles: merged ones (below) always build MEDIUM, measured faster on them.
     bool high_quality = false;
     // HIGH where `rays` ≥ kHighQualityRaysPerTriangle × `triangles`: the build's extra cost (about
     // 0.45 µs a triangle) against 2 % of the rays' (about 0.47 ns a ray), both measured on the
