@@ -88,7 +88,7 @@ TEST(BakeSession, PassesOverRangesAreTheWholeBakesRows) {
 // The CLI's error-bounded bake (bake_in_rounds): breadth first, so that after the first round
 // every receiver has an estimate and each round's stage reports the estimated error of all of
 // them, falling; the rows, estimates and rays are one pass's, bit for bit.
-TEST(BakeSession, InRoundsGivesOnePasssRowsWithTheErrorFallingRoundByRound) {
+TEST(BakeSession, InRoundsGivesOnePassRowsWithTheErrorFallingRoundByRound) {
     const Mesh mesh = make_builtin("leaky_room");
     BakeOptions options = bounded_options(DirectionFrame::local);
     options.max_samples = 4096;  // rounds of 256, 1024 and 4096 samples
