@@ -3,6 +3,7 @@
 
 #include "bake/bake_internal.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/memory.hpp"
 #include "shprt/core/parallel.hpp"
 #include "shprt/core/timer.hpp"
 #include "shprt/trace/tracer.hpp"
@@ -189,6 +190,7 @@ TransferInfo BakeSession::Impl::round(std::uint32_t cap, TransferSink* sink, Pro
     if (samples.empty()) {
         const std::size_t total = receivers.total;
         acc.reset(new float[total * std::size_t(tables->KL)]);
+        advise_huge_pages(acc.get(), total * std::size_t(tables->KL) * sizeof(float));
         samples.assign(total, 0);
         error.assign(total, 0.0f);
         visible.assign(total, 0);

@@ -6,6 +6,7 @@
 #include "shprt/sh/projection.hpp"
 
 #include "shprt/core/error.hpp"
+#include "shprt/core/memory.hpp"
 #include "shprt/core/parallel.hpp"
 #include "shprt/sh/basis.hpp"
 
@@ -59,7 +60,8 @@ std::vector<double> project_impl(const std::function<double(const Vec3d&)>& f, i
 std::vector<float> basis_table(int K, const DirectionSet& set) {
     check_k(K, "basis_table");
     check_set(set, "basis_table");
-    std::vector<float> table(set.size() * static_cast<std::size_t>(K));
+    std::vector<float> table;
+    assign_huge(table, set.size() * static_cast<std::size_t>(K));
     // Rows are independent (the same bits on any thread); a bake's is up to 16 384 × 1 024
     // evaluations in double, which the bake's threads would otherwise wait for.
     parallel_for(0, set.size(), 256, Split::automatic, [&](std::size_t first, std::size_t last) {

@@ -3,6 +3,7 @@
 
 #include "shprt/core/error.hpp"
 #include "shprt/core/file.hpp"
+#include "shprt/core/memory.hpp"
 
 #include <unistd.h>
 
@@ -29,7 +30,7 @@ void HostSink::begin(const TransferLayout& layout, std::size_t first, std::size_
     m_layout = layout;
     m_first = first;
     m_count = count;
-    m_rows.assign(layout.floats(count), 0.0f);
+    assign_huge(m_rows, layout.floats(count));
     m_samples.clear();
     m_errors.clear();
 }
