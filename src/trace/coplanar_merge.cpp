@@ -1,6 +1,8 @@
 // merge_coplanar (coplanar_merge.hpp): welding, pairing triangles into quads, merging quads.
 #include "shprt/trace/coplanar_merge.hpp"
 
+#include "trace/embree_common.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -190,6 +192,7 @@ bool merge_across(const std::vector<Vec3d>& p, std::vector<Quad>& quads, std::ve
 }  // namespace
 
 MergedTriangles merge_coplanar(const Mesh& mesh) {
+    trace_detail::validate_mesh(mesh);  // the tracers' checks, before any index is followed
     MergedTriangles out;
     out.input_triangles = mesh.triangles.size();
     const Welded w = weld(mesh);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace shprt {
@@ -192,6 +193,22 @@ TEST(CoplanarMerge, RoomsSeeTheSameThroughFewerTriangles) {
         EXPECT_LT(merged, m.triangles.size() / 2) << name;
         EXPECT_EQ(differ, 0u) << name;
     }
+}
+
+TEST(CoplanarMerge, ABadMeshIsOneErrorNamingIt) {
+    Mesh m = test::make_plane(2, 1.0f, 0.0f);
+    m.source = "bad.obj";
+    m.triangles.push_back({0, 1, 99});  // an index past the 9 vertices
+    try {
+        merge_coplanar(m);
+        FAIL() << "merge_coplanar followed an index out of range";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("bad.obj"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("99"), std::string::npos) << e.what();
+    }
+    m.triangles.pop_back();
+    m.positions[4].y = NAN;
+    EXPECT_THROW(merged_mesh(m), Error);
 }
 
 TEST(CoplanarMerge, TheTracerTracesTheMergeAndAnswersHitsOnTheMesh) {

@@ -44,7 +44,8 @@ struct MergedTriangles {
     bool area_check_failed = false;  // true: `triangles` are the mesh's own (see above)
 };
 
-// Out-of-range indices are the caller's to reject (trace_detail::validate_mesh runs first).
+// Throws shprt::Error(invalid_argument) naming mesh.source, as the tracers do, for a mesh with no
+// triangles, an index out of range, a non-finite position or only zero-area triangles.
 MergedTriangles merge_coplanar(const Mesh& mesh);
 
 // The merged triangles as a Mesh of positions and triangles only (its source the mesh's), for a
