@@ -89,7 +89,7 @@ struct EmbreeTracerOptions {
     // room.
     static constexpr double kHighQualityRaysPerTriangle = 1000.0;
     // Merged triangles where `rays` ≥ kMergeRaysPerTriangle × `triangles`: the merge's cost (0.3
-    // to 0.7 µs a triangle on one thread, whether or not anything merges) against what it saves
+    // to 0.9 µs a triangle on one thread, whether or not anything merges) against what it saves
     // on the room (7.5 ns of wall time a ray on two threads), both measured with
     // bench_coplanar_merge; with more threads a ray saves less wall time, hence the margin.
     static constexpr double kMergeRaysPerTriangle = 200.0;
