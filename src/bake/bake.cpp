@@ -298,6 +298,7 @@ EmbreeTracerOptions bake_tracer_options(const BakeJob& job, const BakeOptions& o
     const bool visibility = !kind_row(options.transfer).interreflection;
     tracer.closest_hits = hits;
     tracer.merge_coplanar = tracer.merge_coplanar && visibility;
+    tracer.blocker_cones = tracer.merge_coplanar;
     return tracer;
 }
 

@@ -9,9 +9,14 @@
 #include "shprt/trace/tracer.hpp"
 #include "trace/embree_common.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -25,6 +30,42 @@ using trace_detail::FtzDazScope;
 // Rays per rtcOccluded1M call: large enough for Embree to sort a stream into packets, small
 // enough to live on the stack (48 bytes each).
 constexpr int kStreamChunk = 256;
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// Blocker cones (tracer.hpp): every kConeStride-th ray of a call is traced first, for calls of at
+// least kConeMinRays rays.
+constexpr int kConeStride = 16;
+constexpr int kConeMinRays = 2 * kConeStride;
+// The cones are built and tested where at least one pair of neighbouring samples in
+// kConeMinSpanShare was stopped by the same triangle (bench_blocker_cones: a cone test costs
+// about a twentieth of an Embree ray here).
+constexpr int kConeMinSpanShare = 8;
+
+// An intersect context that carries where the filter records blockers: the context Embree passes
+// to the filter is this struct's first member.
+struct BlockerContext {
+    RTCIntersectContext context;
+    std::uint32_t* blockers = nullptr;  // per ray id of the stream call
+};
+
+// The context filter of a stream call that records blockers: Embree calls it for a hit it is
+// about to accept (an occlusion ray ends at the first), and accepting it is left as is.
+void record_blocker(const RTCFilterFunctionNArguments* args) {
+    const auto* context = reinterpret_cast<const BlockerContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        context->blockers[RTCRayN_id(args->ray, args->N, i)] =
+            RTCHitN_primID(args->hit, args->N, i);
+    }
+}
+
+// One thread's buffers for occluded_by_cones.
+struct ConeScratch {
+    std::vector<std::uint32_t> index;    // rays to trace
+    std::vector<std::uint32_t> blocker;  // per traced sample: its blocker, or kNoTriangle
+    std::vector<TriangleCone> cone;      // per traced sample: its blocker's cone
+};
 
 // One ray of a stream call: from `origin` along `dir` over [tnear, tfar], the i-th of its chunk.
 void set_ray(RTCRay& r, Vec3f origin, Vec3f dir, float tnear, float tfar, int i) {
@@ -51,42 +92,95 @@ struct SceneRelease {
 using GeometryPtr = std::unique_ptr<RTCGeometryTy, GeometryRelease>;
 using ScenePtr = std::unique_ptr<RTCSceneTy, SceneRelease>;
 
+// The rays between occluded_by_cones' samples (every kConeStride-th ray; cone[j] is the cone of
+// sample j's blocker, empty when it had none): ray i, between samples j = i / kConeStride and
+// j + 1, is occluded (occluded[i] = 1) when it lies in either's cone; otherwise occluded[i] = 0
+// and i goes to `trace`, in increasing order. The samples themselves are left alone. Returns how
+// many went to `trace`. Four rays at a time with SSE where there is SSE (x86-64 always), with
+// the same products in the same order as in_triangle_cone, so the same answers.
+int test_cones(const TriangleCone* cone, int samples, const Vec3f* dirs, int count,
+               std::uint8_t* occluded, std::uint32_t* trace) {
+    static_assert(kConeStride % 4 == 0, "a group of four rays lies between two samples");
+    int pending = 0;
+    auto keep = [&](int i, bool inside) {
+        if (i % kConeStride == 0) return;  // a sample: traced already
+        occluded[i] = inside ? 1 : 0;
+        trace[pending] = std::uint32_t(i);
+        pending += inside ? 0 : 1;
+    };
+    int i = 0;
+#if defined(__SSE2__)
+    for (; i + 4 <= count; i += 4) {
+        const int j = i / kConeStride;
+        const TriangleCone& b = cone[j];
+        const TriangleCone& a = cone[std::min(j + 1, samples - 1)];
+        // Four Vec3f (x y z x | y z x y | z x y z) to x, y and z of the four.
+        const float* p = &dirs[i].x;
+        const __m128 v0 = _mm_loadu_ps(p), v1 = _mm_loadu_ps(p + 4), v2 = _mm_loadu_ps(p + 8);
+        const __m128 x = _mm_shuffle_ps(v0, _mm_shuffle_ps(v1, v2, _MM_SHUFFLE(1, 1, 2, 2)),
+                                        _MM_SHUFFLE(2, 0, 3, 0));
+        const __m128 y = _mm_shuffle_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(0, 0, 1, 1)),
+                                        _mm_shuffle_ps(v1, v2, _MM_SHUFFLE(2, 2, 3, 3)),
+                                        _MM_SHUFFLE(2, 0, 2, 0));
+        const __m128 z = _mm_shuffle_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(1, 1, 2, 2)),
+                                        _mm_shuffle_ps(v2, v2, _MM_SHUFFLE(3, 3, 0, 0)),
+                                        _MM_SHUFFLE(2, 0, 2, 0));
+        auto dot4 = [&](Vec3f n) {
+            return _mm_add_ps(
+                _mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(n.x)), _mm_mul_ps(y, _mm_set1_ps(n.y))),
+                _mm_mul_ps(z, _mm_set1_ps(n.z)));
+        };
+        // _mm_min_ps(a, b) is fmin2's a < b ? a : b: an empty cone's NaN stays NaN.
+        auto inside = [&](const TriangleCone& k) {
+            const __m128 m = _mm_min_ps(_mm_min_ps(dot4(k.n0), dot4(k.n1)), dot4(k.n2));
+            return _mm_cmpge_ps(m, _mm_setzero_ps());
+        };
+        const int mask = _mm_movemask_ps(_mm_or_ps(inside(b), inside(a)));
+        for (int l = 0; l < 4; ++l) keep(i + l, (mask >> l & 1) != 0);
+    }
+#endif
+    for (; i < count; ++i) {
+        const int j = i / kConeStride;
+        keep(i, in_triangle_cone(cone[j], dirs[i]) ||
+                    in_triangle_cone(cone[std::min(j + 1, samples - 1)], dirs[i]));
+    }
+    return pending;
+}
+
 class EmbreeTracer final : public Tracer {
 public:
     EmbreeTracer(const Mesh& mesh, const EmbreeTracerOptions& options) {
         trace_detail::validate_mesh(mesh);
+        m_cones = options.blocker_cones;
         const RTCBuildQuality quality =
             options.high_quality ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM;
-        if (options.closest_hits || !options.merge_coplanar)
-            m_scene = build(mesh.positions, mesh.triangles, quality);
+        if (options.closest_hits || !options.merge_coplanar) {
+            m_scene =
+                build(mesh.positions, mesh.triangles, quality, !options.merge_coplanar && m_cones);
+            if (!options.merge_coplanar && m_cones) keep_blockers(mesh.positions, mesh.triangles);
+        }
         if (options.merge_coplanar) {
             // MEDIUM whatever the options say: on the merged room HIGH's spatial splits of the
             // large triangles trace 13 % slower (bench_coplanar_merge), and build slower too.
             const MergedTriangles merged = merge_coplanar(mesh);
-            m_occlusion_scene = build(merged.positions, merged.triangles, RTC_BUILD_QUALITY_MEDIUM);
+            m_occlusion_scene =
+                build(merged.positions, merged.triangles, RTC_BUILD_QUALITY_MEDIUM, m_cones);
+            if (m_cones) keep_blockers(merged.positions, merged.triangles);
         }
     }
 
     void occluded(Vec3f origin, const Vec3f* dirs, int count, float tnear, float tfar,
                   std::uint8_t* occluded) const override {
         FtzDazScope ftz;
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-        RTCRay rays[kStreamChunk];
-        for (int base = 0; base < count; base += kStreamChunk) {
-            const int n = std::min(kStreamChunk, count - base);
-            for (int i = 0; i < n; ++i) {
-                set_ray(rays[i], origin, dirs[base + i], tnear, tfar, i);
-            }
-            rtcOccluded1M(occlusion_scene(), &context, rays, static_cast<unsigned>(n),
-                          sizeof(RTCRay));
-            // Embree marks an occluded ray by setting tfar to -inf.
-            for (int i = 0; i < n; ++i) occluded[base + i] = rays[i].tfar < 0.0f ? 1 : 0;
-        }
+        if (m_cones && count >= kConeMinRays && tnear == 0.0f && tfar == kInfinity)
+            occluded_by_cones(origin, dirs, count, occluded);
+        else
+            stream_occluded(origin, dirs, nullptr, count, tnear, tfar, occluded, nullptr);
     }
 
-    std::size_t memory_bytes() const override { return m_device.bytes_peak(); }
+    std::size_t memory_bytes() const override {
+        return m_device.bytes_peak() + m_blocker_vertices.size() * sizeof(Vec3f);
+    }
 
     void closest_hits(Vec3f origin, const Vec3f* dirs, int count, float tnear, float tfar,
                       Hit* hits) const override {
@@ -135,9 +229,10 @@ public:
 private:
     // An Embree scene of one triangle geometry, copied into Embree-owned buffers (padded as its
     // SIMD loads need), so the caller's arrays can go away.
+    // `visibility`: the scene occluded() traces, whose context filter records blockers.
     ScenePtr build(const std::vector<Vec3f>& positions,
                    const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                   RTCBuildQuality quality) {
+                   RTCBuildQuality quality, bool visibility) {
         const RTCDevice device = m_device.get();
         const GeometryPtr geometry(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
         m_device.check("creating the Embree triangle geometry");
@@ -166,6 +261,7 @@ private:
         m_device.check("creating the Embree scene");
         SHPRT_CHECK(scene != nullptr, out_of_memory, "creating the Embree scene failed");
         rtcSetSceneBuildQuality(scene.get(), quality);
+        if (visibility) rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
         rtcAttachGeometryByID(scene.get(), geometry.get(), 0);
         m_device.check("attaching the mesh to the Embree scene");
         {
@@ -175,6 +271,85 @@ private:
         }
         m_device.check("building the Embree scene");
         return scene;
+    }
+
+    // Rays index[0..n) of dirs (all of dirs[0..n) without an index) as streams of kStreamChunk:
+    // occluded[index[i]] gets the answer. With `blockers`, the triangle that stopped each occluded
+    // ray goes to blockers[i] (the context's filter records it; the others keep what they had).
+    void stream_occluded(Vec3f origin, const Vec3f* dirs, const std::uint32_t* index, int n,
+                         float tnear, float tfar, std::uint8_t* occluded,
+                         std::uint32_t* blockers) const {
+        BlockerContext context;
+        rtcInitIntersectContext(&context.context);
+        context.context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        if (blockers != nullptr) context.context.filter = record_blocker;
+        RTCRay rays[kStreamChunk];
+        for (int base = 0; base < n; base += kStreamChunk) {
+            const int m = std::min(kStreamChunk, n - base);
+            context.blockers = blockers ? blockers + base : nullptr;
+            for (int i = 0; i < m; ++i) {
+                const std::uint32_t r = index ? index[base + i] : std::uint32_t(base + i);
+                set_ray(rays[i], origin, dirs[r], tnear, tfar, i);
+            }
+            rtcOccluded1M(occlusion_scene(), &context.context, rays, static_cast<unsigned>(m),
+                          sizeof(RTCRay));
+            // Embree marks an occluded ray by setting tfar to -inf.
+            for (int i = 0; i < m; ++i) {
+                const std::uint32_t r = index ? index[base + i] : std::uint32_t(base + i);
+                occluded[r] = rays[i].tfar < 0.0f ? 1 : 0;
+            }
+        }
+    }
+
+    // Blocker cones (tracer.hpp): every kConeStride-th ray is traced, recording its blocker; the
+    // rays between two traced ones are tested against the cones of those two rays' blockers
+    // (ray.hpp, triangle_cone), and only those in neither cone are traced.
+    void occluded_by_cones(Vec3f origin, const Vec3f* dirs, int count,
+                           std::uint8_t* occluded) const {
+        thread_local ConeScratch sc;
+        const int samples = (count + kConeStride - 1) / kConeStride;
+        sc.index.resize(std::size_t(count));
+        sc.blocker.assign(std::size_t(samples), kNoTriangle);
+        sc.cone.resize(std::size_t(samples));
+        for (int j = 0; j < samples; ++j) sc.index[std::size_t(j)] = std::uint32_t(j * kConeStride);
+        stream_occluded(origin, dirs, sc.index.data(), samples, 0.0f, kInfinity, occluded,
+                        sc.blocker.data());
+        // Whether cones will catch enough rays to pay for testing them: neighbouring samples
+        // stopped by the same triangle (the rays between them mostly lie in its cone, which is
+        // convex). Few on small triangles (a curved model's) or under an open sky, most where
+        // large surfaces block; decided from this call's rays alone, so the answers never depend
+        // on what another call saw.
+        int spans = 0;
+        for (std::size_t j = 0; j + 1 < std::size_t(samples); ++j)
+            spans += sc.blocker[j] != kNoTriangle && sc.blocker[j] == sc.blocker[j + 1] ? 1 : 0;
+        const bool test = spans * kConeMinSpanShare >= samples - 1;
+        for (std::size_t j = 0; test && j < std::size_t(samples); ++j) {
+            const std::uint32_t t = sc.blocker[j];
+            if (j > 0 && t == sc.blocker[j - 1]) {
+                sc.cone[j] = sc.cone[j - 1];
+            } else if (t == kNoTriangle) {
+                sc.cone[j] = triangle_cone(origin, origin, origin, origin);  // empty
+            } else {
+                const Vec3f* v = m_blocker_vertices.data() + 3 * std::size_t(t);
+                sc.cone[j] = triangle_cone(origin, v[0], v[1], v[2]);
+            }
+        }
+        int pending = 0;
+        if (test) {
+            // A ray inside either cone is occluded; the others are listed to trace, in order.
+            pending = test_cones(sc.cone.data(), samples, dirs, count, occluded, sc.index.data());
+        } else {
+            for (int i = 0; i < count; ++i)
+                if (i % kConeStride != 0) sc.index[std::size_t(pending++)] = std::uint32_t(i);
+        }
+        stream_occluded(origin, dirs, sc.index.data(), pending, 0.0f, kInfinity, occluded, nullptr);
+    }
+
+    void keep_blockers(const std::vector<Vec3f>& positions,
+                       const std::vector<std::array<std::uint32_t, 3>>& triangles) {
+        m_blocker_vertices.resize(3 * triangles.size());
+        for (std::size_t t = 0; t < triangles.size(); ++t)
+            for (int k = 0; k < 3; ++k) m_blocker_vertices[3 * t + k] = positions[triangles[t][k]];
     }
 
     RTCScene occlusion_scene() const {
@@ -190,6 +365,9 @@ private:
     EmbreeDevice m_device;  // declared first: released last
     ScenePtr m_scene;       // the mesh's own triangles: closest hits (and visibility, unmerged)
     ScenePtr m_occlusion_scene;  // merge_coplanar's triangles: visibility
+    // The corners of the triangles visibility traces, three per triangle: the blocker cones'.
+    std::vector<Vec3f> m_blocker_vertices;
+    bool m_cones = false;
 };
 
 }  // namespace

@@ -259,14 +259,17 @@ TEST(BakeTracerOptions, EachBakeGetsTheScenesItTraces) {
     const BakeJob direct{&mesh, vertex_receivers(mesh), nullptr, nullptr, nullptr, nullptr};
     EmbreeTracerOptions o = bake_tracer_options(direct, options, 512);  // 622 k rays ≥ 442 k
     EXPECT_TRUE(o.merge_coplanar);
+    EXPECT_TRUE(o.blocker_cones);
     EXPECT_FALSE(o.closest_hits);
     o = bake_tracer_options(direct, options, 256);  // 311 k rays: the merge would not pay
     EXPECT_FALSE(o.merge_coplanar);
+    EXPECT_FALSE(o.blocker_cones) << "no cones on unmerged triangles";
     EXPECT_FALSE(o.closest_hits);
 
     options.transfer = TransferKind::interreflected;
     o = bake_tracer_options(direct, options, 512);
     EXPECT_FALSE(o.merge_coplanar) << "its rays are all closest hits";
+    EXPECT_FALSE(o.blocker_cones);
     EXPECT_TRUE(o.closest_hits);
 
     options.transfer = TransferKind::shadowed;

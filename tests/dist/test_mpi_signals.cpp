@@ -33,7 +33,7 @@ protected:
             R"(set -u
 export SHPRT_TEST_SIGNAL_LINE_DELAY_MS={delay}
 {prefix} mpirun -q --oversubscribe --allow-run-as-root -x SHPRT_TEST_SIGNAL_LINE_DELAY_MS -np 3 \
-    '{cli}' bake builtin:room --coeffs 16 --samples 16384 --stream -o '{out}' >'{dir}/o' 2>'{dir}/e' &
+    '{cli}' bake builtin:room --coeffs 16 --samples 65536 --stream -o '{out}' >'{dir}/o' 2>'{dir}/e' &
 job=$!
 rank_pid() {{
     for p in $(pgrep -f -- "-o {out}"); do

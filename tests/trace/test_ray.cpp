@@ -235,5 +235,89 @@ TEST(Ray, BoxTestIsConservative) {
     EXPECT_GT(exact_hits, 50000);
 }
 
+// A triangle's cone from o holds exactly the directions whose rays hit the triangle at t > 0:
+// checked against the double-precision reference on random triangles, origins and directions,
+// away from the edges (margin) where float answers may differ, far from the world's origin (where
+// float differences lose bits). A cone thinner than 2^-10 (a sliver, a triangle seen edge-on) may
+// be empty, but no cone may ever hold a direction that misses: slivers, whose float cross
+// products point anywhere, are tested for that.
+TEST(TriangleCone, HoldsTheDirectionsThatHitTheTriangle) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> pos(-1.0f, 1.0f);
+    int hits = 0, misses = 0, thin = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        const Vec3f shift{100.0f, 0.0f, 0.0f};
+        const Vec3f a = Vec3f{pos(rng), pos(rng), pos(rng)} + shift,
+                    b = Vec3f{pos(rng), pos(rng), pos(rng)} + shift;
+        const Vec3f c = trial % 4 == 0 ? a + (b - a) * 0.5f + Vec3f{1e-4f, -2e-4f, 1e-4f}
+                                       // a sliver
+                                       : Vec3f{pos(rng), pos(rng), pos(rng)} + shift;
+        const Vec3f o = Vec3f{pos(rng), pos(rng), pos(rng)} * 4.0f + shift;
+        const Vec3d A = cast<double>(a) - cast<double>(o), B = cast<double>(b) - cast<double>(o),
+                    C = cast<double>(c) - cast<double>(o);
+        const bool may_be_empty = std::fabs(dot(A, cross(B, C))) <=
+                                  std::pow(2.0, -9) * std::sqrt(dot(A, A) * dot(B, B) * dot(C, C));
+        thin += may_be_empty ? 1 : 0;
+        const TriangleCone cone = triangle_cone(o, a, b, c);
+        for (int k = 0; k < 16; ++k) {
+            float s = 1.5f * pos(rng) + 0.25f, r = 1.5f * pos(rng);  // around the triangle
+            if (k % 4 < 2) {                                         // in it
+                s = 0.5f + 0.5f * pos(rng), r = 0.5f + 0.5f * pos(rng);
+                if (s + r > 1.0f) s = 1.0f - s, r = 1.0f - r;
+            }
+            const Vec3f target = a + (b - a) * s + (c - a) * r;
+            const Vec3f d = k % 2 ? target - o : o - target;  // even: pointing away
+            double t, u, v, margin;
+            const bool want =
+                reference_intersect(cast<double>(o), cast<double>(d), cast<double>(a),
+                                    cast<double>(b), cast<double>(c), t, u, v, margin);
+            if (std::fabs(margin) < 1e-3) continue;  // an edge: either answer is float rounding
+            const bool inside = in_triangle_cone(cone, d);
+            if (inside) ASSERT_TRUE(want) << "trial " << trial << " k " << k;
+            if (!may_be_empty) ASSERT_EQ(inside, want) << "trial " << trial << " k " << k;
+            (want ? hits : misses) += 1;
+        }
+    }
+    std::printf("triangle cones: %d hits, %d misses compared; %d of 4000 cones thin\n", hits,
+                misses, thin);
+    EXPECT_GT(hits, 10000);
+    EXPECT_GT(misses, 20000);
+    EXPECT_LT(thin, 1500);  // the slivers (1000) and a few seen edge-on
+}
+
+// The crease rule: an origin in the triangle's plane, to float precision, starts its rays on that
+// surface and they never hit it (tracer.hpp), so the cone is empty — also an origin a few units
+// in the last place off a large triangle far from the world's origin (an offset ray origin at a
+// crease), where the exact distance is below what float positions resolve.
+TEST(TriangleCone, IsEmptyForAnOriginInThePlane) {
+    const Vec3f a{0, 0, 0}, b{4, 0, 0}, c{0, 4, 0};
+    std::mt19937 rng(23);
+    for (const Vec3f o : {Vec3f{6, 1, 0}, Vec3f{1, 1, 0}, Vec3f{-2, -3, 0}}) {
+        const TriangleCone cone = triangle_cone(o, a, b, c);
+        for (int k = 0; k < 1000; ++k) {
+            const Vec3f d = test::random_direction(rng);
+            EXPECT_FALSE(in_triangle_cone(cone, d));
+        }
+        EXPECT_FALSE(in_triangle_cone(cone, Vec3f{-1, 0, 0}));  // along the plane, at an edge
+    }
+    // 172 units from the origin a float's unit in the last place is 1.5e-5; 7e-8 off the plane.
+    const Vec3f far_a{172, 0, 10}, far_b{192, 0, 10}, far_c{172, 20, 10};
+    const Vec3f o{175, 3, std::nextafter(10.0f, 11.0f)};
+    const TriangleCone cone = triangle_cone(o, far_a, far_b, far_c);
+    EXPECT_FALSE(in_triangle_cone(cone, Vec3f{1, 0.5f, -0.1f}));
+    // Off the plane by more than that, the same direction does hit it.
+    const TriangleCone above = triangle_cone(Vec3f{175, 3, 10.5f}, far_a, far_b, far_c);
+    EXPECT_TRUE(in_triangle_cone(above, Vec3f{1, 0.5f, -0.1f}));
+    // A small triangle there (0.02 across: its cone from 6 units in the last place off its plane
+    // is not thin) still counts that origin as in its plane: within 2^-20 of 172.
+    const float z = 172.0f, ulp = std::nextafter(z, 200.0f) - z;
+    const Vec3f sa{172, 1, z}, sb{172.02f, 1, z}, sc{172, 1.02f, z};
+    const Vec3f down{0.004f, 0.004f, -1.0f};
+    EXPECT_FALSE(in_triangle_cone(triangle_cone(Vec3f{172.002f, 1.002f, z + 6 * ulp}, sa, sb, sc),
+                                  down * (6 * ulp)));
+    EXPECT_TRUE(in_triangle_cone(triangle_cone(Vec3f{172.002f, 1.002f, z + 30 * ulp}, sa, sb, sc),
+                                 down * (30 * ulp)));
+}
+
 }  // namespace
 }  // namespace shprt

@@ -304,7 +304,8 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
                            const DirectionSet& directions, const Tracer& tracer);
 
 // A bake's peak host memory, estimated before it runs (no BVH is built): the BVH at
-// kBvhBytesPerTriangle per triangle (Embree's measured peak on the builtin scenes, rounded up),
+// kBvhBytesPerTriangle per triangle (Embree's measured peak on the builtin scenes, rounded up, and
+// the blocker cones' 36 bytes of corners: tracer.hpp),
 // the basis and direction tables, every worker's W[chunk×S], ray and row buffers, and — when
 // `rows_in_memory` (a HostSink: the rows of every receiver) — the rows. Every kind is counted by
 // one rule from its layout (bake_description(options).layout): floats_per_receiver() floats per
@@ -315,7 +316,7 @@ TransferSet bake_reference(const Mesh& mesh, const BakeOptions& options,
 // depends on what the rays hit, is not estimated: it is counted against BakeOptions::memory_budget
 // as it is built, and what does not fit is spilled to a mapped file). Used to refuse a bake that
 // cannot fit (`shprt bake --max-memory`, MemAvailable) before any work.
-inline constexpr std::uint64_t kBvhBytesPerTriangle = 160;
+inline constexpr std::uint64_t kBvhBytesPerTriangle = 200;
 std::uint64_t estimate_bake_peak_bytes(std::size_t triangles, std::size_t receivers,
                                        const BakeOptions& options, bool rows_in_memory,
                                        std::size_t bounce_sources = 0);

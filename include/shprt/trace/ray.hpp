@@ -179,6 +179,70 @@ SHPRT_HD_INLINE bool intersect_triangle(Vec3f o, Vec3f d, Vec3f a, Vec3f b, Vec3
     return intersect_triangle_watertight(make_watertight_ray(o, d), a, b, c, tmin, tmax, t, u, v);
 }
 
+// The directions in which rays from a point o hit a triangle (a, b, c) at t > 0: the cone
+// {α·A + β·B + γ·C : α, β, γ ≥ 0, not all 0} with A = a − o, B = b − o, C = c − o. Writing
+// d = α·A + β·B + γ·C gives d·(B×C) = α·det, d·(C×A) = β·det, d·(A×B) = γ·det with
+// det = A·(B×C), so d is in the cone exactly when those three have det's sign: the cone's three
+// plane normals, oriented inwards, and a test of three dot products with no division. The Embree
+// tracer tests the rays of one origin against the cones of triangles that blocked nearby rays
+// (tracer.hpp, "Blocker cones").
+// The normals are computed in double (A − o exactly, then the products) and stored as unit
+// vectors in float, so that each is right to float rounding whatever the triangle's shape seen
+// from o (a sliver's float cross products are not) and however far o is from the origin. A cone
+// whose o lies in the triangle's plane to float precision — within 2^-20 of the largest
+// coordinate of o, a, b and c, eight units in the last place — is empty: nothing is inside. That
+// is the tracers' crease rule (tracer.hpp): a ray starting on another surface does not hit it
+// (float tests see t = 0 there, or rounding noise), so neither may a cone. So is a cone thinner
+// than 2^-10 (|det| against |A|·|B|·|C|, the sine of the corners' solid angle): a sliver, or a
+// triangle seen edge-on, whose three planes are nearly one, so that float rounding of the
+// normals could put directions pointing away from it on their inner sides. Such a cone holds
+// few rays anyway; an empty cone only sends its rays to the tracer.
+struct TriangleCone {
+    Vec3f n0, n1, n2;
+};
+
+namespace detail {
+SHPRT_HD_INLINE float largest_abs(Vec3f p) {
+    return std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z)));
+}
+}  // namespace detail
+
+SHPRT_HD_INLINE TriangleCone triangle_cone(Vec3f o, Vec3f a, Vec3f b, Vec3f c) {
+    using V = Vec3<double>;
+    const V O{o.x, o.y, o.z};
+    const V A = V{a.x, a.y, a.z} - O, B = V{b.x, b.y, b.z} - O, C = V{c.x, c.y, c.z} - O;
+    V n[3] = {cross(B, C), cross(C, A), cross(A, B)};
+    // det = A·(B×C) = A·N with N = (B − A)×(C − A): |det|/|N| is o's distance from the plane.
+    const double det = dot(A, n[0]);
+    const V N = cross(B - A, C - A);
+    const double magnitude =
+        double(std::fmax(std::fmax(detail::largest_abs(o), detail::largest_abs(a)),
+                         std::fmax(detail::largest_abs(b), detail::largest_abs(c))));
+    const double corners = std::sqrt(dot(A, A) * dot(B, B) * dot(C, C));
+    TriangleCone k;
+    if (!(std::fabs(det) > 9.5367431640625e-07 * magnitude * std::sqrt(dot(N, N))) ||  // 2^-20
+        !(std::fabs(det) > 9.765625e-04 * corners)) {                                  // 2^-10
+        const float nan = i32_as_float(0x7FC00000);  // a quiet NaN
+        k.n0 = k.n1 = k.n2 = Vec3f{nan, nan, nan};   // every comparison with NaN is false
+        return k;
+    }
+    Vec3f* out[3] = {&k.n0, &k.n1, &k.n2};
+    for (int i = 0; i < 3; ++i) {
+        const double s = (det < 0.0 ? -1.0 : 1.0) / std::sqrt(dot(n[i], n[i]));
+        *out[i] = Vec3f{float(n[i].x * s), float(n[i].y * s), float(n[i].z * s)};
+    }
+    return k;
+}
+
+// Whether the ray o + t·d, t > 0, hits the cone's triangle (directions on its boundary count, as
+// rays through a closed triangle's edges do).
+// Branch-free (the smallest of the three against 0), so that loops over rays vectorise. An empty
+// cone's three NaN products give NaN on either side of fmin2, and NaN >= 0 is false.
+SHPRT_HD_INLINE bool in_triangle_cone(const TriangleCone& k, Vec3f d) {
+    using detail::fmin2;
+    return fmin2(fmin2(dot(d, k.n0), dot(d, k.n1)), dot(d, k.n2)) >= 0.0f;
+}
+
 // Per-ray constants of the slab test. Direction components of magnitude below 2^-80 are replaced
 // by ±2^-80 so the reciprocal stays finite and no 0·∞ arises (Aila & Laine's trick).
 struct SlabRay {
