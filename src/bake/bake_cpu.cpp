@@ -85,10 +85,16 @@ CpuBakeTables::CpuBakeTables(const BakeOptions& options, const DirectionSet& dir
     // A local set's rows get the open part exactly (stages.hpp, OpenControl).
     if (local && options.open_control && !bounded)
         open_control = make_open_control(table.weight.data(), Y.data(), S, 1.0, KL, glossy);
+    // A local set's W is its one weight or 0, so its rows are projected by sums (the error
+    // bound keeps its own, per segment).
+    if (local && !bounded) weight = common_weight(table);
+    if (weight != 0.0f) sums = segment_sums(Y.data(), S, FL);
     if (bounded) bound = make_error_bound(options, table, Y.data(), KL, shadowed);
 }
 
-std::size_t CpuBakeTables::bytes() const { return Y.size() * sizeof(float) + table.bytes(); }
+std::size_t CpuBakeTables::bytes() const {
+    return (Y.size() + sums.size()) * sizeof(float) + table.bytes();
+}
 
 TransferInfo bake_cpu(const BakeJob& job, const BakeOptions& options,
                       const DirectionSet& directions, const Tracer* tracer, double seconds_bvh) {
@@ -246,7 +252,12 @@ TransferInfo bake_cpu_pass(const BakeJob& job, const BakeOptions& options,
         }
         if (local) {
             if (sc.c_local.empty()) sc.c_local.resize(chunk * std::size_t(FL));
-            project_rows(sc.w.data(), height, S, Y.data(), FL, sc.c_local.data());
+            if (tables.weight != 0.0f)  // the range's rows alone: each is its own sums
+                project_visibility_rows(sc.w.data() + lead * S, count, S, S, Y.data(), FL,
+                                        tables.sums.data(), tables.weight,
+                                        sc.c_local.data() + lead * std::size_t(FL));
+            else
+                project_rows(sc.w.data(), height, S, Y.data(), FL, sc.c_local.data());
             apply_open_control(open_control, sc.c_local.data() + lead * std::size_t(FL), count);
             rotate_rows_to_world(rx.normals + first, count, KL, K, glossy,
                                  sc.c_local.data() + lead * std::size_t(FL),

@@ -59,7 +59,11 @@ struct CpuBakeTables {
     DirectionTable table;
     std::vector<float> Y;
     OpenControl open_control;  // local fixed-S sets
-    ErrorBound bound;          // error-bounded bakes
+    // Local fixed-S sets: the one weight of every direction, and Y's column sums over the set
+    // (stages.hpp, project_visibility_rows); weight 0: rows are projected by one SGEMM.
+    float weight = 0.0f;
+    std::vector<float> sums;
+    ErrorBound bound;  // error-bounded bakes
 };
 // One pass over job.receivers with the tables: bake_cpu's body. An error-bounded pass bakes to
 // prefixes of at most `cap` (0: the whole set), keeping each row's sums, prefix and estimate in

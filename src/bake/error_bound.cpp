@@ -74,7 +74,27 @@ ErrorBound make_error_bound(const BakeOptions& options, const DirectionTable& ta
     bound.shadowed = shadowed;
     if (table.frame == DirectionFrame::local && options.open_control)
         bound.controls = make_open_controls(table, Y, KL, bound.first_samples);
+    // A local set's W is the weight or 0 (weight_row copies it; trace_row zeroes what is
+    // blocked); a sphere set's holds the cosine.
+    bound.weight = table.frame == DirectionFrame::local ? common_weight(table) : 0.0f;
+    if (bound.weight != 0.0f) {
+        const std::size_t S0 = bound.first_samples, Smax = bound.max_samples;
+        const std::size_t K = std::size_t(KL);
+        bound.sums.push_back(segment_sums(Y, S0 / 2, KL));
+        bound.sums.push_back(segment_sums(Y + S0 / 2 * K, S0 - S0 / 2, KL));
+        for (std::size_t a = S0; a < Smax; a *= 2)
+            bound.sums.push_back(segment_sums(Y + a * K, a, KL));
+    }
     return bound;
+}
+
+void ErrorBound::project(const float* W, std::size_t m, std::size_t stride, std::size_t a,
+                         std::size_t b, float* G) const {
+    const float* Ya = Y + a * std::size_t(KL);
+    if (weight == 0.0f) return project_rows(W, m, stride, b - a, Ya, KL, G);
+    const std::size_t S0 = first_samples;
+    const std::size_t segment = a == 0 ? 0 : a < S0 ? 1 : 2 + std::size_t(std::countr_zero(a / S0));
+    project_visibility_rows(W, m, stride, b - a, Ya, KL, sums[segment].data(), weight, G);
 }
 
 BoundRows ErrorBoundScratch::fresh_rows(std::size_t height, int KL) {
@@ -261,14 +281,12 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
             progress.add(0, block_rays);
             if (!progress.poll()) return rays;
             const double project_start = thread_cpu_seconds();
-            const float* Ya = bound.Y + a * KL;
             if (a == 0) {  // the first prefix: its two halves
                 const std::size_t half = length / 2;
-                project_rows(sc.w.data(), m, length, half, Ya, bound.KL, sc.g0.data());
-                project_rows(sc.w.data() + half, m, length, length - half, Ya + half * KL, bound.KL,
-                             sc.g.data());
+                bound.project(sc.w.data(), m, length, 0, half, sc.g0.data());
+                bound.project(sc.w.data() + half, m, length, half, length, sc.g.data());
             } else {
-                project_rows(sc.w.data(), m, length, length, Ya, bound.KL, sc.g.data());
+                bound.project(sc.w.data(), m, length, a, b, sc.g.data());
             }
             for (std::size_t i = 0; i < m; ++i) {
                 const std::uint32_t j = sc.active[k + i];

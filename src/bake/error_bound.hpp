@@ -48,6 +48,15 @@ struct ErrorBound {
     // A local set: the open part exactly (stages.hpp, OpenControl) for the prefixes S0/2, S0,
     // 2·S0, …, Smax (controls[i] for (S0/2)·2^i); empty for a sphere set.
     std::vector<OpenControl> controls;
+    // A set whose directions all weigh `weight` (a local set's; 0 for a sphere set): its rows are
+    // projected by sums (stages.hpp, project_visibility_rows) over the segments [0, S0/2),
+    // [S0/2, S0), [S0, 2·S0), …, [Smax/2, Smax), whose column sums of Y are sums[0], sums[1], ….
+    float weight = 0.0f;
+    std::vector<std::vector<float>> sums;
+    // G (m × KL) = W·Y over the segment [a, b) of the set for `m` rows of W (stride `stride`,
+    // from the segment's first direction): by sums where the weights allow, else one SGEMM.
+    void project(const float* W, std::size_t m, std::size_t stride, std::size_t a, std::size_t b,
+                 float* G) const;
 };
 // The controls of ErrorBound for a local table and its basis table Y (Smax × KL).
 std::vector<OpenControl> make_open_controls(const DirectionTable& table, const float* Y, int KL,

@@ -2,6 +2,8 @@
 #include "bake/stages.hpp"
 
 #include "shprt/bake/bake.hpp"
+#include "shprt/core/error.hpp"
+#include "shprt/core/host.hpp"
 #include "shprt/io/hash.hpp"
 #include "shprt/sh/basis.hpp"
 #include "shprt/sh/direction_order.hpp"
@@ -12,6 +14,10 @@
 #include "shprt/transfer/kind_table.hpp"
 
 #include <cblas.h>
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <bit>
@@ -289,6 +295,156 @@ void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t 
                   const float* Y, int K, float* C) {
     cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(count), K,
                 static_cast<int>(depth), 1.0f, W, static_cast<int>(S), Y, K, 0.0f, C, K);
+}
+
+namespace {
+
+void sum_rows_portable(const float* Y, int stride, const std::uint32_t* rows, std::size_t n,
+                       float* out, int K) {
+    std::fill_n(out, K, 0.0f);
+    for (std::size_t q = 0; q < n; ++q) {
+        const float* y = Y + std::size_t(rows[q]) * std::size_t(stride);
+        for (int k = 0; k < K; ++k) out[k] += y[k];
+    }
+}
+
+#if defined(__x86_64__)
+// The rows are scattered over the table: each kernel fetches the one kPrefetch ahead while it
+// adds this one.
+constexpr std::size_t kPrefetch = 8;
+
+// Columns [0, K) of rows `stride` floats apart: 64 at a time in eight registers of sums, then 8,
+// then one.
+__attribute__((target("avx2"))) void sum_rows_avx2(const float* Y, int stride,
+                                                   const std::uint32_t* rows, std::size_t n,
+                                                   float* out, int K) {
+    const std::size_t step = std::size_t(stride);
+    int k = 0;
+    for (; k + 64 <= K; k += 64) {
+        __m256 a[8];
+        for (auto& v : a) v = _mm256_setzero_ps();
+        for (std::size_t q = 0; q < n; ++q) {
+            if (q + kPrefetch < n) {
+                const auto* next = reinterpret_cast<const char*>(
+                    Y + std::size_t(rows[q + kPrefetch]) * step + std::size_t(k));
+                for (int line = 0; line < 4; ++line) _mm_prefetch(next + 64 * line, _MM_HINT_T0);
+            }
+            const float* y = Y + std::size_t(rows[q]) * step + std::size_t(k);
+            for (int i = 0; i < 8; ++i) a[i] = _mm256_add_ps(a[i], _mm256_loadu_ps(y + 8 * i));
+        }
+        for (int i = 0; i < 8; ++i) _mm256_storeu_ps(out + k + 8 * i, a[i]);
+    }
+    for (; k + 8 <= K; k += 8) {
+        __m256 a = _mm256_setzero_ps();
+        for (std::size_t q = 0; q < n; ++q)
+            a = _mm256_add_ps(a, _mm256_loadu_ps(Y + std::size_t(rows[q]) * step + std::size_t(k)));
+        _mm256_storeu_ps(out + k, a);
+    }
+    if (k < K) sum_rows_portable(Y + k, stride, rows, n, out + k, K - k);
+}
+
+// 256 columns at a time in sixteen registers (a whole row of the room's K = 256, read once),
+// the rest with AVX2.
+__attribute__((target("avx512f"))) void sum_rows_avx512(const float* Y, int stride,
+                                                        const std::uint32_t* rows, std::size_t n,
+                                                        float* out, int K) {
+    const std::size_t step = std::size_t(stride);
+    int k = 0;
+    for (; k + 256 <= K; k += 256) {
+        __m512 a[16];
+        for (auto& v : a) v = _mm512_setzero_ps();
+        for (std::size_t q = 0; q < n; ++q) {
+            if (q + kPrefetch < n) {
+                const auto* next = reinterpret_cast<const char*>(
+                    Y + std::size_t(rows[q + kPrefetch]) * step + std::size_t(k));
+                for (int line = 0; line < 16; ++line) _mm_prefetch(next + 64 * line, _MM_HINT_T0);
+            }
+            const float* y = Y + std::size_t(rows[q]) * step + std::size_t(k);
+            for (int i = 0; i < 16; ++i) a[i] = _mm512_add_ps(a[i], _mm512_loadu_ps(y + 16 * i));
+        }
+        for (int i = 0; i < 16; ++i) _mm512_storeu_ps(out + k + 16 * i, a[i]);
+    }
+    if (k < K) sum_rows_avx2(Y + k, stride, rows, n, out + k, K - k);
+}
+#endif
+
+}  // namespace
+
+void sum_rows(const float* Y, int K, const std::uint32_t* rows, std::size_t n, float* out,
+              SumKernel kernel) {
+#if defined(__x86_64__)
+    if (kernel == SumKernel::automatic)
+        kernel = cpu_has_avx512f() ? SumKernel::avx512
+                 : cpu_has_avx2()  ? SumKernel::avx2
+                                   : SumKernel::portable;
+    SHPRT_CHECK(kernel != SumKernel::avx512 || cpu_has_avx512f(), unsupported,
+                "this CPU has no AVX-512F");
+    SHPRT_CHECK(kernel != SumKernel::avx2 || cpu_has_avx2(), unsupported, "this CPU has no AVX2");
+    if (kernel == SumKernel::avx512) return sum_rows_avx512(Y, K, rows, n, out, K);
+    if (kernel == SumKernel::avx2) return sum_rows_avx2(Y, K, rows, n, out, K);
+#else
+    SHPRT_CHECK(kernel == SumKernel::automatic || kernel == SumKernel::portable, unsupported,
+                "SIMD sums are for x86-64");
+#endif
+    sum_rows_portable(Y, K, rows, n, out, K);
+}
+
+void project_visibility_rows(const float* W, std::size_t count, std::size_t S, std::size_t depth,
+                             const float* Y, int K, const float* T, float w, float* C) {
+    thread_local std::vector<std::uint64_t> mask;  // bit s: direction s visible
+    thread_local std::vector<std::uint32_t> list;
+    const std::size_t words = (depth + 63) / 64;
+    if (mask.size() < words) mask.resize(words);
+    if (list.size() < depth) list.resize(depth);
+    for (std::size_t r = 0; r < count; ++r) {
+        const float* row = W + r * S;
+        std::size_t v = 0;
+        for (std::size_t i = 0; i < words; ++i) {
+            std::uint64_t m = 0;
+            const std::size_t first = 64 * i, n = std::min<std::size_t>(64, depth - first);
+            std::size_t s = 0;
+#if defined(__SSE2__)
+            for (; s + 4 <= n; s += 4) {
+                const __m128 x = _mm_loadu_ps(row + first + s);
+                m |= std::uint64_t(_mm_movemask_ps(_mm_cmpneq_ps(x, _mm_setzero_ps()))) << s;
+            }
+#endif
+            for (; s < n; ++s) m |= std::uint64_t(row[first + s] != 0.0f) << s;
+            mask[i] = m;
+            v += std::size_t(std::popcount(m));
+        }
+        // The shorter list, in increasing order: the visible directions, or the blocked ones.
+        const bool blocked = v > depth - v;
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < words; ++i) {
+            std::uint64_t m = blocked ? ~mask[i] : mask[i];
+            if (64 * (i + 1) > depth) m &= (std::uint64_t(1) << (depth - 64 * i)) - 1;
+            for (; m != 0; m &= m - 1)
+                list[n++] = std::uint32_t(64 * i + std::size_t(std::countr_zero(m)));
+        }
+        float* c = C + r * std::size_t(K);
+        sum_rows(Y, K, list.data(), n, c);
+        if (blocked)
+            for (int k = 0; k < K; ++k) c[k] = w * (T[k] - c[k]);
+        else
+            for (int k = 0; k < K; ++k) c[k] = w * c[k];
+    }
+}
+
+std::vector<float> segment_sums(const float* Y, std::size_t depth, int K) {
+    std::vector<double> sum(std::size_t(K), 0.0);
+    for (std::size_t s = 0; s < depth; ++s)
+        for (std::size_t k = 0; k < std::size_t(K); ++k)
+            sum[k] += double(Y[s * std::size_t(K) + k]);
+    return std::vector<float>(sum.begin(), sum.end());
+}
+
+float common_weight(const DirectionTable& table) {
+    if (table.weight.empty()) return 0.0f;
+    const float w = table.weight.front();
+    for (float x : table.weight)
+        if (x != w) return 0.0f;
+    return w;
 }
 
 OpenControl make_open_control(const float* weights, const float* Y, std::size_t count, double scale,

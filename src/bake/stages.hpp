@@ -178,6 +178,29 @@ void project_rows(const float* W, std::size_t count, std::size_t S, const float*
 void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t depth,
                   const float* Y, int K, float* C);
 
+// project, for rows whose weights are one value w or 0 (a local set's: every direction has the
+// same weight, and a blocked one is 0): C = W·Y is w times the sum of Y's rows where W ≠ 0, or,
+// where more are visible than blocked, w·(T − the sum where W = 0), with T the column sums of Y
+// over the `depth` directions (segment_sums). Each row sums its own directions in increasing
+// order from zero, so its bits depend on its weights only, never on the other rows of the call
+// (a GEMM's may), the CPU's SIMD width or the thread. It adds min(visible, blocked) rows of Y
+// per receiver where the GEMM multiplies and adds all of them: about a quarter on the room
+// (bench/RESULTS.md, "Projection by sums").
+void project_visibility_rows(const float* W, std::size_t count, std::size_t S, std::size_t depth,
+                             const float* Y, int K, const float* T, float w, float* C);
+// The sums of project_visibility_rows: out[k] = the sum of Y[rows[q]·K + k] over q in order, from
+// zero, for k < K. The kernels add the same terms in the same order for every k, so all give
+// the same bits: the widest the CPU runs (automatic), or one asked for (tests; Error(unsupported)
+// where the CPU lacks it).
+enum class SumKernel { automatic, portable, avx2, avx512 };
+void sum_rows(const float* Y, int K, const std::uint32_t* rows, std::size_t n, float* out,
+              SumKernel kernel = SumKernel::automatic);
+// T for project_visibility_rows: the column sums of Y's rows [0, depth) (K columns), summed in
+// double and rounded once.
+std::vector<float> segment_sums(const float* Y, std::size_t depth, int K);
+// The one weight of every direction of the table, or 0 where they differ (a sphere set's).
+float common_weight(const DirectionTable& table);
+
 // The open part exactly (local sets, docs/sampling.md "The open part exactly"). In its frame every
 // receiver's open transfer f_open (the cosine for vectors, 1 for glossy matrices, over the
 // hemisphere) is the same, so the set's quadrature error on it, δ = Q_S(f_open) − ∫ f_open, is one

@@ -5,6 +5,7 @@
 #include "bake/bake_progress.hpp"
 #include "shprt/bake/interreflect.hpp"
 #include "shprt/core/error.hpp"
+#include "shprt/core/host.hpp"
 #include "shprt/core/parallel.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
@@ -69,14 +70,6 @@ __attribute__((target("avx2"))) void transport_rows_avx2(const TransportOperator
             std::copy_n(acc + std::size_t(c) * std::size_t(width), width,
                         y + std::size_t(c) * std::size_t(p.out_K));
     }
-}
-
-bool cpu_has_avx2() {
-    static const bool has = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") != 0;
-    }();
-    return has;
 }
 
 // Multiply-adds below which a product runs on the calling thread (apply_transport_rows).

@@ -16,6 +16,12 @@ std::string describe_cpu(std::string_view cpuinfo, unsigned cpus);
 // describe_cpu of this machine's /proc/cpuinfo and std::thread::hardware_concurrency.
 std::string host_cpu();
 
+// Whether this CPU runs AVX2: the switch for code compiled with a target("avx2") attribute beside
+// a portable path (the same answers from both). Checked once.
+bool cpu_has_avx2();
+// The same for AVX-512F.
+bool cpu_has_avx512f();
+
 // This process's command line as typed (from /proc/self/cmdline), each argument that needs it in
 // single quotes, for a file's metadata; empty where unavailable.
 std::string process_command_line();
