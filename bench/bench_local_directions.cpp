@@ -73,6 +73,7 @@ struct Args {
     int reps = 2, threads = 2, seeds = 16;
     std::string reference_cache = "/tmp/bench_local_directions_reference.bin";
     std::uint32_t bound_reference_samples = 16384, bound_max_samples = kDefaultMaxSamples;
+    std::vector<double> bound_targets = {0.04, 0.02, 0.01, 0.005};  // study 3's E
 };
 
 using room_study::luminance;
@@ -280,7 +281,7 @@ struct RoomBound {
 RoomBound bound_study(const Args& a, const Mesh& room, const Tracer& room_tracer,
                       const ShLight& light, const std::vector<double>& ref_luminance) {
     RoomBound room_bound;
-    const double targets[] = {0.04, 0.02, 0.01, 0.005};
+    const std::vector<double>& targets = a.bound_targets;
     std::printf(
         "\n3. error-bounded bake (local Sobol, --target-error E, at most %u samples), K = %d, %d "
         "threads; luminance error against the reference of 2.; true per-receiver error against a "
@@ -544,6 +545,9 @@ int main(int argc, char** argv) {
                    "3.: the error-bounded bake's --max-samples (default 16384)");
     bool skip_variance = false, skip_curve = false, skip_bound = false, skip_rounds = false,
          skip_oracle = false;
+    app.add_option("--bound-targets", a.bound_targets,
+                   "study 3's target errors E (default 0.04 0.02 0.01 0.005)")
+        ->check(CLI::PositiveNumber);
     app.add_flag("--skip-variance", skip_variance);
     app.add_flag("--skip-curve", skip_curve);
     app.add_flag("--skip-bound", skip_bound);
