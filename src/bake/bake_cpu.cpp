@@ -87,7 +87,7 @@ CpuBakeTables::CpuBakeTables(const BakeOptions& options, const DirectionSet& dir
         open_control = make_open_control(table.weight.data(), Y.data(), S, 1.0, KL, glossy);
     // A local set's W is its one weight or 0, so its rows are projected by sums (the error
     // bound keeps its own, per segment).
-    if (local && !bounded) weight = common_weight(table);
+    if (local && !bounded && FL >= kSumsMinColumns) weight = common_weight(table);
     if (weight != 0.0f) sums = segment_sums(Y.data(), S, FL);
     if (bounded) bound = make_error_bound(options, table, Y.data(), KL, shadowed);
 }

@@ -75,8 +75,10 @@ ErrorBound make_error_bound(const BakeOptions& options, const DirectionTable& ta
     if (table.frame == DirectionFrame::local && options.open_control)
         bound.controls = make_open_controls(table, Y, KL, bound.first_samples);
     // A local set's W is the weight or 0 (weight_row copies it; trace_row zeroes what is
-    // blocked); a sphere set's holds the cosine.
-    bound.weight = table.frame == DirectionFrame::local ? common_weight(table) : 0.0f;
+    // blocked), projected by sums from kSumsMinColumns columns; a sphere set's holds the cosine.
+    bound.weight = table.frame == DirectionFrame::local && KL >= kSumsMinColumns
+                       ? common_weight(table)
+                       : 0.0f;
     if (bound.weight != 0.0f) {
         const std::size_t S0 = bound.first_samples, Smax = bound.max_samples;
         const std::size_t K = std::size_t(KL);

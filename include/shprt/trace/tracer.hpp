@@ -39,7 +39,8 @@
 // BVH answers as the cones: test_blocker_cones). Each call decides from its own rays, so the
 // answers never depend on threads or on other calls. On the merged room the rays are 1.5× faster;
 // where blockers are small (a curved model) or few (an open sky) the cones are not tested and the
-// samples' separate stream costs 3–7 % (bench_blocker_cones; bench/RESULTS.md, "Blocker cones").
+// samples' separate stream costs 2–8 % (bench_blocker_cones; bench/RESULTS.md, "Blocker cones
+// and projection by sums").
 //
 // Embree threading. Debian's Embree uses TBB as its tasking system, and its device option
 // "threads=N" installs a process-wide tbb::global_control(max_allowed_parallelism, N): it would
