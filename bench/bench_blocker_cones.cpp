@@ -13,7 +13,9 @@
 #include "shprt/scene/load.hpp"
 #include "shprt/trace/tracer.hpp"
 
-#include <CLI/CLI.hpp>
+#include "bench_cli.hpp"
+
+#include <oneapi/tbb/info.h>
 
 #include <algorithm>
 #include <cmath>
@@ -66,17 +68,15 @@ void row(const Scene& s, const BakeOptions& o, const DirectionSet& set, int reps
 
 int main(int argc, char** argv) {
     using namespace shprt;
-    std::uint32_t samples = 1024;
-    int reps = 3, threads = 2;
-    CLI::App app("Tracing with blocker cones against without");
-    app.add_option("--samples", samples, "local Sobol samples per receiver");
-    app.add_option("--reps", reps, "runs of each tracer (interleaved; the minimum is kept)");
-    app.add_option("--threads", threads, "bake threads");
-    CLI11_PARSE(app, argc, argv);
+    int samples = 1024, reps = 3, threads = 2;
+    bench::BenchCli cli("bench_blocker_cones", "Tracing with blocker cones against without");
+    cli.samples(samples).reps(reps).threads(threads);
+    cli.parse(argc, argv);
+    if (threads <= 0) threads = tbb::info::default_concurrency();
 
     BakeOptions o;
     o.K = 16;
-    o.samples = samples;
+    o.samples = std::uint32_t(samples);
     o.seed = 1;
     o.threads = threads;
     o.sampler = SamplerKind::sobol;
