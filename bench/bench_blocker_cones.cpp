@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
     std::printf(
         "bench_blocker_cones: %s; K = %d, local Sobol S = %u, %d threads, min of %d "
         "interleaved runs\n\n",
-        host_cpu().c_str(), o.K, samples, threads, reps);
+        host_cpu().c_str(), o.K, o.samples, threads, reps);
     std::printf(
         "| scene | triangles | traced | Mrays | no cones: trace s | Mrays/s | cones: trace s | "
         "Mrays/s | speed-up | rows not the same bits |\n"

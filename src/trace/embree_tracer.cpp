@@ -2,8 +2,10 @@
 // Tracing", SIGGRAPH 2014). Visibility goes through the ray-stream API (rtcOccluded1M, one call
 // per batch of rays sharing an origin, incoherent flag): about twice the single-ray rate on the
 // room on this machine, and it traces merge_coplanar's triangles (coplanar_merge.hpp), which
-// cover the same points with fewer triangles. Closest hits use the mesh's own triangles
-// (rtcIntersect1, rtcIntersect1M), whose indices and barycentrics the caller interpolates with.
+// cover the same points with fewer triangles; most blocked rays of a bundle are answered from the
+// cones of the triangles that stopped their neighbours (tracer.hpp, "Blocker cones"). Closest
+// hits use the mesh's own triangles (rtcIntersect1, rtcIntersect1M), whose indices and
+// barycentrics the caller interpolates with.
 #include "shprt/core/error.hpp"
 #include "shprt/trace/coplanar_merge.hpp"
 #include "shprt/trace/tracer.hpp"
