@@ -190,8 +190,8 @@ void project_rows(const float* W, std::size_t count, std::size_t S, std::size_t 
 void project_visibility_rows(const float* W, std::size_t count, std::size_t S, std::size_t depth,
                              const float* Y, int K, const float* T, float w, float* C);
 // Below this many columns the SGEMM is faster: listing a row's directions costs as much as adding
-// few columns (bench_bake, local set: sums at 0.42 of the bare SGEMM's rate at K = 32, 0.66 at 48,
-// 1.6 at 64 and 1.8 at 256).
+// few columns (bench_bake, local set: sums at 0.42-0.50 of the bare SGEMM's rate at K = 32, 0.66
+// at 48, 1.6 at 64 and 1.8 at 256).
 inline constexpr int kSumsMinColumns = 64;
 // The sums of project_visibility_rows: out[k] = the sum of Y[rows[q]·K + k] over q in order, from
 // zero, for k < K. The kernels add the same terms in the same order for every k, so all give
