@@ -9,11 +9,8 @@
 #include "shprt/core/error.hpp"
 #include "shprt/trace/coplanar_merge.hpp"
 #include "shprt/trace/tracer.hpp"
+#include "trace/blocker_cones.hpp"
 #include "trace/embree_common.hpp"
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include <algorithm>
 #include <array>
@@ -35,9 +32,9 @@ constexpr int kStreamChunk = 256;
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-// Blocker cones (tracer.hpp): every kConeStride-th ray of a call is traced first, for calls of at
-// least kConeMinRays rays.
-constexpr int kConeStride = 16;
+// Blocker cones (tracer.hpp, blocker_cones.hpp): every kConeStride-th ray of a call is traced
+// first, for calls of at least kConeMinRays rays.
+using trace_detail::kConeStride;
 constexpr int kConeMinRays = 2 * kConeStride;
 // The cones are built and tested where at least one pair of neighbouring samples in
 // kConeMinSpanShare was stopped by the same triangle (bench_blocker_cones: a cone test costs
@@ -93,61 +90,6 @@ struct SceneRelease {
 };
 using GeometryPtr = std::unique_ptr<RTCGeometryTy, GeometryRelease>;
 using ScenePtr = std::unique_ptr<RTCSceneTy, SceneRelease>;
-
-// The rays between occluded_by_cones' samples (every kConeStride-th ray; cone[j] is the cone of
-// sample j's blocker, empty when it had none): ray i, between samples j = i / kConeStride and
-// j + 1, is occluded (occluded[i] = 1) when it lies in either's cone; otherwise occluded[i] = 0
-// and i goes to `trace`, in increasing order. The samples themselves are left alone. Returns how
-// many went to `trace`. Four rays at a time with SSE where there is SSE (x86-64 always), with
-// the same products in the same order as in_triangle_cone, so the same answers.
-int test_cones(const TriangleCone* cone, int samples, const Vec3f* dirs, int count,
-               std::uint8_t* occluded, std::uint32_t* trace) {
-    static_assert(kConeStride % 4 == 0, "a group of four rays lies between two samples");
-    int pending = 0;
-    auto keep = [&](int i, bool inside) {
-        if (i % kConeStride == 0) return;  // a sample: traced already
-        occluded[i] = inside ? 1 : 0;
-        trace[pending] = std::uint32_t(i);
-        pending += inside ? 0 : 1;
-    };
-    int i = 0;
-#if defined(__SSE2__)
-    for (; i + 4 <= count; i += 4) {
-        const int j = i / kConeStride;
-        const TriangleCone& b = cone[j];
-        const TriangleCone& a = cone[std::min(j + 1, samples - 1)];
-        // Four Vec3f (x y z x | y z x y | z x y z) to x, y and z of the four.
-        const float* p = &dirs[i].x;
-        const __m128 v0 = _mm_loadu_ps(p), v1 = _mm_loadu_ps(p + 4), v2 = _mm_loadu_ps(p + 8);
-        const __m128 x = _mm_shuffle_ps(v0, _mm_shuffle_ps(v1, v2, _MM_SHUFFLE(1, 1, 2, 2)),
-                                        _MM_SHUFFLE(2, 0, 3, 0));
-        const __m128 y = _mm_shuffle_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(0, 0, 1, 1)),
-                                        _mm_shuffle_ps(v1, v2, _MM_SHUFFLE(2, 2, 3, 3)),
-                                        _MM_SHUFFLE(2, 0, 2, 0));
-        const __m128 z = _mm_shuffle_ps(_mm_shuffle_ps(v0, v1, _MM_SHUFFLE(1, 1, 2, 2)),
-                                        _mm_shuffle_ps(v2, v2, _MM_SHUFFLE(3, 3, 0, 0)),
-                                        _MM_SHUFFLE(2, 0, 2, 0));
-        auto dot4 = [&](Vec3f n) {
-            return _mm_add_ps(
-                _mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(n.x)), _mm_mul_ps(y, _mm_set1_ps(n.y))),
-                _mm_mul_ps(z, _mm_set1_ps(n.z)));
-        };
-        // _mm_min_ps(a, b) is fmin2's a < b ? a : b: an empty cone's NaN stays NaN.
-        auto inside = [&](const TriangleCone& k) {
-            const __m128 m = _mm_min_ps(_mm_min_ps(dot4(k.n0), dot4(k.n1)), dot4(k.n2));
-            return _mm_cmpge_ps(m, _mm_setzero_ps());
-        };
-        const int mask = _mm_movemask_ps(_mm_or_ps(inside(b), inside(a)));
-        for (int l = 0; l < 4; ++l) keep(i + l, (mask >> l & 1) != 0);
-    }
-#endif
-    for (; i < count; ++i) {
-        const int j = i / kConeStride;
-        keep(i, in_triangle_cone(cone[j], dirs[i]) ||
-                    in_triangle_cone(cone[std::min(j + 1, samples - 1)], dirs[i]));
-    }
-    return pending;
-}
 
 class EmbreeTracer final : public Tracer {
 public:
@@ -339,7 +281,8 @@ private:
         int pending = 0;
         if (test) {
             // A ray inside either cone is occluded; the others are listed to trace, in order.
-            pending = test_cones(sc.cone.data(), samples, dirs, count, occluded, sc.index.data());
+            pending = trace_detail::test_cones(sc.cone.data(), samples, dirs, count, occluded,
+                                               sc.index.data());
         } else {
             for (int i = 0; i < count; ++i)
                 if (i % kConeStride != 0) sc.index[std::size_t(pending++)] = std::uint32_t(i);
