@@ -72,21 +72,37 @@ ErrorBound make_error_bound(const BakeOptions& options, const DirectionTable& ta
     bound.target = options.target_error;
     bound.open_norm = open_transfer_norm(KL);
     bound.shadowed = shadowed;
-    if (table.frame == DirectionFrame::local && options.open_control)
-        bound.controls = make_open_controls(table, Y, KL, bound.first_samples);
     // A local set's W is the weight or 0 (weight_row copies it; trace_row zeroes what is
     // blocked), projected by sums from kSumsMinColumns columns; a sphere set's holds the cosine.
-    bound.weight = table.frame == DirectionFrame::local && KL >= kSumsMinColumns
-                       ? common_weight(table)
-                       : 0.0f;
-    if (bound.weight != 0.0f) {
-        const std::size_t S0 = bound.first_samples, Smax = bound.max_samples;
-        const std::size_t K = std::size_t(KL);
-        bound.sums.push_back(segment_sums(Y, S0 / 2, KL));
-        bound.sums.push_back(segment_sums(Y + S0 / 2 * K, S0 - S0 / 2, KL));
-        for (std::size_t a = S0; a < Smax; a *= 2)
-            bound.sums.push_back(segment_sums(Y + a * K, a, KL));
+    const bool local = table.frame == DirectionFrame::local;
+    const float weight = local ? common_weight(table) : 0.0f;
+    bound.weight = KL >= kSumsMinColumns ? weight : 0.0f;
+    if (bound.weight == 0.0f && !options.open_control) return bound;
+    if (weight == 0.0f) {  // a local set of unequal weights (a caller's) has no sums
+        if (local && options.open_control)
+            bound.controls = make_open_controls(table, Y, KL, bound.first_samples);
+        return bound;
     }
+    // The column sums of Y over the segments [0, S0/2), [S0/2, S0), [S0, 2·S0), …, once: the
+    // sums' T, and added up, the controls of the prefixes S0/2, S0, 2·S0, … (make_open_controls
+    // for equal weights, without a pass over Y per prefix).
+    const std::size_t S0 = bound.first_samples, Smax = bound.max_samples;
+    const std::size_t K = std::size_t(KL);
+    std::vector<double> prefix(K, 0.0);
+    const std::vector<double> open = options.open_control
+                                         ? open_hemisphere_transfer(KL, HemisphereDensity::cosine)
+                                         : std::vector<double>{};
+    auto segment = [&](std::size_t a, std::size_t b) {
+        const std::vector<double> sum = column_sums(Y + a * K, b - a, KL);
+        if (bound.weight != 0.0f) bound.sums.emplace_back(sum.begin(), sum.end());
+        if (!options.open_control) return;
+        for (std::size_t k = 0; k < K; ++k) prefix[k] += sum[k];
+        bound.controls.push_back(
+            open_control_from_sums(prefix, double(weight) * double(Smax) / double(b), open));
+    };
+    segment(0, S0 / 2);
+    segment(S0 / 2, S0);
+    for (std::size_t a = S0; a < Smax; a *= 2) segment(a, 2 * a);
     return bound;
 }
 

@@ -431,11 +431,16 @@ void project_visibility_rows(const float* W, std::size_t count, std::size_t S, s
     }
 }
 
-std::vector<float> segment_sums(const float* Y, std::size_t depth, int K) {
+std::vector<double> column_sums(const float* Y, std::size_t depth, int K) {
     std::vector<double> sum(std::size_t(K), 0.0);
     for (std::size_t s = 0; s < depth; ++s)
         for (std::size_t k = 0; k < std::size_t(K); ++k)
             sum[k] += double(Y[s * std::size_t(K) + k]);
+    return sum;
+}
+
+std::vector<float> segment_sums(const float* Y, std::size_t depth, int K) {
+    const std::vector<double> sum = column_sums(Y, depth, K);
     return std::vector<float>(sum.begin(), sum.end());
 }
 
@@ -461,6 +466,17 @@ OpenControl make_open_control(const float* weights, const float* Y, std::size_t 
         for (std::size_t i = 0; i < F; ++i) q[i] += w * double(y[i]);
     }
     for (std::size_t i = 0; i < F; ++i) c.delta[i] = q[i] - c.delta[i];
+    return c;
+}
+
+OpenControl open_control_from_sums(const std::vector<double>& sums, double weight_scale,
+                                   const std::vector<double>& open) {
+    SHPRT_CHECK(sums.size() == open.size(), invalid_argument,
+                "open control: {} column sums for {} columns", sums.size(), open.size());
+    OpenControl c;
+    c.open0 = open[0];
+    c.delta.resize(open.size());
+    for (std::size_t i = 0; i < open.size(); ++i) c.delta[i] = weight_scale * sums[i] - open[i];
     return c;
 }
 

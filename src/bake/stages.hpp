@@ -200,8 +200,9 @@ inline constexpr int kSumsMinColumns = 64;
 enum class SumKernel { automatic, portable, avx2, avx512 };
 void sum_rows(const float* Y, int K, const std::uint32_t* rows, std::size_t n, float* out,
               SumKernel kernel = SumKernel::automatic);
-// T for project_visibility_rows: the column sums of Y's rows [0, depth) (K columns), summed in
-// double and rounded once.
+// The column sums of Y's rows [0, depth) (K columns) in double.
+std::vector<double> column_sums(const float* Y, std::size_t depth, int K);
+// T for project_visibility_rows: column_sums rounded once to float.
 std::vector<float> segment_sums(const float* Y, std::size_t depth, int K);
 // The one weight of every direction of the table, or 0 where they differ (a sphere set's).
 float common_weight(const DirectionTable& table);
@@ -223,6 +224,11 @@ struct OpenControl {
 // columns, or the pair-product table's KL(KL+1)/2 with `matrix`).
 OpenControl make_open_control(const float* weights, const float* Y, std::size_t count, double scale,
                               int KL, bool matrix);
+// The same for a prefix whose directions all weigh w, from the column sums of its rows of Y
+// (column_sums, added segment by segment) and ∫ f_open (sh/sampler.hpp, open_hemisphere_transfer):
+// δ = w·scale·sums − ∫ f_open.
+OpenControl open_control_from_sums(const std::vector<double>& sums, double weight_scale,
+                                   const std::vector<double>& open);
 // rows[j] ← rows[j] − β_j·δ for `count` rows of δ.size() columns (none: an empty control).
 void apply_open_control(const OpenControl& control, float* rows, std::size_t count);
 

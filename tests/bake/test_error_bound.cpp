@@ -50,6 +50,34 @@ std::vector<double> errors_per_receiver(const TransferSet& a, const TransferSet&
     return e;
 }
 
+// The bound's open-part controls come from the segments' column sums (make_error_bound): they
+// must be make_open_controls', whose every prefix is a pass over its rows of Y, to double
+// rounding — at K = 256 (with the sums) and K = 16 (without), for the cosine-weighted local set.
+TEST(ErrorBound, ControlsFromTheSegmentSumsAreThePrefixSums) {
+    for (const int K : {16, 256}) {
+        BakeOptions o = bounded_options(DirectionFrame::local, 0.02, 4096);
+        o.K = K;
+        const DirectionSet set = bake_direction_set(o);
+        const detail::DirectionTable table =
+            detail::make_direction_table(set, DirectionFrame::local, kTargetFirstSamples);
+        const int KL = detail::projected_coeffs(o);
+        const std::vector<float> Y = basis_table(KL, set);
+        const detail::ErrorBound bound = detail::make_error_bound(o, table, Y.data(), KL, true);
+        const std::vector<detail::OpenControl> want =
+            detail::make_open_controls(table, Y.data(), KL, bound.first_samples);
+        ASSERT_EQ(bound.controls.size(), want.size()) << "K " << K;
+        ASSERT_EQ(bound.sums.empty(), K < detail::kSumsMinColumns) << "K " << K;
+        for (std::size_t i = 0; i < want.size(); ++i) {
+            ASSERT_EQ(bound.controls[i].delta.size(), want[i].delta.size());
+            EXPECT_EQ(bound.controls[i].open0, want[i].open0);
+            double worst = 0;
+            for (std::size_t c = 0; c < want[i].delta.size(); ++c)
+                worst = std::max(worst, std::fabs(bound.controls[i].delta[c] - want[i].delta[c]));
+            EXPECT_LT(worst, 1e-12) << "K " << K << ", prefix " << i;
+        }
+    }
+}
+
 TEST(ErrorBound, EstimateTracksTheTrueError) {
     constexpr double E = 0.03;
     for (const char* name : {"box_on_plane", "corner"}) {
