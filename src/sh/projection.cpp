@@ -64,11 +64,12 @@ std::vector<float> basis_table(int K, const DirectionSet& set) {
     assign_huge(table, set.size() * static_cast<std::size_t>(K));
     // Rows are independent (the same bits on any thread); a bake's is up to 16 384 × 1 024
     // evaluations in double, which the bake's threads would otherwise wait for.
+    const ShBasisEvaluator<double> eval(K);
     parallel_for(0, set.size(), 256, Split::automatic, [&](std::size_t first, std::size_t last) {
         std::vector<double> y(K);
         for (std::size_t s = first; s < last; ++s) {
             const Vec3d d = direction(set, s);
-            sh_eval_k(K, d.x, d.y, d.z, y.data());
+            eval(d.x, d.y, d.z, y.data());
             float* row = table.data() + s * K;
             for (int i = 0; i < K; ++i) row[i] = static_cast<float>(y[i]);
         }

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -117,6 +118,31 @@ TEST(ShBasis, PartialBandWritesExactlyK) {
     sh_eval_k(32, 0.48, -0.6, 0.64, part.data());
     for (int i = 0; i < 32; ++i) EXPECT_EQ(part[i], full[i]);
     EXPECT_EQ(part[32], -7.0) << "sh_eval_k wrote past K";
+}
+
+// The host evaluator tabulates the recurrence's factors once (the bake's basis table): the same
+// bits as sh_eval_k, in double and in float, for partial and full bands, with nothing written
+// past K.
+template <class T>
+void expect_evaluator_bits(int K) {
+    const ShBasisEvaluator<T> eval(K);
+    std::vector<T> want(std::size_t(K) + 1, T(-7)), got(std::size_t(K) + 1, T(-7));
+    for (const Dir& d : random_dirs(200, 7 + unsigned(K))) {
+        sh_eval_k(K, T(d.x), T(d.y), T(d.z), want.data());
+        eval(T(d.x), T(d.y), T(d.z), got.data());
+        for (int i = 0; i < K; ++i)
+            ASSERT_EQ(std::memcmp(&got[std::size_t(i)], &want[std::size_t(i)], sizeof(T)), 0)
+                << "K " << K << ", coefficient " << i << ": " << got[std::size_t(i)] << " vs "
+                << want[std::size_t(i)];
+        ASSERT_EQ(got[std::size_t(K)], T(-7)) << "K " << K << ": wrote past K";
+    }
+}
+
+TEST(ShBasis, TabulatedEvaluatorGivesTheSameBits) {
+    for (const int K : {1, 2, 4, 9, 17, 256, 700, 1024}) {
+        expect_evaluator_bits<double>(K);
+        expect_evaluator_bits<float>(K);
+    }
 }
 
 TEST(ShBasis, OrthonormalByExactQuadrature30Bands) {

@@ -23,6 +23,8 @@
 #include "shprt/core/hd.hpp"
 
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 namespace shprt {
 
@@ -49,10 +51,31 @@ SHPRT_HD_INLINE int sh_bands_for(int K) {
     return K > 0 ? n + 1 : 0;
 }
 
-// Evaluates the first K basis functions at the unit direction (x, y, z) into out[0..K).
-// Precondition: x² + y² + z² = 1 (not checked), 0 ≤ K ≤ kMaxBands². Works for float and double.
+namespace detail {
+
+// The recurrence's factors, computed where they are used (device code, one-off evaluations);
+// ShBasisEvaluator tabulates the same expressions once, so both give the same bits.
 template <class T>
-SHPRT_HD void sh_eval_k(int K, T x, T y, T z, T* out) {
+struct ShFactors {
+    // q_mm = q_{m−1,m−1} · mm(m)
+    SHPRT_HD T mm(int m) const { return -std::sqrt(T(2 * m + 1) / T(2 * m)); }
+    // q_{m+1,m} = (first(m) · z) · q_mm
+    SHPRT_HD T first(int m) const { return std::sqrt(T(2 * m + 3)); }
+    // q_l = a(l, m) · (z · q_{l−1} − b(l, m) · q_{l−2}), l ≥ m + 2
+    SHPRT_HD T a(int l, int m) const {
+        const T ll = T(l), mm = T(m);
+        return std::sqrt((T(4) * ll * ll - T(1)) / (ll * ll - mm * mm));
+    }
+    SHPRT_HD T b(int l, int m) const {
+        const T ll = T(l), mm = T(m);
+        return std::sqrt(((ll - T(1)) * (ll - T(1)) - mm * mm) /
+                         (T(4) * (ll - T(1)) * (ll - T(1)) - T(1)));
+    }
+};
+
+// sh_eval_k with the recurrence's factors from `f` (ShFactors or a table of them).
+template <class T, class Factors>
+SHPRT_HD void sh_eval_k_with(int K, T x, T y, T z, T* out, const Factors& f) {
     if (K <= 0) return;
     const int bands = sh_bands_for(K);
     constexpr T kInv4Pi = T(0.0795774715459476678844418816862571);  // 1/(4π)
@@ -63,7 +86,7 @@ SHPRT_HD void sh_eval_k(int K, T x, T y, T z, T* out) {
     T c_m = T(1), s_m = T(0);
     for (int m = 0; m < bands; ++m) {
         if (m > 0) {
-            q_mm *= -std::sqrt(T(2 * m + 1) / T(2 * m));
+            q_mm *= f.mm(m);
             const T c = c_m * x - s_m * y;
             s_m = c_m * y + s_m * x;
             c_m = c;
@@ -75,13 +98,9 @@ SHPRT_HD void sh_eval_k(int K, T x, T y, T z, T* out) {
         for (int l = m; l < bands; ++l) {
             if (l == m + 1) {
                 q_prev = q;
-                q = std::sqrt(T(2 * m + 3)) * z * q;
+                q = f.first(m) * z * q;
             } else if (l > m + 1) {
-                const T ll = T(l), mm = T(m);
-                const T a = std::sqrt((T(4) * ll * ll - T(1)) / (ll * ll - mm * mm));
-                const T b = std::sqrt(((ll - T(1)) * (ll - T(1)) - mm * mm) /
-                                      (T(4) * (ll - T(1)) * (ll - T(1)) - T(1)));
-                const T next = a * (z * q - b * q_prev);
+                const T next = f.a(l, m) * (z * q - f.b(l, m) * q_prev);
                 q_prev = q;
                 q = next;
             }
@@ -94,6 +113,55 @@ SHPRT_HD void sh_eval_k(int K, T x, T y, T z, T* out) {
         }
     }
 }
+
+}  // namespace detail
+
+// Evaluates the first K basis functions at the unit direction (x, y, z) into out[0..K).
+// Precondition: x² + y² + z² = 1 (not checked), 0 ≤ K ≤ kMaxBands². Works for float and double.
+template <class T>
+SHPRT_HD void sh_eval_k(int K, T x, T y, T z, T* out) {
+    detail::sh_eval_k_with(K, x, y, z, out, detail::ShFactors<T>{});
+}
+
+// sh_eval_k for many directions on the host: the recurrence's square roots and quotients (two
+// of each per coefficient) tabulated once for K, the same bits as sh_eval_k.
+template <class T>
+class ShBasisEvaluator {
+public:
+    explicit ShBasisEvaluator(int K) : m_K(K) {
+        const int bands = sh_bands_for(K);
+        const detail::ShFactors<T> f;
+        m_mm.resize(std::size_t(bands) + 1);
+        m_first.resize(std::size_t(bands) + 1);
+        m_a.resize(std::size_t(bands) * std::size_t(bands + 1) / 2 + 1);
+        m_b.resize(m_a.size());
+        for (int m = 0; m < bands; ++m) {
+            m_mm[std::size_t(m)] = m > 0 ? f.mm(m) : T(1);
+            m_first[std::size_t(m)] = f.first(m);
+            for (int l = m + 2; l < bands; ++l) {
+                m_a[index(l, m)] = f.a(l, m);
+                m_b[index(l, m)] = f.b(l, m);
+            }
+        }
+    }
+    void operator()(T x, T y, T z, T* out) const {
+        detail::sh_eval_k_with(m_K, x, y, z, out, Table{this});
+    }
+
+private:
+    static std::size_t index(int l, int m) {
+        return std::size_t(l) * std::size_t(l + 1) / 2 + std::size_t(m);
+    }
+    struct Table {
+        const ShBasisEvaluator* e;
+        T mm(int m) const { return e->m_mm[std::size_t(m)]; }
+        T first(int m) const { return e->m_first[std::size_t(m)]; }
+        T a(int l, int m) const { return e->m_a[index(l, m)]; }
+        T b(int l, int m) const { return e->m_b[index(l, m)]; }
+    };
+    int m_K;
+    std::vector<T> m_mm, m_first, m_a, m_b;
+};
 
 // Evaluates all n² = bands² basis functions at (x, y, z).
 template <class T>
