@@ -24,13 +24,28 @@ std::size_t block_rows(std::size_t length, std::size_t height) {
     return std::clamp<std::size_t>(kBlockFloats / length, 1, height);
 }
 
-double distance(const float* a, const float* b, int n) {
-    double sum = 0;
-    for (int i = 0; i < n; ++i) {
-        const double d = double(a[i]) - double(b[i]);
-        sum += d * d;
+// √(Σ term(i)²) over i < n, in four independent sums: one chain of dependent additions would
+// run at the adder's latency (a row's estimate at K = 256 is 256 of them).
+template <class Term>
+double root_sum_of_squares(int n, const Term& term) {
+    double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+    int i = 0;
+    for (; i + 4 <= n; i += 4) {
+        const double t0 = term(i), t1 = term(i + 1), t2 = term(i + 2), t3 = term(i + 3);
+        s0 += t0 * t0;
+        s1 += t1 * t1;
+        s2 += t2 * t2;
+        s3 += t3 * t3;
     }
-    return std::sqrt(sum);
+    for (; i < n; ++i) {
+        const double t = term(i);
+        s0 += t * t;
+    }
+    return std::sqrt((s0 + s1) + (s2 + s3));
+}
+
+double distance(const float* a, const float* b, int n) {
+    return root_sum_of_squares(n, [&](int i) { return double(a[i]) - double(b[i]); });
 }
 
 // ‖ĉ_hi − ĉ_lo‖ of a local row, each estimate corrected by its prefix's control: ĉ = s·sum − β·δ,
@@ -40,14 +55,12 @@ double controlled_distance(const OpenControl& lo, const OpenControl& hi, double 
                            double* hi_beta) {
     const double beta_lo = lo_scale * double(lo_sum[0]) / lo.open0;
     const double beta_hi = hi_scale * (double(lo_sum[0]) + double(add[0])) / hi.open0;
-    double sum = 0;
-    for (int i = 0; i < n; ++i) {
+    *hi_beta = beta_hi;
+    return root_sum_of_squares(n, [&](int i) {
         const double h = hi_scale * (double(lo_sum[i]) + double(add[i])) - beta_hi * hi.delta[i];
         const double l = lo_scale * double(lo_sum[i]) - beta_lo * lo.delta[i];
-        sum += (h - l) * (h - l);
-    }
-    *hi_beta = beta_hi;
-    return std::sqrt(sum);
+        return h - l;
+    });
 }
 }  // namespace
 
@@ -276,9 +289,10 @@ std::uint64_t bake_chunk_to_error(const ErrorBound& bound, std::size_t cap, cons
                 float* row = sc.w.data() + i * length;
                 weight_row(rx.normals[r], *bound.table, DirectionRange{a, b}, row);
                 if (!bound.shadowed) continue;
-                auto nonzero = [&] {
-                    return static_cast<std::uint32_t>(
-                        std::count_if(row, row + length, [](float w) { return w != 0.0f; }));
+                auto nonzero = [&] {  // a 32-bit count: four lanes to an SSE register
+                    std::uint32_t n = 0;
+                    for (std::size_t c = 0; c < length; ++c) n += row[c] != 0.0f ? 1u : 0u;
+                    return n;
                 };
                 const std::uint32_t slot = shared ? shared->slot(r) : CrossTwins::kNoSlot;
                 std::uint32_t rays_of_row = 0;  // the rays the row stands for
