@@ -517,6 +517,37 @@ public:
         multiples(std::cos(f.beta), std::sin(f.beta), m_cb, m_sb);
         multiples(std::cos(f.gamma), std::sin(f.gamma), m_cg, m_sg);
     }
+#if defined(__x86_64__)
+    // set() for eight receivers, receiver k in lane k of apply8.
+    void set8(const Vec3f* normals) {
+        for (int k = 0; k < 8; ++k) {
+            set(local_frame(normals[k]));
+            for (int m = 0; m < m_bands; ++m) {
+                m_lanes[(4 * m + 0) * 8 + k] = m_cb[m], m_lanes[(4 * m + 1) * 8 + k] = m_sb[m];
+                m_lanes[(4 * m + 2) * 8 + k] = m_cg[m], m_lanes[(4 * m + 3) * 8 + k] = m_sg[m];
+            }
+        }
+    }
+    // apply() for eight receivers at once, receiver k in lane k (in[i·8 + k], out[i·8 + k]): each
+    // lane runs apply()'s products and sums in apply()'s order, without fused multiply-adds
+    // (stages.cpp is built with -ffp-contract=off), so its bits are apply()'s.
+    __attribute__((target("avx512f"))) void apply8(const double* in, double* out) const {
+        __m512d v[2 * kMaxComputeBands + 1];
+        const double* xt = m_xt.data();
+        for (int l = 0; l < m_bands; ++l) {
+            const int n = 2 * l + 1;
+            const double* x = m_x[l];
+            for (int r = 0; r < n; ++r) v[r] = dot8(x + std::size_t(r) * n, in + 8 * l * l, n);
+            z_rotate8(0, l, v);
+            __m512d w[2 * kMaxComputeBands + 1];
+            for (int c = 0; c < n; ++c)
+                w[c] = dot8(xt + std::size_t(c) * n, reinterpret_cast<const double*>(v), n);
+            xt += std::size_t(n) * n;
+            z_rotate8(2, l, w);
+            for (int c = 0; c < n; ++c) _mm512_storeu_pd(out + 8 * (l * l + c), w[c]);
+        }
+    }
+#endif
     // out = D·in over every band; in and out do not overlap.
     void apply(const double* in, double* out) const {
         double v[2 * kMaxComputeBands + 1];
@@ -549,6 +580,36 @@ private:
         for (; i < n; ++i) s0 += a[i] * b[i];
         return (s0 + s1) + (s2 + s3);
     }
+#if defined(__x86_64__)
+    __attribute__((target("avx512f"))) static __m512d term8(const double* a, const double* b,
+                                                            int i) {
+        return _mm512_mul_pd(_mm512_set1_pd(a[i]), _mm512_loadu_pd(b + 8 * i));
+    }
+    // dot() in each lane: a[i] times lane values b[i·8 + k].
+    __attribute__((target("avx512f"))) static __m512d dot8(const double* a, const double* b,
+                                                           int n) {
+        __m512d s0 = _mm512_setzero_pd(), s1 = s0, s2 = s0, s3 = s0;
+        int i = 0;
+        for (; i + 4 <= n; i += 4) {
+            s0 = _mm512_add_pd(s0, term8(a, b, i));
+            s1 = _mm512_add_pd(s1, term8(a, b, i + 1));
+            s2 = _mm512_add_pd(s2, term8(a, b, i + 2));
+            s3 = _mm512_add_pd(s3, term8(a, b, i + 3));
+        }
+        for (; i < n; ++i) s0 = _mm512_add_pd(s0, term8(a, b, i));
+        return _mm512_add_pd(_mm512_add_pd(s0, s1), _mm512_add_pd(s2, s3));
+    }
+    // z_rotate() in each lane, with set8's angles (first = 0: β's, 2: γ's).
+    __attribute__((target("avx512f"))) void z_rotate8(int first, int l, __m512d* v) const {
+        for (int m = 1; m <= l; ++m) {
+            const __m512d c = _mm512_loadu_pd(m_lanes.data() + (4 * m + first) * 8);
+            const __m512d s = _mm512_loadu_pd(m_lanes.data() + (4 * m + first + 1) * 8);
+            const __m512d p = v[l + m], q = v[l - m];
+            v[l + m] = _mm512_sub_pd(_mm512_mul_pd(c, p), _mm512_mul_pd(s, q));
+            v[l - m] = _mm512_add_pd(_mm512_mul_pd(s, p), _mm512_mul_pd(c, q));
+        }
+    }
+#endif
     void multiples(double c1, double s1, double* c, double* s) const {
         c[0] = 1.0, s[0] = 0.0;
         for (int m = 1; m < m_bands; ++m) {
@@ -570,12 +631,13 @@ private:
     std::vector<double> m_xt;        // Xᵀ of every band, one after another
     double m_cb[kMaxComputeBands], m_sb[kMaxComputeBands], m_cg[kMaxComputeBands],
         m_sg[kMaxComputeBands];
+    std::vector<double> m_lanes = std::vector<double>(4 * 8 * kMaxComputeBands);  // set8's
 };
 
 }  // namespace
 
 void rotate_rows_to_world(const Vec3f* normals, std::size_t count, int KL, int K, bool matrix,
-                          const float* local, float* world) {
+                          const float* local, float* world, RotationKernel kernel) {
     const std::size_t L = std::size_t(KL);
     const std::size_t local_columns = matrix ? L * (L + 1) / 2 : L;
     const std::size_t world_columns =
@@ -587,7 +649,31 @@ void rotate_rows_to_world(const Vec3f* normals, std::size_t count, int KL, int K
         a.resize(L * L);
         m.resize(L * L);
     }
-    for (std::size_t j = 0; j < count; ++j) {
+    std::size_t j = 0;
+#if defined(__x86_64__)
+    if (kernel == RotationKernel::automatic)
+        kernel = cpu_has_avx512f() ? RotationKernel::avx512 : RotationKernel::portable;
+    SHPRT_CHECK(kernel != RotationKernel::avx512 || cpu_has_avx512f(), unsupported,
+                "this CPU has no AVX-512F");
+    if (kernel == RotationKernel::avx512 && !matrix) {
+        // Eight receivers at a time, receiver k in lane k.
+        std::vector<double> in8(8 * L), out8(8 * L);
+        for (; j + 8 <= count; j += 8) {
+            rotation.set8(normals + j);
+            for (std::size_t k = 0; k < 8; ++k)
+                for (std::size_t i = 0; i < L; ++i)
+                    in8[i * 8 + k] = local[(j + k) * local_columns + i];
+            rotation.apply8(in8.data(), out8.data());
+            for (std::size_t k = 0; k < 8; ++k)
+                for (int i = 0; i < K; ++i)
+                    world[(j + k) * world_columns + std::size_t(i)] =
+                        static_cast<float>(out8[std::size_t(i) * 8 + k]);
+        }
+    }
+#else
+    SHPRT_CHECK(kernel != RotationKernel::avx512, unsupported, "AVX-512 is for x86-64");
+#endif
+    for (; j < count; ++j) {
         rotation.set(local_frame(normals[j]));
         const float* src = local + j * local_columns;
         float* dst = world + j * world_columns;

@@ -236,9 +236,13 @@ void apply_open_control(const OpenControl& control, float* rows, std::size_t cou
 // j's normal, each `local_columns` wide (KL = projected_coeffs, or KL(KL+1)/2 packed for
 // `matrix`), to world rows of K (K(K+1)/2 packed) columns in `world`: c = D(R)·c' over the full
 // bands, then the first K; M = D·M'·Dᵀ, then its leading K×K block. In double, per receiver:
-// O(Σ(2l+1)²) for a vector, K times more for a matrix.
+// O(Σ(2l+1)²) for a vector, K times more for a matrix. Vectors go eight receivers at a time
+// with AVX-512 where the CPU has it (automatic), each receiver with the portable loop's products
+// and sums in its order, so the same bits; a kernel this CPU lacks is Error(unsupported).
+enum class RotationKernel { automatic, portable, avx512 };
 void rotate_rows_to_world(const Vec3f* normals, std::size_t count, int KL, int K, bool matrix,
-                          const float* local, float* world);
+                          const float* local, float* world,
+                          RotationKernel kernel = RotationKernel::automatic);
 
 // OpenBLAS's thread count set to 1 for a scope, restored afterwards: the bake's TBB workers each
 // run their own single-threaded SGEMM (bake_cpu.cpp says why). The setting is process-wide, so

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace shprt::detail {
@@ -102,6 +103,37 @@ TEST(ProjectVisibilityRows, ARowsBitsAreItsOwn) {
             std::memcmp(one.data(), all.data() + r * std::size_t(c.K), one.size() * sizeof(float)),
             0)
             << "row " << r;
+    }
+}
+
+// rotate_rows_to_world's AVX-512 kernel (eight receivers, one per lane) gives the portable
+// loop's bits for every receiver: 8-at-a-time groups and the rest, full and truncated K, normals
+// at the poles too.
+TEST(RotateRowsToWorld, EveryKernelGivesTheSameBits) {
+    if (!cpu_has_avx512f()) GTEST_SKIP() << "this CPU has no AVX-512F";
+    std::mt19937 rng(7);
+    std::normal_distribution<float> g;
+    for (const auto& [KL, K] :
+         {std::pair{16, 16}, std::pair{256, 256}, std::pair{256, 250}, std::pair{1024, 1024}}) {
+        const std::size_t count = 21;
+        std::vector<Vec3f> normals(count);
+        for (Vec3f& n : normals) {
+            n = {g(rng), g(rng), g(rng)};
+            n = n * (1.0f / std::sqrt(dot(n, n)));
+        }
+        normals[3] = {0, 0, 1};
+        normals[9] = {0, 0, -1};
+        std::vector<float> local(count * std::size_t(KL));
+        for (float& v : local) v = g(rng);
+        std::vector<float> want(count * std::size_t(K)), got(want.size());
+        rotate_rows_to_world(normals.data(), count, KL, K, false, local.data(), want.data(),
+                             RotationKernel::portable);
+        rotate_rows_to_world(normals.data(), count, KL, K, false, local.data(), got.data(),
+                             RotationKernel::avx512);
+        for (std::size_t i = 0; i < want.size(); ++i)
+            ASSERT_EQ(std::memcmp(&got[i], &want[i], sizeof(float)), 0)
+                << "KL " << KL << " K " << K << ": receiver " << i / std::size_t(K)
+                << ", coefficient " << i % std::size_t(K) << ": " << got[i] << " vs " << want[i];
     }
 }
 
