@@ -38,10 +38,10 @@
 // except for rays that graze an edge, where Embree's own test and the watertight one disagree
 // too (on Assimp's IFC house, 1 ray in 5.8 M differs from Embree, and there the watertight flat
 // BVH answers as the cones: test_blocker_cones). Each call decides from its own rays, so the
-// answers never depend on threads or on other calls. On the merged room the rays are 1.5× faster;
-// where blockers are small (a curved model) or few (an open sky) the cones are not tested and the
-// samples' separate stream costs 2–8 % (bench_blocker_cones; bench/RESULTS.md, "Blocker cones
-// and projection by sums").
+// answers never depend on threads or on other calls. On the merged room the rays are 1.75×
+// faster; where blockers are small (a curved model) or few (an open sky) the cones are not tested
+// and the samples' separate stream costs 1–4 % (bench_blocker_cones; bench/RESULTS.md, "Blocker
+// cones and projection by sums" and "AVX-512 cones, the rotation in lanes, a cheaper set-up").
 //
 // Embree threading. Debian's Embree uses TBB as its tasking system, and its device option
 // "threads=N" installs a process-wide tbb::global_control(max_allowed_parallelism, N): it would
@@ -116,7 +116,7 @@ struct EmbreeTracerOptions {
         o.high_quality = rays >= kHighQualityRaysPerTriangle * double(triangles);
         o.merge_coplanar = rays >= kMergeRaysPerTriangle * double(triangles);
         // Cones pay on large blockers, which a tessellated mesh has only once merged
-        // (bench_blocker_cones: 1.5x on the merged room, 0.94-0.99x on its own triangles).
+        // (bench_blocker_cones: 1.75x on the merged room, 0.97-0.99x on its own triangles).
         o.blocker_cones = o.merge_coplanar;
         return o;
     }
