@@ -457,6 +457,10 @@ Mesh load_file(const std::string& path, int uv_set) {
     // a vertex.
     const std::string prefix = file_prefix(path);
     if (ext == ".ply" || looks_like_ply(prefix)) ply = check_ply_header(path, prefix, size);
+    if (ply && ply->unknown_lines > 0)
+        log_warn("{}: PLY header line {}: '{}' is no PLY keyword; read as a comment{}", path,
+                 ply->first_unknown_line, ply->first_unknown,
+                 ply->unknown_lines > 1 ? fmt::format(" ({} such lines)", ply->unknown_lines) : "");
     check_off_header(path, prefix, size);
     // Assimp runs in a child process: a crash in one of its importers (fuzzing found a Collada
     // one) becomes an error naming the file, not the end of the program.

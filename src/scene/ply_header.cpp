@@ -129,8 +129,14 @@ PlyHeader check_ply_header(const std::string& path, const std::string& prefix,
             }
             continue;
         }
-        fail(ErrorCode::format, "{}: PLY header line {}: unexpected '{}'", path, line_number,
-             printable(line));
+        // No keyword: Assimp passes over such a line, and so does this check (the loader warns).
+        // A line that begins like end_header is not passed over: Assimp never returns on one.
+        SHPRT_CHECK(keyword.rfind("end_header", 0) != 0, format,
+                    "{}: PLY header line {}: unexpected '{}'", path, line_number, printable(line));
+        if (header.unknown_lines++ == 0) {
+            header.first_unknown_line = line_number;
+            header.first_unknown = printable(line);
+        }
     }
     SHPRT_CHECK(header_bytes > 0, format,
                 "{}: truncated or invalid PLY header (no end_header line in the first {} bytes)",

@@ -18,6 +18,12 @@ struct PlyHeader {
                                  // divides them by 255); float colours are taken as linear
     bool has_material = false;   // an "element material"; otherwise Assimp's material is a white
                                  // placeholder of its own
+    // Header lines that are no PLY keyword (Blender 2.47 wrote "Created by Blender3D ..." without
+    // "comment"): read as comments, as Assimp reads them. How many, and the first one's number and
+    // text, for the loader's warning.
+    int unknown_lines = 0;
+    int first_unknown_line = 0;
+    std::string first_unknown;
 };
 
 // True when `prefix` (the first bytes of a file) starts with the PLY magic line.
@@ -26,8 +32,9 @@ bool looks_like_ply(const std::string& prefix);
 // Parses and checks the header in `prefix` (the first min(kMaxPlyHeader, file_size) bytes of a
 // file of `file_size` bytes): the magic line, a known format, known property types, identifier
 // element names with decimal counts, a vertex element with x, y and z, an exact end_header line,
-// and element counts that the bytes after the header can hold. Throws Error(format) naming
-// `path` and the problem.
+// and element counts that the bytes after the header can hold. A line that is no keyword is
+// counted and passed over (PlyHeader::unknown_lines), unless it begins like end_header (Assimp
+// never returns on a corrupt one). Throws Error(format) naming `path` and the problem.
 PlyHeader check_ply_header(const std::string& path, const std::string& prefix,
                            std::uintmax_t file_size);
 

@@ -318,7 +318,7 @@ TEST(SceneLoad, CorruptFilesThrowAndNeverCrash) {
         {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n" + faces +
              "end_header\n" + body,
          "lacks x, y or z"},
-        {header + faces + "banana\nend_header\n" + body, "unexpected 'banana'"},
+        {header + faces + "end_headerX\nend_header\n" + body, "unexpected 'end_headerX'"},
     };
     int k = 0;
     for (const auto& [text, what] : bad_headers) {
@@ -394,6 +394,38 @@ TEST(SceneLoad, DegenerateTrianglesAreDroppedWithAWarning) {
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_NE(warnings[0].find("dropped 2 degenerate triangles"), std::string::npos) << warnings[0];
     EXPECT_NE(warnings[0].find(path), std::string::npos);
+}
+
+// A header line that is no PLY keyword is read as a comment, with one warning, as Assimp reads
+// it: Blender 2.47 wrote "Created by Blender3D 247 ..." without "comment", and Assimp's own
+// corpus holds such a file (PLY/Wuson.ply). A line that begins like end_header stays an error
+// (CorruptFilesThrowAndNeverCrash): Assimp never returns on one.
+TEST(SceneLoad, PlyHeaderLinesThatAreNoKeywordAreReadAsComments) {
+    TempDir dir;
+    const std::string path = dir.file("free_text.ply");
+    std::ofstream(path, std::ios::binary)
+        << "ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: \n"
+           "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+           "banana\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+           "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    std::vector<std::string> warnings;
+    set_log_sink([&](LogLevel level, std::string_view msg) {
+        if (level == LogLevel::warn) warnings.emplace_back(msg);
+    });
+    const Mesh m = load_scene(path);
+    set_log_sink(nullptr);
+    EXPECT_EQ(m.triangle_count(), 1u);
+    EXPECT_EQ(m.vertex_count(), 3u);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find(path + ": PLY header line 3: 'Created by Blender3D"),
+              std::string::npos)
+        << warnings[0];
+    EXPECT_NE(warnings[0].find("read as a comment (2 such lines)"), std::string::npos)
+        << warnings[0];
+
+    const std::string wuson = "/usr/share/assimp/models/PLY/Wuson.ply";
+    if (!std::filesystem::exists(wuson)) GTEST_SKIP() << wuson << " (assimp-testmodels) missing";
+    EXPECT_EQ(load_scene(wuson).triangle_count(), 3732u);
 }
 
 }  // namespace
