@@ -373,6 +373,21 @@ TEST(SceneLoad, NanInBinaryPlyIsRejected) {
     expect_load_error(path, "vertex 2 has a non-finite coordinate", ErrorCode::format);
 }
 
+// load_scene(path), with the warnings it logged added to `warnings`.
+Mesh load_with_warnings(const std::string& path, std::vector<std::string>& warnings) {
+    set_log_sink([&](LogLevel level, std::string_view msg) {
+        if (level == LogLevel::warn) warnings.emplace_back(msg);
+    });
+    try {
+        Mesh m = load_scene(path);
+        set_log_sink(nullptr);
+        return m;
+    } catch (...) {
+        set_log_sink(nullptr);
+        throw;
+    }
+}
+
 TEST(SceneLoad, DegenerateTrianglesAreDroppedWithAWarning) {
     Mesh m;
     m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, -1}, {2, 0, 0}};
@@ -381,11 +396,7 @@ TEST(SceneLoad, DegenerateTrianglesAreDroppedWithAWarning) {
     const std::string path = dir.file("degenerate.ply");
     write_ply(m, path);
     std::vector<std::string> warnings;
-    set_log_sink([&](LogLevel level, std::string_view msg) {
-        if (level == LogLevel::warn) warnings.emplace_back(msg);
-    });
-    const Mesh r = load_scene(path);
-    set_log_sink(nullptr);
+    const Mesh r = load_with_warnings(path, warnings);
     EXPECT_EQ(r.triangle_count(), 1u);
     EXPECT_EQ(r.vertex_count(), 4u);
     // No colours in the file: the default grey, not Assimp's white placeholder material.
@@ -409,11 +420,7 @@ TEST(SceneLoad, PlyHeaderLinesThatAreNoKeywordAreReadAsComments) {
            "banana\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
            "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     std::vector<std::string> warnings;
-    set_log_sink([&](LogLevel level, std::string_view msg) {
-        if (level == LogLevel::warn) warnings.emplace_back(msg);
-    });
-    const Mesh m = load_scene(path);
-    set_log_sink(nullptr);
+    const Mesh m = load_with_warnings(path, warnings);
     EXPECT_EQ(m.triangle_count(), 1u);
     EXPECT_EQ(m.vertex_count(), 3u);
     ASSERT_EQ(warnings.size(), 1u);
